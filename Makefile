@@ -1,0 +1,70 @@
+# fpdtw: two commands do everything on a machine with python3 and make:
+#   make figures   environment, data, every notebook, figures/ and tables
+#   make test      environment, data, lint, the test suite (incl. smoke notebooks)
+# Offline? Point FPDTW_MIRROR at a folder or base URL holding a copy of the data.
+
+PYTHON ?= python3
+VENV   := .venv
+PY     := $(VENV)/bin/python
+STAMP  := $(VENV)/.installed-stamp
+
+export MPLBACKEND := Agg
+export PYTHONHASHSEED := 0
+export FPDTW_DATA_DIR ?= $(CURDIR)/data_cache
+DATA_STAMP := $(FPDTW_DATA_DIR)/.fetched-stamp
+
+NOTEBOOKS := $(sort $(wildcard notebooks/[0-9]*.ipynb))
+EXECUTED  := $(patsubst notebooks/%.ipynb,build/notebooks/%.ipynb,$(NOTEBOOKS))
+
+.PHONY: env data test lint format figures bench clean distclean help
+
+help:
+	@echo "make figures  - build env, fetch data, run every notebook, write figures/"
+	@echo "make test     - build env, fetch data, lint and run the test suite"
+	@echo "make data     - fetch and verify the data listed in data_manifest/"
+	@echo "make bench    - per-frame latency benchmark (results/bench.json)"
+	@echo "Set FPDTW_MIRROR=/path/or/url to fetch from a mirror instead of upstream."
+
+env: $(STAMP)
+
+$(STAMP): pyproject.toml
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --upgrade pip
+	$(PY) -m pip install -e ".[test,notebooks]"
+	$(PY) -m ipykernel install --sys-prefix --name fpdtw --display-name "fpdtw (.venv)"
+	touch $@
+
+data: $(DATA_STAMP)
+
+$(DATA_STAMP): $(STAMP) $(wildcard data_manifest/*.toml)
+	$(PY) -m fpdtw.data fetch
+	mkdir -p $(dir $@) && touch $@
+
+lint: $(STAMP)
+	$(VENV)/bin/ruff check fpdtw tests tools
+	$(VENV)/bin/ruff format --check fpdtw tests tools
+
+format: $(STAMP)
+	$(VENV)/bin/ruff format fpdtw tests tools
+	$(VENV)/bin/ruff check --fix fpdtw tests tools
+
+test: $(STAMP) $(DATA_STAMP) lint
+	$(VENV)/bin/pytest -q
+
+bench: $(STAMP) $(DATA_STAMP)
+	$(PY) -m fpdtw.bench
+
+# every notebook is executed by papermill into build/notebooks (sources never edited
+# in place), with an explicit kernel and the notebooks folder as working directory
+figures: $(EXECUTED)
+
+build/notebooks/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(wildcard fpdtw/*.py fpdtw/*/*.py)
+	mkdir -p $(dir $@)
+	$(PY) -m papermill --kernel fpdtw --cwd notebooks -p SMOKE False $< $@.part
+	mv $@.part $@
+
+clean:
+	rm -rf build .pytest_cache
+
+distclean: clean
+	rm -rf $(VENV) data_cache results

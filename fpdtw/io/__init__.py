@@ -1,0 +1,59 @@
+"""Motion file readers: FBX (via ufbx), ASF/AMC and BVH, all returning :class:`~fpdtw.motion.Motion`.
+
+:func:`load_motion` picks the reader from the file extension.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..errors import MotionFormatError
+
+READERS = {".fbx": "fbx", ".amc": "asfamc", ".bvh": "bvh"}
+
+
+def load_motion(path, **kwargs):
+    """Read a motion file of any supported format.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        ``.fbx``, ``.amc`` (skeleton ``.asf`` found next to it, or pass
+        ``skeleton=``) or ``.bvh``.
+    **kwargs
+        Passed to the format's reader (e.g. ``fps=``, ``name=``).
+
+    Returns
+    -------
+    motion : Motion
+
+    Raises
+    ------
+    MotionFormatError
+        Unknown extension, missing file, or a file the reader rejects.
+
+    Notebook: 01_data_and_motions.ipynb
+    """
+    p = Path(path)
+    kind = READERS.get(p.suffix.lower())
+    if kind is None:
+        raise MotionFormatError(
+            p, f"unknown motion file type {p.suffix!r}; expected one of {sorted(READERS)}"
+        )
+    if not p.is_file():
+        raise MotionFormatError(p, "no such file")
+    if kind == "fbx":
+        from .fbx import read_fbx
+
+        return read_fbx(p, **kwargs)
+    if kind == "asfamc":
+        from .asfamc import read_amc
+
+        skeleton = kwargs.pop("skeleton", None)
+        return read_amc(p, skeleton, **kwargs)
+    from .bvh import read_bvh
+
+    return read_bvh(p, **kwargs)
+
+
+__all__ = ["load_motion"]

@@ -1,0 +1,138 @@
+"""The one streaming interface every online aligner implements.
+
+Construct an aligner with the input (recorded) motion's features and its
+parameters, then feed the target (live) motion one frame at a time::
+
+    aligner = MethodC(input_features, w=40)
+    for frame in target_features.frames():
+        m = aligner.step(frame)      # input frame mapped to this target frame
+
+``step`` returns ``M_{n+1}`` before the next target frame exists: an online
+aligner keeps only the frames it has been given. :func:`run_online` does this
+over a whole target and also returns the per-frame processing times.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..features import Frame, MotionFeatures
+
+
+class OnlineAligner:
+    """Base class of online aligners.
+
+    Subclasses implement :meth:`_step` (and may override :meth:`reset`). The base
+    class stores the received frames (``self.T_quats``, ``self.T_euler``, grown
+    in place, only frames already received) and the map so far (``self.M``).
+
+    Parameters
+    ----------
+    I : MotionFeatures
+        Input (prerecorded) motion, fully known.
+    """
+
+    #: Short name used in results and figures (e.g. ``"Mc w40"``).
+    name = "online"
+
+    def __init__(self, I: MotionFeatures):
+        if not isinstance(I, MotionFeatures):
+            raise TypeError("the input motion must be given as MotionFeatures")
+        self.I = I
+        self.m = I.n_frames - 1  # index of the last input frame (paper: I_0..I_m)
+        self.reset()
+
+    def reset(self) -> None:
+        """Forget every target frame; ready for a new target."""
+        k = self.I.quats.shape[1]
+        cap = 256
+        self._Tq = np.empty((cap, k, 4))
+        self._Te = np.empty((cap, k, 3))
+        self._Tp = None
+        self._M = np.empty(cap, dtype=np.int64)
+        self.n_received = 0
+
+    # -- frames received so far -------------------------------------------------
+    @property
+    def T_quats(self) -> np.ndarray:
+        """Target rotations received so far, shape (n+1, k, 4)."""
+        return self._Tq[: self.n_received]
+
+    @property
+    def T_euler(self) -> np.ndarray:
+        """Target Euler angles received so far, shape (n+1, k, 3)."""
+        return self._Te[: self.n_received]
+
+    @property
+    def T_positions(self):
+        """Target positions received so far, shape (n+1, p, 3), or None."""
+        return None if self._Tp is None else self._Tp[: self.n_received]
+
+    @property
+    def M(self) -> np.ndarray:
+        """The map so far: ``M[q]`` is the input frame of target frame q."""
+        return self._M[: self.n_received]
+
+    def _grow(self):
+        cap = 2 * self._Tq.shape[0]
+        for name in ("_Tq", "_Te", "_Tp", "_M"):
+            old = getattr(self, name)
+            if old is None:
+                continue
+            new = np.empty((cap,) + old.shape[1:], dtype=old.dtype)
+            new[: old.shape[0]] = old
+            setattr(self, name, new)
+
+    def step(self, frame: Frame) -> int:
+        """Receive target frame ``T_{n+1}`` and return ``M_{n+1}``."""
+        i = self.n_received
+        if i == self._Tq.shape[0]:
+            self._grow()
+        self._Tq[i] = frame.quats
+        self._Te[i] = frame.euler
+        if frame.positions is not None:
+            if self._Tp is None:
+                self._Tp = np.empty((self._Tq.shape[0],) + np.shape(frame.positions))
+            self._Tp[i] = frame.positions
+        self.n_received = i + 1
+        m = int(self._step(i))
+        self._M[i] = m
+        return m
+
+    def _step(self, q: int) -> int:  # pragma: no cover - abstract
+        """Map target frame ``q`` (already stored) to an input frame."""
+        raise NotImplementedError
+
+
+def run_online(aligner: OnlineAligner, T: MotionFeatures, *, reset=True):
+    """Run an online aligner over a whole target motion, frame by frame.
+
+    Parameters
+    ----------
+    aligner : OnlineAligner
+    T : MotionFeatures
+        Target motion; its frames are fed one at a time.
+    reset : bool
+        Reset the aligner first.
+
+    Returns
+    -------
+    M : ndarray of int64, shape (n,)
+        Input frame mapped to each target frame.
+    seconds : ndarray of float64, shape (n,)
+        Wall time of each ``step`` call (``time.perf_counter``).
+    """
+    if reset:
+        aligner.reset()
+    n = T.n_frames
+    M = np.empty(n, dtype=np.int64)
+    dt = np.empty(n)
+    clock = time.perf_counter
+    for q in range(n):
+        frame = T.frame(q)
+        t0 = clock()
+        M[q] = aligner.step(frame)
+        dt[q] = clock() - t0
+    return M, dt

@@ -1,0 +1,179 @@
+"""Rotations: unit quaternions and Euler angles.
+
+Conventions (used everywhere in fpdtw):
+
+* Quaternions are ``(w, x, y, z)``, Hamilton product, unit norm, and act on
+  column vectors: ``v' = q v q*``.
+* Euler angles are stored in **degrees** as ``(x, y, z)`` columns, whatever the
+  rotation order.
+* A rotation order is a string of the three axes in the order in which they are
+  **applied to a vector** (extrinsic / "static" order, the FBX ``eEulerXYZ`` and
+  ASF ``axis XYZ`` convention): ``"XYZ"`` means ``R = Rz @ Ry @ Rx``. A BVH joint
+  whose channels read ``Zrotation Yrotation Xrotation`` therefore has order
+  ``"XYZ"`` (BVH lists channels outermost first).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+ORDERS = ("XYZ", "XZY", "YXZ", "YZX", "ZXY", "ZYX")
+_AXIS = {"X": 0, "Y": 1, "Z": 2}
+
+
+def check_order(order: str) -> str:
+    """Return ``order`` upper-cased if it is one of the six Tait-Bryan orders."""
+    o = str(order).upper()
+    if o not in ORDERS:
+        raise ValueError(f"unknown rotation order {order!r}; expected one of {ORDERS}")
+    return o
+
+
+def euler_to_quat(euler, order="XYZ"):
+    """Convert Euler angles to unit quaternions.
+
+    Parameters
+    ----------
+    euler : array_like of float, shape (..., 3)
+        Angles in degrees about X, Y and Z (in that column order).
+    order : str
+        Rotation order, axes in the order they are applied (``"XYZ"``: R = Rz Ry Rx).
+
+    Returns
+    -------
+    q : ndarray of float, shape (..., 4)
+        Unit quaternions ``(w, x, y, z)`` with ``w >= 0``.
+    """
+    order = check_order(order)
+    e = np.asarray(euler, dtype=float)
+    shape = e.shape[:-1]
+    flat = e.reshape(-1, 3)[:, [_AXIS[a] for a in order]]
+    xyzw = Rotation.from_euler(order.lower(), flat, degrees=True).as_quat()
+    q = xyzw[:, [3, 0, 1, 2]]
+    q *= np.where(q[:, :1] < 0, -1.0, 1.0)
+    return q.reshape(shape + (4,))
+
+
+def quat_to_euler(q, order="XYZ"):
+    """Convert unit quaternions to Euler angles (degrees, columns x, y, z).
+
+    Parameters
+    ----------
+    q : array_like of float, shape (..., 4)
+        Quaternions ``(w, x, y, z)``.
+    order : str
+        Rotation order (see module docstring).
+
+    Returns
+    -------
+    euler : ndarray of float, shape (..., 3)
+        Angles in degrees, each in (-180, 180]; use :func:`unwrap_degrees` along
+        time before differencing.
+    """
+    order = check_order(order)
+    q = np.asarray(q, dtype=float)
+    shape = q.shape[:-1]
+    flat = q.reshape(-1, 4)
+    ang = Rotation.from_quat(flat[:, [1, 2, 3, 0]]).as_euler(order.lower(), degrees=True)
+    out = np.empty_like(ang)
+    for k, a in enumerate(order):
+        out[:, _AXIS[a]] = ang[:, k]
+    return out.reshape(shape + (3,))
+
+
+def unwrap_degrees(angles, axis=0):
+    """Unwrap angles in degrees along ``axis`` (no jump larger than 180 degrees)."""
+    return np.rad2deg(np.unwrap(np.deg2rad(np.asarray(angles, dtype=float)), axis=axis))
+
+
+def quat_normalize(q):
+    """Normalise quaternions to unit length; shape (..., 4) in, same out."""
+    q = np.asarray(q, dtype=float)
+    return q / np.linalg.norm(q, axis=-1, keepdims=True)
+
+
+def quat_mul(a, b):
+    """Hamilton product ``a * b`` of quaternions of shape (..., 4) (broadcasting)."""
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    aw, ax, ay, az = np.moveaxis(a, -1, 0)
+    bw, bx, by, bz = np.moveaxis(b, -1, 0)
+    return np.stack(
+        [
+            aw * bw - ax * bx - ay * by - az * bz,
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+        ],
+        axis=-1,
+    )
+
+
+def quat_conj(q):
+    """Conjugate (= inverse for unit quaternions), shape (..., 4)."""
+    q = np.asarray(q, dtype=float)
+    return q * np.array([1.0, -1.0, -1.0, -1.0])
+
+
+def quat_rotate(q, v):
+    """Rotate vectors ``v`` (..., 3) by unit quaternions ``q`` (..., 4)."""
+    q = np.asarray(q, dtype=float)
+    v = np.asarray(v, dtype=float)
+    w = q[..., :1]
+    u = q[..., 1:]
+    t = 2.0 * np.cross(u, v)
+    return v + w * t + np.cross(u, t)
+
+
+def quat_to_matrix(q):
+    """Rotation matrices of shape (..., 3, 3) for quaternions (..., 4)."""
+    q = quat_normalize(q)
+    w, x, y, z = np.moveaxis(q, -1, 0)
+    return np.stack(
+        [
+            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
+            np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
+            np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
+        ],
+        axis=-2,
+    )
+
+
+def quat_slerp(q0, q1, t):
+    """Spherical linear interpolation, shortest arc.
+
+    Parameters
+    ----------
+    q0, q1 : array_like of float, shape (..., 4)
+        End quaternions.
+    t : array_like of float, shape (...) or scalar
+        Interpolation parameter in [0, 1].
+
+    Returns
+    -------
+    q : ndarray of float, shape (..., 4)
+    """
+    q0 = quat_normalize(q0)
+    q1 = quat_normalize(q1)
+    t = np.asarray(t, dtype=float)[..., None]
+    dot = np.sum(q0 * q1, axis=-1, keepdims=True)
+    q1 = np.where(dot < 0, -q1, q1)
+    dot = np.abs(dot)
+    theta = np.arccos(np.clip(dot, -1.0, 1.0))
+    sin_theta = np.sin(theta)
+    small = sin_theta < 1e-9
+    safe = np.where(small, 1.0, sin_theta)
+    w0 = np.where(small, 1.0 - t, np.sin((1.0 - t) * theta) / safe)
+    w1 = np.where(small, t, np.sin(t * theta) / safe)
+    return quat_normalize(w0 * q0 + w1 * q1)
+
+
+def geodesic_angle(a, b):
+    """Rotation angle in radians between unit quaternions, in [0, pi].
+
+    ``2 * arccos(|a . b|)``; the FP-DTW cost (eq. 1) uses ``(2/pi) arccos|a.b|``,
+    i.e. this angle divided by pi.
+    """
+    d = np.abs(np.sum(quat_normalize(a) * quat_normalize(b), axis=-1))
+    return 2.0 * np.arccos(np.clip(d, 0.0, 1.0))

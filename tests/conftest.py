@@ -1,0 +1,60 @@
+"""Shared fixtures.
+
+Tests never touch the internet. Real motion files come from the verified data
+cache that ``make data`` fills from the manifest (``fpdtw.paths.data_dir()``; its
+layout is the same as a mirror's). When the cache does not hold a file, the local
+mirror folder named by ``FPDTW_MIRROR`` is used instead.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+os.environ.setdefault("MPLBACKEND", "Agg")
+
+_PROBE = "cmu/18_01.bvh"
+
+
+def _roots() -> list[Path]:
+    from fpdtw.paths import data_dir
+
+    roots = []
+    cache = data_dir()
+    if (cache / _PROBE).is_file():
+        roots.append(cache)
+    value = os.environ.get("FPDTW_MIRROR", "").strip()
+    if value and "://" not in value:
+        p = Path(value).expanduser().resolve()
+        if p.is_dir():
+            roots.append(p)
+    return roots
+
+
+@pytest.fixture(scope="session")
+def mirror_root() -> Path:
+    """A local folder laid out like the upstream data (cache or mirror)."""
+    roots = _roots()
+    if not roots:
+        pytest.fail(
+            "these tests need the motion data: run `make data` (with FPDTW_MIRROR set to a "
+            "folder or URL holding a copy when offline) or set FPDTW_MIRROR to a local folder"
+        )
+    return roots[0]
+
+
+@pytest.fixture(scope="session")
+def data_path():
+    """``data_path("cmu/18_01.bvh")`` -> local path of that file (cache, else mirror)."""
+    roots = _roots()
+
+    def get(rel: str) -> Path:
+        for root in roots:
+            p = root / rel
+            if p.is_file():
+                return p
+        pytest.fail(f"no local copy of {rel} (looked in {[str(r) for r in roots]}); run make data")
+
+    return get
