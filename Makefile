@@ -8,7 +8,6 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed-stamp
 
-export MPLBACKEND := Agg
 export PYTHONHASHSEED := 0
 export FPDTW_DATA_DIR ?= $(CURDIR)/data_cache
 DATA_STAMP := $(FPDTW_DATA_DIR)/.fetched-stamp

@@ -25,7 +25,9 @@ def _geo_frame(qa, qb):
     """eq. 1 between two frames; qa, qb : float64 (k, 4)."""
     total = 0.0
     for j in range(qa.shape[0]):
-        d = abs(qa[j, 0] * qb[j, 0] + qa[j, 1] * qb[j, 1] + qa[j, 2] * qb[j, 2] + qa[j, 3] * qb[j, 3])
+        d = abs(
+            qa[j, 0] * qb[j, 0] + qa[j, 1] * qb[j, 1] + qa[j, 2] * qb[j, 2] + qa[j, 3] * qb[j, 3]
+        )
         if d > 1.0:
             d = 1.0
         total += math.acos(d)
@@ -81,7 +83,9 @@ def geodesic_cost_matrix(QA, QB) -> np.ndarray:
     QA = np.ascontiguousarray(QA, dtype=np.float64)
     QB = np.ascontiguousarray(QB, dtype=np.float64)
     if QA.ndim != 3 or QB.ndim != 3 or QA.shape[1:] != QB.shape[1:] or QA.shape[2] != 4:
-        raise ValueError(f"expected (m, k, 4) and (n, k, 4) quaternions, got {QA.shape}, {QB.shape}")
+        raise ValueError(
+            f"expected (m, k, 4) and (n, k, 4) quaternions, got {QA.shape}, {QB.shape}"
+        )
     out = np.empty((QA.shape[0], QB.shape[0]))
     return _geo_block(QA, QB, out)
 

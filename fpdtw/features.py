@@ -118,7 +118,7 @@ class MotionFeatures:
         for i in range(self.n_frames):
             yield self.frame(i)
 
-    def slice(self, a: int, b: int) -> "MotionFeatures":
+    def slice(self, a: int, b: int) -> MotionFeatures:
         """Frames ``a`` to ``b - 1``."""
         pos = None if self.positions is None else self.positions[a:b]
         return MotionFeatures(

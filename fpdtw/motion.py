@@ -98,11 +98,9 @@ class Skeleton:
         except ValueError:
             raise KeyError(f"no joint named {name!r} in this skeleton") from None
 
-    def same_topology(self, other: "Skeleton") -> bool:
+    def same_topology(self, other: Skeleton) -> bool:
         """True when both skeletons have the same joints and hierarchy."""
-        return self.joint_names == other.joint_names and np.array_equal(
-            self.parents, other.parents
-        )
+        return self.joint_names == other.joint_names and np.array_equal(self.parents, other.parents)
 
 
 @dataclass(eq=False)
@@ -206,7 +204,7 @@ class Motion:
             f"{self.skeleton.n_joints} joints, source={self.source!r})"
         )
 
-    def replace(self, **changes) -> "Motion":
+    def replace(self, **changes) -> Motion:
         """Copy with some fields replaced (like :func:`dataclasses.replace`)."""
         return dataclasses.replace(self, **changes)
 
@@ -300,7 +298,7 @@ class Motion:
         return out
 
     # ------------------------------------------------------------ time changes
-    def crop(self, start=0.0, stop=None) -> "Motion":
+    def crop(self, start=0.0, stop=None) -> Motion:
         """Frames with ``start <= t <= stop`` (seconds; ``stop=None`` = to the end)."""
         t = self.times
         stop = self.duration if stop is None else stop
@@ -309,7 +307,7 @@ class Motion:
             raise ValueError(f"crop [{start}, {stop}] s leaves no frame of {self.name}")
         return self.slice_frames(int(keep[0]), int(keep[-1]) + 1)
 
-    def slice_frames(self, a: int, b: int) -> "Motion":
+    def slice_frames(self, a: int, b: int) -> Motion:
         """Frames ``a`` to ``b - 1``."""
         return self.replace(
             euler=self.euler[a:b].copy(),
@@ -341,7 +339,7 @@ class Motion:
         r = (1 - a)[:, None] * self.root_translation[i0] + a[:, None] * self.root_translation[i1]
         return q, r
 
-    def retime(self, t, fps=None, name=None) -> "Motion":
+    def retime(self, t, fps=None, name=None) -> Motion:
         """A new motion whose frame ``k`` is this motion at time ``t[k]``.
 
         Rotations by slerp, translation linearly; Euler angles recomputed from
@@ -381,7 +379,7 @@ class Motion:
             root_translation=r,
         )
 
-    def resample(self, fps: float) -> "Motion":
+    def resample(self, fps: float) -> Motion:
         """Resample to another frame rate (slerp for rotations).
 
         Frame ``k`` of the result is this motion at ``k / fps`` seconds, up to the

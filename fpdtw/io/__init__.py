@@ -1,4 +1,4 @@
-"""Motion file readers: FBX (via ufbx), ASF/AMC and BVH, all returning :class:`~fpdtw.motion.Motion`.
+"""Motion file readers (FBX via ufbx, ASF/AMC, BVH), all returning :class:`~fpdtw.motion.Motion`.
 
 :func:`load_motion` picks the reader from the file extension.
 """
