@@ -34,6 +34,31 @@ from .rotations import (
 )
 
 _IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
+_AXIS = {"X": 0, "Y": 1, "Z": 2}
+
+
+def _euler_near(q, order, ref):
+    """Euler angles of ``q`` (N, 4) in ``order``, on the branch nearest ``ref`` (N, 3).
+
+    A Tait-Bryan rotation has two angle triples (a, b, c) and (a + 180, 180 - b,
+    c + 180) (angles listed in the order's axis sequence), each defined up to
+    multiples of 360 degrees; pick the triple and multiples closest to ``ref``.
+    """
+    e = quat_to_euler(q, order)
+    cols = [_AXIS[c] for c in order]
+    alt = e.copy()
+    alt[:, cols[0]] += 180.0
+    alt[:, cols[1]] = 180.0 - alt[:, cols[1]]
+    alt[:, cols[2]] += 180.0
+    best = None
+    for cand in (e, alt):
+        cand = cand + 360.0 * np.round((ref - cand) / 360.0)
+        if best is None:
+            best = cand
+        else:
+            closer = np.abs(cand - ref).sum(axis=1) < np.abs(best - ref).sum(axis=1)
+            best = np.where(closer[:, None], cand, best)
+    return best
 
 
 @dataclass(frozen=True, eq=False)
@@ -169,11 +194,16 @@ class Motion:
                 )
         if self.quats is None:
             q = np.empty((F, J, 4))
-            for j, order in enumerate(self.skeleton.rotation_orders):
-                q[:, j] = euler_to_quat(self.euler[:, j], order)
+            orders = np.array(self.skeleton.rotation_orders)
+            for order in set(self.skeleton.rotation_orders):
+                cols = np.flatnonzero(orders == order)
+                q[:, cols] = euler_to_quat(self.euler[:, cols], order)
             self.quats = q
         else:
-            self.quats = quat_normalize(np.asarray(self.quats, dtype=float))
+            self.quats = np.asarray(self.quats, dtype=float)
+            norms = np.linalg.norm(self.quats, axis=-1)
+            if not np.all(np.abs(norms - 1.0) < 1e-12):
+                self.quats = quat_normalize(self.quats)
             if self.quats.shape != (F, J, 4):
                 raise MotionFormatError(where, f"quaternions have shape {self.quats.shape}")
         if self.joint_map is None:
@@ -343,8 +373,9 @@ class Motion:
         """A new motion whose frame ``k`` is this motion at time ``t[k]``.
 
         Rotations by slerp, translation linearly; Euler angles recomputed from
-        the quaternions in each joint's order and unwrapped over time so that
-        they stay continuous (and equal the originals where ``t`` falls on a frame).
+        the quaternions in each joint's order, on the branch nearest the linear
+        interpolation of the input's own angles, so that they stay continuous;
+        where ``t`` falls on an input frame, angles and quaternions are the input's.
 
         Parameters
         ----------
@@ -355,22 +386,21 @@ class Motion:
         """
         t = np.asarray(t, dtype=float)
         q, r = self.sample(t)
+        # reference angles: linear interpolation of the input's own Euler angles
+        x = np.clip(t, 0.0, self.duration) * self.fps
+        i0 = np.minimum(np.floor(x + 1e-9).astype(np.int64), self.n_frames - 1)
+        i1 = np.minimum(i0 + 1, self.n_frames - 1)
+        a = np.clip(x - i0, 0.0, 1.0)[:, None, None]
+        ref = (1 - a) * self.euler[i0] + a * self.euler[i1]
         euler = np.empty(q.shape[:2] + (3,))
         for j, order in enumerate(self.skeleton.rotation_orders):
-            euler[:, j] = quat_to_euler(q[:, j], order)
-        # continuity over time, then match the original's branch at the nearest frame
-        euler = np.rad2deg(np.unwrap(np.deg2rad(euler), axis=0))
-        near = np.clip(np.rint(t * self.fps).astype(np.int64), 0, self.n_frames - 1)
-        exact = np.abs(t * self.fps - near) < 1e-6
-        ref = self.euler[near[0]] if not exact.any() else self.euler[near[exact][0]]
-        k = 0 if not exact.any() else int(np.flatnonzero(exact)[0])
-        shift = 360.0 * np.round((ref - euler[k]) / 360.0)
-        euler = euler + shift
+            euler[:, j] = _euler_near(q[:, j], order, ref[:, j])
+        exact = np.abs(x - np.rint(x)) < 1e-6
         if exact.any():
-            # where an output frame coincides with an input frame keep the input's
-            # own angles exactly (avoids round-trip noise and gimbal re-branching)
-            euler[exact] = self.euler[near[exact]]
-            q[exact] = self.quats[near[exact]]
+            # frames that fall on an input frame keep its angles and rotation exactly
+            near = np.rint(x[exact]).astype(np.int64)
+            euler[exact] = self.euler[near]
+            q[exact] = self.quats[near]
         return self.replace(
             name=name or self.name,
             fps=self.fps if fps is None else float(fps),

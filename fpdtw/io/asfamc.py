@@ -1,0 +1,723 @@
+"""Acclaim ASF (skeleton) and AMC (motion) readers, as used by HDM05 and CMU.
+
+Model
+-----
+An ASF file describes *bones*. Each bone has a unit ``direction`` and a
+``length`` in world coordinates of the rest pose, and a local coordinate system
+given by its ``axis`` angles: ``C_j``, a rotation built from the axis angles in
+the axis order (``axis 0 0 20 XYZ`` gives ``C = Rz(20) Ry(0) Rx(0)``). The AMC
+file gives, per frame, each bone's rotation ``M_j`` in that local system, as
+Euler angles composed in dof order (``dof rx ry rz`` -> order ``"XYZ"``, i.e.
+``M = Rz Ry Rx``; a missing dof is a zero angle).
+
+The Acclaim rule ``F_j = F_p C_p^-1 C_j M_j`` (``F`` the bone's local frame in
+world coordinates, ``F = C`` at rest) is rewritten in a **rest-pose-aligned**
+frame ``G_j = F_j C_j^-1``, which is the identity in the rest pose::
+
+    G_j = G_p * C_j M_j C_j^-1
+
+so that in :class:`fpdtw.motion.Skeleton` terms (``G_j = G_p T(offset_j) pre_j
+R_j post_j``):
+
+* joint ``j`` is bone ``j`` placed at the **start** of the bone (the joint that
+  moves it: ``lfemur`` is the hip, ``ltibia`` the knee); joint 0 is ``root``;
+* ``offset_j`` = parent bone's ``direction * length`` (in the rest-aligned frame
+  of the parent, which is world-aligned in the rest pose); the children of the
+  root get a zero offset, the root's own offset is the ASF ``:root position``;
+* ``pre_j = C_j``, ``post_j = C_j^-1``, ``R_j`` = the AMC rotation ``M_j``;
+* the root: ``C_root`` from ``:root orientation`` in the ``:root axis`` order
+  (identity in HDM05 and CMU), ``R_root`` from the AMC root rotation values in
+  the rotation order of ``:root order`` (``RX RY RZ`` -> ``"XYZ"``), translation
+  from the AMC ``TX TY TZ`` values (FK adds ``:root position``).
+
+With all AMC values zero, forward kinematics reproduces the ASF rest pose: each
+bone's end is its start plus ``direction * length``.
+
+Units
+-----
+Lengths and translations stay in the file's unit (``:units length s``: HDM05
+and CMU use ``s = 0.45``, where 1 unit = 1/0.45 inch = 0.05644 m by the CMU
+convention; see :attr:`AsfSkeleton.meters_per_unit`). Angles are converted to
+degrees: ASF angles follow ``:units angle deg|rad``; AMC values follow the AMC
+``:DEGREES`` / ``:RADIANS`` header (the ASF angle unit if it has neither).
+
+Notebook: 01_data_and_motions.ipynb
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import MotionFormatError
+from ..motion import Motion, Skeleton
+from ..rotations import euler_to_quat, quat_conj
+
+_AXIS = {"X": 0, "Y": 1, "Z": 2}
+_ROT_DOFS = ("rx", "ry", "rz")
+_ROOT_CHANNELS = ("TX", "TY", "TZ", "RX", "RY", "RZ")
+#: Rate of CMU AMC files, the default when the file name gives none.
+DEFAULT_AMC_FPS = 120.0
+
+
+def complete_order(applied: str) -> str:
+    """Rotation order from the axes present, in applied order, missing axes appended.
+
+    A missing axis has a zero angle, so where it goes does not change the
+    rotation; appending the missing axes in X, Y, Z order makes the result
+    deterministic: ``"XZ"`` -> ``"XZY"``, ``"Y"`` -> ``"YXZ"``, ``""`` -> ``"XYZ"``.
+    """
+    return applied + "".join(a for a in "XYZ" if a not in applied)
+
+
+@dataclass(frozen=True, eq=False)
+class AsfSkeleton:
+    """A parsed ASF file: the :class:`~fpdtw.motion.Skeleton` plus what the AMC reader needs.
+
+    Attributes
+    ----------
+    skeleton : Skeleton
+        Joints ``("root", bones...)`` parents first (depth-first in ``:hierarchy``
+        order), rest-aligned model (see module docstring).
+    dofs : tuple of tuple of str, length J
+        Rotational dofs of each joint in file order, e.g. ``("rx", "ry", "rz")``;
+        ``()`` for the root and for bones without dofs.
+    root_order : tuple of str
+        The AMC root channels in order, e.g. ``("TX", "TY", "TZ", "RX", "RY", "RZ")``.
+    directions : ndarray of float, shape (J, 3)
+        Unit bone directions in the rest pose (zero for the root).
+    lengths : ndarray of float, shape (J,)
+        Bone lengths in file units (zero for the root).
+    angle_unit : str
+        ``"deg"`` or ``"rad"`` (the ASF ``:units angle``).
+    length_scale : float
+        The ASF ``:units length`` value.
+    path : str
+        File it was read from.
+    """
+
+    skeleton: Skeleton
+    dofs: tuple
+    root_order: tuple
+    directions: np.ndarray
+    lengths: np.ndarray
+    angle_unit: str
+    length_scale: float
+    path: str
+
+    @property
+    def meters_per_unit(self) -> float:
+        """Metres per file length unit, by the CMU convention ``0.0254 / length_scale``."""
+        return 0.0254 / self.length_scale
+
+    def bone_ends(self, positions: np.ndarray) -> np.ndarray:
+        """End point of each bone in the rest pose, given the bone starts.
+
+        Parameters
+        ----------
+        positions : ndarray of float, shape (..., J, 3)
+            Joint (bone start) positions in the rest pose (e.g. forward
+            kinematics of an all-zero frame).
+
+        Returns
+        -------
+        ends : ndarray of float, shape (..., J, 3)
+            ``start + direction * length`` per bone (the root's end is its start).
+        """
+        return positions + self.directions * self.lengths[:, None]
+
+
+# ---------------------------------------------------------------------- helpers
+def _read_lines(path: Path) -> list[str]:
+    """Lines of a text file; latin-1 never fails (HDM05 headers hold umlauts)."""
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise MotionFormatError(path, f"cannot read file: {exc.strerror or exc}") from None
+    return data.decode("latin-1").splitlines()
+
+
+def _floats(path, tokens, line, what, count=None):
+    if count is not None and len(tokens) != count:
+        raise MotionFormatError(
+            path,
+            f"{what} needs {count} number(s), got {len(tokens)}: {' '.join(tokens)!r}",
+            line=line,
+        )
+    try:
+        vals = [float(t) for t in tokens]
+    except ValueError:
+        raise MotionFormatError(
+            path, f"{what}: non-numeric value in {' '.join(tokens)!r}", line=line
+        ) from None
+    if not all(math.isfinite(v) for v in vals):
+        raise MotionFormatError(
+            path, f"{what}: non-finite value in {' '.join(tokens)!r}", line=line
+        )
+    return vals
+
+
+def _order(path, letters, line, what):
+    o = "".join(letters).upper()
+    if len(o) != 3 or sorted(o) != ["X", "Y", "Z"]:
+        raise MotionFormatError(path, f"{what}: bad rotation order {o!r}", line=line)
+    return o
+
+
+# ---------------------------------------------------------------------- ASF
+def read_asf(path) -> AsfSkeleton:
+    """Read an Acclaim ASF skeleton file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``.asf`` file.
+
+    Returns
+    -------
+    asf : AsfSkeleton
+        ``asf.skeleton`` is the :class:`~fpdtw.motion.Skeleton` (rest-aligned
+        model, see the module docstring); ``asf.dofs`` and ``asf.root_order``
+        give the AMC layout.
+
+    Raises
+    ------
+    MotionFormatError
+        Missing sections or fields, bad numbers, unknown or duplicate bones,
+        translation/length dofs (unsupported), a hierarchy that does not reach
+        every bone exactly once. The message names the file and line.
+
+    Notebook: 01_data_and_motions.ipynb
+    """
+    path = Path(path)
+    lines = _read_lines(path)
+    units = {"length": 1.0, "angle": "deg"}
+    root = {}
+    bones = {}  # name -> dict(direction, length, axis, order, dofs, line)
+    bone_list = []
+    children = {"root": []}
+    parent_of = {}
+    section = None
+    bone = None
+    hier_state = None  # None, "open", "closed"
+    seen_sections = set()
+
+    for ln, raw in enumerate(lines, 1):
+        s = raw.split("#", 1)[0].strip()
+        if not s:
+            continue
+        tok = s.split()
+        if tok[0].startswith(":"):
+            if bone is not None:
+                raise MotionFormatError(path, "bone block not closed with 'end'", line=ln)
+            section = tok[0][1:].lower()
+            seen_sections.add(section)
+            if section == "units" and len(tok) > 1:
+                raise MotionFormatError(path, "':units' takes its values on later lines", line=ln)
+            continue
+        if section == "units":
+            key = tok[0].lower()
+            if key == "length":
+                (scale,) = _floats(path, tok[1:], ln, "units length", 1)
+                if scale <= 0:
+                    raise MotionFormatError(path, f"units length must be > 0, got {scale}", line=ln)
+                units["length"] = scale
+            elif key == "angle":
+                if len(tok) != 2 or tok[1].lower() not in ("deg", "rad"):
+                    raise MotionFormatError(path, "units angle must be 'deg' or 'rad'", line=ln)
+                units["angle"] = tok[1].lower()
+            # mass and others: not needed
+        elif section == "root":
+            key = tok[0].lower()
+            if key == "order":
+                chans = tuple(t.upper() for t in tok[1:])
+                bad = [c for c in chans if c not in _ROOT_CHANNELS]
+                if bad or len(set(chans)) != len(chans) or not chans:
+                    raise MotionFormatError(
+                        path,
+                        f"root order {' '.join(tok[1:])!r}: expected distinct channels "
+                        f"from {' '.join(_ROOT_CHANNELS)}",
+                        line=ln,
+                    )
+                root["order"] = chans
+            elif key == "axis":
+                if len(tok) != 2:
+                    raise MotionFormatError(path, "root axis must be one order, e.g. XYZ", line=ln)
+                root["axis"] = _order(path, tok[1], ln, "root axis")
+            elif key in ("position", "orientation"):
+                root[key] = _floats(path, tok[1:], ln, f"root {key}", 3)
+            else:
+                raise MotionFormatError(path, f"unknown root field {tok[0]!r}", line=ln)
+        elif section == "bonedata":
+            key = tok[0].lower()
+            if key == "begin":
+                if bone is not None:
+                    raise MotionFormatError(path, "'begin' inside a bone block", line=ln)
+                bone = {"line": ln}
+            elif bone is None:
+                raise MotionFormatError(path, f"{tok[0]!r} outside a begin/end bone block", line=ln)
+            elif key == "end":
+                for need in ("name", "direction", "length", "axis"):
+                    if need not in bone:
+                        raise MotionFormatError(
+                            path, f"bone {bone.get('name', '?')!r} has no {need!r}", line=ln
+                        )
+                bones[bone["name"]] = bone
+                bone_list.append(bone["name"])
+                bone = None
+            elif key == "name":
+                if len(tok) != 2:
+                    raise MotionFormatError(path, "bone name must be one word", line=ln)
+                name = tok[1]
+                if name in bones or name == "root":
+                    raise MotionFormatError(path, f"duplicate bone name {name!r}", line=ln)
+                bone["name"] = name
+            elif key == "direction":
+                d = np.array(_floats(path, tok[1:], ln, "direction", 3))
+                n = np.linalg.norm(d)
+                if n < 1e-12:
+                    raise MotionFormatError(path, "bone direction is zero", line=ln)
+                bone["direction"] = d / n
+            elif key == "length":
+                (length,) = _floats(path, tok[1:], ln, "length", 1)
+                if length < 0:
+                    raise MotionFormatError(path, f"negative bone length {length}", line=ln)
+                bone["length"] = length
+            elif key == "axis":
+                if len(tok) != 5:
+                    raise MotionFormatError(
+                        path,
+                        "axis needs three angles and an order, e.g. 'axis 0 0 20 XYZ'",
+                        line=ln,
+                    )
+                bone["axis"] = _floats(path, tok[1:4], ln, "axis", 3)
+                bone["order"] = _order(path, tok[4], ln, "axis")
+            elif key == "dof":
+                dofs = tuple(t.lower() for t in tok[1:])
+                unsupported = [d for d in dofs if d not in _ROT_DOFS]
+                if unsupported:
+                    raise MotionFormatError(
+                        path, f"unsupported dof(s) {' '.join(unsupported)} (only rx ry rz)", line=ln
+                    )
+                if len(set(dofs)) != len(dofs):
+                    raise MotionFormatError(path, f"repeated dof in {' '.join(dofs)!r}", line=ln)
+                bone["dofs"] = dofs
+            # id, limits (and their continuation lines), bodymass, cofmass: ignored
+        elif section == "hierarchy":
+            key = tok[0].lower()
+            if key == "begin":
+                hier_state = "open"
+                continue
+            if key == "end":
+                hier_state = "closed"
+                continue
+            if hier_state != "open":
+                raise MotionFormatError(path, "hierarchy line outside begin/end", line=ln)
+            par, kids = tok[0], tok[1:]
+            if par != "root" and par not in bones:
+                raise MotionFormatError(path, f"hierarchy names unknown bone {par!r}", line=ln)
+            for kid in kids:
+                if kid not in bones:
+                    raise MotionFormatError(path, f"hierarchy names unknown bone {kid!r}", line=ln)
+                if kid in parent_of:
+                    raise MotionFormatError(
+                        path, f"bone {kid!r} has two parents ({parent_of[kid]}, {par})", line=ln
+                    )
+                parent_of[kid] = par
+                children.setdefault(par, []).append(kid)
+        # other sections (:version, :name, :documentation, :skin...): ignored
+
+    if not lines or not seen_sections:
+        raise MotionFormatError(path, "empty file or not an ASF file (no ':' sections)")
+    if bone is not None:
+        raise MotionFormatError(path, "file ends inside a bone block", line=len(lines))
+    for need in ("root", "bonedata", "hierarchy"):
+        if need not in seen_sections:
+            raise MotionFormatError(path, f"no ':{need}' section")
+    if hier_state != "closed":
+        raise MotionFormatError(path, "':hierarchy' has no begin/end block")
+    if "order" not in root or "axis" not in root:
+        raise MotionFormatError(path, "':root' needs 'order' and 'axis'")
+
+    # depth-first order from the root, children in hierarchy order
+    names = ["root"]
+    parents = [-1]
+    stack = [(k, 0) for k in reversed(children.get("root", []))]
+    while stack:
+        name, p = stack.pop()
+        names.append(name)
+        parents.append(p)
+        me = len(names) - 1
+        stack.extend((k, me) for k in reversed(children.get(name, [])))
+    orphans = [b for b in bone_list if b not in names]
+    if orphans:
+        raise MotionFormatError(
+            path, f"bone(s) not reachable from root in ':hierarchy': {', '.join(orphans)}"
+        )
+
+    to_deg = 1.0 if units["angle"] == "deg" else 180.0 / math.pi
+    J = len(names)
+    directions = np.zeros((J, 3))
+    lengths = np.zeros(J)
+    orders = []
+    axes = np.zeros((J, 3))
+    axis_orders = []
+    dofs = []
+    root_rot = "".join(c[1] for c in root["order"] if c.startswith("R"))
+    orders.append(complete_order(root_rot))
+    axes[0] = np.asarray(root.get("orientation", [0.0, 0.0, 0.0])) * to_deg
+    axis_orders.append(root["axis"])
+    dofs.append(())
+    for j, name in enumerate(names[1:], 1):
+        b = bones[name]
+        directions[j] = b["direction"]
+        lengths[j] = b["length"]
+        axes[j] = np.asarray(b["axis"]) * to_deg
+        axis_orders.append(b["order"])
+        d = b.get("dofs", ())
+        dofs.append(d)
+        orders.append(complete_order("".join(x[1].upper() for x in d)))
+
+    offsets = np.zeros((J, 3))
+    offsets[0] = root.get("position", [0.0, 0.0, 0.0])
+    for j in range(1, J):
+        p = parents[j]
+        offsets[j] = directions[p] * lengths[p]  # zero for the root's children
+    C = np.stack([euler_to_quat(axes[j], axis_orders[j]) for j in range(J)])
+    skeleton = Skeleton(
+        joint_names=tuple(names),
+        parents=np.asarray(parents),
+        offsets=offsets,
+        rotation_orders=tuple(orders),
+        pre_rotations=C,
+        post_rotations=quat_conj(C),
+        units=f"asf length {units['length']:g} (1 unit = {0.0254 / units['length']:.5g} m)",
+    )
+    return AsfSkeleton(
+        skeleton=skeleton,
+        dofs=tuple(dofs),
+        root_order=root["order"],
+        directions=directions,
+        lengths=lengths,
+        angle_unit=units["angle"],
+        length_scale=float(units["length"]),
+        path=str(path),
+    )
+
+
+# ---------------------------------------------------------------------- AMC
+_HDM_RE = re.compile(r"^HDM_([A-Za-z0-9]+)_")
+_CMU_RE = re.compile(r"^(\d+)_\d+$")
+_FPS_RE = re.compile(r"_\d+_(\d+)$")
+
+
+def find_asf(amc_path) -> Path:
+    """The skeleton file of an AMC file, by the HDM05 or CMU layout.
+
+    In this order: ``HDM_<actor>.asf`` (file ``HDM_<actor>_...amc``) in the
+    AMC's folder or any parent folder; ``<subject>.asf`` (file
+    ``<subject>_<take>.amc``) in the folder or a parent; the only ``.asf`` in the
+    AMC's folder.
+
+    Raises
+    ------
+    MotionFormatError
+        If none is found (the message lists where it looked).
+    """
+    amc_path = Path(amc_path)
+    stem = amc_path.stem
+    folders = [amc_path.parent, *amc_path.parent.resolve().parents]
+    wanted = []
+    m = _HDM_RE.match(stem)
+    if m:
+        wanted.append(f"HDM_{m.group(1)}.asf")
+    m = _CMU_RE.match(stem)
+    if m:
+        wanted.append(f"{m.group(1)}.asf")
+    for name in wanted:
+        for folder in folders:
+            cand = folder / name
+            if cand.is_file():
+                return cand
+    single = sorted(amc_path.parent.glob("*.asf"))
+    if len(single) == 1:
+        return single[0]
+    looked = " or ".join(wanted) + " in its folder and parents, or " if wanted else ""
+    raise MotionFormatError(
+        amc_path,
+        f"no skeleton found (looked for {looked}a single .asf in {amc_path.parent}); "
+        "pass the .asf path",
+    )
+
+
+def amc_fps(path) -> float:
+    """Frame rate from an HDM05-style name ``..._<take>_<fps>.amc``, else 120 (CMU)."""
+    m = _FPS_RE.search(Path(path).stem)
+    if m and 10 <= int(m.group(1)) <= 1000:
+        return float(m.group(1))
+    return DEFAULT_AMC_FPS
+
+
+def _amc_checked(path, lines, asf, layout, width):
+    """Parse AMC frames line by line, raising a precise error on the first problem.
+
+    Returns
+    -------
+    data : ndarray of float, shape (F, width)
+        Values of each frame in ``layout`` columns.
+    unit : str or None
+        ``"deg"``/``"rad"`` from the header, None if it has neither.
+    """
+    sk = asf.skeleton
+    dofless = {sk.joint_names[j] for j in range(1, sk.n_joints) if not asf.dofs[j]}
+    rows = []
+    row = None
+    seen = set()
+    frame_no = None
+    frame_line = None
+    unit = None
+
+    def close_frame(end_line):
+        missing = [b for b in layout if b not in seen]
+        if missing:
+            raise MotionFormatError(
+                path,
+                f"frame lacks bone(s) {', '.join(missing)} before line {end_line} "
+                "(truncated frame, or a file that is not fully specified)",
+                line=frame_line,
+                frame=frame_no,
+            )
+        rows.append(row)
+
+    for ln, raw in enumerate(lines, 1):
+        s = raw.strip()
+        if not s or s[0] == "#":
+            continue
+        tok = s.split()
+        if s[0] == ":":
+            if frame_no is not None:
+                raise MotionFormatError(path, f"keyword {tok[0]!r} after the first frame", line=ln)
+            key = tok[0].upper()
+            if key == ":DEGREES":
+                unit = "deg"
+            elif key == ":RADIANS":
+                unit = "rad"
+            elif key != ":FULLY-SPECIFIED":
+                raise MotionFormatError(path, f"unknown AMC keyword {tok[0]!r}", line=ln)
+            continue
+        if len(tok) == 1 and tok[0].isdigit():
+            number = int(tok[0])
+            if frame_no is not None:
+                close_frame(ln)
+                if number != frame_no + 1:
+                    raise MotionFormatError(
+                        path,
+                        f"frame number {number} does not follow frame {frame_no}",
+                        line=ln,
+                        frame=number,
+                    )
+            frame_no, frame_line = number, ln
+            row = [0.0] * width
+            seen = set()
+            continue
+        if frame_no is None:
+            raise MotionFormatError(path, f"data before the first frame number: {s!r}", line=ln)
+        bone = tok[0]
+        spec = layout.get(bone)
+        if spec is None:
+            why = (
+                f"bone {bone!r} has no dofs in the skeleton {asf.path}"
+                if bone in dofless
+                else f"unknown bone {bone!r} (not in the skeleton {asf.path})"
+            )
+            raise MotionFormatError(path, why, line=ln, frame=frame_no)
+        start, k = spec
+        if len(tok) - 1 != k:
+            dof = " ".join(asf.root_order) if bone == "root" else " ".join(asf.dofs[sk.index(bone)])
+            raise MotionFormatError(
+                path,
+                f"bone {bone!r} has {len(tok) - 1} value(s), expected {k} ({dof})",
+                line=ln,
+                frame=frame_no,
+            )
+        if bone in seen:
+            raise MotionFormatError(
+                path, f"bone {bone!r} repeated in a frame", line=ln, frame=frame_no
+            )
+        seen.add(bone)
+        try:
+            vals = [float(t) for t in tok[1:]]
+        except ValueError:
+            raise MotionFormatError(
+                path, f"non-numeric value on bone {bone!r}: {s!r}", line=ln, frame=frame_no
+            ) from None
+        for v in vals:
+            if not math.isfinite(v):
+                raise MotionFormatError(
+                    path, f"non-finite value on bone {bone!r}: {s!r}", line=ln, frame=frame_no
+                )
+        row[start : start + k] = vals
+
+    if frame_no is None:
+        what = "empty file" if not any(x.strip() for x in lines) else "no frames"
+        raise MotionFormatError(path, what)
+    close_frame(len(lines) + 1)
+
+    return np.asarray(rows, dtype=float), unit
+
+
+def _amc_fast(lines, layout, width):
+    """Vectorised parse of a regular AMC file (every frame lists the same bones in the
+    same order, one bone per line, no comments after the header).
+
+    Returns ``(data, unit)`` as :func:`_amc_checked`, or None when the file is not
+    regular or anything looks wrong, so that the checked parser can report it.
+    """
+    unit = None
+    i = 0
+    n = len(lines)
+    while i < n:
+        s = lines[i].strip()
+        if s and s[0] == ":":
+            key = s.split()[0].upper()
+            if key == ":DEGREES":
+                unit = "deg"
+            elif key == ":RADIANS":
+                unit = "rad"
+            elif key != ":FULLY-SPECIFIED":
+                return None
+        elif s and s[0] != "#":
+            break
+        i += 1
+    toks = [t for t in (raw.split() for raw in lines[i:]) if t]
+    if not toks or len(toks[0]) != 1 or not toks[0][0].isdigit():
+        return None
+    per = next((k for k in range(1, len(toks)) if len(toks[k]) == 1), len(toks))
+    if len(toks) % per:
+        return None
+    F = len(toks) // per
+    heads = [t[0] for t in toks]
+    names = heads[1:per]
+    if sorted(names) != sorted(layout):
+        return None
+    lens = [len(t) for t in toks]
+    if lens != lens[:per] * F:
+        return None
+    if any(lens[1 + b] - 1 != layout[nm][1] for b, nm in enumerate(names)):
+        return None
+    numbers = heads[::per]
+    if any(heads[f * per + 1 : (f + 1) * per] != names for f in range(F)):
+        return None
+    if not all(x.isdigit() for x in numbers):
+        return None
+    nums = np.array(numbers, dtype=np.int64)
+    if np.any(np.diff(nums) != 1):
+        return None
+    try:
+        vals = np.array([v for t in toks for v in t[1:]], dtype=float)
+    except ValueError:
+        return None
+    if not np.isfinite(vals).all():
+        return None
+    vals = vals.reshape(F, width)
+    cols = np.concatenate([np.arange(layout[nm][0], layout[nm][0] + layout[nm][1]) for nm in names])
+    data = np.empty((F, width))
+    data[:, cols] = vals
+    return data, unit
+
+
+def read_amc(path, skeleton_or_asf_path=None, *, fps=None, name=None) -> Motion:
+    """Read an Acclaim AMC motion on its ASF skeleton.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The ``.amc`` file.
+    skeleton_or_asf_path : AsfSkeleton or str or os.PathLike, optional
+        The skeleton, or its ``.asf`` file; found with :func:`find_asf` if omitted.
+    fps : float, optional
+        Frame rate; default from the file name (:func:`amc_fps`).
+    name : str, optional
+        Motion name; default the file stem.
+
+    Returns
+    -------
+    motion : Motion
+        ``source="asf"``; ``euler`` (F, J, 3) holds the AMC values in degrees in
+        (x, y, z) columns (missing dofs and dof-less bones zero),
+        ``root_translation`` (F, 3) the AMC ``TX TY TZ``.
+
+    Raises
+    ------
+    MotionFormatError
+        Empty file, no frames, a frame missing a bone (e.g. a truncated last
+        frame), a bone line with a missing or extra value, a non-numeric or
+        non-finite value, an unknown bone, a bone the skeleton gives no dofs,
+        a repeated bone in a frame, frame numbers that are not consecutive,
+        unknown ``:`` keywords. The message names the file, line and frame
+        number. Every frame must list every bone that has dofs, whether or not
+        the file says ``:FULLY-SPECIFIED`` (partial frames are not supported).
+
+    Notebook: 01_data_and_motions.ipynb
+    """
+    path = Path(path)
+    if skeleton_or_asf_path is None:
+        asf = read_asf(find_asf(path))
+    elif isinstance(skeleton_or_asf_path, AsfSkeleton):
+        asf = skeleton_or_asf_path
+    elif isinstance(skeleton_or_asf_path, str | os.PathLike):
+        asf = read_asf(skeleton_or_asf_path)
+    else:
+        raise TypeError(
+            "skeleton_or_asf_path must be an AsfSkeleton (from read_asf) or an .asf path, "
+            f"not {type(skeleton_or_asf_path).__name__}"
+        )
+    sk = asf.skeleton
+
+    # column layout of one frame's values: root first, then each bone with dofs
+    layout = {"root": (0, len(asf.root_order))}
+    width = len(asf.root_order)
+    for j in range(1, sk.n_joints):
+        k = len(asf.dofs[j])
+        if k:
+            layout[sk.joint_names[j]] = (width, k)
+            width += k
+
+    lines = _read_lines(path)
+    parsed = _amc_fast(lines, layout, width)
+    if parsed is None:  # irregular or broken file: the line-by-line parser says where
+        parsed = _amc_checked(path, lines, asf, layout, width)
+    data, unit = parsed
+    F = data.shape[0]
+    to_deg = 180.0 / math.pi if (unit or asf.angle_unit) == "rad" else 1.0
+    euler = np.zeros((F, sk.n_joints, 3))
+    trans = np.zeros((F, 3))
+    for c, ch in enumerate(asf.root_order):
+        if ch[0] == "T":
+            trans[:, _AXIS[ch[1]]] = data[:, c]
+        else:
+            euler[:, 0, _AXIS[ch[1]]] = data[:, c] * to_deg
+    for bone, (start, _k) in layout.items():
+        if bone == "root":
+            continue
+        j = sk.index(bone)
+        for c, dof in enumerate(asf.dofs[j]):
+            euler[:, j, _AXIS[dof[1].upper()]] = data[:, start + c] * to_deg
+
+    return Motion(
+        name=name or path.stem,
+        fps=amc_fps(path) if fps is None else fps,
+        skeleton=sk,
+        euler=euler,
+        root_translation=trans,
+        source="asf",
+        path=str(path),
+    )
+
+
+__all__ = ["AsfSkeleton", "amc_fps", "complete_order", "find_asf", "read_amc", "read_asf"]
