@@ -1,0 +1,378 @@
+"""Offline baselines: classic DTW and uniform time warping (UTW).
+
+Orientation (used everywhere in fpdtw): a cost matrix ``C[i, j]`` has one row
+per INPUT frame ``I_i`` (the recorded motion, ``i = 0..m``) and one column per
+TARGET frame ``T_j`` (the live motion, ``j = 0..n``). A *map* ``M`` is a 1-D int
+array of length ``n + 1``: ``M[q]`` is the input frame mapped to target frame q.
+
+Step patterns
+-------------
+``"symmetric1"`` (the default) is the textbook recursion of Sakoe & Chiba (1978)
+without slope weights::
+
+    D[i, j] = C[i, j] + min(D[i-1, j-1], D[i-1, j], D[i, j-1])
+
+The FP-DTW paper says "classic DTW" and accumulates Method B's window "in the
+same manner as DTW" without naming weights, so the unweighted form is our
+choice. ``"symmetric2"`` (the diagonal step costs ``2 * C[i, j]``, dtw-python's
+default) is available through ``step_pattern=``. Both start at
+``D[0, 0] = C[0, 0]`` and give the same ``D`` as dtw-python's
+``dtw(C, step_pattern=symmetric1/symmetric2)`` (query = rows = input).
+
+Ties
+----
+The back-track walks from ``(m, n)`` to ``(0, 0)``. At each cell it takes the
+predecessor with the lowest ``D[prev] + w * C[i, j]`` (``w`` the step weight);
+on equal values it prefers, in order, the diagonal ``(i-1, j-1)``, then
+``(i, j-1)`` (same input frame, previous target frame), then ``(i-1, j)``.
+This is dtw-python's rule (its step patterns list the steps in that order and
+its C kernel keeps the first strict minimum), so paths agree with it exactly.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from .costs import geodesic_cost_matrix
+from .errors import AlignmentError
+
+#: Weight of the diagonal step of each supported step pattern (side steps weigh 1).
+STEP_PATTERNS = {"symmetric1": 1.0, "symmetric2": 2.0}
+
+
+def diagonal_weight(step_pattern: str) -> float:
+    """Diagonal step weight of a step pattern name (``"symmetric1"``: 1, ``"symmetric2"``: 2).
+
+    Raises
+    ------
+    AlignmentError
+        Unknown step pattern.
+    """
+    try:
+        return STEP_PATTERNS[step_pattern]
+    except (KeyError, TypeError):
+        raise AlignmentError(
+            f"unknown step pattern {step_pattern!r}; expected one of {sorted(STEP_PATTERNS)}"
+        ) from None
+
+
+def _check_cost(C, what="cost matrix", finite=True) -> np.ndarray:
+    C = np.ascontiguousarray(C, dtype=np.float64)
+    if C.ndim != 2:
+        raise AlignmentError(f"{what} must be 2-D (input frames x target frames), got {C.shape}")
+    if C.shape[0] == 0 or C.shape[1] == 0:
+        raise AlignmentError(f"{what} is empty, shape {C.shape}")
+    if finite and not np.isfinite(C).all():
+        i, j = np.argwhere(~np.isfinite(C))[0]
+        raise AlignmentError(f"{what} has a non-finite value {C[i, j]} at [{i}, {j}]")
+    return C
+
+
+# -- numba kernels -----------------------------------------------------------------------------
+
+
+@numba.njit(cache=True)
+def _accumulate(C, wd, D):
+    """Fill ``D`` (same shape as ``C``) with the accumulated cost; ``wd`` = diagonal weight.
+
+    Each cell is ``min(D[i-1, j-1] + wd*c, D[i-1, j] + c, D[i, j-1] + c)``, the
+    same floating-point operations as dtw-python, so ``D`` agrees bit for bit.
+    The running value of the current row stays in a register; rows are
+    contiguous.
+    """
+    m1, n1 = C.shape
+    x = C[0, 0]
+    D[0, 0] = x
+    for j in range(1, n1):
+        x = x + C[0, j]
+        D[0, j] = x
+    for i in range(1, m1):
+        x = D[i - 1, 0] + C[i, 0]
+        D[i, 0] = x
+        for j in range(1, n1):
+            c = C[i, j]
+            # the two steps from row i-1 do not depend on x: only "x + c, min" is serial
+            best = min(D[i - 1, j - 1] + wd * c, D[i - 1, j] + c)
+            x = min(best, x + c)
+            D[i, j] = x
+    return D
+
+
+@numba.njit(cache=True)
+def _backtrack(D, C, wd, use_c):
+    """Path from ``(m, n)`` back to ``(0, 0)``, returned in forward order, int64 (L, 2).
+
+    With ``use_c`` the candidates are compared as ``D[prev] + w * C[i, j]``
+    (dtw-python's exact rule); without, as ``D[prev]`` (symmetric1 only, where
+    the two orders agree except on rounding ties).
+    """
+    i = D.shape[0] - 1
+    j = D.shape[1] - 1
+    out = np.empty((i + j + 1, 2), dtype=np.int64)
+    k = out.shape[0] - 1
+    out[k, 0] = i
+    out[k, 1] = j
+    while i > 0 or j > 0:
+        if i == 0:
+            j -= 1
+        elif j == 0:
+            i -= 1
+        else:
+            c = C[i, j] if use_c else 0.0
+            d = D[i - 1, j - 1] + wd * c
+            h = D[i, j - 1] + c
+            v = D[i - 1, j] + c
+            if d <= h and d <= v:
+                i -= 1
+                j -= 1
+            elif h <= v:
+                j -= 1
+            else:
+                i -= 1
+        k -= 1
+        out[k, 0] = i
+        out[k, 1] = j
+    return out[k:]
+
+
+@numba.njit(cache=True)
+def _path_to_map(path, n1):
+    M = np.full(n1, -1, dtype=np.int64)
+    for r in range(path.shape[0]):
+        i = path[r, 0]
+        j = path[r, 1]
+        if 0 <= j < n1 and (M[j] < 0 or i < M[j]):
+            M[j] = i
+    return M
+
+
+# -- public API --------------------------------------------------------------------------------
+
+
+def accumulate(C, step_pattern: str = "symmetric1") -> np.ndarray:
+    """Accumulated cost matrix of classic DTW.
+
+    Parameters
+    ----------
+    C : ndarray of float, shape (m + 1, n + 1)
+        Local cost, rows = input frames, columns = target frames.
+    step_pattern : {"symmetric1", "symmetric2"}
+        ``"symmetric1"``: ``D[i,j] = C[i,j] + min(D[i-1,j-1], D[i-1,j], D[i,j-1])``
+        (default, unweighted classic DTW); ``"symmetric2"``: the diagonal step
+        adds ``2 * C[i, j]``.
+
+    Returns
+    -------
+    D : ndarray of float64, shape (m + 1, n + 1)
+        ``D[0, 0] = C[0, 0]``; ``D[m, n]`` is the DTW distance.
+
+    Raises
+    ------
+    AlignmentError
+        ``C`` not 2-D, empty or not finite; unknown step pattern.
+
+    Paper: FP-DTW Section 2 / Algorithm 2 ("accumulate in the same manner as DTW"),
+    Sakoe & Chiba 1978.
+    Notebook: 10_fig8_walk_pair.ipynb
+    """
+    wd = diagonal_weight(step_pattern)
+    C = _check_cost(C)
+    return _accumulate(C, wd, np.empty_like(C))
+
+
+def backtrack(D, C=None, step_pattern: str = "symmetric1") -> np.ndarray:
+    """Optimal warping path through an accumulated cost matrix.
+
+    The back-track starts at ``(m, n)`` and ends at ``(0, 0)``; ties prefer the
+    diagonal, then ``(i, j-1)``, then ``(i-1, j)`` (dtw-python's rule, see the
+    module docstring).
+
+    Parameters
+    ----------
+    D : ndarray of float, shape (m + 1, n + 1)
+        Accumulated cost from :func:`accumulate`.
+    C : ndarray of float, shape (m + 1, n + 1), optional
+        The local cost ``D`` was built from. With it the steps are compared
+        exactly as dtw-python does (``D[prev] + w * C[i, j]``); it is required
+        for ``"symmetric2"``.
+    step_pattern : {"symmetric1", "symmetric2"}
+
+    Returns
+    -------
+    path : ndarray of int64, shape (L, 2)
+        Cells ``(i, j)`` = (input frame, target frame) in FORWARD order, from
+        ``(0, 0)`` to ``(m, n)``; each step moves by (1, 1), (0, 1) or (1, 0).
+
+    Paper: FP-DTW Section 3.2 (DTW path plotting, before the Method B overwrite rule).
+    Notebook: 10_fig8_walk_pair.ipynb
+    """
+    wd = diagonal_weight(step_pattern)
+    # no full finiteness scan: the back-track reads only O(m + n) cells
+    D = _check_cost(D, "accumulated cost matrix", finite=False)
+    if C is None:
+        if wd != 1.0:
+            raise AlignmentError(f"backtrack with step pattern {step_pattern!r} needs C")
+        return _backtrack(D, D, wd, False)
+    C = _check_cost(C, finite=False)
+    if C.shape != D.shape:
+        raise AlignmentError(f"C has shape {C.shape} but D has shape {D.shape}")
+    return _backtrack(D, C, wd, True)
+
+
+def path_to_map(path, n: int) -> np.ndarray:
+    """Turn a warping path into a map target frame -> input frame.
+
+    Where the path holds several input frames for one target frame, the
+    LOWEST is kept (the paper's Method B adaptation and the authors' toolkit).
+
+    Parameters
+    ----------
+    path : ndarray of int, shape (L, 2)
+        Cells ``(input frame, target frame)``.
+    n : int
+        Index of the last target frame (the map has ``n + 1`` entries).
+
+    Returns
+    -------
+    M : ndarray of int64, shape (n + 1,)
+
+    Raises
+    ------
+    AlignmentError
+        A target frame in ``0..n`` is not on the path, or a cell is negative.
+
+    Notebook: 05_run_experiments.ipynb
+    """
+    path = np.asarray(path)
+    if path.ndim != 2 or path.shape[1] != 2 or path.shape[0] == 0:
+        raise AlignmentError(f"a path must have shape (L, 2), got {path.shape}")
+    if n < 0:
+        raise AlignmentError(f"n must be >= 0, got {n}")
+    path = np.ascontiguousarray(path, dtype=np.int64)
+    if (path < 0).any():
+        raise AlignmentError("a path cell has a negative frame index")
+    M = _path_to_map(path, int(n) + 1)
+    if (M < 0).any():
+        q = int(np.flatnonzero(M < 0)[0])
+        raise AlignmentError(f"target frame {q} is not on the path")
+    return M
+
+
+@dataclass(frozen=True)
+class DTWResult:
+    """Result of :func:`dtw`.
+
+    Attributes
+    ----------
+    distance : float
+        ``D[m, n]``, not normalised.
+    D : ndarray of float64, shape (m + 1, n + 1)
+        Accumulated cost matrix.
+    path : ndarray of int64, shape (L, 2)
+        Optimal path, forward order, cells (input frame, target frame).
+    map : ndarray of int64, shape (n + 1,)
+        Lowest input frame per target frame (:func:`path_to_map`).
+    """
+
+    distance: float
+    D: np.ndarray
+    path: np.ndarray
+    map: np.ndarray
+
+
+def dtw(C, step_pattern: str = "symmetric1") -> DTWResult:
+    """Classic DTW over a full cost matrix (the paper's offline baseline).
+
+    Parameters
+    ----------
+    C : ndarray of float, shape (m + 1, n + 1)
+        Rows = input frames, columns = target frames.
+    step_pattern : {"symmetric1", "symmetric2"}
+
+    Returns
+    -------
+    DTWResult
+
+    Paper: FP-DTW Sections 2 and 4 (DTW baseline for eq. 3).
+    Notebook: 05_run_experiments.ipynb
+    """
+    wd = diagonal_weight(step_pattern)
+    C = _check_cost(C)
+    D = _accumulate(C, wd, np.empty_like(C))
+    path = _backtrack(D, C, wd, True)
+    M = _path_to_map(path, C.shape[1])
+    return DTWResult(float(D[-1, -1]), D, path, M)
+
+
+def dtw_pair(I, T, step_pattern: str = "symmetric1") -> DTWResult:
+    """DTW between two motions with the geodesic cost (eq. 1).
+
+    Parameters
+    ----------
+    I : MotionFeatures
+        Input (recorded) motion, ``m + 1`` frames.
+    T : MotionFeatures
+        Target (live) motion, ``n + 1`` frames, same joints.
+    step_pattern : {"symmetric1", "symmetric2"}
+
+    Returns
+    -------
+    DTWResult
+        ``map`` has ``n + 1`` entries in ``0..m``.
+
+    Paper: FP-DTW eq. 1 and Section 4.
+    Notebook: 05_run_experiments.ipynb
+    """
+    if I.quats.shape[1:] != T.quats.shape[1:]:
+        raise AlignmentError(
+            f"input and target have different joints: {I.quats.shape} vs {T.quats.shape}"
+        )
+    return dtw(geodesic_cost_matrix(I.quats, T.quats), step_pattern)
+
+
+def utw_map(m: int, n: int) -> np.ndarray:
+    """Uniform time warping map ``M_q = round(q * m / n)``, q = 0..n.
+
+    Rounding is half-up (``floor(q*m/n + 1/2)``), computed in exact integer
+    arithmetic as ``(2*q*m + n) // (2*n)``; Python's ``round`` would round
+    halves to even. For ``n = 0`` (a single target frame) the map is ``[0]``.
+
+    Parameters
+    ----------
+    m : int
+        Index of the last input frame (input has ``m + 1`` frames), ``m >= 0``.
+    n : int
+        Index of the last target frame, ``n >= 0``.
+
+    Returns
+    -------
+    M : ndarray of int64, shape (n + 1,)
+        ``M[0] = 0``, ``M[n] = m`` (for n > 0), non-decreasing.
+
+    Paper: FP-DTW Section 4 (UTW benchmark, Fu et al. 2008).
+    Notebook: 05_run_experiments.ipynb
+    """
+    m = int(m)
+    n = int(n)
+    if m < 0 or n < 0:
+        raise AlignmentError(f"utw_map needs m >= 0 and n >= 0, got m={m}, n={n}")
+    if n == 0:
+        return np.zeros(1, dtype=np.int64)
+    q = np.arange(n + 1, dtype=np.int64)
+    return (2 * q * m + n) // (2 * n)
+
+
+__all__ = [
+    "DTWResult",
+    "STEP_PATTERNS",
+    "accumulate",
+    "backtrack",
+    "diagonal_weight",
+    "dtw",
+    "dtw_pair",
+    "path_to_map",
+    "utw_map",
+]

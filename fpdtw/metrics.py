@@ -1,0 +1,354 @@
+"""Evaluation metrics of the FP-DTW paper: similarity (eq. 2) and deviation (eq. 3).
+
+* :func:`similarity`: warp the input by a map, turn the joints' local rotations
+  into joint trajectories, Kendall tau-b per joint axis between the warped input
+  and the target, mean over the ``3k`` axes.
+* :func:`deviation`: mean absolute difference between two maps, in frames.
+
+Kendall tau-b is computed by :func:`kendall_tau_b`, an ``O(n log n)`` numba
+implementation (Knight 1966: sort by ``(x, y)``, count the inversions of ``y``
+by merge sort) that agrees with ``scipy.stats.kendalltau`` (variant ``"b"``);
+scipy also computes a p-value and costs about 100x more per axis.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from .errors import AlignmentError
+from .rotations import quat_rotate
+
+#: An axis whose trajectory range (max - min) is below this in a motion is "flat".
+FLAT_RANGE = 0.001
+
+#: Score of an axis that is flat in exactly one of the two motions (tau undefined).
+ONE_FLAT_SCORE = 0.0
+
+#: The unit vector rotated by each joint's local rotation (NOTES: (0, 1, 0)).
+BONE_AXIS = (0.0, 1.0, 0.0)
+
+
+# -- maps --------------------------------------------------------------------------------------
+
+
+def _as_map(M, what="map") -> np.ndarray:
+    M = np.asarray(M)
+    if M.ndim != 1 or M.shape[0] == 0:
+        raise AlignmentError(f"a {what} must be a non-empty 1-D array, got shape {M.shape}")
+    if not np.issubdtype(M.dtype, np.integer):
+        if not np.issubdtype(M.dtype, np.floating) or not np.all(M == np.round(M)):
+            raise AlignmentError(f"a {what} must hold integer frame indices, got {M.dtype}")
+    return M.astype(np.int64)
+
+
+def is_monotonic(M) -> bool:
+    """True when the map never goes backwards (``M[q+1] >= M[q]``).
+
+    Parameters
+    ----------
+    M : ndarray of int, shape (n + 1,)
+
+    Notebook: 05_run_experiments.ipynb
+    """
+    M = _as_map(M)
+    return bool(np.all(np.diff(M) >= 0))
+
+
+def in_range(M, m: int) -> bool:
+    """True when every entry of the map is an input frame ``0..m``.
+
+    Parameters
+    ----------
+    M : ndarray of int, shape (n + 1,)
+    m : int
+        Index of the last input frame.
+
+    Notebook: 05_run_experiments.ipynb
+    """
+    M = _as_map(M)
+    return bool(M.min() >= 0 and M.max() <= m)
+
+
+def deviation(P_a, P_b) -> float:
+    """Mean absolute difference between two maps, in frames.
+
+    ``sum_q |P_a(q) - P_b(q)| / (n + 1)`` over all target frames ``q = 0..n``.
+    The paper writes the sum over ``q = 1..n`` divided by ``n``, i.e. over the
+    ``n`` frames counted from 1; our maps index target frames from 0, so the
+    sum runs over every entry of the maps.
+
+    Parameters
+    ----------
+    P_a, P_b : ndarray of int, shape (n + 1,)
+        Maps target frame -> input frame (e.g. DTW's and an online method's).
+
+    Returns
+    -------
+    d : float
+        In frames (18 frames = 150 ms at 120 Hz is the paper's benchmark).
+
+    Raises
+    ------
+    AlignmentError
+        Maps of different lengths, empty or not 1-D integer arrays.
+
+    Paper: FP-DTW eq. 3.
+    Notebook: 06_fig5_fig6_scores.ipynb
+    """
+    P_a = _as_map(P_a, "map P_a")
+    P_b = _as_map(P_b, "map P_b")
+    if P_a.shape != P_b.shape:
+        raise AlignmentError(
+            f"maps of different lengths: {P_a.shape[0]} and {P_b.shape[0]} target frames"
+        )
+    return float(np.mean(np.abs(P_a - P_b)))
+
+
+# -- Kendall tau-b -----------------------------------------------------------------------------
+
+
+@numba.njit(cache=True)
+def _count_ties(s):
+    """Sum of t (t - 1) / 2 over runs of equal values of sorted ``s``."""
+    total = 0
+    run = 1
+    for i in range(1, s.shape[0]):
+        if s[i] == s[i - 1]:
+            run += 1
+        else:
+            total += run * (run - 1) // 2
+            run = 1
+    return total + run * (run - 1) // 2
+
+
+@numba.njit(cache=True)
+def _merge_count(y, buf):
+    """Stable bottom-up merge sort of ``y`` in place; returns the number of inversions.
+
+    An inversion is a pair ``a < b`` with ``y[a] > y[b]`` (strictly), i.e. a
+    discordant pair once the data are sorted by x.
+    """
+    n = y.shape[0]
+    swaps = 0
+    width = 1
+    while width < n:
+        lo = 0
+        while lo < n - width:
+            mid = lo + width
+            hi = min(lo + 2 * width, n)
+            a = lo
+            b = mid
+            k = lo
+            while a < mid and b < hi:
+                if y[b] < y[a]:
+                    buf[k] = y[b]
+                    swaps += mid - a
+                    b += 1
+                else:
+                    buf[k] = y[a]
+                    a += 1
+                k += 1
+            while a < mid:
+                buf[k] = y[a]
+                a += 1
+                k += 1
+            while b < hi:
+                buf[k] = y[b]
+                b += 1
+                k += 1
+            for r in range(lo, hi):
+                y[r] = buf[r]
+            lo += 2 * width
+        width *= 2
+    return swaps
+
+
+@numba.njit(cache=True)
+def _tau_b(x, y):
+    """Kendall tau-b of two float64 vectors of equal length; NaN if either is constant."""
+    n = x.shape[0]
+    if n < 2:
+        return np.nan
+    # sort by (x, y): stable sort by y, then stable sort by x
+    order = np.argsort(y, kind="mergesort")
+    order = order[np.argsort(x[order], kind="mergesort")]
+    xs = x[order]
+    ys = y[order]
+    n1 = _count_ties(xs)
+    # pairs tied in x and in y
+    n3 = 0
+    run = 1
+    for i in range(1, n):
+        if xs[i] == xs[i - 1] and ys[i] == ys[i - 1]:
+            run += 1
+        else:
+            n3 += run * (run - 1) // 2
+            run = 1
+    n3 += run * (run - 1) // 2
+    swaps = _merge_count(ys, np.empty_like(ys))
+    n2 = _count_ties(ys)  # ys is sorted now
+    n0 = n * (n - 1) // 2
+    if n1 == n0 or n2 == n0:
+        return np.nan
+    s = (n0 - n1 - n2 + n3) - 2 * swaps  # concordant - discordant
+    return s / math.sqrt(float(n0 - n1) * float(n0 - n2))
+
+
+def kendall_tau_b(x, y) -> float:
+    """Kendall rank correlation tau-b (ties corrected), ``O(n log n)``.
+
+    Parameters
+    ----------
+    x, y : ndarray of float, shape (N,)
+
+    Returns
+    -------
+    tau : float
+        In ``[-1, 1]``; NaN when ``N < 2`` or either vector is constant (as
+        ``scipy.stats.kendalltau``).
+
+    Paper: FP-DTW eq. 2 (Kendall tau per joint axis).
+    Notebook: 06_fig5_fig6_scores.ipynb
+    """
+    x = np.ascontiguousarray(x, dtype=np.float64)
+    y = np.ascontiguousarray(y, dtype=np.float64)
+    if x.ndim != 1 or x.shape != y.shape:
+        raise AlignmentError(
+            f"kendall_tau_b needs two 1-D arrays of equal length: {x.shape}, {y.shape}"
+        )
+    return float(_tau_b(x, y))
+
+
+@numba.njit(cache=True)
+def _axis_scores(XA, XT, flat, one_flat, out):
+    """Per-axis score; XA, XT (N, k, 3) float64; out (k, 3)."""
+    N = XA.shape[0]
+    for j in range(XA.shape[1]):
+        for a in range(3):
+            xa = np.empty(N)
+            xt = np.empty(N)
+            for f in range(N):
+                xa[f] = XA[f, j, a]
+                xt[f] = XT[f, j, a]
+            flat_a = xa.max() - xa.min() < flat
+            flat_t = xt.max() - xt.min() < flat
+            if flat_a and flat_t:
+                out[j, a] = 1.0
+            elif flat_a or flat_t:
+                out[j, a] = one_flat
+            else:
+                out[j, a] = _tau_b(xa, xt)
+    return out
+
+
+# -- similarity --------------------------------------------------------------------------------
+
+
+def joint_trajectories(quats) -> np.ndarray:
+    """Joint trajectories: the unit vector (0, 1, 0) rotated by each joint's local rotation.
+
+    Parameters
+    ----------
+    quats : ndarray of float, shape (F, k, 4)
+        Local rotations (w, x, y, z), unit quaternions.
+
+    Returns
+    -------
+    X : ndarray of float64, shape (F, k, 3)
+        Unit vectors; ``X[f, j]`` is the direction of joint j's bone axis.
+
+    Paper: FP-DTW eq. 2 ("the R^3 translation of a one unit length vector along
+    the joint's orientation").
+    Notebook: 06_fig5_fig6_scores.ipynb
+    """
+    quats = np.asarray(quats, dtype=np.float64)
+    if quats.ndim != 3 or quats.shape[2] != 4:
+        raise AlignmentError(f"expected quaternions of shape (F, k, 4), got {quats.shape}")
+    return np.ascontiguousarray(quat_rotate(quats, np.array(BONE_AXIS)))
+
+
+def similarity_per_axis(I_quats, T_quats, M) -> np.ndarray:
+    """Per-axis scores of :func:`similarity`: Kendall tau-b of each joint axis.
+
+    The input is warped by the map (``A = I[M]``, one frame per target frame).
+    An axis whose range (max - min) is below :data:`FLAT_RANGE` (0.001) in BOTH
+    ``A`` and ``T`` scores 1 (the paper's rule). Below it in exactly ONE of them
+    tau is undefined (a constant series); we score it :data:`ONE_FLAT_SCORE` (0):
+    a warp that freezes a moving joint gets no credit, and a moving input
+    against a still target is not a match either.
+
+    Parameters
+    ----------
+    I_quats : ndarray of float, shape (m + 1, k, 4)
+        Input motion's local rotations.
+    T_quats : ndarray of float, shape (n + 1, k, 4)
+        Target motion's local rotations.
+    M : ndarray of int, shape (n + 1,)
+        Map target frame -> input frame, entries in ``0..m``.
+
+    Returns
+    -------
+    r : ndarray of float64, shape (k, 3)
+        ``r[j, a]`` for joint j and axis a (x, y, z), each in ``[-1, 1]``.
+
+    Raises
+    ------
+    AlignmentError
+        Map length differs from the target's frame count, entries outside
+        ``0..m``, or mismatched joints.
+
+    Paper: FP-DTW eq. 2.
+    Notebook: 06_fig5_fig6_scores.ipynb
+    """
+    I_quats = np.asarray(I_quats, dtype=np.float64)
+    T_quats = np.asarray(T_quats, dtype=np.float64)
+    M = _as_map(M)
+    if I_quats.ndim != 3 or T_quats.ndim != 3 or I_quats.shape[1:] != T_quats.shape[1:]:
+        raise AlignmentError(
+            f"input and target rotations must be (F, k, 4) with the same k: "
+            f"{I_quats.shape}, {T_quats.shape}"
+        )
+    if M.shape[0] != T_quats.shape[0]:
+        raise AlignmentError(
+            f"the map has {M.shape[0]} entries but the target has {T_quats.shape[0]} frames"
+        )
+    m = I_quats.shape[0] - 1
+    if not in_range(M, m):
+        raise AlignmentError(f"the map has entries outside the input frames 0..{m}")
+    XA = joint_trajectories(I_quats[M])
+    XT = joint_trajectories(T_quats)
+    out = np.empty((XA.shape[1], 3))
+    return _axis_scores(XA, XT, FLAT_RANGE, ONE_FLAT_SCORE, out)
+
+
+def similarity(I_quats, T_quats, M) -> float:
+    """Similarity of the warped input and the target (mean Kendall tau over 3k axes).
+
+    See :func:`similarity_per_axis` for the parameters and the flat-axis rule.
+
+    Returns
+    -------
+    r : float
+        In ``[-1, 1]``: 1 for a perfect ordinal match, negative for reversed motion.
+
+    Paper: FP-DTW eq. 2.
+    Notebook: 06_fig5_fig6_scores.ipynb
+    """
+    return float(np.mean(similarity_per_axis(I_quats, T_quats, M)))
+
+
+__all__ = [
+    "BONE_AXIS",
+    "FLAT_RANGE",
+    "ONE_FLAT_SCORE",
+    "deviation",
+    "in_range",
+    "is_monotonic",
+    "joint_trajectories",
+    "kendall_tau_b",
+    "similarity",
+    "similarity_per_axis",
+]

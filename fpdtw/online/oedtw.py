@@ -1,0 +1,188 @@
+"""Open-end DTW (OE-DTW, Tormene et al. 2009), computed incrementally.
+
+After each target frame ``T_q`` OE-DTW reports the best end point in the input:
+the input frame ``e_q`` where the cheapest alignment of the whole target prefix
+``T_0..T_q`` with some input prefix ``I_0..I_e`` ends. It is the open-end
+variant of the offline DTW of :mod:`fpdtw.dtw` (same orientation: rows = input
+frames ``i = 0..m``, columns = target frames), and it keeps exactly one column
+of the accumulated cost matrix ``D[:, q]`` per frame: a new target frame costs
+``O(m)`` (its geodesic cost column plus the DTW recursion down the column).
+
+Nothing stops ``e_q`` from moving backwards between consecutive frames: the
+FP-DTW paper's Fig. 1 shows this. To draw it, :meth:`OEDTW.path` back-tracks the
+partial alignment path ending at ``(e_q, q)``; for that the aligner stores every
+accumulated column it has computed (``O(m * frames)`` float64 memory, 8 MB for a
+1000 x 1000 pair) and recomputes the few local costs the back-track compares.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from ..costs import _geo_frame
+from ..dtw import _backtrack, diagonal_weight
+from ..errors import AlignmentError
+from ..features import MotionFeatures
+from .base import OnlineAligner
+
+
+@numba.njit(cache=True)
+def _oe_column(Iq, t, prev, cur, first, wd, norm_offset):
+    """Accumulated cost column of one new target frame; returns the best end point.
+
+    Iq : float64 (m+1, k, 4) input quaternions; t : float64 (k, 4) the new target
+    frame; prev : the previous column (ignored when ``first``); cur : output.
+    ``norm_offset < 0``: end point = argmin of ``cur`` (lowest i on ties);
+    otherwise argmin of ``cur[i] / (norm_offset + i)`` (dtw-python's N+M
+    normalisation with ``norm_offset = q + 2``).
+    """
+    m1 = Iq.shape[0]
+    c = _geo_frame(Iq[0], t)
+    if first:
+        x = c
+    else:
+        x = prev[0] + c
+    cur[0] = x
+    for i in range(1, m1):
+        c = _geo_frame(Iq[i], t)
+        if first:
+            x = x + c
+        else:
+            best = min(prev[i - 1] + wd * c, prev[i] + c)
+            x = min(best, x + c)
+        cur[i] = x
+    best_i = 0
+    if norm_offset < 0:
+        best_v = cur[0]
+        for i in range(1, m1):
+            if cur[i] < best_v:
+                best_v = cur[i]
+                best_i = i
+    else:
+        best_v = cur[0] / norm_offset
+        for i in range(1, m1):
+            v = cur[i] / (norm_offset + i)
+            if v < best_v:
+                best_v = v
+                best_i = i
+    return best_i
+
+
+@numba.njit(cache=True)
+def _cost_block(Iq, Tq, out):
+    for i in range(out.shape[0]):
+        for j in range(out.shape[1]):
+            out[i, j] = _geo_frame(Iq[i], Tq[j])
+    return out
+
+
+class OEDTW(OnlineAligner):
+    """Open-end DTW: best end point in the input after every target frame.
+
+    ``step`` returns the end point ``e_q``; the sequence of end points is the
+    map this aligner produces (:attr:`end_points`). It is not monotonic.
+
+    Parameters
+    ----------
+    I : MotionFeatures
+        Input (recorded) motion, ``m + 1`` frames.
+    step_pattern : {"symmetric1", "symmetric2"}
+        DTW recursion, as in :func:`fpdtw.dtw.accumulate` (default
+        ``"symmetric1"``, unweighted classic DTW).
+    normalize : bool
+        False (default): the end point is the argmin of the accumulated column,
+        ``e_q = argmin_i D[i, q]`` (lowest i on ties). True: divide by the
+        path-length normaliser ``(q + 1) + (i + 1)`` first, as dtw-python's
+        ``open_end=True`` does for ``"symmetric2"`` (Tormene et al.); only
+        allowed with ``"symmetric2"`` (``"symmetric1"`` is not normalisable).
+
+    Paper: FP-DTW Section 2 and Fig. 1 (Tormene et al. 2009).
+    Notebook: 02_fig1_oedtw.ipynb
+    """
+
+    name = "OE-DTW"
+
+    def __init__(self, I: MotionFeatures, step_pattern: str = "symmetric1", normalize=False):
+        self.step_pattern = step_pattern
+        self._wd = diagonal_weight(step_pattern)
+        self.normalize = bool(normalize)
+        if self.normalize and step_pattern != "symmetric2":
+            raise AlignmentError(
+                f"normalize=True needs step_pattern='symmetric2' (N+M normalisation); "
+                f"{step_pattern!r} is not normalisable"
+            )
+        super().__init__(I)
+        if I.n_frames == 0:
+            raise AlignmentError("the input motion has no frames")
+        self._Iq = np.ascontiguousarray(I.quats, dtype=np.float64)
+
+    def reset(self) -> None:
+        """Forget every target frame and every stored column."""
+        super().reset()
+        self._cols = np.empty((256, self.I.n_frames))
+
+    def _step(self, q: int) -> int:
+        if q == self._cols.shape[0]:
+            grown = np.empty((2 * q, self._cols.shape[1]))
+            grown[:q] = self._cols
+            self._cols = grown
+        t = self._Tq[q]  # base.step stored it with the input's joint shape
+        prev = self._cols[q - 1] if q > 0 else self._cols[0]
+        offset = float(q + 2) if self.normalize else -1.0
+        return _oe_column(self._Iq, t, prev, self._cols[q], q == 0, self._wd, offset)
+
+    # -- inspection --------------------------------------------------------------------------
+    @property
+    def end_points(self) -> np.ndarray:
+        """End point ``e_q`` of every target frame received so far, int64 (n + 1,)."""
+        return self.M
+
+    @property
+    def D(self) -> np.ndarray:
+        """Accumulated cost so far, float64 (m + 1, n + 1): ``D[i, q]`` (a copy).
+
+        Equal to :func:`fpdtw.dtw.accumulate` of the full cost matrix restricted
+        to the target frames received so far.
+        """
+        return self._cols[: self.n_received].T.copy()
+
+    def path(self, q: int | None = None) -> np.ndarray:
+        """Partial alignment path of target frame ``q``, ending at ``(e_q, q)``.
+
+        Back-tracks the stored accumulated columns from the end point ``e_q``
+        chosen at frame ``q`` with the tie rule of :func:`fpdtw.dtw.backtrack`;
+        the result equals :func:`fpdtw.dtw.dtw` of the cost sub-matrix
+        ``C[:e_q + 1, :q + 1]``.
+
+        Parameters
+        ----------
+        q : int, optional
+            Target frame (default: the last one received); negative counts from
+            the end.
+
+        Returns
+        -------
+        path : ndarray of int64, shape (L, 2)
+            Cells (input frame, target frame) from ``(0, 0)`` to ``(e_q, q)``.
+
+        Paper: FP-DTW Fig. 1 (paths for consecutive target frames).
+        Notebook: 02_fig1_oedtw.ipynb
+        """
+        n1 = self.n_received
+        if n1 == 0:
+            raise AlignmentError("OE-DTW has received no target frame yet")
+        if q is None:
+            q = n1 - 1
+        q = int(q)
+        if q < 0:
+            q += n1
+        if not 0 <= q < n1:
+            raise AlignmentError(f"target frame {q} not received (have 0..{n1 - 1})")
+        e = int(self.M[q])
+        D = np.ascontiguousarray(self._cols[: q + 1, : e + 1].T)
+        C = _cost_block(self._Iq[: e + 1], self._Tq[: q + 1], np.empty_like(D))
+        return _backtrack(D, C, self._wd, True)
+
+
+__all__ = ["OEDTW"]
