@@ -14,6 +14,11 @@ DATA_STAMP := $(FPDTW_DATA_DIR)/.fetched-stamp
 
 NOTEBOOKS := $(sort $(wildcard notebooks/[0-9]*.ipynb))
 EXECUTED  := $(patsubst notebooks/%.ipynb,build/notebooks/%.ipynb,$(NOTEBOOKS))
+SMOKE_DIR := build/smoke
+SMOKE_NBS := $(patsubst notebooks/%.ipynb,$(SMOKE_DIR)/%.ipynb,$(NOTEBOOKS))
+LIB_SRC   := $(wildcard fpdtw/*.py fpdtw/*/*.py)
+# smoke runs write their figures and results under build/smoke, never over figures/
+SMOKE_ENV := FPDTW_FIGURES_DIR=$(CURDIR)/$(SMOKE_DIR)/figures FPDTW_RESULTS_DIR=$(CURDIR)/$(SMOKE_DIR)/results
 
 .PHONY: env data test lint format figures bench clean distclean help
 
@@ -47,8 +52,16 @@ format: $(STAMP)
 	$(VENV)/bin/ruff format fpdtw tests tools
 	$(VENV)/bin/ruff check --fix fpdtw tests tools
 
-test: $(STAMP) $(DATA_STAMP) lint
+# the test suite, then the smoke notebooks re-executed under nbval (lax: only cells
+# marked NBVAL_CHECK_OUTPUT are compared with the papermill run's outputs)
+test: $(STAMP) $(DATA_STAMP) lint $(SMOKE_NBS)
 	$(VENV)/bin/pytest -q
+	$(SMOKE_ENV) $(VENV)/bin/pytest -q -p no:cacheprovider --nbval-lax $(SMOKE_NBS)
+
+$(SMOKE_DIR)/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(LIB_SRC)
+	mkdir -p $(dir $@)
+	$(SMOKE_ENV) $(PY) -m papermill --kernel fpdtw --cwd notebooks -p SMOKE True $< $(@:.ipynb=.part.ipynb)
+	mv $(@:.ipynb=.part.ipynb) $@
 
 bench: $(STAMP) $(DATA_STAMP)
 	$(PY) -m fpdtw.bench
@@ -57,10 +70,10 @@ bench: $(STAMP) $(DATA_STAMP)
 # in place), with an explicit kernel and the notebooks folder as working directory
 figures: $(EXECUTED)
 
-build/notebooks/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(wildcard fpdtw/*.py fpdtw/*/*.py)
+build/notebooks/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(LIB_SRC)
 	mkdir -p $(dir $@)
-	$(PY) -m papermill --kernel fpdtw --cwd notebooks -p SMOKE False $< $@.part
-	mv $@.part $@
+	$(PY) -m papermill --kernel fpdtw --cwd notebooks -p SMOKE False $< $(@:.ipynb=.part.ipynb)
+	mv $(@:.ipynb=.part.ipynb) $@
 
 clean:
 	rm -rf build .pytest_cache

@@ -15,6 +15,17 @@ import pytest
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 
+
+def _no_network():
+    """Without a mirror, let the verified cache serve as the mirror: fetch() never goes online."""
+    if not os.environ.get("FPDTW_MIRROR", "").strip():
+        from fpdtw.paths import data_dir
+
+        os.environ["FPDTW_MIRROR"] = str(data_dir())
+
+
+_no_network()
+
 _PROBE = "cmu/18_01.bvh"
 
 

@@ -1,0 +1,28 @@
+"""The README's loading example runs and prints what it promises."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import re
+
+from fpdtw.paths import REPO_ROOT
+
+
+def _snippet(section: str) -> str:
+    text = (REPO_ROOT / "README.md").read_text()
+    body = text.split(section, 1)[1]
+    return re.search(r"```python\n(.*?)```", body, re.S).group(1)
+
+
+def test_readme_load_example(mirror_root):
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        exec(compile(_snippet("## Load a motion"), "README.md", "exec"), {})
+    lines = out.getvalue().splitlines()
+    assert len(lines) == 3
+    assert lines[0].startswith("Walk_01: 649 frames at 120 Hz; 8 paper joints: ['LeftUpLeg'")
+    assert lines[1].startswith("HDM_bd_squat1Reps_001_120: 140 frames at 120 Hz")
+    assert lines[2].startswith("18_01: 303 frames at 30 Hz; 8 paper joints: ['lfemur', 'rfemur'")
+    for line in lines:
+        assert line.count("'") == 16  # 8 joint names
