@@ -57,6 +57,7 @@ import numpy as np
 from ..errors import MotionFormatError
 from ..motion import Motion, Skeleton
 from ..rotations import euler_to_quat, quat_conj
+from ._text import read_lines
 
 _AXIS = {"X": 0, "Y": 1, "Z": 2}
 _ROT_DOFS = ("rx", "ry", "rz")
@@ -133,15 +134,6 @@ class AsfSkeleton:
 
 
 # ---------------------------------------------------------------------- helpers
-def _read_lines(path: Path) -> list[str]:
-    """Lines of a text file; latin-1 never fails (HDM05 headers hold umlauts)."""
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise MotionFormatError(path, f"cannot read file: {exc.strerror or exc}") from None
-    return data.decode("latin-1").splitlines()
-
-
 def _floats(path, tokens, line, what, count=None):
     if count is not None and len(tokens) != count:
         raise MotionFormatError(
@@ -195,7 +187,7 @@ def read_asf(path) -> AsfSkeleton:
     Notebook: 01_data_and_motions.ipynb
     """
     path = Path(path)
-    lines = _read_lines(path)
+    lines = read_lines(path)
     units = {"length": 1.0, "angle": "deg"}
     root = {}
     bones = {}  # name -> dict(direction, length, axis, order, dofs, line)
@@ -688,7 +680,7 @@ def read_amc(path, skeleton_or_asf_path=None, *, fps=None, name=None) -> Motion:
             layout[sk.joint_names[j]] = (width, k)
             width += k
 
-    lines = _read_lines(path)
+    lines = read_lines(path)
     parsed = _amc_fast(lines, layout, width)
     if parsed is None:  # irregular or broken file: the line-by-line parser says where
         parsed = _amc_checked(path, lines, asf, layout, width)

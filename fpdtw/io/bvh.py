@@ -43,6 +43,7 @@ from ..errors import MotionFormatError
 from ..joints import NAMINGS, resolve_joint_map
 from ..motion import Motion, Skeleton
 from ..rotations import quat_mul, quat_to_euler, unwrap_degrees
+from ._text import read_lines
 
 _CHANNELS = {
     f"{a.lower()}{kind}": (kind, i)
@@ -55,14 +56,6 @@ _AXIS_NAME = "XYZ"
 def _complete_order(applied: str) -> str:
     """Present axes in applied order, then the missing ones in X, Y, Z order."""
     return applied + "".join(a for a in "XYZ" if a not in applied)
-
-
-def _read_lines(path: Path) -> list[str]:
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise MotionFormatError(path, f"cannot read file: {exc.strerror or exc}") from None
-    return data.decode("latin-1").splitlines()
 
 
 def _fps_from_frame_time(ft: float) -> float:
@@ -266,7 +259,7 @@ def read_bvh(path, *, name=None) -> Motion:
     Notebook: 01_data_and_motions.ipynb
     """
     path = Path(path)
-    lines = _read_lines(path)
+    lines = read_lines(path)
     if not any(s.strip() for s in lines):
         raise MotionFormatError(path, "empty file")
     motion_at = next(
