@@ -394,7 +394,8 @@ def test_irregular_but_valid_amc(tmp_path):
 
 def test_fast_and_checked_parsers_agree(clip):
     """The vectorised parser and the line-by-line one give identical frames."""
-    from fpdtw.io.asfamc import _amc_checked, _amc_fast, _read_lines
+    from fpdtw.io._text import read_lines as _read_lines
+    from fpdtw.io.asfamc import _amc_checked, _amc_fast
 
     for path in (clip(motion_class="grabHighR", actor="tr"), clip(motion_class="squat1Reps")):
         asf = read_asf(find_asf(path))
