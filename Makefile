@@ -14,6 +14,10 @@ DATA_STAMP := $(FPDTW_DATA_DIR)/.fetched-stamp
 
 NOTEBOOKS := $(sort $(wildcard notebooks/[0-9]*.ipynb))
 EXECUTED  := $(patsubst notebooks/%.ipynb,build/notebooks/%.ipynb,$(NOTEBOOKS))
+# numba's on-disk cache does not notice when a kernel it inlined from another module
+# changes: keep it in build/ and start it afresh whenever a library source changes
+export NUMBA_CACHE_DIR := $(CURDIR)/build/numba-cache
+NUMBA_STAMP := $(NUMBA_CACHE_DIR)/.sources-stamp
 SMOKE_DIR := build/smoke
 SMOKE_NBS := $(patsubst notebooks/%.ipynb,$(SMOKE_DIR)/%.ipynb,$(NOTEBOOKS))
 LIB_SRC   := $(wildcard fpdtw/*.py fpdtw/*/*.py)
@@ -40,6 +44,10 @@ $(STAMP): pyproject.toml
 
 data: $(DATA_STAMP)
 
+$(NUMBA_STAMP): $(LIB_SRC)
+	rm -rf $(NUMBA_CACHE_DIR)
+	mkdir -p $(NUMBA_CACHE_DIR) && touch $@
+
 $(DATA_STAMP): $(STAMP) $(wildcard data_manifest/*.toml)
 	$(PY) -m fpdtw.data fetch
 	mkdir -p $(dir $@) && touch $@
@@ -54,23 +62,23 @@ format: $(STAMP)
 
 # the test suite, then the smoke notebooks re-executed under nbval (lax: only cells
 # marked NBVAL_CHECK_OUTPUT are compared with the papermill run's outputs)
-test: $(STAMP) $(DATA_STAMP) lint $(SMOKE_NBS)
+test: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) lint $(SMOKE_NBS)
 	$(VENV)/bin/pytest -q
 	$(SMOKE_ENV) $(VENV)/bin/pytest -q -p no:cacheprovider --nbval-lax $(SMOKE_NBS)
 
-$(SMOKE_DIR)/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(LIB_SRC)
+$(SMOKE_DIR)/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(LIB_SRC)
 	mkdir -p $(dir $@)
 	$(SMOKE_ENV) $(PY) -m papermill --kernel fpdtw --cwd notebooks -p SMOKE True $< $(@:.ipynb=.part.ipynb)
 	mv $(@:.ipynb=.part.ipynb) $@
 
-bench: $(STAMP) $(DATA_STAMP)
+bench: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP)
 	$(PY) -m fpdtw.bench
 
 # every notebook is executed by papermill into build/notebooks (sources never edited
 # in place), with an explicit kernel and the notebooks folder as working directory
 figures: $(EXECUTED)
 
-build/notebooks/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(LIB_SRC)
+build/notebooks/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(LIB_SRC)
 	mkdir -p $(dir $@)
 	$(PY) -m papermill --kernel fpdtw --cwd notebooks -p SMOKE False $< $(@:.ipynb=.part.ipynb)
 	mv $(@:.ipynb=.part.ipynb) $@

@@ -1,5 +1,27 @@
-"""Online aligners behind one streaming interface (see :mod:`fpdtw.online.base`)."""
+"""Online aligners behind one streaming interface (see :mod:`fpdtw.online.base`).
+
+* :class:`OEDTW`: open-end DTW (Tormene et al. 2009), incremental.
+* :class:`MethodA`, :class:`MethodB`, :class:`MethodC`: FP-DTW Algorithms 1-3.
+* :class:`TypeV`: the forward Type V local constraint as a state table (Section 6).
+"""
 
 from .base import OnlineAligner, run_online
+from .method_a import MethodA
+from .method_b import MethodB
+from .method_c import MethodC
+from .oedtw import OEDTW
+from .typev import TYPE_V, TypeV, is_legal_typev
+from .window import WindowSnapshot
 
-__all__ = ["OnlineAligner", "run_online"]
+__all__ = [
+    "OEDTW",
+    "TYPE_V",
+    "MethodA",
+    "MethodB",
+    "MethodC",
+    "OnlineAligner",
+    "TypeV",
+    "WindowSnapshot",
+    "is_legal_typev",
+    "run_online",
+]

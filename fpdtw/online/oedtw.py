@@ -20,7 +20,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ..costs import _geo_frame
+from ..costs import _TWO_OVER_PI, _acos01, _geo_frame
 from ..dtw import _backtrack, diagonal_weight
 from ..errors import AlignmentError
 from ..features import MotionFeatures
@@ -28,29 +28,59 @@ from .base import OnlineAligner
 
 
 @numba.njit(cache=True)
-def _oe_column(Iq, t, prev, cur, first, wd, norm_offset):
+def _cost_column(Isoa, t, c):
+    """c[i] = geoDistance(I_i, t) (eq. 1) for every input frame i.
+
+    Isoa : float64 (k, 4, m+1), the input quaternions joint-major (structure of
+    arrays) so that the loop over input frames vectorises; t : float64 (k, 4). The
+    joint sum and the (w, x, y, z) dot product run in the same order as
+    :func:`fpdtw.costs._geo_frame`, so the values are bit-identical to it.
+    """
+    m1 = c.shape[0]
+    for i in range(m1):
+        c[i] = 0.0
+    for j in range(Isoa.shape[0]):
+        t0 = t[j, 0]
+        t1 = t[j, 1]
+        t2 = t[j, 2]
+        t3 = t[j, 3]
+        a0 = Isoa[j, 0]
+        a1 = Isoa[j, 1]
+        a2 = Isoa[j, 2]
+        a3 = Isoa[j, 3]
+        for i in range(m1):
+            d = abs(a0[i] * t0 + a1[i] * t1 + a2[i] * t2 + a3[i] * t3)
+            d = min(d, 1.0)
+            c[i] += _acos01(d)
+    for i in range(m1):
+        c[i] *= _TWO_OVER_PI
+
+
+@numba.njit(cache=True)
+def _oe_column(Isoa, t, prev, cur, first, wd, norm_offset, c):
     """Accumulated cost column of one new target frame; returns the best end point.
 
-    Iq : float64 (m+1, k, 4) input quaternions; t : float64 (k, 4) the new target
-    frame; prev : the previous column (ignored when ``first``); cur : output.
+    Isoa : float64 (k, 4, m+1) input quaternions (joint-major); t : float64 (k, 4)
+    the new target frame; prev : the previous column (ignored when ``first``);
+    cur : output; c : scratch for the cost column.
     ``norm_offset < 0``: end point = argmin of ``cur`` (lowest i on ties);
     otherwise argmin of ``cur[i] / (norm_offset + i)`` (dtw-python's N+M
     normalisation with ``norm_offset = q + 2``).
     """
-    m1 = Iq.shape[0]
-    c = _geo_frame(Iq[0], t)
+    m1 = cur.shape[0]
+    _cost_column(Isoa, t, c)
     if first:
-        x = c
+        x = c[0]
     else:
-        x = prev[0] + c
+        x = prev[0] + c[0]
     cur[0] = x
     for i in range(1, m1):
-        c = _geo_frame(Iq[i], t)
+        ci = c[i]
         if first:
-            x = x + c
+            x = x + ci
         else:
-            best = min(prev[i - 1] + wd * c, prev[i] + c)
-            x = min(best, x + c)
+            best = min(prev[i - 1] + wd * ci, prev[i] + ci)
+            x = min(best, x + ci)
         cur[i] = x
     best_i = 0
     if norm_offset < 0:
@@ -116,6 +146,8 @@ class OEDTW(OnlineAligner):
         if I.n_frames == 0:
             raise AlignmentError("the input motion has no frames")
         self._Iq = np.ascontiguousarray(I.quats, dtype=np.float64)
+        self._Isoa = np.ascontiguousarray(self._Iq.transpose(1, 2, 0))  # (k, 4, m+1)
+        self._c = np.empty(I.n_frames)
 
     def reset(self) -> None:
         """Forget every target frame and every stored column."""
@@ -130,7 +162,7 @@ class OEDTW(OnlineAligner):
         t = self._Tq[q]  # base.step stored it with the input's joint shape
         prev = self._cols[q - 1] if q > 0 else self._cols[0]
         offset = float(q + 2) if self.normalize else -1.0
-        return _oe_column(self._Iq, t, prev, self._cols[q], q == 0, self._wd, offset)
+        return _oe_column(self._Isoa, t, prev, self._cols[q], q == 0, self._wd, offset, self._c)
 
     # -- inspection --------------------------------------------------------------------------
     @property

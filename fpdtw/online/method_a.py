@@ -1,0 +1,134 @@
+"""FP-DTW Method A, frame matching (Algorithm 1).
+
+Each incoming target frame ``T_{n+1}`` is mapped to the input frame that matches it best
+(eq. 1) within the window ``{I_{M_n}..I_{M_n + w}}``, which starts at, and includes, the
+input frame of the previous target frame.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from ..costs import _geo_frame, geodesic_cost_matrix_numpy
+from ..features import MotionFeatures
+from .window import WindowAligner, WindowSnapshot, _is_allowed, reference_mask
+
+
+@numba.njit(cache=True)
+def _step_a(Iq, Tq, q, start, w_i, limit, allow, C):
+    """Method A window branch: argmin over allowed rows of geoDistance(I_{start+r}, T_q)."""
+    best = -1
+    for r in range(w_i + 1):
+        C[r] = _geo_frame(Iq[start + r], Tq[q])
+        if _is_allowed(r, limit, allow) and (best < 0 or C[r] < C[best]):
+            best = r
+    return max(best, 0)
+
+
+class MethodA(WindowAligner):
+    """Method A (Algorithm 1): frame matching in a small forward window.
+
+    Rules (choices where the paper is silent are marked *):
+
+    * ``M_0 = 0`` (*: both motions start aligned).
+    * ``w_i = min(w, m - M_n)``; the window ``{I_{M_n}..I_{M_n + w_i}}`` has ``w_i + 1``
+      frames (inclusive). ``w_i = 0`` (input exhausted): ``M_{n+1} = M_n``.
+    * ``M_{n+1} = M_n + argmin_i geoDistance(I_{M_n + i}, T_{n+1})``; ties: the lowest
+      ``i`` (*).
+    * Default ``w = 2`` (the paper's choice, mimicking a Type I constraint).
+    * Type V (``constraint="typeV"``): window offsets the state does not allow are
+      skipped (advance 1 is always allowed, so a window of 2+ frames always has one).
+
+    Parameters
+    ----------
+    I : MotionFeatures
+        Input (recorded) motion.
+    w : int
+        Window size, default 2.
+    constraint : None, "typeV" or TypeV
+    record : bool
+        Keep a :class:`~fpdtw.online.window.WindowSnapshot` of the last step
+        (``C`` has one column, ``T_{n+1}``).
+
+    Paper: FP-DTW Algorithm 1.
+    Notebook: 05_run_experiments.ipynb
+    """
+
+    label = "Ma"
+
+    def __init__(self, I: MotionFeatures, w: int = 2, *, constraint=None, record=False):
+        super().__init__(I, w, constraint=constraint, record=record)
+        self._C = np.empty(self.w + 1)
+
+    def _make_name(self) -> str:
+        base = "Ma" if self.w == 2 else f"Ma w{self.w}"
+        return base if self.constraint is None else f"{base} + {self.constraint.name}"
+
+    def _step(self, q: int) -> int:
+        if q == 0:
+            if self.record:
+                self._snap(0, "first", -1, 0, 0)
+            return 0
+        start = int(self._M[q - 1])
+        w_i = min(self.w, self.m - start)
+        if w_i <= 0:
+            m_next = start
+            if self.record:
+                self._snap(q, "end", start, 0, m_next)
+        else:
+            off = _step_a(self._Iq, self._Tq, q, start, w_i, self._limit, self._allow(), self._C)
+            m_next = start + off
+            if self.record:
+                C = self._C[: w_i + 1, None].copy()
+                self._snap(q, "window", start, w_i, m_next, C=C)
+        self._advance_state(m_next - start)
+        return m_next
+
+    @staticmethod
+    def reference_step(I, T_quats, T_euler, M, w=2, allowed=None) -> WindowSnapshot:
+        """Plain-numpy Method A step; see :func:`reference_step_a`."""
+        return reference_step_a(I, T_quats, T_euler, M, w, allowed)
+
+
+def reference_step_a(I, T_quats, T_euler, M, w=2, allowed=None) -> WindowSnapshot:
+    """Plain-numpy reference of one Method A step (for tests).
+
+    Parameters
+    ----------
+    I : MotionFeatures
+        Input motion.
+    T_quats : ndarray of float, shape (q + 1, k, 4)
+        Target frames received so far (``T_{n+1}`` last).
+    T_euler : ndarray of float, shape (q + 1, k, 3)
+        Unused (Method A does not forecast); kept for a uniform signature.
+    M : ndarray of int, shape (q,)
+        Map so far.
+    w : int
+    allowed : ndarray of bool, shape (4,), or None
+        Type V: offsets 0..3 allowed (larger offsets never are); None: unconstrained.
+
+    Returns
+    -------
+    snap : WindowSnapshot
+
+    Paper: FP-DTW Algorithm 1.
+    """
+    q = len(T_quats) - 1
+    if q == 0:
+        return WindowSnapshot(0, "first", -1, 0, 0, 0)
+    m = I.n_frames - 1
+    Mn = int(M[q - 1])
+    w_i = w
+    if Mn + w_i > m:
+        w_i = m - Mn
+    if w_i == 0:
+        return WindowSnapshot(q, "end", Mn, 0, 0, Mn)
+    C = geodesic_cost_matrix_numpy(I.quats[Mn : Mn + w_i + 1], T_quats[q : q + 1])
+    ok = reference_mask(allowed, w_i + 1)
+    cand = np.where(ok, C[:, 0], np.inf)
+    off = int(np.argmin(cand))  # first minimum: the lowest offset
+    return WindowSnapshot(q, "window", Mn, w_i, off, Mn + off, C=C)
+
+
+__all__ = ["MethodA", "reference_step_a"]

@@ -1,0 +1,211 @@
+"""FP-DTW Method B, predictive windowing using DTW (Algorithm 2).
+
+The live target is forecast ``w`` frames ahead by dead reckoning; DTW plots a path
+between the input window ``{I_{M_n}..I_{M_n + w_i}}`` and ``[T_n, T_{n+1}, forecast]``;
+the incoming frame ``T_{n+1}`` is mapped to the lowest input frame the path visits in
+the ``T_{n+1}`` column.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..costs import geodesic_cost_matrix_numpy
+from ..features import MotionFeatures
+from .window import (
+    B_CORNER,
+    WindowAligner,
+    WindowSnapshot,
+    _step_b,
+    reference_forecast_quats,
+    reference_mask,
+)
+
+
+class MethodB(WindowAligner):
+    """Method B (Algorithm 2): DTW path through a forecast window.
+
+    For target frame ``q = n + 1`` (choices where the paper is silent are marked *):
+
+    * ``q = 0``: ``M_0 = 0`` (*).
+    * Warm-up, ``n < s`` (``s = 2``, dead reckoning on two frames): ``M_{n+1} = n + 1``,
+      clipped to ``m``.
+    * ``M_n >= m``: ``M_{n+1} = m``.
+    * Otherwise ``w_i = min(w, m - M_n)``; ``F = [T_n, T_{n+1}, T_{n+1} + delta, ...,
+      T_{n+1} + (w - 1) delta]`` (``w + 1`` columns, ``delta = T_{n+1} - T_n`` in
+      unwrapped Euler angles, forecasts turned into quaternions per joint order; the two
+      known frames keep their received quaternions); ``C`` = eq. 1 between the
+      ``w_i + 1`` input frames and ``F``; ``D`` = symmetric DTW accumulation from (0, 0),
+      ``D[i, j] = C[i, j] + min(D[i-1, j-1], D[i-1, j], D[i, j-1])``; then ``D[0, 0] =
+      10000`` (after accumulating: it only steers the back-track off the diagonal into
+      (0, 0), through (1, 0) or (0, 1)); back-track from ``(w_i, w)`` to (0, 0) with the
+      paper's overwrite rule, so each column keeps the LOWEST input row the path visits;
+      ``M_{n+1} = M_n + P_1`` (``P_1`` = that row in column 1, the ``T_{n+1}`` column).
+    * Back-tracking ties (*): diagonal first, then the step back one target frame (same
+      input frame), then the step back one input frame. On row 0 / column 0 the only
+      move is back one target / input frame. The order between the last two matters at
+      (1, 1), where ``D[0, 0] = 10000`` leaves (0, 1) (hold) and (1, 0) (advance): when
+      ``T_n, T_{n+1}`` match ``I_{M_n}, I_{M_n+1}`` symmetrically (an input aligned to
+      itself) the two tie exactly, and advancing keeps the identity map.
+    * Type V (``constraint="typeV"``): before accumulating, ``C[r, 1] = +inf`` for every
+      row ``r`` (offset) the state does not allow (all ``r > 3``), so the path's ``P_1``
+      is allowed (every cell the path visits has a finite accumulated cost).
+
+    Parameters
+    ----------
+    I : MotionFeatures
+        Input (recorded) motion.
+    w : int
+        Forecast window size (the paper: 10, 20, 40, 80).
+    constraint : None, "typeV" or TypeV
+    record : bool
+        Keep a :class:`~fpdtw.online.window.WindowSnapshot` of the last step (C, D, the
+        path, P).
+
+    Paper: FP-DTW Algorithm 2, Fig. 4.
+    Notebook: 05_run_experiments.ipynb
+    """
+
+    label = "Mb"
+    #: Smoothing window: frames needed before forecasting (dead reckoning: 2).
+    s = 2
+
+    def __init__(self, I: MotionFeatures, w: int, *, constraint=None, record=False):
+        super().__init__(I, w, constraint=constraint, record=record)
+        k = self._Iq.shape[1]
+        self._F = np.empty((k, 4, self.w + 1))
+        self._C = np.empty((self.w + 1, self.w + 1))
+        self._D = np.empty((self.w + 1, self.w + 1))
+        self._P = np.empty(self.w + 1, dtype=np.int64)
+        self._path = np.empty((2 * self.w + 2, 2), dtype=np.int64)
+
+    def _step(self, q: int) -> int:
+        if q == 0:
+            if self.record:
+                self._snap(0, "first", -1, 0, 0)
+            return 0
+        start = int(self._M[q - 1])
+        n = q - 1
+        if n < self.s:
+            m_next = min(n + 1, self.m)
+            if self.record:
+                self._snap(q, "warmup", start, 0, m_next)
+        elif start >= self.m:
+            m_next = self.m
+            if self.record:
+                self._snap(q, "end", start, 0, m_next)
+        else:
+            w_i = min(self.w, self.m - start)
+            off, npath = _step_b(
+                self._Iq, self._Tq, self._Te, q, start, self.w, w_i, self._codes,
+                self._limit, self._allow(), self._F, self._C, self._D, self._P, self._path,
+            )  # fmt: skip
+            m_next = start + int(off)
+            if self.record:
+                nr, nc = w_i + 1, self.w + 1
+                self._snap(
+                    q, "window", start, w_i, m_next,
+                    C=self._C[:nr, :nc].copy(), D=self._D[:nr, :nc].copy(),
+                    path=self._path[:npath][::-1].copy(), P=self._P[:nc].copy(),
+                )  # fmt: skip
+        self._advance_state(m_next - start)
+        return m_next
+
+    @staticmethod
+    def reference_step(I, T_quats, T_euler, M, w, allowed=None) -> WindowSnapshot:
+        """Plain-numpy Method B step; see :func:`reference_step_b`."""
+        return reference_step_b(I, T_quats, T_euler, M, w, allowed)
+
+
+def backtrack_lowest(D) -> tuple:
+    """Plain-Python back-track of Method B with the paper's overwrite rule.
+
+    Parameters
+    ----------
+    D : ndarray of float, shape (r, c)
+        Accumulated cost (with ``D[0, 0]`` already set to 10000).
+
+    Returns
+    -------
+    path : ndarray of int64, shape (L, 2)
+        Cells from (0, 0) to (r - 1, c - 1).
+    P : ndarray of int64, shape (c,)
+        Lowest row of the path in each column.
+
+    Paper: FP-DTW Section 3.2 (plotPath), Fig. 4.
+    """
+    i, j = D.shape[0] - 1, D.shape[1] - 1
+    cells = [(i, j)]
+    P = np.full(D.shape[1], -1, dtype=np.int64)
+    P[j] = i
+    while (i, j) != (0, 0):
+        if i == 0:
+            j -= 1
+        elif j == 0:
+            i -= 1
+        else:
+            options = [(D[i - 1, j - 1], 0), (D[i, j - 1], 1), (D[i - 1, j], 2)]
+            best = min(options)[1]  # equal costs: the earlier option (diagonal first)
+            i, j = [(i - 1, j - 1), (i, j - 1), (i - 1, j)][best]
+        P[j] = i  # same column: overwrite with the lower row
+        cells.append((i, j))
+    return np.array(cells[::-1], dtype=np.int64), P
+
+
+def reference_step_b(I, T_quats, T_euler, M, w, allowed=None) -> WindowSnapshot:
+    """Plain-numpy reference of one Method B step (for tests).
+
+    Parameters
+    ----------
+    I : MotionFeatures
+        Input motion.
+    T_quats : ndarray of float, shape (q + 1, k, 4)
+        Target frames received so far (``T_{n+1}`` last).
+    T_euler : ndarray of float, shape (q + 1, k, 3)
+        Their unwrapped Euler angles.
+    M : ndarray of int, shape (q,)
+        Map so far.
+    w : int
+    allowed : ndarray of bool, shape (4,), or None
+        Type V: offsets 0..3 allowed (larger offsets never are); None: unconstrained.
+
+    Returns
+    -------
+    snap : WindowSnapshot
+
+    Paper: FP-DTW Algorithm 2.
+    """
+    q = len(T_quats) - 1
+    if q == 0:
+        return WindowSnapshot(0, "first", -1, 0, 0, 0)
+    m = I.n_frames - 1
+    n = q - 1
+    Mn = int(M[n])
+    if n < MethodB.s:
+        return WindowSnapshot(q, "warmup", Mn, 0, min(n + 1, m) - Mn, min(n + 1, m))
+    if Mn >= m:
+        return WindowSnapshot(q, "end", Mn, 0, m - Mn, m)
+    w_i = min(w, m - Mn)
+    F = np.concatenate(
+        [T_quats[n : n + 2], reference_forecast_quats(T_euler[n : n + 2], I.orders, w)]
+    )
+    C = geodesic_cost_matrix_numpy(I.quats[Mn : Mn + w_i + 1], F)
+    C[~reference_mask(allowed, w_i + 1), 1] = np.inf
+    D = np.empty_like(C)
+    for i in range(C.shape[0]):
+        for j in range(C.shape[1]):
+            if i == 0 and j == 0:
+                D[i, j] = C[i, j]
+            elif i == 0:
+                D[i, j] = C[i, j] + D[i, j - 1]
+            elif j == 0:
+                D[i, j] = C[i, j] + D[i - 1, j]
+            else:
+                D[i, j] = C[i, j] + min(D[i - 1, j - 1], D[i - 1, j], D[i, j - 1])
+    D[0, 0] = B_CORNER
+    path, P = backtrack_lowest(D)
+    off = int(P[1])
+    return WindowSnapshot(q, "window", Mn, w_i, off, Mn + off, C=C, D=D, path=path, P=P)
+
+
+__all__ = ["MethodB", "backtrack_lowest", "reference_step_b"]

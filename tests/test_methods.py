@@ -1,0 +1,499 @@
+"""FP-DTW Methods A, B and C (Algorithms 1-3): hand-worked cases, invariants, references.
+
+Hand-worked cases use one-joint motions rotating about X by 18 degrees per "unit": the
+geodesic cost (eq. 1) between u and v units is ``(2/pi) arccos|cos(9 (u - v) deg)| =
+|u - v| / 10`` (for |u - v| <= 10), so every C and D below is in tenths and was worked
+out on paper (the arithmetic is in the comments).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from fpdtw.costs import fast_acos, geo_distance
+from fpdtw.errors import AlignmentError
+from fpdtw.features import Frame, MotionFeatures
+from fpdtw.io import load_motion
+from fpdtw.online.base import run_online
+from fpdtw.online.method_a import MethodA
+from fpdtw.online.method_b import MethodB, backtrack_lowest
+from fpdtw.online.method_c import MethodC
+from fpdtw.online.typev import dtw_python_accepts, is_legal_typev, legal_prefix
+from fpdtw.online.window import B_CORNER, reference_run
+from fpdtw.synthetic import features_from_euler, random_walk_features, synthetic_pair
+
+INF = math.inf
+
+
+def units(u):
+    """One-joint motion: frame f is a rotation about X by 18 * u[f] degrees."""
+    ang = 18.0 * np.asarray(u, dtype=float)
+    E = np.zeros((ang.size, 1, 3))
+    E[:, 0, 0] = ang
+    h = np.deg2rad(ang) / 2
+    Q = np.zeros((ang.size, 1, 4))
+    Q[:, 0, 0] = np.cos(h)
+    Q[:, 0, 1] = np.sin(h)
+    return MotionFeatures.from_arrays(Q, euler=E, orders=("XYZ",))
+
+
+def run_recording(aligner, T):
+    """Run an aligner frame by frame; return the map and the snapshot of every step."""
+    aligner.reset()
+    M, snaps = [], []
+    for frame in T.frames():
+        M.append(aligner.step(frame))
+        snaps.append(aligner.window_snapshot())
+    return np.array(M), snaps
+
+
+def tenths(rows):
+    return np.array(rows, dtype=float) / 10.0
+
+
+def test_unit_motions_cost_tenths():
+    A = units([0, 1, 3, 10])
+    assert geo_distance(A.quats[0], A.quats[1]) == pytest.approx(0.1, abs=1e-12)
+    assert geo_distance(A.quats[1], A.quats[3]) == pytest.approx(0.9, abs=1e-12)
+    assert geo_distance(A.quats[0], A.quats[3]) == pytest.approx(1.0, abs=1e-12)
+
+
+# --- Method A ---------------------------------------------------------------------------
+
+
+def test_method_a_hand_worked():
+    I = units([0, 1, 2, 3, 4, 5])  # m = 5
+    T = units([0, 2, 2, 5, 6, 6])
+    M, snaps = run_recording(MethodA(I, record=True), T)
+    # q=1: rows I0..I2 vs T=2: [.2, .1, 0] -> +2; q=2: I2..I4 vs 2: [0, .1, .2] -> +0;
+    # q=3: I2..I4 vs 5: [.3, .2, .1] -> +2; q=4: w_i = min(2, 5-4) = 1, I4..I5 vs 6:
+    # [.2, .1] -> +1; q=5: M_n = m, w_i = 0 -> hold.
+    np.testing.assert_array_equal(M, [0, 2, 2, 4, 5, 5])
+    assert [s.kind for s in snaps] == ["first", "window", "window", "window", "window", "end"]
+    np.testing.assert_allclose(snaps[1].C, tenths([[2], [1], [0]]), atol=1e-9)
+    np.testing.assert_allclose(snaps[3].C, tenths([[3], [2], [1]]), atol=1e-9)
+    s4 = snaps[4]
+    assert (s4.start, s4.w_i, s4.offset, s4.M) == (4, 1, 1, 5)
+    np.testing.assert_allclose(s4.C, tenths([[2], [1]]), atol=1e-9)
+    assert (snaps[5].w_i, snaps[5].offset) == (0, 0)
+
+
+def test_method_a_ties_take_lowest_offset():
+    # I1 and I2 are the same pose: at q=1 rows 1 and 2 tie exactly (cost 0) -> offset 1.
+    I = units([0, 1, 1, 2])
+    T = units([0, 1, 3, 3])
+    M, snaps = run_recording(MethodA(I, record=True), T)
+    np.testing.assert_array_equal(M, [0, 1, 3, 3])
+    assert snaps[1].C[1, 0] == snaps[1].C[2, 0]
+    assert snaps[1].offset == 1
+
+
+def test_method_a_typev_hand_worked():
+    I = units(range(10))
+    T = units([0] * 10)
+    M_free, _ = run_online(MethodA(I), T)
+    np.testing.assert_array_equal(M_free, [0] * 10)
+    M, snaps = run_recording(MethodA(I, constraint="typeV", record=True), T)
+    # N: no hold -> +1 (A1); hold (H1); hold (N); +1; ... every row costs more than row 0
+    np.testing.assert_array_equal(M, [0, 1, 1, 1, 2, 2, 2, 3, 3, 3])
+    assert [s.state for s in snaps[1:5]] == ["N", "A1", "H1", "N"]
+    np.testing.assert_array_equal(snaps[1].allowed, [False, True, True, True])
+    assert is_legal_typev(M)
+
+
+# --- Method B ---------------------------------------------------------------------------
+
+B_I = [0, 2, 3, 4, 4, 5, 5, 6]  # m = 7
+B_T = [0, 1, 2, 4, 5, 7, 7]
+
+
+def test_method_b_hand_worked():
+    M, snaps = run_recording(MethodB(units(B_I), 3, record=True), units(B_T))
+    np.testing.assert_array_equal(M, [0, 1, 2, 2, 5, 7, 7])
+    assert [s.kind for s in snaps] == [
+        "first", "warmup", "warmup", "window", "window", "window", "end"
+    ]  # fmt: skip
+
+    # q=3: M_2 = 2, w_i = 3, rows I2..I5 = [3, 4, 4, 5] units; F = [T2, T3, T3+d, T3+2d]
+    # = [2, 4, 6, 8] (d = 2).
+    s = snaps[3]
+    assert (s.start, s.w_i) == (2, 3)
+    np.testing.assert_allclose(
+        s.C, tenths([[1, 1, 3, 5], [2, 0, 2, 4], [2, 0, 2, 4], [3, 1, 1, 3]]), atol=1e-9
+    )
+    # D row 0: 1, 2, 5, 10; row 1: 3, 0+min(1,2,3)=1, 2+min(2,5,1)=3, 4+min(5,10,3)=7;
+    # row 2: 5, 0+min(3,1,5)=1, 2+min(1,3,1)=3, 4+min(3,7,3)=7; row 3: 8, 1+min(5,1,8)=2,
+    # 1+min(1,3,2)=2, 3+min(3,7,2)=5; then D[0,0] = 10000.
+    D = tenths([[1, 2, 5, 10], [3, 1, 3, 7], [5, 1, 3, 7], [8, 2, 2, 5]])
+    D[0, 0] = B_CORNER
+    np.testing.assert_allclose(s.D, D, atol=1e-9)
+    # back-track: (3,3) -> (3,2) [2 < 3 diag, 7 input] -> (2,1) [diag 1] -> (1,1) [input
+    # 1 < diag 3, target 5: overwrite col 1] -> (0,1) [input 2 < target 3 < 10000:
+    # overwrite again] -> (0,0)
+    np.testing.assert_array_equal(s.path, [[0, 0], [0, 1], [1, 1], [2, 1], [3, 2], [3, 3]])
+    np.testing.assert_array_equal(s.P, [0, 0, 3, 3])
+    assert (s.offset, s.M) == (0, 2)  # P_1 = 0: hold
+    # without the overwrite rule column 1 would keep row 2 (M = 4); without D[0,0] =
+    # 10000, (1,1) would step diagonally to (0,0) (D[0,0] = 0.1 < 0.2) and P_1 = 1.
+
+    # q=4: F = [4, 5, 6, 7] (d = 1); the path enters column 1 at row 3 from (2,0).
+    s = snaps[4]
+    np.testing.assert_allclose(
+        s.C, tenths([[1, 2, 3, 4], [0, 1, 2, 3], [0, 1, 2, 3], [1, 0, 1, 2]]), atol=1e-9
+    )
+    D = tenths([[1, 3, 6, 10], [1, 2, 4, 7], [1, 2, 4, 7], [2, 1, 2, 4]])
+    D[0, 0] = B_CORNER
+    np.testing.assert_allclose(s.D, D, atol=1e-9)
+    np.testing.assert_array_equal(s.path, [[0, 0], [1, 0], [2, 0], [3, 1], [3, 2], [3, 3]])
+    np.testing.assert_array_equal(s.P, [0, 3, 3, 3])
+    assert (s.offset, s.M) == (3, 5)
+
+    # q=5: the window shrinks, w_i = min(3, 7 - 5) = 2; rows [5, 5, 6]; F = [5, 7, 9, 11].
+    s = snaps[5]
+    assert (s.start, s.w_i) == (5, 2)
+    np.testing.assert_allclose(s.C, tenths([[0, 2, 4, 6], [0, 2, 4, 6], [1, 1, 3, 5]]), atol=1e-9)
+    D = tenths([[0, 2, 6, 12], [0, 2, 6, 12], [1, 1, 4, 9]])
+    D[0, 0] = B_CORNER
+    np.testing.assert_allclose(s.D, D, atol=1e-9)
+    np.testing.assert_array_equal(s.path, [[0, 0], [1, 0], [2, 1], [2, 2], [2, 3]])
+    assert (s.offset, s.M) == (2, 7)
+    # q=6: M_n = m -> M = m without a window
+    assert (snaps[6].kind, snaps[6].M) == ("end", 7)
+
+
+def test_method_b_typev_hand_worked():
+    I = units([0, 3, 4, 5, 8, 8, 10, 11])
+    T = units([0, 1, 2, 2, 2, 2])
+    M_free, _ = run_online(MethodB(I, 3), T)
+    np.testing.assert_array_equal(M_free, [0, 1, 2, 2, 2, 2])  # three holds
+    M, snaps = run_recording(MethodB(I, 3, constraint="typeV", record=True), T)
+    np.testing.assert_array_equal(M, [0, 1, 2, 2, 2, 3])
+    assert [s.state for s in snaps[3:]] == ["A1", "H1", "N"]
+    # q=5, state N: no hold, C[0, 1] = inf; rows [4, 5, 8, 8] vs F = [2, 2, 2, 2].
+    s = snaps[5]
+    C = tenths([[2, 2, 2, 2], [3, 3, 3, 3], [6, 6, 6, 6], [6, 6, 6, 6]])
+    C[0, 1] = INF
+    np.testing.assert_allclose(s.C, C, atol=1e-9)
+    # D row 0: 2, inf, inf, inf; row 1: 5, 3+2=5, 3+5=8, 3+8=11; row 2: 11, 11, 11,
+    # 6+8=14; row 3: 17, 17, 17, 6+11=17. Back-track (3,3)->(2,2)->(1,1)->(1,0)->(0,0).
+    D = tenths([[2, INF, INF, INF], [5, 5, 8, 11], [11, 11, 11, 14], [17, 17, 17, 17]])
+    D[0, 0] = B_CORNER
+    np.testing.assert_allclose(s.D, D, atol=1e-9)
+    np.testing.assert_array_equal(s.P, [0, 1, 2, 3])
+    assert (s.offset, s.M) == (1, 3)
+
+
+def test_backtrack_prefers_diagonal_then_target_step():
+    D = np.array([[B_CORNER, 1.0], [1.0, 5.0]])  # (1,1): (0,1) and (1,0) tie
+    path, P = backtrack_lowest(D)
+    np.testing.assert_array_equal(path, [[0, 0], [1, 0], [1, 1]])
+    np.testing.assert_array_equal(P, [0, 1])
+    D = np.array([[0.0, 1.0, 9.0], [1.0, 2.0, 9.0], [9.0, 2.0, 3.0]])  # (2,2): all tie
+    path, _ = backtrack_lowest(D)
+    assert [tuple(c) for c in path][-2:] == [(1, 1), (2, 2)]
+
+
+# --- Method C ---------------------------------------------------------------------------
+
+
+def test_method_c_hand_worked():
+    I = units([0, 0, 2, 2, 3, 4, 6, 7])  # m = 7
+    T = units([0, 1, 2, 3, 5, 7, 9])
+    M, snaps = run_recording(MethodC(I, 3, record=True), T)
+    np.testing.assert_array_equal(M, [0, 1, 2, 4, 6, 7, 7])
+    assert [s.kind for s in snaps] == [
+        "first", "warmup", "warmup", "window", "window", "window", "end"
+    ]  # fmt: skip
+    # q=3: rows I2..I5 = [2, 2, 3, 4]; F = [T3, T3+d, T3+2d] = [3, 4, 5] (d = 1).
+    s = snaps[3]
+    np.testing.assert_allclose(s.C, tenths([[1, 2, 3], [1, 2, 3], [0, 1, 2], [1, 0, 1]]), atol=1e-9)
+    # reverse: row 3: 1+1=2, 0+1=1, 1; row 2: 0+min(1,2,2)=1, 1+min(1,1,3)=2, 2+1=3;
+    # row 1: 1+min(2,1,4)=2, 2+min(3,2,6)=4, 3+3=6; row 0: 1+min(4,2,6)=3, 2+min(6,4,9)=6, 9
+    np.testing.assert_allclose(s.D, tenths([[3, 6, 9], [2, 4, 6], [1, 2, 3], [2, 1, 1]]), atol=1e-9)
+    assert (s.offset, s.M) == (2, 4)
+    # q=4: rows [3, 4, 6, 7]; F = [5, 7, 9] (d = 2). C's column 0 alone would pick row 1
+    # (first of two 0.1s); the accumulated D picks row 2.
+    s = snaps[4]
+    np.testing.assert_allclose(s.C, tenths([[2, 4, 6], [1, 3, 5], [1, 1, 3], [2, 0, 2]]), atol=1e-9)
+    np.testing.assert_allclose(
+        s.D, tenths([[6, 10, 16], [4, 6, 10], [3, 3, 5], [4, 2, 2]]), atol=1e-9
+    )
+    assert (s.offset, s.M) == (2, 6)
+    # q=5: the window shrinks to w_i = 1: rows [6, 7]; F = [7, 9, 11].
+    s = snaps[5]
+    assert (s.start, s.w_i) == (6, 1)
+    np.testing.assert_allclose(s.C, tenths([[1, 3, 5], [0, 2, 4]]), atol=1e-9)
+    np.testing.assert_allclose(s.D, tenths([[7, 7, 9], [6, 6, 4]]), atol=1e-9)
+    assert (s.offset, s.M) == (1, 7)
+    assert (snaps[6].kind, snaps[6].M) == ("end", 7)
+
+
+def test_method_c_ties_take_lowest_row():
+    # w = 1: F = [T_{n+1}] only, D[i, 0] = sum of C[i:, 0]. Rows [0, 1] units vs T = 0:
+    # C = [0, .1] (0 exactly: the identity quaternion), D[:, 0] = [.1, .1], an exact tie.
+    I = units([0, 0, 0, 1, 2])
+    T = units([0, 0, 0, 0, 0])
+    M, snaps = run_recording(MethodC(I, 1, record=True), T)
+    assert snaps[3].D[0, 0] == snaps[3].D[1, 0]
+    np.testing.assert_array_equal(M, [0, 1, 2, 2, 2])
+
+
+def test_method_c_typev_hand_worked():
+    I = units([0, 3, 4, 4, 5, 6, 9, 11])
+    T = units([0, 1, 2, 6, 6, 6, 6])
+    M_free, _ = run_online(MethodC(I, 3), T)
+    np.testing.assert_array_equal(M_free, [0, 1, 2, 5, 5, 5, 5])  # hold after +3
+    M, snaps = run_recording(MethodC(I, 3, constraint="typeV", record=True), T)
+    np.testing.assert_array_equal(M, [0, 1, 2, 5, 6, 6, 6])
+    # q=3 (A1): rows [4, 4, 5, 6] vs F = [6, 10, 14]; D[:, 0] = [1.7, 1.5, 1.3, 1.2] -> +3.
+    s = snaps[3]
+    np.testing.assert_allclose(
+        s.C, tenths([[2, 6, 10], [2, 6, 10], [1, 5, 9], [0, 4, 8]]), atol=1e-9
+    )
+    np.testing.assert_allclose(
+        s.D, tenths([[17, 25, 37], [15, 19, 27], [13, 13, 17], [12, 12, 8]]), atol=1e-9
+    )
+    # q=4 (N, no hold): rows [6, 9, 11] vs F = [6, 6, 6]; C[0, 0] = inf; D[:, 0] =
+    # [inf, 1.1, 1.5] -> +1 (unconstrained: D[0, 0] = 0 + min(.8, 1.1, .8) = .8 -> hold).
+    s = snaps[4]
+    assert s.state == "N"
+    np.testing.assert_allclose(s.C, tenths([[INF, 0, 0], [3, 3, 3], [5, 5, 5]]), atol=1e-9)
+    np.testing.assert_allclose(s.D, tenths([[INF, 8, 8], [11, 8, 8], [15, 10, 5]]), atol=1e-9)
+    assert (s.offset, s.M) == (1, 6)
+    assert [s.state for s in snaps[5:]] == ["A1", "H1"]
+
+
+# --- boundary cases ----------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("cls", [MethodB, MethodC])
+def test_warmup_is_clipped_to_a_short_input(cls):
+    I = units([0, 1])  # m = 1
+    T = units([0, 1, 2, 3, 4])
+    for c in (None, "typeV"):
+        M, _ = run_online(cls(I, 10, constraint=c), T)
+        np.testing.assert_array_equal(M, [0, 1, 1, 1, 1])
+
+
+@pytest.mark.parametrize("make", [lambda I: MethodA(I), lambda I: MethodB(I, 4),
+                                  lambda I: MethodC(I, 4, constraint="typeV")])  # fmt: skip
+def test_one_frame_input_maps_everything_to_frame_0(make):
+    M, _ = run_online(make(units([3])), units([0, 1, 2, 3]))
+    np.testing.assert_array_equal(M, [0, 0, 0, 0])
+
+
+def test_names():
+    I = units(range(5))
+    assert MethodA(I).name == "Ma"
+    assert MethodA(I, constraint="typeV").name == "Ma + Type V"
+    assert MethodA(I, 3).name == "Ma w3"
+    assert MethodB(I, 40).name == "Mb w40"
+    assert MethodC(I, 40, constraint="Type V").name == "Mc w40 + Type V"
+
+
+def test_bad_arguments():
+    I = units(range(5))
+    for w in (0, -1, 1.5, "40", True):
+        with pytest.raises(AlignmentError, match="window w"):
+            MethodB(I, w)
+    with pytest.raises(AlignmentError, match="constraint"):
+        MethodC(I, 10, constraint="typeI")
+    with pytest.raises(AlignmentError, match="MotionFeatures"):
+        MethodA(I.quats)
+    a = MethodC(I, 10)
+    with pytest.raises(AlignmentError, match="target frame 0"):
+        a.step(Frame(np.ones((1, 4)) / 2.0, np.zeros((2, 3))))
+    with pytest.raises(AlignmentError, match="expected quats"):
+        a.step(Frame(np.array([1.0, 0.0, 0.0, 0.0]), np.zeros(3)))  # would broadcast
+    bad = MotionFeatures(I.quats, I.euler, ("QQQ",), 120.0)
+    with pytest.raises(AlignmentError, match="rotation order"):
+        MethodB(bad, 10)
+    bad = MotionFeatures(I.quats, I.euler[:-1], ("XYZ",), 120.0)
+    with pytest.raises(AlignmentError, match="inconsistent features"):
+        MethodA(bad)
+    with pytest.raises(AlignmentError, match="no frames"):
+        MethodC(I.slice(0, 0), 10)
+
+
+def test_record_is_off_by_default_and_reset_clears_state():
+    I, T, _ = synthetic_pair(80, seed=4)
+    a = MethodC(I, 10, constraint="typeV")
+    M1, _ = run_online(a, T)
+    assert a.window_snapshot() is None
+    M2, _ = run_online(a, T)  # run_online resets: the Type V state starts again
+    np.testing.assert_array_equal(M1, M2)
+
+
+# --- invariants and online-ness --------------------------------------------------------
+
+ALL = [("A", 2)] + [(m, w) for m in ("B", "C") for w in (10, 20, 40, 80)]
+
+
+def make(method, I, w, typev, record=False):
+    c = "typeV" if typev else None
+    if method == "A":
+        return MethodA(I, constraint=c, record=record)
+    return {"B": MethodB, "C": MethodC}[method](I, w, constraint=c, record=record)
+
+
+@pytest.fixture(scope="module")
+def pairs():
+    """Synthetic pairs; in the third the input is the first 60 frames of a 150-frame
+    target, so every method reaches the end of the input and must hold there."""
+    I0, T0, _ = synthetic_pair(160, seed=11)
+    I1, T1, _ = synthetic_pair(220, seed=12, warp=0.6)
+    T2 = random_walk_features(150, seed=14)
+    return [(I0, T0), (I1, T1), (T2.slice(0, 60), T2)]
+
+
+@pytest.mark.parametrize("typev", [False, True])
+@pytest.mark.parametrize("method,w", ALL)
+def test_maps_are_monotonic_and_in_range(pairs, method, w, typev):
+    for I, T in pairs:
+        a = make(method, I, w, typev)
+        M, _ = run_online(a, T)
+        m = I.n_frames - 1
+        assert M.shape == (T.n_frames,) and M.dtype == np.int64
+        assert M[0] == 0
+        adv = np.diff(M)
+        assert adv.min() >= 0 and M.max() <= m
+        assert adv.max() <= (3 if typev else w)
+        if method != "A":
+            np.testing.assert_array_equal(M[:3], [0, 1, 2])  # warm-up
+        if I.n_frames < T.n_frames // 2:
+            assert M[-1] == m  # the long target exhausts the input, then holds at m
+
+
+@pytest.mark.parametrize("typev", [False, True])
+@pytest.mark.parametrize("method,w", ALL)
+def test_online_prefix_does_not_depend_on_future_frames(pairs, method, w, typev):
+    I, T = pairs[0]
+    M, _ = run_online(make(method, I, w, typev), T)
+    rng = np.random.default_rng(5)
+    for q in (0, 2, 3, 17, 90):
+        for garbage in ("random", "nan"):
+            if garbage == "nan":
+                Q = np.full_like(T.quats, np.nan)
+                E = np.full_like(T.euler, np.nan)
+            else:
+                Q = rng.normal(size=T.quats.shape)
+                Q /= np.linalg.norm(Q, axis=-1, keepdims=True)
+                E = rng.uniform(-500, 500, size=T.euler.shape)
+            Q[: q + 1] = T.quats[: q + 1]
+            E[: q + 1] = T.euler[: q + 1]
+            T2 = MotionFeatures(Q, E, T.orders, T.fps)
+            a = make(method, I, w, typev)
+            M2, _ = run_online(a, T2)
+            np.testing.assert_array_equal(M2[: q + 1], M[: q + 1])
+            assert M2.min() >= 0 and M2.max() <= I.n_frames - 1
+
+
+@pytest.mark.parametrize("typev", [False, True])
+@pytest.mark.parametrize("method,w", ALL)
+def test_input_aligned_to_itself_is_the_identity(method, w, typev):
+    """A: row 1 of each window costs 0. B: the path runs down the zero diagonal and, at
+    (1,1), (0,1) and (1,0) tie exactly (C is symmetric there), so the target step wins
+    and P_1 = 1. C: D[1,0] follows the zero diagonal. Type V allows all advances of 1.
+    Checked on a linear-in-Euler motion (exact forecasts) and a random walk."""
+    rng = np.random.default_rng(3)
+    t = np.arange(120)[:, None, None]
+    lin = features_from_euler(
+        rng.uniform(-60, 60, (1, 8, 3)) + t * rng.uniform(-1.5, 1.5, (1, 8, 3))
+    )
+    for X in (lin, random_walk_features(120, seed=5)):
+        M, _ = run_online(make(method, X, w, typev), X)
+        np.testing.assert_array_equal(M, np.arange(X.n_frames))
+
+
+# --- fast kernels vs plain-numpy references --------------------------------------------
+
+
+def _assert_snap_equal(f, r):
+    for name in ("q", "kind", "start", "w_i", "offset", "M"):
+        assert getattr(f, name) == getattr(r, name), name
+    for name in ("C", "D"):
+        a, b = getattr(f, name), getattr(r, name)
+        assert (a is None) == (b is None), name
+        if a is not None:
+            assert a.shape == b.shape, name
+            np.testing.assert_array_equal(np.isinf(a), np.isinf(b))
+            fin = np.isfinite(b)
+            np.testing.assert_allclose(a[fin], b[fin], rtol=0, atol=1e-9, err_msg=name)
+    for name in ("path", "P"):
+        a, b = getattr(f, name), getattr(r, name)
+        assert (a is None) == (b is None), name
+        if a is not None:
+            np.testing.assert_array_equal(a, b, err_msg=name)
+
+
+@pytest.mark.parametrize("typev", [False, True])
+@pytest.mark.parametrize("method,w", ALL)
+def test_fast_equals_reference(pairs, method, w, typev):
+    for I, T in pairs[::2]:
+        M, snaps = run_recording(make(method, I, w, typev, record=True), T)
+        Mr, rsnaps = reference_run(make(method, I, w, typev), T)
+        np.testing.assert_array_equal(M, Mr)
+        for f, r in zip(snaps, rsnaps):
+            _assert_snap_equal(f, r)
+            if typev:
+                assert f.state == r.state
+                np.testing.assert_array_equal(f.allowed, r.allowed)
+
+
+def test_fast_acos_matches_libm():
+    x = np.concatenate(
+        [
+            np.linspace(0.0, 1.0, 200001),
+            1.0 - np.logspace(-17, -1, 2000),
+            [0.5, np.nextafter(0.5, 1)],
+        ]
+    )
+    x = np.clip(x, 0.0, 1.0)
+    ref = np.array([math.acos(v) for v in x])
+    got = fast_acos(x)
+    assert np.max(np.abs(got - ref)) <= 1e-15
+    assert fast_acos(np.array([1.0]))[0] == 0.0
+
+
+# --- real motions --------------------------------------------------------------------------
+
+SQUAT = "hdm05/HDM05_cut_amc/squat1Reps/HDM_bd_squat1Reps_{:03d}_120.amc"
+
+
+@pytest.fixture(scope="module")
+def squat_pair(data_path):
+    I = MotionFeatures.from_motion(load_motion(data_path(SQUAT.format(1))))
+    T = MotionFeatures.from_motion(load_motion(data_path(SQUAT.format(2))))
+    return I, T
+
+
+@pytest.mark.parametrize("method,w", [("A", 2), ("B", 20), ("B", 40), ("C", 20), ("C", 40)])
+def test_real_squat_pair(squat_pair, method, w):
+    I, T = squat_pair
+    assert (I.n_frames, T.n_frames) == (140, 148)
+    for typev in (False, True):
+        a = make(method, I, w, typev)
+        M, _ = run_online(a, T)
+        Mr, _ = reference_run(a, T)
+        np.testing.assert_array_equal(M, Mr)
+        assert M[0] == 0 and np.diff(M).min() >= 0 and M.max() <= a.m
+        if typev:
+            assert is_legal_typev(M, a.m)
+            assert dtw_python_accepts(M[: legal_prefix(M, a.m)])
+
+
+def test_bench_online_rows():
+    from fpdtw.bench import bench_online, format_bench
+
+    I, T, _ = synthetic_pair(60, seed=2)
+    rows = bench_online([(I, T)], methods=("A", "C"), windows=(10,), typev=(False, True))
+    assert [r["name"] for r in rows] == ["Ma", "Ma + Type V", "Mc w10", "Mc w10 + Type V"]
+    for r in rows:
+        assert r["frames"] == T.n_frames
+        assert 0 < r["median_s"] <= r["p95_s"]
+    assert "Mc w10 + Type V" in format_bench(rows)
+    with pytest.raises(ValueError, match="unknown method"):
+        bench_online([(I, T)], methods=("D",))
