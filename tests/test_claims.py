@@ -1,0 +1,269 @@
+"""Each claim of fpdtw.claims says yes / no / partly correctly on summaries made to pass or fail."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from test_plots_results import paper_like_algos, paper_like_medians, write_fake_results
+
+from fpdtw import claims
+from fpdtw.algorithms import FPDTW_NAMES
+from fpdtw.claims import ClaimContext
+
+
+def ctx_paper_like(**kw):
+    """A context whose medians mirror the paper: every score claim holds."""
+    sim, dev = paper_like_medians()
+    base = dict(
+        mode="smoke",
+        similarity=sim,
+        deviation=dev,
+        utw_median=sim["UTW"],
+        table1=[
+            dict(rate_hz=60, source="ours", best_w=20),
+            dict(rate_hz=120, source="ours", best_w=40),
+        ],
+        timing=[
+            dict(
+                method=m,
+                w=w,
+                type_v=False,
+                mean_us=t * (1 if m == "B" else 0.8),
+                median_us=t * (0.9 if m == "B" else 0.7),
+            )
+            for m in ("B", "C")
+            for w, t in ((10, 1000.0), (20, 2000.0), (40, 5000.0), (80, 17000.0))
+        ],
+        exhausted={"Mb w80": 0.01, "Mc w40": 0.05, "Mc w80": 0.3, "Mc w10": 0.0},
+        oedtw_backward=dict(pairs=10, pairs_backward=7, fraction=0.7, jumps=30),
+        fig8={"deviation": {"Mb w80": 8.0, "Mc w20": 177.0, "Mc w40": 62.0, "Mc w80": 6.0}},
+        counts={"total": {"motions": 333, "movements": 44, "pairs": 3248}},
+    )
+    base.update(kw)
+    return ClaimContext(**base)
+
+
+def holds(ctx):
+    return {r["id"]: r["holds"] for r in claims.build_claims(context=ctx)}
+
+
+def test_every_claim_holds_on_paper_like_numbers():
+    rows = claims.build_claims(context=ctx_paper_like())
+    assert [r["id"] for r in rows] == [
+        "1",
+        "2",
+        "3",
+        "4",
+        "4b",
+        "4c",
+        "5",
+        "5b",
+        "6",
+        "7",
+        "8",
+        "9",
+    ]
+    assert {r["id"]: r["holds"] for r in rows} == {r["id"]: "yes" for r in rows}
+    for r in rows:
+        assert set(r) == set(claims.COLUMNS)
+        assert r["stable"] == (r["id"] not in ("4", "4b"))
+    by = {r["id"]: r for r in rows}
+    assert by["1"]["ours"] == "pass either: Mc w40"
+    assert by["2"]["ours"] == "pass both: Mc w40, Ma + Type V, Mc w80 + Type V"
+
+
+def test_claim1_only_mc_w40():
+    sim, dev = paper_like_medians()
+    assert holds(ctx_paper_like())["1"] == "yes"
+    dev2 = dict(dev, **{"Mb w80": 17.0})  # Mb w80 now passes the deviation benchmark too
+    assert holds(ctx_paper_like(deviation=dev2))["1"] == "partly"
+    sim3 = dict(sim, **{"Mc w40": 0.2})
+    dev3 = dict(dev, **{"Mc w40": 30.0, "Mb w80": 17.0})  # Mc w40 fails, Mb w80 passes
+    assert holds(ctx_paper_like(similarity=sim3, deviation=dev3))["1"] == "no"
+    dev4 = dict(dev, **{"Mc w40": 30.0})
+    row = claims.claim_only_mc_w40_unconstrained(ctx_paper_like(similarity=sim3, deviation=dev4))
+    assert row["holds"] == "no" and row["ours"] == "pass either: none"
+
+
+def test_claim2_pass_both():
+    sim, dev = paper_like_medians()
+    dev2 = dict(dev, **{"Ma + Type V": 18.0})  # 18 is not BELOW 18
+    row = claims.claim_three_pass_both(ctx_paper_like(deviation=dev2))
+    assert row["holds"] == "partly" and "Ma + Type V" not in row["ours"]
+    sim3 = {n: (0.0 if n not in ("DTW", "UTW") else v) for n, v in sim.items()}
+    assert holds(ctx_paper_like(similarity=sim3))["2"] == "no"
+
+
+@pytest.mark.parametrize(("b60", "b120", "want"), [(20, 40, "yes"), (20, 20, "partly"),
+                         (10, 20, "partly"), (40, 40, "partly"), (80, 10, "no")])  # fmt: skip
+def test_claim3_best_window(b60, b120, want):
+    t1 = [
+        dict(rate_hz=60, source="ours", best_w=b60),
+        dict(rate_hz=120, source="ours", best_w=b120),
+        dict(rate_hz=60, source="paper", best_w=20),
+    ]
+    assert holds(ctx_paper_like(table1=t1))["3"] == want
+    assert holds(ctx_paper_like(table1=None))["3"] == "n/a"
+
+
+def test_claim4_cost_growth():
+    def rows(tb, tc):
+        return [
+            dict(method=m, w=w, type_v=False, median_us=t, mean_us=2 * t)
+            for m, ts in (("B", tb), ("C", tc))
+            for w, t in zip((10, 20, 40, 80), ts)
+        ]
+
+    steep = (10.0, 20.0, 40.0, 100.0)
+    linear_ish = (10.0, 12.0, 15.0, 30.0)  # increasing, ratio 3
+    flat_c = (10.0, 12.0, 11.0, 9.0)  # not monotonic, ratio 0.9
+    assert holds(ctx_paper_like(timing=rows(steep, steep)))["4"] == "yes"
+    assert holds(ctx_paper_like(timing=rows(steep, linear_ish)))["4"] == "partly"
+    assert holds(ctx_paper_like(timing=rows(flat_c, flat_c)))["4"] == "no"
+    row = claims.claim_cost_grows_with_w(ctx_paper_like(timing=rows(steep, flat_c)))
+    assert row["holds"] == "partly" and "not monotonic" in row["ours"]
+    assert row["ours"] == (
+        "w80/w10: Mb 10.0x, Mc 0.9x (not monotonic) (medians); means: Mb 10.0x, Mc 0.9x"
+    )
+    # the verdict reads the medians, not the means
+    mean_steep = [dict(r, mean_us=100.0 * r["w"] ** 2) for r in rows(flat_c, flat_c)]
+    assert holds(ctx_paper_like(timing=mean_steep))["4"] == "no"
+    assert holds(ctx_paper_like(timing=None))["4"] == "n/a"
+
+
+def test_claim4b_realtime_budget():
+    def rows(b80, c80):
+        return [dict(method="B", w=80, type_v=False, mean_us=b80, median_us=1.0),
+                dict(method="C", w=80, type_v=False, mean_us=c80, median_us=1.0)]  # fmt: skip
+
+    assert holds(ctx_paper_like(timing=rows(9000.0, 8400.0)))["4b"] == "yes"
+    assert holds(ctx_paper_like(timing=rows(9000.0, 100.0)))["4b"] == "partly"
+    assert holds(ctx_paper_like(timing=rows(80.0, 30.0)))["4b"] == "no"
+
+
+def test_claim4c_mc_w80_runs_out():
+    assert holds(ctx_paper_like())["4c"] == "yes"
+    ex = {"Mb w80": 0.5, "Mc w40": 0.05, "Mc w80": 0.3}
+    assert holds(ctx_paper_like(exhausted=ex))["4c"] == "no"
+    assert holds(ctx_paper_like(exhausted={}))["4c"] == "n/a"
+
+
+def test_claim5_ma_among_worst():
+    sim, dev = paper_like_medians()
+    row = claims.claim_ma_among_worst(ctx_paper_like())
+    assert row["holds"] == "yes" and "ranks 9 of 9 (similarity), 9 of 9" in row["ours"]
+    # unconstrained similarity medians: Mc w40 0.3, Mc w20 0.2, Mc w80 0.14, Mb w80 0.12,
+    # Mb w40 0.1, Mb w20 0.08, Mb w10 0.05, Mc w10 0.04 (and Ma)
+    for ma, rank, want in ((0.045, 8, "yes"), (0.06, 7, "yes"), (0.09, 6, "partly"),
+                           (0.11, 5, "partly")):  # fmt: skip
+        row = claims.claim_ma_among_worst(ctx_paper_like(similarity=dict(sim, Ma=ma)))
+        assert f"ranks {rank} of 9 (similarity), 9 of 9 (deviation)" in row["ours"]
+        assert row["holds"] == want
+    # good in both tests
+    both = ctx_paper_like(similarity=dict(sim, Ma=0.11), deviation=dict(dev, Ma=5.0))
+    assert holds(both)["5"] == "no"
+
+
+def test_claim5b_method_b_improves_with_w():
+    sim, dev = paper_like_medians()
+    assert holds(ctx_paper_like())["5b"] == "yes"
+    assert holds(ctx_paper_like(similarity=dict(sim, **{"Mb w80": 0.09})))["5b"] == "partly"
+    sim2 = dict(sim, **{"Mb w80": 0.09})
+    dev2 = dict(dev, **{"Mb w20": 85.0})
+    assert holds(ctx_paper_like(similarity=sim2, deviation=dev2))["5b"] == "no"
+
+
+def test_claim6_type_v_improvements():
+    sim, dev = paper_like_medians()
+    assert holds(ctx_paper_like())["6"] == "yes"
+    # Mc w10 + Type V also better in both tests: one algorithm too many -> partly
+    sim2 = dict(sim, **{"Mc w10 + Type V": 0.3})
+    dev2 = dict(dev, **{"Mc w10 + Type V": 1.0})
+    row = claims.claim_typev_improves(ctx_paper_like(similarity=sim2, deviation=dev2))
+    assert row["holds"] == "partly" and "Mc w10" in row["ours"].split(";")[0]
+    # better similarity only does not count as improved
+    sim3 = {n: v for n, v in sim.items()}
+    dev3 = {n: v for n, v in dev.items()}
+    for n in FPDTW_NAMES:
+        sim3[n + " + Type V"] = sim[n] - 0.01
+        dev3[n + " + Type V"] = dev[n] - 1.0
+    row = claims.claim_typev_improves(ctx_paper_like(similarity=sim3, deviation=dev3))
+    assert row["holds"] == "no" and row["ours"].startswith("improved: none; in one test only: Ma")
+
+
+def test_claim7_oedtw_backward():
+    assert holds(ctx_paper_like())["7"] == "yes"
+    oe = dict(pairs=10, pairs_backward=0, fraction=0.0, jumps=0)
+    assert holds(ctx_paper_like(oedtw_backward=oe))["7"] == "no"
+    assert holds(ctx_paper_like(oedtw_backward=None))["7"] == "n/a"
+
+
+def test_claim8_fig8_json_formats():
+    assert holds(ctx_paper_like())["8"] == "yes"
+    devs = {"Mb w80": 8.0, "Mc w20": 30.0, "Mc w40": 10.0, "Mc w80": 40.0}
+    nested = {"algorithms": {n: {"deviation": v} for n, v in devs.items()}}
+    assert holds(ctx_paper_like(fig8=nested))["8"] == "partly"  # below 18: Mb w80, Mc w40
+    bad = {"deviations": {"Mb w80": 30.0, "Mc w20": 30.0, "Mc w40": 10.0, "Mc w80": 40.0}}
+    assert holds(ctx_paper_like(fig8=bad))["8"] == "no"
+    row = claims.claim_fig8_walk_pair(ctx_paper_like(fig8=None))
+    assert row["holds"] == "n/a" and "not computed" in row["ours"]
+    assert holds(ctx_paper_like(fig8={"other": 1}))["8"] == "n/a"
+
+
+def test_claim9_data():
+    assert holds(ctx_paper_like())["9"] == "yes"
+    counts = {
+        "authors_fbx": {"motions": 48, "movements": 16, "pairs": 96},
+        "total": {"motions": 335, "movements": 27, "pairs": 8610},
+    }
+    row = claims.claim_data(ctx_paper_like(counts=counts))
+    assert row["holds"] == "no" and "335 motions, 27 movements, 8610 pairs" in row["ours"]
+    assert "authors_fbx: 48/16/96" in row["ours"]
+
+
+def test_register_claim_extends_the_list(monkeypatch):
+    monkeypatch.setattr(claims, "CLAIMS", list(claims.CLAIMS))
+
+    @claims.register_claim
+    def claim_extra(ctx):
+        return dict(id="X", claim="extra", paper="-", ours="-", holds="yes", evidence="-",
+                    stable=True)  # fmt: skip
+
+    rows = claims.build_claims(context=ctx_paper_like())
+    assert rows[-1]["id"] == "X" and len(rows) == 13
+    with pytest.raises(ValueError, match="without"):
+        claims.build_claims(context=ctx_paper_like(), claims=[lambda ctx: {"id": "Y"}])
+
+
+def test_build_claims_from_a_fake_results_folder(tmp_path, monkeypatch):
+    """End to end: fake folder -> load_results -> context -> rows -> claims.json."""
+    monkeypatch.setenv("FPDTW_RESULTS_DIR", str(tmp_path / "results"))
+    monkeypatch.setenv("FPDTW_FIGURES_DIR", str(tmp_path / "figs"))
+    sim, dev = paper_like_medians()
+    algos = paper_like_algos(sim, dev)
+    # OE-DTW: pair 0 jumps back once (5 -> 4), the others are monotonic
+    oe = [np.round(np.arange(20) * 19 / 19).astype(np.int32) for _ in range(5)]
+    oe[0] = oe[0].copy()
+    oe[0][6] = 4
+    algos["OE-DTW"]["maps"] = oe
+    # Mc w80 runs out: reaches m = 19 at q = 10 in every pair
+    algos["Mc w80"]["maps"] = [np.minimum(2 * np.arange(20), 19).astype(np.int32)] * 5
+    write_fake_results(tmp_path / "results" / "smoke", algos)
+    figs = tmp_path / "results" / "smoke" / "figs"
+    figs.mkdir()
+    (figs / claims.FIG8_JSON).write_text(json.dumps({"deviation": claims.PAPER_FIG8_DEVIATIONS}))
+    rows = claims.build_claims("smoke")
+    by = {r["id"]: r for r in rows}
+    for cid in ("1", "2", "3", "5", "5b", "6", "7", "8"):
+        assert by[cid]["holds"] == "yes", by[cid]
+    assert by["7"]["ours"].startswith("1 of 5 pairs (20%)")
+    assert by["4c"]["holds"] == "yes" and "Mc w80 0.47" in by["4c"]["ours"]  # q = 11..19 of 19
+    assert by["9"]["holds"] == "no"  # 5 fake pairs, not the paper's 3248
+    assert by["4b"]["holds"] == "no"  # fake timings are microseconds
+    paths = claims.save_claims(rows, "smoke")
+    assert {p.name for p in paths} == {"claims.csv", "claims.md", "claims.json"}
+    saved = json.loads((tmp_path / "results" / "smoke" / "claims.json").read_text())
+    assert saved["mode"] == "smoke" and saved["claims"] == rows
+    assert (tmp_path / "figs" / "claims.md").read_text().startswith("| id | claim |")

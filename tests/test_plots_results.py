@@ -1,0 +1,397 @@
+"""Figs. 5, 6, 7, 10 and Tables 1, 2 on a small FAKE results folder with hand-made numbers.
+
+The folder is written here with numpy directly, in the runner's file format
+(``pairs.json``, ``run.json``, ``algorithms/<slug>.npz``, ``timings/<slug>.npz``), and read
+back with :func:`fpdtw.experiments.load_results`, so these tests also pin the format.
+"""
+
+from __future__ import annotations
+
+import json
+
+import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+
+from fpdtw.algorithms import FPDTW_NAMES, PAPER_NAMES
+from fpdtw.plots import heatmaps, scores, timing
+
+#: Pairs of the fake run: 20 input and 20 target frames at 120 Hz (10 and 10 at 60 Hz).
+N_PAIRS = 5
+M120 = N120 = 19
+M60 = N60 = 9
+#: Per-pair offsets around each algorithm's median: median = centre, q1/q3 = centre -/+ 0.5 step.
+SPREAD = np.array([-2.0, -1.0, 0.0, 1.0, 2.0])
+TABLE1_60 = ("DTW@60Hz", "UTW@60Hz", "Mc w10@60Hz", "Mc w20@60Hz", "Mc w40@60Hz", "Mc w80@60Hz")
+
+
+def fake_slug(name):
+    """The runner's file name rule (brief R): " + Type V" -> "_TypeV", "@60Hz" -> "_60Hz"."""
+    return name.replace(" + Type V", "_TypeV").replace("@60Hz", "_60Hz").replace(" ", "_")
+
+
+def diagonal_map(n, m):
+    return np.round(np.arange(n + 1) * m / n).astype(np.int32)
+
+
+def write_fake_results(folder, algos, n_pairs=N_PAIRS, sizes=None):
+    """Write a results folder in the runner's format.
+
+    Parameters
+    ----------
+    folder : Path
+        ``results_dir() / mode``.
+    algos : dict
+        name -> dict(similarity=(P,), deviation=(P,), maps=list of P int arrays or None
+        (diagonal), seconds=list of P float arrays or None (offline), fps=120 or 60).
+    sizes : list of (m, n, m60, n60), optional
+    """
+    sizes = sizes or [(M120, N120, M60, N60)] * n_pairs
+    pairs = [
+        dict(
+            id=k,
+            dataset="authors_fbx" if k < 3 else "hdm05",
+            movement="Walk" if k < 3 else "squat",
+            input=f"in{k}",
+            target=f"tg{k}",
+            input_path=f"in{k}.fbx",
+            target_path=f"tg{k}.fbx",
+            m=sizes[k][0],
+            n=sizes[k][1],
+            m60=sizes[k][2],
+            n60=sizes[k][3],
+        )
+        for k in range(n_pairs)
+    ]
+    counts = {"total": {"motions": 2 * n_pairs, "movements": 2, "pairs": n_pairs}}
+    folder.mkdir(parents=True)
+    (folder / "pairs.json").write_text(
+        json.dumps({"mode": folder.name, "selection": None, "counts": counts, "pairs": pairs})
+    )
+    info = []
+    for name, a in algos.items():
+        fps = a.get("fps", 120)
+        maps = a.get("maps")
+        if maps is None:
+            maps = [
+                diagonal_map(p["n"] if fps == 120 else p["n60"], p["m"] if fps == 120 else p["m60"])
+                for p in pairs
+            ]
+        offsets = np.concatenate([[0], np.cumsum([len(M) for M in maps])]).astype(np.int64)
+        ids = np.arange(n_pairs, dtype=np.int32)
+        for sub in ("algorithms", "timings"):
+            (folder / sub).mkdir(exist_ok=True)
+        np.savez(
+            folder / "algorithms" / f"{fake_slug(name)}.npz",
+            pair_id=ids,
+            offsets=offsets,
+            maps=np.concatenate(maps).astype(np.int32),
+            similarity=np.asarray(a["similarity"], dtype=np.float64),
+            deviation=np.asarray(a["deviation"], dtype=np.float64),
+        )
+        online = a.get("seconds") is not None
+        if online:
+            np.savez(
+                folder / "timings" / f"{fake_slug(name)}.npz",
+                pair_id=ids,
+                offsets=offsets,
+                seconds=np.concatenate(a["seconds"]).astype(np.float32),
+            )
+        info.append(dict(name=name, slug=fake_slug(name), fps=float(fps), online=online))
+    (folder / "run.json").write_text(json.dumps({"algorithms": info}))
+    return folder
+
+
+def paper_like_medians():
+    """Median similarity and deviation per algorithm of a fake run that mirrors the paper:
+    UTW median 0.24; Mc w40 passes both; Ma + Type V and Mc w80 + Type V pass both."""
+    sim = {"DTW": 0.6, "UTW": 0.24, "OE-DTW": 0.1}
+    dev = {"DTW": 0.0, "UTW": 30.0, "OE-DTW": 50.0}
+    base_sim = {"Ma": 0.02, "Mb w10": 0.05, "Mb w20": 0.08, "Mb w40": 0.1, "Mb w80": 0.12,
+                "Mc w10": 0.04, "Mc w20": 0.2, "Mc w40": 0.3, "Mc w80": 0.14}  # fmt: skip
+    base_dev = {"Ma": 90.0, "Mb w10": 80.0, "Mb w20": 70.0, "Mb w40": 60.0, "Mb w80": 50.0,
+                "Mc w10": 85.0, "Mc w20": 40.0, "Mc w40": 10.0, "Mc w80": 45.0}  # fmt: skip
+    for n in FPDTW_NAMES:
+        sim[n], dev[n] = base_sim[n], base_dev[n]
+        better = n.startswith(("Ma", "Mb")) or n == "Mc w80"
+        sim[n + " + Type V"] = base_sim[n] + (0.01 if better else -0.01)
+        dev[n + " + Type V"] = base_dev[n] + (-5.0 if better else 5.0)
+    sim["Ma + Type V"], dev["Ma + Type V"] = 0.25, 12.0
+    sim["Mc w80 + Type V"], dev["Mc w80 + Type V"] = 0.28, 8.0
+    sim["Mc w40 + Type V"], dev["Mc w40 + Type V"] = 0.22, 25.0
+    # Table 1: best window 40 at 120 Hz (above), 20 at 60 Hz
+    sim.update({"DTW@60Hz": 0.6, "UTW@60Hz": 0.2, "Mc w10@60Hz": 0.1, "Mc w20@60Hz": 0.3,
+                "Mc w40@60Hz": 0.15, "Mc w80@60Hz": 0.05})  # fmt: skip
+    dev.update({n: 20.0 for n in TABLE1_60})
+    return sim, dev
+
+
+def paper_like_algos(sim, dev, step=(0.01, 1.0)):
+    algos = {}
+    for name in tuple(PAPER_NAMES) + TABLE1_60:
+        a = dict(
+            similarity=sim[name] + step[0] * SPREAD,
+            deviation=np.maximum(dev[name] + step[1] * SPREAD, 0.0) if dev[name] else np.zeros(5),
+            fps=60 if name.endswith("@60Hz") else 120,
+        )
+        if name not in ("DTW", "UTW", "DTW@60Hz", "UTW@60Hz"):
+            n = N60 if name.endswith("@60Hz") else N120
+            a["seconds"] = [np.full(n + 1, 1e-6 * (k + 1)) for k in range(N_PAIRS)]
+        algos[name] = a
+    return algos
+
+
+@pytest.fixture
+def fake(tmp_path, monkeypatch):
+    """A loaded fake run mirroring the paper (see :func:`paper_like_medians`)."""
+    from fpdtw.experiments import load_results
+
+    monkeypatch.setenv("FPDTW_RESULTS_DIR", str(tmp_path))
+    sim, dev = paper_like_medians()
+    write_fake_results(tmp_path / "fake", paper_like_algos(sim, dev))
+    return load_results("fake")
+
+
+# -- Figs. 5 and 6 -------------------------------------------------------------------------------
+
+
+def test_score_summary_medians_quartiles_and_benchmarks(fake):
+    rows = {r["algorithm"]: r for r in scores.score_summary(fake, "similarity")}
+    assert len(rows) == 3 + 2 * 9  # DTW, UTW, OE-DTW, 9 FP-DTW with and without Type V
+    r = rows["Mc w40"]
+    assert r["median"] == pytest.approx(0.30)
+    assert r["q1"] == pytest.approx(0.29) and r["q3"] == pytest.approx(0.31)
+    assert r["n"] == 5 and r["n_missing"] == 0
+    assert r["benchmark"] == pytest.approx(0.24)  # UTW's median
+    assert r["passes_benchmark"] and not rows["Mc w20"]["passes_benchmark"]
+    assert not rows["UTW"]["passes_benchmark"]  # equal to the benchmark is not above it
+    assert rows["Ma + Type V"]["type_v"] and not rows["Ma"]["type_v"]
+    assert set(scores.passing(rows.values(), online_only=True)) == {
+        "Mc w40",
+        "Ma + Type V",
+        "Mc w80 + Type V",
+    }
+    dev = {r["algorithm"]: r for r in scores.score_summary(fake, "deviation")}
+    assert dev["Mc w40"]["median"] == pytest.approx(10.0)
+    assert dev["Mc w40"]["benchmark"] == 18.0
+    assert dev["DTW"]["passes_benchmark"] and dev["Mc w40"]["passes_benchmark"]
+    assert not dev["Mb w80"]["passes_benchmark"]
+
+
+def test_score_summary_leaves_out_and_counts_nan(tmp_path, monkeypatch):
+    from fpdtw.experiments import load_results
+
+    monkeypatch.setenv("FPDTW_RESULTS_DIR", str(tmp_path))
+    algos = {
+        "UTW": dict(similarity=[0.1, 0.2, 0.3], deviation=[5.0, 5.0, 5.0]),
+        "Ma": dict(similarity=[np.nan, 0.5, 0.7], deviation=[1.0, 2.0, 30.0]),
+    }
+    write_fake_results(tmp_path / "nan", algos, n_pairs=3)
+    rows = scores.score_summary(load_results("nan"), "similarity", names=["Ma"])
+    assert rows[0]["n"] == 2 and rows[0]["n_missing"] == 1
+    assert rows[0]["median"] == pytest.approx(0.6)  # median of 0.5 and 0.7
+    assert rows[0]["passes_benchmark"]  # 0.6 > UTW's 0.2
+
+
+@pytest.mark.parametrize(("metric", "y", "colour"), [("similarity", 0.24, "red"),
+                                                      ("deviation", 18.0, "blue")])  # fmt: skip
+def test_box_plot_has_one_box_per_algorithm_and_the_benchmark_line(fake, metric, y, colour):
+    fig, ax = scores.plot_score_boxes(fake, metric)
+    boxes = [p for p in ax.patches]
+    assert len(boxes) == 3 + 2 * 9
+    pink = matplotlib.colors.to_rgba(scores.COLOURS["typev"])
+    assert sum(np.allclose(b.get_facecolor(), pink) for b in boxes) == 9
+    lines = [ln for ln in ax.lines if ln.get_gid() == "benchmark"]
+    assert len(lines) == 1
+    assert lines[0].get_ydata()[0] == pytest.approx(y)
+    assert matplotlib.colors.same_color(lines[0].get_color(), colour)
+    assert [t.get_text() for t in ax.get_xticklabels()] == list(scores.BASE_NAMES)
+    # the median line of the Mc w40 box (no Type V) sits at its median
+    medians = [ln for ln in ax.lines if ln.get_gid() == "median"]
+    assert len(medians) == len(boxes)
+    want = 0.30 if metric == "similarity" else 10.0
+    x_mc40 = scores.BASE_NAMES.index("Mc w40") - 0.2
+    hit = [ln for ln in medians if np.mean(ln.get_xdata()) == pytest.approx(x_mc40)]
+    assert len(hit) == 1 and hit[0].get_ydata()[0] == pytest.approx(want)
+    plt.close(fig)
+
+
+def test_score_summary_of_one_dataset(fake):
+    # fake pairs 0-2 are authors_fbx, 3-4 hdm05; per-pair offsets SPREAD = -2, -1, 0, 1, 2 steps
+    rows = {r["algorithm"]: r for r in scores.score_summary(fake, "similarity", dataset="hdm05")}
+    assert rows["Mc w40"]["n"] == 2
+    assert rows["Mc w40"]["median"] == pytest.approx(0.315)  # mean of 0.31 and 0.32
+    assert rows["Mc w40"]["benchmark"] == pytest.approx(0.255)  # UTW over the same pairs
+    rows = scores.score_summary(fake, "deviation", names=["Mc w40"], dataset="authors_fbx")
+    assert rows[0]["n"] == 3 and rows[0]["median"] == pytest.approx(9.0)  # 8, 9, 10
+    with pytest.raises(ValueError, match="no pairs"):
+        scores.scores(fake, "Ma", "similarity", dataset="cmu")
+
+
+def test_deviation_box_plot_is_symlog_by_default(fake):
+    fig, ax = scores.plot_score_boxes(fake, "deviation")
+    assert ax.get_yscale() == "symlog"
+    plt.close(fig)
+    fig, ax = scores.plot_score_boxes(fake, "deviation", yscale="linear")
+    assert ax.get_yscale() == "linear"
+    plt.close(fig)
+    fig, ax = scores.plot_score_boxes(fake, "similarity")
+    assert ax.get_yscale() == "linear"
+    plt.close(fig)
+
+
+def test_box_plot_without_type_v(fake):
+    fig, ax = scores.plot_score_boxes(
+        fake, "similarity", names=("UTW", "Ma", "Mc w40"), typev=False
+    )
+    assert len(ax.patches) == 3
+    plt.close(fig)
+
+
+# -- Table 1 -------------------------------------------------------------------------------------
+
+
+def test_table1_best_windows_and_paper_rows(fake):
+    rows = scores.table1_rows(fake)
+    by = {(r["rate_hz"], r["source"]): r for r in rows}
+    assert set(by) == {(60, "paper"), (60, "ours"), (120, "paper"), (120, "ours")}
+    assert by[(120, "ours")]["best_w"] == 40 and by[(60, "ours")]["best_w"] == 20
+    assert by[(120, "paper")]["best_w"] == 40 and by[(60, "paper")]["best_w"] == 20
+    assert by[(60, "ours")]["w20"] == pytest.approx(0.3)
+    assert by[(60, "ours")]["UTW"] == pytest.approx(0.2)
+    assert by[(120, "ours")]["UTW"] == pytest.approx(0.24)
+    assert by[(120, "ours")]["above_utw"] == "40"
+    assert by[(60, "paper")]["above_utw"] == "20"  # 0.281 > 0.242 only
+    fig, ax = scores.plot_table1(rows)
+    assert len([ln for ln in ax.lines if len(ln.get_xdata()) == 4]) == 4
+    plt.close(fig)
+
+
+def test_best_window_rules():
+    assert scores.best_window({10: 0.1, 20: 0.3, 40: 0.2, 80: 0.0, "UTW": 0.9}) == 20
+    assert scores.best_window({10: 0.2, 20: 0.2, 40: 0.1}) == 10  # tie: the smaller window
+    with pytest.raises(ValueError):
+        scores.best_window({"UTW": 0.2})
+
+
+# -- Figs. 7 and 10 ------------------------------------------------------------------------------
+
+
+def test_heatmap_of_diagonal_maps_is_diagonal(fake):
+    H = heatmaps.heatmap(fake, "DTW", bins=20)  # every fake map is the diagonal
+    assert H.shape == (20, 20)
+    assert H.sum() == pytest.approx(1.0)
+    assert np.allclose(H, np.diag(np.diag(H)))
+    assert np.allclose(np.diag(H), 1 / 20)  # 20 frames over 20 bins: one per bin
+    fig, ax = heatmaps.plot_heatmap(H)
+    img = ax.images[0]
+    assert img.origin == "lower"
+    assert tuple(img.get_extent()) == (0, 1, 0, 1)
+    data = np.ma.filled(img.get_array(), 0.0)
+    assert np.allclose(data, H)
+    plt.close(fig)
+    b = heatmaps.path_balance(fake, "DTW")
+    assert b == {"diagonal": 1.0, "below": 0.0, "above": 0.0, "pairs": 5}
+
+
+def test_heatmap_and_balance_of_sticking_and_skipping_maps(tmp_path, monkeypatch):
+    from fpdtw.experiments import load_results
+
+    monkeypatch.setenv("FPDTW_RESULTS_DIR", str(tmp_path))
+    n = N120
+    stick = [np.zeros(n + 1, dtype=np.int32)] * 2  # input stuck on frame 0
+    skip = [np.full(n + 1, M120, dtype=np.int32)] * 2  # input at its end at once
+    algos = {
+        "UTW": dict(similarity=[0.0, 0.0], deviation=[0.0, 0.0]),
+        "Ma": dict(similarity=[0.0, 0.0], deviation=[0.0, 0.0], maps=stick),
+        "Mc w80": dict(similarity=[0.0, 0.0], deviation=[0.0, 0.0], maps=skip),
+    }
+    write_fake_results(tmp_path / "ss", algos, n_pairs=2)
+    res = load_results("ss")
+    H = heatmaps.heatmap(res, "Ma", bins=10)
+    assert np.allclose(H[0], 0.1) and H[1:].sum() == 0  # bottom row: input time 0
+    H = heatmaps.heatmap(res, "Mc w80", bins=10)
+    assert np.allclose(H[-1], 0.1) and H[:-1].sum() == 0  # top row: input time 1
+    # q / n <= 0.1 is within the band: frames 0 and 1 of 0..19 (q / 19 <= 0.1)
+    b = heatmaps.path_balance(res, "Ma", band=0.1)
+    assert b["diagonal"] == pytest.approx(2 / 20) and b["below"] == pytest.approx(18 / 20)
+    b = heatmaps.path_balance(res, "Mc w80", band=0.1)
+    assert b["diagonal"] == pytest.approx(2 / 20) and b["above"] == pytest.approx(18 / 20)
+
+
+def test_heatmap_grids_have_a_panel_per_algorithm(fake):
+    fig, axes = heatmaps.plot_heatmap_grid(fake, heatmaps.FIG7_NAMES, ncols=4, bins=10)
+    visible = [ax for ax in axes.flat if ax.get_visible()]
+    assert axes.shape == (3, 4) and len(visible) == len(heatmaps.FIG7_NAMES)
+    assert [ax.get_title() for ax in visible] == list(heatmaps.FIG7_NAMES)
+    norms = {id(ax.images[0].norm) for ax in visible}
+    assert len(norms) == 1  # one shared colour scale
+    plt.close(fig)
+    fig, axes = heatmaps.plot_typev_heatmaps(fake, bins=10)
+    assert axes.shape == (2, 3)
+    assert [ax.get_title() for ax in axes[1]] == [n + " + Type V" for n in heatmaps.FIG10_NAMES]
+    plt.close(fig)
+    fig, axes = heatmaps.plot_typev_heatmaps(fake, bases=FPDTW_NAMES, bins=10, per_row=5)
+    assert axes.shape == (4, 5)
+    assert sum(ax.get_visible() for ax in axes.flat) == 18
+    plt.close(fig)
+
+
+# -- Table 2 -------------------------------------------------------------------------------------
+
+
+def test_time_per_frame_means_and_exhausted_frames(tmp_path, monkeypatch):
+    from fpdtw.experiments import load_results
+
+    monkeypatch.setenv("FPDTW_RESULTS_DIR", str(tmp_path))
+    sizes = [(9, 4, 4, 2), (9, 3, 4, 1)]  # pair 0: 5 target frames, pair 1: 4
+    early = [np.array([0, 9, 9, 9, 9]), np.array([0, 3, 6, 9])]  # reaches m = 9 at q = 1 / q = 3
+    sec_b = [np.array([1, 2, 3, 4, 5]) * 1e-6, np.array([6, 7, 8, 9]) * 1e-6]
+    sec_c = [np.array([10, 10, 10, 10, 10]) * 1e-6, np.array([20, 20, 20, 20]) * 1e-6]
+    algos = {
+        "UTW": dict(similarity=[0.0, 0.0], deviation=[0.0, 0.0]),
+        "Mb w10": dict(similarity=[0, 0], deviation=[0, 0], maps=early, seconds=sec_b),
+        "Mc w10": dict(similarity=[0, 0], deviation=[0, 0], maps=early, seconds=sec_c),
+    }
+    write_fake_results(tmp_path / "t", algos, n_pairs=2, sizes=sizes)
+    res = load_results("t")
+    bench = {"online": [{"name": "Mb w10", "median_s": 7e-6}], "oe_dtw": []}
+    rows = {r["algorithm"]: r for r in timing.time_per_frame_rows(res, bench=bench)}
+    assert set(rows) == {"Mb w10", "Mc w10"}  # UTW is offline: no timings
+    b = rows["Mb w10"]
+    assert b["frames"] == 9
+    assert b["mean_us"] == pytest.approx(5.0, rel=1e-5)  # mean of 1..9
+    assert b["median_us"] == pytest.approx(5.0, rel=1e-5)
+    # exhausted (M_{q-1} = 9): pair 0 frames q = 2, 3, 4; pair 1: none -> 3 of 7 frames q >= 1
+    assert b["exhausted_fraction"] == pytest.approx(3 / 7)
+    assert b["mean_us_not_exhausted"] == pytest.approx((1 + 2 + 6 + 7 + 8 + 9) / 6, rel=1e-5)
+    assert b["paper_mean_us"] == 856.0 and b["bench_median_us"] == pytest.approx(7.0)
+    c = rows["Mc w10"]
+    assert c["mean_us"] == pytest.approx((50 + 80) / 9, rel=1e-5)
+    assert c["median_us"] == pytest.approx(10.0, rel=1e-5)
+    assert c["paper_mean_us"] == 782.0 and c["bench_median_us"] is None
+    ex = timing.exhausted_fraction(res, "Mb w10")
+    assert ex == {"frames": 7, "exhausted": 3, "fraction": 3 / 7, "pairs_exhausted_early": 1}
+    fig, ax = timing.plot_time_vs_w(list(rows.values()))
+    assert ax.get_yscale() == "log"
+    assert len(ax.lines) == 2 + 2 + 1  # paper B, C; ours B, C (w10 only); the 120 Hz budget
+    plt.close(fig)
+
+
+def test_growth_ratio_and_slowest_window():
+    rows = [
+        dict(method="B", w=w, type_v=False, mean_us=t)
+        for w, t in ((10, 2.0), (20, 5.0), (40, 10.0), (80, 40.0))
+    ] + [dict(method="C", w=w, type_v=False, mean_us=t) for w, t in ((10, 2.0), (80, 1.0))]
+    assert timing.growth_ratio(rows, "B") == pytest.approx(20.0)
+    assert timing.growth_ratio(rows, "C") == pytest.approx(0.5)
+    assert timing.growth_ratio(rows, "B", type_v=True) is None
+    assert timing.slowest_window(rows, "B") == 80 and timing.slowest_window(rows, "C") == 10
+    assert timing.paper_growth_ratio("B") == pytest.approx(16945 / 856)
+
+
+def test_load_bench_missing_is_none(tmp_path):
+    assert timing.load_bench(tmp_path / "bench.json") is None
+    (tmp_path / "bench.json").write_text('{"online": []}')
+    assert timing.load_bench(tmp_path / "bench.json") == {"online": []}
