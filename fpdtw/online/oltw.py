@@ -1,0 +1,397 @@
+"""Dixon's on-line time warping (OLTW), the FP-DTW paper's reference 3, as an online aligner.
+
+S. Dixon, "Live tracking of musical performances using on-line time warping", DAFx 2005.
+OLTW grows a DTW accumulated-cost matrix one row or one column at a time, only inside a
+band of ``c`` cells behind the current corner, and decides after every growth step
+which way to grow next. It needs no forecast and no look-ahead.
+
+Names. Dixon aligns a live sequence ``u`` (index ``t``, his "rows") to a reference ``v``
+(index ``j``, his "columns"). Here the live sequence is the TARGET ``T`` (index ``q``)
+and the reference is the recorded INPUT ``I`` (index ``i``), so:
+
+=================  ==================================  ==========================
+Dixon              meaning                             here
+=================  ==================================  ==========================
+``Row``            ``t <- t + 1``: read a live frame   ``TARGET`` (``q <- q + 1``)
+``Column``         ``j <- j + 1``                      ``INPUT`` (``i <- i + 1``)
+``Both``           both                                ``BOTH``
+``c``              search width                        ``c``
+``MaxRunCount``    longest run of one increment        ``max_run_count``
+=================  ==================================  ==========================
+
+The algorithm (Dixon's Fig. 1, as implemented here):
+
+* Start with the corner ``(i, q) = (0, 0)``, ``D[0, 0] = d(I_0, T_0)``.
+* Repeat: ``inc = GetInc(i, q)``; if ``inc`` is TARGET or BOTH, wait for the next target
+  frame, then ``q <- q + 1`` and evaluate the new column ``(i', q)`` for the ``c`` input
+  frames ``i' = i - c + 1 .. i``; if ``inc`` is INPUT or BOTH, ``i <- i + 1`` and
+  evaluate the new row ``(i, q')`` for ``q' = q - c + 1 .. q``. Then ``runCount <-
+  runCount + 1`` if ``inc`` equals the previous non-BOTH increment, else 1, and the
+  previous increment becomes ``inc`` unless ``inc`` is BOTH. (Dixon's pseudocode calls
+  GetInc three times per loop; like every implementation we know, we call it once per
+  loop and use that result three times.)
+* ``GetInc(i, q)``: (1) BOTH while the band is not yet full (Dixon: ``t < c`` with his
+  1-based ``t``, i.e. ``q + 1 < c``); switchable with ``warmup=False``. (2) If
+  ``runCount > MaxRunCount``: TARGET if the previous increment was INPUT, else INPUT
+  (Dixon: "if previous == Row return Column else return Row"). (3) Otherwise the cell of
+  lowest path cost among the newest column ``(i', q)`` and the newest row ``(i, q')``
+  (inside the band): the corner itself -> BOTH; a cell of the newest column with
+  ``i' < i`` (the new target frame matches an earlier input frame: the input is ahead)
+  -> TARGET; a cell of the newest row with ``q' < q`` (the newest input frame matches an
+  earlier target frame: the input is behind) -> INPUT.
+
+Choices where the paper is silent or could not be re-checked here (marked * below):
+
+* Local cost: FP-DTW eq. 1 (the geodesic distance of :mod:`fpdtw.costs`) between the
+  8 joints' rotations.
+* Step weights: ``D[i, q] = min(D[i-1, q] + d, D[i, q-1] + d, D[i-1, q-1] + 2 d)``, the
+  diagonal step counted twice (Dixon 2005, Section 2, as we read it; pymatchmaker's
+  implementation of the paper does the same). With these weights every path from
+  ``(0, 0)`` to ``(i, q)`` has total weight ``1 + i + q``.
+* (*) Path costs are compared normalised, ``D[i, q] / (1 + i + q)`` (mean cost per unit
+  of path weight): raw costs grow with path length, so the cells nearest the origin would
+  always win. ``normalize=False`` compares raw costs.
+* (*) Band: the computed cells are the ``c x c`` block behind the corner; a predecessor
+  outside it counts as unreachable.
+* (*) Ties in the argmin: the first strict minimum, scanning the newest target column
+  by increasing input frame, then the newest input row by increasing target frame
+  (pymatchmaker's order).
+* (*) End of the input: once ``i = m`` an INPUT or BOTH becomes TARGET (the map holds at
+  ``m``); the run count counts the increment actually made.
+* Streaming: after target frame ``q`` arrives, OLTW applies the increment that was
+  waiting for it, then keeps growing along the input (INPUT increments, at most
+  ``max_run_count + 1`` in a row) until GetInc asks for TARGET or BOTH; that increment
+  waits for frame ``q + 1`` (never read before it arrives). ``M_q`` is the input index of
+  the corner when the step returns: the last point of Dixon's on-line path in target
+  frame ``q``. It never decreases.
+* Defaults: ``c = 120`` (one second at 120 Hz; Dixon's ``c = 500`` frames is 10 s of
+  audio at his 20 ms hop, longer than most of our takes), ``max_run_count = 3`` (Dixon's).
+
+Cost per frame: one or two rows/columns of ``c`` geodesic costs and an argmin over
+``2c`` cells, in numba.
+
+Paper: FP-DTW reference 3 (Dixon 2005), an extra online baseline.
+Notebook: 20_align_a_live_performance.ipynb
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from ..costs import _geo_frame
+from ..errors import AlignmentError
+from ..features import MotionFeatures
+from .base import OnlineAligner, run_online
+
+#: Increment codes (Dixon's names in brackets).
+NONE, TARGET, INPUT, BOTH = 0, 1, 2, 3
+#: Printable names of the increment codes.
+INC_NAMES = {NONE: "none", TARGET: "target", INPUT: "input", BOTH: "both"}
+#: Why a decision was taken: by the argmin, by the band warm-up, by the run count rule.
+BY_ARGMIN, BY_WARMUP, BY_RUNCOUNT = 0, 1, 2
+
+# state vector slots
+_I, _Q, _PREV, _RUN, _PEND = 0, 1, 2, 3, 4
+# decision log columns: target frame received, corner i, corner q, increment, reason,
+# argmin cell (i*, q*) (-1 when no argmin was computed)
+_LOG_COLS = 7
+
+
+@numba.njit(cache=True)
+def _new_target_column(Iq, Tq, D, c, i, q):
+    """Evaluate cells (i', q), i' = max(0, i - c + 1) .. i, of the new target column q >= 1.
+
+    D is the (c, c) ring buffer: cell (i', q') lives at ``D[i' % c, q' % c]``; every cell
+    of the ``c x c`` block behind the corner is computed, cells outside it are unreachable.
+    """
+    lo = max(0, i - c + 1)
+    cq = q % c
+    pq = (q - 1) % c
+    for ii in range(lo, i + 1):
+        d = _geo_frame(Iq[ii], Tq[q])
+        r = ii % c
+        best = D[r, pq] + d  # (ii, q - 1)
+        if ii > lo:
+            rp = (ii - 1) % c
+            v = D[rp, cq] + d  # (ii - 1, q)
+            if v < best:
+                best = v
+            v = D[rp, pq] + 2.0 * d  # (ii - 1, q - 1)
+            if v < best:
+                best = v
+        D[r, cq] = best
+
+
+@numba.njit(cache=True)
+def _new_input_row(Iq, Tq, D, c, i, q):
+    """Evaluate cells (i, q'), q' = max(0, q - c + 1) .. q, of the new input row i (i >= 1)."""
+    lo = max(0, q - c + 1)
+    r = i % c
+    pr = (i - 1) % c
+    for qq in range(lo, q + 1):
+        d = _geo_frame(Iq[i], Tq[qq])
+        cq = qq % c
+        best = D[pr, cq] + d  # (i - 1, qq)
+        if qq > lo:
+            pc = (qq - 1) % c
+            v = D[r, pc] + d  # (i, qq - 1)
+            if v < best:
+                best = v
+            v = D[pr, pc] + 2.0 * d  # (i - 1, qq - 1)
+            if v < best:
+                best = v
+        D[r, cq] = best
+
+
+@numba.njit(cache=True)
+def _best_cell(D, c, i, q, normalize):
+    """Lowest (normalised) path cost among the newest target column and input row."""
+    best = np.inf
+    bi = i
+    bq = q
+    cq = q % c
+    for ii in range(max(0, i - c + 1), i + 1):
+        v = D[ii % c, cq]
+        if normalize:
+            v = v / (1.0 + ii + q)
+        if v < best:
+            best = v
+            bi = ii
+            bq = q
+    r = i % c
+    for qq in range(max(0, q - c + 1), q + 1):
+        v = D[r, qq % c]
+        if normalize:
+            v = v / (1.0 + i + qq)
+        if v < best:
+            best = v
+            bi = i
+            bq = qq
+    return bi, bq
+
+
+@numba.njit(cache=True)
+def _apply(Iq, Tq, D, st, c, inc):
+    if inc == 1 or inc == 3:  # TARGET or BOTH
+        st[1] += 1
+        _new_target_column(Iq, Tq, D, c, st[0], st[1])
+    if inc == 2 or inc == 3:  # INPUT or BOTH
+        st[0] += 1
+        _new_input_row(Iq, Tq, D, c, st[0], st[1])
+    if inc == st[2]:
+        st[3] += 1
+    else:
+        st[3] = 1
+    if inc != 3:
+        st[2] = inc
+
+
+@numba.njit(cache=True)
+def _oltw_step(Iq, Tq, q_new, D, st, c, max_run, warmup, normalize, log):
+    """Receive target frame ``q_new``; grow the matrix; return (M_q, number of log rows).
+
+    st : int64 (5,) state: corner i, corner q, previous increment, run count, pending.
+    log : int64 (rows, 7) decisions of this step (see ``_LOG_COLS``).
+    """
+    m = Iq.shape[0] - 1
+    if q_new == 0:
+        D[0, 0] = _geo_frame(Iq[0], Tq[0])
+        st[0] = 0
+        st[1] = 0
+        st[2] = 0
+        st[3] = 0
+        st[4] = 0
+    else:
+        _apply(Iq, Tq, D, st, c, st[4])  # the increment that waited for this frame
+    n = 0
+    while True:
+        i = st[0]
+        q = st[1]
+        bi = -1
+        bq = -1
+        if warmup and q + 1 < c:
+            inc = 3
+            why = 1
+        elif st[3] > max_run:
+            inc = 2 if st[2] == 1 else 1
+            why = 2
+        else:
+            bi, bq = _best_cell(D, c, i, q, normalize)
+            why = 0
+            if bi == i and bq == q:
+                inc = 3
+            elif bi < i:
+                inc = 1
+            else:
+                inc = 2
+        if i >= m and inc != 1:
+            inc = 1  # end of the input: hold at m
+        if n < log.shape[0]:
+            log[n, 0] = q_new
+            log[n, 1] = i
+            log[n, 2] = q
+            log[n, 3] = inc
+            log[n, 4] = why
+            log[n, 5] = bi
+            log[n, 6] = bq
+        n += 1
+        if inc == 2:
+            _apply(Iq, Tq, D, st, c, inc)
+        else:
+            st[4] = inc
+            break
+    return st[0], n
+
+
+class OLTW(OnlineAligner):
+    """Dixon's on-line time warping behind the streaming interface.
+
+    See the module docstring for the algorithm and every choice made.
+
+    Parameters
+    ----------
+    I : MotionFeatures
+        Input (recorded) motion, fully known.
+    c : int
+        Search width (band) in frames, >= 2; default 120 (1 s at 120 Hz).
+    max_run_count : int
+        Dixon's MaxRunCount, >= 1: after more than this many equal increments in a row
+        the other direction is forced. Default 3 (Dixon's).
+    warmup : bool
+        Dixon's start rule, BOTH until the band is full (``q + 1 < c``). Default True;
+        False starts with the argmin at once (as pymatchmaker's frame tracker does).
+    normalize : bool
+        Compare path costs divided by the path weight ``1 + i + q`` (default True).
+    constraint : None
+        Accepted for the common constructor signature ``cls(I, w, constraint=...)`` of
+        :mod:`fpdtw.bench`; OLTW has no local constraint (anything but None is an error).
+    record : bool
+        Keep every decision (:attr:`decisions`) and the on-line path (:attr:`path`).
+
+    Attributes
+    ----------
+    name : str
+        ``"OLTW"`` (``"OLTW c60"`` etc. for another search width).
+
+    Paper: FP-DTW reference 3 (Dixon, DAFx 2005).
+    Notebook: 20_align_a_live_performance.ipynb
+    """
+
+    name = "OLTW"
+
+    def __init__(
+        self,
+        I: MotionFeatures,
+        c: int = 120,
+        *,
+        max_run_count: int = 3,
+        warmup: bool = True,
+        normalize: bool = True,
+        constraint=None,
+        record: bool = False,
+    ):
+        if isinstance(c, bool) or not isinstance(c, int | np.integer) or c < 2:
+            raise AlignmentError(f"OLTW: search width c must be an int >= 2, got {c!r}")
+        if (
+            isinstance(max_run_count, bool)
+            or not isinstance(max_run_count, int | np.integer)
+            or max_run_count < 1
+        ):
+            raise AlignmentError(f"OLTW: max_run_count must be an int >= 1, got {max_run_count!r}")
+        if constraint is not None:
+            raise AlignmentError(f"OLTW has no local constraint (got {constraint!r})")
+        if not isinstance(I, MotionFeatures):
+            raise AlignmentError("the input motion must be given as MotionFeatures")
+        if I.n_frames < 1:
+            raise AlignmentError(f"input motion {I.name!r} has no frames")
+        self.c = int(c)
+        self.max_run_count = int(max_run_count)
+        self.warmup = bool(warmup)
+        self.normalize = bool(normalize)
+        self.record = bool(record)
+        self.name = "OLTW" if self.c == 120 else f"OLTW c{self.c}"
+        self._Iq = np.ascontiguousarray(I.quats, dtype=np.float64)
+        self._log = np.zeros((self.max_run_count + 4, _LOG_COLS), dtype=np.int64)
+        super().__init__(I)
+
+    def reset(self) -> None:
+        """Forget every target frame and the matrix."""
+        super().reset()
+        self._D = np.full((self.c, self.c), np.inf)
+        self._st = np.zeros(5, dtype=np.int64)
+        self._decisions = []
+
+    def _step(self, q: int) -> int:
+        m, n = _oltw_step(
+            self._Iq, self._Tq, q, self._D, self._st, self.c, self.max_run_count,
+            self.warmup, self.normalize, self._log,
+        )  # fmt: skip
+        if self.record:
+            self._decisions.append(self._log[:n].copy())
+        return int(m)
+
+    # -- inspection --------------------------------------------------------------------
+    @property
+    def corner(self) -> tuple:
+        """The current corner ``(i, q)`` of the computed matrix."""
+        return int(self._st[_I]), int(self._st[_Q])
+
+    @property
+    def pending(self) -> str:
+        """The increment waiting for the next target frame (``"target"`` or ``"both"``)."""
+        return INC_NAMES[int(self._st[_PEND])]
+
+    @property
+    def decisions(self) -> np.ndarray:
+        """Every GetInc decision so far (``record=True``), int64 (N, 7).
+
+        Columns: target frame being processed, corner ``i``, corner ``q`` when deciding,
+        increment (:data:`TARGET`, :data:`INPUT`, :data:`BOTH`), reason
+        (:data:`BY_ARGMIN`, :data:`BY_WARMUP`, :data:`BY_RUNCOUNT`), argmin cell ``i*``,
+        ``q*`` (-1 when no argmin was computed).
+        """
+        if not self.record:
+            raise AlignmentError("decisions are kept only with record=True")
+        if not self._decisions:
+            return np.zeros((0, _LOG_COLS), dtype=np.int64)
+        return np.concatenate(self._decisions)
+
+    @property
+    def path(self) -> np.ndarray:
+        """Dixon's on-line path (``record=True``): the corner after every increment.
+
+        Returns
+        -------
+        path : ndarray of int64, shape (L, 2)
+            Cells ``(i, q)`` from ``(0, 0)``; the increments already applied (the one
+            waiting for the next target frame is not included).
+        """
+        dec = self.decisions
+        pts = [(0, 0)] if self.n_received else []
+        for i, q, inc in zip(dec[:, 1], dec[:, 2], dec[:, 3]):
+            nxt = (int(i) + (inc in (INPUT, BOTH)), int(q) + (inc in (TARGET, BOTH)))
+            if nxt[1] < self.n_received:
+                pts.append(nxt)
+        return np.array(pts, dtype=np.int64).reshape(-1, 2)
+
+
+def run_pair(I: MotionFeatures, T: MotionFeatures, pair_info=None, *, c: int = 120):
+    """OLTW over one (input, target) pair: ``(M, seconds)`` (the experiment-grid hook).
+
+    For :func:`fpdtw.experiments.register_algorithm` (``register_algorithm("OLTW",
+    run_pair)``): a module-level function, so it pickles to worker processes.
+
+    Returns
+    -------
+    M : ndarray of int64, shape (n + 1,)
+    seconds : ndarray of float64, shape (n + 1,)
+        Per-frame step times.
+
+    Paper: FP-DTW reference 3 (Dixon 2005); the evaluation of Section 4.
+    Notebook: 20_align_a_live_performance.ipynb
+    """
+    return run_online(OLTW(I, c), T)
+
+
+__all__ = ["BOTH", "BY_ARGMIN", "BY_RUNCOUNT", "BY_WARMUP", "INPUT", "OLTW", "TARGET", "run_pair"]
