@@ -3,6 +3,8 @@
 * :class:`OEDTW`: open-end DTW (Tormene et al. 2009), incremental.
 * :class:`MethodA`, :class:`MethodB`, :class:`MethodC`: FP-DTW Algorithms 1-3.
 * :class:`TypeV`: the forward Type V local constraint as a state table (Section 6).
+* :class:`OPW`: On-line Predictive Warping (the OPW poster).
+* :class:`OLTW`: Dixon's on-line time warping (DAFx 2005, the FP-DTW paper's ref. 3).
 """
 
 from .base import OnlineAligner, run_online
@@ -10,11 +12,16 @@ from .method_a import MethodA
 from .method_b import MethodB
 from .method_c import MethodC
 from .oedtw import OEDTW
+from .oltw import OLTW
+from .opw import OPW, OPWDecision
 from .typev import TYPE_V, TypeV, is_legal_typev
 from .window import WindowSnapshot
 
 __all__ = [
     "OEDTW",
+    "OLTW",
+    "OPW",
+    "OPWDecision",
     "TYPE_V",
     "MethodA",
     "MethodB",
