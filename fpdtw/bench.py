@@ -180,10 +180,15 @@ def load_bench_pairs():
     """The real (input, target) feature pairs of :data:`BENCH_PAIRS` (fetched, verified)."""
     from .catalog import load
     from .features import MotionFeatures
+    from .joints import OPW_JOINTS
 
     pairs = []
     for ds, a, b in BENCH_PAIRS:
-        pairs.append(tuple(MotionFeatures.from_motion(load(ds, p)) for p in (a, b)))
+        pairs.append(
+            tuple(
+                MotionFeatures.from_motion(load(ds, p), position_joints=OPW_JOINTS) for p in (a, b)
+            )
+        )
     return pairs
 
 
@@ -199,9 +204,17 @@ def paper_comparison(rows) -> str:
         "Per-frame time, microseconds (paper: mean, Table 2; ours: median / mean, one core)",
         "{:<10}{:>5}{:>10}{:>10}{:>11}{:>12}{:>8}".format(*head),
     ]
-    labels = (("A", "Method A"), ("B", "Method B"), ("C", "Method C"), ("OE", "OE-DTW"))
+    labels = (
+        ("A", "Method A"),
+        ("B", "Method B"),
+        ("C", "Method C"),
+        ("OE", "OE-DTW"),
+        ("OLTW", "OLTW"),
+        ("OPW", "OPW"),
+    )
+    single = {"A": 2, "OE": 2, "OLTW": 120, "OPW": 0}
     for method, label in labels:
-        for w in (2,) if method in ("A", "OE") else (10, 20, 40, 80):
+        for w in (single[method],) if method in single else (10, 20, 40, 80):
             r = by.get((method, w, False))
             if r is None:
                 continue
@@ -209,7 +222,7 @@ def paper_comparison(rows) -> str:
             target = TARGETS_US.get((method, w), 10.0 if method == "OE" else None)
             cells = (
                 label,
-                "-" if method in ("A", "OE") else str(w),
+                "-" if method in single else str(w),
                 "-" if paper is None else f"{paper:.0f}",
                 _us(r),
                 _us(r, "mean_s"),
@@ -238,7 +251,14 @@ def run_benchmark(pairs=None, out=None, single_core=True):
     if single_core and hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
     pairs = load_bench_pairs() if pairs is None else pairs
+    from .online.oltw import OLTW
+    from .opw_eval import bench_opw
+
     online = bench_online(pairs, methods=("A", "B", "C"))
+    online += bench_online(pairs, methods=(OLTW,), windows=(120,), typev=(False,))
+    if all(I.positions is not None and T.positions is not None for I, T in pairs):
+        opw = bench_opw(pairs)
+        online.append({**opw, "name": "OPW", "method": "OPW", "w": 0, "typev": False})
     # OE-DTW against an input of exactly OE_INPUT_FRAMES frames (the longest input cropped)
     I_long, T_long = max(pairs, key=lambda p: p[0].n_frames)
     reps = -(-OE_INPUT_FRAMES // I_long.n_frames)
@@ -275,7 +295,10 @@ def run_benchmark(pairs=None, out=None, single_core=True):
 
 def _method_key(row) -> str:
     name = row["name"]
-    return "A" if name.startswith("Ma") else "B" if name.startswith("Mb") else "C"
+    for prefix, key in (("Ma", "A"), ("Mb", "B"), ("Mc", "C"), ("OLTW", "OLTW"), ("OPW", "OPW")):
+        if name.startswith(prefix):
+            return key
+    return name
 
 
 def _concat(features):

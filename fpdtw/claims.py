@@ -76,6 +76,8 @@ class ClaimContext:
         once), ``jumps`` (all backward jumps).
     fig8 : dict or None
         The Fig. 8 notebook's JSON, if it exists.
+    opw_fig4, opw_fig56 : dict or None
+        The OPW notebooks' JSON (13_opw_fig4, 14_opw_fig5_fig6), if they exist.
     counts : dict or None
         Our data: ``motions``, ``movements``, ``pairs`` (and per dataset).
     """
@@ -89,6 +91,8 @@ class ClaimContext:
     exhausted: dict = field(default_factory=dict)
     oedtw_backward: dict | None = None
     fig8: dict | None = None
+    opw_fig4: dict | None = None
+    opw_fig56: dict | None = None
     counts: dict | None = None
 
     def passes_similarity(self, name) -> bool:
@@ -122,11 +126,9 @@ class ClaimContext:
         }
         oe = oedtw_backward_jumps(results) if "OE-DTW" in names else None
         fig8_path = results_dir() / mode / "figs" / FIG8_JSON if fig8_path is None else fig8_path
-        try:
-            with open(fig8_path) as fh:
-                fig8 = json.load(fh)
-        except FileNotFoundError:
-            fig8 = None
+        fig8 = _read_json(fig8_path)
+        opw_fig4 = _read_json(results_dir() / mode / "figs" / OPW_FIG4_JSON)
+        opw_fig56 = _read_json(results_dir() / mode / "figs" / OPW_FIG56_JSON)
         return cls(
             mode=mode,
             similarity=sim,
@@ -137,6 +139,8 @@ class ClaimContext:
             exhausted=exhausted,
             oedtw_backward=oe,
             fig8=fig8,
+            opw_fig4=opw_fig4,
+            opw_fig56=opw_fig56,
             counts=getattr(results, "counts", None) or data_counts(results.pairs),
         )
 
@@ -181,6 +185,17 @@ def data_counts(pairs) -> dict:
 
 
 # -- helpers -------------------------------------------------------------------------------------
+
+OPW_FIG4_JSON = "13_opw_fig4.json"
+OPW_FIG56_JSON = "14_opw_fig5_fig6.json"
+
+
+def _read_json(path):
+    try:
+        with open(path) as fh:
+            return json.load(fh)
+    except FileNotFoundError:
+        return None
 
 
 def _names(xs) -> str:
@@ -591,6 +606,155 @@ def claim_data(ctx: ClaimContext) -> dict:
     )
 
 
+# -- the OPW poster (its Figs. 4-6, notebooks 13 and 14) ------------------------------------------
+
+
+def _close(ours: float, paper: float, tol: float) -> str:
+    return "yes" if abs(ours - paper) <= tol else "no"
+
+
+def claim_opw_mean_deviation(ctx: ClaimContext) -> dict:
+    """Poster claim: OPW's mean deviation is 69-79 ms, its maximum 121 ms (< 150 ms).
+
+    Paper: OPW poster, Section 5 and Fig. 4.
+    Notebook: 12_claims.ipynb
+    """
+    claim = (
+        "OPW poster: over the three motions (offset 0.25 s, gamma 5 %), OPW's mean deviation "
+        "from the example warp curve is 69-79 ms and its maximum 121 ms, below the 150 ms "
+        "perceptual threshold"
+    )
+    paper = "mean 69-79 ms, max 121 ms"
+    d = ctx.opw_fig4
+    if d is None:
+        return _na("P1", claim, paper, f"{OPW_FIG4_JSON} absent", "poster Fig. 4")
+    lo, hi = d["opw_mean_ms_range"]
+    mx = d["opw_max_ms"]
+    dlo, dhi = d["dtw_mean_ms_range"]
+    numbers = "yes" if (69 <= lo and hi <= 79) else "no"
+    holds = "yes" if numbers == "yes" and mx < 150 else ("partly" if mx < 150 else "no")
+    return _row(
+        "P1",
+        claim,
+        paper,
+        f"mean {lo:.0f}-{hi:.0f} ms, max {mx:.0f} ms (DTW mean {dlo:.0f}-{dhi:.0f} ms); "
+        "below 150 ms, but not the poster's numbers: our stand-in clips differ",
+        holds,
+        f"poster Fig. 4 (13_opw_fig4); results/{ctx.mode}/figs/{OPW_FIG4_JSON}",
+    )
+
+
+def claim_opw_removed(ctx: ClaimContext) -> dict:
+    """Poster claim: OPW removes about 70 % of the temporal difference (gamma 5 %).
+
+    Paper: OPW poster, Section 5 and Fig. 5.
+    Notebook: 12_claims.ipynb
+    """
+    claim = (
+        "OPW poster: with gamma 5 %, OPW consistently removes about 70 % of the temporal "
+        "difference between the motions, over the offsets of Fig. 5 (ours: within 10 "
+        "percentage points, mean over offsets)"
+    )
+    paper = "about 70 %"
+    d = ctx.opw_fig56
+    if d is None:
+        return _na("P2", claim, paper, f"{OPW_FIG56_JSON} absent", "poster Fig. 5")
+    mean = d["removed_gamma5_mean_over_offsets"]
+    lo, hi = d["removed_gamma5_range_over_offsets"]
+    return _row(
+        "P2",
+        claim,
+        paper,
+        f"{100 * mean:.0f} % on average ({100 * lo:.0f}-{100 * hi:.0f} % across offsets; "
+        f"{100 * d['removed_gamma5_at_offset']:.0f} % at 0.25 s)",
+        _close(mean, 0.70, 0.10),
+        f"poster Fig. 5 (14_opw_fig5_fig6); results/{ctx.mode}/figs/{OPW_FIG56_JSON}",
+    )
+
+
+def claim_opw_best_gamma(ctx: ClaimContext) -> dict:
+    """Poster claim: the best gamma is 15 %, removing about 77 %.
+
+    Paper: OPW poster, Section 5 and Fig. 6.
+    Notebook: 12_claims.ipynb
+    """
+    claim = (
+        "OPW poster: OPW does best with gamma = 15 %, removing about 77 % of the temporal "
+        "difference (ours: best gamma within 5 points, removed share within 10 points)"
+    )
+    paper = "gamma 15 %, about 77 %"
+    d = ctx.opw_fig56
+    if d is None:
+        return _na("P3", claim, paper, f"{OPW_FIG56_JSON} absent", "poster Fig. 6")
+    g, r = d["best_gamma"], d["removed_best_gamma"]
+    ok_g = abs(g - 0.15) <= 0.05
+    ok_r = abs(r - 0.77) <= 0.10
+    holds = "yes" if ok_g and ok_r else ("partly" if ok_g or ok_r else "no")
+    return _row(
+        "P3",
+        claim,
+        paper,
+        f"gamma {100 * g:.0f} %, {100 * r:.0f} % removed",
+        holds,
+        f"poster Fig. 6 (14_opw_fig5_fig6); results/{ctx.mode}/figs/{OPW_FIG56_JSON}",
+    )
+
+
+def claim_opw_offset_limit(ctx: ClaimContext) -> dict:
+    """Poster claim: OPW copes with a 300 ms offset (maximum deviation below 150 ms).
+
+    Paper: OPW poster, Section 5 and Fig. 5.
+    Notebook: 12_claims.ipynb
+    """
+    claim = (
+        "OPW poster: OPW copes with a temporal difference of 300 ms in 2500 ms motions "
+        "(maximum deviation below 150 ms), and up to 500 ms judged by the mean"
+    )
+    paper = "300 ms (max), 500 ms (mean)"
+    d = ctx.opw_fig56
+    if d is None:
+        return _na("P4", claim, paper, f"{OPW_FIG56_JSON} absent", "poster Fig. 5")
+    mx = d["largest_offset_max_below_150ms_s"]
+    mean = d["largest_offset_mean_below_150ms_s"]
+    holds = "yes" if mx >= 0.3 and mean >= 0.5 else ("partly" if mx >= 0.3 or mean >= 0.5 else "no")
+    return _row(
+        "P4",
+        claim,
+        paper,
+        f"{1000 * mx:.0f} ms (max), {1000 * mean:.0f} ms (mean; the largest offset tried)",
+        holds,
+        f"poster Fig. 5 (14_opw_fig5_fig6); results/{ctx.mode}/figs/{OPW_FIG56_JSON}",
+    )
+
+
+def claim_beyond_baselines(ctx: ClaimContext) -> dict:
+    """Not a paper claim: OPW and OLTW on the FP-DTW pairs, against the same benchmarks.
+
+    Notebook: 12_claims.ipynb
+    """
+    claim = (
+        "Beyond the papers: the OPW poster's method and Dixon's OLTW (the FP-DTW paper's ref. 3) "
+        "run on the FP-DTW pairs, against the same two benchmarks"
+    )
+    parts = []
+    for n in ("OPW", "OLTW"):
+        if n in ctx.similarity:
+            sim = "passes" if ctx.passes_similarity(n) else "fails"
+            dev = "passes" if ctx.passes_deviation(n) else "fails"
+            parts.append(
+                f"{n}: similarity {ctx.similarity[n]:.3f} ({sim}), deviation "
+                f"{ctx.deviation[n]:.1f} frames ({dev})"
+            )
+    return _row(
+        "B1",
+        claim,
+        "not in the papers",
+        "; ".join(parts) or "not computed",
+        "n/a",
+        "Figs. 5, 6, 7; fig5_similarity_summary, fig6_deviation_summary",
+    )
+
+
 #: The claim functions, in table order. Each takes a :class:`ClaimContext` and returns a row.
 CLAIMS = [
     claim_only_mc_w40_unconstrained,
@@ -605,6 +769,11 @@ CLAIMS = [
     claim_oedtw_backward,
     claim_fig8_walk_pair,
     claim_data,
+    claim_opw_mean_deviation,
+    claim_opw_removed,
+    claim_opw_best_gamma,
+    claim_opw_offset_limit,
+    claim_beyond_baselines,
 ]
 
 

@@ -64,8 +64,15 @@ def test_every_claim_holds_on_paper_like_numbers():
         "7",
         "8",
         "9",
+        "P1",
+        "P2",
+        "P3",
+        "P4",
+        "B1",
     ]
-    assert {r["id"]: r["holds"] for r in rows} == {r["id"]: "yes" for r in rows}
+    # the FP-DTW paper's claims hold on paper-like numbers; the OPW rows have no facts here
+    expected = {r["id"]: ("n/a" if r["id"][0] in "PB" else "yes") for r in rows}
+    assert {r["id"]: r["holds"] for r in rows} == expected
     for r in rows:
         assert set(r) == set(claims.COLUMNS)
         assert r["stable"] == (r["id"] not in ("4", "4b"))
@@ -232,7 +239,7 @@ def test_register_claim_extends_the_list(monkeypatch):
                     stable=True)  # fmt: skip
 
     rows = claims.build_claims(context=ctx_paper_like())
-    assert rows[-1]["id"] == "X" and len(rows) == 13
+    assert rows[-1]["id"] == "X" and len(rows) == 18
     with pytest.raises(ValueError, match="without"):
         claims.build_claims(context=ctx_paper_like(), claims=[lambda ctx: {"id": "Y"}])
 
@@ -267,3 +274,52 @@ def test_build_claims_from_a_fake_results_folder(tmp_path, monkeypatch):
     saved = json.loads((tmp_path / "results" / "smoke" / "claims.json").read_text())
     assert saved["mode"] == "smoke" and saved["claims"] == rows
     assert (tmp_path / "figs" / "claims.md").read_text().startswith("| id | claim |")
+
+
+POSTER_LIKE_FIG4 = {
+    "opw_mean_ms_range": [69.0, 79.0],
+    "opw_max_ms": 121.0,
+    "dtw_mean_ms_range": [20, 30],
+}
+POSTER_LIKE_FIG56 = {
+    "removed_gamma5_mean_over_offsets": 0.70,
+    "removed_gamma5_range_over_offsets": [0.6, 0.8],
+    "removed_gamma5_at_offset": 0.7,
+    "best_gamma": 0.15,
+    "removed_best_gamma": 0.77,
+    "largest_offset_max_below_150ms_s": 0.3,
+    "largest_offset_mean_below_150ms_s": 0.5,
+}
+
+
+def _opw_rows(fig4, fig56):
+    ctx = claims.ClaimContext(opw_fig4=fig4, opw_fig56=fig56)
+    fns = [
+        claims.claim_opw_mean_deviation,
+        claims.claim_opw_removed,
+        claims.claim_opw_best_gamma,
+        claims.claim_opw_offset_limit,
+    ]
+    return {r["id"]: r["holds"] for r in claims.build_claims(context=ctx, claims=fns)}
+
+
+def test_opw_claims_hold_on_the_posters_numbers():
+    assert _opw_rows(POSTER_LIKE_FIG4, POSTER_LIKE_FIG56) == dict.fromkeys(
+        ["P1", "P2", "P3", "P4"], "yes"
+    )
+
+
+def test_opw_claims_fail_when_the_numbers_differ():
+    fig4 = {**POSTER_LIKE_FIG4, "opw_mean_ms_range": [120.0, 160.0], "opw_max_ms": 300.0}
+    fig56 = {
+        **POSTER_LIKE_FIG56,
+        "removed_gamma5_mean_over_offsets": 0.4,
+        "best_gamma": 0.3,
+        "removed_best_gamma": 0.5,
+        "largest_offset_max_below_150ms_s": 0.1,
+        "largest_offset_mean_below_150ms_s": 0.2,
+    }
+    assert _opw_rows(fig4, fig56) == dict.fromkeys(["P1", "P2", "P3", "P4"], "no")
+    # below 150 ms but not the poster's numbers: partly
+    fig4 = {**POSTER_LIKE_FIG4, "opw_mean_ms_range": [22.0, 36.0], "opw_max_ms": 84.0}
+    assert _opw_rows(fig4, POSTER_LIKE_FIG56)["P1"] == "partly"

@@ -32,6 +32,8 @@ FIG7_NAMES = (
     "Mc w20",
     "Mc w40",
     "Mc w80",
+    "OPW",
+    "OLTW",
 )
 
 #: The algorithms of the paper's Fig. 10 (each without and with the Type V constraint).
@@ -219,6 +221,7 @@ def plot_heatmap_grid(results, names=FIG7_NAMES, ncols=5, bins=100, log=True, ma
     Notebook: 08_fig7_fig10_heatmaps.ipynb
     """
     maps = dict(maps or {})
+    names = [n for n in names if n in maps or n in set(results.algorithms)]
     for n in names:
         if n not in maps:
             maps[n] = heatmap(results, n, bins)

@@ -28,8 +28,10 @@ from ..plotting import new_axes
 #: Deviation benchmark (paper Section 4): 150 ms, i.e. 18 frames at 120 Hz.
 DEVIATION_BENCHMARK_FRAMES = 18.0
 
-#: The algorithms of Figs. 5 and 6, without constraint, in the paper's order.
-BASE_NAMES = ("DTW", "UTW", "OE-DTW") + FPDTW_NAMES
+#: The algorithms of Figs. 5 and 6, without constraint, in the paper's order, then the
+#: online baselines beyond the paper run on the same pairs (OPW poster, Dixon's OLTW);
+#: names without results are left out.
+BASE_NAMES = ("DTW", "UTW", "OE-DTW") + FPDTW_NAMES + ("OPW", "OLTW")
 
 #: FP-DTW paper Table 1: median similarity of Method C per window, and UTW's, per rate (Hz).
 PAPER_TABLE1 = {
@@ -238,6 +240,8 @@ def plot_score_boxes(
     Notebook: 06_fig5_fig6_scores.ipynb
     """
     fig, ax = new_axes(ax, figsize=(12, 4.5))
+    have = set(results.algorithms)
+    names = [n for n in names if n in have]  # e.g. OPW/OLTW only when they were run
     data, pos, widths, colours = [], [], [], []
     for i, (name, tv) in enumerate(figure_names(names, typev)):
         if tv is None:

@@ -22,13 +22,17 @@ from ..bench import PAPER_TABLE2_US
 from ..plotting import new_axes
 
 #: Online algorithms of Table 2 (and Method A, OE-DTW, Type V variants), in table order.
-TIMED_NAMES = ("OE-DTW",) + FPDTW_NAMES + tuple(n + TYPE_V_SUFFIX for n in FPDTW_NAMES)
+TIMED_NAMES = (
+    ("OE-DTW",) + FPDTW_NAMES + tuple(n + TYPE_V_SUFFIX for n in FPDTW_NAMES) + ("OPW", "OLTW")
+)
 
 
 def _key(name: str):
     """``("B", 40, False)`` for ``"Mb w40"``; ``("OE", None, False)`` for OE-DTW."""
     if name == "OE-DTW":
         return "OE", None, False
+    if name in ("OPW", "OLTW"):
+        return name, None, False
     method, w, typev = parse_name(name)
     return method, (None if method == "A" else w), typev
 
