@@ -83,7 +83,10 @@ def test_utw_and_dtw_are_what_they_say(smoke):
     ms, ns = smoke.frames("UTW")
     for k in range(len(smoke.pairs)):
         np.testing.assert_array_equal(utw.map(k), utw_map(int(ms[k]), int(ns[k])))
-        assert dtw.map(k)[0] == 0 and dtw.map(k)[-1] == ms[k]
+        # DTW's path runs from (0, 0) to (m, n); the map keeps the lowest input frame of
+        # each target frame, so it starts at 0, never decreases and ends at or below m
+        M = dtw.map(k)
+        assert M[0] == 0 and np.all(np.diff(M) >= 0) and M[-1] <= ms[k]
     np.testing.assert_array_equal(dtw["deviation"], 0.0)
 
 
@@ -120,5 +123,8 @@ def test_figure_notebooks_recorded_their_facts():
     opw4 = _facts("13_opw_fig4")
     lo, hi = opw4["opw_mean_ms_range"]
     assert 0 <= lo <= hi < 2500
-    claims = json.loads((SMOKE_RESULTS / "smoke" / "claims.json").read_text())
-    assert len(claims) >= 9
+    claims = json.loads((SMOKE_RESULTS / "smoke" / "claims.json").read_text())["claims"]
+    ids = [c["id"] for c in claims]
+    assert {"1", "2", "3", "7", "9", "P1", "P2", "P3", "P4", "B1"} <= set(ids)
+    assert all(c["holds"] in ("yes", "no", "partly", "n/a") for c in claims)
+    assert next(c for c in claims if c["id"] == "P1")["holds"] != "n/a"  # 13_opw_fig4 ran
