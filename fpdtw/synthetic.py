@@ -96,4 +96,47 @@ def synthetic_pair(n_frames: int = 600, k: int = 8, seed=0, warp: float = 0.35, 
     return I, T, s
 
 
-__all__ = ["features_from_euler", "random_walk_euler", "random_walk_features", "synthetic_pair"]
+def one_joint_motion(angles_deg, axis: str = "X", fps: float = 120.0) -> MotionFeatures:
+    """A one-joint motion turning about one axis: hand-checkable geodesic costs.
+
+    Frame f is a rotation by ``angles_deg[f]`` degrees about ``axis``, so the
+    geodesic cost (eq. 1) between frames a and b is ``|angle_a - angle_b| / 180``
+    (for differences up to 180 degrees).
+
+    Parameters
+    ----------
+    angles_deg : array_like of float, shape (F,)
+    axis : {"X", "Y", "Z"}
+
+    Returns
+    -------
+    features : MotionFeatures
+        quats (F, 1, 4), euler (F, 1, 3) with the angle in the axis' column, order "XYZ".
+    """
+    ang = np.asarray(angles_deg, dtype=float)
+    col = "XYZ".index(axis.upper())
+    E = np.zeros((ang.size, 1, 3))
+    E[:, 0, col] = ang
+    h = np.deg2rad(ang) / 2
+    Q = np.zeros((ang.size, 1, 4))
+    Q[:, 0, 0] = np.cos(h)
+    Q[:, 0, 1 + col] = np.sin(h)
+    return MotionFeatures.from_arrays(Q, euler=E, orders=("XYZ",), fps=fps)
+
+
+def random_walk_quats(rng, frames: int, k: int = 8, step: float = 0.05) -> MotionFeatures:
+    """Smooth synthetic motion: a random walk of k quaternions, normalised."""
+    from .rotations import quat_normalize
+
+    q = np.cumsum(step * rng.normal(size=(frames, k, 4)), axis=0) + rng.normal(size=(1, k, 4))
+    return MotionFeatures.from_arrays(quat_normalize(q))
+
+
+__all__ = [
+    "one_joint_motion",
+    "random_walk_quats",
+    "features_from_euler",
+    "random_walk_euler",
+    "random_walk_features",
+    "synthetic_pair",
+]

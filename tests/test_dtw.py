@@ -20,26 +20,19 @@ from fpdtw.errors import AlignmentError
 from fpdtw.features import MotionFeatures
 from fpdtw.io import load_motion
 from fpdtw.metrics import in_range, is_monotonic
-from fpdtw.rotations import quat_normalize
+from fpdtw.synthetic import one_joint_motion, random_walk_quats
 
 SQUAT = "hdm05/HDM05_cut_amc/squat1Reps/HDM_bd_squat1Reps_{:03d}_120.amc"
 GOLDEN = Path(__file__).parent / "golden" / "dtw_squat1Reps_bd001_bd002.json"
 PATTERNS = ("symmetric1", "symmetric2")
 
 
-def random_walk_motion(rng, frames, k=8, step=0.05):
-    """Smooth synthetic motion: a random walk of k quaternions, normalised."""
-    q = np.cumsum(step * rng.normal(size=(frames, k, 4)), axis=0) + rng.normal(size=(1, k, 4))
-    return MotionFeatures.from_arrays(quat_normalize(q))
+random_walk_motion = random_walk_quats
 
 
 def scalar_motion(values):
-    """One joint turning about z by ``values * pi / 8``: geodesic cost = |dv| / 8 exactly-ish."""
-    theta = np.asarray(values, dtype=float) * np.pi / 8
-    q = np.zeros((len(theta), 1, 4))
-    q[:, 0, 0] = np.cos(theta / 2)
-    q[:, 0, 3] = np.sin(theta / 2)
-    return MotionFeatures.from_arrays(q)
+    """One joint turning about z by ``values * pi / 8``: geodesic cost = |dv| / 8."""
+    return one_joint_motion(22.5 * np.asarray(values, dtype=float), "Z")
 
 
 def squat_features(data_path, take):

@@ -23,21 +23,19 @@ from fpdtw.online.method_b import MethodB, backtrack_lowest
 from fpdtw.online.method_c import MethodC
 from fpdtw.online.typev import dtw_python_accepts, is_legal_typev, legal_prefix
 from fpdtw.online.window import B_CORNER, reference_run
-from fpdtw.synthetic import features_from_euler, random_walk_features, synthetic_pair
+from fpdtw.synthetic import (
+    features_from_euler,
+    one_joint_motion,
+    random_walk_features,
+    synthetic_pair,
+)
 
 INF = math.inf
 
 
 def units(u):
     """One-joint motion: frame f is a rotation about X by 18 * u[f] degrees."""
-    ang = 18.0 * np.asarray(u, dtype=float)
-    E = np.zeros((ang.size, 1, 3))
-    E[:, 0, 0] = ang
-    h = np.deg2rad(ang) / 2
-    Q = np.zeros((ang.size, 1, 4))
-    Q[:, 0, 0] = np.cos(h)
-    Q[:, 0, 1] = np.sin(h)
-    return MotionFeatures.from_arrays(Q, euler=E, orders=("XYZ",))
+    return one_joint_motion(18.0 * np.asarray(u, dtype=float), "X")
 
 
 def run_recording(aligner, T):

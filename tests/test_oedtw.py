@@ -14,7 +14,7 @@ from fpdtw.features import MotionFeatures
 from fpdtw.io import load_motion
 from fpdtw.online.base import run_online
 from fpdtw.online.oedtw import OEDTW
-from fpdtw.rotations import quat_normalize
+from fpdtw.synthetic import one_joint_motion, random_walk_quats
 
 SQUAT = "hdm05/HDM05_cut_amc/squat1Reps/HDM_bd_squat1Reps_{:03d}_120.amc"
 
@@ -24,18 +24,12 @@ SQUAT = "hdm05/HDM05_cut_amc/squat1Reps/HDM_bd_squat1Reps_{:03d}_120.amc"
 SYMMETRIC1_N = dtwpy.StepPattern(dtwpy.symmetric1.mx, hint="N")
 
 
-def random_walk_motion(rng, frames, k=8, step=0.05):
-    q = np.cumsum(step * rng.normal(size=(frames, k, 4)), axis=0) + rng.normal(size=(1, k, 4))
-    return MotionFeatures.from_arrays(quat_normalize(q))
+random_walk_motion = random_walk_quats
 
 
 def scalar_motion(values):
     """One joint turning about z by ``values * pi / 8``: geodesic cost = |dv| / 8."""
-    theta = np.asarray(values, dtype=float) * np.pi / 8
-    q = np.zeros((len(theta), 1, 4))
-    q[:, 0, 0] = np.cos(theta / 2)
-    q[:, 0, 3] = np.sin(theta / 2)
-    return MotionFeatures.from_arrays(q)
+    return one_joint_motion(22.5 * np.asarray(values, dtype=float), "Z")
 
 
 def dtwpy_open_end(C, q, pattern):

@@ -25,19 +25,12 @@ from fpdtw.plots import oedtw as po
 from fpdtw.plots import typev as pt
 from fpdtw.plots import walk_pair as pw
 from fpdtw.plots import windows as pwin
-from fpdtw.synthetic import random_walk_features, synthetic_pair
+from fpdtw.synthetic import one_joint_motion, random_walk_features, synthetic_pair
 
 
 def units(u):
     """One-joint motion: frame f is a rotation about X by 18 * u[f] degrees."""
-    ang = 18.0 * np.asarray(u, dtype=float)
-    E = np.zeros((ang.size, 1, 3))
-    E[:, 0, 0] = ang
-    h = np.deg2rad(ang) / 2
-    Q = np.zeros((ang.size, 1, 4))
-    Q[:, 0, 0] = np.cos(h)
-    Q[:, 0, 1] = np.sin(h)
-    return MotionFeatures.from_arrays(Q, euler=E, orders=("XYZ",))
+    return one_joint_motion(18.0 * np.asarray(u, dtype=float), "X")
 
 
 @pytest.fixture(autouse=True)

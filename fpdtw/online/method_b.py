@@ -19,6 +19,7 @@ from .window import (
     _step_b,
     reference_forecast_quats,
     reference_mask,
+    reference_prologue,
 )
 
 
@@ -175,17 +176,10 @@ def reference_step_b(I, T_quats, T_euler, M, w, allowed=None) -> WindowSnapshot:
 
     Paper: FP-DTW Algorithm 2.
     """
-    q = len(T_quats) - 1
-    if q == 0:
-        return WindowSnapshot(0, "first", -1, 0, 0, 0)
-    m = I.n_frames - 1
-    n = q - 1
-    Mn = int(M[n])
-    if n < MethodB.s:
-        return WindowSnapshot(q, "warmup", Mn, 0, min(n + 1, m) - Mn, min(n + 1, m))
-    if Mn >= m:
-        return WindowSnapshot(q, "end", Mn, 0, m - Mn, m)
-    w_i = min(w, m - Mn)
+    head = reference_prologue(I, T_quats, M, w, MethodB.s)
+    if isinstance(head, WindowSnapshot):
+        return head
+    q, n, Mn, w_i = head
     F = np.concatenate(
         [T_quats[n : n + 2], reference_forecast_quats(T_euler[n : n + 2], I.orders, w)]
     )

@@ -384,6 +384,27 @@ class WindowAligner(OnlineAligner):
 # --- reference runs -------------------------------------------------------------------
 
 
+def reference_prologue(I, T_quats, M, w, s):
+    """The branches Methods B and C share before their window (plain Python, for tests).
+
+    Returns either a finished :class:`WindowSnapshot` (first frame, warm-up
+    ``n < s``, input exhausted) or the tuple ``(q, n, M_n, w_i)`` of a window step.
+
+    Paper: FP-DTW Algorithms 2 and 3 (first lines).
+    """
+    q = len(T_quats) - 1
+    if q == 0:
+        return WindowSnapshot(0, "first", -1, 0, 0, 0)
+    m = I.n_frames - 1
+    n = q - 1
+    Mn = int(M[n])
+    if n < s:
+        return WindowSnapshot(q, "warmup", Mn, 0, min(n + 1, m) - Mn, min(n + 1, m))
+    if Mn >= m:
+        return WindowSnapshot(q, "end", Mn, 0, m - Mn, m)
+    return q, n, Mn, min(w, m - Mn)
+
+
 def reference_forecast_quats(T_euler, orders, w: int) -> np.ndarray:
     """Plain-numpy forecast quaternions of frames ``T_{n+1} + i delta``, ``i = 1..w-1``.
 
