@@ -1,22 +1,66 @@
-"""fpdtw: online alignment of human motion (FP-DTW, Randall et al. 2023, and OPW)."""
+"""fpdtw: online alignment of human motion (FP-DTW, Randall et al. 2023, and OPW).
 
+The public API, by what it holds:
+
+* motions: :class:`Motion`, :class:`Skeleton`, :func:`load_motion`, the joint sets
+  :data:`PAPER_JOINTS` (8) and :data:`OPW_JOINTS` (16), :class:`MotionFeatures`;
+* costs and offline alignment: :func:`geo_distance`, :func:`geodesic_cost_matrix`,
+  :func:`position_cost_matrix`, :func:`dtw`, :func:`dtw_pair`, :func:`utw_map`;
+* online aligners (one streaming interface, :meth:`OnlineAligner.step`):
+  :class:`OEDTW`, :class:`MethodA`, :class:`MethodB`, :class:`MethodC`, :class:`OPW`,
+  :class:`OLTW`, the :class:`TypeV` constraint, :func:`run_online`, and
+  :func:`make_online` / :func:`align` by the paper's names ("Mc w40 + Type V");
+* metrics: :func:`similarity` (eq. 2), :func:`deviation` (eq. 3);
+* the OPW warp curve: :class:`WarpCurve`;
+* errors: :class:`MotionFormatError`, :class:`DataFetchError`, :class:`ManifestError`,
+  :class:`AlignmentError` (all :class:`FpdtwError`).
+"""
+
+from .algorithms import align, make_online
+from .costs import geo_distance, geodesic_cost_matrix, position_cost_matrix
+from .dtw import dtw, dtw_pair, utw_map
 from .errors import AlignmentError, DataFetchError, FpdtwError, ManifestError, MotionFormatError
 from .features import Frame, MotionFeatures
+from .io import load_motion
 from .joints import OPW_JOINTS, PAPER_JOINTS
+from .metrics import deviation, similarity
 from .motion import Motion, Skeleton
+from .online import OEDTW, OLTW, OPW, MethodA, MethodB, MethodC, OnlineAligner, TypeV, run_online
+from .warpcurve import WarpCurve
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "OEDTW",
+    "OLTW",
+    "OPW",
+    "OPW_JOINTS",
+    "PAPER_JOINTS",
     "AlignmentError",
     "DataFetchError",
     "FpdtwError",
     "Frame",
     "ManifestError",
+    "MethodA",
+    "MethodB",
+    "MethodC",
     "Motion",
     "MotionFeatures",
     "MotionFormatError",
-    "OPW_JOINTS",
-    "PAPER_JOINTS",
+    "OnlineAligner",
     "Skeleton",
+    "TypeV",
+    "WarpCurve",
+    "align",
+    "deviation",
+    "dtw",
+    "dtw_pair",
+    "geo_distance",
+    "geodesic_cost_matrix",
+    "load_motion",
+    "make_online",
+    "position_cost_matrix",
+    "run_online",
+    "similarity",
+    "utw_map",
 ]

@@ -26,3 +26,14 @@ def test_readme_load_example(mirror_root):
     assert lines[2].startswith("18_01: 303 frames at 30 Hz; 8 paper joints: ['lfemur', 'rfemur'")
     for line in lines:
         assert line.count("'") == 16  # 8 joint names
+
+
+def test_readme_streaming_example(mirror_root):
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        exec(compile(_snippet("(## Stream frames)"), "README.md", "exec"), {})
+    line = out.getvalue().strip()
+    # Walk_02 has 637 frames, Walk_01 649; the streamed map ends near the end of the input
+    assert line.startswith("Ma + Type V: live frame 636 -> recorded frame ")
+    m = int(line.split("recorded frame ")[1].split(" of ")[0])
+    assert line.endswith("of 648") and 600 <= m <= 648
