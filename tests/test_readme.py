@@ -31,7 +31,7 @@ def test_readme_load_example(mirror_root):
 def test_readme_streaming_example(mirror_root):
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
-        exec(compile(_snippet("(## Stream frames)"), "README.md", "exec"), {})
+        exec(compile(_snippet("### Stream frames from Python"), "README.md", "exec"), {})
     line = out.getvalue().strip()
     # Walk_02 has 637 frames, Walk_01 649; the streamed map ends near the end of the input
     assert line.startswith("Ma + Type V: live frame 636 -> recorded frame ")
