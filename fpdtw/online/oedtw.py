@@ -100,6 +100,14 @@ def _oe_column(Isoa, t, prev, cur, first, wd, norm_offset, c):
 
 
 @numba.njit(cache=True)
+def _oe_step(Isoa, Tq, cols, q, wd, norm_offset, c):
+    """:func:`_oe_column` for target frame ``q``: ``Tq[q]`` against the input, column ``q``
+    of ``cols`` from column ``q - 1``."""
+    prev = cols[q - 1] if q > 0 else cols[0]
+    return _oe_column(Isoa, Tq[q], prev, cols[q], q == 0, wd, norm_offset, c)
+
+
+@numba.njit(cache=True)
 def _cost_block(Iq, Tq, out):
     for i in range(out.shape[0]):
         for j in range(out.shape[1]):
@@ -159,10 +167,9 @@ class OEDTW(OnlineAligner):
             grown = np.empty((2 * q, self._cols.shape[1]))
             grown[:q] = self._cols
             self._cols = grown
-        t = self._Tq[q]  # base.step stored it with the input's joint shape
-        prev = self._cols[q - 1] if q > 0 else self._cols[0]
         offset = float(q + 2) if self.normalize else -1.0
-        return _oe_column(self._Isoa, t, prev, self._cols[q], q == 0, self._wd, offset, self._c)
+        # rows of the stored arrays are taken inside the kernel: fewer Python-side views
+        return _oe_step(self._Isoa, self._Tq, self._cols, q, self._wd, offset, self._c)
 
     # -- inspection --------------------------------------------------------------------------
     @property
