@@ -1,8 +1,8 @@
 """Figure helpers: one function saves every figure; plot functions take ``ax=None``.
 
-The library never calls ``plt.show()``. Figures are written as PDF and PNG with
-metadata that does not change between runs (no creation date, no software
-version), so regenerating an unchanged figure gives the same bytes.
+Plot functions return ``(fig, ax)`` and leave showing to the caller. Figures are
+written as PDF and PNG with metadata that does not change between runs (no creation
+date, no software version), so regenerating an unchanged figure gives the same bytes.
 """
 
 from __future__ import annotations

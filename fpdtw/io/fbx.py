@@ -23,7 +23,7 @@ Both are single-author alpha packages (pufbx: one release, 0.1.0, 2026-04-19, "a
 reads the data, so it is the one used; the gaps of pufbx 0.1.0 and how this module
 works around them:
 
-* ``Scene.settings`` raises ``NotImplementedError``: the time mode cannot be read.
+* ``Scene.settings`` is missing from pufbx 0.1.0 (it raises): no time mode.
   The frame rate is taken from the **keyframe grid** (the spacing of the curves'
   keys: the dataset is "resampled to populate redundant axes with frames", every
   joint has a key at every 1/120 s). The tests check it against the time mode read

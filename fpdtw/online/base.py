@@ -15,13 +15,14 @@ over a whole target and also returns the per-frame processing times.
 from __future__ import annotations
 
 import time
+from abc import ABC, abstractmethod
 
 import numpy as np
 
 from ..features import Frame, MotionFeatures
 
 
-class OnlineAligner:
+class OnlineAligner(ABC):
     """Base class of online aligners.
 
     Subclasses implement :meth:`_step` (and may override :meth:`reset`). The base
@@ -101,9 +102,9 @@ class OnlineAligner:
         self._M[i] = m
         return m
 
-    def _step(self, q: int) -> int:  # pragma: no cover - abstract
+    @abstractmethod
+    def _step(self, q: int) -> int:
         """Map target frame ``q`` (already stored) to an input frame."""
-        raise NotImplementedError
 
 
 def run_online(aligner: OnlineAligner, T: MotionFeatures, *, reset=True):
