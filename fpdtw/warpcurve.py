@@ -234,31 +234,26 @@ class WarpCurve:
         if np.ndim(t) == 0:
             return self.value(float(t))
         t = np.asarray(t, dtype=float)
+        u, v, _, (p0, p1, p2, p3) = self._segments(t)
+        return v**3 * p0 + 3.0 * u * v * v * p1 + 3.0 * u * u * v * p2 + u**3 * p3
+
+    def _segments(self, t):
+        """For times ``t`` (array): the Bezier parameter ``u``, ``1 - u``, the segment
+        width ``h`` and the control values ``(P0, P1, P2, P3)`` of each time's segment."""
         x = np.asarray(self._x)
         y = np.asarray(self._y)
         m = np.asarray(self._slopes())
         k = np.clip(np.searchsorted(x, t, side="right") - 1, 0, len(x) - 2)
         h = x[k + 1] - x[k]
         u = np.clip((t - x[k]) / h, 0.0, 1.0)
-        v = 1.0 - u
         p0, p3 = y[k], y[k + 1]
-        p1 = p0 + m[k] * h / 3.0
-        p2 = p3 - m[k + 1] * h / 3.0
-        return v**3 * p0 + 3.0 * u * v * v * p1 + 3.0 * u * u * v * p2 + u**3 * p3
+        return u, 1.0 - u, h, (p0, p0 + m[k] * h / 3.0, p3 - m[k + 1] * h / 3.0, p3)
 
     def derivative(self, t):
         """``df/dt`` at times ``t`` (0 outside the keys), same shape as ``t``."""
         t = np.asarray(t, dtype=float)
-        x = np.asarray(self._x)
-        y = np.asarray(self._y)
-        m = np.asarray(self._slopes())
-        k = np.clip(np.searchsorted(x, t, side="right") - 1, 0, len(x) - 2)
-        h = x[k + 1] - x[k]
-        u = np.clip((t - x[k]) / h, 0.0, 1.0)
-        v = 1.0 - u
-        p0, p3 = y[k], y[k + 1]
-        p1 = p0 + m[k] * h / 3.0
-        p2 = p3 - m[k + 1] * h / 3.0
+        x = self._x
+        u, v, h, (p0, p1, p2, p3) = self._segments(t)
         dy_du = 3.0 * (v * v * (p1 - p0) + 2.0 * u * v * (p2 - p1) + u * u * (p3 - p2))
         out = np.where((t < x[0]) | (t > x[-1]), 0.0, dy_du / h)
         return out[()] if out.ndim == 0 else out
