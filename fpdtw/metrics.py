@@ -107,6 +107,81 @@ def deviation(P_a, P_b) -> float:
     return float(np.mean(np.abs(P_a - P_b)))
 
 
+def hold_share(M, m: int) -> float:
+    """Share of steps that hold the input frame while input remains.
+
+    A step ``q = 1..n`` holds when ``M_q = M_{q-1}``; steps taken after the input ran
+    out (``M_{q-1} = m``, where a hold is the only choice) are not counted.
+
+    Parameters
+    ----------
+    M : ndarray of int, shape (n + 1,)
+    m : int
+        Index of the last input frame.
+
+    Returns
+    -------
+    share : float
+        In [0, 1]; 0.0 when no step was taken with input remaining.
+
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    M = _as_map(M)
+    live = M[:-1] < m
+    steps = int(np.count_nonzero(live))
+    if steps == 0:
+        return 0.0
+    return float(np.count_nonzero((np.diff(M) == 0) & live) / steps)
+
+
+def exhausted_share(M, m: int) -> float:
+    """Share of the steps ``q = 1..n`` taken after the input ran out (``M_{q-1} = m``).
+
+    Parameters
+    ----------
+    M : ndarray of int, shape (n + 1,)
+    m : int
+
+    Returns
+    -------
+    share : float
+        In [0, 1].
+
+    Paper: FP-DTW Section 5 ("running out of input frames, early in the alignment").
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    M = _as_map(M)
+    if M.size < 2:
+        return 0.0
+    return float(np.count_nonzero(M[:-1] >= m) / (M.size - 1))
+
+
+def stick_skip_index(M, m: int) -> float:
+    """Median over target frames of ``M_q / m - q / n``: < 0 sticks, > 0 skips.
+
+    The diagonal of the normalised map square (uniform progress through both motions)
+    scores 0; a map that lags behind it (sticking on input frames, below the diagonal
+    of Fig. 7) is negative, one that runs ahead (skipping) positive.
+
+    Parameters
+    ----------
+    M : ndarray of int, shape (n + 1,)
+    m : int
+
+    Returns
+    -------
+    index : float
+        In [-1, 1].
+
+    Paper: FP-DTW Section 5 (reading of Fig. 7: "hot areas under the diagonal indicate
+    ... sticking ... above the diagonal ... skipping").
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    M = _as_map(M).astype(np.float64)
+    n = max(M.size - 1, 1)
+    return float(np.median(M / max(m, 1) - np.arange(M.size) / n))
+
+
 # -- Kendall tau-b -----------------------------------------------------------------------------
 
 
@@ -345,10 +420,13 @@ __all__ = [
     "FLAT_RANGE",
     "ONE_FLAT_SCORE",
     "deviation",
+    "exhausted_share",
+    "hold_share",
     "in_range",
     "is_monotonic",
     "joint_trajectories",
     "kendall_tau_b",
     "similarity",
     "similarity_per_axis",
+    "stick_skip_index",
 ]

@@ -17,6 +17,7 @@ from fpdtw.costs import fast_acos, geo_distance
 from fpdtw.errors import AlignmentError
 from fpdtw.features import Frame, MotionFeatures
 from fpdtw.io import load_motion
+from fpdtw.metrics import hold_share
 from fpdtw.online.base import run_online
 from fpdtw.online.method_a import MethodA
 from fpdtw.online.method_b import MethodB, backtrack_lowest
@@ -197,10 +198,10 @@ def test_backtrack_prefers_diagonal_then_target_step():
 # --- Method C ---------------------------------------------------------------------------
 
 
-def test_method_c_hand_worked():
+def test_method_c_literal_window_hand_worked():
     I = units([0, 0, 2, 2, 3, 4, 6, 7])  # m = 7
     T = units([0, 1, 2, 3, 5, 7, 9])
-    M, snaps = run_recording(MethodC(I, 3, record=True), T)
+    M, snaps = run_recording(MethodC(I, 3, window="literal", record=True), T)
     np.testing.assert_array_equal(M, [0, 1, 2, 4, 6, 7, 7])
     assert [s.kind for s in snaps] == [
         "first", "warmup", "warmup", "window", "window", "window", "end"
@@ -230,21 +231,24 @@ def test_method_c_hand_worked():
 
 
 def test_method_c_ties_take_lowest_row():
-    # w = 1: F = [T_{n+1}] only, D[i, 0] = sum of C[i:, 0]. Rows [0, 1] units vs T = 0:
-    # C = [0, .1] (0 exactly: the identity quaternion), D[:, 0] = [.1, .1], an exact tie.
+    # literal window, w = 1: F = [T_{n+1}] only, D[i, 0] = sum of C[i:, 0]. Rows [0, 1]
+    # units vs T = 0: C = [0, .1] (0 exactly: the identity quaternion), D[:, 0] = [.1, .1],
+    # an exact tie.
     I = units([0, 0, 0, 1, 2])
     T = units([0, 0, 0, 0, 0])
-    M, snaps = run_recording(MethodC(I, 1, record=True), T)
+    M, snaps = run_recording(MethodC(I, 1, window="literal", record=True), T)
     assert snaps[3].D[0, 0] == snaps[3].D[1, 0]
     np.testing.assert_array_equal(M, [0, 1, 2, 2, 2])
+    M, snaps = run_recording(MethodC(I, 1, window="literal", ties="high", record=True), T)
+    np.testing.assert_array_equal(M, [0, 1, 2, 3, 4])
 
 
 def test_method_c_typev_hand_worked():
     I = units([0, 3, 4, 4, 5, 6, 9, 11])
     T = units([0, 1, 2, 6, 6, 6, 6])
-    M_free, _ = run_online(MethodC(I, 3), T)
+    M_free, _ = run_online(MethodC(I, 3, window="literal"), T)
     np.testing.assert_array_equal(M_free, [0, 1, 2, 5, 5, 5, 5])  # hold after +3
-    M, snaps = run_recording(MethodC(I, 3, constraint="typeV", record=True), T)
+    M, snaps = run_recording(MethodC(I, 3, window="literal", constraint="typeV", record=True), T)
     np.testing.assert_array_equal(M, [0, 1, 2, 5, 6, 6, 6])
     # q=3 (A1): rows [4, 4, 5, 6] vs F = [6, 10, 14]; D[:, 0] = [1.7, 1.5, 1.3, 1.2] -> +3.
     s = snaps[3]
@@ -262,6 +266,118 @@ def test_method_c_typev_hand_worked():
     np.testing.assert_allclose(s.D, tenths([[INF, 8, 8], [11, 8, 8], [15, 10, 5]]), atol=1e-9)
     assert (s.offset, s.M) == (1, 6)
     assert [s.state for s in snaps[5:]] == ["A1", "H1"]
+
+
+def test_method_c_square_window_hand_worked():
+    # The default, Algorithm 3's declared w_i x w window. I = 0..9 units (m = 9), w = 3.
+    I = units(range(10))
+    T = units([0, 1, 2, 2, 2, 3, 4, 6])  # the target pauses at 2, then speeds up
+    M, snaps = run_recording(MethodC(I, 3, record=True), T)
+    # q=3: M_n = 2, w_i = min(3, 9 - 2 + 1) = 3 rows I2..I4 = [2, 3, 4]; d = 0, F = [2, 2, 2].
+    s = snaps[3]
+    assert (s.start, s.w_i) == (2, 3)
+    np.testing.assert_allclose(s.C, tenths([[0, 0, 0], [1, 1, 1], [2, 2, 2]]), atol=1e-9)
+    # reverse: row 2: 2+2+2=6, 2+2=4, 2; row 1: 1+min(4,6,3)=4, 1+min(2,4,3)=3, 1+2=3;
+    # row 0: 0+min(3,4,3)=3, 0+min(3,3,3)=3, 0+3=3. D[:, 0] = [.3, .4, .6]: hold.
+    np.testing.assert_allclose(s.D, tenths([[3, 3, 3], [4, 3, 3], [6, 4, 2]]), atol=1e-9)
+    assert (s.offset, s.M) == (0, 2)
+    np.testing.assert_allclose(s.score, s.D[:, 0])
+    # q=4: the same window: hold again. q=5: T = 3, d = 1, F = [3, 4, 5]; rows [2, 3, 4]:
+    # C = [[1,2,3],[0,1,2],[1,0,1]]; row 2: 2, 1, 1; row 1: 0+min(1,2,2)=1, 1+min(1,1,3)=2,
+    # 2+1=3; row 0: 1+min(2,1,4)=2, 2+min(3,2,6)=4, 3+3=6 -> D[:, 0] = [.2, .1, .2]: +1.
+    np.testing.assert_allclose(snaps[5].D, tenths([[2, 4, 6], [1, 2, 3], [2, 1, 1]]), atol=1e-9)
+    # q=7: M_n = 4, T = 6, d = 2, F = [6, 8, 10]; rows [4, 5, 6]: C = [[2,4,6],[1,3,5],
+    # [0,2,4]]; row 2: 6, 6, 4; row 1: 1+min(6,6,7)=7, 3+min(4,6,9)=7, 5+4=9; row 0:
+    # 2+min(7,7,11)=9, 4+min(9,7,15)=11, 6+9=15 -> D[:, 0] = [.9, .7, .6]: +2.
+    np.testing.assert_allclose(snaps[7].D, tenths([[9, 11, 15], [7, 7, 9], [6, 6, 4]]), atol=1e-9)
+    np.testing.assert_array_equal(M, [0, 1, 2, 2, 2, 3, 4, 6])  # = T: exact
+
+
+def test_method_c_square_window_reaches_the_end_of_the_input():
+    # m = 3, w = 3. q=3: M_n = 2, w_i = min(3, 3 - 2 + 1) = 2 rows I2..I3 = [2, 3] (the
+    # last row is I_m: read as written, w_i = m - M_n = 1 row, the map would stop at
+    # m - 1); F = [3, 4, 5]: C = [[1,2,3],[0,1,2]]; row 1: 3, 3, 2; row 0: 1+min(3,3,4)=4,
+    # 2+min(2,3,5)=4, 3+2=5 -> D[:, 0] = [.4, .3]: +1 = m. Then the input is exhausted.
+    I = units([0, 1, 2, 3])
+    T = units([0, 1, 2, 3, 4, 5])
+    M, snaps = run_recording(MethodC(I, 3, record=True), T)
+    s = snaps[3]
+    assert (s.start, s.w_i, s.C.shape) == (2, 2, (2, 3))
+    np.testing.assert_allclose(s.D, tenths([[4, 4, 5], [3, 3, 2]]), atol=1e-9)
+    np.testing.assert_array_equal(M, [0, 1, 2, 3, 3, 3])
+    assert [x.kind for x in snaps[4:]] == ["end", "end"]
+
+
+@pytest.mark.parametrize("w", [3, 10, 40])
+def test_method_c_hold_pays_one_extra_cell_only_in_the_literal_window(w):
+    """The mechanism of notebook 15 on a window of equal costs c: every cell costs the
+    same, so D[r, 0] = c x (cells on the shortest path from (r, 0) to the far corner).
+    Literal (w + 1 rows, w columns): row 0 needs w + 1 cells, every other row w: the hold
+    loses to an advance. Square (w x w): every row needs w cells, an exact tie, and the
+    tie rule keeps the hold. Open end: w cells from every row."""
+    I = one_joint_motion(np.full(w + 5, 30.0), "X")  # one pose
+    T = one_joint_motion(np.full(6, 50.0), "X")  # another pose: c = (2/pi) 10 deg
+    c = geo_distance(I.quats[0], T.quats[0])
+    for window, cells0, cells1, off in [
+        ("literal", w + 1, w, 1),
+        ("square", w, w, 0),
+        ("open-end", w, w, 0),
+        ("square-tn", w + 1, w + 1, 0),
+    ]:
+        M, snaps = run_recording(MethodC(I, w, window=window, record=True), T)
+        s = snaps[3]
+        assert s.D[0, 0] == pytest.approx(cells0 * c, rel=1e-12), window
+        assert s.D[1, 0] == pytest.approx(cells1 * c, rel=1e-12), window
+        assert s.offset == off, window
+    # normalised: D / ((rows - r) + cols) with paths of total weight (rows - r) + cols - 1
+    s = run_recording(MethodC(I, w, window="normalised", record=True), T)[1][3]
+    r = np.arange(w + 1)
+    np.testing.assert_allclose(s.score, c * ((w + 1 - r) + w - 1) / ((w + 1 - r) + w))
+    assert s.offset == w  # the shortest remaining path has the smallest share of c
+
+
+def test_method_c_readings_cross_check_dtw_python():
+    """Every row's accumulated cost is an ordinary DTW distance of the sub-window from
+    that row to the far corner, with both axes reversed: dtw-python, symmetric1 (pinned
+    corner), symmetric2 normalised (normalised reading)."""
+    dtw_mod = pytest.importorskip("dtw")
+    I, T, _ = synthetic_pair(160, seed=21)
+    for window, pattern in [("literal", "symmetric1"), ("square", "symmetric1"),
+                            ("square-tn", "symmetric1"), ("normalised", "symmetric2")]:  # fmt: skip
+        a = MethodC(I, 12, window=window, record=True)
+        a.reset()
+        checked = 0
+        for q, frame in enumerate(T.frames()):
+            a.step(frame)
+            s = a.window_snapshot()
+            if s.kind != "window" or q % 9:
+                continue
+            for r in range(s.C.shape[0]):
+                sub = s.C[r:, :][::-1, ::-1]
+                al = dtw_mod.dtw(sub, step_pattern=pattern, distance_only=True)
+                want = al.normalizedDistance if window == "normalised" else al.distance
+                assert s.score[r] == pytest.approx(want, rel=1e-9, abs=1e-12), (window, q, r)
+            checked += 1
+        assert checked >= 5
+
+
+def test_method_c_options_forecast_and_start():
+    # forecast="hold": every forecast column is T_{n+1}; forecast_start="next": column 0
+    # is the first prediction T_{n+1} + d, not T_{n+1}.
+    I = units(range(10))
+    T = units([0, 1, 2, 3, 4])
+    s = run_recording(MethodC(I, 3, forecast="hold", record=True), T)[1][3]
+    np.testing.assert_allclose(s.C, tenths([[1, 1, 1], [0, 0, 0], [1, 1, 1]]), atol=1e-9)
+    s = run_recording(MethodC(I, 3, forecast_start="next", record=True), T)[1][3]
+    np.testing.assert_allclose(s.C, tenths([[2, 3, 4], [1, 2, 3], [0, 1, 2]]), atol=1e-9)
+    # start="best": T_0 = 2 units is matched by I_2 in I_0..I_w; warm-up advances from it
+    M, _ = run_online(MethodC(I, 3, start="best"), units([2, 3, 4, 5, 6]))
+    np.testing.assert_array_equal(M, [2, 3, 4, 5, 6])
+    assert MethodC(I, 3, start="best", ties="high").name == "Mc w3 (ties high, M_0 best match)"
+    with pytest.raises(AlignmentError, match="window='wide'"):
+        MethodC(I, 3, window="wide")
+    with pytest.raises(AlignmentError, match="unknown option"):
+        MethodB(I, 3, window="literal")
 
 
 # --- boundary cases ----------------------------------------------------------------------
@@ -285,6 +401,10 @@ def test_one_frame_input_maps_everything_to_frame_0(make):
 
 def test_names():
     I = units(range(5))
+    assert MethodC(I, 40, window="literal").name == "Mc w40 (literal window)"
+    assert MethodB(I, 10, forecast="hold", backtrack="input-first").name == (
+        "Mb w10 (hold forecast, back-track input first)"
+    )
     assert MethodA(I).name == "Ma"
     assert MethodA(I, constraint="typeV").name == "Ma + Type V"
     assert MethodA(I, 3).name == "Ma w3"
@@ -441,6 +561,21 @@ def test_fast_equals_reference(pairs, method, w, typev):
                 np.testing.assert_array_equal(f.allowed, r.allowed)
 
 
+@pytest.mark.parametrize("typev", [False, True])
+@pytest.mark.parametrize("window", ["literal", "square-tn", "open-end", "normalised"])
+def test_method_c_readings_fast_equal_reference(pairs, window, typev):
+    for I, T in pairs:
+        for w, ties in ((10, "low"), (40, "high")):
+            a = MethodC(I, w, constraint="typeV" if typev else None, window=window, ties=ties)
+            M, snaps = run_recording(
+                MethodC(I, w, constraint=a.constraint, window=window, ties=ties, record=True), T
+            )
+            Mr, rsnaps = reference_run(a, T)
+            np.testing.assert_array_equal(M, Mr)
+            for f, r in zip(snaps, rsnaps):
+                _assert_snap_equal(f, r)
+
+
 def test_fast_acos_matches_libm():
     x = np.concatenate(
         [
@@ -481,6 +616,50 @@ def test_real_squat_pair(squat_pair, method, w):
         if typev:
             assert is_legal_typev(M, a.m)
             assert dtw_python_accepts(M[: legal_prefix(M, a.m)])
+
+
+WALK = "mocap_single_person_actions/MoCapData/Walk_01.fbx"
+#: Every FP-DTW configuration with w <= 40: the paper restricts the window to less than
+#: half the movement's cycle (Section 7), and a walk step lasts about 60 frames here.
+BEHAVIOUR = [(m, w) for m, w in ALL if w <= 40]
+
+
+@pytest.fixture(scope="module")
+def walk(data_path):
+    X = MotionFeatures.from_motion(load_motion(data_path(WALK)))
+    slow = np.repeat(np.arange(X.n_frames), 2)  # the take slowed down 2x: frames repeated
+    return X, MotionFeatures(X.quats[slow], X.euler[slow], X.orders, X.fps, None, "slow"), slow
+
+
+@pytest.mark.parametrize("typev", [False, True])
+@pytest.mark.parametrize("method,w", BEHAVIOUR)
+def test_real_take_aligns_to_itself_and_to_itself_slowed(walk, method, w, typev):
+    """What any aligner should do: a take against itself is (nearly) the identity, and
+    against itself slowed down 2x it holds on about half the frames. Tolerances: at most
+    the paper's 18-frame benchmark anywhere, at most one frame on average (Method C's
+    forecast can lead it a few frames off the diagonal and back)."""
+    X, S, truth = walk
+    m = X.n_frames - 1
+    M, _ = run_online(make(method, X, w, typev), X)
+    d = np.abs(M - np.arange(X.n_frames))
+    assert d.max() <= 18 and d.mean() <= 1.0
+    M, _ = run_online(make(method, X, w, typev), S)
+    d = np.abs(M - truth)
+    assert d.max() <= 18 and d.mean() <= 1.0
+    assert 0.45 <= hold_share(M, m) <= 0.55
+
+
+@pytest.mark.parametrize("w", [10, 20, 40])
+def test_literal_window_runs_ahead_on_a_real_take(walk, w):
+    """The literal (w_i + 1) x w window fails both behaviour checks on the same take: the
+    hold's extra cell makes it skip ahead and run out of input (notebook 15)."""
+    X, S, truth = walk
+    m = X.n_frames - 1
+    M, _ = run_online(MethodC(X, w, window="literal"), X)
+    assert np.abs(M - np.arange(X.n_frames)).max() > 100
+    M, _ = run_online(MethodC(X, w, window="literal"), S)
+    assert hold_share(M, m) < 0.25
+    assert np.abs(M - truth).mean() > 100
 
 
 def test_bench_online_rows():

@@ -16,13 +16,17 @@ from .window import WindowAligner, WindowSnapshot, _is_allowed, reference_mask
 
 
 @numba.njit(cache=True)
-def _step_a(Iq, Tq, q, start, w_i, limit, allow, C):
-    """Method A window branch: argmin over allowed rows of geoDistance(I_{start+r}, T_q)."""
+def _step_a(Iq, Tq, q, start, w_i, limit, allow, C, ties_high=False):
+    """Method A window branch: argmin over allowed rows of geoDistance(I_{start+r}, T_q).
+
+    Ties: the lowest row, or the highest with ``ties_high``.
+    """
     best = -1
     for r in range(w_i + 1):
         C[r] = _geo_frame(Iq[start + r], Tq[q])
-        if _is_allowed(r, limit, allow) and (best < 0 or C[r] < C[best]):
-            best = r
+        if _is_allowed(r, limit, allow):
+            if best < 0 or C[r] < C[best] or (ties_high and C[r] == C[best]):
+                best = r
     return max(best, 0)
 
 
@@ -40,6 +44,9 @@ class MethodA(WindowAligner):
     * Type V (``constraint="typeV"``): window offsets the state does not allow are
       skipped (advance 1 is always allowed, so a window of 2+ frames always has one).
 
+    Window shape: ``w_i + 1`` input rows by ONE target column (``T_{n+1}``); no path,
+    so holding (row 0) and advancing are compared on their frame cost alone.
+
     Parameters
     ----------
     I : MotionFeatures
@@ -56,20 +63,20 @@ class MethodA(WindowAligner):
     """
 
     label = "Ma"
+    options = {"ties": ("low", {"high": "ties high"}), **WindowAligner.options}
 
-    def __init__(self, I: MotionFeatures, w: int = 2, *, constraint=None, record=False):
-        super().__init__(I, w, constraint=constraint, record=record)
+    def __init__(self, I: MotionFeatures, w: int = 2, *, constraint=None, record=False, **options):
+        super().__init__(I, w, constraint=constraint, record=record, **options)
         self._C = np.empty(self.w + 1)
+        self._ties_high = self.settings["ties"] == "high"
 
-    def _make_name(self) -> str:
-        base = "Ma" if self.w == 2 else f"Ma w{self.w}"
-        return base if self.constraint is None else f"{base} + {self.constraint.name}"
+    @classmethod
+    def _base_name_for(cls, w: int) -> str:
+        return "Ma" if w == 2 else f"Ma w{w}"
 
     def _step(self, q: int) -> int:
         if q == 0:
-            if self.record:
-                self._snap(0, "first", -1, 0, 0)
-            return 0
+            return self._first()
         start = int(self._M[q - 1])
         w_i = min(self.w, self.m - start)
         if w_i <= 0:
@@ -77,7 +84,10 @@ class MethodA(WindowAligner):
             if self.record:
                 self._snap(q, "end", start, 0, m_next)
         else:
-            off = _step_a(self._Iq, self._Tq, q, start, w_i, self._limit, self._allow(), self._C)
+            off = _step_a(
+                self._Iq, self._Tq, q, start, w_i, self._limit, self._allow(), self._C,
+                self._ties_high,
+            )  # fmt: skip
             m_next = start + off
             if self.record:
                 C = self._C[: w_i + 1, None].copy()

@@ -14,7 +14,7 @@ from ..costs import geodesic_cost_matrix_numpy
 from ..features import MotionFeatures
 from .window import (
     B_CORNER,
-    WindowAligner,
+    ForecastAligner,
     WindowSnapshot,
     _step_b,
     reference_forecast_quats,
@@ -23,12 +23,13 @@ from .window import (
 )
 
 
-class MethodB(WindowAligner):
+class MethodB(ForecastAligner):
     """Method B (Algorithm 2): DTW path through a forecast window.
 
     For target frame ``q = n + 1`` (choices where the paper is silent are marked *):
 
-    * ``q = 0``: ``M_0 = 0`` (*).
+    * ``q = 0``: ``M_0 = 0`` (*; ``start="best"``: the best match of ``T_0`` in
+      ``I_0..I_w``).
     * Warm-up, ``n < s`` (``s = 2``, dead reckoning on two frames): ``M_{n+1} = n + 1``,
       clipped to ``m``.
     * ``M_n >= m``: ``M_{n+1} = m``.
@@ -43,14 +44,24 @@ class MethodB(WindowAligner):
       paper's overwrite rule, so each column keeps the LOWEST input row the path visits;
       ``M_{n+1} = M_n + P_1`` (``P_1`` = that row in column 1, the ``T_{n+1}`` column).
     * Back-tracking ties (*): diagonal first, then the step back one target frame (same
-      input frame), then the step back one input frame. On row 0 / column 0 the only
-      move is back one target / input frame. The order between the last two matters at
-      (1, 1), where ``D[0, 0] = 10000`` leaves (0, 1) (hold) and (1, 0) (advance): when
-      ``T_n, T_{n+1}`` match ``I_{M_n}, I_{M_n+1}`` symmetrically (an input aligned to
-      itself) the two tie exactly, and advancing keeps the identity map.
+      input frame), then the step back one input frame (``backtrack="input-first"``
+      swaps the last two). The order between the last two matters at (1, 1), where
+      ``D[0, 0] = 10000`` leaves (0, 1) (hold) and (1, 0) (advance): when ``T_n, T_{n+1}``
+      match ``I_{M_n}, I_{M_n+1}`` symmetrically (an input aligned to itself) the two tie
+      exactly, and advancing keeps the identity map.
     * Type V (``constraint="typeV"``): before accumulating, ``C[r, 1] = +inf`` for every
       row ``r`` (offset) the state does not allow (all ``r > 3``), so the path's ``P_1``
       is allowed (every cell the path visits has a finite accumulated cost).
+
+    Window shape: ``w_i + 1`` input rows (``I_{M_n}..I_{M_n+w_i}``, the range as
+    written) by ``w + 1`` target columns (``T_n`` prepended): square while
+    ``w_i = w``. The path runs from the fixed corner (0, 0) to the far corner, so its
+    length does not depend on the choice in column 1: holding and advancing cost the
+    same number of cells (unlike Method C's literal window).
+
+    Other options, the paper's silent choices (notebook 15 measures each):
+    ``forecast="hold"`` (zero-order hold instead of dead reckoning),
+    ``backtrack="input-first"``, ``start="best"``.
 
     Parameters
     ----------
@@ -59,6 +70,9 @@ class MethodB(WindowAligner):
     w : int
         Forecast window size (the paper: 10, 20, 40, 80).
     constraint : None, "typeV" or TypeV
+    forecast : {"dead-reckoning", "hold"}
+    backtrack : {"target-first", "input-first"}
+    start : {"zero", "best"}
     record : bool
         Keep a :class:`~fpdtw.online.window.WindowSnapshot` of the last step (C, D, the
         path, P).
@@ -68,49 +82,38 @@ class MethodB(WindowAligner):
     """
 
     label = "Mb"
-    #: Smoothing window: frames needed before forecasting (dead reckoning: 2).
-    s = 2
+    options = {
+        "forecast": ("dead-reckoning", {"hold": "hold forecast"}),
+        "backtrack": ("target-first", {"input-first": "back-track input first"}),
+        **ForecastAligner.options,
+    }
 
-    def __init__(self, I: MotionFeatures, w: int, *, constraint=None, record=False):
-        super().__init__(I, w, constraint=constraint, record=record)
+    def __init__(self, I: MotionFeatures, w: int, *, constraint=None, record=False, **options):
+        super().__init__(I, w, constraint=constraint, record=record, **options)
         k = self._Iq.shape[1]
+        self._hold = self.settings["forecast"] == "hold"
+        self._input_first = self.settings["backtrack"] == "input-first"
         self._F = np.empty((k, 4, self.w + 1))
         self._C = np.empty((self.w + 1, self.w + 1))
         self._D = np.empty((self.w + 1, self.w + 1))
         self._P = np.empty(self.w + 1, dtype=np.int64)
         self._path = np.empty((2 * self.w + 2, 2), dtype=np.int64)
 
-    def _step(self, q: int) -> int:
-        if q == 0:
-            if self.record:
-                self._snap(0, "first", -1, 0, 0)
-            return 0
-        start = int(self._M[q - 1])
-        n = q - 1
-        if n < self.s:
-            m_next = min(n + 1, self.m)
-            if self.record:
-                self._snap(q, "warmup", start, 0, m_next)
-        elif start >= self.m:
-            m_next = self.m
-            if self.record:
-                self._snap(q, "end", start, 0, m_next)
-        else:
-            w_i = min(self.w, self.m - start)
-            off, npath = _step_b(
-                self._Iq, self._Tq, self._Te, q, start, self.w, w_i, self._codes,
-                self._limit, self._allow(), self._F, self._C, self._D, self._P, self._path,
+    def _window_step(self, q: int, start: int) -> int:
+        w_i = min(self.w, self.m - start)
+        off, npath = _step_b(
+            self._Iq, self._Tq, self._Te, q, start, self.w, w_i, self._codes,
+            self._limit, self._allow(), self._F, self._C, self._D, self._P, self._path,
+            self._hold, self._input_first,
+        )  # fmt: skip
+        if self.record:
+            nr, nc = w_i + 1, self.w + 1
+            self._snap(
+                q, "window", start, w_i, start + int(off),
+                C=self._C[:nr, :nc].copy(), D=self._D[:nr, :nc].copy(),
+                path=self._path[:npath][::-1].copy(), P=self._P[:nc].copy(),
             )  # fmt: skip
-            m_next = start + int(off)
-            if self.record:
-                nr, nc = w_i + 1, self.w + 1
-                self._snap(
-                    q, "window", start, w_i, m_next,
-                    C=self._C[:nr, :nc].copy(), D=self._D[:nr, :nc].copy(),
-                    path=self._path[:npath][::-1].copy(), P=self._P[:nc].copy(),
-                )  # fmt: skip
-        self._advance_state(m_next - start)
-        return m_next
+        return off
 
     @staticmethod
     def reference_step(I, T_quats, T_euler, M, w, allowed=None) -> WindowSnapshot:

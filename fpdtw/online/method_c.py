@@ -3,6 +3,16 @@
 Method B without the path: the forecast window's costs are accumulated in reverse, from
 the far corner back to (0, 0), and ``T_{n+1}`` is mapped to the input frame with the
 lowest accumulated cost in the ``T_{n+1}`` column.
+
+Which window? Algorithm 3 declares ``C, D`` of size ``w_i x w`` (square when
+``w_i = w``) but fills them from the input range ``{I_{M_n}..I_{M_n+w_i}}``, which has
+``w_i + 1`` frames. The difference decides the method: with ``w_i + 1`` rows against
+``w`` columns and the path pinned to the far corner, a path from row 0 (a hold) needs
+``w + 1`` cells while a path from any other row needs ``w``, so a hold pays one extra
+cell's cost and the method almost never holds (it skips ahead and runs out of input).
+The square window has no such penalty: every row's path to the corner has ``w`` cells.
+The default is the declared square window; the other readings stay available for
+notebook 15 (``window=...``).
 """
 
 from __future__ import annotations
@@ -12,7 +22,12 @@ import numpy as np
 from ..costs import geodesic_cost_matrix_numpy
 from ..features import MotionFeatures
 from .window import (
-    WindowAligner,
+    C_LITERAL,
+    C_NORMALISED,
+    C_OPEN_END,
+    C_SQUARE,
+    C_SQUARE_TN,
+    ForecastAligner,
     WindowSnapshot,
     _step_c,
     reference_forecast_quats,
@@ -20,25 +35,68 @@ from .window import (
     reference_prologue,
 )
 
+#: Method C's window readings: option value -> kernel code.
+READINGS = {
+    "square": C_SQUARE,
+    "literal": C_LITERAL,
+    "square-tn": C_SQUARE_TN,
+    "open-end": C_OPEN_END,
+    "normalised": C_NORMALISED,
+}
 
-class MethodC(WindowAligner):
+
+class MethodC(ForecastAligner):
     """Method C (Algorithm 3): reverse-accumulated forecast window.
 
     For target frame ``q = n + 1`` (choices where the paper is silent are marked *):
 
-    * ``q = 0``: ``M_0 = 0`` (*).
+    * ``q = 0``: ``M_0 = 0`` (*; ``start="best"``: the best match of ``T_0`` in
+      ``I_0..I_w``).
     * Warm-up, ``n < s`` (``s = 2``): ``M_{n+1} = n + 1``, clipped to ``m``.
-    * ``M_n > m`` (strictly, as written) never happens; ``M_n = m`` gives ``w_i = 0``, a
-      one-row window whose argmin is row 0, so ``M_{n+1} = m``: that case is short-cut
-      (same result, and under Type V the hold at ``m`` is forced whatever the state).
-    * Otherwise ``w_i = min(w, m - M_n)``; ``F = [T_{n+1}, T_{n+1} + delta, ...,
-      T_{n+1} + (w - 1) delta]`` (``w`` columns; ``T_n`` is not included); ``C`` = eq. 1
-      between the ``w_i + 1`` input frames and ``F``; ``D`` = REVERSE accumulation,
-      ``D[w_i, w-1] = C[w_i, w-1]``, ``D[i, j] = C[i, j] + min(D[i+1, j+1], D[i+1, j],
-      D[i, j+1])``; ``M_{n+1} = M_n + argmin_i D[i, 0]``; ties: the lowest ``i`` (*).
+    * ``M_n > m`` (strictly, as written) never happens; at ``M_n = m`` every reading's
+      window has the single row ``I_m`` and maps to ``m``: that case is short-cut (same
+      result, and under Type V the hold at ``m`` is forced whatever the state).
+    * Otherwise the window of the reading (``window=``), ``F = [T_{n+1}, T_{n+1} +
+      delta, ..., T_{n+1} + (w - 1) delta]`` (``w`` columns; ``delta = T_{n+1} - T_n`` in
+      unwrapped Euler angles, forecasts turned into quaternions per joint order, the
+      known frame keeps its received quaternion), ``C`` = eq. 1 between the input rows
+      and ``F``, ``D`` = REVERSE accumulation from the far corner,
+      ``D[i, j] = C[i, j] + min(D[i+1, j+1], D[i+1, j], D[i, j+1])``, and
+      ``M_{n+1} = M_n + argmin_i D[i, 0]``; ties: the lowest ``i`` (*; ``ties="high"``).
     * Type V (``constraint="typeV"``): before accumulating, ``C[r, 0] = +inf`` for every
       row ``r`` (offset) the state does not allow (all ``r > 3``), and the argmin runs
       over the allowed rows.
+
+    Window shape, by reading (``window=``; rows are input frames from ``I_{M_n}``):
+
+    ``"square"`` (default)
+        Algorithm 3's declared size ``w_i x w``: ``w_i`` rows ``I_{M_n}..I_{M_n+w_i-1}``
+        by ``w`` columns. The end test ``if M_n + w_i > m`` is read as keeping the LAST
+        ROW inside the input, ``w_i = min(w, m - M_n + 1)`` (*): taken as written
+        (``w_i = m - M_n`` rows) the last row would be ``I_{m-1}`` and the map could
+        never reach ``m``. Every row's path to the corner has ``w`` cells: holding costs
+        no more than advancing.
+    ``"literal"``
+        The range as written, ``{I_{M_n}..I_{M_n+w_i}}``: ``w_i + 1`` rows,
+        ``w_i = min(w, m - M_n)``, by ``w`` columns. A hold (row 0) pays one extra cell.
+    ``"square-tn"``
+        Method B's target window with ``F_0 = T_n`` (``w + 1`` columns
+        ``[T_n, T_{n+1}, ...]``) by ``w_i + 1`` rows, square, and the argmin over the
+        first column, literally ``argmin{D_{0,0}..D_{m,0}}``: that column is ``T_n``'s,
+        so ``T_{n+1}`` is mapped by how well the path from ``(r, T_n)`` fits.
+    ``"open-end"``
+        The literal window, but the path may end in any row of the last column
+        (``D[r, w-1] = C[r, w-1]``): no pinned corner, no extra cell.
+    ``"normalised"``
+        The literal window, accumulated with the symmetric2 weights and each row's
+        ``D[r, 0]`` divided by its paths' total weight ``(w_i + 1 - r) + w``
+        (dtw-python's normalised distance): cost per unit of path, not per path.
+
+    Other options, the paper's silent choices (notebook 15 measures each):
+    ``forecast="hold"`` (zero-order hold instead of dead reckoning),
+    ``forecast_start="next"`` (``F = [T^_{n+2}..T^_{n+w+1}]``: ``forecastJoints`` returns
+    predictions only, column 0 is the first prediction), ``ties="high"``,
+    ``start="best"``.
 
     Parameters
     ----------
@@ -47,62 +105,93 @@ class MethodC(WindowAligner):
     w : int
         Forecast window size (the paper: 10, 20, 40, 80).
     constraint : None, "typeV" or TypeV
+    window : {"square", "literal", "square-tn", "open-end", "normalised"}
+    forecast : {"dead-reckoning", "hold"}
+    forecast_start : {"T_{n+1}", "next"}
+    ties : {"low", "high"}
+    start : {"zero", "best"}
     record : bool
-        Keep a :class:`~fpdtw.online.window.WindowSnapshot` of the last step (C, D).
+        Keep a :class:`~fpdtw.online.window.WindowSnapshot` of the last step (C, D and
+        the per-row ``score``).
 
-    Paper: FP-DTW Algorithm 3.
-    Notebook: 05_run_experiments.ipynb
+    Paper: FP-DTW Algorithm 3, Section 3.3.
+    Notebook: 15_readings_of_algorithm_3.ipynb
     """
 
     label = "Mc"
-    #: Smoothing window: frames needed before forecasting (dead reckoning: 2).
-    s = 2
+    options = {
+        "window": (
+            "square",
+            {
+                "literal": "literal window",
+                "square-tn": "square window from T_n",
+                "open-end": "open end",
+                "normalised": "normalised",
+            },
+        ),
+        "forecast": ("dead-reckoning", {"hold": "hold forecast"}),
+        "forecast_start": ("T_{n+1}", {"next": "forecast from T_n+2"}),
+        "ties": ("low", {"high": "ties high"}),
+        **ForecastAligner.options,
+    }
 
-    def __init__(self, I: MotionFeatures, w: int, *, constraint=None, record=False):
-        super().__init__(I, w, constraint=constraint, record=record)
+    def __init__(self, I: MotionFeatures, w: int, *, constraint=None, record=False, **options):
+        super().__init__(I, w, constraint=constraint, record=record, **options)
         k = self._Iq.shape[1]
-        self._F = np.empty((k, 4, self.w))
-        self._C = np.empty((self.w + 1, self.w))
-        self._D = np.empty((self.w + 1, self.w))
+        st = self.settings
+        self._reading = READINGS[st["window"]]
+        self._shift = 1 if st["forecast_start"] == "next" else 0
+        self._hold = st["forecast"] == "hold"
+        self._ties_high = st["ties"] == "high"
+        self._F = np.empty((k, 4, self.w + 1))
+        self._C = np.empty((self.w + 1, self.w + 1))
+        self._D = np.empty((self.w + 1, self.w + 1))
+        self._score = np.empty(self.w + 1)
 
-    def _step(self, q: int) -> int:
-        if q == 0:
-            if self.record:
-                self._snap(0, "first", -1, 0, 0)
-            return 0
-        start = int(self._M[q - 1])
-        n = q - 1
-        if n < self.s:
-            m_next = min(n + 1, self.m)
-            if self.record:
-                self._snap(q, "warmup", start, 0, m_next)
-        elif start >= self.m:
-            m_next = self.m
-            if self.record:
-                self._snap(q, "end", start, 0, m_next)
-        else:
-            w_i = min(self.w, self.m - start)
-            off = _step_c(
-                self._Iq, self._Tq, self._Te, q, start, self.w, w_i, self._codes,
-                self._limit, self._allow(), self._F, self._C, self._D,
+    def window_rows(self, start: int) -> int:
+        """Number of input rows of the window at ``M_n = start`` (see the readings).
+
+        Parameters
+        ----------
+        start : int
+            ``M_n``, in ``0..m``.
+
+        Returns
+        -------
+        rows : int
+        """
+        if self._reading == C_SQUARE:
+            return min(self.w, self.m - start + 1)
+        return min(self.w, self.m - start) + 1
+
+    def _window_step(self, q: int, start: int) -> int:
+        nr = self.window_rows(start)
+        off = _step_c(
+            self._Iq, self._Tq, self._Te, q, start, self.w, nr, self._codes,
+            self._limit, self._allow(), self._F, self._C, self._D, self._score,
+            self._reading, self._shift, self._hold, self._ties_high,
+        )  # fmt: skip
+        if self.record:
+            nc = self.w + 1 if self._reading == C_SQUARE_TN else self.w
+            w_i = nr if self._reading == C_SQUARE else nr - 1
+            self._snap(
+                q, "window", start, w_i, start + int(off),
+                C=self._C[:nr, :nc].copy(), D=self._D[:nr, :nc].copy(),
+                score=self._score[:nr].copy(),
             )  # fmt: skip
-            m_next = start + int(off)
-            if self.record:
-                nr, nc = w_i + 1, self.w
-                self._snap(
-                    q, "window", start, w_i, m_next,
-                    C=self._C[:nr, :nc].copy(), D=self._D[:nr, :nc].copy(),
-                )  # fmt: skip
-        self._advance_state(m_next - start)
-        return m_next
+        return off
 
     @staticmethod
-    def reference_step(I, T_quats, T_euler, M, w, allowed=None) -> WindowSnapshot:
+    def reference_step(
+        I, T_quats, T_euler, M, w, allowed=None, window="square", ties="low"
+    ) -> WindowSnapshot:
         """Plain-numpy Method C step; see :func:`reference_step_c`."""
-        return reference_step_c(I, T_quats, T_euler, M, w, allowed)
+        return reference_step_c(I, T_quats, T_euler, M, w, allowed, window, ties)
 
 
-def reference_step_c(I, T_quats, T_euler, M, w, allowed=None) -> WindowSnapshot:
+def reference_step_c(
+    I, T_quats, T_euler, M, w, allowed=None, window="square", ties="low"
+) -> WindowSnapshot:
     """Plain-numpy reference of one Method C step (for tests).
 
     Parameters
@@ -118,6 +207,9 @@ def reference_step_c(I, T_quats, T_euler, M, w, allowed=None) -> WindowSnapshot:
     w : int
     allowed : ndarray of bool, shape (4,), or None
         Type V: offsets 0..3 allowed (larger offsets never are); None: unconstrained.
+    window : str
+        The reading (see :class:`MethodC`).
+    ties : {"low", "high"}
 
     Returns
     -------
@@ -129,26 +221,40 @@ def reference_step_c(I, T_quats, T_euler, M, w, allowed=None) -> WindowSnapshot:
     if isinstance(head, WindowSnapshot):
         return head
     q, n, Mn, w_i = head
-    F = np.concatenate(
-        [T_quats[q : q + 1], reference_forecast_quats(T_euler[n : n + 2], I.orders, w)]
-    )
-    C = geodesic_cost_matrix_numpy(I.quats[Mn : Mn + w_i + 1], F)
-    ok = reference_mask(allowed, w_i + 1)
+    m = I.n_frames - 1
+    rows = min(w, m - Mn + 1) if window == "square" else w_i + 1
+    F = reference_forecast_quats(T_euler[n : n + 2], I.orders, w)
+    F = np.concatenate([T_quats[q : q + 1], F])
+    if window == "square-tn":
+        F = np.concatenate([T_quats[n : n + 1], F])
+    C = geodesic_cost_matrix_numpy(I.quats[Mn : Mn + rows], F)
+    ok = reference_mask(allowed, rows)
     C[~ok, 0] = np.inf
     D = np.empty_like(C)
     last_i, last_j = C.shape[0] - 1, C.shape[1] - 1
     for i in range(last_i, -1, -1):
         for j in range(last_j, -1, -1):
-            if i == last_i and j == last_j:
-                D[i, j] = C[i, j]
+            c = C[i, j]
+            if j == last_j and (i == last_i or window == "open-end"):
+                D[i, j] = c
             elif i == last_i:
-                D[i, j] = C[i, j] + D[i, j + 1]
+                D[i, j] = c + D[i, j + 1]
             elif j == last_j:
-                D[i, j] = C[i, j] + D[i + 1, j]
+                D[i, j] = c + D[i + 1, j]
+            elif window == "normalised":
+                D[i, j] = min(D[i + 1, j + 1] + 2 * c, D[i + 1, j] + c, D[i, j + 1] + c)
             else:
-                D[i, j] = C[i, j] + min(D[i + 1, j + 1], D[i + 1, j], D[i, j + 1])
-    off = int(np.argmin(np.where(ok, D[:, 0], np.inf)))  # first minimum: lowest row
-    return WindowSnapshot(q, "window", Mn, w_i, off, Mn + off, C=C, D=D)
+                D[i, j] = c + min(D[i + 1, j + 1], D[i + 1, j], D[i, j + 1])
+    score = D[:, 0].copy()
+    if window == "normalised":
+        score = score / ((C.shape[0] - np.arange(C.shape[0])) + C.shape[1])
+    cand = np.where(ok, score, np.inf)
+    if ties == "high":
+        off = int(len(cand) - 1 - np.argmin(cand[::-1]))
+    else:
+        off = int(np.argmin(cand))  # first minimum: lowest row
+    w_i = rows if window == "square" else rows - 1
+    return WindowSnapshot(q, "window", Mn, w_i, off, Mn + off, C=C, D=D, score=score)
 
 
-__all__ = ["MethodC", "reference_step_c"]
+__all__ = ["READINGS", "MethodC", "reference_step_c"]

@@ -19,13 +19,15 @@ Its inner loop runs over the forecast frames, stored joint-major as ``F[j, c, co
 
 from __future__ import annotations
 
+import inspect
 import math
+from abc import abstractmethod
 from dataclasses import dataclass
 
 import numba
 import numpy as np
 
-from ..costs import _acos01, geodesic_cost_matrix_numpy
+from ..costs import _acos01, _geo_frame, geodesic_cost_matrix_numpy
 from ..errors import AlignmentError
 from ..features import Frame, MotionFeatures
 from ..forecast import _euler_to_quat, forecast_joints, order_codes
@@ -42,13 +44,16 @@ B_CORNER = 10000.0
 
 
 @numba.njit(cache=True)
-def _forecast_window(Tq, Te, q, w, with_prev, codes, F):
+def _forecast_window(Tq, Te, q, w, with_prev, codes, F, shift=0, hold=False):
     """Fill ``F[j, :, col]`` (k, 4, ncols) with the target window of the step at q.
 
-    with_prev (Method B): col 0 = T_n (= T[q-1]), col 1 = T_{n+1}, col 1+i = forecast i.
-    Otherwise (Method C): col 0 = T_{n+1} (= T[q]), col i = forecast i, i = 1..w-1.
-    Forecast i is T_{n+1} + i * (T_{n+1} - T_n) in Euler angles, as quaternions; the
-    known frames keep their received quaternions. Returns the number of columns.
+    with_prev (Method B; Method C's "square-tn" reading): col 0 = T_n (= T[q-1]), then
+    the ``w`` columns below. Otherwise col i, i = 0..w-1, holds the frame ``i + shift``
+    frames ahead of T_{n+1} (= T[q]): ``shift = 0`` starts with T_{n+1} itself (the
+    paper's column ``T_{n+1}``), ``shift = 1`` with the first forecast. A frame ``i``
+    ahead (i >= 1) is T_{n+1} + i * (T_{n+1} - T_n) in Euler angles (dead reckoning),
+    as quaternions, or T_{n+1} itself when ``hold`` (zero-order hold); T_{n+1} and T_n
+    keep their received quaternions. Returns the number of columns.
     """
     k = Tq.shape[1]
     c0 = 0
@@ -57,12 +62,15 @@ def _forecast_window(Tq, Te, q, w, with_prev, codes, F):
             for a in range(4):
                 F[j, a, 0] = Tq[q - 1, j, a]
         c0 = 1
-    for j in range(k):
-        for a in range(4):
-            F[j, a, c0] = Tq[q, j, a]
-    for i in range(1, w):
+    for i in range(w):
         col = c0 + i
-        fi = float(i)
+        ahead = i + shift
+        if ahead == 0 or hold:
+            for j in range(k):
+                for a in range(4):
+                    F[j, a, col] = Tq[q, j, a]
+            continue
+        fi = float(ahead)
         for j in range(k):
             e0 = Te[q, j, 0] + fi * (Te[q, j, 0] - Te[q - 1, j, 0])
             e1 = Te[q, j, 1] + fi * (Te[q, j, 1] - Te[q - 1, j, 1])
@@ -128,7 +136,7 @@ def _accumulate(C, nrows, ncols, D):
 
 @numba.njit(cache=True)
 def _accumulate_reverse(C, nrows, ncols, D):
-    """Reverse accumulation from the far corner (nrows-1, ncols-1) back to (0, 0)."""
+    """Reverse accumulation (symmetric1) from the far corner (nrows-1, ncols-1) to (0, 0)."""
     lr = nrows - 1
     lc = ncols - 1
     D[lr, lc] = C[lr, lc]
@@ -141,14 +149,53 @@ def _accumulate_reverse(C, nrows, ncols, D):
 
 
 @numba.njit(cache=True)
-def _backtrack(D, nrows, ncols, P, path):
+def _accumulate_reverse_open(C, nrows, ncols, D):
+    """Reverse accumulation (symmetric1) whose path may end in ANY row of the last column.
+
+    ``D[r, ncols-1] = C[r, ncols-1]`` (an open end: Tormene et al.'s open-end DTW with
+    the time axis reversed), then the recurrence of :func:`_accumulate_reverse`.
+    """
+    lr = nrows - 1
+    lc = ncols - 1
+    for r in range(nrows):
+        D[r, lc] = C[r, lc]
+    for col in range(lc - 1, -1, -1):
+        D[lr, col] = C[lr, col] + D[lr, col + 1]
+    for r in range(lr - 1, -1, -1):
+        for col in range(lc - 1, -1, -1):
+            D[r, col] = C[r, col] + min(D[r + 1, col + 1], min(D[r + 1, col], D[r, col + 1]))
+
+
+@numba.njit(cache=True)
+def _accumulate_reverse_sym2(C, nrows, ncols, D):
+    """Reverse accumulation with the symmetric2 weights (a diagonal step counts twice).
+
+    Every path from ``(r, 0)`` to the far corner then has the same total weight,
+    ``(nrows - r) + ncols - 1``: dividing by it compares rows fairly
+    (dtw-python's normalizable ``symmetric2``, normalised by ``N + M``).
+    """
+    lr = nrows - 1
+    lc = ncols - 1
+    D[lr, lc] = C[lr, lc]
+    for col in range(lc - 1, -1, -1):
+        D[lr, col] = C[lr, col] + D[lr, col + 1]
+    for r in range(lr - 1, -1, -1):
+        D[r, lc] = C[r, lc] + D[r + 1, lc]
+        for col in range(lc - 1, -1, -1):
+            c = C[r, col]
+            D[r, col] = min(D[r + 1, col + 1] + 2.0 * c, min(D[r + 1, col], D[r, col + 1]) + c)
+
+
+@numba.njit(cache=True)
+def _backtrack(D, nrows, ncols, P, path, input_first=False):
     """Method B's back-track from (nrows-1, ncols-1) to (0, 0) with the overwrite rule.
 
     Steps: diagonal (r-1, c-1), target (r, c-1), input (r-1, c); ties prefer the
-    diagonal, then the target step (which keeps the higher input frame). On row 0 only
-    target steps, on column 0 only input steps. ``P[c]`` ends as the lowest row the path
-    visits in column c (a step back one input frame on the same column overwrites it).
-    ``path`` gets the cells from the far corner back to (0, 0); returns their number.
+    diagonal, then the target step (which keeps the higher input frame), or with
+    ``input_first`` the input step. On row 0 only target steps, on column 0 only input
+    steps. ``P[c]`` ends as the lowest row the path visits in column c (a step back one
+    input frame on the same column overwrites it). ``path`` gets the cells from the far
+    corner back to (0, 0); returns their number.
     """
     r = nrows - 1
     c = ncols - 1
@@ -168,7 +215,7 @@ def _backtrack(D, nrows, ncols, P, path):
             if dd <= dh and dd <= dv:
                 r -= 1
                 c -= 1
-            elif dh <= dv:
+            elif dh < dv or (dh == dv and not input_first):
                 c -= 1
             else:
                 r -= 1
@@ -180,34 +227,58 @@ def _backtrack(D, nrows, ncols, P, path):
 
 
 @numba.njit(cache=True)
-def _step_b(Iq, Tq, Te, q, start, w, w_i, codes, limit, allow, F, C, D, P, path):
+def _step_b(Iq, Tq, Te, q, start, w, w_i, codes, limit, allow, F, C, D, P, path, hold, input_first):
     """One Method B step (Algorithm 2, window branch); returns (P_1, path length)."""
     nrows = w_i + 1
-    ncols = _forecast_window(Tq, Te, q, w, True, codes, F)
+    ncols = _forecast_window(Tq, Te, q, w, True, codes, F, 0, hold)
     _cost_window(Iq, start, nrows, F, ncols, C)
     for r in range(nrows):
         if not _is_allowed(r, limit, allow):
             C[r, 1] = np.inf
     _accumulate(C, nrows, ncols, D)
     D[0, 0] = B_CORNER
-    n = _backtrack(D, nrows, ncols, P, path)
+    n = _backtrack(D, nrows, ncols, P, path, input_first)
     return P[1], n
 
 
+#: Method C's window readings (codes of :func:`_step_c`; see :class:`MethodC`).
+C_SQUARE, C_LITERAL, C_SQUARE_TN, C_OPEN_END, C_NORMALISED = 0, 1, 2, 3, 4
+
+
 @numba.njit(cache=True)
-def _step_c(Iq, Tq, Te, q, start, w, w_i, codes, limit, allow, F, C, D):
-    """One Method C step (Algorithm 3, window branch); returns the chosen offset."""
-    nrows = w_i + 1
-    ncols = _forecast_window(Tq, Te, q, w, False, codes, F)
+def _step_c(
+    Iq, Tq, Te, q, start, w, nrows, codes, limit, allow, F, C, D, score,
+    reading, shift, hold, ties_high,
+):  # fmt: skip
+    """One Method C step (Algorithm 3, window branch); returns the chosen offset.
+
+    ``nrows`` input rows ``I_{start}..``, the target window of the ``reading`` (w
+    columns ``[T_{n+1}, forecasts]``, or w + 1 ``[T_n, T_{n+1}, forecasts]`` for
+    :data:`C_SQUARE_TN`), reverse accumulation (pinned to the far corner, open in the
+    last column, or symmetric2), and the argmin of ``score`` over column 0's allowed
+    rows: ``score[r] = D[r, 0]``, or ``D[r, 0] / ((nrows - r) + ncols)`` for
+    :data:`C_NORMALISED`. Ties: the lowest row, or the highest with ``ties_high``.
+    """
+    ncols = _forecast_window(Tq, Te, q, w, reading == C_SQUARE_TN, codes, F, shift, hold)
     _cost_window(Iq, start, nrows, F, ncols, C)
     for r in range(nrows):
         if not _is_allowed(r, limit, allow):
             C[r, 0] = np.inf
-    _accumulate_reverse(C, nrows, ncols, D)
+    if reading == C_OPEN_END:
+        _accumulate_reverse_open(C, nrows, ncols, D)
+    elif reading == C_NORMALISED:
+        _accumulate_reverse_sym2(C, nrows, ncols, D)
+    else:
+        _accumulate_reverse(C, nrows, ncols, D)
     best = -1
     for r in range(nrows):
-        if _is_allowed(r, limit, allow) and (best < 0 or D[r, 0] < D[best, 0]):
-            best = r
+        s = D[r, 0]
+        if reading == C_NORMALISED:
+            s = s / ((nrows - r) + ncols)
+        score[r] = s
+        if _is_allowed(r, limit, allow):
+            if best < 0 or s < score[best] or (ties_high and s == score[best]):
+                best = r
     return max(best, 0)
 
 
@@ -228,15 +299,17 @@ class WindowSnapshot:
     start : int
         Window start ``M_n`` (-1 for q = 0).
     w_i : int
-        Input window size: rows ``I_{M_n}..I_{M_n + w_i}``.
+        The paper's input window size ``w_i``: rows ``I_{M_n}..I_{M_n + w_i}``
+        (``w_i + 1`` rows), except for Method C's square window (``w_i`` rows).
     offset : int
         Chosen offset, ``M_{n+1} - M_n``.
     M : int
         ``M_{n+1}``.
-    C : ndarray of float64, shape (w_i + 1, ncols) or None
+    C : ndarray of float64, shape (rows, ncols) or None
         Cost window (eq. 1); rows = input frames ``M_n + r``, columns = target window:
         A: ``[T_{n+1}]``; B: ``[T_n, T_{n+1}, forecasts]`` (w + 1); C: ``[T_{n+1},
-        forecasts]`` (w). Cells masked by Type V are +inf.
+        forecasts]`` (w; w + 1 with ``T_n`` first for the "square-tn" reading). Cells
+        masked by Type V are +inf.
     D : ndarray of float64, same shape, or None
         B: forward accumulation with ``D[0, 0]`` then set to 10000 (it was ``C[0, 0]``);
         C: reverse accumulation.
@@ -248,6 +321,9 @@ class WindowSnapshot:
         Type V: offsets 0..3 allowed in this step's state (offsets > 3 never are).
     state : str or None
         Type V state before the step.
+    score : ndarray of float64, shape (rows,) or None
+        C: what the argmin compares per row, ``D[r, 0]`` (normalised reading:
+        divided by the paths' weight).
 
     Paper: FP-DTW Fig. 2 (window), Fig. 4 (Method B's path and choice).
     Notebook: 03_fig2_fig4_windows.ipynb
@@ -265,6 +341,7 @@ class WindowSnapshot:
     P: np.ndarray | None = None
     allowed: np.ndarray | None = None
     state: str | None = None
+    score: np.ndarray | None = None
 
 
 # --- the common aligner ---------------------------------------------------------------
@@ -273,16 +350,20 @@ class WindowSnapshot:
 class WindowAligner(OnlineAligner):
     """Common base of Methods A, B and C.
 
-    Common rules (each method's docstring repeats the ones it uses):
+    Common rules (each method's docstring repeats the ones it uses and states its
+    window's shape):
 
     * First target frame: ``M_0 = 0`` (both motions start aligned, DTW's boundary
-      condition).
-    * Window sizes are in frames; the input window ``{I_{M_n}..I_{M_n + w_i}}`` has
-      ``w_i + 1`` rows, ``w_i = min(w, m - M_n)`` (it shrinks at the end of the input).
+      condition); ``start="best"`` instead maps ``T_0`` to its best match (eq. 1) among
+      ``I_0..I_w`` (a silent choice of the paper, kept switchable for notebook 15).
+    * Window sizes are in frames; ``w_i``, the paper's input window size, shrinks at the
+      end of the input.
     * ``constraint="typeV"``: before choosing, offsets the Type V state table
       (:mod:`fpdtw.online.typev`) does not allow are masked; the state advances with
       every step (warm-up included). When the input is exhausted the only choice is a
       hold at ``m``, whatever the state (the constraint cannot hold there).
+    * Options (keyword arguments listed in each class's :attr:`options`): a value other
+      than the default is named in brackets, e.g. ``"Mc w40 (literal window)"``.
     * ``record=True`` keeps a :class:`WindowSnapshot` of the last step in
       ``last_window`` (off by default: it copies the window every frame).
     * ``state`` holds the current Type V state (index into ``constraint.states``), None
@@ -296,12 +377,16 @@ class WindowAligner(OnlineAligner):
         Window size in frames, >= 1.
     constraint : None, "typeV" or TypeV
     record : bool
+    **options
+        The method's options (see :attr:`options`), e.g. ``window="literal"``.
     """
 
     #: Method letter in names ("Ma", "Mb", "Mc").
     label = "M?"
+    #: ``{option: (default, {other value: label in names})}``, in the order of names.
+    options = {"start": ("zero", {"best": "M_0 best match"})}
 
-    def __init__(self, I: MotionFeatures, w: int, *, constraint=None, record=False):
+    def __init__(self, I: MotionFeatures, w: int, *, constraint=None, record=False, **options):
         if isinstance(w, bool) or not isinstance(w, int | np.integer) or w < 1:
             raise AlignmentError(f"{type(self).__name__}: window w must be an int >= 1, got {w!r}")
         if not isinstance(I, MotionFeatures):
@@ -311,6 +396,7 @@ class WindowAligner(OnlineAligner):
         self.w = int(w)
         self.constraint = resolve_constraint(constraint)
         self.record = bool(record)
+        self.settings = self._resolve_options(options)
         Q, E = np.shape(I.quats), np.shape(I.euler)
         if len(Q) != 3 or Q[2] != 4 or E != Q[:2] + (3,) or len(I.orders) != Q[1]:
             raise AlignmentError(
@@ -332,9 +418,57 @@ class WindowAligner(OnlineAligner):
         super().__init__(I)
         self.name = self._make_name()
 
+    @classmethod
+    def _resolve_options(cls, given: dict) -> dict:
+        out = {}
+        for key, value in given.items():
+            if key not in cls.options:
+                known = ", ".join(cls.options) or "none"
+                raise AlignmentError(f"{cls.__name__}: unknown option {key}= (known: {known})")
+            default, others = cls.options[key]
+            if value != default and value not in others:
+                allowed = ", ".join(repr(v) for v in (default, *others))
+                raise AlignmentError(f"{cls.__name__}: {key}={value!r}; expected one of {allowed}")
+        for key, (default, _) in cls.options.items():
+            out[key] = given.get(key, default)
+        return out
+
+    @classmethod
+    def name_for(cls, w: int, typev: bool = False, **options) -> str:
+        """The name of a configuration, e.g. ``MethodC.name_for(40, window="literal")``
+        -> ``"Mc w40 (literal window)"``; options at their default are not named.
+
+        Parameters
+        ----------
+        w : int
+        typev : bool
+            With the Type V constraint (suffix ``" + Type V"``).
+        **options
+            See :attr:`options`.
+
+        Returns
+        -------
+        name : str
+        """
+        settings = cls._resolve_options(options)
+        labels = [
+            cls.options[key][1][value]
+            for key, value in settings.items()
+            if value != cls.options[key][0]
+        ]
+        name = cls._base_name_for(w)
+        if labels:
+            name += f" ({', '.join(labels)})"
+        return name + " + Type V" if typev else name
+
+    @classmethod
+    def _base_name_for(cls, w: int) -> str:
+        return f"{cls.label} w{w}"
+
     def _make_name(self) -> str:
-        base = f"{self.label} w{self.w}"
-        return base if self.constraint is None else f"{base} + {self.constraint.name}"
+        c = self.constraint
+        name = self.name_for(self.w, **self.settings)
+        return name if c is None else f"{name} + {c.name}"
 
     def reset(self) -> None:
         super().reset()
@@ -357,6 +491,18 @@ class WindowAligner(OnlineAligner):
         return super().step(frame)
 
     # -- helpers for subclasses ----------------------------------------------------------
+    def _first(self) -> int:
+        """``M_0``: 0, or with ``start="best"`` the best match of ``T_0`` in ``I_0..I_w``."""
+        if self.settings["start"] == "zero":
+            m0 = 0
+        else:
+            last = min(self.w, self.m)
+            costs = [_geo_frame(self._Iq[r], self._Tq[0]) for r in range(last + 1)]
+            m0 = int(np.argmin(costs))
+        if self.record:
+            self._snap(0, "first", -1, 0, m0)
+        return m0
+
     def _allow(self):
         """Allowed-offset vector (int64, shape (4,)) of the current Type V state."""
         if self.constraint is None:
@@ -379,6 +525,42 @@ class WindowAligner(OnlineAligner):
         self.last_window = WindowSnapshot(
             q, kind, start, w_i, offset, m_next, allowed=allowed, state=state, **arrays
         )
+
+
+class ForecastAligner(WindowAligner):
+    """Common base of Methods B and C: warm-up, end of input, then a forecast window.
+
+    * Warm-up, ``n < s`` (``s = 2``, dead reckoning on two frames): ``M_{n+1} = n + 1``
+      (the paper), clipped to ``m``; written ``min(M_n + 1, m)``, which is the same
+      from ``M_0 = 0`` and keeps advancing from another ``M_0`` (``start="best"``).
+    * ``M_n >= m`` (input exhausted): ``M_{n+1} = m``.
+    * Otherwise :meth:`_window_step` (the method's window).
+    """
+
+    #: Smoothing window: frames needed before forecasting (dead reckoning: 2).
+    s = 2
+
+    def _step(self, q: int) -> int:
+        if q == 0:
+            return self._first()
+        start = int(self._M[q - 1])
+        n = q - 1
+        if n < self.s:
+            m_next = min(start + 1, self.m)
+            if self.record:
+                self._snap(q, "warmup", start, 0, m_next)
+        elif start >= self.m:
+            m_next = self.m
+            if self.record:
+                self._snap(q, "end", start, 0, m_next)
+        else:
+            m_next = start + int(self._window_step(q, start))
+        self._advance_state(m_next - start)
+        return m_next
+
+    @abstractmethod
+    def _window_step(self, q: int, start: int) -> int:
+        """Offset ``M_{n+1} - M_n`` chosen by the method's window (``M_n = start < m``)."""
 
 
 # --- reference runs -------------------------------------------------------------------
@@ -446,8 +628,9 @@ def reference_mask(allowed, n_rows) -> np.ndarray:
 def reference_run(aligner: WindowAligner, T: MotionFeatures):
     """Run the plain-numpy reference of ``aligner``'s method over a whole target.
 
-    Uses ``type(aligner).reference_step`` with the aligner's input, window and
-    constraint; tracks the Type V state with the pure-Python state table.
+    Uses ``type(aligner).reference_step`` with the aligner's input, window, constraint
+    and the options the reference takes (Method C: ``window``, ``ties``); tracks the
+    Type V state with the pure-Python state table.
 
     Returns
     -------
@@ -456,13 +639,17 @@ def reference_run(aligner: WindowAligner, T: MotionFeatures):
         One per target frame.
     """
     step = type(aligner).reference_step
+    accepted = inspect.signature(step).parameters
+    options = {k: v for k, v in aligner.settings.items() if k in accepted}
     tv = aligner.constraint
     state = None if tv is None else tv.start
     M = np.empty(T.n_frames, dtype=np.int64)
     snaps = []
     for q in range(T.n_frames):
         allowed = None if tv is None else tv.allowed(state)
-        snap = step(aligner.I, T.quats[: q + 1], T.euler[: q + 1], M[:q], aligner.w, allowed)
+        snap = step(
+            aligner.I, T.quats[: q + 1], T.euler[: q + 1], M[:q], aligner.w, allowed, **options
+        )
         M[q] = snap.M
         if tv is not None:
             snap.allowed = allowed

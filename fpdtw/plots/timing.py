@@ -33,7 +33,7 @@ def _key(name: str):
         return "OE", None, False
     if name in ("OPW", "OLTW"):
         return name, None, False
-    method, w, typev = parse_name(name)
+    method, w, typev, _ = parse_name(name)
     return method, (None if method == "A" else w), typev
 
 

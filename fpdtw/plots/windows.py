@@ -362,7 +362,8 @@ def plot_method_c_window(s: WindowSnapshot, ax=None, annotate=True):
     Returns
     -------
     fig, ax
-        One image of shape ``(w_i + 1, w)``; one line (X).
+        One image of the window's shape (the default square window: ``(w_i, w)``); one
+        line (X).
 
     Paper: FP-DTW Algorithm 3 (getReverseTotalCostMatrix, argmin of column 0).
     Notebook: 03_fig2_fig4_windows.ipynb

@@ -5,9 +5,10 @@ Usage (from the repository root)::
     FPDTW_MIRROR=../shared/data .venv/bin/python tests/golden/make_online_golden.py
 
 The file pins the map of every online algorithm of the paper (OE-DTW, Ma, Mb and Mc
-at w 10/20/40/80, each with and without Type V) on one real HDM05 pair (squat1Reps,
-actor bd, takes 001 -> 002). Regenerate only after a deliberate change and review the
-diff.
+at w 10/20/40/80, each with and without Type V), of Method C's literal window at every
+w and of every other reading of Algorithm 3 at w 40 (:data:`GOLDEN_NAMES`) on one real
+HDM05 pair (squat1Reps, actor bd, takes 001 -> 002). Regenerate only after a deliberate
+change and review the diff.
 """
 
 from __future__ import annotations
@@ -23,16 +24,25 @@ PAIR = (
 )
 
 
+def golden_names() -> list:
+    """Every online algorithm the golden file pins."""
+    from fpdtw.algorithms import C_READINGS, MC_LITERAL_NAMES, PAPER_NAMES, method_c_name
+
+    names = [n for n in PAPER_NAMES if n not in ("DTW", "UTW")] + list(MC_LITERAL_NAMES)
+    for reading in C_READINGS[2:]:
+        names += [method_c_name(40, reading, t) for t in (False, True)]
+    return names
+
+
 def make() -> dict:
     from fpdtw import catalog
-    from fpdtw.algorithms import PAPER_NAMES, align
+    from fpdtw.algorithms import align
     from fpdtw.features import MotionFeatures
 
     I, T = (MotionFeatures.from_motion(catalog.load("hdm05", p)) for p in PAIR)
     record = {"input": PAIR[0], "target": PAIR[1]}
-    for name in PAPER_NAMES:
-        if name not in ("DTW", "UTW"):
-            record[name] = align(name, I, T)[0].tolist()
+    for name in golden_names():
+        record[name] = align(name, I, T)[0].tolist()
     return record
 
 
