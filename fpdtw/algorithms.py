@@ -100,7 +100,7 @@ def parse_name(name: str):
     return method, w, bool(m.group(4)), options
 
 
-def make_online(name: str, I: MotionFeatures, *, record=False):
+def make_online(name: str, I: MotionFeatures, *, record=False, cache=None):
     """The online aligner called ``name``, for the input motion ``I``.
 
     Parameters
@@ -111,6 +111,9 @@ def make_online(name: str, I: MotionFeatures, *, record=False):
         Input (recorded) motion.
     record : bool
         Keep the last window for inspection (FP-DTW methods only).
+    cache : WindowCache, optional
+        Shared by Methods B and C stepping together (see
+        :class:`fpdtw.online.window.WindowCache`); ignored by the others.
 
     Returns
     -------
@@ -124,6 +127,8 @@ def make_online(name: str, I: MotionFeatures, *, record=False):
         return OEDTW(I)
     method, w, typev, options = parse_name(name)
     constraint = "typeV" if typev else None
+    if method != "A":
+        options["cache"] = cache
     return _method_class(method)(I, w, constraint=constraint, record=record, **options)
 
 

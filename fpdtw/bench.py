@@ -52,37 +52,35 @@ BENCH_PAIRS = (
 OE_INPUT_FRAMES = 1000
 
 
-def _make(method, I, w, typev):
-    from .online.method_a import MethodA
-    from .online.method_b import MethodB
-    from .online.method_c import MethodC
-    from .online.oedtw import OEDTW
+def bench_names() -> list:
+    """The online aligners ``make bench`` times, by name: Method A, Methods B and C (the
+    default square window and the literal one) at every w, each with and without Type V.
 
-    cls = {"A": MethodA, "B": MethodB, "C": MethodC, "OE": OEDTW}.get(method, method)
-    if not isinstance(cls, type):
-        raise ValueError(f"unknown method {method!r}; expected 'A', 'B', 'C', 'OE' or a class")
-    if cls is OEDTW:
-        return cls(I)
-    constraint = "typeV" if typev else None
-    if cls is MethodA:
-        return cls(I, constraint=constraint)
-    return cls(I, w, constraint=constraint)
+    Notebook: 09_table2_timing.ipynb
+    """
+    from .algorithms import FPDTW_NAMES, MC_LITERAL_NAMES, TYPE_V_SUFFIX
+
+    return list(FPDTW_NAMES) + [n + TYPE_V_SUFFIX for n in FPDTW_NAMES] + list(MC_LITERAL_NAMES)
 
 
-def bench_online(pairs, methods=("A", "B", "C"), windows=(10, 20, 40, 80), typev=(False, True)):
-    """Median and 95th-percentile per-frame time of each aligner configuration.
+def _name_key(name: str) -> tuple:
+    from .algorithms import parse_name
+
+    method, w, typev, _ = parse_name(name)
+    return method, w, typev
+
+
+def bench_online(pairs, names=None, make=None):
+    """Median, 95th percentile and mean per-frame time of each online aligner.
 
     Parameters
     ----------
     pairs : sequence of (MotionFeatures, MotionFeatures)
         (input, target) pairs.
-    methods : sequence of {"A", "B", "C", "OE"} or aligner classes
-        Method A uses its own window (2) and OE-DTW has none: both ignore ``windows``;
-        OE-DTW ignores ``typev``.
-    windows : sequence of int
-        Windows of Methods B and C.
-    typev : sequence of bool
-        Without / with the Type V constraint.
+    names : sequence of str, optional
+        FP-DTW configurations by name (default :func:`bench_names`).
+    make : callable, optional
+        ``make(I) -> OnlineAligner``, to time one other aligner instead of ``names``.
 
     Returns
     -------
@@ -93,38 +91,40 @@ def bench_online(pairs, methods=("A", "B", "C"), windows=(10, 20, 40, 80), typev
     Paper: FP-DTW Table 2.
     Notebook: 09_table2_timing.ipynb
     """
+    from .algorithms import make_online
     from .online.base import run_online
 
     pairs = list(pairs)
     if not pairs:
         raise ValueError("no pairs to time")
+    if make is not None:
+        jobs = [(None, make)]
+    else:
+        jobs = [(n, lambda I, n=n: make_online(n, I)) for n in (names or bench_names())]
     rows = []
-    for method in methods:
-        ws = (2,) if method in ("A", "OE") or getattr(method, "label", "") == "Ma" else windows
-        for w in ws:
-            for tv in (False,) if method == "OE" else typev:
-                for I0, T0 in pairs:  # warm-up: compile, caches, branch predictors
-                    run_online(_make(method, I0, w, tv), T0)
-                times = []
-                name = None
-                for I, T in pairs:
-                    aligner = _make(method, I, w, tv)
-                    name = aligner.name
-                    _, dt = run_online(aligner, T)
-                    times.append(dt)
-                dt = np.concatenate(times)
-                rows.append(
-                    dict(
-                        name=name,
-                        method=getattr(method, "__name__", str(method)),
-                        w=int(w),
-                        typev=bool(tv),
-                        frames=int(dt.size),
-                        median_s=float(np.median(dt)),
-                        p95_s=float(np.percentile(dt, 95)),
-                        mean_s=float(dt.mean()),
-                    )
-                )
+    for name, build in jobs:
+        for I0, T0 in pairs:  # warm-up: compile, caches, branch predictors
+            run_online(build(I0), T0)
+        times = []
+        for I, T in pairs:
+            aligner = build(I)
+            _, dt = run_online(aligner, T)
+            times.append(dt)
+        dt = np.concatenate(times)
+        name = name or aligner.name
+        method, w, typev = _name_key(name) if name.startswith("M") else (name, 0, False)
+        rows.append(
+            dict(
+                name=name,
+                method=method,
+                w=int(w),
+                typev=bool(typev),
+                frames=int(dt.size),
+                median_s=float(np.median(dt)),
+                p95_s=float(np.percentile(dt, 95)),
+                mean_s=float(dt.mean()),
+            )
+        )
     return rows
 
 
@@ -176,18 +176,27 @@ def _cpu_name() -> str:
     return platform.processor() or "unknown"
 
 
-def load_bench_pairs():
-    """The real (input, target) feature pairs of :data:`BENCH_PAIRS` (fetched, verified)."""
+def load_bench_pairs(seconds=None):
+    """The real (input, target) feature pairs of :data:`BENCH_PAIRS` (fetched, verified).
+
+    Parameters
+    ----------
+    seconds : float, optional
+        Crop every motion to its first seconds (a quick run, e.g. the smoke notebooks).
+
+    Notebook: 09_table2_timing.ipynb
+    """
     from .catalog import load
     from .features import MotionFeatures
     from .joints import OPW_JOINTS
 
     pairs = []
     for ds, a, b in BENCH_PAIRS:
+        motions = [load(ds, p) for p in (a, b)]
+        if seconds is not None:
+            motions = [m.crop(0.0, seconds) for m in motions]
         pairs.append(
-            tuple(
-                MotionFeatures.from_motion(load(ds, p), position_joints=OPW_JOINTS) for p in (a, b)
-            )
+            tuple(MotionFeatures.from_motion(m, position_joints=OPW_JOINTS) for m in motions)
         )
     return pairs
 
@@ -197,12 +206,16 @@ def _us(row, key="median_s") -> str:
 
 
 def paper_comparison(rows) -> str:
-    """Our median (and mean) per-frame time next to the paper's Table 2, as text."""
-    by = {(r["method"], r["w"], r["typev"]): r for r in rows}
-    head = ("", "w", "paper", "ours med", "ours mean", "+TypeV med", "target")
+    """Our median (and mean) per-frame time next to the paper's Table 2, as text.
+
+    Method C's literal window (notebook 15) gets its own column.
+    """
+    by = {(r["method"], r["w"], r["typev"]): r for r in rows if "(" not in r["name"]}
+    literal = {r["w"]: r for r in rows if "(literal window)" in r["name"] and not r["typev"]}
+    head = ("", "w", "paper", "ours med", "ours mean", "+TypeV med", "literal med", "target")
     lines = [
         "Per-frame time, microseconds (paper: mean, Table 2; ours: median / mean, one core)",
-        "{:<10}{:>5}{:>10}{:>10}{:>11}{:>12}{:>8}".format(*head),
+        "{:<10}{:>5}{:>10}{:>10}{:>11}{:>12}{:>13}{:>8}".format(*head),
     ]
     labels = (
         ("A", "Method A"),
@@ -212,7 +225,7 @@ def paper_comparison(rows) -> str:
         ("OLTW", "OLTW"),
         ("OPW", "OPW"),
     )
-    single = {"A": 2, "OE": 2, "OLTW": 120, "OPW": 0}
+    single = {"A": 2, "OE": 0, "OLTW": 0, "OPW": 0}
     for method, label in labels:
         for w in (single[method],) if method in single else (10, 20, 40, 80):
             r = by.get((method, w, False))
@@ -227,9 +240,10 @@ def paper_comparison(rows) -> str:
                 _us(r),
                 _us(r, "mean_s"),
                 _us(by.get((method, w, True))),
+                _us(literal.get(w)) if method == "C" else "-",
                 "-" if target is None else f"{target:g}",
             )
-            lines.append("{:<10}{:>5}{:>10}{:>10}{:>11}{:>12}{:>8}".format(*cells))
+            lines.append("{:<10}{:>5}{:>10}{:>10}{:>11}{:>12}{:>13}{:>8}".format(*cells))
     return "\n".join(lines)
 
 
@@ -251,11 +265,12 @@ def run_benchmark(pairs=None, out=None, single_core=True):
     if single_core and hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
     pairs = load_bench_pairs() if pairs is None else pairs
+    from .online.oedtw import OEDTW
     from .online.oltw import OLTW
     from .opw_eval import bench_opw
 
-    online = bench_online(pairs, methods=("A", "B", "C"))
-    online += bench_online(pairs, methods=(OLTW,), windows=(120,), typev=(False,))
+    online = bench_online(pairs)
+    online += bench_online(pairs, make=lambda I: OLTW(I, 120))
     if all(I.positions is not None and T.positions is not None for I, T in pairs):
         opw = bench_opw(pairs)
         online.append({**opw, "name": "OPW", "method": "OPW", "w": 0, "typev": False})
@@ -264,7 +279,7 @@ def run_benchmark(pairs=None, out=None, single_core=True):
     reps = -(-OE_INPUT_FRAMES // I_long.n_frames)
     I_oe = I_long if reps == 1 else _concat([I_long] * reps)
     I_oe = I_oe.slice(0, OE_INPUT_FRAMES)
-    oe = bench_online([(I_oe, T_long)], methods=("OE",))
+    oe = bench_online([(I_oe, T_long)], make=OEDTW)
     for r in oe:
         r["method"] = "OE"
     # offline DTW on the largest real cost matrix

@@ -49,8 +49,13 @@ PAPER_FIG8_DEVIATIONS = {"Mb w80": 8.0, "Mc w20": 177.0, "Mc w40": 62.0, "Mc w80
 #: Name of the Fig. 8 notebook's JSON under ``results/<mode>/figs/``.
 FIG8_JSON = "10_fig8_walk_pair.json"
 
-#: Columns of the claims table.
-COLUMNS = ("id", "claim", "paper", "ours", "holds", "evidence", "stable")
+#: Columns of the claims table: ``ours`` and ``holds`` with Method C's default (square)
+#: window, ``ours_literal`` and ``holds_literal`` with its literal ``(w_i + 1) x w``
+#: window (notebook 15).
+COLUMNS = ("id", "claim", "paper", "ours", "holds", "ours_literal", "holds_literal", "evidence",
+           "stable")  # fmt: skip
+#: Method C's readings the claims table is evaluated under: column suffix -> reading.
+READINGS = {"": "square", "_literal": "literal"}
 
 
 @dataclass
@@ -68,7 +73,8 @@ class ClaimContext:
     table1 : list of dict or None
         :func:`fpdtw.plots.scores.table1_rows` (None without the 60 Hz runs).
     timing : list of dict or None
-        :func:`fpdtw.plots.timing.time_per_frame_rows` (measurements).
+        :func:`fpdtw.plots.timing.time_per_frame_rows` of ``make bench``'s report
+        (measurements; None when ``results/bench.json`` does not exist).
     exhausted : dict of str to float
         Fraction of target frames processed with the input exhausted, per algorithm.
     oedtw_backward : dict or None
@@ -102,31 +108,51 @@ class ClaimContext:
         return name in self.deviation and self.deviation[name] < DEVIATION_BENCHMARK
 
     @classmethod
-    def from_results(cls, results, mode="full", fig8_path=None):
+    def from_results(cls, results, mode="full", fig8_path=None, reading="square"):
         """Compute the context from :func:`fpdtw.experiments.load_results` output.
+
+        ``reading`` chooses Method C's reading of Algorithm 3: with ``"literal"`` every Mc
+        name (``"Mc w40"``, ``"Mc w80 + Type V"``, ``"Mc w20@60Hz"``) stands for the
+        results of that reading (``"Mc w40 (literal window)"``, ...), so the same claims
+        are checked under it; Mc names without such results are left out.
 
         Notebook: 12_claims.ipynb
         """
         from .paths import results_dir
         from .plots.scores import scores, table1_rows, utw_median
-        from .plots.timing import exhausted_fraction, time_per_frame_rows
+        from .plots.timing import TIMED_NAMES, exhausted_fraction, load_bench, time_per_frame_rows
 
-        names = list(results.algorithms)
-        sim = {n: float(np.median(scores(results, n, "similarity"))) for n in names}
-        dev = {n: float(np.median(scores(results, n, "deviation"))) for n in names}
+        alias = reading_alias(reading)
+        have = set(results.algorithms)
+        variants = set(alias.values())
+        src = {}  # the name a claim reads -> the results it stands for
+        for n in results.algorithms:
+            if n in alias:
+                if alias[n] in have:
+                    src[n] = alias[n]
+            elif n not in variants:
+                src[n] = n
+        sim = {n: float(np.median(scores(results, s, "similarity"))) for n, s in src.items()}
+        dev = {n: float(np.median(scores(results, s, "deviation"))) for n, s in src.items()}
         try:
-            table1 = table1_rows(results)
+            table1 = table1_rows(results, reading=reading)
         except (KeyError, ValueError, FileNotFoundError):
             table1 = None
-        timing = time_per_frame_rows(results) or None
+        bench = load_bench()
+        timing = None
+        if bench is not None:
+            paper_name = {alias.get(n, n): n for n in TIMED_NAMES if "(" not in n}
+            timing = time_per_frame_rows(bench, names=list(paper_name)) or None
+            for r in timing or []:  # rows stand for the paper's names
+                r["algorithm"] = paper_name[r["algorithm"]]
         exhausted = {
-            n: exhausted_fraction(results, n)["fraction"]
-            for n in names
+            n: exhausted_fraction(results, s)["fraction"]
+            for n, s in src.items()
             if n in FPDTW_NAMES or n in FPDTW_TYPEV_NAMES
         }
-        oe = oedtw_backward_jumps(results) if "OE-DTW" in names else None
+        oe = oedtw_backward_jumps(results) if "OE-DTW" in have else None
         fig8_path = results_dir() / mode / "figs" / FIG8_JSON if fig8_path is None else fig8_path
-        fig8 = _read_json(fig8_path)
+        fig8 = _alias_fig8(_read_json(fig8_path), alias)
         opw_fig4 = _read_json(results_dir() / mode / "figs" / OPW_FIG4_JSON)
         opw_fig56 = _read_json(results_dir() / mode / "figs" / OPW_FIG56_JSON)
         return cls(
@@ -143,6 +169,40 @@ class ClaimContext:
             opw_fig56=opw_fig56,
             counts=getattr(results, "counts", None) or data_counts(results.pairs),
         )
+
+
+def reading_alias(reading: str) -> dict:
+    """Mc name -> the name of its results under a reading of Algorithm 3 ({} for the default).
+
+    ``reading_alias("literal")["Mc w40 + Type V@60Hz"]`` is
+    ``"Mc w40 (literal window) + Type V@60Hz"``.
+
+    Notebook: 12_claims.ipynb
+    """
+    from .algorithms import method_c_name
+
+    if reading == "square":
+        return {}
+    out = {}
+    for w in WINDOWS:
+        for typev in (False, True):
+            for rate in ("", "@60Hz"):
+                out[method_c_name(w, "square", typev) + rate] = (
+                    method_c_name(w, reading, typev) + rate
+                )
+    return out
+
+
+def _alias_fig8(fig8, alias):
+    """The Fig. 8 notebook's JSON with its deviations keyed by the paper's names."""
+    if not alias or fig8 is None:
+        return fig8
+    devs = _fig8_deviations(fig8)
+    if devs is None:
+        return fig8
+    out = {n: v for n, v in devs.items() if n not in alias}
+    out.update({n: devs[s] for n, s in alias.items() if s in devs})
+    return {"deviations": out}
 
 
 def oedtw_backward_jumps(results, name="OE-DTW") -> dict:
@@ -801,7 +861,9 @@ def build_claims(mode="full", results=None, claims=None, context=None) -> list[d
     -------
     rows : list of dict
         Keys :data:`COLUMNS`: ``id``, ``claim``, ``paper``, ``ours``, ``holds`` ("yes", "no",
-        "partly", "n/a"), ``evidence``, ``stable`` (False: computed from timings).
+        "partly", "n/a"), the same two under Method C's literal window (``ours_literal``,
+        ``holds_literal``; with a given ``context``, copies of ours), ``evidence``,
+        ``stable`` (False: computed from timings).
 
     Paper: FP-DTW Sections 5-7.
     Notebook: 12_claims.ipynb
@@ -811,11 +873,21 @@ def build_claims(mode="full", results=None, claims=None, context=None) -> list[d
             from .experiments import load_results
 
             results = load_results(mode)
-        context = ClaimContext.from_results(results, mode)
+        contexts = {
+            suffix: ClaimContext.from_results(results, mode, reading=reading)
+            for suffix, reading in READINGS.items()
+        }
+    else:
+        contexts = {suffix: context for suffix in READINGS}
     rows = []
     for fn in CLAIMS if claims is None else claims:
-        row = fn(context)
-        missing = [c for c in COLUMNS if c not in row]
+        row = fn(contexts[""])
+        for suffix, ctx in contexts.items():
+            if suffix:
+                other = fn(ctx)
+                row[f"ours{suffix}"] = other.get("ours")
+                row[f"holds{suffix}"] = other.get("holds")
+        missing = [c for c in COLUMNS if c not in row or row[c] is None]
         if missing:
             raise ValueError(f"claim {fn.__name__} returned a row without {missing}")
         rows.append(row)

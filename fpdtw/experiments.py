@@ -15,9 +15,11 @@ Algorithms
     only it.
 
 Per pair and algorithm: the map ``M`` (target frame -> input frame), the similarity
-(eq. 2) of the warped input and the target, the deviation (eq. 3) from the DTW map
-at the same frame rate (in frames of that rate), and for online algorithms the
-processing time of every frame.
+(eq. 2) of the warped input and the target and the deviation (eq. 3) from the DTW map
+at the same frame rate (in frames of that rate). Methods B and C of a pair run in
+lockstep sharing one :class:`fpdtw.online.window.WindowCache` (the maps are those of
+separate runs; tested), so the grid does not time frames: per-frame latency is what
+``make bench`` measures (:mod:`fpdtw.bench`, one core, warmed up, medians).
 
 Files, under ``results_dir()/<mode>/`` (every write atomic: temporary file +
 :func:`os.replace`; ``.npz`` files by :func:`fpdtw.resultsio.save_npz`, byte for byte
@@ -32,13 +34,9 @@ the same for the same arrays)
     ``pair_id`` (P,) int32, ``offsets`` (P+1,) int64, ``maps`` int32 (the map of
     pair k is ``maps[offsets[k]:offsets[k+1]]``), ``similarity`` (P,) float64,
     ``deviation`` (P,) float64. Deterministic.
-``timings/<slug>.npz`` (online algorithms only)
-    ``pair_id``, ``offsets``, ``seconds`` float32 per target frame. MEASUREMENTS:
-    they differ from run to run (and a resumed run keeps the timings of the run
-    that computed each pair); with ``n_jobs > 1`` the workers share the machine.
 ``summary.json``
-    ``{"benchmarks": {...}, "algorithms": {name: {...}}, "timing": {name: {...}}}``:
-    everything but ``"timing"`` is deterministic (see :func:`summarize`).
+    ``{"benchmarks": {...}, "algorithms": {name: {...}}}`` (see :func:`summarize`).
+    Deterministic.
 ``run.json``
     Config key, keys of what was computed, start/end time, wall time, n_jobs, CPU,
     and ``history``: the same for every earlier invocation on the same base key
@@ -50,7 +48,7 @@ the same for the same arrays)
 
 Resuming: a run killed at any point (even by SIGKILL) resumes from the finished
 chunks and ends with the same ``algorithms/*.npz``, ``pairs.json`` and
-deterministic part of ``summary.json`` as an uninterrupted run. A re-run with
+``summary.json`` as an uninterrupted run. A re-run with
 nothing changed returns at once. Keys: the *config key* (mode, algorithm list, pair
 list, hash of every source file of the package) decides "nothing changed"; the
 *base key* (mode, selection, data hashes, pair list, hash of the source files the
@@ -61,7 +59,7 @@ registered algorithms: the name and the function's source). One run at a time pe
 results folder.
 
 Reading: :func:`load_results` -> :class:`Results` (``.pairs``, ``.algorithms``,
-``.get(name)`` with ``.map(k)``, ``.summary``, ``.timings(name)``) and
+``.get(name)`` with ``.map(k)``, ``.summary``) and
 :func:`aggregate_heatmap`, defined in :mod:`fpdtw.resultsio` and re-exported here.
 
 Command line::
@@ -83,6 +81,7 @@ import inspect
 import json
 import os
 import platform
+import shutil
 import sys
 import time
 from collections import OrderedDict
@@ -92,11 +91,21 @@ from pathlib import Path
 import numpy as np
 
 from . import catalog, data
-from .algorithms import PAPER_NAMES, align
+from .algorithms import (
+    C_READINGS,
+    MC_LITERAL_NAMES,
+    PAPER_NAMES,
+    WINDOWS,
+    align,
+    make_online,
+    method_c_name,
+    parse_name,
+)
 from .errors import AlignmentError, MotionFormatError
 from .features import MotionFeatures
 from .joints import OPW_JOINTS
-from .metrics import deviation, similarity
+from .metrics import deviation, joint_trajectories, trajectory_scores
+from .online.window import WindowCache, run_group
 from .paths import results_dir
 from .resultsio import (
     BASE_FPS,
@@ -105,12 +114,10 @@ from .resultsio import (
     TMP_SUFFIX,
     AlgorithmResult,
     Results,
-    TimingResult,
     aggregate_heatmap,
     load_json,
     load_npz,
     load_results,
-    npz_keys,
     save_json,
     save_npz,
     slug,
@@ -127,19 +134,144 @@ TABLE1_60HZ_NAMES = (
     "Mc w40@60Hz",
     "Mc w80@60Hz",
 )
-#: What a run computes by default.
+#: Method C's literal ``(w_i + 1) x w`` window, at 120 Hz (with and without Type V) and,
+#: for Table 1, at 60 Hz: the claims table shows its verdicts next to the default's.
+LITERAL_NAMES = MC_LITERAL_NAMES + tuple(method_c_name(w, "literal") + "@60Hz" for w in WINDOWS)
 #: Online baselines beyond the FP-DTW paper, run on its pairs: the OPW poster's method
 #: and Dixon's on-line time warping (the paper's ref. 3); registered at the end of
 #: this module.
 EXTRA_ALGORITHMS = ("OPW", "OLTW")
-DEFAULT_ALGORITHMS = tuple(PAPER_NAMES) + TABLE1_60HZ_NAMES + EXTRA_ALGORITHMS
+#: What a run computes by default (modes "full" and "smoke").
+DEFAULT_ALGORITHMS = tuple(PAPER_NAMES) + TABLE1_60HZ_NAMES + EXTRA_ALGORITHMS + LITERAL_NAMES
+
+
+def _study_algorithms() -> tuple:
+    """The algorithms of notebook 15 (modes "study" and "smoke-study").
+
+    * DTW and UTW at 120 and 60 Hz (the references of deviation and similarity);
+    * every reading of Algorithm 3 (:data:`fpdtw.algorithms.C_READINGS`) at every w,
+      with and without Type V, at 120 and 60 Hz;
+    * Methods A and B as in the paper (the headline medians on this selection);
+    * the paper's silent choices (:data:`SILENT_CHOICES`), each on the algorithms it
+      touches among the headline ones (:data:`CHOICE_TARGETS`).
+    """
+    names = ["DTW", "UTW", "DTW@60Hz", "UTW@60Hz"]
+    for rate in ("", "@60Hz"):
+        for reading in C_READINGS:
+            for typev in (False, True):
+                names += [method_c_name(w, reading, typev) + rate for w in WINDOWS]
+    names += [n for n in PAPER_NAMES if n.startswith(("Ma", "Mb"))]
+    for choice in SILENT_CHOICES.values():
+        if choice["option"] is not None:
+            names += [choice_variant(n, choice) for n in choice_targets(choice)]
+    out = []
+    for n in names:  # keep the first of any duplicate
+        if n not in out:
+            out.append(n)
+    return tuple(out)
+
+
+#: The paper's silent choices (notebook 15: how much does each move a result?). Per
+#: choice: ``ours`` and ``alternative`` in words; ``option`` (the aligner option and its
+#: alternative value, for choices that change the maps) or None (choices of the
+#: metrics, recomputed from the stored maps); ``methods`` it touches.
+SILENT_CHOICES = {
+    "ties": {
+        "ours": "ties go to the lowest offset (Methods A, C)",
+        "alternative": "ties go to the highest offset",
+        "option": ("ties", "high"),
+        "methods": "AC",
+    },
+    "backtrack": {
+        "ours": "Method B's back-track prefers the diagonal, then the target step",
+        "alternative": "the diagonal, then the input step",
+        "option": ("backtrack", "input-first"),
+        "methods": "B",
+    },
+    "forecast": {
+        "ours": "dead reckoning in Euler angles (the paper)",
+        "alternative": "zero-order hold: every forecast frame is T_{n+1}",
+        "option": ("forecast", "hold"),
+        "methods": "BC",
+    },
+    "forecast_start": {
+        "ours": "Method C's forecast window starts with T_{n+1} itself",
+        "alternative": "it starts with the first prediction T^_{n+2}",
+        "option": ("forecast_start", "next"),
+        "methods": "C",
+    },
+    "start": {
+        "ours": "M_0 = 0 (both motions start together)",
+        "alternative": "M_0 = the best match of T_0 among I_0..I_w",
+        "option": ("start", "best"),
+        "methods": "ABC",
+    },
+    "deviation_frames": {
+        "ours": "eq. 3 averages over all n + 1 target frames",
+        "alternative": "over the n frames q = 1..n, as printed",
+        "option": None,
+        "methods": "ABC",
+    },
+    "flat_axis": {
+        "ours": "eq. 2: an axis flat in only one motion scores 0",
+        "alternative": "such an axis is left out of the average",
+        "option": None,
+        "methods": "ABC",
+    },
+    "after_input": {
+        "ours": "once the input is exhausted the map holds at m (forced, even under "
+        "Type V), and those frames are scored",
+        "alternative": "frames after the first frame mapped to m are not scored",
+        "option": None,
+        "methods": "ABC",
+    },
+}
+
+#: Per method, the headline algorithms a silent choice is measured on (those of the
+#: paper's claims, at both ends of the window range).
+CHOICE_TARGETS = {
+    "A": ("Ma", "Ma + Type V"),
+    "B": ("Mb w10", "Mb w40", "Mb w80", "Mb w80 + Type V"),
+    "C": ("Mc w10", "Mc w40", "Mc w80", "Mc w80 + Type V"),
+}
+
+
+def choice_targets(choice: dict) -> list:
+    """The algorithms of :data:`CHOICE_TARGETS` a silent choice touches.
+
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    return [n for method in choice["methods"] for n in CHOICE_TARGETS[method]]
+
+
+def choice_variant(name: str, choice: dict) -> str:
+    """``name`` with the choice's alternative option: ``"Mc w40"`` -> ``"Mc w40 (ties high)"``.
+
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    from .algorithms import _method_class
+
+    method, w, typev, options = parse_name(name)
+    key, value = choice["option"]
+    return _method_class(method).name_for(w, typev, **{**options, key: value})
+
+
+#: What notebook 15 computes by default (modes "study" and "smoke-study").
+STUDY_ALGORITHMS = _study_algorithms()
+#: The default algorithm list of each mode.
+MODE_ALGORITHMS = {
+    "full": DEFAULT_ALGORITHMS,
+    "smoke": DEFAULT_ALGORITHMS,
+    "study": STUDY_ALGORITHMS,
+    "smoke-study": STUDY_ALGORITHMS,
+}
 #: The paper's data (Section 4): 333 motions of 44 movements, 3248 ordered pairs.
 PAPER_COUNTS = {"motions": 333, "movements": 44, "pairs": 3248}
 #: Deviation benchmark: 150 ms, i.e. 18 frames at 120 Hz (paper Section 4).
 DEVIATION_BENCHMARK_MS = 150.0
 DEVIATION_BENCHMARK_FRAMES = 18
 #: Bump when the feature cache or chunk layout, or what this module computes, changes.
-CACHE_FORMAT = 1
+CACHE_FORMAT = 2
 
 _PKG_ROOT = Path(__file__).resolve().parent
 _META = "__meta__"
@@ -159,7 +291,12 @@ class Selection:
     movements : tuple of str or None
         Keep only these movements (authors' names or HDM05 classes); None keeps all.
     takes_per_movement : int or None
-        Keep the first takes of each movement in manifest order; None keeps all.
+        Keep at most this many takes of each movement; None keeps all.
+    sample_seed : int or None
+        None keeps the FIRST takes in manifest order; an int draws the takes at random
+        (without replacement, then in manifest order) with a generator seeded by this
+        number, the dataset and the movement, so a movement's draw does not depend on
+        the others.
     crop_seconds : float or None
         Crop every motion to its first seconds (``Motion.crop(0, s)``) before
         features are built; None keeps whole motions.
@@ -171,6 +308,7 @@ class Selection:
     movements: tuple | None = None
     takes_per_movement: int | None = None
     crop_seconds: float | None = None
+    sample_seed: int | None = None
 
     def as_dict(self) -> dict:
         d = asdict(self)
@@ -179,11 +317,22 @@ class Selection:
         return d
 
 
-#: The selection of each mode: ``"full"`` every take; ``"smoke"`` the first two takes of
-#: every movement, both directions (2 pairs per movement), cropped to 2 s.
+#: Takes per movement of the "paper-shaped" selection: the paper's 333 motions over 44
+#: movements are 7.6 takes per movement on average (Section 4); we cap at 8.
+PAPER_SHAPED_TAKES = 8
+#: Seed of the paper-shaped draw (fixed: the draw is part of the documented selection).
+PAPER_SHAPED_SEED = 2023
+
+#: The selection of each mode: ``"full"`` every take (whole classes); ``"smoke"`` the
+#: first two takes of every movement, both directions (2 pairs per movement), cropped to
+#: 2 s; ``"study"`` (notebook 15) the paper-shaped selection, at most 8 takes per movement
+#: drawn with a fixed seed (the authors' movements have 3 takes, so all of them stay);
+#: ``"smoke-study"`` the smoke selection.
 SELECTIONS = {
     "full": Selection(),
     "smoke": Selection(takes_per_movement=2, crop_seconds=2.0),
+    "study": Selection(takes_per_movement=PAPER_SHAPED_TAKES, sample_seed=PAPER_SHAPED_SEED),
+    "smoke-study": Selection(takes_per_movement=2, crop_seconds=2.0),
 }
 
 
@@ -228,6 +377,18 @@ def _content_hashes(manifest, entries: dict, record) -> str:
     return digest
 
 
+def _take_subset(recs: list, sel: Selection, dataset: str, movement: str) -> list:
+    """At most ``sel.takes_per_movement`` of a movement's takes (see :class:`Selection`)."""
+    k = sel.takes_per_movement
+    if sel.sample_seed is None or len(recs) <= k:
+        return recs[:k]
+    seed = int.from_bytes(
+        hashlib.sha256(f"{sel.sample_seed}/{dataset}/{movement}".encode()).digest()[:8]
+    )
+    keep = np.random.default_rng(seed).choice(len(recs), size=k, replace=False)
+    return [recs[i] for i in sorted(keep)]
+
+
 def pair_selection(selection: Selection | None = None) -> PairSelection:
     """Every ordered pair of distinct takes of the same movement.
 
@@ -259,7 +420,7 @@ def pair_selection(selection: Selection | None = None) -> PairSelection:
         c = {"motions": 0, "movements": 0, "pairs": 0}
         for movement, recs in groups.items():
             if sel.takes_per_movement is not None:
-                recs = recs[: sel.takes_per_movement]
+                recs = _take_subset(recs, sel, ds, movement)
             if len(recs) < 2:
                 dropped.append(f"{ds}/{movement}")
                 continue
@@ -379,7 +540,7 @@ def register_algorithm(name: str, fn, fps: float = BASE_FPS, version: str | None
     """
     if "@" in name or not name.strip():
         raise AlignmentError(f"bad algorithm name {name!r} (no '@'; add '@60Hz' when running)")
-    if name in PAPER_NAMES:
+    if _is_builtin(name):
         raise AlignmentError(f"{name!r} is a built-in algorithm")
     if not callable(fn):
         raise TypeError("fn must be callable")
@@ -405,6 +566,17 @@ def _fn_identity(fn, version) -> str:
     return _hash(parts)
 
 
+def _is_builtin(name: str) -> bool:
+    """DTW, UTW, OE-DTW and every FP-DTW configuration (options included)."""
+    if name in ("DTW", "UTW", "OE-DTW"):
+        return True
+    try:
+        parse_name(name)
+    except AlignmentError:
+        return False
+    return True
+
+
 def resolve_algorithm(name: str) -> AlgorithmSpec:
     """The :class:`AlgorithmSpec` of a name (built-in, ``@60Hz`` variant or registered).
 
@@ -421,7 +593,7 @@ def resolve_algorithm(name: str) -> AlgorithmSpec:
         if fps == BASE_FPS:
             fps = reg_fps
         return AlgorithmSpec(name, base, fps, fn, _hash([name, fps, _fn_identity(fn, version)]))
-    if base in PAPER_NAMES:
+    if _is_builtin(base):
         return AlgorithmSpec(name, base, fps, None, name)
     known = ", ".join(list(DEFAULT_ALGORITHMS) + sorted(_REGISTRY))
     raise AlignmentError(f"unknown algorithm {name!r}; known: {known}")
@@ -433,6 +605,17 @@ def _align_pair(spec: AlgorithmSpec, I: MotionFeatures, T: MotionFeatures, info:
         M, seconds = align(spec.base, I, T)
     else:
         M, seconds = spec.fn(I, T, info)
+    M = _check_map(spec, M, I, T, info)
+    n1 = T.n_frames
+    if seconds is not None:
+        seconds = np.asarray(seconds, dtype=np.float32)
+        if seconds.shape != (n1,):
+            raise AlignmentError(f"{spec.name}: seconds must have shape ({n1},)")
+    return M, seconds
+
+
+def _check_map(spec: AlgorithmSpec, M, I: MotionFeatures, T: MotionFeatures, info: dict):
+    """The map as int64 (n+1,), or an error naming the algorithm and the pair."""
     M = np.asarray(M)
     n1, m = T.n_frames, I.n_frames - 1
     if M.shape != (n1,) or not np.issubdtype(M.dtype, np.integer):
@@ -442,11 +625,7 @@ def _align_pair(spec: AlgorithmSpec, I: MotionFeatures, T: MotionFeatures, info:
         )
     if M.min() < 0 or M.max() > m:
         raise AlignmentError(f"{spec.name} on pair {info['id']}: map entries outside 0..{m}")
-    if seconds is not None:
-        seconds = np.asarray(seconds, dtype=np.float32)
-        if seconds.shape != (n1,):
-            raise AlignmentError(f"{spec.name}: seconds must have shape ({n1},)")
-    return M.astype(np.int64), seconds
+    return M.astype(np.int64)
 
 
 # -- hashes ------------------------------------------------------------------------------------
@@ -648,6 +827,39 @@ def load_features(path, fps: float = BASE_FPS) -> MotionFeatures:
     )
 
 
+def pair_features(results, fps: float = BASE_FPS):
+    """A function ``features(k) -> (I, T)``: the features of pair k of a finished run.
+
+    Read from the run's feature cache (nothing is recomputed when the cache is there;
+    missing files are built).
+
+    Parameters
+    ----------
+    results : Results
+    fps : float
+        120 or 60.
+
+    Returns
+    -------
+    features : callable
+
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    selection = Selection(
+        **{k: tuple(v) if isinstance(v, list) else v for k, v in results.selection.items()}
+    )
+    plan = pair_selection(selection)
+    files = build_features(plan, results.folder / "features", n_jobs=1, progress=False)
+    by_id = {p["id"]: (p["input_index"], p["target_index"]) for p in plan.pairs}
+    ids = [int(p["id"]) for p in results.pairs]
+
+    def features(k: int):
+        i, t = by_id[ids[k]]
+        return load_features(files[i], fps), load_features(files[t], fps)
+
+    return features
+
+
 # -- parallel helper ---------------------------------------------------------------------------
 
 
@@ -707,17 +919,47 @@ def _unit_id(index: int, record) -> str:
     return f"{index:04d}_{record.name}"
 
 
-def _chunk_algorithms(path: Path, base_key: str) -> dict:
-    """``{name: key}`` of the algorithms a chunk holds, {} if missing, unreadable or stale."""
+def _chunk_meta(path: Path, base_key: str) -> dict:
+    """The metadata of a chunk, {} if missing, unreadable or stale."""
     if not path.is_file():
         return {}
     try:
         meta = json.loads(bytes(load_npz(path, [_META])[_META]).decode())
     except Exception:  # a chunk we cannot read is recomputed
         return {}
-    if meta.get("base_key") != base_key:
-        return {}
-    return meta.get("algorithms", {})
+    return meta if meta.get("base_key") == base_key else {}
+
+
+def _chunk_algorithms(path: Path, base_key: str) -> dict:
+    """``{name: key}`` of the algorithms a chunk holds, {} if missing, unreadable or stale."""
+    meta = _chunk_meta(path, base_key)
+    return meta.get("algorithms", {}) if "online" in meta else {}
+
+
+def _shares_window(spec: AlgorithmSpec) -> bool:
+    """A built-in Method B or C configuration (it can share a :class:`WindowCache`)."""
+    return spec.fn is None and spec.base.startswith(("Mb ", "Mc "))
+
+
+def _pair_maps(specs: list, I: MotionFeatures, T: MotionFeatures, info: dict) -> dict:
+    """``{name: (M, online)}`` of every spec on one pair at one rate.
+
+    Methods B and C run together in one compiled loop (:func:`fpdtw.online.window.run_group`)
+    sharing one :class:`WindowCache` (each forecast and cost cell computed once per target
+    frame; the maps are those of separate runs); every other algorithm runs on its own.
+    """
+    out = {}
+    shared = [s for s in specs if _shares_window(s)]
+    if shared:
+        cache = WindowCache(I, max(parse_name(s.base)[1] for s in shared))
+        aligners = [make_online(s.base, I, cache=cache) for s in shared]
+        for s, M in zip(shared, run_group(aligners, T)):
+            out[s.name] = (_check_map(s, M, I, T, info), True)
+    for s in specs:
+        if s.name not in out:
+            M, seconds = _align_pair(s, I, T, info)
+            out[s.name] = (M, seconds is not None)
+    return out
 
 
 def _compute_unit(unit: dict, specs: list, feature_files: list, base_key: str) -> dict:
@@ -738,48 +980,42 @@ def _compute_unit(unit: dict, specs: list, feature_files: list, base_key: str) -
         for n in keep:
             pre = slug(n) + "."
             arrays.update({k: v for k, v in stored.items() if k.startswith(pre)})
+    online = {n: v for n, v in _chunk_meta(path, base_key).get("online", {}).items() if n in keep}
 
-    feats = {}
-
-    def features(idx, fps):
-        if (idx, fps) not in feats:
-            feats[idx, fps] = load_features(feature_files[idx], fps)
-        return feats[idx, fps]
-
-    dtw_maps = {}
-
-    def dtw_map(k, fps):
-        if (k, fps) not in dtw_maps:
-            p = pairs[k]
-            I, T = features(p["input_index"], fps), features(p["target_index"], fps)
-            dtw_maps[k, fps] = np.asarray(align("DTW", I, T)[0], dtype=np.int64)
-        return dtw_maps[k, fps]
-
+    per = {s.name: {"maps": [], "sim": [], "dev": []} for s in specs}
     runs = 0
-    for spec in specs:
-        maps, sims, devs, secs = [], [], [], []
-        for k, p in enumerate(pairs):
-            I = features(p["input_index"], spec.fps)
-            T = features(p["target_index"], spec.fps)
-            info = {key: v for key, v in p.items() if key not in ("input_index", "target_index")}
-            info["fps"] = spec.fps
-            M, sec = _align_pair(spec, I, T, info)
-            if spec.fn is None and spec.base == "DTW":
-                dtw_maps[k, spec.fps] = M
-            maps.append(M)
-            sims.append(similarity(I.quats, T.quats, M))
-            devs.append(deviation(dtw_map(k, spec.fps), M))
-            secs.append(sec)
-            runs += 1
-        pre = spec.slug + "."
-        lengths = [len(M) for M in maps]
-        arrays[pre + "pair_id"] = np.array([p["id"] for p in pairs], dtype=np.int32)
-        arrays[pre + "offsets"] = np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64)
+    for p in pairs:
+        info = {key: v for key, v in p.items() if key not in ("input_index", "target_index")}
+        for fps in sorted({s.fps for s in specs}, reverse=True):
+            group = [s for s in specs if s.fps == fps]
+            I = load_features(feature_files[p["input_index"]], fps)
+            T = load_features(feature_files[p["target_index"]], fps)
+            maps = _pair_maps(group, I, T, {**info, "fps": fps})
+            dtw_spec = next((s for s in group if s.base == "DTW"), None)
+            if dtw_spec is None:
+                dtw = np.asarray(align("DTW", I, T)[0], dtype=np.int64)
+            else:
+                dtw = maps[dtw_spec.name][0]
+            XI, XT = joint_trajectories(I.quats), joint_trajectories(T.quats)
+            for s in group:
+                M, is_online = maps[s.name]
+                online[s.name] = is_online
+                per[s.name]["maps"].append(M)
+                # = similarity(I.quats, T.quats, M), each motion's trajectories once
+                per[s.name]["sim"].append(float(np.mean(trajectory_scores(XI[M], XT))))
+                per[s.name]["dev"].append(deviation(dtw, M))
+                runs += 1
+    ids = np.array([p["id"] for p in pairs], dtype=np.int32)
+    for s in specs:
+        pre = s.slug + "."
+        maps = per[s.name]["maps"]
+        arrays[pre + "pair_id"] = ids
+        arrays[pre + "offsets"] = np.concatenate([[0], np.cumsum([len(M) for M in maps])]).astype(
+            np.int64
+        )
         arrays[pre + "maps"] = np.concatenate(maps).astype(np.int32)
-        arrays[pre + "similarity"] = np.array(sims, dtype=np.float64)
-        arrays[pre + "deviation"] = np.array(devs, dtype=np.float64)
-        if all(s is not None for s in secs):
-            arrays[pre + "seconds"] = np.concatenate(secs).astype(np.float32)
+        arrays[pre + "similarity"] = np.array(per[s.name]["sim"], dtype=np.float64)
+        arrays[pre + "deviation"] = np.array(per[s.name]["dev"], dtype=np.float64)
     algos = dict(keep)
     algos.update({s.name: s.key for s in specs})
     meta = {
@@ -787,6 +1023,7 @@ def _compute_unit(unit: dict, specs: list, feature_files: list, base_key: str) -
         "base_key": base_key,
         "pair_ids": [p["id"] for p in pairs],
         "algorithms": algos,
+        "online": online,
     }
     arrays[_META] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
     save_npz(path, **arrays)
@@ -802,22 +1039,20 @@ def _compute_unit(unit: dict, specs: list, feature_files: list, base_key: str) -
 
 
 def _assemble(out: Path, specs: list, units: list, n_pairs: int) -> dict:
-    """Write ``algorithms/<slug>.npz`` (and timings) of ``specs`` from the chunks, in pair order.
+    """Write ``algorithms/<slug>.npz`` of ``specs`` from the chunks, in pair order.
 
     Returns ``{name: online}``.
     """
-    parts = {
-        s.name: {"maps": [], "sim": [], "dev": [], "sec": [], "ids": [], "len": []} for s in specs
-    }
+    parts = {s.name: {"maps": [], "sim": [], "dev": [], "ids": [], "len": []} for s in specs}
+    online = {}
     for unit in units:
-        have = set(npz_keys(unit["chunk"]))
         keys = [
             s.slug + "." + k
             for s in specs
-            for k in ("pair_id", "offsets", "maps", "similarity", "deviation", "seconds")
-            if s.slug + "." + k in have or k != "seconds"
+            for k in ("pair_id", "offsets", "maps", "similarity", "deviation")
         ]
-        stored = load_npz(unit["chunk"], keys)
+        stored = load_npz(unit["chunk"], keys + [_META])
+        online.update(json.loads(bytes(stored[_META]).decode()).get("online", {}))
         for s in specs:
             pre = s.slug + "."
             acc = parts[s.name]
@@ -826,9 +1061,7 @@ def _assemble(out: Path, specs: list, units: list, n_pairs: int) -> dict:
             acc["len"].append(np.diff(stored[pre + "offsets"]))
             acc["sim"].append(stored[pre + "similarity"])
             acc["dev"].append(stored[pre + "deviation"])
-            acc["sec"].append(stored.get(pre + "seconds"))
         del stored
-    online = {}
     for s in specs:
         acc = parts.pop(s.name)
         ids = np.concatenate(acc["ids"]).astype(np.int32)
@@ -843,19 +1076,7 @@ def _assemble(out: Path, specs: list, units: list, n_pairs: int) -> dict:
             similarity=np.concatenate(acc["sim"]).astype(np.float64),
             deviation=np.concatenate(acc["dev"]).astype(np.float64),
         )
-        is_online = all(x is not None for x in acc["sec"])
-        timing = out / "timings" / f"{s.slug}.npz"
-        if is_online:
-            save_npz(
-                timing,
-                pair_id=ids,
-                offsets=offsets,
-                seconds=np.concatenate(acc["sec"]).astype(np.float32),
-            )
-        elif timing.exists():
-            timing.unlink()
-        online[s.name] = is_online
-    return online
+    return {s.name: bool(online.get(s.name, False)) for s in specs}
 
 
 def _stats(x) -> dict:
@@ -880,9 +1101,8 @@ def summarize(results: Results) -> dict:
         of the algorithm's own rate), ``frac_deviation_below_150ms``,
         ``passes_similarity_benchmark`` (median similarity above the UTW median),
         ``passes_deviation_benchmark`` (median deviation below 150 ms, i.e. 18
-        frames at 120 Hz, 9 at 60 Hz). Deterministic.
-        ``"timing"``: per online algorithm ``mean_us_per_frame,
-        median_us_per_frame, n_frames``: measurements, not deterministic.
+        frames at 120 Hz, 9 at 60 Hz). Deterministic, like the whole summary (the
+        time per frame is measured by ``make bench``, :mod:`fpdtw.bench`).
 
     Paper: FP-DTW Section 5 (benchmarks), Figs. 5-6, Tables 1-2.
     Notebook: 05_run_experiments.ipynb
@@ -899,7 +1119,7 @@ def summarize(results: Results) -> dict:
         "deviation_frames": DEVIATION_BENCHMARK_FRAMES,
         "deviation_ms": DEVIATION_BENCHMARK_MS,
     }
-    algos, timing = {}, {}
+    algos = {}
     for name in results.algorithms:
         r = results.get(name)
         fps = results.fps(name)
@@ -923,23 +1143,7 @@ def summarize(results: Results) -> dict:
             "passes_similarity_benchmark": None if u is None else bool(s["median"] > u),
             "passes_deviation_benchmark": bool(d["median"] * 1000.0 / fps < DEVIATION_BENCHMARK_MS),
         }
-        t = results.timings(name)
-        if t is not None:
-            us = t["seconds"].astype(np.float64) * 1e6
-            timing[name] = {
-                "mean_us_per_frame": float(np.mean(us)),
-                "median_us_per_frame": float(np.median(us)),
-                "n_frames": int(us.shape[0]),
-            }
-    return {"benchmarks": bench, "algorithms": algos, "timing": timing}
-
-
-def deterministic_summary(summary: dict) -> dict:
-    """``summary`` without its timing part (the part equal across runs).
-
-    Notebook: 05_run_experiments.ipynb
-    """
-    return {k: v for k, v in summary.items() if k != "timing"}
+    return {"benchmarks": bench, "algorithms": algos}
 
 
 # -- the run -----------------------------------------------------------------------------------
@@ -963,8 +1167,6 @@ def _outputs_exist(out: Path, run: dict) -> bool:
     files = [out / "pairs.json", out / "summary.json"]
     for a in run.get("algorithms", []):
         files.append(out / "algorithms" / f"{a['slug']}.npz")
-        if a.get("online"):
-            files.append(out / "timings" / f"{a['slug']}.npz")
     return all(f.is_file() for f in files)
 
 
@@ -1035,7 +1237,9 @@ def run_experiments(
         if mode not in SELECTIONS:
             raise ValueError(f"mode {mode!r} needs a selection (known modes: {list(SELECTIONS)})")
         selection = SELECTIONS[mode]
-    names = list(DEFAULT_ALGORITHMS if algorithms is None else algorithms)
+    names = list(
+        MODE_ALGORITHMS.get(mode, DEFAULT_ALGORITHMS) if algorithms is None else algorithms
+    )
     if len(set(names)) != len(names):
         raise ValueError(f"an algorithm is listed twice: {names}")
     specs = [resolve_algorithm(n) for n in names]
@@ -1147,10 +1351,10 @@ def run_experiments(
             info.append(a)
     info += list(new.values())
     listed = {a["slug"] for a in info}
-    for sub in ("algorithms", "timings"):
-        for p in (out / sub).glob("*.npz"):
-            if p.stem not in listed:
-                p.unlink()
+    for p in (out / "algorithms").glob("*.npz"):
+        if p.stem not in listed:
+            p.unlink()
+    shutil.rmtree(out / "timings", ignore_errors=True)  # written by runs before CACHE_FORMAT 2
 
     results = Results(out, algorithms=info)
     summary = summarize(results)
@@ -1231,11 +1435,10 @@ __all__ = [
     "PairSelection",
     "Results",
     "Selection",
-    "TimingResult",
     "aggregate_heatmap",
-    "deterministic_summary",
     "format_counts",
     "load_results",
+    "pair_features",
     "pair_selection",
     "register_algorithm",
     "resolve_algorithm",

@@ -107,6 +107,34 @@ def deviation(P_a, P_b) -> float:
     return float(np.mean(np.abs(P_a - P_b)))
 
 
+def step_counts(M, m: int) -> dict:
+    """Counts of the steps ``q = 1..n`` of a map, by what they did.
+
+    Parameters
+    ----------
+    M : ndarray of int, shape (n + 1,)
+    m : int
+        Index of the last input frame.
+
+    Returns
+    -------
+    counts : dict
+        ``steps`` (n), ``exhausted`` (taken after the input ran out, ``M_{q-1} >= m``),
+        ``live`` (taken while input remained), ``holds`` (live steps with
+        ``M_q = M_{q-1}``).
+
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    M = _as_map(M)
+    live = M[:-1] < m
+    return dict(
+        steps=int(M.size - 1),
+        exhausted=int(M.size - 1 - np.count_nonzero(live)),
+        live=int(np.count_nonzero(live)),
+        holds=int(np.count_nonzero((np.diff(M) == 0) & live)),
+    )
+
+
 def hold_share(M, m: int) -> float:
     """Share of steps that hold the input frame while input remains.
 
@@ -126,12 +154,8 @@ def hold_share(M, m: int) -> float:
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
-    M = _as_map(M)
-    live = M[:-1] < m
-    steps = int(np.count_nonzero(live))
-    if steps == 0:
-        return 0.0
-    return float(np.count_nonzero((np.diff(M) == 0) & live) / steps)
+    c = step_counts(M, m)
+    return c["holds"] / c["live"] if c["live"] else 0.0
 
 
 def exhausted_share(M, m: int) -> float:
@@ -150,10 +174,8 @@ def exhausted_share(M, m: int) -> float:
     Paper: FP-DTW Section 5 ("running out of input frames, early in the alignment").
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
-    M = _as_map(M)
-    if M.size < 2:
-        return 0.0
-    return float(np.count_nonzero(M[:-1] >= m) / (M.size - 1))
+    c = step_counts(M, m)
+    return c["exhausted"] / c["steps"] if c["steps"] else 0.0
 
 
 def stick_skip_index(M, m: int) -> float:
@@ -345,7 +367,7 @@ def joint_trajectories(quats) -> np.ndarray:
     return np.ascontiguousarray(quat_rotate(quats, np.array(BONE_AXIS)))
 
 
-def similarity_per_axis(I_quats, T_quats, M) -> np.ndarray:
+def similarity_per_axis(I_quats, T_quats, M, one_flat: float = ONE_FLAT_SCORE) -> np.ndarray:
     """Per-axis scores of :func:`similarity`: Kendall tau-b of each joint axis.
 
     The input is warped by the map (``A = I[M]``, one frame per target frame).
@@ -363,6 +385,9 @@ def similarity_per_axis(I_quats, T_quats, M) -> np.ndarray:
         Target motion's local rotations.
     M : ndarray of int, shape (n + 1,)
         Map target frame -> input frame, entries in ``0..m``.
+    one_flat : float
+        Score of an axis flat in exactly one motion (default :data:`ONE_FLAT_SCORE`;
+        NaN marks such axes, e.g. to leave them out of a mean, as notebook 15 does).
 
     Returns
     -------
@@ -393,10 +418,35 @@ def similarity_per_axis(I_quats, T_quats, M) -> np.ndarray:
     m = I_quats.shape[0] - 1
     if not in_range(M, m):
         raise AlignmentError(f"the map has entries outside the input frames 0..{m}")
-    XA = joint_trajectories(I_quats[M])
-    XT = joint_trajectories(T_quats)
+    return trajectory_scores(joint_trajectories(I_quats[M]), joint_trajectories(T_quats), one_flat)
+
+
+def trajectory_scores(XA, XT, one_flat: float = ONE_FLAT_SCORE) -> np.ndarray:
+    """Per-axis scores of eq. 2 from joint trajectories already warped and aligned.
+
+    :func:`similarity_per_axis` is ``trajectory_scores(joint_trajectories(I[M]),
+    joint_trajectories(T))``; ``joint_trajectories(I)[M]`` gives the same ``XA``, so a
+    caller scoring many maps of one pair computes each motion's trajectories once.
+
+    Parameters
+    ----------
+    XA, XT : ndarray of float64, shape (n + 1, k, 3)
+        Trajectories of the warped input and of the target.
+    one_flat : float
+
+    Returns
+    -------
+    r : ndarray of float64, shape (k, 3)
+
+    Paper: FP-DTW eq. 2.
+    Notebook: 05_run_experiments.ipynb
+    """
+    XA = np.ascontiguousarray(XA, dtype=np.float64)
+    XT = np.ascontiguousarray(XT, dtype=np.float64)
+    if XA.shape != XT.shape or XA.ndim != 3 or XA.shape[2] != 3:
+        raise AlignmentError(f"trajectories of different shapes: {XA.shape}, {XT.shape}")
     out = np.empty((XA.shape[1], 3))
-    return _axis_scores(XA, XT, FLAT_RANGE, ONE_FLAT_SCORE, out)
+    return _axis_scores(XA, XT, FLAT_RANGE, float(one_flat), out)
 
 
 def similarity(I_quats, T_quats, M) -> float:
@@ -428,5 +478,7 @@ __all__ = [
     "kendall_tau_b",
     "similarity",
     "similarity_per_axis",
+    "step_counts",
     "stick_skip_index",
+    "trajectory_scores",
 ]

@@ -27,6 +27,7 @@ from __future__ import annotations
 import io
 import json
 import os
+import re
 import zipfile
 from pathlib import Path
 
@@ -193,11 +194,14 @@ BASE_FPS, LOW_FPS = 120.0, 60.0
 def slug(name: str) -> str:
     """File name of an algorithm's results: ``"Mc w40 + Type V"`` -> ``"Mc_w40_TypeV"``.
 
-    ``" + Type V"`` -> ``"_TypeV"``, ``"@60Hz"`` -> ``"_60Hz"``, spaces -> ``"_"``.
+    ``" + Type V"`` -> ``"_TypeV"``, ``"@60Hz"`` -> ``"_60Hz"``, spaces -> ``"_"``; the
+    brackets and commas of options are dropped: ``"Mc w40 (literal window)"`` ->
+    ``"Mc_w40_literal_window"``.
 
     Notebook: 05_run_experiments.ipynb
     """
-    return name.replace(" + Type V", "_TypeV").replace(RATE_SUFFIX, "_60Hz").replace(" ", "_")
+    s = name.replace(" + Type V", "_TypeV").replace(RATE_SUFFIX, "_60Hz").replace(" ", "_")
+    return re.sub(r"_+", "_", re.sub(r"[(),]", "", s))
 
 
 # -- reading results ---------------------------------------------------------------------------
@@ -225,19 +229,6 @@ class AlgorithmResult(dict):
     @property
     def n_pairs(self) -> int:
         return int(self["pair_id"].shape[0])
-
-
-class TimingResult(dict):
-    """The arrays of ``timings/<slug>.npz`` (measurements: not deterministic).
-
-    Keys ``pair_id`` (P,) int32, ``offsets`` (P+1,) int64, ``seconds`` float32 (per
-    target frame).
-    """
-
-    def per_pair(self, k: int) -> np.ndarray:
-        """Per-frame seconds of pair ``k``, float32 (n + 1,)."""
-        o = self["offsets"]
-        return self["seconds"][o[k] : o[k + 1]]
 
 
 class Results:
@@ -291,7 +282,7 @@ class Results:
         return float(self._info[name]["fps"])
 
     def is_online(self, name: str) -> bool:
-        """Whether the algorithm has per-frame timings."""
+        """Whether the algorithm is online (it sees one target frame at a time)."""
         self._check(name)
         return bool(self._info[name]["online"])
 
@@ -302,12 +293,6 @@ class Results:
             arrays = load_npz(self.folder / "algorithms" / f"{slug(name)}.npz")
             self._cache[name] = AlgorithmResult(arrays, name, self.fps(name))
         return self._cache[name]
-
-    def timings(self, name: str) -> TimingResult | None:
-        """Per-frame seconds of an online algorithm (None for an offline one)."""
-        if not self.is_online(name):
-            return None
-        return TimingResult(load_npz(self.folder / "timings" / f"{slug(name)}.npz"))
 
     def frames(self, name: str) -> tuple:
         """Last input and target frame indices ``(m, n)`` of every pair at the algorithm's rate.
@@ -385,7 +370,6 @@ def aggregate_heatmap(results: Results, name: str, bins: int = 100) -> np.ndarra
 __all__ = [
     "AlgorithmResult",
     "Results",
-    "TimingResult",
     "ZIP_DATE",
     "aggregate_heatmap",
     "json_bytes",

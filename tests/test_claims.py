@@ -257,18 +257,54 @@ def test_build_claims_from_a_fake_results_folder(tmp_path, monkeypatch):
     algos["OE-DTW"]["maps"] = oe
     # Mc w80 runs out: reaches m = 19 at q = 10 in every pair
     algos["Mc w80"]["maps"] = [np.minimum(2 * np.arange(20), 19).astype(np.int32)] * 5
+    # Method C's literal window: every Mc result of the paper-like run, except that Mc w40
+    # (and Mc w40 at 60 Hz, i.e. Table 1's w20 best) fails everything
+    for name in [n for n in algos if n.startswith("Mc w")]:
+        lit = dict(algos[name])
+        if name.startswith(("Mc w40", "Mc w20@")):
+            lit["similarity"] = lit["similarity"] - 0.5
+            lit["deviation"] = lit["deviation"] + 100.0
+        base, rate = (name.split("@") + [""])[:2]
+        w, _, tv = base[4:].partition(" + ")
+        algos[
+            f"Mc w{w} (literal window)" + (" + Type V" if tv else "") + (f"@{rate}" if rate else "")
+        ] = lit
     write_fake_results(tmp_path / "results" / "smoke", algos)
     figs = tmp_path / "results" / "smoke" / "figs"
     figs.mkdir()
-    (figs / claims.FIG8_JSON).write_text(json.dumps({"deviation": claims.PAPER_FIG8_DEVIATIONS}))
+    devs = dict(claims.PAPER_FIG8_DEVIATIONS)
+    devs.update(
+        {k.replace("Mc w", "Mc w") + " (literal window)": 300.0 for k in devs if k.startswith("Mc")}
+    )
+    (figs / claims.FIG8_JSON).write_text(json.dumps({"deviation": devs}))
+    bench = {
+        "online": [
+            dict(name=n, median_s=t * 1e-6, mean_s=t * 1e-6, p95_s=t * 1e-6, frames=9)
+            for n, t in [(f"M{m} w{w}", 2.0 * w) for m in "bc" for w in (10, 20, 40, 80)]
+            + [(f"Mc w{w} (literal window)", 1.0 * w) for w in (10, 20, 40, 80)]
+        ]
+    }
+    (tmp_path / "results" / "bench.json").write_text(json.dumps(bench))
     rows = claims.build_claims("smoke")
     by = {r["id"]: r for r in rows}
     for cid in ("1", "2", "3", "5", "5b", "6", "7", "8"):
         assert by[cid]["holds"] == "yes", by[cid]
+    # under the literal window the Mc w40 claims fail; the others are unchanged
+    assert by["1"]["holds_literal"] == "no" and by["1"]["ours_literal"] == "pass either: none"
+    assert by["2"]["holds_literal"] == "partly" and "Mc w40" not in by["2"]["ours_literal"]
+    assert by["3"]["holds_literal"] == "partly"  # best w 40 at 120 Hz no more, still 20 at 60
+    assert by["8"]["holds_literal"] == "partly"  # below 18: Mb w80 only
+    assert "Mc w40 300.0" in by["8"]["ours_literal"]
+    for cid in ("5b", "7", "9", "4b"):
+        assert (by[cid]["ours"], by[cid]["holds"]) == (
+            by[cid]["ours_literal"],
+            by[cid]["holds_literal"],
+        ) or cid == "4b"
+    assert "Mc w80 80 us" in by["4b"]["ours_literal"] and "Mc w80 160 us" in by["4b"]["ours"]
     assert by["7"]["ours"].startswith("1 of 5 pairs (20%)")
     assert by["4c"]["holds"] == "yes" and "Mc w80 0.47" in by["4c"]["ours"]  # q = 11..19 of 19
     assert by["9"]["holds"] == "no"  # 5 fake pairs, not the paper's 3248
-    assert by["4b"]["holds"] == "no"  # fake timings are microseconds
+    assert by["4b"]["holds"] == "no"  # fake bench timings are microseconds
     paths = claims.save_claims(rows, "smoke")
     assert {p.name for p in paths} == {"claims.csv", "claims.md", "claims.json"}
     saved = json.loads((tmp_path / "results" / "smoke" / "claims.json").read_text())

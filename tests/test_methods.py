@@ -13,17 +13,18 @@ import math
 import numpy as np
 import pytest
 
+from fpdtw.algorithms import C_READINGS, make_online, method_c_name, parse_name
 from fpdtw.costs import fast_acos, geo_distance
 from fpdtw.errors import AlignmentError
 from fpdtw.features import Frame, MotionFeatures
 from fpdtw.io import load_motion
 from fpdtw.metrics import hold_share
-from fpdtw.online.base import run_online
+from fpdtw.online.base import run_online, run_together
 from fpdtw.online.method_a import MethodA
 from fpdtw.online.method_b import MethodB, backtrack_lowest
 from fpdtw.online.method_c import MethodC
 from fpdtw.online.typev import dtw_python_accepts, is_legal_typev, legal_prefix
-from fpdtw.online.window import B_CORNER, reference_run
+from fpdtw.online.window import B_CORNER, WindowCache, reference_run, run_group
 from fpdtw.synthetic import (
     features_from_euler,
     one_joint_motion,
@@ -662,15 +663,90 @@ def test_literal_window_runs_ahead_on_a_real_take(walk, w):
     assert np.abs(M - truth).mean() > 100
 
 
+SHARED_NAMES = (
+    [f"Mb w{w}{t}" for w in (10, 40, 80) for t in ("", " + Type V")]
+    + [method_c_name(w, r, t) for r in C_READINGS for w in (10, 40, 80) for t in (False, True)]
+    + ["Mb w40 (hold forecast)", "Mc w40 (forecast from T_n+2)", "Mc w20 (ties high)"]
+)
+
+
+def _with_cache(name, I, cache):
+    method, w, typev, options = parse_name(name)
+    cls = {"B": MethodB, "C": MethodC}[method]
+    return cls(I, w, constraint="typeV" if typev else None, cache=cache, **options)
+
+
+def test_shared_window_cache_gives_the_same_maps(squat_pair, walk):
+    """B and C aligners sharing a WindowCache in lockstep map exactly as they do alone,
+    streamed frame by frame (run_together) or in one compiled loop (run_group)."""
+    X, _, _ = walk
+    for I, T in (squat_pair, (X.slice(0, 300), X.slice(20, 330))):
+        alone = [run_online(make_online(name, I), T)[0] for name in SHARED_NAMES]
+        cache = WindowCache(I, 80)
+        shared = run_together([_with_cache(n, I, cache) for n in SHARED_NAMES], T)
+        grouped = run_group([_with_cache(n, I, WindowCache(I, 80)) for n in SHARED_NAMES][:0], T)
+        assert grouped == []
+        cache = WindowCache(I, 80)
+        grouped = run_group([_with_cache(n, I, cache) for n in SHARED_NAMES], T)
+        plain = run_group([make_online(n, I) for n in SHARED_NAMES], T)
+        for name, M0, M1, M2, M3 in zip(SHARED_NAMES, alone, shared, grouped, plain):
+            for M in (M1, M2, M3):
+                np.testing.assert_array_equal(M, M0, err_msg=name)
+
+
+def test_run_group_refuses_what_it_cannot_run(squat_pair):
+    I, T = squat_pair
+    with pytest.raises(AlignmentError, match="one input and one cache"):
+        run_group([MethodC(I, 10), MethodA(I)], T)
+    with pytest.raises(AlignmentError, match="one input and one cache"):
+        run_group(
+            [MethodC(I, 10, cache=WindowCache(I, 10)), MethodB(I, 10, cache=WindowCache(I, 10))], T
+        )
+    with pytest.raises(AlignmentError, match="joints"):
+        run_group(
+            [MethodC(I, 10)], MotionFeatures(T.quats[:, :2], T.euler[:, :2], T.orders[:2], 120.0)
+        )
+
+
+def test_shared_window_cache_is_safe_to_misuse(squat_pair):
+    """Fed different targets at the same steps (not lockstep), a cache starts afresh:
+    speed is all it can change."""
+    I, T = squat_pair
+    T2 = MotionFeatures(T.quats[::-1].copy(), T.euler[::-1].copy(), T.orders, T.fps)
+    cache = WindowCache(I, 40)
+    a, b = _with_cache("Mc w40", I, cache), _with_cache("Mb w40", I, cache)
+    a.reset()
+    b.reset()
+    Ma, Mb = [], []
+    for f1, f2 in zip(T.frames(), T2.frames()):
+        Ma.append(a.step(f1))
+        Mb.append(b.step(f2))
+    np.testing.assert_array_equal(Ma, run_online(MethodC(I, 40), T)[0])
+    np.testing.assert_array_equal(Mb, run_online(MethodB(I, 40), T2)[0])
+    with pytest.raises(AlignmentError, match="another input or smaller windows"):
+        MethodC(I, 80, cache=cache)
+    with pytest.raises(AlignmentError, match="another input"):
+        MethodB(T, 10, cache=cache)
+    with pytest.raises(AlignmentError, match="WindowCache"):
+        MethodB(I, 10, cache=object())
+
+
 def test_bench_online_rows():
-    from fpdtw.bench import bench_online, format_bench
+    from fpdtw.bench import bench_online, format_bench, paper_comparison
 
     I, T, _ = synthetic_pair(60, seed=2)
-    rows = bench_online([(I, T)], methods=("A", "C"), windows=(10,), typev=(False, True))
-    assert [r["name"] for r in rows] == ["Ma", "Ma + Type V", "Mc w10", "Mc w10 + Type V"]
+    names = ["Ma", "Ma + Type V", "Mc w10", "Mc w10 + Type V", "Mc w10 (literal window)"]
+    rows = bench_online([(I, T)], names)
+    assert [r["name"] for r in rows] == names
+    assert [(r["method"], r["w"], r["typev"]) for r in rows[2:]] == [
+        ("C", 10, False), ("C", 10, True), ("C", 10, False)
+    ]  # fmt: skip
     for r in rows:
         assert r["frames"] == T.n_frames
         assert 0 < r["median_s"] <= r["p95_s"]
     assert "Mc w10 + Type V" in format_bench(rows)
-    with pytest.raises(ValueError, match="unknown method"):
-        bench_online([(I, T)], methods=("D",))
+    table = paper_comparison(rows)  # the literal window in its own column, not over Mc w10
+    line = next(x for x in table.splitlines() if x.startswith("Method C"))
+    assert f"{rows[2]['median_s'] * 1e6:.1f}" in line and f"{rows[4]['median_s'] * 1e6:.1f}" in line
+    with pytest.raises(AlignmentError, match="unknown algorithm"):
+        bench_online([(I, T)], ["Md w10"])

@@ -236,3 +236,35 @@ def test_map_helpers():
     assert not in_range([-1, 0], 4)
     with pytest.raises(AlignmentError):
         is_monotonic(np.zeros((2, 2), dtype=int))
+
+
+def test_trajectory_scores_equal_similarity_per_axis_exactly():
+    """The runner scores every map of a pair from each motion's trajectories, computed
+    once: joint_trajectories(I)[M] must be joint_trajectories(I[M]) bit for bit."""
+    from fpdtw.metrics import joint_trajectories, trajectory_scores
+    from fpdtw.synthetic import synthetic_pair
+
+    I, T, _ = synthetic_pair(150, seed=7)
+    rng = np.random.default_rng(1)
+    XI, XT = joint_trajectories(I.quats), joint_trajectories(T.quats)
+    for _ in range(5):
+        M = np.sort(rng.integers(0, I.n_frames, T.n_frames))
+        a = similarity_per_axis(I.quats, T.quats, M)
+        b = trajectory_scores(XI[M], XT)
+        assert np.array_equal(a, b)
+    with pytest.raises(AlignmentError, match="different shapes"):
+        trajectory_scores(XI[:5], XT)
+
+
+def test_map_shape_metrics_by_hand():
+    from fpdtw.metrics import exhausted_share, hold_share, step_counts, stick_skip_index
+
+    M = np.array([0, 0, 1, 3, 3, 5, 5, 5])  # m = 5: steps 7, holds while live: q=1, q=4
+    assert step_counts(M, 5) == dict(steps=7, exhausted=2, live=5, holds=2)
+    assert hold_share(M, 5) == pytest.approx(2 / 5)
+    assert exhausted_share(M, 5) == pytest.approx(2 / 7)
+    # M/m - q/n over q = 0..7 (n = 7): median of [0, -1/7, 0.2-2/7, ...]
+    d = M / 5 - np.arange(8) / 7
+    assert stick_skip_index(M, 5) == pytest.approx(np.median(d))
+    assert stick_skip_index(np.arange(8), 7) == 0.0  # the diagonal
+    assert hold_share(np.array([0, 5, 5]), 5) == 0.0  # every hold after the input ran out

@@ -1,7 +1,7 @@
 """Figs. 5, 6, 7, 10 and Tables 1, 2 on a small FAKE results folder with hand-made numbers.
 
 The folder is written here with numpy directly, in the runner's file format
-(``pairs.json``, ``run.json``, ``algorithms/<slug>.npz``, ``timings/<slug>.npz``), and read
+(``pairs.json``, ``run.json``, ``algorithms/<slug>.npz``), and read
 back with :func:`fpdtw.experiments.load_results`, so these tests also pin the format.
 """
 
@@ -27,8 +27,10 @@ TABLE1_60 = ("DTW@60Hz", "UTW@60Hz", "Mc w10@60Hz", "Mc w20@60Hz", "Mc w40@60Hz"
 
 
 def fake_slug(name):
-    """The runner's file name rule (brief R): " + Type V" -> "_TypeV", "@60Hz" -> "_60Hz"."""
-    return name.replace(" + Type V", "_TypeV").replace("@60Hz", "_60Hz").replace(" ", "_")
+    """The runner's file name rule, written out independently: " + Type V" -> "_TypeV",
+    "@60Hz" -> "_60Hz", spaces -> "_", option brackets and commas dropped."""
+    s = name.replace(" + Type V", "_TypeV").replace("@60Hz", "_60Hz").replace(" ", "_")
+    return s.replace("(", "").replace(")", "").replace(",", "").replace("__", "_")
 
 
 def diagonal_map(n, m):
@@ -44,7 +46,7 @@ def write_fake_results(folder, algos, n_pairs=N_PAIRS, sizes=None):
         ``results_dir() / mode``.
     algos : dict
         name -> dict(similarity=(P,), deviation=(P,), maps=list of P int arrays or None
-        (diagonal), seconds=list of P float arrays or None (offline), fps=120 or 60).
+        (diagonal), online=bool (default: not DTW or UTW), fps=120 or 60).
     sizes : list of (m, n, m60, n60), optional
     """
     sizes = sizes or [(M120, N120, M60, N60)] * n_pairs
@@ -80,8 +82,7 @@ def write_fake_results(folder, algos, n_pairs=N_PAIRS, sizes=None):
             ]
         offsets = np.concatenate([[0], np.cumsum([len(M) for M in maps])]).astype(np.int64)
         ids = np.arange(n_pairs, dtype=np.int32)
-        for sub in ("algorithms", "timings"):
-            (folder / sub).mkdir(exist_ok=True)
+        (folder / "algorithms").mkdir(exist_ok=True)
         np.savez(
             folder / "algorithms" / f"{fake_slug(name)}.npz",
             pair_id=ids,
@@ -90,14 +91,7 @@ def write_fake_results(folder, algos, n_pairs=N_PAIRS, sizes=None):
             similarity=np.asarray(a["similarity"], dtype=np.float64),
             deviation=np.asarray(a["deviation"], dtype=np.float64),
         )
-        online = a.get("seconds") is not None
-        if online:
-            np.savez(
-                folder / "timings" / f"{fake_slug(name)}.npz",
-                pair_id=ids,
-                offsets=offsets,
-                seconds=np.concatenate(a["seconds"]).astype(np.float32),
-            )
+        online = a.get("online", name.split("@")[0] not in ("DTW", "UTW"))
         info.append(dict(name=name, slug=fake_slug(name), fps=float(fps), online=online))
     (folder / "run.json").write_text(json.dumps({"algorithms": info}))
     return folder
@@ -135,9 +129,6 @@ def paper_like_algos(sim, dev, step=(0.01, 1.0)):
             deviation=np.maximum(dev[name] + step[1] * SPREAD, 0.0) if dev[name] else np.zeros(5),
             fps=60 if name.endswith("@60Hz") else 120,
         )
-        if name not in ("DTW", "UTW", "DTW@60Hz", "UTW@60Hz"):
-            n = N60 if name.endswith("@60Hz") else N120
-            a["seconds"] = [np.full(n + 1, 1e-6 * (k + 1)) for k in range(N_PAIRS)]
         algos[name] = a
     return algos
 
@@ -345,41 +336,46 @@ def test_heatmap_grids_have_a_panel_per_algorithm(fake):
 # -- Table 2 -------------------------------------------------------------------------------------
 
 
-def test_time_per_frame_means_and_exhausted_frames(tmp_path, monkeypatch):
+def test_time_per_frame_from_the_bench_and_exhausted_frames(tmp_path, monkeypatch):
     from fpdtw.experiments import load_results
 
     monkeypatch.setenv("FPDTW_RESULTS_DIR", str(tmp_path))
     sizes = [(9, 4, 4, 2), (9, 3, 4, 1)]  # pair 0: 5 target frames, pair 1: 4
     early = [np.array([0, 9, 9, 9, 9]), np.array([0, 3, 6, 9])]  # reaches m = 9 at q = 1 / q = 3
-    sec_b = [np.array([1, 2, 3, 4, 5]) * 1e-6, np.array([6, 7, 8, 9]) * 1e-6]
-    sec_c = [np.array([10, 10, 10, 10, 10]) * 1e-6, np.array([20, 20, 20, 20]) * 1e-6]
     algos = {
         "UTW": dict(similarity=[0.0, 0.0], deviation=[0.0, 0.0]),
-        "Mb w10": dict(similarity=[0, 0], deviation=[0, 0], maps=early, seconds=sec_b),
-        "Mc w10": dict(similarity=[0, 0], deviation=[0, 0], maps=early, seconds=sec_c),
+        "Mb w10": dict(similarity=[0, 0], deviation=[0, 0], maps=early),
+        "Mc w10": dict(similarity=[0, 0], deviation=[0, 0], maps=early),
     }
     write_fake_results(tmp_path / "t", algos, n_pairs=2, sizes=sizes)
     res = load_results("t")
-    bench = {"online": [{"name": "Mb w10", "median_s": 7e-6}], "oe_dtw": []}
-    rows = {r["algorithm"]: r for r in timing.time_per_frame_rows(res, bench=bench)}
-    assert set(rows) == {"Mb w10", "Mc w10"}  # UTW is offline: no timings
+
+    def row(name, med, mean):
+        return dict(name=name, median_s=med * 1e-6, mean_s=mean * 1e-6, p95_s=2 * med * 1e-6,
+                    frames=100)  # fmt: skip
+
+    bench = {
+        "online": [row("Mb w10", 7.0, 8.0), row("Mc w10", 5.0, 6.0),
+                   row("Mc w10 (literal window)", 3.0, 3.5)],
+        "oe_dtw": [row("OE-DTW", 11.0, 12.0)],
+    }  # fmt: skip
+    rows = {r["algorithm"]: r for r in timing.time_per_frame_rows(bench, res)}
+    assert list(rows) == ["OE-DTW", "Mb w10", "Mc w10", "Mc w10 (literal window)"]
     b = rows["Mb w10"]
-    assert b["frames"] == 9
-    assert b["mean_us"] == pytest.approx(5.0, rel=1e-5)  # mean of 1..9
-    assert b["median_us"] == pytest.approx(5.0, rel=1e-5)
+    assert (b["median_us"], b["mean_us"], b["p95_us"], b["frames"]) == pytest.approx(
+        (7.0, 8.0, 14.0, 100)
+    )
     # exhausted (M_{q-1} = 9): pair 0 frames q = 2, 3, 4; pair 1: none -> 3 of 7 frames q >= 1
     assert b["exhausted_fraction"] == pytest.approx(3 / 7)
-    assert b["mean_us_not_exhausted"] == pytest.approx((1 + 2 + 6 + 7 + 8 + 9) / 6, rel=1e-5)
-    assert b["paper_mean_us"] == 856.0 and b["bench_median_us"] == pytest.approx(7.0)
-    c = rows["Mc w10"]
-    assert c["mean_us"] == pytest.approx((50 + 80) / 9, rel=1e-5)
-    assert c["median_us"] == pytest.approx(10.0, rel=1e-5)
-    assert c["paper_mean_us"] == 782.0 and c["bench_median_us"] is None
+    assert b["paper_mean_us"] == 856.0 and rows["Mc w10"]["paper_mean_us"] == 782.0
+    assert rows["OE-DTW"]["exhausted_fraction"] is None  # not in the results
+    assert rows["Mc w10 (literal window)"]["method"] == "C"
     ex = timing.exhausted_fraction(res, "Mb w10")
     assert ex == {"frames": 7, "exhausted": 3, "fraction": 3 / 7, "pairs_exhausted_early": 1}
     fig, ax = timing.plot_time_vs_w(list(rows.values()))
     assert ax.get_yscale() == "log"
-    assert len(ax.lines) == 2 + 2 + 1  # paper B, C; ours B, C (w10 only); the 120 Hz budget
+    # paper B, C; ours B, C (w10 only; the literal window is not drawn); the 120 Hz budget
+    assert len(ax.lines) == 2 + 2 + 1
     plt.close(fig)
 
 

@@ -7,7 +7,7 @@
 * :class:`OLTW`: Dixon's on-line time warping (DAFx 2005, the FP-DTW paper's ref. 3).
 """
 
-from .base import OnlineAligner, run_online
+from .base import OnlineAligner, run_online, run_together
 from .method_a import MethodA
 from .method_b import MethodB
 from .method_c import MethodC
@@ -15,7 +15,7 @@ from .oedtw import OEDTW
 from .oltw import OLTW
 from .opw import OPW, OPWDecision
 from .typev import TYPE_V, TypeV, is_legal_typev
-from .window import WindowSnapshot
+from .window import WindowCache, WindowSnapshot
 
 __all__ = [
     "OEDTW",
@@ -28,7 +28,9 @@ __all__ = [
     "MethodC",
     "OnlineAligner",
     "TypeV",
+    "WindowCache",
     "WindowSnapshot",
     "is_legal_typev",
     "run_online",
+    "run_together",
 ]

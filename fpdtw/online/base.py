@@ -137,3 +137,37 @@ def run_online(aligner: OnlineAligner, T: MotionFeatures, *, reset=True):
         M[q] = aligner.step(frame)
         dt[q] = clock() - t0
     return M, dt
+
+
+def run_together(aligners, T: MotionFeatures, *, reset=True) -> list:
+    """Run several online aligners over one target in lockstep, frame by frame.
+
+    Every aligner receives target frame q before any receives frame q + 1, so aligners
+    sharing a :class:`~fpdtw.online.window.WindowCache` compute each shared forecast
+    and cost once. Each map is the one :func:`run_online` would give (nothing is timed:
+    with shared work, one aligner's time per frame would include another's).
+
+    Parameters
+    ----------
+    aligners : sequence of OnlineAligner
+    T : MotionFeatures
+    reset : bool
+
+    Returns
+    -------
+    maps : list of ndarray of int64, shape (n,)
+        One per aligner, in order.
+
+    Notebook: 05_run_experiments.ipynb
+    """
+    aligners = list(aligners)
+    if reset:
+        for a in aligners:
+            a.reset()
+    n = T.n_frames
+    maps = [np.empty(n, dtype=np.int64) for _ in aligners]
+    for q in range(n):
+        frame = T.frame(q)
+        for a, M in zip(aligners, maps):
+            M[q] = a.step(frame)
+    return maps

@@ -11,12 +11,13 @@ from __future__ import annotations
 import numpy as np
 
 from ..costs import geodesic_cost_matrix_numpy
-from ..features import MotionFeatures
 from .window import (
     B_CORNER,
+    METHOD_B,
+    P_INPUT_FIRST,
+    P_METHOD,
     ForecastAligner,
     WindowSnapshot,
-    _step_b,
     reference_forecast_quats,
     reference_mask,
     reference_prologue,
@@ -76,6 +77,9 @@ class MethodB(ForecastAligner):
     record : bool
         Keep a :class:`~fpdtw.online.window.WindowSnapshot` of the last step (C, D, the
         path, P).
+    cache : WindowCache, optional
+        Shared with other B/C aligners stepping over the same target together (speed
+        only; see :class:`~fpdtw.online.window.WindowCache`).
 
     Paper: FP-DTW Algorithm 2, Fig. 4.
     Notebook: 05_run_experiments.ipynb
@@ -88,32 +92,20 @@ class MethodB(ForecastAligner):
         **ForecastAligner.options,
     }
 
-    def __init__(self, I: MotionFeatures, w: int, *, constraint=None, record=False, **options):
-        super().__init__(I, w, constraint=constraint, record=record, **options)
-        k = self._Iq.shape[1]
-        self._hold = self.settings["forecast"] == "hold"
-        self._input_first = self.settings["backtrack"] == "input-first"
-        self._F = np.empty((k, 4, self.w + 1))
-        self._C = np.empty((self.w + 1, self.w + 1))
-        self._D = np.empty((self.w + 1, self.w + 1))
-        self._P = np.empty(self.w + 1, dtype=np.int64)
-        self._path = np.empty((2 * self.w + 2, 2), dtype=np.int64)
+    def params(self) -> np.ndarray:
+        p = super().params()
+        p[P_METHOD] = METHOD_B
+        p[P_INPUT_FIRST] = self.settings["backtrack"] == "input-first"
+        return p
 
-    def _window_step(self, q: int, start: int) -> int:
-        w_i = min(self.w, self.m - start)
-        off, npath = _step_b(
-            self._Iq, self._Tq, self._Te, q, start, self.w, w_i, self._codes,
-            self._limit, self._allow(), self._F, self._C, self._D, self._P, self._path,
-            self._hold, self._input_first,
-        )  # fmt: skip
-        if self.record:
-            nr, nc = w_i + 1, self.w + 1
-            self._snap(
-                q, "window", start, w_i, start + int(off),
-                C=self._C[:nr, :nc].copy(), D=self._D[:nr, :nc].copy(),
-                path=self._path[:npath][::-1].copy(), P=self._P[:nc].copy(),
-            )  # fmt: skip
-        return off
+    def _window_record(self, nrows: int, ncols: int, npath: int) -> tuple:
+        arrays = dict(
+            C=self._C[:nrows, :ncols].copy(),
+            D=self._D[:nrows, :ncols].copy(),
+            path=self._path[:npath][::-1].copy(),
+            P=self._P[:ncols].copy(),
+        )
+        return nrows - 1, arrays
 
     @staticmethod
     def reference_step(I, T_quats, T_euler, M, w, allowed=None) -> WindowSnapshot:

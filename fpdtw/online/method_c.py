@@ -20,16 +20,19 @@ from __future__ import annotations
 import numpy as np
 
 from ..costs import geodesic_cost_matrix_numpy
-from ..features import MotionFeatures
 from .window import (
     C_LITERAL,
     C_NORMALISED,
     C_OPEN_END,
     C_SQUARE,
     C_SQUARE_TN,
+    METHOD_C,
+    P_METHOD,
+    P_READING,
+    P_SHIFT,
+    P_TIES_HIGH,
     ForecastAligner,
     WindowSnapshot,
-    _step_c,
     reference_forecast_quats,
     reference_mask,
     reference_prologue,
@@ -113,6 +116,9 @@ class MethodC(ForecastAligner):
     record : bool
         Keep a :class:`~fpdtw.online.window.WindowSnapshot` of the last step (C, D and
         the per-row ``score``).
+    cache : WindowCache, optional
+        Shared with other B/C aligners stepping over the same target together (speed
+        only; see :class:`~fpdtw.online.window.WindowCache`).
 
     Paper: FP-DTW Algorithm 3, Section 3.3.
     Notebook: 15_readings_of_algorithm_3.ipynb
@@ -135,18 +141,14 @@ class MethodC(ForecastAligner):
         **ForecastAligner.options,
     }
 
-    def __init__(self, I: MotionFeatures, w: int, *, constraint=None, record=False, **options):
-        super().__init__(I, w, constraint=constraint, record=record, **options)
-        k = self._Iq.shape[1]
+    def params(self) -> np.ndarray:
+        p = super().params()
         st = self.settings
-        self._reading = READINGS[st["window"]]
-        self._shift = 1 if st["forecast_start"] == "next" else 0
-        self._hold = st["forecast"] == "hold"
-        self._ties_high = st["ties"] == "high"
-        self._F = np.empty((k, 4, self.w + 1))
-        self._C = np.empty((self.w + 1, self.w + 1))
-        self._D = np.empty((self.w + 1, self.w + 1))
-        self._score = np.empty(self.w + 1)
+        p[P_METHOD] = METHOD_C
+        p[P_READING] = READINGS[st["window"]]
+        p[P_SHIFT] = st["forecast_start"] == "next"
+        p[P_TIES_HIGH] = st["ties"] == "high"
+        return p
 
     def window_rows(self, start: int) -> int:
         """Number of input rows of the window at ``M_n = start`` (see the readings).
@@ -160,26 +162,18 @@ class MethodC(ForecastAligner):
         -------
         rows : int
         """
-        if self._reading == C_SQUARE:
+        if self.settings["window"] == "square":
             return min(self.w, self.m - start + 1)
         return min(self.w, self.m - start) + 1
 
-    def _window_step(self, q: int, start: int) -> int:
-        nr = self.window_rows(start)
-        off = _step_c(
-            self._Iq, self._Tq, self._Te, q, start, self.w, nr, self._codes,
-            self._limit, self._allow(), self._F, self._C, self._D, self._score,
-            self._reading, self._shift, self._hold, self._ties_high,
-        )  # fmt: skip
-        if self.record:
-            nc = self.w + 1 if self._reading == C_SQUARE_TN else self.w
-            w_i = nr if self._reading == C_SQUARE else nr - 1
-            self._snap(
-                q, "window", start, w_i, start + int(off),
-                C=self._C[:nr, :nc].copy(), D=self._D[:nr, :nc].copy(),
-                score=self._score[:nr].copy(),
-            )  # fmt: skip
-        return off
+    def _window_record(self, nrows: int, ncols: int, npath: int) -> tuple:
+        w_i = nrows if self.settings["window"] == "square" else nrows - 1
+        arrays = dict(
+            C=self._C[:nrows, :ncols].copy(),
+            D=self._D[:nrows, :ncols].copy(),
+            score=self._score[:nrows].copy(),
+        )
+        return w_i, arrays
 
     @staticmethod
     def reference_step(

@@ -44,25 +44,16 @@ B_CORNER = 10000.0
 
 
 @numba.njit(cache=True)
-def _forecast_window(Tq, Te, q, w, with_prev, codes, F, shift=0, hold=False):
-    """Fill ``F[j, :, col]`` (k, 4, ncols) with the target window of the step at q.
+def _forecast_columns(Tq, Te, q, first, last, codes, F, c0=0, shift=0, hold=False):
+    """Fill ``F[j, :, c0 + i]`` for i = first..last-1 with the frame ``i + shift`` frames
+    ahead of T_{n+1} (= T[q]).
 
-    with_prev (Method B; Method C's "square-tn" reading): col 0 = T_n (= T[q-1]), then
-    the ``w`` columns below. Otherwise col i, i = 0..w-1, holds the frame ``i + shift``
-    frames ahead of T_{n+1} (= T[q]): ``shift = 0`` starts with T_{n+1} itself (the
-    paper's column ``T_{n+1}``), ``shift = 1`` with the first forecast. A frame ``i``
-    ahead (i >= 1) is T_{n+1} + i * (T_{n+1} - T_n) in Euler angles (dead reckoning),
-    as quaternions, or T_{n+1} itself when ``hold`` (zero-order hold); T_{n+1} and T_n
-    keep their received quaternions. Returns the number of columns.
+    A frame 0 ahead is T_{n+1} itself (its received quaternion); a frame ``i >= 1`` ahead
+    is T_{n+1} + i * (T_{n+1} - T_n) in Euler angles (dead reckoning), as quaternions, or
+    T_{n+1} itself when ``hold`` (zero-order hold).
     """
     k = Tq.shape[1]
-    c0 = 0
-    if with_prev:
-        for j in range(k):
-            for a in range(4):
-                F[j, a, 0] = Tq[q - 1, j, a]
-        c0 = 1
-    for i in range(w):
+    for i in range(first, last):
         col = c0 + i
         ahead = i + shift
         if ahead == 0 or hold:
@@ -80,36 +71,119 @@ def _forecast_window(Tq, Te, q, w, with_prev, codes, F, shift=0, hold=False):
             F[j, 1, col] = qx
             F[j, 2, col] = qy
             F[j, 3, col] = qz
+
+
+@numba.njit(cache=True)
+def _forecast_window(Tq, Te, q, w, with_prev, codes, F, shift=0, hold=False):
+    """Fill ``F[j, :, col]`` (k, 4, ncols) with the target window of the step at q.
+
+    with_prev (Method B; Method C's "square-tn" reading): col 0 = T_n (= T[q-1]), then
+    the ``w`` columns of :func:`_forecast_columns` (``shift = 0`` starts with T_{n+1}
+    itself, the paper's column ``T_{n+1}``; ``shift = 1`` with the first forecast).
+    Returns the number of columns.
+    """
+    c0 = 0
+    if with_prev:
+        for j in range(Tq.shape[1]):
+            for a in range(4):
+                F[j, a, 0] = Tq[q - 1, j, a]
+        c0 = 1
+    _forecast_columns(Tq, Te, q, 0, w, codes, F, c0, shift, hold)
     return c0 + w
 
 
 @numba.njit(cache=True)
-def _cost_window(Iq, start, nrows, F, ncols, C):
-    """C[r, col] = geoDistance(I[start + r], F[:, :, col]) (eq. 1), r < nrows, col < ncols.
+def _cost_row(Iq, r, F, first, last, row, acc):
+    """row[col] = geoDistance(I[r], F[:, :, col]) (eq. 1) for col = first..last-1.
 
     The joint sum runs in joint order and the dot product in (w, x, y, z) order, as in
-    :func:`fpdtw.costs.geodesic_cost_matrix`.
+    :func:`fpdtw.costs.geodesic_cost_matrix`: each cell's value does not depend on
+    which other cells are computed with it. ``acc`` (length >= last - first) is scratch:
+    summing there rather than in ``row`` lets LLVM vectorise the loop (``row`` might
+    alias ``F``; a scratch buffer of the caller's does not).
     """
     k = Iq.shape[1]
+    n = last - first
+    for c in range(n):
+        acc[c] = 0.0
+    for j in range(k):
+        a0 = Iq[r, j, 0]
+        a1 = Iq[r, j, 1]
+        a2 = Iq[r, j, 2]
+        a3 = Iq[r, j, 3]
+        f0 = F[j, 0, first:last]
+        f1 = F[j, 1, first:last]
+        f2 = F[j, 2, first:last]
+        f3 = F[j, 3, first:last]
+        for c in range(n):
+            d = abs(a0 * f0[c] + a1 * f1[c] + a2 * f2[c] + a3 * f3[c])
+            d = min(d, 1.0)
+            acc[c] += _acos01(d)
+    for c in range(n):
+        row[first + c] = acc[c] * _TWO_OVER_PI
+
+
+@numba.njit(cache=True)
+def _cost_window(Iq, start, nrows, F, ncols, C):
+    """C[r, col] = geoDistance(I[start + r], F[:, :, col]) (eq. 1), r < nrows, col < ncols."""
+    acc = np.empty(ncols)
     for r in range(nrows):
-        row = C[r]
-        for col in range(ncols):
-            row[col] = 0.0
+        _cost_row(Iq, start + r, F, 0, ncols, C[r], acc)
+
+
+@numba.njit(cache=True)
+def _fill_shared(Iq, Tq, Te, q, codes, start, nrows, w, c0, C, cF, cG, cN, cMeta, cKey):
+    """Fill ``C[:nrows, c0:c0 + w]`` from a :class:`WindowCache` (computing what it lacks).
+
+    The cache holds the dead-reckoned forecast ``[T_{n+1}, T_{n+1} + delta, ...]`` of step
+    ``cMeta[0]`` (``cMeta[1]`` columns of it in ``cF``) and, per input frame r, the costs
+    ``cG[r, :cN[r]]`` against it. A new step, or other frames than the cached ones at the
+    same step (checked against ``cKey``), empties it first.
+    """
+    k = Tq.shape[1]
+    same = cMeta[0] == q
+    if same:
         for j in range(k):
-            a0 = Iq[start + r, j, 0]
-            a1 = Iq[start + r, j, 1]
-            a2 = Iq[start + r, j, 2]
-            a3 = Iq[start + r, j, 3]
-            f0 = F[j, 0]
-            f1 = F[j, 1]
-            f2 = F[j, 2]
-            f3 = F[j, 3]
-            for col in range(ncols):
-                d = abs(a0 * f0[col] + a1 * f1[col] + a2 * f2[col] + a3 * f3[col])
-                d = min(d, 1.0)
-                row[col] += _acos01(d)
-        for col in range(ncols):
-            row[col] *= _TWO_OVER_PI
+            for a in range(3):
+                if cKey[0, j, a] != Te[q - 1, j, a] or cKey[1, j, a] != Te[q, j, a]:
+                    same = False
+            for a in range(4):
+                if cKey[2, j, a] != Tq[q, j, a]:
+                    same = False
+    if not same:
+        cMeta[0] = q
+        cMeta[1] = 0
+        cN[:] = 0
+        for j in range(k):
+            for a in range(3):
+                cKey[0, j, a] = Te[q - 1, j, a]
+                cKey[1, j, a] = Te[q, j, a]
+            for a in range(4):
+                cKey[2, j, a] = Tq[q, j, a]
+    if cMeta[1] < w:
+        _forecast_columns(Tq, Te, q, cMeta[1], w, codes, cF)
+        cMeta[1] = w
+    acc = np.empty(w)
+    for r in range(nrows):
+        row = start + r
+        if cN[row] < w:
+            _cost_row(Iq, row, cF, cN[row], w, cG[row], acc)
+            cN[row] = w
+        for col in range(w):
+            C[r, c0 + col] = cG[row, col]
+
+
+@numba.njit(cache=True)
+def _fill_prev_column(Iq, Tq, q, start, nrows, F1, C):
+    """C[r, 0] = geoDistance(I[start + r], T_n) (Method B's first column), r < nrows."""
+    for j in range(Tq.shape[1]):
+        for a in range(4):
+            F1[j, a, 0] = Tq[q - 1, j, a]
+    tmp = np.empty(1)
+    acc = np.empty(1)
+    for r in range(nrows):
+        _cost_row(Iq, start + r, F1, 0, 1, tmp, acc)
+        C[r, 0] = tmp[0]
 
 
 @numba.njit(cache=True, inline="always")
@@ -227,11 +301,11 @@ def _backtrack(D, nrows, ncols, P, path, input_first=False):
 
 
 @numba.njit(cache=True)
-def _step_b(Iq, Tq, Te, q, start, w, w_i, codes, limit, allow, F, C, D, P, path, hold, input_first):
-    """One Method B step (Algorithm 2, window branch); returns (P_1, path length)."""
-    nrows = w_i + 1
-    ncols = _forecast_window(Tq, Te, q, w, True, codes, F, 0, hold)
-    _cost_window(Iq, start, nrows, F, ncols, C)
+def _choose_b(C, nrows, ncols, limit, allow, D, P, path, input_first):
+    """Method B on a filled window: Type V mask, accumulate, D[0, 0] = 10000, back-track.
+
+    Returns (P_1, path length).
+    """
     for r in range(nrows):
         if not _is_allowed(r, limit, allow):
             C[r, 1] = np.inf
@@ -241,26 +315,19 @@ def _step_b(Iq, Tq, Te, q, start, w, w_i, codes, limit, allow, F, C, D, P, path,
     return P[1], n
 
 
-#: Method C's window readings (codes of :func:`_step_c`; see :class:`MethodC`).
+#: Method C's window readings (``P_READING`` codes of :func:`_forecast_step`; see MethodC).
 C_SQUARE, C_LITERAL, C_SQUARE_TN, C_OPEN_END, C_NORMALISED = 0, 1, 2, 3, 4
 
 
 @numba.njit(cache=True)
-def _step_c(
-    Iq, Tq, Te, q, start, w, nrows, codes, limit, allow, F, C, D, score,
-    reading, shift, hold, ties_high,
-):  # fmt: skip
-    """One Method C step (Algorithm 3, window branch); returns the chosen offset.
+def _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high):
+    """Method C on a filled window: Type V mask, reverse accumulation, argmin of column 0.
 
-    ``nrows`` input rows ``I_{start}..``, the target window of the ``reading`` (w
-    columns ``[T_{n+1}, forecasts]``, or w + 1 ``[T_n, T_{n+1}, forecasts]`` for
-    :data:`C_SQUARE_TN`), reverse accumulation (pinned to the far corner, open in the
-    last column, or symmetric2), and the argmin of ``score`` over column 0's allowed
-    rows: ``score[r] = D[r, 0]``, or ``D[r, 0] / ((nrows - r) + ncols)`` for
-    :data:`C_NORMALISED`. Ties: the lowest row, or the highest with ``ties_high``.
+    The accumulation is pinned to the far corner, open in the last column
+    (:data:`C_OPEN_END`) or symmetric2 (:data:`C_NORMALISED`); ``score[r] = D[r, 0]``, or
+    ``D[r, 0] / ((nrows - r) + ncols)`` for :data:`C_NORMALISED`. Ties: the lowest row,
+    or the highest with ``ties_high``. Returns the chosen offset.
     """
-    ncols = _forecast_window(Tq, Te, q, w, reading == C_SQUARE_TN, codes, F, shift, hold)
-    _cost_window(Iq, start, nrows, F, ncols, C)
     for r in range(nrows):
         if not _is_allowed(r, limit, allow):
             C[r, 0] = np.inf
@@ -280,6 +347,197 @@ def _step_c(
             if best < 0 or s < score[best] or (ties_high and s == score[best]):
                 best = r
     return max(best, 0)
+
+
+# --- one whole step of Method B or C -----------------------------------------------------
+
+#: Entries of an aligner's parameter vector (int64) for :func:`_forecast_step`.
+P_METHOD, P_W, P_READING, P_SHIFT, P_HOLD, P_TIES_HIGH, P_INPUT_FIRST, P_START_BEST = range(8)
+P_TYPEV, P_SHARED = 8, 9
+N_PARAMS = 10
+#: Method codes of ``P_METHOD``.
+METHOD_B, METHOD_C = 1, 2
+#: Kinds of step (``out[0]`` of :func:`_forecast_step`).
+STEP_FIRST, STEP_WARMUP, STEP_END, STEP_WINDOW = 0, 1, 2, 3
+#: Frames needed before forecasting (dead reckoning on two frames).
+SMOOTHING = 2
+
+
+@numba.njit(cache=True)
+def _first_frame(Iq, Tq, w, m, start_best):
+    """``M_0``: 0, or the best match (eq. 1) of T_0 among I_0..I_w."""
+    if not start_best:
+        return 0
+    best = 0
+    best_cost = np.inf
+    for r in range(min(w, m) + 1):
+        c = _geo_frame(Iq[r], Tq[0])
+        if c < best_cost:
+            best_cost = c
+            best = r
+    return best
+
+
+@numba.njit(cache=True)
+def _forecast_step(
+    Iq, Tq, Te, q, M, state, prm, table, codes, F, C, D, Pcol, path, score,
+    cF, cG, cN, cMeta, cKey, out,
+):  # fmt: skip
+    """``M_q`` of one Method B or C aligner at target frame q (frames 0..q received).
+
+    ``M[:q]`` is the map so far; ``state[0]`` the Type V state (advanced in place);
+    ``prm`` the aligner's parameter vector (``P_*``); ``table`` the Type V state table;
+    ``F, C, D, Pcol, path, score`` scratch; ``cF..cKey`` a :class:`WindowCache`'s
+    arrays (used when ``prm[P_SHARED]``). ``out`` gets the kind of step, the window's
+    rows and columns and (B) the path length, for the debug record.
+    """
+    m = Iq.shape[0] - 1
+    w = prm[P_W]
+    out[1] = 0
+    out[2] = 0
+    out[3] = 0
+    if q == 0:
+        out[0] = STEP_FIRST
+        return _first_frame(Iq, Tq, w, m, prm[P_START_BEST] != 0)
+    start = M[q - 1]
+    typev = prm[P_TYPEV] != 0
+    if q - 1 < SMOOTHING:
+        out[0] = STEP_WARMUP
+        m_next = min(start + 1, m)
+    elif start >= m:
+        out[0] = STEP_END
+        m_next = m
+    else:
+        out[0] = STEP_WINDOW
+        limit = MAX_ADVANCE if typev else np.iinfo(np.int64).max
+        allow = np.ones(4, dtype=np.int64)
+        if typev:
+            for a in range(4):
+                allow[a] = 1 if table[state[0], a] >= 0 else 0
+        shared = prm[P_SHARED] != 0
+        if prm[P_METHOD] == METHOD_B:
+            w_i = min(w, m - start)
+            nrows = w_i + 1
+            ncols = w + 1
+            if shared:
+                _fill_prev_column(Iq, Tq, q, start, nrows, F, C)
+                _fill_shared(Iq, Tq, Te, q, codes, start, nrows, w, 1, C, cF, cG, cN, cMeta, cKey)
+            else:
+                _forecast_window(Tq, Te, q, w, True, codes, F, 0, prm[P_HOLD] != 0)
+                _cost_window(Iq, start, nrows, F, ncols, C)
+            off, npath = _choose_b(
+                C, nrows, ncols, limit, allow, D, Pcol, path, prm[P_INPUT_FIRST] != 0
+            )
+            out[3] = npath
+        else:
+            reading = prm[P_READING]
+            if reading == C_SQUARE:
+                nrows = min(w, m - start + 1)
+            else:
+                nrows = min(w, m - start) + 1
+            with_prev = reading == C_SQUARE_TN
+            ncols = w + 1 if with_prev else w
+            if shared:
+                c0 = 0
+                if with_prev:
+                    _fill_prev_column(Iq, Tq, q, start, nrows, F, C)
+                    c0 = 1
+                _fill_shared(Iq, Tq, Te, q, codes, start, nrows, w, c0, C, cF, cG, cN, cMeta, cKey)
+            else:
+                _forecast_window(Tq, Te, q, w, with_prev, codes, F, prm[P_SHIFT], prm[P_HOLD] != 0)
+                _cost_window(Iq, start, nrows, F, ncols, C)
+            off = _choose_c(C, nrows, ncols, limit, allow, D, score, reading, prm[P_TIES_HIGH] != 0)
+        out[1] = nrows
+        out[2] = ncols
+        m_next = start + off
+    if typev:
+        adv = m_next - start
+        if 0 <= adv <= MAX_ADVANCE and table[state[0], adv] >= 0:
+            state[0] = table[state[0], adv]  # an illegal move is only ever a forced hold at m
+    return m_next
+
+
+@numba.njit(cache=True)
+def _run_group(
+    Iq, Tq, Te, codes, params, table, M, F, C, D, Pcol, path, score, cF, cG, cN, cMeta, cKey,
+):  # fmt: skip
+    """Every aligner of ``params`` (one row each) over the whole target, in lockstep.
+
+    ``M`` (aligners, frames) receives the maps; each aligner's step only reads the
+    frames up to its own (as when streaming). Scratch buffers are shared: the steps
+    run one after the other.
+    """
+    n = Tq.shape[0]
+    A = params.shape[0]
+    state = np.zeros((A, 1), dtype=np.int64)
+    out = np.zeros(4, dtype=np.int64)
+    for q in range(n):
+        for a in range(A):
+            M[a, q] = _forecast_step(
+                Iq, Tq, Te, q, M[a], state[a], params[a], table, codes, F, C, D, Pcol, path,
+                score, cF, cG, cN, cMeta, cKey, out,
+            )  # fmt: skip
+
+
+# --- costs shared by aligners that step together ---------------------------------------
+
+
+class WindowCache:
+    """Forecast and window costs shared by B/C aligners that step over the same target together.
+
+    At a target frame ``T_{n+1}``, the dead-reckoned forecast ``[T_{n+1}, T_{n+1} + delta,
+    ...]`` is the same for Methods B and C at every window size and reading, and so is
+    the cost (eq. 1) of any input frame against any of its columns. Aligners given the
+    same cache (``cache=`` of :class:`MethodB` and :class:`MethodC`) and fed the same
+    frames in lockstep (:func:`fpdtw.online.base.run_together`) compute each forecast
+    column and each cost cell once per target frame, however many of them need it;
+    each aligner still masks, accumulates and chooses on its own copy of its window.
+    The cached values are computed by the same code as an aligner's own, so maps are
+    identical with and without a cache (tested). The cache checks the frames it is
+    given: fed other frames at the same step, it starts afresh, so sharing is only ever
+    a matter of speed.
+
+    Aligners with a non-default forecast (``forecast="hold"``, ``forecast_start="next"``)
+    do not use it.
+
+    Parameters
+    ----------
+    I : MotionFeatures
+        The input motion of every aligner sharing the cache.
+    w_max : int
+        The largest window among them.
+
+    Attributes
+    ----------
+    F : ndarray of float64, shape (k, 4, w_max)
+        Forecast columns of the cached step.
+    G : ndarray of float64, shape (m + 1, w_max)
+        ``G[r, :N[r]]``: costs of input frame r against them.
+    N : ndarray of int64, shape (m + 1,)
+    meta : ndarray of int64, shape (2,)
+        Cached step q and number of forecast columns filled.
+    key : ndarray of float64, shape (3, k, 4)
+        The frames the cached step was computed from (Euler angles of T_n, T_{n+1}; the
+        quaternion of T_{n+1}).
+
+    Notebook: 05_run_experiments.ipynb
+    """
+
+    def __init__(self, I: MotionFeatures, w_max: int):
+        if isinstance(w_max, bool) or not isinstance(w_max, int | np.integer) or w_max < 1:
+            raise AlignmentError(f"WindowCache: w_max must be an int >= 1, got {w_max!r}")
+        self.I = I
+        self.w_max = int(w_max)
+        k = np.shape(I.quats)[1]
+        self.F = np.empty((k, 4, self.w_max))
+        self.G = np.empty((I.n_frames, self.w_max))
+        self.N = np.zeros(I.n_frames, dtype=np.int64)
+        self.meta = np.array([-1, 0], dtype=np.int64)
+        self.key = np.zeros((3, k, 4))
+
+    def arrays(self) -> tuple:
+        """``(F, G, N, meta, key)`` for the kernels."""
+        return self.F, self.G, self.N, self.meta, self.key
 
 
 # --- the debug record -----------------------------------------------------------------
@@ -515,12 +773,14 @@ class WindowAligner(OnlineAligner):
             if nxt >= 0:  # an illegal move is only ever a forced hold at m
                 self.state = nxt
 
-    def _snap(self, q, kind, start, w_i, m_next, **arrays):
+    def _snap(self, q, kind, start, w_i, m_next, state=None, **arrays):
+        """Keep the debug record of a step; ``state``: the Type V state before it
+        (default: the current one)."""
         allowed = None
-        state = None
         if self.constraint is not None:
-            allowed = self._allow_by_state[self.state].astype(bool)
-            state = self.constraint.states[self.state]
+            state = self.state if state is None else state
+            allowed = self._allow_by_state[state].astype(bool)
+            state = self.constraint.states[state]
         offset = m_next - max(start, 0)
         self.last_window = WindowSnapshot(
             q, kind, start, w_i, offset, m_next, allowed=allowed, state=state, **arrays
@@ -534,33 +794,161 @@ class ForecastAligner(WindowAligner):
       (the paper), clipped to ``m``; written ``min(M_n + 1, m)``, which is the same
       from ``M_0 = 0`` and keeps advancing from another ``M_0`` (``start="best"``).
     * ``M_n >= m`` (input exhausted): ``M_{n+1} = m``.
-    * Otherwise :meth:`_window_step` (the method's window).
+    * Otherwise the method's window.
+    * ``cache``: a :class:`WindowCache` shared with other aligners stepping over the same
+      target together (speed only: the maps are the same).
+
+    The whole step runs in one compiled function, :func:`_forecast_step`, which
+    :func:`run_group` also loops over for several aligners at once: streaming and batch
+    runs share one implementation. Subclasses give their :meth:`params` and
+    :meth:`_window_record`.
     """
 
     #: Smoothing window: frames needed before forecasting (dead reckoning: 2).
-    s = 2
+    s = SMOOTHING
+
+    def __init__(
+        self, I: MotionFeatures, w: int, *, constraint=None, record=False, cache=None, **options
+    ):
+        super().__init__(I, w, constraint=constraint, record=record, **options)
+        if cache is not None:
+            if not isinstance(cache, WindowCache):
+                raise AlignmentError(f"cache must be a WindowCache, got {type(cache).__name__}")
+            if cache.I is not I or cache.w_max < self.w:
+                raise AlignmentError(
+                    f"{self.name}: the cache is for another input or smaller windows "
+                    f"(w_max {cache.w_max} < w {self.w})"
+                )
+            if self.settings.get("forecast", "dead-reckoning") != "dead-reckoning" or (
+                self.settings.get("forecast_start", "T_{n+1}") != "T_{n+1}"
+            ):
+                cache = None  # its forecast is not the shared one
+        self.cache = cache
+
+        k = self._Iq.shape[1]
+        W = self.w + 1
+        self._F = np.empty((k, 4, W))
+        self._C = np.empty((W, W))
+        self._D = np.empty((W, W))
+        self._P = np.empty(W, dtype=np.int64)
+        self._path = np.empty((2 * W, 2), dtype=np.int64)
+        self._score = np.empty(W)
+        self._out = np.zeros(4, dtype=np.int64)
+        self._table = (
+            np.zeros((3, 4), dtype=np.int64)
+            if self.constraint is None
+            else np.ascontiguousarray(self.constraint.table, dtype=np.int64)
+        )
+        self._params = self.params()
+        self._cache_arrays = _no_cache(k) if self.cache is None else self.cache.arrays()
+
+    def params(self) -> np.ndarray:
+        """This aligner's parameter vector for :func:`_forecast_step` (int64, ``N_PARAMS``)."""
+        p = np.zeros(N_PARAMS, dtype=np.int64)
+        p[P_W] = self.w
+        p[P_START_BEST] = self.settings["start"] == "best"
+        p[P_TYPEV] = self.constraint is not None
+        p[P_SHARED] = self.cache is not None
+        p[P_HOLD] = self.settings.get("forecast", "dead-reckoning") == "hold"
+        return p
+
+    def reset(self) -> None:
+        super().reset()
+        self._tv = np.array([0 if self.constraint is None else self.constraint.start])
 
     def _step(self, q: int) -> int:
-        if q == 0:
-            return self._first()
-        start = int(self._M[q - 1])
-        n = q - 1
-        if n < self.s:
-            m_next = min(start + 1, self.m)
-            if self.record:
-                self._snap(q, "warmup", start, 0, m_next)
-        elif start >= self.m:
-            m_next = self.m
-            if self.record:
-                self._snap(q, "end", start, 0, m_next)
-        else:
-            m_next = start + int(self._window_step(q, start))
-        self._advance_state(m_next - start)
+        state = self.state
+        m_next = int(
+            _forecast_step(
+                self._Iq, self._Tq, self._Te, q, self._M, self._tv, self._params, self._table,
+                self._codes, self._F, self._C, self._D, self._P, self._path, self._score,
+                *self._cache_arrays, self._out,
+            )
+        )  # fmt: skip
+        if self.constraint is not None:
+            self.state = int(self._tv[0])
+        if self.record:
+            kind = ("first", "warmup", "end", "window")[int(self._out[0])]
+            start = -1 if q == 0 else int(self._M[q - 1])
+            arrays = {}
+            w_i = 0
+            if kind == "window":
+                nr, nc = int(self._out[1]), int(self._out[2])
+                w_i, arrays = self._window_record(nr, nc, int(self._out[3]))
+            self._snap(q, kind, start, w_i, m_next, state=state, **arrays)
         return m_next
 
     @abstractmethod
-    def _window_step(self, q: int, start: int) -> int:
-        """Offset ``M_{n+1} - M_n`` chosen by the method's window (``M_n = start < m``)."""
+    def _window_record(self, nrows: int, ncols: int, npath: int) -> tuple:
+        """``(w_i, arrays)`` of the debug record of a window step (``record=True``)."""
+
+
+def _no_cache(k: int) -> tuple:
+    """Placeholder :class:`WindowCache` arrays for an aligner without a cache."""
+    return (
+        np.zeros((k, 4, 1)),
+        np.zeros((1, 1)),
+        np.zeros(1, dtype=np.int64),
+        np.array([-1, 0], dtype=np.int64),
+        np.zeros((3, k, 4)),
+    )
+
+
+def run_group(aligners, T: MotionFeatures) -> list:
+    """Run Method B and C aligners over one target together, in one compiled loop.
+
+    The same steps as streaming each of them (:func:`fpdtw.online.base.run_online`; the
+    maps are equal, tested), without a Python call per frame; aligners given one
+    :class:`WindowCache` share its forecast and costs. Only the maps are returned (with
+    shared work, nothing is timed per aligner).
+
+    Parameters
+    ----------
+    aligners : sequence of ForecastAligner
+        All with the same input motion; those with a cache all with the same one.
+    T : MotionFeatures
+        Target motion with the input's joints.
+
+    Returns
+    -------
+    maps : list of ndarray of int64, shape (n,)
+
+    Notebook: 05_run_experiments.ipynb
+    """
+    aligners = list(aligners)
+    if not aligners:
+        return []
+    a0 = aligners[0]
+    tables, caches = set(), {}
+    for a in aligners:
+        if not isinstance(a, ForecastAligner) or a.I is not a0.I:
+            raise AlignmentError("run_group needs Method B/C aligners with one input and one cache")
+        if a.cache is not None:
+            caches[id(a.cache)] = a
+        if a.constraint is not None:
+            tables.add(a.constraint.table.tobytes())
+    if len(caches) > 1:
+        raise AlignmentError("run_group needs Method B/C aligners with one input and one cache")
+    if len(tables) > 1:
+        raise AlignmentError("run_group needs one Type V table")
+    holder = next(iter(caches.values()), a0)  # its arrays serve every aligner with P_SHARED
+    k = a0._Iq.shape[1]
+    if np.shape(T.quats)[1:] != (k, 4) or np.shape(T.euler)[1:] != (k, 3):
+        raise AlignmentError(
+            f"target {T.name!r}: expected {k} joints like the input {a0.I.name!r}, got "
+            f"quats {np.shape(T.quats)} and euler {np.shape(T.euler)}"
+        )
+    W = max(a.w for a in aligners) + 1
+    params = np.stack([a.params() for a in aligners])
+    table = next((a._table for a in aligners if a.constraint is not None), a0._table)
+    M = np.zeros((len(aligners), T.n_frames), dtype=np.int64)
+    _run_group(
+        a0._Iq, np.ascontiguousarray(T.quats, dtype=np.float64),
+        np.ascontiguousarray(T.euler, dtype=np.float64), a0._codes, params, table, M,
+        np.empty((k, 4, W)), np.empty((W, W)), np.empty((W, W)), np.empty(W, dtype=np.int64),
+        np.empty((2 * W, 2), dtype=np.int64), np.empty(W), *holder._cache_arrays,
+    )  # fmt: skip
+    return list(M)
 
 
 # --- reference runs -------------------------------------------------------------------

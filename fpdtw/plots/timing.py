@@ -1,9 +1,11 @@
 """Time per target frame of the online aligners: Table 2, and why Mc w80 looks cheap.
 
-The runner times every online aligner frame by frame (``timings/<slug>.npz``, seconds per
-target frame). These are MEASUREMENTS: they change from run to run and with the machine's
-load (the runner runs two pairs at once on two cores), so nothing here is deterministic
-except :func:`exhausted_fraction`, which reads the maps.
+``make bench`` (:mod:`fpdtw.bench`) times every online aligner frame by frame on real pairs,
+alone on one core, after a warm-up (``results/bench.json``). These are MEASUREMENTS: they
+change from run to run and between machines, so nothing here is deterministic except
+:func:`exhausted_fraction`, which reads the experiment grid's maps. (The grid itself does not
+time frames: its Methods B and C share their window costs, see
+:class:`fpdtw.online.window.WindowCache`.)
 
 The paper (Section 5) explains Mc w80's lower-than-expected time by the aligner running out
 of input frames early: once ``M_n = m`` there is nothing left to search. :func:`exhausted_fraction`
@@ -17,14 +19,24 @@ import json
 
 import numpy as np
 
-from ..algorithms import FPDTW_NAMES, TYPE_V_SUFFIX, WINDOWS, parse_name
+from ..algorithms import FPDTW_NAMES, MC_LITERAL_NAMES, TYPE_V_SUFFIX, WINDOWS, parse_name
 from ..bench import PAPER_TABLE2_US
 from ..plotting import new_axes
 
-#: Online algorithms of Table 2 (and Method A, OE-DTW, Type V variants), in table order.
+#: Online algorithms of Table 2 (and Method A, OE-DTW, Type V variants, OPW, OLTW, and
+#: Method C's literal window of notebook 15), in table order.
 TIMED_NAMES = (
-    ("OE-DTW",) + FPDTW_NAMES + tuple(n + TYPE_V_SUFFIX for n in FPDTW_NAMES) + ("OPW", "OLTW")
+    ("OE-DTW",)
+    + FPDTW_NAMES
+    + tuple(n + TYPE_V_SUFFIX for n in FPDTW_NAMES)
+    + ("OPW", "OLTW")
+    + MC_LITERAL_NAMES
 )
+
+
+def _default_rows(rows):
+    """Rows of the paper's configurations (no options in brackets): one per method, w, Type V."""
+    return [r for r in rows if "(" not in r.get("algorithm", "")]
 
 
 def _key(name: str):
@@ -86,92 +98,54 @@ def exhausted_fraction(results, name: str) -> dict:
     )
 
 
-def _exhausted_mask(results, name, arr_t):
-    """Per timed frame: True when processed with the input exhausted (``M_{q-1} = m``)."""
-    arr = results.get(name)
-    m_of = last_input_frame(results, name)
-    row_of = {int(p): k for k, p in enumerate(np.asarray(arr["pair_id"]))}
-    offsets = np.asarray(arr["offsets"], dtype=np.int64)
-    maps = np.asarray(arr["maps"])
-    t_off = np.asarray(arr_t["offsets"], dtype=np.int64)
-    out = np.zeros(int(t_off[-1]), dtype=bool)
-    for j, pid in enumerate(np.asarray(arr_t["pair_id"])):
-        k = row_of[int(pid)]
-        M = maps[offsets[k] : offsets[k + 1]]
-        n_t = int(t_off[j + 1] - t_off[j])
-        if n_t != M.size:
-            raise ValueError(
-                f"{name}: pair {int(pid)} has {n_t} timed frames but a map of {M.size} frames"
-            )
-        ex = np.zeros(M.size, dtype=bool)
-        ex[1:] = M[:-1] >= m_of[int(pid)]
-        out[t_off[j] : t_off[j + 1]] = ex
-    return out
-
-
-def time_per_frame_rows(results, names=None, bench=None) -> list[dict]:
-    """Table 2: mean and median time per target frame of each online aligner.
+def time_per_frame_rows(bench: dict, results=None, names=None) -> list[dict]:
+    """Table 2: mean and median time per target frame of each online aligner (``make bench``).
 
     Parameters
     ----------
-    results : fpdtw.experiments.Results
+    bench : dict
+        The report of ``make bench`` (:func:`load_bench`).
+    results : fpdtw.experiments.Results, optional
+        The experiment grid, for the share of frames processed with the input exhausted.
     names : sequence of str, optional
-        Default: every algorithm of :data:`TIMED_NAMES` in ``results.algorithms`` that has
-        timings.
-    bench : dict, optional
-        The report of ``make bench`` (:func:`load_bench`); adds its single-core median.
+        Default: every algorithm of :data:`TIMED_NAMES` the bench timed.
 
     Returns
     -------
     rows : list of dict
-        Keys ``algorithm``, ``method`` ("A", "B", "C", "OE"), ``w``, ``type_v``, ``frames``,
-        ``mean_us``, ``median_us``, ``max_us`` (all frames of all pairs, microseconds;
-        a first call that compiles a numba kernel inside the timed loop shows in
-        ``max_us`` and drags the mean, not the median),
-        ``mean_us_not_exhausted`` (frames processed before the input ran out),
-        ``exhausted_fraction`` (:func:`exhausted_fraction`, deterministic),
-        ``paper_mean_us`` (Table 2, B and C unconstrained only), ``bench_median_us``
-        (``make bench``, single core; not for OE-DTW, which the bench times against a
-        1000-frame input).
-        Timing columns are measurements: not reproducible to the microsecond.
+        Keys ``algorithm``, ``method`` ("A", "B", "C", "OE", "OPW", "OLTW"), ``w``,
+        ``type_v``, ``frames`` (timed), ``mean_us``, ``median_us``, ``p95_us`` (one core,
+        microseconds), ``exhausted_fraction`` (:func:`exhausted_fraction` over the grid's
+        pairs, deterministic; None without ``results``), ``paper_mean_us`` (Table 2, B and
+        C unconstrained only).
 
     Paper: FP-DTW Table 2.
     Notebook: 09_table2_timing.ipynb
     """
+    by = {r["name"]: r for r in list(bench.get("online", [])) + list(bench.get("oe_dtw", []))}
     if names is None:
-        have = set(results.algorithms)
-        names = [n for n in TIMED_NAMES if n in have]
-    bench_by = {}
-    if bench is not None:
-        for r in list(bench.get("online", [])) + list(bench.get("oe_dtw", [])):
-            bench_by[r["name"]] = r
+        names = [n for n in TIMED_NAMES if n in by]
     rows = []
     for name in names:
-        t = results.timings(name)
-        if t is None:
-            continue
-        sec = np.asarray(t["seconds"], dtype=np.float64)
-        if sec.size == 0:
+        b = by.get(name)
+        if b is None:
             continue
         method, w, typev = _key(name)
-        ex = _exhausted_mask(results, name, t)
-        # make bench times OE-DTW against a 1000-frame input (its cost grows with m): not
-        # comparable with the runner's pairs, so left out
-        b = None if name == "OE-DTW" else bench_by.get(name)
+        ex = None
+        if results is not None and name in results.algorithms:
+            ex = exhausted_fraction(results, name)["fraction"]
         rows.append(
             dict(
                 algorithm=name,
                 method=method,
                 w=w,
                 type_v=typev,
-                frames=int(sec.size),
-                mean_us=float(sec.mean() * 1e6),
-                median_us=float(np.median(sec) * 1e6),
-                max_us=float(sec.max() * 1e6),
-                mean_us_not_exhausted=float(sec[~ex].mean() * 1e6) if (~ex).any() else None,
-                exhausted_fraction=exhausted_fraction(results, name)["fraction"],
+                frames=int(b["frames"]),
+                mean_us=float(b["mean_s"] * 1e6),
+                median_us=float(b["median_s"] * 1e6),
+                p95_us=float(b["p95_s"] * 1e6),
+                exhausted_fraction=ex,
                 paper_mean_us=None if typev else PAPER_TABLE2_US.get((method, w)),
-                bench_median_us=None if b is None else float(b["median_s"] * 1e6),
             )
         )
     return rows
@@ -195,7 +169,7 @@ def growth_ratio(rows, method: str, lo=10, hi=80, key="mean_us", type_v=False):
     Paper: FP-DTW Table 2 (B: 16945 / 856 = 19.8; C: 10106 / 782 = 12.9).
     Notebook: 09_table2_timing.ipynb
     """
-    by = {(r["method"], r["w"], r["type_v"]): r[key] for r in rows}
+    by = {(r["method"], r["w"], r["type_v"]): r[key] for r in _default_rows(rows)}
     a, b = by.get((method, lo, type_v)), by.get((method, hi, type_v))
     if a is None or b is None or a <= 0:
         return None
@@ -209,7 +183,9 @@ def paper_growth_ratio(method: str, lo=10, hi=80) -> float:
 
 def slowest_window(rows, method: str, key="mean_us", type_v=False):
     """The window with the highest per-frame time of a method (None if none timed)."""
-    cand = [r for r in rows if r["method"] == method and r["type_v"] == type_v and r["w"]]
+    cand = [
+        r for r in _default_rows(rows) if r["method"] == method and r["type_v"] == type_v and r["w"]
+    ]
     if not cand:
         return None
     return int(max(cand, key=lambda r: r[key])["w"])
@@ -240,8 +216,8 @@ def plot_time_vs_w(rows, ax=None, key="median_us"):
         From :func:`time_per_frame_rows`.
     ax : matplotlib.axes.Axes, optional
     key : str
-        Our statistic: ``"median_us"`` (default: robust to outliers such as compilation
-        or a busy machine), ``"mean_us"`` (the paper reports means) or ``"bench_median_us"``.
+        Our statistic: ``"median_us"`` (default: robust to outliers such as a busy
+        machine) or ``"mean_us"`` (the paper reports means).
 
     Returns
     -------
@@ -252,6 +228,7 @@ def plot_time_vs_w(rows, ax=None, key="median_us"):
     Notebook: 09_table2_timing.ipynb
     """
     fig, ax = new_axes(ax, figsize=(6, 4.2))
+    rows = _default_rows(rows)
     colours = {"B": "tab:green", "C": "tab:purple"}
     for method in ("B", "C"):
         ws = list(WINDOWS)
