@@ -90,7 +90,8 @@ build/notebooks/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP)
 
 # notebook order: the result notebooks read what 05 computes; the claims table reads
 # every other notebook's facts
-RESULT_NBS := 06_fig5_fig6_scores 07_table1_60hz 08_fig7_fig10_heatmaps 09_table2_timing
+RESULT_NBS := 06_fig5_fig6_scores 07_table1_60hz 08_fig7_fig10_heatmaps 09_table2_timing \
+              15_readings_of_algorithm_3
 CLAIMS_NB  := 12_claims
 $(patsubst %,build/notebooks/%.ipynb,$(RESULT_NBS)): build/notebooks/05_run_experiments.ipynb
 $(patsubst %,$(SMOKE_DIR)/%.ipynb,$(RESULT_NBS)): $(SMOKE_DIR)/05_run_experiments.ipynb
@@ -122,6 +123,9 @@ $(eval $(call FIGURE_RULE,opw_fig4,13_opw_fig4))
 $(eval $(call FIGURE_RULE,opw_curve,13_opw_fig4))
 $(eval $(call FIGURE_RULE,opw_fig5,14_opw_fig5_fig6))
 $(eval $(call FIGURE_RULE,opw_fig6,14_opw_fig5_fig6))
+$(eval $(call FIGURE_RULE,readings_,15_readings_of_algorithm_3))
+$(eval $(call FIGURE_RULE,silent_choices,15_readings_of_algorithm_3))
+$(eval $(call FIGURE_RULE,selection_,15_readings_of_algorithm_3))
 $(eval $(call FIGURE_RULE,live_,20_align_a_live_performance))
 
 clean:

@@ -64,7 +64,8 @@ Reading: :func:`load_results` -> :class:`Results` (``.pairs``, ``.algorithms``,
 
 Command line::
 
-    python -m fpdtw.experiments [--smoke] [--jobs N] [--algorithms NAME ...] [--quiet]
+    python -m fpdtw.experiments [--mode full|smoke|study|smoke-study] [--jobs N]
+                                [--algorithms NAME ...] [--quiet]
 
 Paper: FP-DTW Section 4 (pairs), eq. 2 and eq. 3, Figs. 5-7 and 10, Tables 1 and 2.
 Notebook: 05_run_experiments.ipynb
@@ -1399,27 +1400,35 @@ def run_experiments(
 
 
 def main(argv=None) -> int:
-    """``python -m fpdtw.experiments [--smoke] [--jobs N] [--algorithms NAME ...] [--quiet]``."""
+    """``python -m fpdtw.experiments [--mode MODE | --smoke] [--jobs N] [--algorithms NAME ...]
+    [--quiet]``."""
     ap = argparse.ArgumentParser(
         prog="python -m fpdtw.experiments", description=__doc__.split("\n")[0]
     )
-    ap.add_argument("--smoke", action="store_true", help="small fast subset (mode 'smoke')")
+    ap.add_argument(
+        "--mode",
+        choices=sorted(SELECTIONS),
+        default="full",
+        help="which selection and algorithm list (default full; study: notebook 15)",
+    )
+    ap.add_argument("--smoke", action="store_true", help="the same as --mode smoke")
     ap.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
     ap.add_argument(
         "--algorithms",
         nargs="+",
         default=None,
         metavar="NAME",
-        help="algorithm names (default: every paper algorithm and Table 1's)",
+        help="algorithm names (default: the mode's list)",
     )
     ap.add_argument("--quiet", action="store_true", help="no progress output")
     a = ap.parse_args(argv)
-    res = run_experiments("smoke" if a.smoke else "full", a.algorithms, a.jobs, not a.quiet)
+    mode = "smoke" if a.smoke else a.mode
+    res = run_experiments(mode, a.algorithms, a.jobs, not a.quiet)
     if not a.quiet:
         for name in res.algorithms:
             s = res.summary["algorithms"][name]
             print(
-                f"{name:22s} similarity median {s['similarity_median']:6.3f}  "
+                f"{name:40s} similarity median {s['similarity_median']:6.3f}  "
                 f"deviation median {s['deviation_median']:7.2f} frames"
             )
     return 0

@@ -195,8 +195,8 @@ def reading_signature(rows, dataset: str = "all") -> list[dict]:
     Returns
     -------
     out : list of dict
-        Per reading: ``best_w_120``, ``best_w_60`` (highest median similarity without
-        Type V; the paper: 40 and 20), ``w10`` and ``w80`` stick/skip index (the paper:
+        Per reading: ``dataset``, ``reading``, ``best_w_120``, ``best_w_60`` (highest
+        median similarity without Type V; the paper: 40 and 20), ``w10`` and ``w80`` stick/skip index (the paper:
         w10 sticks, < 0; w80 skips, > 0), ``w40_passes_both`` (the paper: yes),
         ``pass_both`` (every configuration at 120 Hz whose medians pass both benchmarks;
         the paper: Mc w40 and Mc w80 + Type V), ``exhausted`` (mean over w at 120 Hz,
@@ -219,6 +219,7 @@ def reading_signature(rows, dataset: str = "all") -> list[dict]:
         plain = [x for (_, t), x in at120.items() if not t]
         out.append(
             dict(
+                dataset=dataset,
                 reading=reading,
                 best_w_120=_best_w(rr, 120),
                 best_w_60=_best_w(rr, 60),
@@ -236,7 +237,8 @@ def reading_signature(rows, dataset: str = "all") -> list[dict]:
 
 #: The paper's signature (Section 5, Table 1), in the columns of :func:`reading_signature`.
 PAPER_SIGNATURE = dict(
-    reading="paper",
+    dataset="paper",
+    reading="(the paper's Method C)",
     best_w_120=40,
     best_w_60=20,
     w10_stick_skip="sticks (< 0)",

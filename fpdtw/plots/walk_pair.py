@@ -27,6 +27,8 @@ WALK_PAIR = (
 SMOKE_SECONDS = 2.0
 #: The algorithms of the paper's Fig. 8, unconstrained.
 FIG8_ALGORITHMS = ("DTW", "Mb w80", "Mc w20", "Mc w40", "Mc w80")
+#: Method C's literal window on the same pair (notebook 15; the claims table's second column).
+FIG8_LITERAL = ("Mc w20 (literal window)", "Mc w40 (literal window)", "Mc w80 (literal window)")
 #: The paper's deviations from DTW (frames) of its Fig. 8 pair, as printed in Section 5.
 PAPER_FIG8_DEVIATION = {"Mb w80": 8.0, "Mc w20": 177.0, "Mc w40": 62.0, "Mc w80": 6.0}
 #: One colour per algorithm, shared by every panel.
