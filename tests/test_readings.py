@@ -81,7 +81,8 @@ def test_reading_signature(study):
     assert (sq["best_w_120"], sq["best_w_60"], sq["w40_passes_both"]) == (40, 20, True)
     assert sq["w10_stick_skip"] < 0 and sq["w80_stick_skip"] == 0.0
     assert (
-        sq["pass_both"] == "w20, w40, w80, w10 + Type V, w20 + Type V, w40 + Type V, w80 + Type V"
+        sq["pass_both"]
+        == "w10, w20, w40, w80, w10 + Type V, w20 + Type V, w40 + Type V, w80 + Type V"
     )
     lit = sig["literal"]
     assert lit["pass_both"] == "none" and lit["w40_passes_both"] is False
