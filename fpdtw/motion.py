@@ -21,7 +21,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import MotionFormatError
+from . import limits
+from .errors import LimitError, MotionFormatError
 from .joints import OPW_JOINTS, PAPER_JOINTS, resolve_joint_map
 from .rotations import (
     check_order,
@@ -416,10 +417,33 @@ class Motion:
         last frame time. Table 1 of the FP-DTW paper resamples 120 Hz to 60 Hz,
         which keeps every second frame exactly.
 
+        Parameters
+        ----------
+        fps : float
+            New frame rate in Hz, within :func:`fpdtw.limits.fps_range`.
+
+        Returns
+        -------
+        motion : Motion
+            ``floor(duration * fps) + 1`` frames.
+
+        Raises
+        ------
+        LimitError
+            ``fps`` outside the plausible range, or a result of more than
+            :data:`fpdtw.limits.MAX_FRAMES` frames, or of one frame from a motion of
+            two or more (checked before anything is allocated; the message names the
+            motion's file).
+
         Paper: FP-DTW Table 1.
         """
+        where = self.path or self.name or None
+        why = limits.fps_problem(fps)
+        if why is not None:
+            raise LimitError(where, f"cannot resample to it: {why}")
         fps = float(fps)
-        if fps <= 0 or not np.isfinite(fps):
-            raise ValueError(f"frame rate must be positive, got {fps}")
-        n = int(np.floor(self.duration * fps + 1e-9)) + 1
+        n = int(np.floor(min(self.duration * fps, 2.0**62) + 1e-9)) + 1
+        if self.n_frames >= limits.MIN_FRAMES:  # a one-frame motion stays one frame
+            what = f"resampling {self.n_frames} frames at {self.fps:g} Hz to {fps:g} Hz"
+            limits.check_frames(n, where, what)
         return self.retime(np.arange(n) / fps, fps=fps)
