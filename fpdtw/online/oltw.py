@@ -79,6 +79,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from .. import limits
 from ..costs import _geo_frame
 from ..errors import AlignmentError
 from ..features import MotionFeatures
@@ -305,6 +306,12 @@ class OLTW(OnlineAligner):
             raise AlignmentError("the input motion must be given as MotionFeatures")
         if I.n_frames < 1:
             raise AlignmentError(f"input motion {I.name!r} has no frames")
+        limits.check_bytes(
+            limits.band_bytes(c),
+            I.name,
+            f"OLTW's search band would be c x c = {c} x {c} float64",
+            hint="use a smaller search width c (--window)",
+        )
         self.c = int(c)
         self.max_run_count = int(max_run_count)
         self.warmup = bool(warmup)
