@@ -260,7 +260,10 @@ def test_data_fetch_and_verify_into_a_fresh_cache(mirror_root, tmp_path):
     assert r.returncode == 0, r.stderr
     assert (tmp_path / "cache" / CMU).is_file() and "1 files verified" in r.stdout
     r = cli("data", "verify", "--dataset", "cmu", env=env)
-    assert r.returncode == 0 and "1 verified, 0 corrupt" in r.stdout
+    assert r.returncode == 0 and "1 verified, 0 corrupt, 0 missing" in r.stdout
+    r = cli("data", "verify", "--dataset", "cmu", "--dataset", "hdm05", env=env)
+    assert r.returncode == 1 and "1 verified, 0 corrupt, 292 missing" in r.stdout
+    assert "FAILED: 292 of 293 files missing or wrong" in r.stdout
     r = cli("data", "fetch", "--dataset", "nosuch", "--quiet", env=env)
     assert r.returncode == 1 and "nosuch" in r.stderr
 
