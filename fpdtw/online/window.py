@@ -316,6 +316,7 @@ class WindowAligner(OnlineAligner):
             f"{type(self).__name__}'s window matrices would be up to two {w + 1} x {w + 1} float64",
             hint="use a smaller window w (--window)",
         )
+        self.history = 1  # a step reads T[q - 1], T[q] and M[q - 1]: bounded history
         self.w = int(w)
         self.constraint = resolve_constraint(constraint)
         self.record = bool(record)
