@@ -18,6 +18,7 @@ limit                  default          environment variable          checked by
 :data:`MAX_FRAMES`     1,000,000        ``FPDTW_MAX_FRAMES``          readers, resampling
 :data:`MIN_FRAMES`     2                (fixed)                       resampling, ``fpdtw``
 :data:`MAX_FILE_BYTES` 1 GiB            ``FPDTW_MAX_FILE_BYTES``      readers
+:data:`MAX_ABS_VALUE`  1e12             ``FPDTW_MAX_ABS_VALUE``       every ``Motion``
 :data:`MAX_MATRIX_BYTES` 2 GiB          ``FPDTW_MAX_MATRIX_BYTES``    DTW, OE-DTW, OLTW band,
                                                                       windows of A, B, C
 :data:`HISTORY_FRAMES` 4096             ``FPDTW_HISTORY_FRAMES``      online aligners (not a
@@ -35,6 +36,10 @@ Why these numbers:
 * 2 frames at least: one frame has no motion to align; a motion that resampling would
   shrink to one frame is an error, never a one-row result.
 * 1 GiB per motion file: an hour of 120 Hz BVH of a 31-joint skeleton is about 0.4 GiB.
+* 1e12 for any angle (degrees), offset or translation (file units): human motion in any
+  length unit stays below 1e7, angles unwrapped over hours below 1e9 degrees, and with
+  1e12 every sum, product and forecast (a window of 80 frames ahead) stays far from the
+  float64 overflow at 1e308 (a BVH OFFSET of 1e308 made forward kinematics infinite).
 * 2 GiB per set of matrices: offline DTW keeps two float64 ``(m + 1) x (n + 1)``
   matrices (cost and accumulated cost, 16 bytes per cell), so two takes of up to
   about 11,500 frames each (96 s at 120 Hz); OE-DTW keeps every accumulated column (8
@@ -72,6 +77,8 @@ MAX_FRAMES = 1_000_000
 MIN_FRAMES = 2
 #: Largest motion file the readers read (bytes).
 MAX_FILE_BYTES = 2**30
+#: Largest magnitude of an angle (degrees), offset or translation (file units) in a motion.
+MAX_ABS_VALUE = 1e12
 #: Largest set of matrices an aligner may allocate at once (bytes).
 MAX_MATRIX_BYTES = 2 * 2**30
 #: Target frames an online aligner keeps before it keeps only the latest it needs.
@@ -83,6 +90,7 @@ _LIMITS = {
     "max_fps": ("FPDTW_MAX_FPS", MAX_FPS, float),
     "max_frames": ("FPDTW_MAX_FRAMES", MAX_FRAMES, int),
     "max_file_bytes": ("FPDTW_MAX_FILE_BYTES", MAX_FILE_BYTES, int),
+    "max_abs_value": ("FPDTW_MAX_ABS_VALUE", MAX_ABS_VALUE, float),
     "max_matrix_bytes": ("FPDTW_MAX_MATRIX_BYTES", MAX_MATRIX_BYTES, int),
     "history_frames": ("FPDTW_HISTORY_FRAMES", HISTORY_FRAMES, int),
 }
@@ -108,7 +116,7 @@ def get(name: str) -> float | int:
     ----------
     name : str
         ``"min_fps"``, ``"max_fps"``, ``"max_frames"``, ``"max_file_bytes"``,
-        ``"max_matrix_bytes"`` or ``"history_frames"``.
+        ``"max_abs_value"``, ``"max_matrix_bytes"`` or ``"history_frames"``.
 
     Raises
     ------
@@ -311,6 +319,7 @@ def check_bytes(nbytes: int, paths, what: str, hint: str = HINT_LONG) -> None:
 __all__ = [
     "HINT_LONG",
     "HISTORY_FRAMES",
+    "MAX_ABS_VALUE",
     "MAX_FILE_BYTES",
     "MAX_FPS",
     "MAX_FRAMES",

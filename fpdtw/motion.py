@@ -155,6 +155,13 @@ class Motion:
     joint_map : dict of str to str, optional
         Canonical joint name -> skeleton joint name; resolved from ``source``
         when omitted.
+
+    Raises
+    ------
+    MotionFormatError
+        Shapes that do not fit, no frames, a frame rate that is not positive, a
+        non-finite value, or an angle, translation or offset larger in magnitude
+        than :data:`fpdtw.limits.MAX_ABS_VALUE` (the message names ``path``).
     """
 
     name: str
@@ -187,12 +194,15 @@ class Motion:
             )
         if not np.isfinite(self.fps) or self.fps <= 0:
             raise MotionFormatError(where, f"frame rate must be positive, got {self.fps}")
+        big = limits.get("max_abs_value")
         for arr, what in ((self.euler, "rotation"), (self.root_translation, "translation")):
             bad = ~np.isfinite(arr.reshape(F, -1)).all(axis=1)
             if bad.any():
                 raise MotionFormatError(
                     where, f"non-finite {what} value", frame=int(np.flatnonzero(bad)[0])
                 )
+            self._check_magnitude(arr.reshape(F, -1), big, f"{what} value", where)
+        self._check_magnitude(self.skeleton.offsets, big, "joint offset", where, frames=False)
         if self.quats is None:
             q = np.empty((F, J, 4))
             orders = np.array(self.skeleton.rotation_orders)
@@ -209,6 +219,19 @@ class Motion:
                 raise MotionFormatError(where, f"quaternions have shape {self.quats.shape}")
         if self.joint_map is None:
             self.joint_map = resolve_joint_map(self.skeleton.joint_names, self.source or "fbx")
+
+    @staticmethod
+    def _check_magnitude(rows, big, what, where, frames=True):
+        """MotionFormatError if a value of ``rows`` (N, d) exceeds ``big`` in magnitude."""
+        over = np.abs(rows) > big
+        if over.any():
+            k, c = (int(x) for x in np.argwhere(over)[0])
+            raise MotionFormatError(
+                where,
+                f"implausible {what} {rows[k, c]:g} (larger in magnitude than "
+                f"{big:g}, {limits.env_name('max_abs_value')})",
+                frame=k if frames else None,
+            )
 
     # ------------------------------------------------------------------ basics
     @property

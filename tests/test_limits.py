@@ -325,3 +325,34 @@ def test_limits_from_environment_and_override(monkeypatch):
     assert limits.format_bytes(2**31) == "2 GiB" and limits.format_bytes(512) == "512 bytes"
     assert limits.fps_problem(120.0) is None and limits.fps_problem(10000.0) is None
     assert "outside" in limits.fps_problem(0.999) and "outside" in limits.fps_problem(float("nan"))
+
+
+# ------------------------------------------------------------- found by tests/test_fuzz.py
+def test_huge_offset_is_refused_not_turned_into_infinite_positions(data_path, tmp_path):
+    """A BVH OFFSET of 1e308 read as a valid motion whose forward kinematics were -inf
+    (test_fuzz_bvh, profile fuzz, seed 0: ops=[('number', 4, '1e308')])."""
+    text = data_path(CMU).read_text().replace("OFFSET 1.37959 -1.78713", "OFFSET 1e308 -1.78713")
+    (tmp_path / "far.bvh").write_text(text)
+    with pytest.raises(MotionFormatError, match=r"far\.bvh: implausible joint offset 1e\+308 "
+                       r"\(larger in magnitude than 1e\+12, FPDTW_MAX_ABS_VALUE\)"):  # fmt: skip
+        read_bvh(tmp_path / "far.bvh")
+    text = data_path(CMU).read_text().replace("\n9.2465 17.8507", "\n9.2465 2e12", 1)
+    (tmp_path / "away.bvh").write_text(text)
+    with pytest.raises(MotionFormatError, match=r"away\.bvh \(frame 0\): implausible translation"):
+        read_bvh(tmp_path / "away.bvh")
+    with limits.override(max_abs_value=1e13):
+        assert read_bvh(tmp_path / "away.bvh").root_translation[0, 1] == 2e12
+
+
+def test_asf_direction_with_huge_components_is_normalised(data_path, tmp_path):
+    """``direction 1e300 0 0``: its norm overflowed to inf and the bone silently got a
+    zero direction (test_fuzz_asf); now it is the unit vector it names."""
+    asf = data_path("hdm05/HDM05_cut_amc/HDM_bd.asf").read_text()
+    at = asf.index("direction", asf.index("name lfemur"))
+    end = asf.index("\n", at)
+    (tmp_path / "s.asf").write_text(asf[:at] + "direction 1e300 0 0" + asf[end:])
+    from fpdtw.io.asfamc import read_asf
+
+    sk = read_asf(tmp_path / "s.asf")
+    j = sk.skeleton.index("lfemur")
+    np.testing.assert_array_equal(sk.directions[j], [1.0, 0.0, 0.0])

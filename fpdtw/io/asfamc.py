@@ -272,10 +272,11 @@ def read_asf(path) -> AsfSkeleton:
                 bone["name"] = name
             elif key == "direction":
                 d = np.array(_floats(path, tok[1:], ln, "direction", 3))
-                n = np.linalg.norm(d)
-                if n < 1e-12:
+                scale = np.abs(d).max()
+                if scale < 1e-12:
                     raise MotionFormatError(path, "bone direction is zero", line=ln)
-                bone["direction"] = d / n
+                d = d / scale  # the norm of (1e300, 0, 0) itself would overflow
+                bone["direction"] = d / np.linalg.norm(d)
             elif key == "length":
                 (length,) = _floats(path, tok[1:], ln, "length", 1)
                 if length < 0:
