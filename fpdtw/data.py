@@ -23,7 +23,7 @@ half-written or unverified file.
 The cache cannot lie: :func:`fetch` hashes the cached file against the manifest
 EVERY time it returns it (there is no index of sizes and modification times that a
 file changed in place could fool; hashing all 341 cached files, 158 MiB, takes about
-0.3 s, so a single take costs about a millisecond). A cached file that does not match
+0.3 s, a 2 MB FBX take 7 ms against 190 ms to read it). A cached file that does not match
 is dropped and fetched again. :func:`verify` re-hashes a whole cache and fails when a
 listed file is missing or wrong. (What it cannot prevent: a file changed between
 :func:`fetch` returning its path and the reader opening it.)
