@@ -67,12 +67,12 @@ frame rates: if the two motions have different frame rates, the TARGET is resamp
 the INPUT's rate; --fps F resamples both to F Hz (rotations by slerp). Frame numbers in
 the map refer to the resampled motions; times in seconds refer to the originals too.
 
-limits (defaults of fpdtw.limits, each changed by its environment variable): frame rates 1-10000 Hz
-(FPDTW_MIN_FPS, FPDTW_MAX_FPS), at most 1,000,000 frames per motion (FPDTW_MAX_FRAMES),
-at least 2, and at most 2 GiB for the matrices of a method (FPDTW_MAX_MATRIX_BYTES): dtw
-keeps two input x target matrices (two takes of about 96 s at 120 Hz), oe-dtw one; the
-online methods a, b, c, oltw need memory proportional to their window, not to the takes'
-length."""
+limits (defaults of fpdtw.limits, each changed by its environment variable): frame
+rates 1-10000 Hz (FPDTW_MIN_FPS, FPDTW_MAX_FPS), at most 1,000,000 frames per motion
+(FPDTW_MAX_FRAMES), at least 2, and at most 2 GiB for the matrices of a method
+(FPDTW_MAX_MATRIX_BYTES): dtw keeps two input x target matrices (two takes of about 96 s
+at 120 Hz), oe-dtw one; the online methods a, b, c, oltw need memory proportional to
+their window, not to the takes' length."""
 
 _MAP_HELP = """\
 map CSV (--out), one row per target frame, columns:
@@ -567,7 +567,7 @@ def _cmd_data(args) -> int:
         argv += ["--quiet"] * args.quiet
         if args.file:
             argv += ["--file", args.file]
-    return int(data.main(argv))
+    return int(data.main(argv, prog=PROG))
 
 
 def main(argv=None) -> int:
@@ -591,6 +591,10 @@ def main(argv=None) -> int:
     except SystemExit as e:  # --help (0) or a usage error (2)
         return e.code if isinstance(e.code, int) else 0
     if args.command == "data":
+        if getattr(args, "file", None) is not None and len(args.dataset or []) != 1:
+            ap.commands["data"].print_usage(sys.stderr)
+            print(f"{PROG} data fetch: error: --file needs exactly one --dataset", file=sys.stderr)
+            return 2
         return _cmd_data(args)
     sub = ap.commands[args.command]
 

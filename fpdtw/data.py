@@ -941,9 +941,12 @@ class _Parser(argparse.ArgumentParser):
         self.exit(1, f"{self.prog}: error: {message}\n")
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Command line: ``python -m fpdtw.data fetch|verify|cite``; returns the exit code."""
-    ap = _Parser(prog="python -m fpdtw.data", description="Fetch, verify and cite the datasets.")
+def main(argv: list[str] | None = None, prog: str = "python -m fpdtw.data") -> int:
+    """Command line: ``python -m fpdtw.data fetch|verify|cite``; returns the exit code.
+
+    ``prog`` starts every error line (``fpdtw`` when run as ``fpdtw data``).
+    """
+    ap = _Parser(prog=prog, description="Fetch, verify and cite the datasets.")
     sub = ap.add_subparsers(dest="command", required=True, parser_class=_Parser)
     help_ds = "dataset name (repeatable; default: every dataset)"
     f = sub.add_parser("fetch", help="fetch files into the cache, verified")
@@ -999,7 +1002,7 @@ def main(argv: list[str] | None = None) -> int:
         print(report.summary())
         return 0 if report.ok else 1
     except (DataFetchError, ManifestError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"{prog}: error: {exc}", file=sys.stderr)
         return 1
 
 

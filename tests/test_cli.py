@@ -266,6 +266,9 @@ def test_data_fetch_and_verify_into_a_fresh_cache(mirror_root, tmp_path):
     assert "FAILED: 292 of 293 files missing or wrong" in r.stdout
     r = cli("data", "fetch", "--dataset", "nosuch", "--quiet", env=env)
     assert r.returncode == 1 and "nosuch" in r.stderr
+    assert r.stderr.strip().splitlines()[-1].startswith("fpdtw: error: ")
+    r = cli("data", "fetch", "--file", "18_01.bvh", env=env)  # usage: needs one --dataset
+    assert r.returncode == 2 and "--file needs exactly one --dataset" in r.stderr
 
 
 def test_data_cite():
