@@ -24,11 +24,12 @@ LIB_SRC   := $(wildcard fpdtw/*.py fpdtw/*/*.py)
 # smoke runs write their figures and results under build/smoke, never over figures/
 SMOKE_ENV := FPDTW_FIGURES_DIR=$(CURDIR)/$(SMOKE_DIR)/figures FPDTW_RESULTS_DIR=$(CURDIR)/$(SMOKE_DIR)/results
 
-.PHONY: env data test lint format figures bench clean distclean help
+.PHONY: env data test fuzz lint format figures bench clean distclean help
 
 help:
 	@echo "make figures  - build env, fetch data, run every notebook, write figures/"
 	@echo "make test     - build env, fetch data, lint and run the test suite"
+	@echo "make fuzz     - the fuzz tests with a 15x budget (FUZZ_SEED=0 by default)"
 	@echo "make data     - fetch and verify the data listed in data_manifest/"
 	@echo "make bench    - per-frame latency benchmark (results/bench.json)"
 	@echo "Set FPDTW_MIRROR=/path/or/url to fetch from a mirror instead of upstream."
@@ -65,6 +66,14 @@ format: $(STAMP)
 test: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) lint $(SMOKE_NBS)
 	$(VENV)/bin/pytest -q
 	$(SMOKE_ENV) $(VENV)/bin/pytest -q -p no:cacheprovider --nbval-lax $(SMOKE_NBS)
+
+# the fuzz tests of make test (mutated BVH, ASF/AMC, FBX files through the readers and
+# fpdtw align) with the larger budget of the hypothesis profile "fuzz" (tests/conftest.py),
+# random examples from a fixed seed: make fuzz FUZZ_SEED=7 explores other ones
+FUZZ_SEED ?= 0
+fuzz: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP)
+	$(VENV)/bin/pytest -q -p no:cacheprovider tests/test_fuzz.py --hypothesis-profile=fuzz \
+		--hypothesis-seed=$(FUZZ_SEED) --hypothesis-show-statistics
 
 $(SMOKE_DIR)/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(LIB_SRC)
 	mkdir -p $(dir $@)

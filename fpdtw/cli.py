@@ -9,9 +9,12 @@
 Until the ``fpdtw`` script is installed, run ``python -m fpdtw.cli ...``.
 
 Exit codes: 0 success; 2 bad usage (unknown option or method, ``--window 0``, an option
-that does not apply to the method); 1 a problem with the data (missing, unreadable or
-malformed file, skeletons without the joints the method compares, unavailable output
-format), reported on one line as ``fpdtw: error: <file>: <what>``. ``--debug`` shows the
+that does not apply to the method, ``--fps`` outside the plausible range, a window whose
+matrices would pass the memory limit); 1 a problem with the data (missing, unreadable or
+malformed file, a directory given as a file, skeletons without the joints the method
+compares, a motion too short or too long for the limits of :mod:`fpdtw.limits`, an output
+file that cannot be written, unavailable output format). Every error is one line,
+``fpdtw: error: <file>: <what>``, naming the file(s) it is about; ``--debug`` shows the
 full traceback instead.
 
 Notebook: 20_align_a_live_performance.ipynb
@@ -20,6 +23,7 @@ Notebook: 20_align_a_live_performance.ipynb
 from __future__ import annotations
 
 import argparse
+import errno
 import sys
 import textwrap
 from pathlib import Path
@@ -61,7 +65,14 @@ pose conventions.
 
 frame rates: if the two motions have different frame rates, the TARGET is resampled to
 the INPUT's rate; --fps F resamples both to F Hz (rotations by slerp). Frame numbers in
-the map refer to the resampled motions; times in seconds refer to the originals too."""
+the map refer to the resampled motions; times in seconds refer to the originals too.
+
+limits (defaults of fpdtw.limits, each changed by its environment variable): frame
+rates 1-10000 Hz (FPDTW_MIN_FPS, FPDTW_MAX_FPS), at most 1,000,000 frames per motion
+(FPDTW_MAX_FRAMES), at least 2, and at most 2 GiB for the matrices of a method
+(FPDTW_MAX_MATRIX_BYTES): dtw keeps two input x target matrices (two takes of about 96 s
+at 120 Hz), oe-dtw one; the online methods a, b, c, oltw need memory proportional to
+their window, not to the takes' length."""
 
 _MAP_HELP = """\
 map CSV (--out), one row per target frame, columns:
@@ -97,13 +108,21 @@ def _positive_int(text):
     return v
 
 
-def _positive_float(text):
+def _frame_rate(text):
+    from . import limits
+
     try:
         v = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
     if not v > 0 or v == float("inf"):
         raise argparse.ArgumentTypeError(f"must be a positive number, got {text!r}")
+    try:
+        why = limits.fps_problem(v)
+    except ValueError as e:  # a malformed FPDTW_MIN_FPS / FPDTW_MAX_FPS
+        raise argparse.ArgumentTypeError(str(e)) from None
+    if why is not None:
+        raise argparse.ArgumentTypeError(why)
     return v
 
 
@@ -137,7 +156,10 @@ def _add_pair_arguments(p, *, live: bool):
         help="restrict methods a, b, c to the paper's Type V local constraint",
     )
     p.add_argument(
-        "--fps", type=_positive_float, metavar="F", help="resample both motions to F Hz first"
+        "--fps",
+        type=_frame_rate,
+        metavar="F",
+        help="resample both motions to F Hz first (1-10000 Hz, see limits below)",
     )
     p.add_argument("--skeleton", metavar="ASF", help="skeleton (.asf) of an .amc INPUT")
     p.add_argument("--target-skeleton", metavar="ASF", help="skeleton (.asf) of an .amc TARGET")
@@ -245,8 +267,16 @@ def build_parser() -> argparse.ArgumentParser:
     )
     f.add_argument("--file", help="fetch only this file (needs one --dataset)")
     f.add_argument("--quiet", action="store_true", help="no progress bars")
-    v = dsub.add_parser("verify", help="re-hash every cached file")
+    v = dsub.add_parser(
+        "verify",
+        help="re-hash every cached file; exit 1 if any listed file is missing or wrong",
+    )
     v.add_argument("--dataset", action="append", help=help_ds)
+    v.add_argument(
+        "--all",
+        action="store_true",
+        help="also require the files the manifest marks as not in the local mirror",
+    )
     c = dsub.add_parser("cite", help="print licences and citations")
     c.add_argument("--dataset", action="append", help=help_ds)
     ap.commands = {"align": a, "live": lv, "data": d}
@@ -265,6 +295,7 @@ def _check_options(args):
         raise UsageError("--window (OLTW's search width c) must be at least 2")
     if args.constraint and m not in CONSTRAINED:
         raise UsageError(f"--constraint applies to methods a, b, c, not {m!r}")
+    _check_window_size(m, args.window)
     for opt, path in (("--skeleton", args.input), ("--target-skeleton", args.target)):
         given = args.skeleton if opt == "--skeleton" else args.target_skeleton
         if given and Path(path).suffix.lower() != ".amc":
@@ -277,9 +308,41 @@ def _check_options(args):
             raise UsageError("--stride applies only with --animate")
 
 
-def _load(path, skeleton):
+def _check_window_size(method, window):
+    """A window whose matrices would pass fpdtw.limits.MAX_MATRIX_BYTES is a UsageError."""
+    from . import limits
+    from .errors import LimitError
+
+    if window is None or method not in WINDOW_DEFAULTS:
+        return
+    if method == "oltw":
+        nbytes, what = limits.band_bytes(window), f"OLTW's c x c band ({window} x {window})"
+    else:
+        nbytes, what = limits.window_bytes(window), f"two {window + 1} x {window + 1} windows"
+    try:
+        limits.check_bytes(nbytes, None, f"--window {window} needs {what}", "use a smaller one")
+    except LimitError as e:
+        raise UsageError(str(e)) from None
+
+
+def _check_output(path, option):
+    """An output file can be written: not a folder, in a folder that exists (OSError)."""
+    p = Path(path)
+    if p.is_dir():
+        raise OSError(errno.EISDIR, f"is a directory; {option} needs a file name", str(p))
+    if not p.parent.is_dir():
+        raise OSError(errno.ENOENT, f"cannot write it: no folder {p.parent}", str(p))
+
+
+def _stage(args, *paths):
+    """Say which file(s) the next step is about: an error then names them."""
+    args.about = tuple(str(Path(p)) for p in paths if p)
+
+
+def _load(args, path, skeleton):
     from .io import load_motion
 
+    _stage(args, path)
     kwargs = {"skeleton": skeleton} if skeleton else {}
     return load_motion(path, **kwargs)
 
@@ -288,23 +351,31 @@ def _same_rate(a: float, b: float) -> bool:
     return abs(a - b) <= 1e-9 * max(a, b)
 
 
+def _resample(args, motion, path, fps, log, role, to):
+    """``motion`` at ``fps`` Hz (LimitError naming ``path`` if too long or too short)."""
+    if _same_rate(motion.fps, fps):
+        return motion
+    _stage(args, path)
+    log(f"resampling the {role} {motion.name} from {motion.fps:g} Hz to {to}")
+    return motion.resample(fps)
+
+
 def _prepare(args, log):
-    """Load both motions, bring them to one frame rate, check the joints."""
+    """Load both motions, bring them to one frame rate, check lengths and joints."""
+    from . import limits
     from .errors import MotionFormatError
     from .joints import OPW_JOINTS, PAPER_JOINTS
 
-    I = _load(args.input, args.skeleton)
-    T = _load(args.target, args.target_skeleton)
+    I = _load(args, args.input, args.skeleton)
+    T = _load(args, args.target, args.target_skeleton)
     if args.fps is not None:
-        if not _same_rate(I.fps, args.fps):
-            log(f"resampling the input {I.name} from {I.fps:g} Hz to {args.fps:g} Hz")
-            I = I.resample(args.fps)
-        if not _same_rate(T.fps, args.fps):
-            log(f"resampling the target {T.name} from {T.fps:g} Hz to {args.fps:g} Hz")
-            T = T.resample(args.fps)
-    elif not _same_rate(I.fps, T.fps):
-        log(f"resampling the target {T.name} from {T.fps:g} Hz to the input's {I.fps:g} Hz")
-        T = T.resample(I.fps)
+        I = _resample(args, I, args.input, args.fps, log, "input", f"{args.fps:g} Hz")
+        T = _resample(args, T, args.target, args.fps, log, "target", f"{args.fps:g} Hz")
+    else:
+        T = _resample(args, T, args.target, I.fps, log, "target", f"the input's {I.fps:g} Hz")
+    for mo, path, role in ((I, args.input, "input"), (T, args.target, "target")):
+        _stage(args, path)
+        limits.check_min_frames(mo.n_frames, path, role)
     joints = OPW_JOINTS if args.method == "opw" else PAPER_JOINTS
     what = "the 16 OPW joints" if args.method == "opw" else "the 8 joints FP-DTW compares"
     for mo, path in ((I, args.input), (T, args.target)):
@@ -316,7 +387,30 @@ def _prepare(args, log):
                     f"skeleton has no joint for {name!r} (one of {what}); the two motions "
                     "must share these joints",
                 )
+    _check_sizes(args, I.n_frames, T.n_frames)
+    _stage(args, args.input, args.target)
     return I, T
+
+
+def _check_sizes(args, input_frames, target_frames):
+    """The matrices of an offline or OE-DTW alignment fit the limits (LimitError)."""
+    from . import limits
+
+    files = (str(Path(args.input)), str(Path(args.target)))
+    if args.method == "dtw":
+        from .dtw import check_dtw_size
+
+        check_dtw_size(input_frames, target_frames, files)
+    elif args.method == "oe-dtw":
+        from .online.oedtw import OEDTW
+
+        limits.check_bytes(
+            OEDTW.column_bytes(input_frames, target_frames),
+            files,
+            f"OE-DTW keeps every accumulated column: {target_frames} target x {input_frames} "
+            "input frames of float64",
+            limits.HINT_LONG,
+        )
 
 
 def _features(motion, method):
@@ -384,6 +478,9 @@ def _cmd_align(args, log) -> int:
 
     from .export import export_bvh, write_map_csv
 
+    _check_output(args.out, "--out")
+    if args.export_bvh:
+        _check_output(args.export_bvh, "--export-bvh")
     I, T = _prepare(args, log)
     FI, FT = _features(I, args.method), _features(T, args.method)
     seconds = None
@@ -403,6 +500,7 @@ def _cmd_align(args, log) -> int:
         warm_up(aligner, FT)  # compile / load the numba kernels outside the timed run
         M, seconds = run_online(aligner, FT)
     M = np.asarray(M, dtype=np.int64)
+    _stage(args, args.out)
     write_map_csv(args.out, M, T.fps, I.fps, seconds)
     print(f"aligned target {_describe(T)} to input {_describe(I)} with {_method_label(args)}")
     print(f"map: {args.out} ({M.size} rows)")
@@ -412,6 +510,7 @@ def _cmd_align(args, log) -> int:
             f"max {seconds.max() * 1e6:.1f} us (budget {1e6 / T.fps:.0f} us)"
         )
     if args.export_bvh:
+        _stage(args, args.export_bvh)
         export_bvh(I, M, T.fps, args.export_bvh)
         print(
             f"aligned input: {args.export_bvh} ({M.size} frames at {T.fps:g} Hz; frame q = "
@@ -425,9 +524,12 @@ def _cmd_live(args, log) -> int:
     from .joints import OPW_JOINTS
     from .live import replay
 
+    if args.out:
+        _check_output(args.out, "--out")
     if args.animate:
         from .animate import check_writer
 
+        _check_output(args.animate, "--animate")
         check_writer(args.animate)  # fail before the replay, not after
     I, T = _prepare(args, log)
     mode = "as fast as possible" if args.fast else "in real time"
@@ -441,11 +543,13 @@ def _cmd_live(args, log) -> int:
     )
     print(report.table())
     if args.out:
+        _stage(args, args.out)
         write_map_csv(args.out, report.M, T.fps, I.fps, report.step_s)
         print(f"map: {args.out} ({report.n_frames} rows)")
     if args.animate:
         from .animate import animate_alignment
 
+        _stage(args, args.animate)
         out = animate_alignment(I, T, report.M, args.animate, stride=args.stride)
         print(f"animation: {out}")
     return 0
@@ -457,11 +561,13 @@ def _cmd_data(args) -> int:
     argv = [args.data_command]
     for ds in args.dataset or []:
         argv += ["--dataset", ds]
+    if args.data_command in ("fetch", "verify"):
+        argv += ["--all"] * args.all
     if args.data_command == "fetch":
-        argv += ["--all"] * args.all + ["--quiet"] * args.quiet
+        argv += ["--quiet"] * args.quiet
         if args.file:
             argv += ["--file", args.file]
-    return int(data.main(argv))
+    return int(data.main(argv, prog=PROG))
 
 
 def main(argv=None) -> int:
@@ -479,14 +585,16 @@ def main(argv=None) -> int:
     Paper: FP-DTW Sections 3-6 (the methods), OPW poster Algorithm 1, Dixon 2005.
     Notebook: 20_align_a_live_performance.ipynb
     """
-    from .errors import FpdtwError
-
     ap = build_parser()
     try:
         args = ap.parse_args(argv)
     except SystemExit as e:  # --help (0) or a usage error (2)
         return e.code if isinstance(e.code, int) else 0
     if args.command == "data":
+        if getattr(args, "file", None) is not None and len(args.dataset or []) != 1:
+            ap.commands["data"].print_usage(sys.stderr)
+            print(f"{PROG} data fetch: error: --file needs exactly one --dataset", file=sys.stderr)
+            return 2
         return _cmd_data(args)
     sub = ap.commands[args.command]
 
@@ -499,28 +607,45 @@ def main(argv=None) -> int:
         sub.print_usage(sys.stderr)
         print(f"{PROG} {args.command}: error: {e}", file=sys.stderr)
         return 2
+    args.about = ()
     try:
         return _cmd_align(args, log) if args.command == "align" else _cmd_live(args, log)
     except KeyboardInterrupt:
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130
-    except (FpdtwError, OSError, ValueError) as e:
+    except Exception as e:
         if args.debug:
             raise
-        msg = str(e)
-        if isinstance(e, OSError) and e.filename is not None:
-            msg = f"{e.filename}: {e.strerror}"
-        print(f"{PROG}: error: {' '.join(msg.split())}", file=sys.stderr)
+        print(_error_line(e, args.about), file=sys.stderr)
         return 1
-    except Exception as e:  # a bug: say so on one line, the traceback with --debug
-        if args.debug:
-            raise
-        print(
-            f"{PROG}: internal error: {type(e).__name__}: {' '.join(str(e).split())} "
-            "(rerun with --debug for the traceback)",
-            file=sys.stderr,
+
+
+def _error_line(exc: Exception, about: tuple) -> str:
+    """The one line an error prints: ``fpdtw: error: <file>: <what>``.
+
+    ``about`` names the file(s) of the step that failed; they are put in front of a
+    message that names none of them (e.g. numpy's). Errors that are not fpdtw's, an
+    OSError, a ValueError or a MemoryError are bugs: ``fpdtw: internal error: ...``.
+    """
+    from . import limits
+    from .errors import FpdtwError
+
+    if isinstance(exc, OSError) and exc.filename is not None:
+        msg = f"{exc.filename}: {exc.strerror or exc}"
+    elif isinstance(exc, MemoryError):
+        msg = (
+            f"out of memory ({type(exc).__name__}: {exc}); lower the limits "
+            f"(FPDTW_MAX_MATRIX_BYTES, FPDTW_MAX_FRAMES) or {limits.HINT_LONG}"
         )
-        return 1
+    else:
+        msg = str(exc) or type(exc).__name__
+    known = isinstance(exc, FpdtwError | OSError | ValueError | MemoryError)
+    if not known:
+        msg = f"{type(exc).__name__}: {msg} (rerun with --debug for the traceback)"
+    if about and not any(a in msg for a in about):
+        msg = f"{', '.join(about)}: {msg}"
+    msg = " ".join(msg.split())
+    return f"{PROG}: {'error' if known else 'internal error'}: {msg}"
 
 
 if __name__ == "__main__":

@@ -36,6 +36,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from . import limits
 from .costs import geodesic_cost_matrix
 from .errors import AlignmentError
 
@@ -57,6 +58,16 @@ def diagonal_weight(step_pattern: str) -> float:
         raise AlignmentError(
             f"unknown step pattern {step_pattern!r}; expected one of {sorted(STEP_PATTERNS)}"
         ) from None
+
+
+def _check_d_size(shape, names=None) -> None:
+    """The accumulated cost matrix of this shape fits :data:`fpdtw.limits.MAX_MATRIX_BYTES`."""
+    rows, cols = shape
+    limits.check_bytes(
+        8 * rows * cols,
+        names,
+        f"DTW's accumulated cost matrix would be {rows} x {cols} float64",
+    )
 
 
 def _check_cost(C, what="cost matrix", finite=True) -> np.ndarray:
@@ -180,6 +191,7 @@ def accumulate(C, step_pattern: str = "symmetric1") -> np.ndarray:
     """
     wd = diagonal_weight(step_pattern)
     C = _check_cost(C)
+    _check_d_size(C.shape)
     return _accumulate(C, wd, np.empty_like(C))
 
 
@@ -301,6 +313,7 @@ def dtw(C, step_pattern: str = "symmetric1") -> DTWResult:
     """
     wd = diagonal_weight(step_pattern)
     C = _check_cost(C)
+    _check_d_size(C.shape)
     D = _accumulate(C, wd, np.empty_like(C))
     path = _backtrack(D, C, wd, True)
     M = _path_to_map(path, C.shape[1])
@@ -323,6 +336,12 @@ def dtw_pair(I, T, step_pattern: str = "symmetric1") -> DTWResult:
     DTWResult
         ``map`` has ``n + 1`` entries in ``0..m``.
 
+    Raises
+    ------
+    LimitError
+        The two ``(m + 1) x (n + 1)`` matrices would exceed
+        :data:`fpdtw.limits.MAX_MATRIX_BYTES` (checked before allocating).
+
     Paper: FP-DTW eq. 1 and Section 4.
     Notebook: 05_run_experiments.ipynb
     """
@@ -330,7 +349,34 @@ def dtw_pair(I, T, step_pattern: str = "symmetric1") -> DTWResult:
         raise AlignmentError(
             f"input and target have different joints: {I.quats.shape} vs {T.quats.shape}"
         )
+    check_dtw_size(I.n_frames, T.n_frames, (I.name, T.name))
     return dtw(geodesic_cost_matrix(I.quats, T.quats), step_pattern)
+
+
+def check_dtw_size(input_frames: int, target_frames: int, names=None) -> None:
+    """Offline DTW of motions this long fits :data:`fpdtw.limits.MAX_MATRIX_BYTES`.
+
+    DTW keeps the cost and the accumulated cost, two float64 matrices of
+    ``input_frames x target_frames`` cells (16 bytes per cell).
+
+    Parameters
+    ----------
+    input_frames, target_frames : int
+    names : str or sequence of str, optional
+        The motions' files or names, for the message.
+
+    Raises
+    ------
+    LimitError
+        Past the limit; the message suggests an online method, a lower frame rate or
+        shorter takes.
+    """
+    limits.check_bytes(
+        limits.dtw_bytes(input_frames, target_frames),
+        names,
+        f"offline DTW of {input_frames} input x {target_frames} target frames needs two "
+        f"{input_frames} x {target_frames} float64 matrices",
+    )
 
 
 def utw_map(m: int, n: int) -> np.ndarray:
@@ -370,6 +416,7 @@ __all__ = [
     "STEP_PATTERNS",
     "accumulate",
     "backtrack",
+    "check_dtw_size",
     "diagonal_weight",
     "dtw",
     "dtw_pair",

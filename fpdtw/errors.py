@@ -6,6 +6,8 @@ names the file (and, where there is one, the line or frame) and what is wrong.
 
 from __future__ import annotations
 
+import os
+
 
 class FpdtwError(Exception):
     """Base class of every error raised on purpose by fpdtw."""
@@ -51,3 +53,30 @@ class ManifestError(FpdtwError, ValueError):
 
 class AlignmentError(FpdtwError, ValueError):
     """Bad arguments to an aligner (e.g. a window of 0, mismatched joints)."""
+
+
+class LimitError(FpdtwError, ValueError):
+    """A size is outside the limits of :mod:`fpdtw.limits` (a frame rate, a frame count
+    after resampling, a matrix or window an aligner would allocate).
+
+    Raised before anything of that size is allocated. The message names the file(s) the
+    size comes from, the number, the limit (and the environment variable that raises
+    it) and the way out.
+
+    Parameters
+    ----------
+    paths : str or os.PathLike or sequence of them, or None
+        The file(s) (or motion names) the size comes from.
+    message : str
+        What is too large or too small, the number, the limit, what to do.
+    """
+
+    def __init__(self, paths, message):
+        if paths is None:
+            paths = ()
+        elif isinstance(paths, str | os.PathLike):
+            paths = (paths,)
+        self.paths = tuple(str(p) for p in paths if p is not None and str(p))
+        self.reason = message
+        head = f"{', '.join(self.paths)}: " if self.paths else ""
+        super().__init__(f"{head}{message}")

@@ -12,6 +12,7 @@ Notebook: 20_align_a_live_performance.ipynb
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import os
@@ -136,6 +137,11 @@ def write_map_csv(path, M, target_fps: float, input_fps: float, step_seconds=Non
     -------
     path : Path
 
+    Raises
+    ------
+    OSError
+        The file cannot be written; ``filename`` is ``path`` (never the temporary name).
+
     Paper: FP-DTW Section 3 (the map M, one input frame per target frame).
     Notebook: 20_align_a_live_performance.ipynb
     """
@@ -154,8 +160,13 @@ def write_map_csv(path, M, target_fps: float, input_fps: float, step_seconds=Non
         step = "" if step_seconds is None else f"{step_seconds[q] * 1e6:.3f}"
         w.writerow([q, f"{q / target_fps:.6f}", int(m), f"{m / input_fps:.6f}", step])
     tmp = path.with_name(path.name + ".part")
-    tmp.write_text(buf.getvalue())
-    os.replace(tmp, path)
+    try:
+        tmp.write_text(buf.getvalue())
+        os.replace(tmp, path)
+    except OSError as exc:  # name the file asked for, not the temporary one
+        with contextlib.suppress(OSError):
+            tmp.unlink()
+        raise OSError(exc.errno, exc.strerror, str(path)) from exc
     return path
 
 

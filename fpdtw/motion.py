@@ -21,7 +21,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import MotionFormatError
+from . import limits
+from .errors import LimitError, MotionFormatError
 from .joints import OPW_JOINTS, PAPER_JOINTS, resolve_joint_map
 from .rotations import (
     check_order,
@@ -154,6 +155,13 @@ class Motion:
     joint_map : dict of str to str, optional
         Canonical joint name -> skeleton joint name; resolved from ``source``
         when omitted.
+
+    Raises
+    ------
+    MotionFormatError
+        Shapes that do not fit, no frames, a frame rate that is not positive, a
+        non-finite value, or an angle, translation or offset larger in magnitude
+        than :data:`fpdtw.limits.MAX_ABS_VALUE` (the message names ``path``).
     """
 
     name: str
@@ -186,12 +194,15 @@ class Motion:
             )
         if not np.isfinite(self.fps) or self.fps <= 0:
             raise MotionFormatError(where, f"frame rate must be positive, got {self.fps}")
+        big = limits.get("max_abs_value")
         for arr, what in ((self.euler, "rotation"), (self.root_translation, "translation")):
             bad = ~np.isfinite(arr.reshape(F, -1)).all(axis=1)
             if bad.any():
                 raise MotionFormatError(
                     where, f"non-finite {what} value", frame=int(np.flatnonzero(bad)[0])
                 )
+            self._check_magnitude(arr.reshape(F, -1), big, f"{what} value", where)
+        self._check_magnitude(self.skeleton.offsets, big, "joint offset", where, frames=False)
         if self.quats is None:
             q = np.empty((F, J, 4))
             orders = np.array(self.skeleton.rotation_orders)
@@ -208,6 +219,19 @@ class Motion:
                 raise MotionFormatError(where, f"quaternions have shape {self.quats.shape}")
         if self.joint_map is None:
             self.joint_map = resolve_joint_map(self.skeleton.joint_names, self.source or "fbx")
+
+    @staticmethod
+    def _check_magnitude(rows, big, what, where, frames=True):
+        """MotionFormatError if a value of ``rows`` (N, d) exceeds ``big`` in magnitude."""
+        over = np.abs(rows) > big
+        if over.any():
+            k, c = (int(x) for x in np.argwhere(over)[0])
+            raise MotionFormatError(
+                where,
+                f"implausible {what} {rows[k, c]:g} (larger in magnitude than "
+                f"{big:g}, {limits.env_name('max_abs_value')})",
+                frame=k if frames else None,
+            )
 
     # ------------------------------------------------------------------ basics
     @property
@@ -416,10 +440,33 @@ class Motion:
         last frame time. Table 1 of the FP-DTW paper resamples 120 Hz to 60 Hz,
         which keeps every second frame exactly.
 
+        Parameters
+        ----------
+        fps : float
+            New frame rate in Hz, within :func:`fpdtw.limits.fps_range`.
+
+        Returns
+        -------
+        motion : Motion
+            ``floor(duration * fps) + 1`` frames.
+
+        Raises
+        ------
+        LimitError
+            ``fps`` outside the plausible range, or a result of more than
+            :data:`fpdtw.limits.MAX_FRAMES` frames, or of one frame from a motion of
+            two or more (checked before anything is allocated; the message names the
+            motion's file).
+
         Paper: FP-DTW Table 1.
         """
+        where = self.path or self.name or None
+        why = limits.fps_problem(fps)
+        if why is not None:
+            raise LimitError(where, f"cannot resample to it: {why}")
         fps = float(fps)
-        if fps <= 0 or not np.isfinite(fps):
-            raise ValueError(f"frame rate must be positive, got {fps}")
-        n = int(np.floor(self.duration * fps + 1e-9)) + 1
+        n = int(np.floor(min(self.duration * fps, 2.0**62) + 1e-9)) + 1
+        if self.n_frames >= limits.MIN_FRAMES:  # a one-frame motion stays one frame
+            what = f"resampling {self.n_frames} frames at {self.fps:g} Hz to {fps:g} Hz"
+            limits.check_frames(n, where, what)
         return self.retime(np.arange(n) / fps, fps=fps)

@@ -26,6 +26,31 @@ def _no_network():
 
 _no_network()
 
+
+def _hypothesis_profiles():
+    """Hypothesis profiles of the fuzz tests (tests/test_fuzz.py).
+
+    ``fpdtw`` (loaded here, what ``make test`` runs): a small fixed budget, examples
+    derived from each test's name (``derandomize``), so every run tests the same inputs.
+    ``fuzz`` (``make fuzz``: ``--hypothesis-profile=fuzz --hypothesis-seed=N``): a budget
+    15 times larger, random examples from the given seed. Neither keeps an example
+    database (nothing is written under the repository).
+    """
+    from hypothesis import HealthCheck, settings
+
+    common = dict(
+        deadline=None,  # a per-example time bound is asserted by the tests themselves
+        database=None,
+        print_blob=True,
+        suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
+    )
+    settings.register_profile("fpdtw", max_examples=40, derandomize=True, **common)
+    settings.register_profile("fuzz", max_examples=600, derandomize=False, **common)
+    settings.load_profile("fpdtw")
+
+
+_hypothesis_profiles()
+
 _PROBE = "cmu/18_01.bvh"
 
 

@@ -397,19 +397,42 @@ def test_authors_file_verified_by_git_blob_only(mirror_root, cache, monkeypatch)
     assert files_under(cache / "mocap_single_person_actions") == ["MoCapData/Walk_02.fbx"]
 
 
-def test_second_fetch_does_not_rehash(mirror_root, cache, monkeypatch):
+def test_every_fetch_hashes_the_cached_file(mirror_root, cache, monkeypatch):
     monkeypatch.setenv("FPDTW_MIRROR", str(mirror_root))
     calls = count_hashing(monkeypatch)
     p = data.fetch("cmu", progress=False)
     assert len(calls) == 1  # the downloaded temporary file
     for _ in range(3):
         assert data.fetch("cmu", progress=False) == p
-    assert len(calls) == 1
+    assert calls[1:] == [str(p)] * 3  # proven against the manifest at every use
+    assert files_under(cache) == ["cmu/18_01.bvh"]  # no index to trust
+
+
+def test_file_changed_in_place_with_its_mtime_restored_is_not_trusted(
+    mirror_root, cache, monkeypatch
+):
+    """Audit case: a cached file changed in place, same size, mtime put back.
+
+    Before: fetch() trusted its index entry (size and mtime match) and returned the
+    changed file unverified. After: fetch() hashes it, drops it, fetches it again.
+    """
+    monkeypatch.setenv("FPDTW_MIRROR", str(mirror_root))
+    expected = data.load_manifest("cmu").files[0].sha256
+    p = data.fetch("cmu", progress=False)
     st = p.stat()
-    os.utime(p, ns=(st.st_atime_ns, st.st_mtime_ns + 1_000_000_000))  # touched: hash once
-    data.fetch("cmu", progress=False)
-    data.fetch("cmu", progress=False)
-    assert calls[1:] == [str(p)]
+    flip_byte(p, 1000)
+    os.utime(p, ns=(st.st_atime_ns, st.st_mtime_ns))
+    assert p.stat().st_size == st.st_size and p.stat().st_mtime_ns == st.st_mtime_ns
+    assert sha256_of(p) != expected
+    assert data.fetch("cmu", progress=False) == p
+    assert sha256_of(p) == expected
+    # and with no mirror to fetch it again from, the changed file is refused, not returned
+    flip_byte(p, 1000)
+    os.utime(p, ns=(st.st_atime_ns, st.st_mtime_ns))
+    monkeypatch.setenv("FPDTW_MIRROR", str(cache / "nowhere"))
+    with pytest.raises(DataFetchError, match="18_01.bvh"):
+        data.fetch("cmu", progress=False)
+    assert not p.exists()
 
 
 def test_stale_cached_copy_is_replaced(mirror_root, cache, monkeypatch):
@@ -455,7 +478,7 @@ def test_archive_flow_extracts_only_listed_members(mirror_root, cache, tmp_path)
     assert pa.read_bytes() == (src / CLIP_A).read_bytes()
     assert pb.read_bytes() == (src / CLIP_B).read_bytes()
     assert files_under(cache) == sorted(
-        [".verified.json", "_archives/HDM05_cut_amc.zip", f"hdm05/{CLIP_A}", f"hdm05/{CLIP_B}"]
+        ["_archives/HDM05_cut_amc.zip", f"hdm05/{CLIP_A}", f"hdm05/{CLIP_B}"]
     )
     with pytest.raises(DataFetchError, match="has no member"):
         data.fetch(m, "HDM05_cut_amc/squat1Reps/HDM_bd_squat1Reps_002_120.amc", progress=False)
@@ -486,15 +509,17 @@ def test_verify_detects_corrupted_cached_file(mirror_root, cache, monkeypatch):
     p = data.fetch("cmu", progress=False)
     data.fetch("hdm05", CLIP_A, progress=False)
     r = data.verify(["cmu", "hdm05"])
-    assert r.ok and sorted(r.verified) == sorted(["cmu/18_01.bvh", f"hdm05/{CLIP_A}"])
+    assert sorted(r.verified) == sorted(["cmu/18_01.bvh", f"hdm05/{CLIP_A}"])
     assert len(r.missing) == 291 and r.extra == [] and r.corrupt == []
+    assert not r.ok and "FAILED: 291 of 293 files missing or wrong" in r.summary()
+    assert data.verify("cmu").ok
 
     flip_byte(p)
     st = p.stat()
     os.utime(p, ns=(st.st_atime_ns, st.st_mtime_ns + 1_000_000_000))
     expected = data.load_manifest("cmu").files[0].sha256
     r = data.verify()
-    assert not r.ok
+    assert not data.verify("cmu").ok
     assert [k for k, _ in r.corrupt] == ["cmu/18_01.bvh"]
     assert expected in r.corrupt[0][1] and sha256_of(p) in r.corrupt[0][1]
     assert "CORRUPT cmu/18_01.bvh" in r.summary()
@@ -523,11 +548,18 @@ def test_fetch_all_from_local_mirror(mirror_root, cache, monkeypatch, capsys):
     assert no_temp_files(cache)
 
     calls = count_hashing(monkeypatch)
+    t0 = time.perf_counter()
     again = data.fetch_all(progress=False)
-    assert calls == [] and len(again.fetched) == 341
+    seconds = time.perf_counter() - t0
+    with capsys.disabled():
+        print(f"[test_data] fetch_all again, every cached file hashed: {seconds:.2f} s")
+    assert len(calls) == 341 and len(again.fetched) == 341  # each one proven again
 
-    r = data.verify()
-    assert r.ok and len(r.verified) == 341 and len(r.missing) == 15 and r.extra == []
+    r = data.verify()  # FPDTW_MIRROR is set: the 15 takes not in it are skipped
+    assert r.ok and len(r.verified) == 341 and r.missing == [] and r.extra == []
+    assert len(r.skipped) == 15
+    r = data.verify(available_only=False)
+    assert not r.ok and len(r.missing) == 15
 
     # trying the 15 unavailable takes too: everything else is done, then they are reported
     report = data.fetch_all("authors_fbx", available_only=False, progress=False, strict=False)
@@ -536,6 +568,20 @@ def test_fetch_all_from_local_mirror(mirror_root, cache, monkeypatch, capsys):
     with pytest.raises(DataFetchError) as info:
         data.fetch_all("authors_fbx", available_only=False, progress=False)
     assert len(info.value.report.failed) == 15 and "15 FAILED" in str(info.value)
+
+
+def test_verify_fails_on_an_empty_cache_and_says_how_many(mirror_root, cache, monkeypatch, capsys):
+    """Audit case: before, verify of an empty cache printed "0 verified" and exited 0."""
+    monkeypatch.setenv("FPDTW_MIRROR", str(mirror_root))
+    assert data.main(["verify"]) == 1
+    out = capsys.readouterr().out
+    assert "0 verified, 0 corrupt, 341 missing, 15 skipped" in out
+    assert "FAILED: 341 of 341 files missing or wrong" in out
+    assert data.main(["verify", "--all", "--dataset", "authors_fbx"]) == 1
+    assert "63 missing, 0 skipped" in capsys.readouterr().out
+    monkeypatch.delenv("FPDTW_MIRROR")  # upstream has every file: all 356 are required
+    assert data.main(["verify"]) == 1
+    assert "356 missing" in capsys.readouterr().out
 
 
 def test_command_line(mirror_root, cache, monkeypatch, capsys):

@@ -632,8 +632,10 @@ def test_bad_asf_structure(tmp_path, text, words):
 
 
 def test_missing_files(tmp_path):
-    with pytest.raises(MotionFormatError, match="cannot read"):
+    with pytest.raises(MotionFormatError, match=r"nope\.asf: no such file"):
         read_asf(tmp_path / "nope.asf")
     (tmp_path / "t.asf").write_text(TINY_ASF)
-    with pytest.raises(MotionFormatError, match="cannot read"):
+    with pytest.raises(MotionFormatError, match=r"nope\.amc: no such file"):
         read_amc(tmp_path / "nope.amc", tmp_path / "t.asf")
+    with pytest.raises(MotionFormatError, match=re.escape(f"{tmp_path}: is a directory")):
+        read_amc(tmp_path / "t.amc", tmp_path)  # the skeleton given is a folder

@@ -8,6 +8,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..errors import MotionFormatError
+from ._text import check_input_file
 
 READERS = {".fbx": "fbx", ".amc": "asfamc", ".bvh": "bvh"}
 
@@ -30,7 +31,9 @@ def load_motion(path, **kwargs):
     Raises
     ------
     MotionFormatError
-        Unknown extension, missing file, or a file the reader rejects.
+        Unknown extension, no such file, a directory or other non-regular file, a file
+        larger than :data:`fpdtw.limits.MAX_FILE_BYTES`, or a file the reader rejects
+        (including a frame rate or frame count outside :mod:`fpdtw.limits`).
 
     Notebook: 01_data_and_motions.ipynb
     """
@@ -40,8 +43,7 @@ def load_motion(path, **kwargs):
         raise MotionFormatError(
             p, f"unknown motion file type {p.suffix!r}; expected one of {sorted(READERS)}"
         )
-    if not p.is_file():
-        raise MotionFormatError(p, "no such file")
+    check_input_file(p)
     if kind == "fbx":
         from .fbx import read_fbx
 

@@ -54,6 +54,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import limits
 from ..errors import MotionFormatError
 from ..motion import Motion, Skeleton
 from ..rotations import euler_to_quat, quat_conj
@@ -271,10 +272,11 @@ def read_asf(path) -> AsfSkeleton:
                 bone["name"] = name
             elif key == "direction":
                 d = np.array(_floats(path, tok[1:], ln, "direction", 3))
-                n = np.linalg.norm(d)
-                if n < 1e-12:
+                scale = np.abs(d).max()
+                if scale < 1e-12:
                     raise MotionFormatError(path, "bone direction is zero", line=ln)
-                bone["direction"] = d / n
+                d = d / scale  # the norm of (1e300, 0, 0) itself would overflow
+                bone["direction"] = d / np.linalg.norm(d)
             elif key == "length":
                 (length,) = _floats(path, tok[1:], ln, "length", 1)
                 if length < 0:
@@ -651,13 +653,18 @@ def read_amc(path, skeleton_or_asf_path=None, *, fps=None, name=None) -> Motion:
         frame), a bone line with a missing or extra value, a non-numeric or
         non-finite value, an unknown bone, a bone the skeleton gives no dofs,
         a repeated bone in a frame, frame numbers that are not consecutive,
-        unknown ``:`` keywords. The message names the file, line and frame
-        number. Every frame must list every bone that has dofs, whether or not
-        the file says ``:FULLY-SPECIFIED`` (partial frames are not supported).
+        unknown ``:`` keywords, a frame rate or frame count outside
+        :mod:`fpdtw.limits`. The message names the file, line and frame number.
+        Every frame must list every bone that has dofs, whether or not the file says
+        ``:FULLY-SPECIFIED`` (partial frames are not supported).
 
     Notebook: 01_data_and_motions.ipynb
     """
     path = Path(path)
+    if fps is None:
+        fps = amc_fps(path)
+    else:
+        fps = limits.check_file_fps(fps, path, source=f"fps={fps}")
     if skeleton_or_asf_path is None:
         asf = read_asf(find_asf(path))
     elif isinstance(skeleton_or_asf_path, AsfSkeleton):
@@ -685,7 +692,7 @@ def read_amc(path, skeleton_or_asf_path=None, *, fps=None, name=None) -> Motion:
     if parsed is None:  # irregular or broken file: the line-by-line parser says where
         parsed = _amc_checked(path, lines, asf, layout, width)
     data, unit = parsed
-    F = data.shape[0]
+    F = limits.check_file_frames(data.shape[0], path)
     to_deg = 180.0 / math.pi if (unit or asf.angle_unit) == "rad" else 1.0
     euler = np.zeros((F, sk.n_joints, 3))
     trans = np.zeros((F, 3))
@@ -703,7 +710,7 @@ def read_amc(path, skeleton_or_asf_path=None, *, fps=None, name=None) -> Motion:
 
     return Motion(
         name=name or path.stem,
-        fps=amc_fps(path) if fps is None else fps,
+        fps=fps,
         skeleton=sk,
         euler=euler,
         root_translation=trans,

@@ -39,6 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import limits
 from ..errors import MotionFormatError
 from ..joints import NAMINGS, resolve_joint_map
 from ..motion import Motion, Skeleton
@@ -253,7 +254,8 @@ def read_bvh(path, *, name=None) -> Motion:
         that does not match the names listed, unknown or repeated channels,
         ``Frames:`` not matching the number of data lines, a data line with a
         missing or extra value, a non-numeric or non-finite value, ``Frame
-        Time`` <= 0, position channels on a non-root joint that vary over time.
+        Time`` <= 0, position channels on a non-root joint that vary over time,
+        a frame rate (``1 / Frame Time``) or ``Frames:`` outside :mod:`fpdtw.limits`.
         The message names the file, line and (0-based) frame.
 
     Notebook: 01_data_and_motions.ipynb
@@ -288,6 +290,7 @@ def read_bvh(path, *, name=None) -> Motion:
         raise MotionFormatError(path, f"Frames: {value!r} is not an integer", line=ln) from None
     if n_frames < 1:
         raise MotionFormatError(path, f"Frames: {n_frames} (need at least one frame)", line=ln)
+    limits.check_file_frames(n_frames, path, line=ln)
     value, ln = header["frame time"]
     try:
         frame_time = float(value)
@@ -295,6 +298,9 @@ def read_bvh(path, *, name=None) -> Motion:
         raise MotionFormatError(path, f"Frame Time: {value!r} is not a number", line=ln) from None
     if not math.isfinite(frame_time) or frame_time <= 0:
         raise MotionFormatError(path, f"Frame Time must be > 0, got {value}", line=ln)
+    raw = 1.0 / frame_time  # inf for a frame time below about 1e-308
+    fps = _fps_from_frame_time(frame_time) if math.isfinite(raw) else raw
+    fps = limits.check_file_fps(fps, path, line=ln, source=f"Frame Time {value} s")
 
     # ---- data
     n_ch = sum(len(j.channels) for j in joints)
@@ -368,7 +374,7 @@ def read_bvh(path, *, name=None) -> Motion:
     joint_map = maps[1] if len(maps[1]) > len(maps[0]) else maps[0]
     return Motion(
         name=name or path.stem,
-        fps=_fps_from_frame_time(frame_time),
+        fps=fps,
         skeleton=skeleton,
         euler=euler,
         root_translation=trans,

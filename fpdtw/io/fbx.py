@@ -84,9 +84,11 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import limits
 from ..errors import MotionFormatError
 from ..motion import Motion, Skeleton
 from ..rotations import euler_to_quat, quat_conj, quat_mul, quat_normalize, quat_slerp
+from ._text import check_input_file
 
 #: ``ufbx_rotation_order`` values 0..5 as fpdtw order strings (axes in the order applied).
 UFBX_ROTATION_ORDERS = ("XYZ", "XZY", "YZX", "YXZ", "ZXY", "ZYX")
@@ -131,9 +133,7 @@ def read_fbx(path, *, fps=None, name=None) -> Motion:
     Notebook: 01_data_and_motions.ipynb
     """
     p = Path(path)
-    if not p.is_file():
-        raise MotionFormatError(p, "no such file")
-    if p.stat().st_size == 0:
+    if check_input_file(p) == 0:
         raise MotionFormatError(p, "empty file")
     try:
         import pufbx
@@ -188,7 +188,11 @@ def _read_scene(pufbx, scene, p, fps, name) -> Motion:
     if not t1 > t0:  # take range absent: use the keyed range
         times = np.concatenate([k[0] for vc in curves for k in vc if k is not None] or [[0.0]])
         t0, t1 = float(times.min()), float(times.max())
-    F = int(round((t1 - t0) * fps)) + 1
+    span = (t1 - t0) * fps
+    if not (np.isfinite(t0) and np.isfinite(span)):
+        raise MotionFormatError(p, f"take {stack.name!r} has a non-finite time range")
+    # bounded before anything of F frames is baked or allocated
+    F = limits.check_file_frames(int(round(span)) + 1, p)
 
     # ufbx's own evaluation of every node's local transform at the frames
     baked = _bake(pufbx, scene, stack, fps, t0, F, p)
@@ -322,20 +326,26 @@ def _frame_rate(curves, fps, p):
     grid = None
     if times:
         t = np.unique(np.concatenate(times))
+        if not np.isfinite(t).all():
+            raise MotionFormatError(p, "an animation key has a non-finite time")
+        if t.size < 2:
+            raise MotionFormatError(p, "animation curves have several keys at one time")
         dt = float(np.min(np.diff(t)))
         steps = (t - t[0]) / dt
         if dt <= 0 or np.max(np.abs(steps - np.rint(steps))) > 1e-3:
             raise MotionFormatError(p, "animation keys are not on a common frame grid")
         grid = 1.0 / dt
+        if not np.isfinite(grid):  # keys closer than 1/inf s
+            return limits.check_file_fps(grid, p, source=f"animation keys {dt:g} s apart")
         if abs(grid - round(grid)) < 1e-6 * grid:
             grid = float(round(grid))
     if grid is None:
         if fps is None:
             raise MotionFormatError(p, "no curve has two keys, so the frame rate is unknown")
-        return float(fps)
+        return limits.check_file_fps(fps, p, source=f"fps={fps}")
     if fps is not None and abs(float(fps) - grid) > 1e-6 * grid:
         raise MotionFormatError(p, f"fps={fps} given, but the file's keys are {grid:g} Hz")
-    return grid
+    return limits.check_file_fps(grid, p, source=f"animation keys {1 / grid:g} s apart")
 
 
 def _on_grid(times, t0, fps, F):

@@ -8,8 +8,10 @@ parameters, then feed the target (live) motion one frame at a time::
         m = aligner.step(frame)      # input frame mapped to this target frame
 
 ``step`` returns ``M_{n+1}`` before the next target frame exists: an online
-aligner keeps only the frames it has been given. :func:`run_online` does this
-over a whole target and also returns the per-frame processing times.
+aligner keeps only the frames it has been given (and, for the methods whose steps read
+only the newest frames, only the latest of those: memory proportional to the window).
+:func:`run_online` does this over a whole target and also returns the per-frame
+processing times.
 """
 
 from __future__ import annotations
@@ -19,15 +21,36 @@ from abc import ABC, abstractmethod
 
 import numpy as np
 
+from .. import limits
 from ..features import Frame, MotionFeatures
+
+#: Fewest rows kept when a bounded history is compacted (so that the rules of the first
+#: frames, ``q < 16``, never see a compacted row).
+_MIN_KEEP = 16
 
 
 class OnlineAligner(ABC):
     """Base class of online aligners.
 
     Subclasses implement :meth:`_step` (and may override :meth:`reset`). The base
-    class stores the received frames (``self.T_quats``, ``self.T_euler``, grown
-    in place, only frames already received) and the map so far (``self.M``).
+    class stores the received frames (``self.T_quats``, ``self.T_euler``,
+    ``self.T_positions``, in buffers grown in place, only frames already received) and
+    the map so far (``self.M``).
+
+    History. An aligner whose steps read only the newest target frames declares how many
+    earlier ones it reads in :attr:`history`. Such an aligner keeps every frame
+    received until its buffers hold :data:`fpdtw.limits.HISTORY_FRAMES` rows (4096 by
+    default, env ``FPDTW_HISTORY_FRAMES``), then only the latest ``max(history, 16)``
+    (the buffers are compacted in place), so that a stream of any length runs in memory
+    proportional to the window. ``T_quats``, ``T_euler``, ``T_positions`` and ``M`` then
+    hold the frames from :attr:`history_start` on. Aligners with ``history = None``
+    (OE-DTW, whose ``path()`` reads every frame, and OPW) and aligners built with
+    ``record=True`` keep everything.
+
+    Contract of :meth:`_step` (``q`` below): ``q`` is the ROW of the new frame in the
+    buffers ``_Tq``, ``_Te``, ``_Tp`` and ``_M``; rows before it hold the frames before
+    it. Until the first compaction the row is the frame number; after it, ``q >= 16``
+    and the frame number is ``history_start + q`` (``n_received - 1``).
 
     Parameters
     ----------
@@ -37,6 +60,9 @@ class OnlineAligner(ABC):
 
     #: Short name used in results and figures (e.g. ``"Mc w40"``).
     name = "online"
+    #: Earlier target frames (and map entries) a step reads besides the newest: rows
+    #: ``q - history .. q``. None: any earlier frame, so every frame is kept.
+    history: int | None = None
 
     def __init__(self, I: MotionFeatures):
         if not isinstance(I, MotionFeatures):
@@ -53,58 +79,87 @@ class OnlineAligner(ABC):
         self._Te = np.empty((cap, k, 3))
         self._Tp = None
         self._M = np.empty(cap, dtype=np.int64)
+        self._start = 0
+        self._history_rows = int(limits.get("history_frames"))
         self.n_received = 0
 
     # -- frames received so far -------------------------------------------------
     @property
+    def history_start(self) -> int:
+        """Frame number of the first target frame still kept (0 unless compacted)."""
+        return self._start
+
+    @property
     def T_quats(self) -> np.ndarray:
-        """Target rotations received so far, shape (n+1, k, 4)."""
-        return self._Tq[: self.n_received]
+        """Target rotations kept, shape (n+1 - history_start, k, 4)."""
+        return self._Tq[: self.n_received - self._start]
 
     @property
     def T_euler(self) -> np.ndarray:
-        """Target Euler angles received so far, shape (n+1, k, 3)."""
-        return self._Te[: self.n_received]
+        """Target Euler angles kept, shape (n+1 - history_start, k, 3)."""
+        return self._Te[: self.n_received - self._start]
 
     @property
     def T_positions(self):
-        """Target positions received so far, shape (n+1, p, 3), or None."""
-        return None if self._Tp is None else self._Tp[: self.n_received]
+        """Target positions kept, shape (n+1 - history_start, p, 3), or None."""
+        return None if self._Tp is None else self._Tp[: self.n_received - self._start]
 
     @property
     def M(self) -> np.ndarray:
-        """The map so far: ``M[q]`` is the input frame of target frame q."""
-        return self._M[: self.n_received]
+        """The map so far: ``M[q]`` is the input frame of target frame
+        ``history_start + q``."""
+        return self._M[: self.n_received - self._start]
+
+    def _buffers(self):
+        return [name for name in ("_Tq", "_Te", "_Tp", "_M") if getattr(self, name) is not None]
 
     def _grow(self):
         cap = 2 * self._Tq.shape[0]
-        for name in ("_Tq", "_Te", "_Tp", "_M"):
+        for name in self._buffers():
             old = getattr(self, name)
-            if old is None:
-                continue
             new = np.empty((cap,) + old.shape[1:], dtype=old.dtype)
             new[: old.shape[0]] = old
             setattr(self, name, new)
 
+    def _keep_rows(self) -> int | None:
+        """Rows to keep when compacting, or None when this aligner keeps everything."""
+        if self.history is None or getattr(self, "record", False):
+            return None
+        return max(int(self.history), _MIN_KEEP)
+
+    def _make_room(self) -> None:
+        """The buffers are full: compact them (bounded history) or grow them."""
+        rows = self._Tq.shape[0]
+        keep = self._keep_rows()
+        if keep is None or rows < max(self._history_rows, 2 * keep):
+            self._grow()
+            return
+        shift = rows - keep
+        for name in self._buffers():
+            buf = getattr(self, name)
+            buf[:keep] = buf[shift:rows]
+        self._start += shift
+
     def step(self, frame: Frame) -> int:
         """Receive target frame ``T_{n+1}`` and return ``M_{n+1}``."""
-        i = self.n_received
+        i = self.n_received - self._start
         if i == self._Tq.shape[0]:
-            self._grow()
+            self._make_room()
+            i = self.n_received - self._start
         self._Tq[i] = frame.quats
         self._Te[i] = frame.euler
         if frame.positions is not None:
             if self._Tp is None:
                 self._Tp = np.empty((self._Tq.shape[0],) + np.shape(frame.positions))
             self._Tp[i] = frame.positions
-        self.n_received = i + 1
+        self.n_received += 1
         m = int(self._step(i))
         self._M[i] = m
         return m
 
     @abstractmethod
     def _step(self, q: int) -> int:
-        """Map target frame ``q`` (already stored) to an input frame."""
+        """Map the new target frame, stored in row ``q`` of the buffers, to an input frame."""
 
 
 def run_online(aligner: OnlineAligner, T: MotionFeatures, *, reset=True):

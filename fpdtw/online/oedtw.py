@@ -12,7 +12,9 @@ Nothing stops ``e_q`` from moving backwards between consecutive frames: the
 FP-DTW paper's Fig. 1 shows this. To draw it, :meth:`OEDTW.path` back-tracks the
 partial alignment path ending at ``(e_q, q)``; for that the aligner stores every
 accumulated column it has computed (``O(m * frames)`` float64 memory, 8 MB for a
-1000 x 1000 pair) and recomputes the few local costs the back-track compares.
+1000 x 1000 pair; bounded by :data:`fpdtw.limits.MAX_MATRIX_BYTES`, past which ``step``
+raises :class:`~fpdtw.errors.LimitError`) and recomputes the few local costs the
+back-track compares.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from .. import limits
 from ..costs import _TWO_OVER_PI, _acos01, _geo_frame
 from ..dtw import _backtrack, diagonal_weight
 from ..errors import AlignmentError
@@ -160,10 +163,33 @@ class OEDTW(OnlineAligner):
     def reset(self) -> None:
         """Forget every target frame and every stored column."""
         super().reset()
+        self._check_columns(256)
         self._cols = np.empty((256, self.I.n_frames))
+
+    @staticmethod
+    def column_bytes(input_frames: int, target_frames: int) -> int:
+        """Bytes of the accumulated columns OE-DTW stores for a target of this length
+        (the store starts with 256 columns and doubles)."""
+        cap = 256
+        while cap < target_frames:
+            cap *= 2
+        return 8 * cap * int(input_frames)
+
+    def _check_columns(self, n: int) -> None:
+        """``n`` stored columns fit :data:`fpdtw.limits.MAX_MATRIX_BYTES` (LimitError)."""
+        m1 = self.I.n_frames
+        limits.check_bytes(
+            8 * n * m1,
+            self.I.name,
+            f"OE-DTW keeps every accumulated column (for path()): {n} target frames x "
+            f"{m1} input frames of float64",
+            hint="OE-DTW's memory grows with target x input frames: use a method with a "
+            "bounded window (a, b, c, oltw) for long takes, or shorter takes",
+        )
 
     def _step(self, q: int) -> int:
         if q == self._cols.shape[0]:
+            self._check_columns(2 * q)
             grown = np.empty((2 * q, self._cols.shape[1]))
             grown[:q] = self._cols
             self._cols = grown

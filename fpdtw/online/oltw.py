@@ -79,6 +79,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
+from .. import limits
 from ..costs import _geo_frame
 from ..errors import AlignmentError
 from ..features import MotionFeatures
@@ -99,17 +100,18 @@ _LOG_COLS = 7
 
 
 @numba.njit(cache=True)
-def _new_target_column(Iq, Tq, D, c, i, q):
+def _new_target_column(Iq, Tq, base, D, c, i, q):
     """Evaluate cells (i', q), i' = max(0, i - c + 1) .. i, of the new target column q >= 1.
 
     D is the (c, c) ring buffer: cell (i', q') lives at ``D[i' % c, q' % c]``; every cell
     of the ``c x c`` block behind the corner is computed, cells outside it are unreachable.
+    Target frame q' is row ``q' - base`` of ``Tq`` (the aligner's bounded history).
     """
     lo = max(0, i - c + 1)
     cq = q % c
     pq = (q - 1) % c
     for ii in range(lo, i + 1):
-        d = _geo_frame(Iq[ii], Tq[q])
+        d = _geo_frame(Iq[ii], Tq[q - base])
         r = ii % c
         best = D[r, pq] + d  # (ii, q - 1)
         if ii > lo:
@@ -124,13 +126,13 @@ def _new_target_column(Iq, Tq, D, c, i, q):
 
 
 @numba.njit(cache=True)
-def _new_input_row(Iq, Tq, D, c, i, q):
+def _new_input_row(Iq, Tq, base, D, c, i, q):
     """Evaluate cells (i, q'), q' = max(0, q - c + 1) .. q, of the new input row i (i >= 1)."""
     lo = max(0, q - c + 1)
     r = i % c
     pr = (i - 1) % c
     for qq in range(lo, q + 1):
-        d = _geo_frame(Iq[i], Tq[qq])
+        d = _geo_frame(Iq[i], Tq[qq - base])
         cq = qq % c
         best = D[pr, cq] + d  # (i - 1, qq)
         if qq > lo:
@@ -172,13 +174,13 @@ def _best_cell(D, c, i, q, normalize):
 
 
 @numba.njit(cache=True)
-def _apply(Iq, Tq, D, st, c, inc):
+def _apply(Iq, Tq, base, D, st, c, inc):
     if inc == 1 or inc == 3:  # TARGET or BOTH
         st[1] += 1
-        _new_target_column(Iq, Tq, D, c, st[0], st[1])
+        _new_target_column(Iq, Tq, base, D, c, st[0], st[1])
     if inc == 2 or inc == 3:  # INPUT or BOTH
         st[0] += 1
-        _new_input_row(Iq, Tq, D, c, st[0], st[1])
+        _new_input_row(Iq, Tq, base, D, c, st[0], st[1])
     if inc == st[2]:
         st[3] += 1
     else:
@@ -188,22 +190,24 @@ def _apply(Iq, Tq, D, st, c, inc):
 
 
 @numba.njit(cache=True)
-def _oltw_step(Iq, Tq, q_new, D, st, c, max_run, warmup, normalize, log):
+def _oltw_step(Iq, Tq, base, q_new, D, st, c, max_run, warmup, normalize, log):
     """Receive target frame ``q_new``; grow the matrix; return (M_q, number of log rows).
 
+    Tq : the target frames kept, frame q' in row ``q' - base`` (frames ``q_new - c + 1 ..
+    q_new`` at least).
     st : int64 (5,) state: corner i, corner q, previous increment, run count, pending.
     log : int64 (rows, 7) decisions of this step (see ``_LOG_COLS``).
     """
     m = Iq.shape[0] - 1
     if q_new == 0:
-        D[0, 0] = _geo_frame(Iq[0], Tq[0])
+        D[0, 0] = _geo_frame(Iq[0], Tq[0 - base])
         st[0] = 0
         st[1] = 0
         st[2] = 0
         st[3] = 0
         st[4] = 0
     else:
-        _apply(Iq, Tq, D, st, c, st[4])  # the increment that waited for this frame
+        _apply(Iq, Tq, base, D, st, c, st[4])  # the increment that waited for this frame
     n = 0
     while True:
         i = st[0]
@@ -237,7 +241,7 @@ def _oltw_step(Iq, Tq, q_new, D, st, c, max_run, warmup, normalize, log):
             log[n, 6] = bq
         n += 1
         if inc == 2:
-            _apply(Iq, Tq, D, st, c, inc)
+            _apply(Iq, Tq, base, D, st, c, inc)
         else:
             st[4] = inc
             break
@@ -305,7 +309,14 @@ class OLTW(OnlineAligner):
             raise AlignmentError("the input motion must be given as MotionFeatures")
         if I.n_frames < 1:
             raise AlignmentError(f"input motion {I.name!r} has no frames")
+        limits.check_bytes(
+            limits.band_bytes(c),
+            I.name,
+            f"OLTW's search band would be c x c = {c} x {c} float64",
+            hint="use a smaller search width c (--window)",
+        )
         self.c = int(c)
+        self.history = self.c - 1  # new input rows read target frames q - c + 1 .. q
         self.max_run_count = int(max_run_count)
         self.warmup = bool(warmup)
         self.normalize = bool(normalize)
@@ -324,8 +335,8 @@ class OLTW(OnlineAligner):
 
     def _step(self, q: int) -> int:
         m, n = _oltw_step(
-            self._Iq, self._Tq, q, self._D, self._st, self.c, self.max_run_count,
-            self.warmup, self.normalize, self._log,
+            self._Iq, self._Tq, self.history_start, self.n_received - 1, self._D, self._st,
+            self.c, self.max_run_count, self.warmup, self.normalize, self._log,
         )  # fmt: skip
         if self.record:
             self._decisions.append(self._log[:n].copy())

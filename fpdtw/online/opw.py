@@ -54,6 +54,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import AlignmentError
 from ..features import MotionFeatures
 from ..warpcurve import WarpCurve
 from .base import OnlineAligner
@@ -153,7 +154,10 @@ class OPW(OnlineAligner):
                 "MotionFeatures.from_motion(motion, position_joints=OPW_JOINTS)"
             )
         if I.n_frames < 2:
-            raise ValueError("OPW needs a recording of at least two frames")
+            raise AlignmentError(
+                f"OPW needs a recording of at least two frames; {I.name or 'the input'!r} "
+                f"has {I.n_frames}"
+            )
         if not omega > 0:
             raise ValueError(f"omega must be positive, got {omega}")
         if not 0 < gamma < 1:

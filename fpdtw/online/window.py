@@ -651,6 +651,15 @@ class WindowAligner(OnlineAligner):
             raise AlignmentError("the input motion must be given as MotionFeatures")
         if I.n_frames < 1:
             raise AlignmentError(f"input motion {I.name!r} has no frames")
+        from .. import limits
+
+        limits.check_bytes(
+            limits.window_bytes(w),
+            I.name,
+            f"{type(self).__name__}'s window matrices would be up to two {w + 1} x {w + 1} float64",
+            hint="use a smaller window w (--window)",
+        )
+        self.history = 1  # a step reads T[q - 1], T[q] and M[q - 1]: bounded history
         self.w = int(w)
         self.constraint = resolve_constraint(constraint)
         self.record = bool(record)
