@@ -195,12 +195,12 @@ def reading_signature(rows, dataset: str = "all") -> list[dict]:
     Returns
     -------
     out : list of dict
-        Per reading: ``dataset``, ``reading``, ``best_w_120``, ``best_w_60`` (highest
-        median similarity without Type V; the paper: 40 and 20), ``w10`` and ``w80`` stick/skip index (the paper:
-        w10 sticks, < 0; w80 skips, > 0), ``w40_passes_both`` (the paper: yes),
-        ``pass_both`` (every configuration at 120 Hz whose medians pass both benchmarks;
-        the paper: Mc w40 and Mc w80 + Type V), ``exhausted`` (mean over w at 120 Hz,
-        without Type V).
+        Per reading: ``dataset``, ``reading``, ``best_w_120`` and ``best_w_60`` (the
+        highest median similarity without Type V; the paper: 40 and 20),
+        ``w10_stick_skip`` and ``w80_stick_skip`` (the paper: w10 sticks, < 0; w80 skips,
+        > 0), ``w40_passes_both`` (the paper: yes), ``pass_both`` (every configuration at
+        120 Hz whose medians pass both benchmarks; the paper: Mc w40 and Mc w80 + Type V),
+        ``exhausted`` (mean over w at 120 Hz, without Type V).
 
     Paper: FP-DTW Section 5, Table 1, Figs. 5-7.
     Notebook: 15_readings_of_algorithm_3.ipynb

@@ -54,7 +54,7 @@ def test_smoke_selection_counts(smoke):
     assert smoke.counts["authors_fbx"] == {"motions": 32, "movements": 16, "pairs": 32}
     assert smoke.counts["hdm05"] == {"motions": 22, "movements": 11, "pairs": 22}
     assert smoke.counts["total"]["pairs"] == 54
-    assert list(smoke.algorithms) == list(DEFAULT_ALGORITHMS)
+    assert list(smoke.algorithms) == list(DEFAULT_ALGORITHMS)  # literal window included
 
 
 def test_every_map_is_in_range_and_fpdtw_maps_are_monotonic(smoke):
@@ -128,3 +128,24 @@ def test_figure_notebooks_recorded_their_facts():
     assert {"1", "2", "3", "7", "9", "P1", "P2", "P3", "P4", "B1"} <= set(ids)
     assert all(c["holds"] in ("yes", "no", "partly", "n/a") for c in claims)
     assert next(c for c in claims if c["id"] == "P1")["holds"] != "n/a"  # 13_opw_fig4 ran
+
+
+def test_readings_notebook_recorded_every_reading():
+    """Notebook 15 (smoke-study run): every reading's signature, the mechanism and the
+    silent choices were recorded; the literal window's hold carries its extra cell."""
+    from fpdtw.algorithms import C_READINGS
+
+    facts = _facts("15_readings_of_algorithm_3")
+    assert facts["pairs"] == 54
+    assert [s["reading"] for s in facts["signature"]] == list(C_READINGS)
+    for s in facts["signature"]:
+        assert s["best_w_120"] in (10, 20, 40, 80) and s["best_w_60"] in (10, 20, 40, 80)
+    mech = facts["mechanism"]
+    assert mech["literal"]["steps"] > 0 and mech["square"]["steps"] > 0
+    assert mech["literal"]["excess"] > 10 * mech["literal"]["neighbour"]
+    assert mech["square"]["excess"] < mech["literal"]["excess"]
+    assert mech["square"]["hold"] > mech["literal"]["hold"]
+    choices = {c["choice"] for c in facts["silent_choices"]}
+    assert {"ties", "backtrack", "forecast", "start", "flat_axis", "after_input"} <= choices
+    claims = json.loads((SMOKE_RESULTS / "smoke" / "claims.json").read_text())["claims"]
+    assert all(c["holds_literal"] in ("yes", "no", "partly", "n/a") for c in claims)

@@ -315,13 +315,16 @@ def best_window(medians: dict) -> int:
     return max(ws, key=lambda w: (medians[w], -w))
 
 
-def table1_rows(results, windows=WINDOWS, rates=(60, 120), reading="square") -> list[dict]:
+def table1_rows(
+    results, windows=WINDOWS, rates=(60, 120), reading="square", with_paper=True
+) -> list[dict]:
     """Table 1: median similarity of Method C per window and UTW, per rate; ours and paper's.
 
     At 60 Hz our algorithms are ``"Mc w<w>@60Hz"`` and ``"UTW@60Hz"`` (the runner resamples
     the motions to 60 Hz before building features; the window stays a number of frames).
     ``reading`` picks Method C's reading of Algorithm 3 (e.g. ``"literal"``: the names
-    ``"Mc w<w> (literal window)"``).
+    ``"Mc w<w> (literal window)"``; rows labelled ``"ours (literal window)"``);
+    ``with_paper=False`` leaves out the paper's rows.
 
     Returns
     -------
@@ -344,8 +347,9 @@ def table1_rows(results, windows=WINDOWS, rates=(60, 120), reading="square") -> 
             for w in windows
         }
         ours["UTW"] = utw_median(results, rate)
-        paper = PAPER_TABLE1.get(rate)
-        for source, med in (("paper", paper), ("ours", ours)):
+        paper = PAPER_TABLE1.get(rate) if with_paper else None
+        label = "ours" if reading == "square" else f"ours ({reading} window)"
+        for source, med in (("paper", paper), (label, ours)):
             if med is None:
                 continue
             row = {"rate_hz": rate, "source": source}
@@ -381,9 +385,12 @@ def plot_table1(rows, ax=None):
         ws = [int(k[1:]) for k in r if k.startswith("w") and k[1:].isdigit() and r[k] is not None]
         ys = [r[f"w{w}"] for w in ws]
         c = colours.get(r["rate_hz"], "k")
-        style = "-o" if r["source"] == "ours" else "--s"
+        style = {"ours": "-o", "paper": "--s"}.get(r["source"], ":^")
         ax.plot(ws, ys, style, color=c, label=f"{r['source']}, {r['rate_hz']} Hz, Method C")
-        ax.axhline(r["UTW"], color=c, lw=0.8, ls="-" if r["source"] == "ours" else "--", alpha=0.5)
+        if r["source"] != "ours (literal window)":
+            ax.axhline(
+                r["UTW"], color=c, lw=0.8, ls="-" if r["source"] == "ours" else "--", alpha=0.5
+            )
     ax.set_xscale("log", base=2)
     ax.set_xticks(list(WINDOWS))
     ax.set_xticklabels([str(w) for w in WINDOWS])
