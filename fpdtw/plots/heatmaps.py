@@ -198,7 +198,9 @@ def _colourbar(fig, axes, norm, cmap="magma"):
     return cb
 
 
-def plot_heatmap_grid(results, names=FIG7_NAMES, ncols=5, bins=100, log=True, maps=None):
+def plot_heatmap_grid(
+    results, names=FIG7_NAMES, ncols=5, bins=100, log=True, maps=None, titles=None
+):
     """Fig. 7: the aggregate heat map of each algorithm, one panel each, one colour scale.
 
     Parameters
@@ -211,6 +213,8 @@ def plot_heatmap_grid(results, names=FIG7_NAMES, ncols=5, bins=100, log=True, ma
         Logarithmic colour scale (default; see module docstring).
     maps : dict, optional
         Precomputed ``{name: heatmap(results, name, bins)}``.
+    titles : dict, optional
+        ``{name: panel title}`` (default: the name).
 
     Returns
     -------
@@ -229,7 +233,7 @@ def plot_heatmap_grid(results, names=FIG7_NAMES, ncols=5, bins=100, log=True, ma
     fig, axes = _grid(nrows, ncols)
     norm = shared_norm([maps[n] for n in names], log=log)
     for ax, n in zip(axes.flat, names):
-        plot_heatmap(maps[n], ax, norm=norm, title=n)
+        plot_heatmap(maps[n], ax, norm=norm, title=(titles or {}).get(n, n))
     for ax in axes.flat[len(names) :]:
         ax.set_visible(False)
     for ax in axes.flat:

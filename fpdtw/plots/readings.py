@@ -85,7 +85,7 @@ def plot_readings_overview(rows, dataset: str = "all", axes=None, utw=None):
         raise ValueError(f"no reading rows for dataset {dataset!r}")
     df["constraint"] = np.where(df["type_v"], "+ Type V", "none")
     if axes is None:
-        fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
+        fig, axes = plt.subplots(1, 3, figsize=(13, 3.8), layout="constrained")
     else:
         fig = axes[0].figure
     panels = [
@@ -108,6 +108,7 @@ def plot_readings_overview(rows, dataset: str = "all", axes=None, utw=None):
         ax.set_xscale("log", base=2)
         ax.set_xticks(sorted(sub["w"].unique()), [str(int(w)) for w in sorted(sub["w"].unique())])
         ax.set_title(title, fontsize=9)
+        ax.set_ylabel("stick/skip index" if col == "stick_skip" else "median similarity")
         ax.grid(alpha=0.3)
         if col == "stick_skip":
             ax.axhline(0.0, color="k", lw=0.8)
