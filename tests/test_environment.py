@@ -211,13 +211,16 @@ def test_lock_is_for_the_makefile_target_and_extras():
     "mutate, expected",
     [
         # a requirement added to pyproject.toml, not yet locked
-        (lambda t, p: p["project"]["dependencies"].append("dask>=2024.1"), "dask>=2024.1: in"),
+        (
+            lambda t, p: p["project"]["dependencies"].append("not-yet-locked[extra]>=2024.1"),
+            "not-yet-locked[extra]>=2024.1: in",
+        ),
         # a range raised past the locked version
-        (lambda t, p: p["project"]["dependencies"].append("numpy>=99"), "excludes the locked"),
+        (lambda t, p: p["project"]["dependencies"].append("numpy>=999"), "excludes the locked"),
         # an extra added to pyproject.toml that the lock was not made with
-        (lambda t, p: p["project"]["optional-dependencies"].update(docs=["sphinx"]), "docs"),
+        (lambda t, p: p["project"]["optional-dependencies"].update(new=["sphinx"]), "'new'"),
         # a newer Python required than the lock was made for
-        (lambda t, p: p["project"].update({"requires-python": ">=3.12"}), "locked for Python"),
+        (lambda t, p: p["project"].update({"requires-python": ">=3.99"}), "locked for Python"),
         # a pin dropped from the lock, a hash dropped, a range instead of a pin
         (lambda t, p: re.sub(r"(?m)^scipy==", "scipy-gone==", t), "scipy>=1.11: in"),
         (
