@@ -6,7 +6,28 @@
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
-STAMP  := $(VENV)/.installed-stamp
+
+# The environment. By default `make env` (and so every target) builds .venv afresh from
+# requirements.lock: exact versions, every file hash-checked by pip, for CPython 3.11 on
+# Linux x86_64 (the platform the figures are made on), then the package itself without
+# dependencies. LOCKED=0 (`make test LOCKED=0`, or export LOCKED=0) installs the version
+# ranges of pyproject.toml instead, for other platforms. `make lock` refreshes the lock
+# (UPGRADE=1: to the newest versions the ranges allow) with uv, installed from PyPI into a
+# throwaway venv. Each mode has its own stamp, rebuilt when pyproject.toml (or the lock)
+# changes.
+LOCKED ?= 1
+LOCK   := requirements.lock
+EXTRAS := test,notebooks
+LOCK_PYTHON   := 3.11
+LOCK_PLATFORM := x86_64-unknown-linux-gnu
+UV_VERSION    := 0.13.9
+LOCK_VENV     := build/lock-tool
+ifeq ($(LOCKED),1)
+STAMP  := $(VENV)/.installed-locked
+else
+STAMP  := $(VENV)/.installed-ranges
+endif
+comma  := ,
 
 export PYTHONHASHSEED := 0
 export FPDTW_DATA_DIR ?= $(CURDIR)/data_cache
@@ -24,7 +45,7 @@ LIB_SRC   := $(wildcard fpdtw/*.py fpdtw/*/*.py)
 # smoke runs write their figures and results under build/smoke, never over figures/
 SMOKE_ENV := FPDTW_FIGURES_DIR=$(CURDIR)/$(SMOKE_DIR)/figures FPDTW_RESULTS_DIR=$(CURDIR)/$(SMOKE_DIR)/results
 
-.PHONY: env data test fuzz lint format figures bench clean distclean help
+.PHONY: env lock data test fuzz lint format figures bench clean distclean help
 
 help:
 	@echo "make figures  - build env, fetch data, run every notebook, write figures/"
@@ -32,16 +53,52 @@ help:
 	@echo "make fuzz     - the fuzz tests with a 15x budget (FUZZ_SEED=0 by default)"
 	@echo "make data     - fetch and verify the data listed in data_manifest/"
 	@echo "make bench    - per-frame latency benchmark (results/bench.json)"
+	@echo "make env      - .venv from requirements.lock (LOCKED=0: pyproject's version ranges)"
+	@echo "make lock     - refresh requirements.lock with uv (UPGRADE=1: newest versions)"
 	@echo "Set FPDTW_MIRROR=/path/or/url to fetch from a mirror instead of upstream."
 
 env: $(STAMP)
 
-$(STAMP): pyproject.toml
-	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+# from the lock: a fresh venv (nothing left over from an older lock), every pinned file
+# hash-checked (pip refuses a lock that misses a dependency), the package without
+# dependencies, then pip check
+$(VENV)/.installed-locked: pyproject.toml $(LOCK)
+	@$(PYTHON) -c 'import platform, sys; \
+	  have = "CPython %d.%d on %s %s" % (*sys.version_info[:2], sys.platform, platform.machine()); \
+	  have = have if sys.implementation.name == "cpython" else sys.implementation.name + " " + have; \
+	  want = "CPython $(LOCK_PYTHON) on linux x86_64"; \
+	  sys.exit(0 if have == want else f"$(LOCK) is for {want}, but $(PYTHON) is {have}: " \
+	    "run make with PYTHON=python$(LOCK_PYTHON), or with LOCKED=0 to install the version " \
+	    "ranges of pyproject.toml instead (see README, Reproducible environment)")'
+	$(PYTHON) -m venv --clear $(VENV)
 	$(PY) -m pip install --upgrade pip
-	$(PY) -m pip install -e ".[test,notebooks]"
+	$(PY) -m pip install --require-hashes -r $(LOCK)
+	$(PY) -m pip install --no-deps -e .
+	$(PY) -m pip check
 	$(PY) -m ipykernel install --sys-prefix --name fpdtw --display-name "fpdtw (.venv)"
 	touch $@
+
+# from pyproject.toml's version ranges (any platform); updates an existing .venv in place
+$(VENV)/.installed-ranges: pyproject.toml
+	test -x $(PY) || $(PYTHON) -m venv $(VENV)
+	rm -f $(VENV)/.installed-locked
+	$(PY) -m pip install --upgrade pip
+	$(PY) -m pip install -e ".[$(EXTRAS)]"
+	$(PY) -m ipykernel install --sys-prefix --name fpdtw --display-name "fpdtw (.venv)"
+	touch $@
+
+# refresh requirements.lock from pyproject.toml (and the extras above): exact versions and
+# the SHA-256 of every file PyPI has of them (wheels and sdists), resolved for
+# $(LOCK_PLATFORM) and Python $(LOCK_PYTHON) whatever machine runs it. Pins already in the
+# lock are kept where pyproject.toml still allows them; UPGRADE=1 takes the newest.
+# Needs PyPI only (uv never downloads a Python here).
+lock:
+	test -x $(LOCK_VENV)/bin/python || $(PYTHON) -m venv $(LOCK_VENV)
+	$(LOCK_VENV)/bin/python -m pip install --quiet --disable-pip-version-check uv==$(UV_VERSION)
+	UV_PYTHON_DOWNLOADS=never $(LOCK_VENV)/bin/uv pip compile pyproject.toml \
+		$(foreach e,$(subst $(comma), ,$(EXTRAS)),--extra $(e)) \
+		--generate-hashes --python-version $(LOCK_PYTHON) --python-platform $(LOCK_PLATFORM) \
+		--python $(LOCK_VENV)/bin/python $(if $(filter 1,$(UPGRADE)),--upgrade) -o $(LOCK) >/dev/null
 
 data: $(DATA_STAMP)
 
