@@ -107,7 +107,7 @@ $(NUMBA_STAMP): $(LIB_SRC)
 	mkdir -p $(NUMBA_CACHE_DIR) && touch $@
 
 $(DATA_STAMP): $(STAMP) $(wildcard data_manifest/*.toml)
-	$(PY) -m fpdtw.data fetch
+	$(PY) -m fpdtw.paper.datasets fetch
 	mkdir -p $(dir $@) && touch $@
 
 lint: $(STAMP)
@@ -138,11 +138,11 @@ $(SMOKE_DIR)/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(
 	mv $(@:.ipynb=.part.ipynb) $@
 
 bench: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP)
-	$(PY) -m fpdtw.bench
+	$(PY) -m fpdtw.paper.bench
 
 # Table 2's notebook shows the single-core benchmark next to the runner's timings
 results/bench.json: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(LIB_SRC)
-	$(PY) -m fpdtw.bench
+	$(PY) -m fpdtw.paper.bench
 build/notebooks/09_table2_timing.ipynb: results/bench.json
 
 # every notebook is executed by papermill into build/notebooks (sources never edited

@@ -16,17 +16,33 @@ The public API, by what it holds:
   :class:`AlignmentError` (all :class:`FpdtwError`).
 """
 
-from .algorithms import align, make_online
-from .costs import geo_distance, geodesic_cost_matrix, position_cost_matrix
-from .dtw import dtw, dtw_pair, utw_map
-from .errors import AlignmentError, DataFetchError, FpdtwError, ManifestError, MotionFormatError
-from .features import Frame, MotionFeatures
-from .io import load_motion
-from .joints import OPW_JOINTS, PAPER_JOINTS
-from .metrics import deviation, similarity
-from .motion import Motion, Skeleton
-from .online import OEDTW, OLTW, OPW, MethodA, MethodB, MethodC, OnlineAligner, TypeV, run_online
-from .warpcurve import WarpCurve
+from fpdtw.costs import geo_distance, geodesic_cost_matrix, position_cost_matrix
+from fpdtw.dtw import dtw, dtw_pair, utw_map
+from fpdtw.errors import (
+    AlignmentError,
+    DataFetchError,
+    FpdtwError,
+    ManifestError,
+    MotionFormatError,
+)
+from fpdtw.io import load_motion
+from fpdtw.metrics import deviation, similarity
+from fpdtw.motion.features import Frame, MotionFeatures
+from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
+from fpdtw.motion.motion import Motion, Skeleton
+from fpdtw.online import (
+    OEDTW,
+    OLTW,
+    OPW,
+    MethodA,
+    MethodB,
+    MethodC,
+    OnlineAligner,
+    TypeV,
+    run_online,
+)
+from fpdtw.registry import align, make_online
+from fpdtw.warpcurve import WarpCurve
 
 __version__ = "0.1.0"
 

@@ -36,9 +36,9 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from . import limits
-from .costs import geodesic_cost_matrix
-from .errors import AlignmentError
+from fpdtw import limits
+from fpdtw.costs import geodesic_cost_matrix
+from fpdtw.errors import AlignmentError
 
 #: Weight of the diagonal step of each supported step pattern (side steps weigh 1).
 STEP_PATTERNS = {"symmetric1": 1.0, "symmetric2": 2.0}

@@ -39,7 +39,7 @@ import math
 import numba
 import numpy as np
 
-from .rotations import ORDERS, check_order
+from fpdtw.motion.rotations import ORDERS, check_order
 
 #: ``ORDER_AXES[code]`` = axes (0=X, 1=Y, 2=Z) of rotation order ``ORDERS[code]`` in the
 #: order they are applied to a vector (``"XYZ"``: X first, so R = Rz Ry Rx).
@@ -49,7 +49,7 @@ _HALF_RAD_PER_DEG = math.pi / 360.0  # half-angle in radians per degree
 
 
 def order_codes(orders) -> np.ndarray:
-    """Integer codes (indices into :data:`fpdtw.rotations.ORDERS`) of rotation orders.
+    """Integer codes (indices into :data:`fpdtw.motion.rotations.ORDERS`) of rotation orders.
 
     Parameters
     ----------
@@ -126,7 +126,7 @@ def euler_to_quat_fast(E, orders) -> np.ndarray:
     Returns
     -------
     Q : ndarray of float64, shape (F, k, 4)
-        Unit quaternions (w, x, y, z); equal to :func:`fpdtw.rotations.euler_to_quat` up
+        Unit quaternions (w, x, y, z); equal to :func:`fpdtw.motion.rotations.euler_to_quat` up
         to sign (the sign is not normalised).
 
     Paper: FP-DTW Algorithms 2 and 3 (forecastJoints output turned into quaternions).

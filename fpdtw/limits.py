@@ -65,7 +65,7 @@ import math
 import os
 from collections.abc import Iterator
 
-from .errors import LimitError, MotionFormatError
+from fpdtw.errors import LimitError, MotionFormatError
 
 #: Lowest plausible frame rate (Hz) of a motion file, ``--fps`` and resampling.
 MIN_FPS = 1.0

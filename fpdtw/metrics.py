@@ -18,8 +18,8 @@ import math
 import numba
 import numpy as np
 
-from .errors import AlignmentError
-from .rotations import quat_rotate
+from fpdtw.errors import AlignmentError
+from fpdtw.motion.rotations import quat_rotate
 
 #: An axis whose trajectory range (max - min) is below this in a motion is "flat".
 FLAT_RANGE = 0.001

@@ -1,7 +1,7 @@
 """Shared fixtures.
 
 Tests never touch the internet. Real motion files come from the verified data
-cache that ``make data`` fills from the manifest (``fpdtw.paths.data_dir()``; its
+cache that ``make data`` fills from the manifest (``fpdtw.paper.paths.data_dir()``; its
 layout is the same as a mirror's). When the cache does not hold a file, the local
 mirror folder named by ``FPDTW_MIRROR`` is used instead.
 """
@@ -19,7 +19,7 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 def _no_network():
     """Without a mirror, let the verified cache serve as the mirror: fetch() never goes online."""
     if not os.environ.get("FPDTW_MIRROR", "").strip():
-        from fpdtw.paths import data_dir
+        from fpdtw.paper.paths import data_dir
 
         os.environ["FPDTW_MIRROR"] = str(data_dir())
 
@@ -55,7 +55,7 @@ _PROBE = "cmu/18_01.bvh"
 
 
 def _roots() -> list[Path]:
-    from fpdtw.paths import data_dir
+    from fpdtw.paper.paths import data_dir
 
     roots = []
     cache = data_dir()

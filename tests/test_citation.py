@@ -13,8 +13,8 @@ import jsonschema
 import pytest
 import yaml
 
-from fpdtw import data
-from fpdtw.paths import REPO_ROOT
+from fpdtw.paper import datasets as data
+from fpdtw.paper.paths import REPO_ROOT
 
 MIT_GRANT = (
     "Permission is hereby granted, free of charge, to any person obtaining a copy of this "

@@ -1,4 +1,4 @@
-"""Each claim of fpdtw.claims says yes / no / partly correctly on summaries made to pass or fail."""
+"""Each claim of fpdtw.paper.claims says yes / no / partly correctly on made-up summaries."""
 
 from __future__ import annotations
 
@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from test_plots_results import paper_like_algos, paper_like_medians, write_fake_results
 
-from fpdtw import claims
-from fpdtw.algorithms import FPDTW_NAMES
-from fpdtw.claims import ClaimContext
+from fpdtw.paper import claims
+from fpdtw.paper.claims import ClaimContext
+from fpdtw.paper.numbers import FIG8_DEVIATIONS, FPDTW_NAMES
 
 
 def ctx_paper_like(**kw):
@@ -43,6 +43,11 @@ def ctx_paper_like(**kw):
     )
     base.update(kw)
     return ClaimContext(**base)
+
+
+def claim_row(cid, ctx):
+    """The row of one claim of the table."""
+    return next(c for c in claims.CLAIMS if c.id == cid).row(ctx)
 
 
 def holds(ctx):
@@ -90,14 +95,14 @@ def test_claim1_only_mc_w40():
     dev3 = dict(dev, **{"Mc w40": 30.0, "Mb w80": 17.0})  # Mc w40 fails, Mb w80 passes
     assert holds(ctx_paper_like(similarity=sim3, deviation=dev3))["1"] == "no"
     dev4 = dict(dev, **{"Mc w40": 30.0})
-    row = claims.claim_only_mc_w40_unconstrained(ctx_paper_like(similarity=sim3, deviation=dev4))
+    row = claim_row("1", ctx_paper_like(similarity=sim3, deviation=dev4))
     assert row["holds"] == "no" and row["ours"] == "pass either: none"
 
 
 def test_claim2_pass_both():
     sim, dev = paper_like_medians()
     dev2 = dict(dev, **{"Ma + Type V": 18.0})  # 18 is not BELOW 18
-    row = claims.claim_three_pass_both(ctx_paper_like(deviation=dev2))
+    row = claim_row("2", ctx_paper_like(deviation=dev2))
     assert row["holds"] == "partly" and "Ma + Type V" not in row["ours"]
     sim3 = {n: (0.0 if n not in ("DTW", "UTW") else v) for n, v in sim.items()}
     assert holds(ctx_paper_like(similarity=sim3))["2"] == "no"
@@ -129,7 +134,7 @@ def test_claim4_cost_growth():
     assert holds(ctx_paper_like(timing=rows(steep, steep)))["4"] == "yes"
     assert holds(ctx_paper_like(timing=rows(steep, linear_ish)))["4"] == "partly"
     assert holds(ctx_paper_like(timing=rows(flat_c, flat_c)))["4"] == "no"
-    row = claims.claim_cost_grows_with_w(ctx_paper_like(timing=rows(steep, flat_c)))
+    row = claim_row("4", ctx_paper_like(timing=rows(steep, flat_c)))
     assert row["holds"] == "partly" and "not monotonic" in row["ours"]
     assert row["ours"] == (
         "w80/w10: Mb 10.0x, Mc 0.9x (not monotonic) (medians); means: Mb 10.0x, Mc 0.9x"
@@ -159,13 +164,13 @@ def test_claim4c_mc_w80_runs_out():
 
 def test_claim5_ma_among_worst():
     sim, dev = paper_like_medians()
-    row = claims.claim_ma_among_worst(ctx_paper_like())
+    row = claim_row("5", ctx_paper_like())
     assert row["holds"] == "yes" and "ranks 9 of 9 (similarity), 9 of 9" in row["ours"]
     # unconstrained similarity medians: Mc w40 0.3, Mc w20 0.2, Mc w80 0.14, Mb w80 0.12,
     # Mb w40 0.1, Mb w20 0.08, Mb w10 0.05, Mc w10 0.04 (and Ma)
     for ma, rank, want in ((0.045, 8, "yes"), (0.06, 7, "yes"), (0.09, 6, "partly"),
                            (0.11, 5, "partly")):  # fmt: skip
-        row = claims.claim_ma_among_worst(ctx_paper_like(similarity=dict(sim, Ma=ma)))
+        row = claim_row("5", ctx_paper_like(similarity=dict(sim, Ma=ma)))
         assert f"ranks {rank} of 9 (similarity), 9 of 9 (deviation)" in row["ours"]
         assert row["holds"] == want
     # good in both tests
@@ -188,7 +193,7 @@ def test_claim6_type_v_improvements():
     # Mc w10 + Type V also better in both tests: one algorithm too many -> partly
     sim2 = dict(sim, **{"Mc w10 + Type V": 0.3})
     dev2 = dict(dev, **{"Mc w10 + Type V": 1.0})
-    row = claims.claim_typev_improves(ctx_paper_like(similarity=sim2, deviation=dev2))
+    row = claim_row("6", ctx_paper_like(similarity=sim2, deviation=dev2))
     assert row["holds"] == "partly" and "Mc w10" in row["ours"].split(";")[0]
     # better similarity only does not count as improved
     sim3 = {n: v for n, v in sim.items()}
@@ -196,7 +201,7 @@ def test_claim6_type_v_improvements():
     for n in FPDTW_NAMES:
         sim3[n + " + Type V"] = sim[n] - 0.01
         dev3[n + " + Type V"] = dev[n] - 1.0
-    row = claims.claim_typev_improves(ctx_paper_like(similarity=sim3, deviation=dev3))
+    row = claim_row("6", ctx_paper_like(similarity=sim3, deviation=dev3))
     assert row["holds"] == "no" and row["ours"].startswith("improved: none; in one test only: Ma")
 
 
@@ -214,7 +219,7 @@ def test_claim8_fig8_json_formats():
     assert holds(ctx_paper_like(fig8=nested))["8"] == "partly"  # below 18: Mb w80, Mc w40
     bad = {"deviations": {"Mb w80": 30.0, "Mc w20": 30.0, "Mc w40": 10.0, "Mc w80": 40.0}}
     assert holds(ctx_paper_like(fig8=bad))["8"] == "no"
-    row = claims.claim_fig8_walk_pair(ctx_paper_like(fig8=None))
+    row = claim_row("8", ctx_paper_like(fig8=None))
     assert row["holds"] == "n/a" and "not computed" in row["ours"]
     assert holds(ctx_paper_like(fig8={"other": 1}))["8"] == "n/a"
 
@@ -225,23 +230,27 @@ def test_claim9_data():
         "authors_fbx": {"motions": 48, "movements": 16, "pairs": 96},
         "total": {"motions": 335, "movements": 27, "pairs": 8610},
     }
-    row = claims.claim_data(ctx_paper_like(counts=counts))
+    row = claim_row("9", ctx_paper_like(counts=counts))
     assert row["holds"] == "no" and "335 motions, 27 movements, 8610 pairs" in row["ours"]
     assert "authors_fbx: 48/16/96" in row["ours"]
 
 
-def test_register_claim_extends_the_list(monkeypatch):
-    monkeypatch.setattr(claims, "CLAIMS", list(claims.CLAIMS))
-
-    @claims.register_claim
-    def claim_extra(ctx):
-        return dict(id="X", claim="extra", paper="-", ours="-", holds="yes", evidence="-",
-                    stable=True)  # fmt: skip
-
-    rows = claims.build_claims(context=ctx_paper_like())
-    assert rows[-1]["id"] == "X" and len(rows) == 18
-    with pytest.raises(ValueError, match="without"):
-        claims.build_claims(context=ctx_paper_like(), claims=[lambda ctx: {"id": "Y"}])
+def test_the_claims_table_is_data():
+    """Each claim is a row: unique id, the paper's value from fpdtw.paper.numbers, an
+    extractor and a rule; a context without data gives "n/a" with the reason."""
+    ids = [c.id for c in claims.CLAIMS]
+    assert len(ids) == len(set(ids)) == 17
+    assert (
+        next(c for c in claims.CLAIMS if c.id == "4b").paper == "Mb w80 16945 us, Mc w80 10106 us"
+    )
+    empty = claims.ClaimContext()
+    for c in claims.CLAIMS:
+        row = c.row(empty)
+        assert row["holds"] in ("n/a", "no", "yes", "partly")
+        if row["holds"] == "n/a" and c.id != "B1":
+            assert row["ours"].startswith("not computed (")
+    rows = claims.build_claims(context=ctx_paper_like(), claims=claims.CLAIMS[:2])
+    assert [r["id"] for r in rows] == ["1", "2"] and list(rows[0]) == list(claims.COLUMNS)
 
 
 def test_build_claims_from_a_fake_results_folder(tmp_path, monkeypatch):
@@ -272,7 +281,7 @@ def test_build_claims_from_a_fake_results_folder(tmp_path, monkeypatch):
     write_fake_results(tmp_path / "results" / "smoke", algos)
     figs = tmp_path / "results" / "smoke" / "figs"
     figs.mkdir()
-    devs = dict(claims.PAPER_FIG8_DEVIATIONS)
+    devs = dict(FIG8_DEVIATIONS)
     devs.update(
         {k.replace("Mc w", "Mc w") + " (literal window)": 300.0 for k in devs if k.startswith("Mc")}
     )
@@ -330,12 +339,7 @@ POSTER_LIKE_FIG56 = {
 
 def _opw_rows(fig4, fig56):
     ctx = claims.ClaimContext(opw_fig4=fig4, opw_fig56=fig56)
-    fns = [
-        claims.claim_opw_mean_deviation,
-        claims.claim_opw_removed,
-        claims.claim_opw_best_gamma,
-        claims.claim_opw_offset_limit,
-    ]
+    fns = [c for c in claims.CLAIMS if c.id.startswith("P")]
     return {r["id"]: r["holds"] for r in claims.build_claims(context=ctx, claims=fns)}
 
 

@@ -1,4 +1,4 @@
-"""The ``fpdtw`` command line (run as a subprocess, ``python -m fpdtw.cli``) and fpdtw.export.
+"""The ``fpdtw`` command line (as a subprocess, ``python -m fpdtw.app.cli``) and fpdtw.app.export.
 
 Real files come from the verified data cache (``data_path`` fixture). The exported BVH is
 read back with our reader and with the independent ``bvhio`` package.
@@ -15,13 +15,13 @@ import bvhio
 import numpy as np
 import pytest
 
-from fpdtw.algorithms import align
+from fpdtw.app.export import MAP_COLUMNS, read_map_csv, retime_by_map, write_map_csv
 from fpdtw.dtw import dtw_pair
 from fpdtw.errors import AlignmentError
-from fpdtw.export import MAP_COLUMNS, read_map_csv, retime_by_map, write_map_csv
-from fpdtw.features import MotionFeatures
 from fpdtw.io import load_motion
 from fpdtw.io.bvh import read_bvh, write_bvh
+from fpdtw.motion.features import MotionFeatures
+from fpdtw.registry import align
 
 WALK1 = "mocap_single_person_actions/MoCapData/Walk_01.fbx"
 WALK2 = "mocap_single_person_actions/MoCapData/Walk_02.fbx"
@@ -31,9 +31,9 @@ CMU = "cmu/18_01.bvh"
 
 
 def cli(*args, env=None):
-    """Run ``python -m fpdtw.cli ARGS`` in a fresh interpreter; return the CompletedProcess."""
+    """Run ``python -m fpdtw.app.cli ARGS`` in a fresh interpreter; return the CompletedProcess."""
     return subprocess.run(
-        [sys.executable, "-m", "fpdtw.cli", *map(str, args)],
+        [sys.executable, "-m", "fpdtw.app.cli", *map(str, args)],
         capture_output=True,
         text=True,
         env=env,
@@ -386,7 +386,7 @@ def test_unwritable_output(data_path, tmp_path):
     assert line == f"fpdtw: error: {out}: cannot write it: no folder {out.parent}"
 
 
-# ------------------------------------------------------------------ fpdtw.export library
+# ------------------------------------------------------------------ fpdtw.app.export library
 def test_retime_by_map_copies_frames_exactly(data_path):
     I = load_motion(data_path(SQUAT1))
     M = np.array([0, 0, 5, 9, 9, 139, 3])

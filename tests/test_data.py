@@ -1,4 +1,4 @@
-"""Data manifests and verified fetching (fpdtw.data).
+"""Data manifests and verified fetching (fpdtw.paper.datasets).
 
 No network: HTTP is served from 127.0.0.1 by a thread of this process, and every
 test uses its own cache folder under tmp_path.
@@ -21,8 +21,8 @@ from pathlib import Path
 
 import pytest
 
-from fpdtw import data
 from fpdtw.errors import DataFetchError, ManifestError
+from fpdtw.paper import datasets as data
 
 AUTHORS_URL = (
     "https://raw.githubusercontent.com/matRandall/Mocap_SinglePersonActions/"
@@ -109,7 +109,7 @@ def tampered_copy(src: Path, dst: Path) -> None:
 
 
 def count_hashing(monkeypatch) -> list[str]:
-    """Make fpdtw.data.file_hashes record every file it hashes."""
+    """Make fpdtw.paper.datasets.file_hashes record every file it hashes."""
     calls: list[str] = []
     real = data.file_hashes
 

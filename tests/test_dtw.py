@@ -13,14 +13,14 @@ from pathlib import Path
 import dtw as dtwpy
 import numpy as np
 import pytest
+from reference.synthetic import one_joint_motion, random_walk_quats
 
 from fpdtw.costs import geodesic_cost_matrix
 from fpdtw.dtw import accumulate, backtrack, dtw, dtw_pair, path_to_map, utw_map
 from fpdtw.errors import AlignmentError
-from fpdtw.features import MotionFeatures
 from fpdtw.io import load_motion
 from fpdtw.metrics import in_range, is_monotonic
-from fpdtw.synthetic import one_joint_motion, random_walk_quats
+from fpdtw.motion.features import MotionFeatures
 
 SQUAT = "hdm05/HDM05_cut_amc/squat1Reps/HDM_bd_squat1Reps_{:03d}_120.amc"
 GOLDEN = Path(__file__).parent / "golden" / "dtw_squat1Reps_bd001_bd002.json"

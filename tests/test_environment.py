@@ -16,7 +16,7 @@ from packaging.specifiers import SpecifierSet
 from packaging.utils import canonicalize_name
 from packaging.version import Version
 
-from fpdtw.paths import REPO_ROOT
+from fpdtw.paper.paths import REPO_ROOT
 
 
 def _pyproject():

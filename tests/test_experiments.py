@@ -1,4 +1,4 @@
-"""The experiment runner (fpdtw.experiments) and its result files (fpdtw.resultsio).
+"""The experiment runner (fpdtw.paper.runner.run) and its result files (fpdtw.paper.runner.results).
 
 Runs use a tiny real selection (the authors' Twirls and Walk, first two takes, cropped
 to 1 s: 4 ordered pairs, 2 per movement) in a temporary results folder, and a few
@@ -19,13 +19,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fpdtw import experiments as E
-from fpdtw.algorithms import FPDTW_NAMES, FPDTW_TYPEV_NAMES, align
 from fpdtw.dtw import utw_map
 from fpdtw.errors import AlignmentError
 from fpdtw.metrics import in_range, is_monotonic
 from fpdtw.online.typev import is_legal_typev
-from fpdtw.resultsio import ZIP_DATE, load_npz, npz_bytes, save_npz
+from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES
+from fpdtw.paper.runner import run as E
+from fpdtw.paper.runner.grid import DEFAULT_ALGORITHMS
+from fpdtw.paper.runner.results import aggregate_heatmap
+from fpdtw.paper.runner.results import ZIP_DATE, load_npz, npz_bytes, save_npz
 
 TINY = E.Selection(
     datasets=("authors_fbx",), movements=("Twirls", "Walk"), takes_per_movement=2, crop_seconds=1.0
@@ -131,20 +133,25 @@ def test_slugs_and_names():
     assert E.slug("Mc w40@60Hz") == "Mc_w40_60Hz"
     assert E.slug("OE-DTW") == "OE-DTW"
     # 21 paper + 6 at 60 Hz + OPW, OLTW + Method C's literal window (8 + 4 at 60 Hz)
-    assert len(E.DEFAULT_ALGORITHMS) == 41
-    assert E.DEFAULT_ALGORITHMS[27:29] == ("OPW", "OLTW")
-    assert E.DEFAULT_ALGORITHMS[-1] == "Mc w80 (literal window)@60Hz"
-    assert E.slug(E.DEFAULT_ALGORITHMS[-1]) == "Mc_w80_literal_window_60Hz"
+    assert len(DEFAULT_ALGORITHMS) == 41
+    assert DEFAULT_ALGORITHMS[27:29] == ("OPW", "OLTW")
+    assert DEFAULT_ALGORITHMS[-1] == "Mc w80 (literal window)@60Hz"
+    assert E.slug(DEFAULT_ALGORITHMS[-1]) == "Mc_w80_literal_window_60Hz"
     spec = E.resolve_algorithm("Mc w20@60Hz")
-    assert (spec.base, spec.fps) == ("Mc w20", 60.0)
+    assert (spec.algorithm.family, spec.algorithm.w, spec.fps) == ("C", 20, 60.0)
     with pytest.raises(AlignmentError, match="unknown algorithm"):
         E.resolve_algorithm("Md w10")
 
 
-def test_source_hash_follows_imports():
-    files = E._closure(E.COMPUTE_ROOTS)
-    assert "online/method_c.py" in files and "metrics.py" in files and "io/fbx.py" in files
-    assert "plotting.py" not in files and "tables.py" not in files
+def test_the_computation_is_keyed_by_the_library_source():
+    """A chunk stays valid while the library does not change: the files outside
+    fpdtw/paper and fpdtw/app, and the catalogue that loads the motions."""
+    files = E.compute_files()
+    for f in ("online/method_c.py", "metrics.py", "io/fbx.py", "registry.py", "paper/catalog.py"):
+        assert f in files
+    assert not [f for f in files if f.startswith("app/")]
+    assert {f for f in files if f.startswith("paper/")} == {"paper/catalog.py"}
+    assert E.source_hash(files) != E.source_hash()
 
 
 # -- deterministic files -----------------------------------------------------------------------
@@ -218,22 +225,22 @@ def test_grid_maps_equal_separate_runs(reference):
     features = {fps: E.pair_features(reference, fps) for fps in (120.0, 60.0)}
     for name in ALGOS:
         spec = E.resolve_algorithm(name)
-        if spec.base in ("DTW", "UTW"):
+        if not spec.algorithm.online:
             continue
         for k in range(N_PAIRS):
             I, T = features[spec.fps](k)
             np.testing.assert_array_equal(
-                reference.get(name).map(k), align(spec.base, I, T)[0], err_msg=name
+                reference.get(name).map(k), spec.algorithm.run(I, T)[0], err_msg=name
             )
 
 
 def test_aggregate_heatmap_sums_to_pairs_and_diagonal_stays_diagonal(reference):
     # cropped to 1 s, every motion has 121 frames: UTW maps q -> q, the diagonal
-    H = E.aggregate_heatmap(reference, "UTW", bins=10)
+    H = aggregate_heatmap(reference, "UTW", bins=10)
     assert H.shape == (10, 10)
     assert H.sum() == pytest.approx(N_PAIRS)
     assert np.trace(H) == pytest.approx(N_PAIRS)
-    H = E.aggregate_heatmap(reference, "Ma", bins=20)
+    H = aggregate_heatmap(reference, "Ma", bins=20)
     assert H.sum() == pytest.approx(N_PAIRS)
 
 
@@ -246,7 +253,7 @@ def test_aggregate_heatmap_by_hand():
             return np.array([1]), np.array([2])
 
     # points (q/n, M/m) = (0, 0), (0.5, 0), (1, 1): weights 1/3 each
-    H = E.aggregate_heatmap(Fake(), "x", bins=2)
+    H = aggregate_heatmap(Fake(), "x", bins=2)
     np.testing.assert_allclose(H, [[1 / 3, 1 / 3], [0, 1 / 3]])
 
 
@@ -281,7 +288,7 @@ def test_resume_after_losing_a_chunk_and_a_file(reference, results_root, countin
     E.run_experiments("lost", ALGOS, n_jobs=1, progress=False, selection=TINY)
     assert counting["calls"] == len(ALGOS)  # one unit (one pair) x every algorithm
     run = json.loads((folder / "run.json").read_text())
-    assert [h["computed"]["units"] for h in run["history"]] == [N_PAIRS, 1]
+    assert run["computed"]["units"] == 1 and run["computed"]["units_total"] == N_PAIRS
     assert file_bytes(folder) == file_bytes(reference.folder)
     assert det_summary(folder) == det_summary(reference.folder)
 
@@ -301,12 +308,6 @@ def test_killed_run_resumes_from_finished_chunks(reference, results_root, counti
     assert not list(folder.rglob(".*.part"))
 
 
-def _reversed_utw(I, T, info):
-    """A deliberately bad aligner: the input played backwards at uniform speed."""
-    m, n = I.n_frames - 1, T.n_frames - 1
-    return m - utw_map(m, n), None
-
-
 def test_adding_an_algorithm_computes_only_it(reference, results_root, counting):
     folder = results_root / "added"
     E.run_experiments("added", ALGOS[:-1], n_jobs=1, progress=False, selection=TINY)
@@ -314,24 +315,18 @@ def test_adding_an_algorithm_computes_only_it(reference, results_root, counting)
     E.run_experiments("added", ALGOS, n_jobs=1, progress=False, selection=TINY)
     assert counting["calls"] == N_PAIRS  # Mc w10@60Hz on every pair, nothing else
     assert file_bytes(folder) == file_bytes(reference.folder)
-    # a registered algorithm joins the same way, and the others stay in the results
-    E.register_algorithm("Reversed UTW", _reversed_utw)
-    try:
-        counting["calls"] = 0
-        res = E.run_experiments("added", ["Reversed UTW"], n_jobs=1, progress=False, selection=TINY)
-        assert counting["calls"] == N_PAIRS
-        assert res.algorithms == ALGOS + ["Reversed UTW"]
-        r = res.get("Reversed UTW")
-        assert np.all(r["similarity"] < res.get("UTW")["similarity"])
-        assert res.summary["algorithms"]["Reversed UTW"]["online"] is False
-        assert (folder / "algorithms" / "Reversed_UTW.npz").is_file()
-        counting["calls"] = 0
-        E.run_experiments("added", ["Reversed UTW"], n_jobs=1, progress=False, selection=TINY)
-        assert counting["calls"] == 0
-    finally:
-        E.unregister_algorithm("Reversed UTW")
+    # any registry name joins the same way, and the others stay in the results
+    counting["calls"] = 0
+    res = E.run_experiments("added", ["OLTW c30"], n_jobs=1, progress=False, selection=TINY)
+    assert counting["calls"] == N_PAIRS
+    assert res.algorithms == ALGOS + ["OLTW c30"]
+    assert res.summary["algorithms"]["OLTW c30"]["online"] is True
+    assert (folder / "algorithms" / "OLTW_c30.npz").is_file()
+    counting["calls"] = 0
+    E.run_experiments("added", ["OLTW c30"], n_jobs=1, progress=False, selection=TINY)
+    assert counting["calls"] == 0
 
 
 def test_load_results_without_a_run_says_what_to_do(results_root):
-    with pytest.raises(FileNotFoundError, match="fpdtw.experiments --smoke"):
+    with pytest.raises(FileNotFoundError, match="fpdtw.paper.runner.run --smoke"):
         E.load_results("smoke")

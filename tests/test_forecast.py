@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from reference.synthetic import features_from_euler, random_walk_features
 
 from fpdtw.costs import geo_distance
 from fpdtw.forecast import (
@@ -16,8 +17,7 @@ from fpdtw.forecast import (
     level_to_alpha,
     order_codes,
 )
-from fpdtw.rotations import ORDERS, euler_to_quat
-from fpdtw.synthetic import features_from_euler, random_walk_features
+from fpdtw.motion.rotations import ORDERS, euler_to_quat
 
 
 def test_euler_to_quat_fast_equals_rotations_up_to_sign():

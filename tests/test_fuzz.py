@@ -35,11 +35,11 @@ from hypothesis import strategies as st
 from test_cli import CMU, SQUAT1, cli
 
 from fpdtw import limits
+from fpdtw.app.export import MAP_COLUMNS, read_map_csv
 from fpdtw.errors import MotionFormatError
-from fpdtw.export import MAP_COLUMNS, read_map_csv
 from fpdtw.io import load_motion
 from fpdtw.io.asfamc import read_amc
-from fpdtw.motion import Motion
+from fpdtw.motion.motion import Motion
 
 #: Seconds one read may take (the seeds read in 0.01-0.2 s).
 TIME_BOUND = 20.0

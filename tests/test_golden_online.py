@@ -13,10 +13,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fpdtw import catalog
-from fpdtw.algorithms import align
-from fpdtw.features import MotionFeatures
 from fpdtw.metrics import is_monotonic
+from fpdtw.motion.features import MotionFeatures
+from fpdtw.paper import catalog
+from fpdtw.registry import align
 
 sys.path.insert(0, str(Path(__file__).parent / "golden"))
 from make_online_golden import golden_names  # noqa: E402

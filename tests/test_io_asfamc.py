@@ -19,7 +19,7 @@ from fpdtw.io.asfamc import (
     read_amc,
     read_asf,
 )
-from fpdtw.joints import OPW_JOINTS, PAPER_JOINTS
+from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
 
 ACTORS = ("bd", "bk", "dg", "mm", "tr")
 CLASSES = (
@@ -40,7 +40,7 @@ CLASSES = (
 @pytest.fixture(scope="module")
 def hdm_rows():
     """The HDM05 clips of the data manifest (class, actor, frames per clip)."""
-    from fpdtw.data import load_manifest
+    from fpdtw.paper.datasets import load_manifest
 
     rows = [
         {"path": f.path, "motion_class": f.movement, "actor": f.actor, "frames": str(f.frames)}
@@ -121,7 +121,7 @@ def test_asf_rest_pose_literal(data_path):
     """All-zero frame: FK reproduces the rest pose; knee position from the file's numbers."""
     asf = read_asf(data_path("hdm05/HDM05_cut_amc/HDM_bd.asf"))
     sk = asf.skeleton
-    from fpdtw.motion import Motion
+    from fpdtw.motion.motion import Motion
 
     m = Motion("rest", 120, sk, np.zeros((2, sk.n_joints, 3)), np.zeros((2, 3)), source="asf")
     pos, _ = m.forward_kinematics()

@@ -10,7 +10,7 @@ from fpdtw.errors import MotionFormatError
 from fpdtw.io import load_motion
 from fpdtw.io.asfamc import read_amc
 from fpdtw.io.bvh import bvh_euler, read_bvh, write_bvh
-from fpdtw.joints import OPW_JOINTS, PAPER_JOINTS
+from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
 
 
 @pytest.fixture(scope="module")
@@ -353,7 +353,7 @@ def test_write_asf_motion_bakes_axes(data_path, tmp_path):
 
 def test_write_rejects_unwritable_names(tiny, tmp_path):
     m = read_bvh(tiny)
-    from fpdtw.motion import Skeleton
+    from fpdtw.motion.motion import Skeleton
 
     sk = m.skeleton
     bad = Skeleton(("Hips", "Ch est", "Head", "Nose"), sk.parents, sk.offsets, sk.rotation_orders)

@@ -26,8 +26,8 @@ import pytest
 
 from fpdtw.errors import MotionFormatError
 from fpdtw.io.fbx import read_fbx
-from fpdtw.joints import OPW_JOINTS, PAPER_JOINTS
-from fpdtw.rotations import euler_to_quat, quat_rotate, quat_to_matrix
+from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
+from fpdtw.motion.rotations import euler_to_quat, quat_rotate, quat_to_matrix
 
 FBX_DIR = "mocap_single_person_actions/MoCapData"
 KTIME = 46186158000  # FBX time ticks per second

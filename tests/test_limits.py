@@ -12,21 +12,21 @@ import re
 
 import numpy as np
 import pytest
+from reference.synthetic import random_walk_features
 from test_cli import CMU, SQUAT1, SQUAT2, WALK1, WALK2, cli, one_error_line, read_csv_checked
 
 from fpdtw import limits
 from fpdtw.dtw import dtw_pair
 from fpdtw.errors import AlignmentError, LimitError, MotionFormatError
-from fpdtw.features import MotionFeatures
 from fpdtw.io import load_motion
 from fpdtw.io.asfamc import read_amc
 from fpdtw.io.bvh import read_bvh
 from fpdtw.io.fbx import read_fbx
+from fpdtw.motion.features import MotionFeatures
 from fpdtw.online import OEDTW, MethodA, MethodB, MethodC
 from fpdtw.online.base import run_online
 from fpdtw.online.oltw import OLTW
 from fpdtw.online.opw import OPW
-from fpdtw.synthetic import random_walk_features
 
 
 def error_line(r, code=1):
@@ -185,7 +185,7 @@ def test_one_frame_motion_with_opw_names_the_file(data_path, tmp_path):
         )
     line = one_error_line(cli("align", data_path(CMU), one, "-m", "opw", "-o", tmp_path / "m"))
     assert line.startswith(f"fpdtw: error: {one}: the target has 1 frame")
-    from fpdtw.joints import OPW_JOINTS
+    from fpdtw.motion.joints import OPW_JOINTS
 
     f = MotionFeatures.from_motion(read_bvh(one), position_joints=OPW_JOINTS)
     with pytest.raises(AlignmentError, match="at least two frames; 'one' has 1"):
@@ -212,7 +212,7 @@ def test_out_pointing_at_a_directory_names_it(data_path, tmp_path):
 
 
 def test_write_map_csv_names_the_file_not_the_temporary_one(tmp_path):
-    from fpdtw.export import write_map_csv
+    from fpdtw.app.export import write_map_csv
 
     folder = tmp_path / "m.csv"
     folder.mkdir()

@@ -1,4 +1,4 @@
-"""Live replay (fpdtw.live), its plots, and the side-by-side animation (fpdtw.animate).
+"""Live replay (fpdtw.app.live), its plots, and the side-by-side animation (fpdtw.app.animate).
 
 Latency and dropped frames are checked with a fake clock (deterministic step times), never
 against the real one.
@@ -9,17 +9,17 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from PIL import Image
+from reference.synthetic import synthetic_pair
 
-from fpdtw import animate
-from fpdtw.animate import WriterUnavailable, animate_alignment, check_writer
-from fpdtw.features import MotionFeatures
+from fpdtw.app import animate
+from fpdtw.app.animate import WriterUnavailable, animate_alignment, check_writer
+from fpdtw.app.live import LiveReport, plot_latency, plot_map_comparison, replay, warm_up
 from fpdtw.io import load_motion
-from fpdtw.joints import OPW_JOINTS
-from fpdtw.live import LiveReport, plot_latency, plot_map_comparison, replay, warm_up
+from fpdtw.motion.features import MotionFeatures
+from fpdtw.motion.joints import OPW_JOINTS
 from fpdtw.online import MethodC
 from fpdtw.online.base import OnlineAligner, run_online
 from fpdtw.online.oltw import OLTW
-from fpdtw.synthetic import synthetic_pair
 
 SQUAT = "hdm05/HDM05_cut_amc/squat1Reps/HDM_bd_squat1Reps_001_120.amc"
 SQUAT2 = "hdm05/HDM05_cut_amc/squat1Reps/HDM_bd_squat1Reps_002_120.amc"

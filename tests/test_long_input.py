@@ -17,19 +17,19 @@ import tracemalloc
 
 import numpy as np
 import pytest
+from reference.synthetic import features_from_euler, random_walk_euler
 
 from fpdtw import limits
 from fpdtw.dtw import dtw_pair
 from fpdtw.errors import LimitError
-from fpdtw.features import Frame, MotionFeatures
 from fpdtw.io import load_motion
-from fpdtw.joints import OPW_JOINTS
+from fpdtw.motion.features import Frame, MotionFeatures
+from fpdtw.motion.joints import OPW_JOINTS
+from fpdtw.motion.rotations import euler_to_quat
 from fpdtw.online import OEDTW, MethodA, MethodB, MethodC
 from fpdtw.online.base import run_online
 from fpdtw.online.oltw import OLTW
 from fpdtw.online.opw import OPW
-from fpdtw.rotations import euler_to_quat
-from fpdtw.synthetic import features_from_euler, random_walk_euler
 
 HOUR = 432_000  # one hour at 120 Hz
 WALK = "mocap_single_person_actions/MoCapData/Walk_0{}.fbx"

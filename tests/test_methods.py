@@ -12,25 +12,25 @@ import math
 
 import numpy as np
 import pytest
+from reference.synthetic import (
+    features_from_euler,
+    one_joint_motion,
+    random_walk_features,
+    synthetic_pair,
+)
 
-from fpdtw.algorithms import C_READINGS, make_online, method_c_name, parse_name
 from fpdtw.costs import fast_acos, geo_distance
 from fpdtw.errors import AlignmentError
-from fpdtw.features import Frame, MotionFeatures
 from fpdtw.io import load_motion
 from fpdtw.metrics import hold_share
+from fpdtw.motion.features import Frame, MotionFeatures
 from fpdtw.online.base import run_online, run_together
 from fpdtw.online.method_a import MethodA
 from fpdtw.online.method_b import MethodB, backtrack_lowest
 from fpdtw.online.method_c import MethodC
 from fpdtw.online.typev import dtw_python_accepts, is_legal_typev, legal_prefix
 from fpdtw.online.window import B_CORNER, WindowCache, reference_run, run_group
-from fpdtw.synthetic import (
-    features_from_euler,
-    one_joint_motion,
-    random_walk_features,
-    synthetic_pair,
-)
+from fpdtw.registry import C_READINGS, make_online, method_c_name
 
 INF = math.inf
 
@@ -671,9 +671,7 @@ SHARED_NAMES = (
 
 
 def _with_cache(name, I, cache):
-    method, w, typev, options = parse_name(name)
-    cls = {"B": MethodB, "C": MethodC}[method]
-    return cls(I, w, constraint="typeV" if typev else None, cache=cache, **options)
+    return make_online(name, I, cache=cache)
 
 
 def test_shared_window_cache_gives_the_same_maps(squat_pair, walk):
@@ -732,7 +730,7 @@ def test_shared_window_cache_is_safe_to_misuse(squat_pair):
 
 
 def test_bench_online_rows():
-    from fpdtw.bench import bench_online, format_bench, paper_comparison
+    from fpdtw.paper.bench import bench_online, format_bench, paper_comparison
 
     I, T, _ = synthetic_pair(60, seed=2)
     names = ["Ma", "Ma + Type V", "Mc w10", "Mc w10 + Type V", "Mc w10 (literal window)"]

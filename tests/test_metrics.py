@@ -9,7 +9,6 @@ from scipy.stats import kendalltau
 
 from fpdtw.dtw import dtw_pair, utw_map
 from fpdtw.errors import AlignmentError
-from fpdtw.features import MotionFeatures
 from fpdtw.io import load_motion
 from fpdtw.metrics import (
     FLAT_RANGE,
@@ -21,7 +20,8 @@ from fpdtw.metrics import (
     similarity,
     similarity_per_axis,
 )
-from fpdtw.rotations import euler_to_quat, quat_normalize
+from fpdtw.motion.features import MotionFeatures
+from fpdtw.motion.rotations import euler_to_quat, quat_normalize
 
 SQUAT = "hdm05/HDM05_cut_amc/squat1Reps/HDM_bd_squat1Reps_{:03d}_120.amc"
 
@@ -111,7 +111,7 @@ def test_joint_trajectories_are_rotated_y_axis():
     rng = np.random.default_rng(2)
     e = rng.uniform(-180, 180, size=(30, 3))
     q = euler_to_quat(e, "XYZ")[:, None, :]
-    from fpdtw.rotations import quat_to_matrix
+    from fpdtw.motion.rotations import quat_to_matrix
 
     R = quat_to_matrix(q[:, 0])
     np.testing.assert_allclose(joint_trajectories(q)[:, 0], R[:, :, 1], atol=1e-12)
@@ -241,8 +241,9 @@ def test_map_helpers():
 def test_trajectory_scores_equal_similarity_per_axis_exactly():
     """The runner scores every map of a pair from each motion's trajectories, computed
     once: joint_trajectories(I)[M] must be joint_trajectories(I[M]) bit for bit."""
+    from reference.synthetic import synthetic_pair
+
     from fpdtw.metrics import joint_trajectories, trajectory_scores
-    from fpdtw.synthetic import synthetic_pair
 
     I, T, _ = synthetic_pair(150, seed=7)
     rng = np.random.default_rng(1)

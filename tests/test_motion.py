@@ -9,9 +9,9 @@ from scipy.spatial.transform import Rotation, Slerp
 from fpdtw.errors import MotionFormatError
 from fpdtw.io.asfamc import read_amc
 from fpdtw.io.bvh import read_bvh
-from fpdtw.joints import FBX_NAMES, OPW_JOINTS, PAPER_JOINTS
-from fpdtw.motion import Motion, Skeleton
-from fpdtw.rotations import euler_to_quat
+from fpdtw.motion.joints import FBX_NAMES, OPW_JOINTS, PAPER_JOINTS
+from fpdtw.motion.motion import Motion, Skeleton
+from fpdtw.motion.rotations import euler_to_quat
 
 HDM = "hdm05/HDM05_cut_amc/{}"
 PAPER_ASF = ["lfemur", "rfemur", "ltibia", "rtibia", "lhumerus", "rhumerus", "lradius", "rradius"]

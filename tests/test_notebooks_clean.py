@@ -7,7 +7,7 @@ import ast
 import nbformat
 import pytest
 
-from fpdtw.paths import notebooks_dir
+from fpdtw.paper.paths import notebooks_dir
 
 NOTEBOOKS = sorted(notebooks_dir().glob("[0-9][0-9]_*.ipynb"))
 

@@ -6,15 +6,15 @@ from __future__ import annotations
 import dtw as dtwpy
 import numpy as np
 import pytest
+from reference.synthetic import one_joint_motion, random_walk_quats
 
 from fpdtw.costs import geodesic_cost_matrix
 from fpdtw.dtw import accumulate, dtw
 from fpdtw.errors import AlignmentError
-from fpdtw.features import MotionFeatures
 from fpdtw.io import load_motion
+from fpdtw.motion.features import MotionFeatures
 from fpdtw.online.base import run_online
 from fpdtw.online.oedtw import OEDTW
-from fpdtw.synthetic import one_joint_motion, random_walk_quats
 
 SQUAT = "hdm05/HDM05_cut_amc/squat1Reps/HDM_bd_squat1Reps_{:03d}_120.amc"
 

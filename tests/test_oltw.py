@@ -14,11 +14,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from reference.synthetic import random_walk_features, synthetic_pair
 
-from fpdtw.bench import bench_online
 from fpdtw.costs import geodesic_cost_matrix
 from fpdtw.errors import AlignmentError
-from fpdtw.features import MotionFeatures
+from fpdtw.motion.features import MotionFeatures
 from fpdtw.online.base import run_online
 from fpdtw.online.oltw import (
     BOTH,
@@ -29,7 +29,7 @@ from fpdtw.online.oltw import (
     OLTW,
     TARGET,
 )
-from fpdtw.synthetic import random_walk_features, synthetic_pair
+from fpdtw.paper.bench import bench_online
 
 GOLDEN = Path(__file__).parent / "golden" / "oltw_pymatchmaker.json"
 

@@ -12,11 +12,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fpdtw import catalog
-from fpdtw.features import MotionFeatures
+from fpdtw.motion.features import MotionFeatures
 from fpdtw.online.base import run_online
 from fpdtw.online.opw import OPW, interpolate_positions
-from fpdtw.opw_eval import (
+from fpdtw.paper import catalog
+from fpdtw.paper.opw_eval import (
     bench_opw,
     deviation_ms,
     dtw_curve,

@@ -2,7 +2,7 @@
 
 The folder is written here with numpy directly, in the runner's file format
 (``pairs.json``, ``run.json``, ``algorithms/<slug>.npz``), and read
-back with :func:`fpdtw.experiments.load_results`, so these tests also pin the format.
+back with :func:`fpdtw.paper.runner.run.load_results`, so these tests also pin the format.
 """
 
 from __future__ import annotations
@@ -14,8 +14,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
-from fpdtw.algorithms import FPDTW_NAMES, PAPER_NAMES
-from fpdtw.plots import heatmaps, scores, timing
+from fpdtw.paper.figures import heatmaps, scores, timing
+from fpdtw.paper.numbers import FPDTW_NAMES, PAPER_NAMES
 
 #: Pairs of the fake run: 20 input and 20 target frames at 120 Hz (10 and 10 at 60 Hz).
 N_PAIRS = 5
@@ -136,7 +136,7 @@ def paper_like_algos(sim, dev, step=(0.01, 1.0)):
 @pytest.fixture
 def fake(tmp_path, monkeypatch):
     """A loaded fake run mirroring the paper (see :func:`paper_like_medians`)."""
-    from fpdtw.experiments import load_results
+    from fpdtw.paper.runner.run import load_results
 
     monkeypatch.setenv("FPDTW_RESULTS_DIR", str(tmp_path))
     sim, dev = paper_like_medians()
@@ -171,7 +171,7 @@ def test_score_summary_medians_quartiles_and_benchmarks(fake):
 
 
 def test_score_summary_leaves_out_and_counts_nan(tmp_path, monkeypatch):
-    from fpdtw.experiments import load_results
+    from fpdtw.paper.runner.run import load_results
 
     monkeypatch.setenv("FPDTW_RESULTS_DIR", str(tmp_path))
     algos = {
@@ -290,7 +290,7 @@ def test_heatmap_of_diagonal_maps_is_diagonal(fake):
 
 
 def test_heatmap_and_balance_of_sticking_and_skipping_maps(tmp_path, monkeypatch):
-    from fpdtw.experiments import load_results
+    from fpdtw.paper.runner.run import load_results
 
     monkeypatch.setenv("FPDTW_RESULTS_DIR", str(tmp_path))
     n = N120
@@ -337,7 +337,7 @@ def test_heatmap_grids_have_a_panel_per_algorithm(fake):
 
 
 def test_time_per_frame_from_the_bench_and_exhausted_frames(tmp_path, monkeypatch):
-    from fpdtw.experiments import load_results
+    from fpdtw.paper.runner.run import load_results
 
     monkeypatch.setenv("FPDTW_RESULTS_DIR", str(tmp_path))
     sizes = [(9, 4, 4, 2), (9, 3, 4, 1)]  # pair 0: 5 target frames, pair 1: 4

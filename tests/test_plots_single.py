@@ -15,17 +15,18 @@ import json
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
+from reference.synthetic import one_joint_motion, random_walk_features, synthetic_pair
 
-from fpdtw.features import MotionFeatures
+from fpdtw.motion.features import MotionFeatures
 from fpdtw.online import MethodA, MethodB, MethodC, run_online
 from fpdtw.online.window import B_CORNER, WindowSnapshot
-from fpdtw.plots import facts as pf
-from fpdtw.plots import forecast as pfc
-from fpdtw.plots import oedtw as po
-from fpdtw.plots import typev as pt
-from fpdtw.plots import walk_pair as pw
-from fpdtw.plots import windows as pwin
-from fpdtw.synthetic import one_joint_motion, random_walk_features, synthetic_pair
+from fpdtw.paper import numbers
+from fpdtw.paper.figures import facts as pf
+from fpdtw.paper.figures import forecast as pfc
+from fpdtw.paper.figures import oedtw as po
+from fpdtw.paper.figures import typev as pt
+from fpdtw.paper.figures import walk_pair as pw
+from fpdtw.paper.figures import windows as pwin
 
 
 def units(u):
@@ -301,7 +302,7 @@ def test_pair_scores_and_paths_plot():
     assert rows[1]["deviation"] == pytest.approx(dev)
     assert rows[1]["paper_deviation"] is None
     assert all(-1 <= r["similarity"] <= 1 for r in rows)
-    assert pw.PAPER_FIG8_DEVIATION == {"Mb w80": 8, "Mc w20": 177, "Mc w40": 62, "Mc w80": 6}
+    assert numbers.FIG8_DEVIATIONS == {"Mb w80": 8, "Mc w20": 177, "Mc w40": 62, "Mc w80": 6}
     from fpdtw.dtw import dtw_pair
 
     D = dtw_pair(I, T).D

@@ -1,15 +1,17 @@
-"""Notebook 15's analysis (fpdtw.readings): hand-made results folders with known answers."""
+"""Notebook 15's analysis (fpdtw.paper.readings): hand-made results folders with known answers."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from reference.synthetic import one_joint_motion
 from test_plots_results import write_fake_results
 
-from fpdtw import readings as R
-from fpdtw.algorithms import C_READINGS, WINDOWS
-from fpdtw.experiments import SILENT_CHOICES, choice_targets, choice_variant, load_results
-from fpdtw.synthetic import one_joint_motion
+from fpdtw.paper import readings as R
+from fpdtw.paper.numbers import WINDOWS
+from fpdtw.paper.runner.grid import SILENT_CHOICES, choice_targets, choice_variant
+from fpdtw.paper.runner.run import load_results
+from fpdtw.registry import C_READINGS
 
 N_PAIRS = 5
 SIZES = [(19, 19, 9, 9)] * N_PAIRS  # m, n at 120 Hz; m60, n60

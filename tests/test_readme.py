@@ -6,7 +6,7 @@ import contextlib
 import io
 import re
 
-from fpdtw.paths import REPO_ROOT
+from fpdtw.paper.paths import REPO_ROOT
 
 
 def _snippet(section: str) -> str:

@@ -14,12 +14,13 @@ import json
 import numpy as np
 import pytest
 
-from fpdtw.algorithms import FPDTW_NAMES, FPDTW_TYPEV_NAMES, PAPER_NAMES
 from fpdtw.dtw import utw_map
-from fpdtw.experiments import DEFAULT_ALGORITHMS, load_results
 from fpdtw.metrics import deviation
 from fpdtw.online.typev import is_legal_typev
-from fpdtw.paths import REPO_ROOT
+from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES, PAPER_NAMES
+from fpdtw.paper.paths import REPO_ROOT
+from fpdtw.paper.runner.grid import DEFAULT_ALGORITHMS
+from fpdtw.paper.runner.run import load_results
 
 SMOKE_RESULTS = REPO_ROOT / "build" / "smoke" / "results"
 
@@ -133,7 +134,7 @@ def test_figure_notebooks_recorded_their_facts():
 def test_readings_notebook_recorded_every_reading():
     """Notebook 15 (smoke-study run): every reading's signature, the mechanism and the
     silent choices were recorded; the literal window's hold carries its extra cell."""
-    from fpdtw.algorithms import C_READINGS
+    from fpdtw.registry import C_READINGS
 
     facts = _facts("15_readings_of_algorithm_3")
     assert facts["pairs"] == 54

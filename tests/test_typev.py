@@ -7,6 +7,7 @@ import itertools
 import numpy as np
 import pytest
 from dtw import dtw, rabinerJuangStepPattern
+from reference.synthetic import random_walk_features, synthetic_pair
 
 from fpdtw.errors import AlignmentError
 from fpdtw.online.base import run_online
@@ -23,7 +24,6 @@ from fpdtw.online.typev import (
     resolve_constraint,
     typev_violation,
 )
-from fpdtw.synthetic import random_walk_features, synthetic_pair
 
 
 def test_state_table_hand_checked():

@@ -1,4 +1,4 @@
-"""Motion file readers (FBX via ufbx, ASF/AMC, BVH), all returning :class:`~fpdtw.motion.Motion`.
+"""Motion file readers (FBX via ufbx, ASF/AMC, BVH), all returning a :class:`~fpdtw.motion.Motion`.
 
 :func:`load_motion` picks the reader from the file extension.
 """
@@ -7,8 +7,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ..errors import MotionFormatError
-from ._text import check_input_file
+from fpdtw.errors import MotionFormatError
+from fpdtw.io._text import check_input_file
 
 READERS = {".fbx": "fbx", ".amc": "asfamc", ".bvh": "bvh"}
 
@@ -45,15 +45,15 @@ def load_motion(path, **kwargs):
         )
     check_input_file(p)
     if kind == "fbx":
-        from .fbx import read_fbx
+        from fpdtw.io.fbx import read_fbx
 
         return read_fbx(p, **kwargs)
     if kind == "asfamc":
-        from .asfamc import read_amc
+        from fpdtw.io.asfamc import read_amc
 
         skeleton = kwargs.pop("skeleton", None)
         return read_amc(p, skeleton, **kwargs)
-    from .bvh import read_bvh
+    from fpdtw.io.bvh import read_bvh
 
     return read_bvh(p, **kwargs)
 

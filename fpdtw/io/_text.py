@@ -8,8 +8,8 @@ import os
 import stat
 from pathlib import Path
 
-from .. import limits
-from ..errors import MotionFormatError
+from fpdtw import limits
+from fpdtw.errors import MotionFormatError
 
 #: Byte-order marks at the start of a text file and the encoding each one means.
 _BOMS = (

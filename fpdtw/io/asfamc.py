@@ -54,11 +54,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import limits
-from ..errors import MotionFormatError
-from ..motion import Motion, Skeleton
-from ..rotations import euler_to_quat, quat_conj
-from ._text import read_lines
+from fpdtw import limits
+from fpdtw.errors import MotionFormatError
+from fpdtw.io._text import read_lines
+from fpdtw.motion.motion import Motion, Skeleton
+from fpdtw.motion.rotations import euler_to_quat, quat_conj
 
 _AXIS = {"X": 0, "Y": 1, "Z": 2}
 _ROT_DOFS = ("rx", "ry", "rz")

@@ -6,7 +6,7 @@ A BVH joint has an ``OFFSET`` from its parent and a list of ``CHANNELS``. Its
 local transform is ``T(offset) * R`` with ``R`` composed from the rotation
 channels **as listed, outermost first**: ``Zrotation Yrotation Xrotation`` means
 ``R = Rz Ry Rx``, i.e. our rotation order ``"XYZ"`` (the order in which the
-rotations are applied, see :mod:`fpdtw.rotations`). In
+rotations are applied, see :mod:`fpdtw.motion.rotations`). In
 :class:`fpdtw.motion.Skeleton` terms: offsets as in the file, identity pre/post
 rotations.
 
@@ -39,12 +39,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import limits
-from ..errors import MotionFormatError
-from ..joints import NAMINGS, resolve_joint_map
-from ..motion import Motion, Skeleton
-from ..rotations import quat_mul, quat_to_euler, unwrap_degrees
-from ._text import read_lines
+from fpdtw import limits
+from fpdtw.errors import MotionFormatError
+from fpdtw.io._text import read_lines
+from fpdtw.motion.joints import NAMINGS, resolve_joint_map
+from fpdtw.motion.motion import Motion, Skeleton
+from fpdtw.motion.rotations import quat_mul, quat_to_euler, unwrap_degrees
 
 _CHANNELS = {
     f"{a.lower()}{kind}": (kind, i)

@@ -84,11 +84,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import limits
-from ..errors import MotionFormatError
-from ..motion import Motion, Skeleton
-from ..rotations import euler_to_quat, quat_conj, quat_mul, quat_normalize, quat_slerp
-from ._text import check_input_file
+from fpdtw import limits
+from fpdtw.errors import MotionFormatError
+from fpdtw.io._text import check_input_file
+from fpdtw.motion.motion import Motion, Skeleton
+from fpdtw.motion.rotations import euler_to_quat, quat_conj, quat_mul, quat_normalize, quat_slerp
 
 #: ``ufbx_rotation_order`` values 0..5 as fpdtw order strings (axes in the order applied).
 UFBX_ROTATION_ORDERS = ("XYZ", "XZY", "YZX", "YXZ", "ZXY", "ZYX")

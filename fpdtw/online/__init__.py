@@ -7,15 +7,15 @@
 * :class:`OLTW`: Dixon's on-line time warping (DAFx 2005, the FP-DTW paper's ref. 3).
 """
 
-from .base import OnlineAligner, run_online, run_together
-from .method_a import MethodA
-from .method_b import MethodB
-from .method_c import MethodC
-from .oedtw import OEDTW
-from .oltw import OLTW
-from .opw import OPW, OPWDecision
-from .typev import TYPE_V, TypeV, is_legal_typev
-from .window import WindowCache, WindowSnapshot
+from fpdtw.online.base import OnlineAligner, run_online, run_together
+from fpdtw.online.method_a import MethodA
+from fpdtw.online.method_b import MethodB
+from fpdtw.online.method_c import MethodC
+from fpdtw.online.oedtw import OEDTW
+from fpdtw.online.oltw import OLTW
+from fpdtw.online.opw import OPW, OPWDecision
+from fpdtw.online.typev import TYPE_V, TypeV, is_legal_typev
+from fpdtw.online.window import WindowCache, WindowSnapshot
 
 __all__ = [
     "OEDTW",

@@ -21,8 +21,8 @@ from abc import ABC, abstractmethod
 
 import numpy as np
 
-from .. import limits
-from ..features import Frame, MotionFeatures
+from fpdtw import limits
+from fpdtw.motion.features import Frame, MotionFeatures
 
 #: Fewest rows kept when a bounded history is compacted (so that the rules of the first
 #: frames, ``q < 16``, never see a compacted row).

@@ -10,9 +10,9 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from ..costs import _geo_frame, geodesic_cost_matrix_numpy
-from ..features import MotionFeatures
-from .window import WindowAligner, WindowSnapshot, _is_allowed, reference_mask
+from fpdtw.costs import _geo_frame, geodesic_cost_matrix_numpy
+from fpdtw.motion.features import MotionFeatures
+from fpdtw.online.window import WindowAligner, WindowSnapshot, _is_allowed, reference_mask
 
 
 @numba.njit(cache=True)

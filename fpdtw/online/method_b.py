@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..costs import geodesic_cost_matrix_numpy
-from .window import (
+from fpdtw.costs import geodesic_cost_matrix_numpy
+from fpdtw.online.window import (
     B_CORNER,
     METHOD_B,
     P_INPUT_FIRST,

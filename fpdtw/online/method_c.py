@@ -19,8 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..costs import geodesic_cost_matrix_numpy
-from .window import (
+from fpdtw.costs import geodesic_cost_matrix_numpy
+from fpdtw.online.window import (
     C_LITERAL,
     C_NORMALISED,
     C_OPEN_END,

@@ -22,12 +22,12 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .. import limits
-from ..costs import _TWO_OVER_PI, _acos01, _geo_frame
-from ..dtw import _backtrack, diagonal_weight
-from ..errors import AlignmentError
-from ..features import MotionFeatures
-from .base import OnlineAligner
+from fpdtw import limits
+from fpdtw.costs import _TWO_OVER_PI, _acos01, _geo_frame
+from fpdtw.dtw import _backtrack, diagonal_weight
+from fpdtw.errors import AlignmentError
+from fpdtw.motion.features import MotionFeatures
+from fpdtw.online.base import OnlineAligner
 
 
 @numba.njit(cache=True)

@@ -79,11 +79,11 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .. import limits
-from ..costs import _geo_frame
-from ..errors import AlignmentError
-from ..features import MotionFeatures
-from .base import OnlineAligner, run_online
+from fpdtw import limits
+from fpdtw.costs import _geo_frame
+from fpdtw.errors import AlignmentError
+from fpdtw.motion.features import MotionFeatures
+from fpdtw.online.base import OnlineAligner, run_online
 
 #: Increment codes (Dixon's names in brackets).
 NONE, TARGET, INPUT, BOTH = 0, 1, 2, 3
@@ -269,7 +269,7 @@ class OLTW(OnlineAligner):
         Compare path costs divided by the path weight ``1 + i + q`` (default True).
     constraint : None
         Accepted for the common constructor signature ``cls(I, w, constraint=...)`` of
-        :mod:`fpdtw.bench`; OLTW has no local constraint (anything but None is an error).
+        :mod:`fpdtw.paper.bench`; OLTW has no local constraint (anything but None is an error).
     record : bool
         Keep every decision (:attr:`decisions`) and the on-line path (:attr:`path`).
 
@@ -390,7 +390,7 @@ class OLTW(OnlineAligner):
 def run_pair(I: MotionFeatures, T: MotionFeatures, pair_info=None, *, c: int = 120):
     """OLTW over one (input, target) pair: ``(M, seconds)`` (the experiment-grid hook).
 
-    For :func:`fpdtw.experiments.register_algorithm` (``register_algorithm("OLTW",
+    For :func:`fpdtw.paper.runner.run.register_algorithm` (``register_algorithm("OLTW",
     run_pair)``): a module-level function, so it pickles to worker processes.
 
     Returns

@@ -18,7 +18,7 @@ NOTES.md; choices where the poster is silent or contradicts itself are marked (*
    of the two received frames' positions (*).
 3. Dead reckoning (poster Section 4): ``b_hat = B(t) + (B(t) - B(t - omega))``, the
    forecast of ``B(t + omega)``, on joint POSITIONS (16 joints, root-relative, from
-   forward kinematics; :data:`fpdtw.joints.OPW_JOINTS`). The first step is at
+   forward kinematics; :data:`fpdtw.motion.joints.OPW_JOINTS`). The first step is at
    ``t = omega`` because it needs ``B(t - omega) = B(0)`` (*).
 4. Compare ``b_hat`` with the recording at the warped times ``t' + i omega``,
    ``i = 0, 1, 2`` (``t' = f(t)``; poster eq. 4); A between its frames is the linear
@@ -54,10 +54,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import AlignmentError
-from ..features import MotionFeatures
-from ..warpcurve import WarpCurve
-from .base import OnlineAligner
+from fpdtw.errors import AlignmentError
+from fpdtw.motion.features import MotionFeatures
+from fpdtw.online.base import OnlineAligner
+from fpdtw.warpcurve import WarpCurve
 
 #: Tolerance when comparing a step time with a frame time (seconds).
 _EPS = 1e-9

@@ -78,7 +78,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import AlignmentError
+from fpdtw.errors import AlignmentError
 
 #: Largest advance of the input index per target frame under Type V.
 MAX_ADVANCE = 3

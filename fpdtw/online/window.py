@@ -27,13 +27,13 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from ..costs import _acos01, _geo_frame, geodesic_cost_matrix_numpy
-from ..errors import AlignmentError
-from ..features import Frame, MotionFeatures
-from ..forecast import _euler_to_quat, forecast_joints, order_codes
-from ..rotations import euler_to_quat
-from .base import OnlineAligner
-from .typev import MAX_ADVANCE, resolve_constraint
+from fpdtw.costs import _acos01, _geo_frame, geodesic_cost_matrix_numpy
+from fpdtw.errors import AlignmentError
+from fpdtw.forecast import _euler_to_quat, forecast_joints, order_codes
+from fpdtw.motion.features import Frame, MotionFeatures
+from fpdtw.motion.rotations import euler_to_quat
+from fpdtw.online.base import OnlineAligner
+from fpdtw.online.typev import MAX_ADVANCE, resolve_constraint
 
 _TWO_OVER_PI = 2.0 / math.pi
 
@@ -651,7 +651,7 @@ class WindowAligner(OnlineAligner):
             raise AlignmentError("the input motion must be given as MotionFeatures")
         if I.n_frames < 1:
             raise AlignmentError(f"input motion {I.name!r} has no frames")
-        from .. import limits
+        from fpdtw import limits
 
         limits.check_bytes(
             limits.window_bytes(w),
@@ -997,7 +997,7 @@ def reference_forecast_quats(T_euler, orders, w: int) -> np.ndarray:
     Returns
     -------
     Q : ndarray of float64, shape (w - 1, k, 4)
-        Converted with :func:`fpdtw.rotations.euler_to_quat` (scipy), independent of the
+        Converted with :func:`fpdtw.motion.rotations.euler_to_quat` (scipy), independent of the
         numba conversion.
     """
     E = forecast_joints(T_euler[-2], T_euler[-1], w)[1:]

@@ -28,9 +28,9 @@ STEP_PATTERN = "symmetric1"
 def make(mirror: Path) -> dict:
     """Compute the golden record from the mirror folder ``mirror``."""
     from fpdtw.dtw import dtw_pair, utw_map
-    from fpdtw.features import MotionFeatures
     from fpdtw.io import load_motion
     from fpdtw.metrics import similarity
+    from fpdtw.motion.features import MotionFeatures
     from fpdtw.online.base import run_online
     from fpdtw.online.oedtw import OEDTW
 

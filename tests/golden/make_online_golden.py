@@ -26,7 +26,9 @@ PAIR = (
 
 def golden_names() -> list:
     """Every online algorithm the golden file pins."""
-    from fpdtw.algorithms import C_READINGS, MC_LITERAL_NAMES, PAPER_NAMES, method_c_name
+    from fpdtw.paper.numbers import PAPER_NAMES
+    from fpdtw.paper.runner.grid import MC_LITERAL_NAMES
+    from fpdtw.registry import C_READINGS, method_c_name
 
     names = [n for n in PAPER_NAMES if n not in ("DTW", "UTW")] + list(MC_LITERAL_NAMES)
     for reading in C_READINGS[2:]:
@@ -35,9 +37,9 @@ def golden_names() -> list:
 
 
 def make() -> dict:
-    from fpdtw import catalog
-    from fpdtw.algorithms import align
-    from fpdtw.features import MotionFeatures
+    from fpdtw.motion.features import MotionFeatures
+    from fpdtw.paper import catalog
+    from fpdtw.registry import align
 
     I, T = (MotionFeatures.from_motion(catalog.load("hdm05", p)) for p in PAIR)
     record = {"input": PAIR[0], "target": PAIR[1]}

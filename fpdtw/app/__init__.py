@@ -1,0 +1,1 @@
+"""The user-facing apps: the command line, live replay, animation and export."""

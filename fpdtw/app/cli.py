@@ -1,0 +1,652 @@
+"""The ``fpdtw`` command line: align two motion files, replay one live, manage the data.
+
+::
+
+    fpdtw align INPUT TARGET --method c --window 40 --out map.csv [--export-bvh aligned.bvh]
+    fpdtw live  INPUT TARGET --method c --window 40 [--fast] [--animate side_by_side.gif]
+    fpdtw data  fetch|verify|cite
+
+Until the ``fpdtw`` script is installed, run ``python -m fpdtw.app.cli ...``.
+
+Exit codes: 0 success; 2 bad usage (unknown option or method, ``--window 0``, an option
+that does not apply to the method, ``--fps`` outside the plausible range, a window whose
+matrices would pass the memory limit); 1 a problem with the data (missing, unreadable or
+malformed file, a directory given as a file, skeletons without the joints the method
+compares, a motion too short or too long for the limits of :mod:`fpdtw.limits`, an output
+file that cannot be written, unavailable output format). Every error is one line,
+``fpdtw: error: <file>: <what>``, naming the file(s) it is about; ``--debug`` shows the
+full traceback instead.
+
+Notebook: 20_align_a_live_performance.ipynb
+"""
+
+from __future__ import annotations
+
+import argparse
+import errno
+import sys
+import textwrap
+from pathlib import Path
+
+PROG = "fpdtw"
+
+#: Methods by command-line name: (description, kind).
+METHODS = {
+    "dtw": "offline DTW over the whole motions (the reference the papers compare with)",
+    "utw": "uniform time warping: stretch the input linearly (offline)",
+    "oe-dtw": "open-end DTW, online (its answer can jump backwards)",
+    "a": "FP-DTW Method A: greedy window of 2 frames (online)",
+    "b": "FP-DTW Method B: forecast window, forward DTW path (online; --window)",
+    "c": "FP-DTW Method C: forecast window, reverse accumulation (online; --window)",
+    "opw": "On-line Predictive Warping (the OPW poster; online, joint positions)",
+    "oltw": "Dixon's on-line time warping (DAFx 2005; online; --window = search width c)",
+}
+OFFLINE = ("dtw", "utw")
+#: Default --window of the methods that take one.
+WINDOW_DEFAULTS = {"a": 2, "b": 40, "c": 40, "oltw": 120}
+CONSTRAINED = ("a", "b", "c")
+
+_DESCRIPTION = """\
+Time a recorded motion (INPUT) to another performance of the same movement (TARGET).
+
+The result is a MAP: for every frame of the TARGET, the frame of the INPUT to show at
+that moment, so that a character animated with the INPUT moves in step with the TARGET.
+Online methods compute each map entry from the target frames seen so far, as they would
+for a live actor; offline ones see the whole target."""
+
+_MOTION_HELP = """\
+motion files: FBX (.fbx), Acclaim ASF/AMC (.amc; the .asf skeleton is found next to it
+or in a parent folder, e.g. HDM_bd.asf for HDM_bd_..._120.amc, or given with
+--skeleton / --target-skeleton) and BVH (.bvh), in any mix. Both motions must have the
+8 joints the FP-DTW cost compares (both hips, knees, shoulders and elbows; OPW: 16
+joints), found by their usual names in each format. The cost compares LOCAL joint
+rotations, so mixing formats is meaningful only when both skeletons use the same rest
+pose conventions.
+
+frame rates: if the two motions have different frame rates, the TARGET is resampled to
+the INPUT's rate; --fps F resamples both to F Hz (rotations by slerp). Frame numbers in
+the map refer to the resampled motions; times in seconds refer to the originals too.
+
+limits (defaults of fpdtw.limits, each changed by its environment variable): frame
+rates 1-10000 Hz (FPDTW_MIN_FPS, FPDTW_MAX_FPS), at most 1,000,000 frames per motion
+(FPDTW_MAX_FRAMES), at least 2, and at most 2 GiB for the matrices of a method
+(FPDTW_MAX_MATRIX_BYTES): dtw keeps two input x target matrices (two takes of about 96 s
+at 120 Hz), oe-dtw one; the online methods a, b, c, oltw need memory proportional to
+their window, not to the takes' length."""
+
+_MAP_HELP = """\
+map CSV (--out), one row per target frame, columns:
+  target_frame   target frame number q
+  target_time_s  q / target frame rate
+  input_frame    M[q], the input frame shown at target frame q
+  input_time_s   M[q] / input frame rate
+  step_us        microseconds the online method took for this frame (empty for dtw, utw;
+                 measured after an untimed warm-up over the first frames)"""
+
+_METHODS_HELP = "methods:\n" + "\n".join(f"  {k:<7} {v}" for k, v in METHODS.items())
+
+
+def _fill(text: str) -> str:
+    return textwrap.fill(text, 88)
+
+
+class UsageError(Exception):
+    """A command-line combination argparse cannot check by itself (exit code 2)."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with our program name in every sub-command's messages."""
+
+
+def _positive_int(text):
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a whole number, got {text!r}") from None
+    if v < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {text!r}")
+    return v
+
+
+def _frame_rate(text):
+    from fpdtw import limits
+
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
+    if not v > 0 or v == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a positive number, got {text!r}")
+    try:
+        why = limits.fps_problem(v)
+    except ValueError as e:  # a malformed FPDTW_MIN_FPS / FPDTW_MAX_FPS
+        raise argparse.ArgumentTypeError(str(e)) from None
+    if why is not None:
+        raise argparse.ArgumentTypeError(why)
+    return v
+
+
+def _add_pair_arguments(p, *, live: bool):
+    p.add_argument("input", metavar="INPUT", help="the recorded motion to retime (.fbx/.amc/.bvh)")
+    p.add_argument(
+        "target",
+        metavar="TARGET",
+        help="the performance to follow" + (", replayed as if captured live" if live else ""),
+    )
+    p.add_argument(
+        "--method",
+        "-m",
+        choices=list(METHODS),
+        default="c" if live else None,
+        required=not live,
+        metavar="METHOD",
+        help="alignment method: " + ", ".join(METHODS) + (" (default c)" if live else ""),
+    )
+    p.add_argument(
+        "--window",
+        "-w",
+        type=_positive_int,
+        metavar="W",
+        help="window of methods a (default 2), b and c (default 40, the paper used 10, 20, "
+        "40, 80), or OLTW's search width c in frames (default 120)",
+    )
+    p.add_argument(
+        "--constraint",
+        choices=["typeV"],
+        help="restrict methods a, b, c to the paper's Type V local constraint",
+    )
+    p.add_argument(
+        "--fps",
+        type=_frame_rate,
+        metavar="F",
+        help="resample both motions to F Hz first (1-10000 Hz, see limits below)",
+    )
+    p.add_argument("--skeleton", metavar="ASF", help="skeleton (.asf) of an .amc INPUT")
+    p.add_argument("--target-skeleton", metavar="ASF", help="skeleton (.asf) of an .amc TARGET")
+    p.add_argument("--debug", action="store_true", help="show the traceback of an error")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of the ``fpdtw`` command (sub-commands align, live, data)."""
+    fmt = argparse.RawDescriptionHelpFormatter
+    ap = _Parser(
+        prog=PROG,
+        description=_DESCRIPTION,
+        formatter_class=fmt,
+        epilog=textwrap.dedent(
+            """\
+            examples:
+              fpdtw align Walk_01.fbx Walk_02.fbx --method c --window 40 --out map.csv
+              fpdtw align a.amc b.amc --method dtw --out map.csv --export-bvh a_aligned.bvh
+              fpdtw live Walk_01.fbx Walk_02.fbx --method c --window 40 --animate walk.gif
+              fpdtw data cite
+
+            run "fpdtw COMMAND --help" for the options of a command."""
+        ),
+    )
+    sub = ap.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
+    sub.required = True
+    epilog = f"{_METHODS_HELP}\n\n{_MOTION_HELP}\n\n{_MAP_HELP}"
+
+    a = sub.add_parser(
+        "align",
+        help="align INPUT to TARGET, write the map (and the retimed INPUT as BVH)",
+        description=_fill(
+            "Align INPUT (recorded) to TARGET and write the map as CSV; optionally "
+            "write INPUT retimed by the map as a BVH file (opens in Blender)."
+        ),
+        formatter_class=fmt,
+        epilog=epilog
+        + "\n\nexample:\n  fpdtw align Walk_01.fbx Walk_02.fbx -m c -w 40 --out map.csv "
+        "--export-bvh Walk_01_aligned.bvh",
+    )
+    _add_pair_arguments(a, live=False)
+    a.add_argument("--out", "-o", required=True, metavar="MAP.csv", help="map CSV to write")
+    a.add_argument(
+        "--export-bvh",
+        metavar="ALIGNED.bvh",
+        help="also write INPUT retimed by the map (frame q = input frame M[q]; the "
+        "TARGET's frame count and rate) as BVH",
+    )
+
+    lv = sub.add_parser(
+        "live",
+        help="replay TARGET at its own frame rate as if captured, align it online, report "
+        "the time per frame (and draw both skeletons side by side)",
+        description=_fill(
+            "Replay TARGET at its own frame rate as if it were being captured, feed "
+            "it frame by frame to an online method, and report the time each frame took against "
+            "the frame budget (1/fps) and the frames answered too late (DROPPED: the answer "
+            "came after the next frame was due)."
+        ),
+        formatter_class=fmt,
+        epilog=epilog
+        + "\n\nexample:\n  fpdtw live Walk_01.fbx Walk_02.fbx -m c -w 40 --animate walk.gif",
+    )
+    _add_pair_arguments(lv, live=True)
+    lv.add_argument(
+        "--fast",
+        "--no-realtime",
+        dest="fast",
+        action="store_true",
+        help="do not wait for each frame's due time: run as fast as possible and compute "
+        "the dropped frames on the simulated real-time schedule",
+    )
+    lv.add_argument("--out", "-o", metavar="MAP.csv", help="also write the map CSV")
+    lv.add_argument(
+        "--animate",
+        metavar="OUT.gif|OUT.mp4",
+        help="draw TARGET (left) and the aligned INPUT (right) as stick figures; .mp4 needs ffmpeg",
+    )
+    lv.add_argument(
+        "--stride",
+        type=_positive_int,
+        metavar="K",
+        help="animation: draw every K-th target frame (default: about 20 per second)",
+    )
+
+    d = sub.add_parser(
+        "data",
+        help="fetch, verify or cite the datasets the papers used",
+        description=_fill(
+            "The datasets listed in data_manifest/ (authors' FBX takes, HDM05, CMU): "
+            "fetch them into the verified cache, re-check the cache, or print licences and "
+            "citations. Set FPDTW_MIRROR to a folder or URL holding a copy to fetch offline."
+        ),
+        formatter_class=fmt,
+    )
+    dsub = d.add_subparsers(dest="data_command", metavar="ACTION", parser_class=_Parser)
+    dsub.required = True
+    help_ds = "dataset name, repeatable (authors_fbx, hdm05, cmu; default: all)"
+    f = dsub.add_parser("fetch", help="fetch files into the cache, verified by hash")
+    f.add_argument("--dataset", action="append", help=help_ds)
+    f.add_argument(
+        "--all",
+        action="store_true",
+        help="also try files the manifest marks as not in the local mirror",
+    )
+    f.add_argument("--file", help="fetch only this file (needs one --dataset)")
+    f.add_argument("--quiet", action="store_true", help="no progress bars")
+    v = dsub.add_parser(
+        "verify",
+        help="re-hash every cached file; exit 1 if any listed file is missing or wrong",
+    )
+    v.add_argument("--dataset", action="append", help=help_ds)
+    v.add_argument(
+        "--all",
+        action="store_true",
+        help="also require the files the manifest marks as not in the local mirror",
+    )
+    c = dsub.add_parser("cite", help="print licences and citations")
+    c.add_argument("--dataset", action="append", help=help_ds)
+    ap.commands = {"align": a, "live": lv, "data": d}
+    return ap
+
+
+# -- helpers ------------------------------------------------------------------------------
+
+
+def _check_options(args):
+    """Checks argparse cannot express; raise UsageError."""
+    m = args.method
+    if args.window is not None and m not in WINDOW_DEFAULTS:
+        raise UsageError(f"--window does not apply to method {m!r} (only to a, b, c, oltw)")
+    if m == "oltw" and args.window is not None and args.window < 2:
+        raise UsageError("--window (OLTW's search width c) must be at least 2")
+    if args.constraint and m not in CONSTRAINED:
+        raise UsageError(f"--constraint applies to methods a, b, c, not {m!r}")
+    _check_window_size(m, args.window)
+    for opt, path in (("--skeleton", args.input), ("--target-skeleton", args.target)):
+        given = args.skeleton if opt == "--skeleton" else args.target_skeleton
+        if given and Path(path).suffix.lower() != ".amc":
+            raise UsageError(f"{opt} applies to an .amc motion, not {path}")
+    if args.command == "live":
+        if m in OFFLINE:
+            raise UsageError(f"{m!r} is offline (it needs the whole target); live needs an "
+                             "online method: oe-dtw, a, b, c, opw, oltw")  # fmt: skip
+        if args.stride is not None and not args.animate:
+            raise UsageError("--stride applies only with --animate")
+
+
+def _check_window_size(method, window):
+    """A window whose matrices would pass fpdtw.limits.MAX_MATRIX_BYTES is a UsageError."""
+    from fpdtw import limits
+    from fpdtw.errors import LimitError
+
+    if window is None or method not in WINDOW_DEFAULTS:
+        return
+    if method == "oltw":
+        nbytes, what = limits.band_bytes(window), f"OLTW's c x c band ({window} x {window})"
+    else:
+        nbytes, what = limits.window_bytes(window), f"two {window + 1} x {window + 1} windows"
+    try:
+        limits.check_bytes(nbytes, None, f"--window {window} needs {what}", "use a smaller one")
+    except LimitError as e:
+        raise UsageError(str(e)) from None
+
+
+def _check_output(path, option):
+    """An output file can be written: not a folder, in a folder that exists (OSError)."""
+    p = Path(path)
+    if p.is_dir():
+        raise OSError(errno.EISDIR, f"is a directory; {option} needs a file name", str(p))
+    if not p.parent.is_dir():
+        raise OSError(errno.ENOENT, f"cannot write it: no folder {p.parent}", str(p))
+
+
+def _stage(args, *paths):
+    """Say which file(s) the next step is about: an error then names them."""
+    args.about = tuple(str(Path(p)) for p in paths if p)
+
+
+def _load(args, path, skeleton):
+    from fpdtw.io import load_motion
+
+    _stage(args, path)
+    kwargs = {"skeleton": skeleton} if skeleton else {}
+    return load_motion(path, **kwargs)
+
+
+def _same_rate(a: float, b: float) -> bool:
+    return abs(a - b) <= 1e-9 * max(a, b)
+
+
+def _resample(args, motion, path, fps, log, role, to):
+    """``motion`` at ``fps`` Hz (LimitError naming ``path`` if too long or too short)."""
+    if _same_rate(motion.fps, fps):
+        return motion
+    _stage(args, path)
+    log(f"resampling the {role} {motion.name} from {motion.fps:g} Hz to {to}")
+    return motion.resample(fps)
+
+
+def _prepare(args, log):
+    """Load both motions, bring them to one frame rate, check lengths and joints."""
+    from fpdtw import limits
+    from fpdtw.errors import MotionFormatError
+    from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
+
+    I = _load(args, args.input, args.skeleton)
+    T = _load(args, args.target, args.target_skeleton)
+    if args.fps is not None:
+        I = _resample(args, I, args.input, args.fps, log, "input", f"{args.fps:g} Hz")
+        T = _resample(args, T, args.target, args.fps, log, "target", f"{args.fps:g} Hz")
+    else:
+        T = _resample(args, T, args.target, I.fps, log, "target", f"the input's {I.fps:g} Hz")
+    for mo, path, role in ((I, args.input, "input"), (T, args.target, "target")):
+        _stage(args, path)
+        limits.check_min_frames(mo.n_frames, path, role)
+    joints = OPW_JOINTS if args.method == "opw" else PAPER_JOINTS
+    what = "the 16 OPW joints" if args.method == "opw" else "the 8 joints FP-DTW compares"
+    for mo, path in ((I, args.input), (T, args.target)):
+        for name in joints:
+            own = mo.joint_map.get(name, name)
+            if own not in mo.skeleton.joint_names:
+                raise MotionFormatError(
+                    path,
+                    f"skeleton has no joint for {name!r} (one of {what}); the two motions "
+                    "must share these joints",
+                )
+    _check_sizes(args, I.n_frames, T.n_frames)
+    _stage(args, args.input, args.target)
+    return I, T
+
+
+def _check_sizes(args, input_frames, target_frames):
+    """The matrices of an offline or OE-DTW alignment fit the limits (LimitError)."""
+    from fpdtw import limits
+
+    files = (str(Path(args.input)), str(Path(args.target)))
+    if args.method == "dtw":
+        from fpdtw.dtw import check_dtw_size
+
+        check_dtw_size(input_frames, target_frames, files)
+    elif args.method == "oe-dtw":
+        from fpdtw.online.oedtw import OEDTW
+
+        limits.check_bytes(
+            OEDTW.column_bytes(input_frames, target_frames),
+            files,
+            f"OE-DTW keeps every accumulated column: {target_frames} target x {input_frames} "
+            "input frames of float64",
+            limits.HINT_LONG,
+        )
+
+
+def _features(motion, method):
+    from fpdtw.motion.features import MotionFeatures
+    from fpdtw.motion.joints import OPW_JOINTS
+
+    return MotionFeatures.from_motion(
+        motion, position_joints=OPW_JOINTS if method == "opw" else None
+    )
+
+
+def _factory(args):
+    """``factory(I_features) -> OnlineAligner`` for an online method."""
+    m, w = args.method, args.window or WINDOW_DEFAULTS.get(args.method)
+    constraint = args.constraint
+
+    def make(I):
+        from fpdtw.errors import AlignmentError
+
+        if m == "oe-dtw":
+            from fpdtw.online import OEDTW
+
+            return OEDTW(I)
+        if m in ("a", "b", "c"):
+            from fpdtw.online import MethodA, MethodB, MethodC
+
+            cls = {"a": MethodA, "b": MethodB, "c": MethodC}[m]
+            return cls(I, w, constraint=constraint)
+        if m == "oltw":
+            from fpdtw.online.oltw import OLTW
+
+            return OLTW(I, w)
+        if m == "opw":
+            try:
+                from fpdtw.online.opw import OPW
+            except ImportError:
+                raise AlignmentError("method opw is not available in this version") from None
+            return OPW(I)
+        raise AlignmentError(f"unknown method {m!r}")  # pragma: no cover - argparse checks
+
+    return make
+
+
+def _method_label(args) -> str:
+    m = args.method
+    w = args.window or WINDOW_DEFAULTS.get(m)
+    label = {"dtw": "DTW", "utw": "UTW", "oe-dtw": "OE-DTW", "opw": "OPW"}.get(m)
+    if label is None:
+        label = {"a": f"Ma w{w}", "b": f"Mb w{w}", "c": f"Mc w{w}", "oltw": f"OLTW c{w}"}[m]
+        label = {"Ma w2": "Ma", "OLTW c120": "OLTW"}.get(label, label)
+    if args.constraint:
+        label += " + Type V"
+    return label
+
+
+def _describe(mo) -> str:
+    return f"{mo.name} ({mo.n_frames} frames at {mo.fps:g} Hz)"
+
+
+# -- commands -----------------------------------------------------------------------------
+
+
+def _cmd_align(args, log) -> int:
+    import numpy as np
+
+    from fpdtw.app.export import export_bvh, write_map_csv
+
+    _check_output(args.out, "--out")
+    if args.export_bvh:
+        _check_output(args.export_bvh, "--export-bvh")
+    I, T = _prepare(args, log)
+    FI, FT = _features(I, args.method), _features(T, args.method)
+    seconds = None
+    if args.method == "dtw":
+        from fpdtw.dtw import dtw_pair
+
+        M = dtw_pair(FI, FT).map
+    elif args.method == "utw":
+        from fpdtw.dtw import utw_map
+
+        M = utw_map(FI.n_frames - 1, FT.n_frames - 1)
+    else:
+        from fpdtw.app.live import warm_up
+        from fpdtw.online.base import run_online
+
+        aligner = _factory(args)(FI)
+        warm_up(aligner, FT)  # compile / load the numba kernels outside the timed run
+        M, seconds = run_online(aligner, FT)
+    M = np.asarray(M, dtype=np.int64)
+    _stage(args, args.out)
+    write_map_csv(args.out, M, T.fps, I.fps, seconds)
+    print(f"aligned target {_describe(T)} to input {_describe(I)} with {_method_label(args)}")
+    print(f"map: {args.out} ({M.size} rows)")
+    if seconds is not None:
+        print(
+            f"time per target frame: median {np.median(seconds) * 1e6:.1f} us, "
+            f"max {seconds.max() * 1e6:.1f} us (budget {1e6 / T.fps:.0f} us)"
+        )
+    if args.export_bvh:
+        _stage(args, args.export_bvh)
+        export_bvh(I, M, T.fps, args.export_bvh)
+        print(
+            f"aligned input: {args.export_bvh} ({M.size} frames at {T.fps:g} Hz; frame q = "
+            "input frame M[q])"
+        )
+    return 0
+
+
+def _cmd_live(args, log) -> int:
+    from fpdtw.app.export import write_map_csv
+    from fpdtw.app.live import replay
+    from fpdtw.motion.joints import OPW_JOINTS
+
+    if args.out:
+        _check_output(args.out, "--out")
+    if args.animate:
+        from fpdtw.app.animate import check_writer
+
+        _check_output(args.animate, "--animate")
+        check_writer(args.animate)  # fail before the replay, not after
+    I, T = _prepare(args, log)
+    mode = "as fast as possible" if args.fast else "in real time"
+    log(f"replaying {_describe(T)} {mode}, aligning to {_describe(I)} with {_method_label(args)}")
+    report = replay(
+        I,
+        T,
+        _factory(args),
+        realtime=not args.fast,
+        position_joints=OPW_JOINTS if args.method == "opw" else None,
+    )
+    print(report.table())
+    if args.out:
+        _stage(args, args.out)
+        write_map_csv(args.out, report.M, T.fps, I.fps, report.step_s)
+        print(f"map: {args.out} ({report.n_frames} rows)")
+    if args.animate:
+        from fpdtw.app.animate import animate_alignment
+
+        _stage(args, args.animate)
+        out = animate_alignment(I, T, report.M, args.animate, stride=args.stride)
+        print(f"animation: {out}")
+    return 0
+
+
+def _cmd_data(args) -> int:
+    from fpdtw.paper import datasets as data
+
+    argv = [args.data_command]
+    for ds in args.dataset or []:
+        argv += ["--dataset", ds]
+    if args.data_command in ("fetch", "verify"):
+        argv += ["--all"] * args.all
+    if args.data_command == "fetch":
+        argv += ["--quiet"] * args.quiet
+        if args.file:
+            argv += ["--file", args.file]
+    return int(data.main(argv, prog=PROG))
+
+
+def main(argv=None) -> int:
+    """Run the ``fpdtw`` command line; return the exit code (0, 1 or 2).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        Arguments without the program name (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    code : int
+
+    Paper: FP-DTW Sections 3-6 (the methods), OPW poster Algorithm 1, Dixon 2005.
+    Notebook: 20_align_a_live_performance.ipynb
+    """
+    ap = build_parser()
+    try:
+        args = ap.parse_args(argv)
+    except SystemExit as e:  # --help (0) or a usage error (2)
+        return e.code if isinstance(e.code, int) else 0
+    if args.command == "data":
+        if getattr(args, "file", None) is not None and len(args.dataset or []) != 1:
+            ap.commands["data"].print_usage(sys.stderr)
+            print(f"{PROG} data fetch: error: --file needs exactly one --dataset", file=sys.stderr)
+            return 2
+        return _cmd_data(args)
+    sub = ap.commands[args.command]
+
+    def log(msg):
+        print(msg, file=sys.stderr)
+
+    try:
+        _check_options(args)
+    except UsageError as e:
+        sub.print_usage(sys.stderr)
+        print(f"{PROG} {args.command}: error: {e}", file=sys.stderr)
+        return 2
+    args.about = ()
+    try:
+        return _cmd_align(args, log) if args.command == "align" else _cmd_live(args, log)
+    except KeyboardInterrupt:
+        print(f"{PROG}: interrupted", file=sys.stderr)
+        return 130
+    except Exception as e:
+        if args.debug:
+            raise
+        print(_error_line(e, args.about), file=sys.stderr)
+        return 1
+
+
+def _error_line(exc: Exception, about: tuple) -> str:
+    """The one line an error prints: ``fpdtw: error: <file>: <what>``.
+
+    ``about`` names the file(s) of the step that failed; they are put in front of a
+    message that names none of them (e.g. numpy's). Errors that are not fpdtw's, an
+    OSError, a ValueError or a MemoryError are bugs: ``fpdtw: internal error: ...``.
+    """
+    from fpdtw import limits
+    from fpdtw.errors import FpdtwError
+
+    if isinstance(exc, OSError) and exc.filename is not None:
+        msg = f"{exc.filename}: {exc.strerror or exc}"
+    elif isinstance(exc, MemoryError):
+        msg = (
+            f"out of memory ({type(exc).__name__}: {exc}); lower the limits "
+            f"(FPDTW_MAX_MATRIX_BYTES, FPDTW_MAX_FRAMES) or {limits.HINT_LONG}"
+        )
+    else:
+        msg = str(exc) or type(exc).__name__
+    known = isinstance(exc, FpdtwError | OSError | ValueError | MemoryError)
+    if not known:
+        msg = f"{type(exc).__name__}: {msg} (rerun with --debug for the traceback)"
+    if about and not any(a in msg for a in about):
+        msg = f"{', '.join(about)}: {msg}"
+    msg = " ".join(msg.split())
+    return f"{PROG}: {'error' if known else 'internal error'}: {msg}"
+
+
+if __name__ == "__main__":
+    sys.exit(main())

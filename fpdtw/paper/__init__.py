@@ -1,0 +1,1 @@
+"""The reproduction of the two papers, above the library: nothing in the library imports it."""

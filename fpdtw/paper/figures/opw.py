@@ -1,0 +1,289 @@
+"""Figures of the OPW poster: warp curves (Fig. 4), deviation vs offset (Fig. 5), vs gamma (Fig. 6).
+
+Every function takes the dicts of :func:`fpdtw.paper.opw_eval.evaluate` or the rows of
+:func:`fpdtw.paper.opw_eval.sweep`; they draw, they never save or show.
+"""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from fpdtw.paper.figures.plotting import new_axes
+from fpdtw.paper.numbers import PERCEPTUAL_THRESHOLD_MS as HOYET_MS
+
+#: Colours of the curves (example, DTW, OPW) in every OPW figure.
+COLORS = {"example": "black", "DTW": "tab:blue", "OPW": "tab:orange"}
+
+
+def plot_warp_curves(result: dict, ax=None, *, keys=True):
+    """Example, DTW and OPW warp curves of one motion (Fig. 4, top row).
+
+    Parameters
+    ----------
+    result : dict
+        From :func:`fpdtw.paper.opw_eval.evaluate`.
+    ax : matplotlib.axes.Axes, optional
+    keys : bool
+        Mark the keys of the DTW and OPW curves.
+
+    Returns
+    -------
+    fig, ax
+
+    Paper: OPW poster Fig. 4 (top row).
+    Notebook: 13_opw_fig4.ipynb
+    """
+    fig, ax = new_axes(ax)
+    D = result["duration"]
+    t = np.linspace(0.0, D, 501)
+    ax.plot([0, D], [0, D], color="0.7", lw=0.8, ls=":", label="identity")
+    for name in ("example", "DTW", "OPW"):
+        c = result["curves"][name]
+        ax.plot(t, c(t), color=COLORS[name], lw=1.6 if name == "example" else 1.2, label=name)
+        if keys and name != "example":
+            k = c.keys
+            k = k[k[:, 0] <= D]
+            ax.plot(k[:, 0], k[:, 1], "o" if name == "OPW" else "x", color=COLORS[name], ms=2.5)
+    ax.set_xlim(0, D)
+    ax.set_ylim(0, D)
+    ax.set_aspect("equal")
+    ax.set_xlabel("live time t (s), motion B")
+    ax.set_ylabel("warped time t' (s), motion A")
+    return fig, ax
+
+
+def plot_deviation(result: dict, ax=None, *, threshold_ms: float = HOYET_MS):
+    """Deviation (ms) of the DTW and OPW curves from the example curve over time (Fig. 4 middle).
+
+    Returns
+    -------
+    fig, ax
+
+    Paper: OPW poster Fig. 4 (middle row).
+    Notebook: 13_opw_fig4.ipynb
+    """
+    fig, ax = new_axes(ax)
+    for name in ("DTW", "OPW"):
+        d = result["deviation"][name]
+        ax.plot(d["t"], d["ms"], color=COLORS[name], lw=1.2, label=f"{name} (mean {d['mean']:.0f})")
+    ax.axhline(threshold_ms, color="tab:red", ls="--", lw=1, label=f"{threshold_ms:.0f} ms")
+    ax.set_xlim(0, result["duration"])
+    ax.set_ylim(0, max(threshold_ms * 1.15, ax.get_ylim()[1]))
+    ax.set_xlabel("live time t (s)")
+    ax.set_ylabel("deviation from example (ms)")
+    return fig, ax
+
+
+def plot_slope_change(result: dict, ax=None, *, example=True):
+    """Change of slope between 50 Hz samples, % of 90 degrees (Fig. 4 bottom row).
+
+    Returns
+    -------
+    fig, ax
+
+    Paper: OPW poster Fig. 4 (bottom row).
+    Notebook: 13_opw_fig4.ipynb
+    """
+    fig, ax = new_axes(ax)
+    names = (("example",) if example else ()) + ("DTW", "OPW")
+    for name in names:
+        s = result["slope"][name]
+        ax.plot(
+            s["t"], s["pct"], color=COLORS[name], lw=0.8 if name == "example" else 1.2,
+            alpha=0.5 if name == "example" else 1.0, label=name,
+        )  # fmt: skip
+    ax.set_xlim(0, result["duration"])
+    ax.set_ylim(bottom=0)
+    ax.set_xlabel("live time t (s)")
+    ax.set_ylabel("slope change (%)")
+    return fig, ax
+
+
+def plot_fig4(results: list, labels=None, axes=None):
+    """Poster Fig. 4: one column per motion; curves, deviation, slope change.
+
+    Parameters
+    ----------
+    results : list of dict
+        :func:`fpdtw.paper.opw_eval.evaluate` results, one per motion.
+    labels : list of str, optional
+        Column titles (default: the motion names).
+    axes : ndarray of Axes, shape (3, len(results)), optional
+
+    Returns
+    -------
+    fig, axes
+
+    Paper: OPW poster Fig. 4.
+    Notebook: 13_opw_fig4.ipynb
+    """
+    n = len(results)
+    if axes is None:
+        fig, axes = plt.subplots(3, n, figsize=(4.2 * n, 11), squeeze=False)
+    else:
+        axes = np.asarray(axes).reshape(3, n)
+        fig = axes[0, 0].figure
+    labels = labels or [r["name"] for r in results]
+    for c, (res, lab) in enumerate(zip(results, labels)):
+        plot_warp_curves(res, axes[0, c])
+        axes[0, c].set_title(f"{lab}\n({res['name']})", fontsize=10)
+        plot_deviation(res, axes[1, c])
+        plot_slope_change(res, axes[2, c])
+        if c:
+            for r in range(3):
+                axes[r, c].set_ylabel("")
+    ymax = max(a.get_ylim()[1] for a in axes[1])
+    smax = max(a.get_ylim()[1] for a in axes[2])
+    for c in range(n):
+        axes[1, c].set_ylim(0, ymax)
+        axes[2, c].set_ylim(0, smax)
+        axes[1, c].legend(fontsize=7, loc="upper right")
+    axes[0, 0].legend(fontsize=7, loc="upper left")
+    axes[2, 0].legend(fontsize=7, loc="upper right")
+    fig.tight_layout()
+    return fig, axes
+
+
+def _boxes(ax, groups, positions, color, width):
+    bp = ax.boxplot(
+        groups, positions=positions, widths=width, whis=(0, 100), patch_artist=True,
+        showfliers=False, manage_ticks=False,
+    )  # fmt: skip
+    for box in bp["boxes"]:
+        box.set_facecolor(color)
+        box.set_alpha(0.55)
+    for key in ("medians",):
+        for line in bp[key]:
+            line.set_color("black")
+    return bp
+
+
+def plot_deviation_vs_offset(rows: list, ax=None, *, threshold_ms: float = HOYET_MS):
+    """Deviation against the example's offset, DTW and OPW, motions pooled (Fig. 5).
+
+    Each box pools the 50 Hz deviation samples of every motion at one offset; whiskers
+    span the full range (minimum to maximum); a line joins the means.
+
+    Parameters
+    ----------
+    rows : list of dict
+        :func:`fpdtw.paper.opw_eval.sweep` rows (keys ``method``, ``offset_s``, ``ms``).
+
+    Returns
+    -------
+    fig, ax
+
+    Paper: OPW poster Fig. 5.
+    Notebook: 14_opw_fig5_fig6.ipynb
+    """
+    fig, ax = new_axes(ax, figsize=(8, 4.5))
+    offsets = sorted({r["offset_s"] for r in rows})
+    step = min(np.diff(offsets)) if len(offsets) > 1 else 0.1
+    w = 0.35 * step
+    for k, name in enumerate(("DTW", "OPW")):
+        groups = [
+            np.concatenate([r["ms"] for r in rows if r["method"] == name and r["offset_s"] == o])
+            for o in offsets
+        ]
+        pos = np.asarray(offsets) + (k - 0.5) * w * 1.1
+        _boxes(ax, groups, pos, COLORS[name], w)
+        ax.plot(pos, [g.mean() for g in groups], "-o", color=COLORS[name], ms=3, label=name)
+    ax.axhline(threshold_ms, color="tab:red", ls="--", lw=1, label=f"{threshold_ms:.0f} ms")
+    ax.set_xticks(offsets)
+    ax.set_xticklabels([f"{o:.2f}" for o in offsets])
+    ax.set_xlabel("offset of the example curve's middle key (s)")
+    ax.set_ylabel("deviation from example (ms)")
+    ax.set_ylim(bottom=0)
+    ax.legend(fontsize=8, loc="upper left")
+    return fig, ax
+
+
+def plot_deviation_vs_gamma(rows: list, ax=None, *, threshold_ms: float = HOYET_MS):
+    """OPW deviation against the warp parameter gamma, motions pooled (Fig. 6).
+
+    Returns
+    -------
+    fig, ax
+
+    Paper: OPW poster Fig. 6.
+    Notebook: 14_opw_fig5_fig6.ipynb
+    """
+    fig, ax = new_axes(ax, figsize=(8, 4.5))
+    rows = [r for r in rows if r["method"] == "OPW"]
+    gammas = sorted({r["gamma"] for r in rows})
+    groups = [np.concatenate([r["ms"] for r in rows if r["gamma"] == g]) for g in gammas]
+    pct = 100 * np.asarray(gammas)
+    step = min(np.diff(pct)) if len(pct) > 1 else 1.0
+    _boxes(ax, groups, pct, COLORS["OPW"], 0.6 * step)
+    ax.plot(pct, [g.mean() for g in groups], "-o", color=COLORS["OPW"], ms=3, label="OPW mean")
+    ax.plot(pct, [g.max() for g in groups], "--", color=COLORS["OPW"], lw=1, label="OPW max")
+    ax.axhline(threshold_ms, color="tab:red", ls="--", lw=1, label=f"{threshold_ms:.0f} ms")
+    every = max(1, len(pct) // 15)
+    ax.set_xticks(pct[::every])
+    ax.set_xticklabels([f"{p:.0f}" for p in pct[::every]])
+    ax.set_xlabel("warp parameter gamma (%)")
+    ax.set_ylabel("deviation from example (ms)")
+    ax.set_ylim(bottom=0)
+    ax.legend(fontsize=8, loc="upper left")
+    return fig, ax
+
+
+def plot_curve_construction(curve, ax=None, *, window=None, relative=False):
+    """A warp curve with its keys and Bezier control polygons (poster Fig. 2, Table 1).
+
+    Parameters
+    ----------
+    curve : WarpCurve
+    window : (float, float), optional
+        Live-time range to show (default: the whole curve).
+    relative : bool
+        Plot ``t' - t`` instead of ``t'``: the shear ``(x, y) -> (x, y - x)`` is linear, so
+        it maps each segment's control points to those of the sheared segment and keeps
+        the handles at a key collinear, while making the small warps visible.
+
+    Returns
+    -------
+    fig, ax
+
+    Paper: OPW poster Fig. 2 and Table 1.
+    Notebook: 13_opw_fig4.ipynb
+    """
+    fig, ax = new_axes(ax)
+    lo, hi = window if window is not None else (curve.x[0], curve.x[-1])
+    t = np.linspace(lo, hi, 400)
+    sh = 1.0 if relative else 0.0
+    ax.plot(t, curve(t) - sh * t, color=COLORS["OPW"], lw=1.5, label="warp curve")
+    first = True
+    for P in curve.control_points():
+        if P[3, 0] < lo or P[0, 0] > hi:
+            continue
+        P = P.copy()
+        P[:, 1] -= sh * P[:, 0]
+        ax.plot(P[:2, 0], P[:2, 1], "-", color="0.5", lw=0.8)
+        ax.plot(P[2:, 0], P[2:, 1], "-", color="0.5", lw=0.8)
+        ax.plot(
+            P[1:3, 0], P[1:3, 1], "s", color="0.5", ms=3,
+            label="control points P1, P2" if first else None,
+        )  # fmt: skip
+        first = False
+    k = curve.keys
+    k = k[(k[:, 0] >= lo) & (k[:, 0] <= hi)]
+    ax.plot(k[:, 0], k[:, 1] - sh * k[:, 0], "o", color="black", ms=4, label="keys P0, P3")
+    ax.set_xlim(lo, hi)
+    ax.set_xlabel("live time t (s)")
+    ax.set_ylabel("t' - t (s)" if relative else "warped time t' (s)")
+    ax.legend(fontsize=8)
+    return fig, ax
+
+
+__all__ = [
+    "COLORS",
+    "plot_curve_construction",
+    "plot_deviation",
+    "plot_deviation_vs_gamma",
+    "plot_deviation_vs_offset",
+    "plot_fig4",
+    "plot_slope_change",
+    "plot_warp_curves",
+]

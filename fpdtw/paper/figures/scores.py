@@ -1,0 +1,414 @@
+"""Similarity and deviation per algorithm over all pairs: Figs. 5 and 6, Table 1.
+
+Everything here reads the experiment results (:func:`fpdtw.paper.runner.run.load_results`):
+per algorithm, one similarity (eq. 2) and one deviation from DTW (eq. 3) per pair.
+
+* :func:`plot_score_boxes` draws Fig. 5 (similarity) or Fig. 6 (deviation): one box per
+  algorithm, each FP-DTW algorithm without and with the Type V constraint side by side,
+  and the benchmark line (UTW's median similarity, red; 18 frames, blue).
+* :func:`score_summary` gives the table next to each figure: median, quartiles, number of
+  pairs, and whether the median passes the benchmark.
+* :func:`table1_rows` gives Table 1 (Method C's median similarity at 60 and 120 Hz), ours
+  next to the paper's.
+
+The paper's rule (Section 5): an algorithm passes a benchmark when its MEDIAN is above the
+UTW median similarity, or below 18 frames deviation. Quartiles are numpy's default
+(linear interpolation); pairs whose score is not finite are left out and counted.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
+
+from fpdtw.paper import numbers
+from fpdtw.paper.figures.plotting import new_axes
+from fpdtw.paper.numbers import FPDTW_NAMES, WINDOWS
+from fpdtw.registry import TYPE_V_SUFFIX, method_c_name
+
+#: The algorithms of Figs. 5 and 6, without constraint, in the paper's order, then the
+#: online baselines beyond the paper run on the same pairs (OPW poster, Dixon's OLTW);
+#: names without results are left out.
+BASE_NAMES = ("DTW", "UTW", "OE-DTW") + FPDTW_NAMES + ("OPW", "OLTW")
+
+#: Colours: unconstrained online algorithms, offline baselines, "+ Type V" (pink, as the paper).
+COLOURS = {"plain": "#8fb3d9", "offline": "#bdbdbd", "typev": "#f4a6c8"}
+
+_METRICS = ("similarity", "deviation")
+
+
+def _rate_suffix(rate_hz: int) -> str:
+    if rate_hz == 120:
+        return ""
+    return f"@{int(rate_hz)}Hz"
+
+
+def _raw(results, name: str, metric: str, dataset=None) -> np.ndarray:
+    """All per-pair values of a metric (NaN kept), optionally of one dataset's pairs only."""
+    if metric not in _METRICS:
+        raise ValueError(f"metric must be one of {_METRICS}, got {metric!r}")
+    arr = results.get(name)
+    v = np.asarray(arr[metric], dtype=np.float64)
+    if dataset is not None:
+        ds = {int(p["id"]): p["dataset"] for p in results.pairs}
+        keep = np.array([ds[int(k)] == dataset for k in arr["pair_id"]], dtype=bool)
+        if not keep.any():
+            raise ValueError(f"no pairs of dataset {dataset!r} in the results")
+        v = v[keep]
+    return v
+
+
+def scores(results, name: str, metric: str, dataset=None) -> np.ndarray:
+    """The per-pair scores of one algorithm, finite values only.
+
+    Parameters
+    ----------
+    results : fpdtw.paper.runner.run.Results
+    name : str
+        Algorithm name, e.g. ``"Mc w40 + Type V"`` or ``"Mc w40@60Hz"``.
+    metric : {"similarity", "deviation"}
+    dataset : str, optional
+        Only the pairs of this dataset (``"authors_fbx"`` or ``"hdm05"``).
+
+    Returns
+    -------
+    values : ndarray of float64, shape (P',)
+        One value per pair (pairs with a non-finite score left out).
+
+    Paper: FP-DTW eq. 2 (similarity), eq. 3 (deviation).
+    Notebook: 06_fig5_fig6_scores.ipynb
+    """
+    v = _raw(results, name, metric, dataset)
+    return v[np.isfinite(v)]
+
+
+def utw_median(results, rate_hz: int = 120, dataset=None) -> float:
+    """The similarity benchmark: median similarity of UTW over all pairs.
+
+    Parameters
+    ----------
+    results : fpdtw.paper.runner.run.Results
+    rate_hz : {120, 60}
+        Frame rate (``"UTW"`` or ``"UTW@60Hz"``).
+    dataset : str, optional
+        Over this dataset's pairs only.
+
+    Paper: FP-DTW Section 4 (benchmark (i)), Fig. 5 red line, Table 1 last column.
+    Notebook: 06_fig5_fig6_scores.ipynb
+    """
+    return float(np.median(scores(results, "UTW" + _rate_suffix(rate_hz), "similarity", dataset)))
+
+
+def benchmark(results, metric: str, dataset=None) -> float:
+    """The benchmark of a metric: UTW's median similarity, or 18 frames deviation."""
+    if metric == "similarity":
+        return utw_median(results, dataset=dataset)
+    if metric == "deviation":
+        return float(numbers.DEVIATION_BENCHMARK_FRAMES)
+    raise ValueError(f"metric must be one of {_METRICS}, got {metric!r}")
+
+
+def passes(median: float, metric: str, bench: float) -> bool:
+    """True when a median passes the benchmark: :func:`fpdtw.paper.numbers.passes_similarity`
+    against ``bench``, or :func:`~fpdtw.paper.numbers.passes_deviation` (120 Hz)."""
+    if metric == "similarity":
+        return numbers.passes_similarity(median, bench)
+    return numbers.passes_deviation(median)
+
+
+def figure_names(names=BASE_NAMES, typev=True) -> list[tuple[str, str | None]]:
+    """Pairs ``(name, name + " + Type V")`` for the FP-DTW algorithms, ``(name, None)`` else.
+
+    Parameters
+    ----------
+    names : sequence of str
+        Unconstrained names, in plotting order.
+    typev : bool
+        Include the Type V variants.
+
+    Notebook: 06_fig5_fig6_scores.ipynb
+    """
+    out = []
+    for n in names:
+        tv = n + TYPE_V_SUFFIX if (typev and n in FPDTW_NAMES) else None
+        out.append((n, tv))
+    return out
+
+
+def score_summary(results, metric: str, names=None, dataset=None) -> list[dict]:
+    """Per algorithm: median, quartiles, number of pairs and whether it passes the benchmark.
+
+    Parameters
+    ----------
+    results : fpdtw.paper.runner.run.Results
+    metric : {"similarity", "deviation"}
+    names : sequence of str, optional
+        Default: every algorithm of Figs. 5 and 6 (:data:`BASE_NAMES`, each FP-DTW one
+        followed by its "+ Type V" variant) that is in ``results.algorithms``.
+    dataset : str, optional
+        Only this dataset's pairs (the similarity benchmark too is then UTW's median over
+        them).
+
+    Returns
+    -------
+    rows : list of dict
+        Keys ``algorithm``, ``type_v`` (bool), ``median``, ``q1``, ``q3``, ``n`` (pairs
+        with a finite score), ``n_missing``, ``benchmark``, ``passes_benchmark`` (bool).
+
+    Paper: FP-DTW Figs. 5 and 6, Section 5 (the median must pass the benchmark).
+    Notebook: 06_fig5_fig6_scores.ipynb
+    """
+    if names is None:
+        have = set(results.algorithms)
+        names = [n for pair in figure_names() for n in pair if n is not None and n in have]
+    bench = benchmark(results, metric, dataset)
+    rows = []
+    for name in names:
+        raw = _raw(results, name, metric, dataset)
+        v = raw[np.isfinite(raw)]
+        if v.size == 0:
+            raise ValueError(f"{name}: no finite {metric} values")
+        q1, med, q3 = (float(x) for x in np.percentile(v, [25, 50, 75]))
+        rows.append(
+            dict(
+                algorithm=name,
+                type_v=name.endswith(TYPE_V_SUFFIX),
+                median=med,
+                q1=q1,
+                q3=q3,
+                n=int(v.size),
+                n_missing=int(raw.size - v.size),
+                benchmark=float(bench),
+                passes_benchmark=passes(med, metric, bench),
+            )
+        )
+    return rows
+
+
+def passing(rows, online_only=False) -> list[str]:
+    """Names of the rows of :func:`score_summary` that pass the benchmark.
+
+    Parameters
+    ----------
+    rows : list of dict
+    online_only : bool
+        Leave out the offline baselines DTW and UTW.
+    """
+    return [
+        r["algorithm"]
+        for r in rows
+        if r["passes_benchmark"] and not (online_only and r["algorithm"] in ("DTW", "UTW"))
+    ]
+
+
+def plot_score_boxes(
+    results, metric="similarity", names=BASE_NAMES, typev=True, ax=None, yscale=None
+):
+    """Fig. 5 / Fig. 6: box plot of a score per algorithm, with the benchmark line.
+
+    Each FP-DTW algorithm gets two boxes side by side: without constraint (blue) and
+    "+ Type V" (pink, as in the paper). The benchmark line is red at UTW's median
+    similarity (Fig. 5) or blue at 18 frames (Fig. 6). Boxes: quartiles, median line;
+    whiskers 1.5 IQR; outliers as small dots.
+
+    Parameters
+    ----------
+    results : fpdtw.paper.runner.run.Results
+    metric : {"similarity", "deviation"}
+    names : sequence of str
+        Unconstrained algorithm names, in order along x.
+    typev : bool
+        Draw the "+ Type V" boxes too.
+    ax : matplotlib.axes.Axes, optional
+    yscale : {"linear", "symlog"}, optional
+        Default linear for similarity, symlog for deviation (linear below 1 frame,
+        logarithmic above: the boxes sit within 100 frames while single pairs deviate by
+        hundreds).
+
+    Returns
+    -------
+    fig, ax
+        ``ax.patches`` holds one box per algorithm drawn; the median lines have the
+        ``gid`` ``"median"``, the benchmark line ``"benchmark"``.
+
+    Paper: FP-DTW Fig. 5 (similarity, eq. 2) and Fig. 6 (deviation, eq. 3).
+    Notebook: 06_fig5_fig6_scores.ipynb
+    """
+    fig, ax = new_axes(ax, figsize=(12, 4.5))
+    have = set(results.algorithms)
+    names = [n for n in names if n in have]  # e.g. OPW/OLTW only when they were run
+    data, pos, widths, colours = [], [], [], []
+    for i, (name, tv) in enumerate(figure_names(names, typev)):
+        if tv is None:
+            data.append(scores(results, name, metric))
+            pos.append(i)
+            widths.append(0.6)
+            colours.append(COLOURS["offline" if name in ("DTW", "UTW") else "plain"])
+        else:
+            data += [scores(results, name, metric), scores(results, tv, metric)]
+            pos += [i - 0.2, i + 0.2]
+            widths += [0.36, 0.36]
+            colours += [COLOURS["plain"], COLOURS["typev"]]
+    bp = ax.boxplot(
+        data,
+        positions=pos,
+        widths=widths,
+        patch_artist=True,
+        showfliers=True,
+        flierprops=dict(marker=".", markersize=2, alpha=0.3, markeredgecolor="0.4"),
+        medianprops=dict(color="k", lw=1.2),
+        manage_ticks=False,
+    )
+    for box, med, c in zip(bp["boxes"], bp["medians"], colours):
+        box.set_facecolor(c)
+        box.set_edgecolor("0.25")
+        med.set_gid("median")
+    bench = benchmark(results, metric)
+    if metric == "similarity":
+        label = f"UTW median (benchmark) = {bench:.3f}"
+        line_colour = "red"
+        ax.set_ylabel("similarity (eq. 2, mean Kendall tau)")
+    else:
+        label = f"benchmark: {bench:g} frames (150 ms)"
+        line_colour = "blue"
+        ax.set_ylabel("deviation from DTW (eq. 3), frames")
+    yscale = yscale or ("symlog" if metric == "deviation" else "linear")
+    if yscale == "symlog":
+        ax.set_yscale("symlog", linthresh=1.0, linscale=0.5)
+        ax.set_ylim(bottom=0.0)
+        ax.set_ylabel(ax.get_ylabel() + " (symlog scale)")
+    else:
+        ax.set_yscale(yscale)
+    line = ax.axhline(bench, color=line_colour, lw=1.2, zorder=5)
+    line.set_gid("benchmark")
+    ax.set_xticks(range(len(names)))
+    ax.set_xticklabels(names, rotation=45, ha="right")
+    ax.set_xlim(-0.6, len(names) - 0.4)
+    handles = [
+        Patch(facecolor=COLOURS["offline"], edgecolor="0.25", label="offline"),
+        Patch(facecolor=COLOURS["plain"], edgecolor="0.25", label="online, no constraint"),
+    ]
+    if typev:
+        handles.append(Patch(facecolor=COLOURS["typev"], edgecolor="0.25", label="+ Type V"))
+    handles.append(Line2D([], [], color=line_colour, lw=1.2, label=label))
+    ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.005, 1.0))
+    ax.grid(axis="y", alpha=0.3)
+    return fig, ax
+
+
+def best_window(medians: dict) -> int:
+    """The window with the highest median similarity (ties: the smaller window).
+
+    Parameters
+    ----------
+    medians : dict
+        ``{w: median}`` for int windows (other keys, e.g. ``"UTW"``, ignored).
+    """
+    ws = sorted(k for k in medians if isinstance(k, int))
+    if not ws:
+        raise ValueError("no windows given")
+    return max(ws, key=lambda w: (medians[w], -w))
+
+
+def table1_rows(
+    results, windows=WINDOWS, rates=(60, 120), reading="square", with_paper=True
+) -> list[dict]:
+    """Table 1: median similarity of Method C per window and UTW, per rate; ours and paper's.
+
+    At 60 Hz our algorithms are ``"Mc w<w>@60Hz"`` and ``"UTW@60Hz"`` (the runner resamples
+    the motions to 60 Hz before building features; the window stays a number of frames).
+    ``reading`` picks Method C's reading of Algorithm 3 (e.g. ``"literal"``: the names
+    ``"Mc w<w> (literal window)"``; rows labelled ``"ours (literal window)"``);
+    ``with_paper=False`` leaves out the paper's rows.
+
+    Returns
+    -------
+    rows : list of dict
+        Per rate two rows (``source`` "paper" then "ours"), keys ``rate_hz``, ``source``,
+        ``w10`` .. ``w80``, ``UTW``, ``best_w``, ``above_utw`` (windows whose median is
+        above UTW's, e.g. ``"20 40"``).
+
+    Paper: FP-DTW Table 1.
+    Notebook: 07_table1_60hz.ipynb
+    """
+    rows = []
+    for rate in rates:
+        ours = {
+            w: float(
+                np.median(
+                    scores(results, method_c_name(w, reading) + _rate_suffix(rate), "similarity")
+                )
+            )
+            for w in windows
+        }
+        ours["UTW"] = utw_median(results, rate)
+        paper = numbers.TABLE1.get(rate) if with_paper else None
+        label = "ours" if reading == "square" else f"ours ({reading} window)"
+        for source, med in (("paper", paper), (label, ours)):
+            if med is None:
+                continue
+            row = {"rate_hz": rate, "source": source}
+            row.update({f"w{w}": med.get(w) for w in windows})
+            row["UTW"] = med["UTW"]
+            row["best_w"] = best_window({w: med[w] for w in windows if med.get(w) is not None})
+            row["above_utw"] = " ".join(
+                str(w) for w in windows if med.get(w) is not None and med[w] > med["UTW"]
+            )
+            rows.append(row)
+    return rows
+
+
+def plot_table1(rows, ax=None):
+    """Table 1 as a plot: Method C's median similarity vs window, per rate, ours vs paper.
+
+    Parameters
+    ----------
+    rows : list of dict
+        From :func:`table1_rows`.
+    ax : matplotlib.axes.Axes, optional
+
+    Returns
+    -------
+    fig, ax
+
+    Paper: FP-DTW Table 1.
+    Notebook: 07_table1_60hz.ipynb
+    """
+    fig, ax = new_axes(ax, figsize=(6, 4))
+    colours = {60: "tab:orange", 120: "tab:blue"}
+    for r in rows:
+        ws = [int(k[1:]) for k in r if k.startswith("w") and k[1:].isdigit() and r[k] is not None]
+        ys = [r[f"w{w}"] for w in ws]
+        c = colours.get(r["rate_hz"], "k")
+        style = {"ours": "-o", "paper": "--s"}.get(r["source"], ":^")
+        ax.plot(ws, ys, style, color=c, label=f"{r['source']}, {r['rate_hz']} Hz, Method C")
+        if r["source"] != "ours (literal window)":
+            ax.axhline(
+                r["UTW"], color=c, lw=0.8, ls="-" if r["source"] == "ours" else "--", alpha=0.5
+            )
+    ax.set_xscale("log", base=2)
+    ax.set_xticks(list(WINDOWS))
+    ax.set_xticklabels([str(w) for w in WINDOWS])
+    ax.set_xlabel("window w (frames)")
+    ax.set_ylabel("median similarity (eq. 2)")
+    ax.set_title("Method C vs window; thin lines: UTW median", fontsize=9)
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
+    return fig, ax
+
+
+__all__ = [
+    "BASE_NAMES",
+    "benchmark",
+    "best_window",
+    "figure_names",
+    "passes",
+    "passing",
+    "plot_score_boxes",
+    "plot_table1",
+    "score_summary",
+    "scores",
+    "table1_rows",
+    "utw_median",
+]

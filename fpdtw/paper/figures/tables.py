@@ -1,0 +1,62 @@
+"""Tables are saved by one helper, as CSV (for machines) and Markdown (for people)."""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+from pathlib import Path
+
+from fpdtw.paper.paths import figures_dir
+
+
+def _fmt(v, floatfmt):
+    if isinstance(v, float):
+        return format(v, floatfmt)
+    return "" if v is None else str(v)
+
+
+def to_markdown(rows: list[dict], columns=None, floatfmt=".3f") -> str:
+    """Render rows (dicts with the same keys) as a GitHub Markdown table."""
+    columns = list(columns or (rows[0].keys() if rows else []))
+    lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
+    for r in rows:
+        lines.append("| " + " | ".join(_fmt(r.get(c), floatfmt) for c in columns) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def save_table(rows: list[dict], name: str, folder=None, columns=None, floatfmt=".3f"):
+    """Write ``<name>.csv`` and ``<name>.md`` atomically.
+
+    Parameters
+    ----------
+    rows : list of dict
+        One dict per row; keys are column names.
+    name : str
+        File stem, e.g. ``"table1_method_c_60hz"``.
+    folder : path-like, optional
+        Default :func:`fpdtw.paper.paths.figures_dir`.
+    columns : sequence of str, optional
+        Column order (default: keys of the first row).
+
+    Returns
+    -------
+    paths : list of Path
+        The CSV and Markdown files written.
+    """
+    folder = Path(folder) if folder is not None else figures_dir()
+    folder.mkdir(parents=True, exist_ok=True)
+    columns = list(columns or (rows[0].keys() if rows else []))
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=columns, lineterminator="\n", extrasaction="ignore")
+    w.writeheader()
+    for r in rows:
+        w.writerow({c: _fmt(r.get(c), ".6g") for c in columns})
+    out = []
+    for ext, text in (("csv", buf.getvalue()), ("md", to_markdown(rows, columns, floatfmt))):
+        path = folder / f"{name}.{ext}"
+        tmp = path.with_suffix(f".{ext}.part")
+        tmp.write_text(text)
+        os.replace(tmp, path)
+        out.append(path)
+    return out

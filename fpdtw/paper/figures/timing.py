@@ -1,0 +1,273 @@
+"""Time per target frame of the online aligners: Table 2, and why Mc w80 looks cheap.
+
+``make bench`` (:mod:`fpdtw.paper.bench`) times every online aligner frame by frame on real pairs,
+alone on one core, after a warm-up (``results/bench.json``). These are MEASUREMENTS: they
+change from run to run and between machines, so nothing here is deterministic except
+:func:`exhausted_fraction`, which reads the experiment grid's maps. (The grid itself does not
+time frames: its Methods B and C share their window costs, see
+:class:`fpdtw.online.window.WindowCache`.)
+
+The paper (Section 5) explains Mc w80's lower-than-expected time by the aligner running out
+of input frames early: once ``M_n = m`` there is nothing left to search. :func:`exhausted_fraction`
+counts those frames: target frames ``q >= 1`` processed when the input was already exhausted,
+i.e. ``M_{q-1} = m`` (for a monotonic map: every frame after the first one mapped to ``m``).
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+
+from fpdtw.paper.figures.plotting import new_axes
+from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES, TABLE2_US, WINDOWS
+from fpdtw.paper.runner.grid import MC_LITERAL_NAMES
+from fpdtw.registry import resolve
+
+#: Online algorithms of Table 2 (and Method A, OE-DTW, Type V variants, OPW, OLTW, and
+#: Method C's literal window of notebook 15), in table order.
+TIMED_NAMES = ("OE-DTW",) + FPDTW_NAMES + FPDTW_TYPEV_NAMES + ("OPW", "OLTW") + MC_LITERAL_NAMES
+
+
+def _default_rows(rows):
+    """Rows of the paper's configurations (no options in brackets): one per method, w, Type V."""
+    return [r for r in rows if "(" not in r.get("algorithm", "")]
+
+
+def _key(name: str):
+    """``("B", 40, False)`` for ``"Mb w40"``; ``("OE", None, False)`` for OE-DTW."""
+    a = resolve(name)
+    return a.family, (a.w if a.family in ("B", "C") else None), a.typev
+
+
+def last_input_frame(results, name: str) -> dict:
+    """Pair id -> index ``m`` of the last input frame at the algorithm's frame rate.
+
+    Notebook: 09_table2_timing.ipynb
+    """
+    m, _ = results.frames(name)
+    return {int(p["id"]): int(m[i]) for i, p in enumerate(results.pairs)}
+
+
+def exhausted_fraction(results, name: str) -> dict:
+    """How many target frames an aligner processed with the input already exhausted.
+
+    A target frame ``q >= 1`` counts when ``M_{q-1} = m`` (the previous frame was mapped to
+    the last input frame). Deterministic: computed from the maps only.
+
+    Parameters
+    ----------
+    results : fpdtw.paper.runner.run.Results
+    name : str
+
+    Returns
+    -------
+    out : dict
+        ``frames`` (target frames q >= 1 over all pairs), ``exhausted`` (of those, processed
+        with ``M_{q-1} = m``), ``fraction`` (exhausted / frames), ``pairs_exhausted_early``
+        (pairs with at least one such frame).
+
+    Paper: FP-DTW Section 5 (Table 2: "Mc w80 ... running out of input frames").
+    Notebook: 09_table2_timing.ipynb
+    """
+    arr = results.get(name)
+    m_of = last_input_frame(results, name)
+    offsets = np.asarray(arr["offsets"], dtype=np.int64)
+    maps = np.asarray(arr["maps"])
+    frames = exhausted = pairs = 0
+    for k, pid in enumerate(np.asarray(arr["pair_id"])):
+        M = maps[offsets[k] : offsets[k + 1]]
+        e = int(np.count_nonzero(M[:-1] >= m_of[int(pid)]))
+        frames += M.size - 1
+        exhausted += e
+        pairs += e > 0
+    return dict(
+        frames=int(frames),
+        exhausted=int(exhausted),
+        fraction=float(exhausted / frames) if frames else 0.0,
+        pairs_exhausted_early=int(pairs),
+    )
+
+
+def time_per_frame_rows(bench: dict, results=None, names=None) -> list[dict]:
+    """Table 2: mean and median time per target frame of each online aligner (``make bench``).
+
+    Parameters
+    ----------
+    bench : dict
+        The report of ``make bench`` (:func:`load_bench`).
+    results : fpdtw.paper.runner.run.Results, optional
+        The experiment grid, for the share of frames processed with the input exhausted.
+    names : sequence of str, optional
+        Default: every algorithm of :data:`TIMED_NAMES` the bench timed.
+
+    Returns
+    -------
+    rows : list of dict
+        Keys ``algorithm``, ``method`` ("A", "B", "C", "OE", "OPW", "OLTW"), ``w``,
+        ``type_v``, ``frames`` (timed), ``mean_us``, ``median_us``, ``p95_us`` (one core,
+        microseconds), ``exhausted_fraction`` (:func:`exhausted_fraction` over the grid's
+        pairs, deterministic; None without ``results``), ``paper_mean_us`` (Table 2, B and
+        C unconstrained only).
+
+    Paper: FP-DTW Table 2.
+    Notebook: 09_table2_timing.ipynb
+    """
+    by = {r["name"]: r for r in list(bench.get("online", [])) + list(bench.get("oe_dtw", []))}
+    if names is None:
+        names = [n for n in TIMED_NAMES if n in by]
+    rows = []
+    for name in names:
+        b = by.get(name)
+        if b is None:
+            continue
+        method, w, typev = _key(name)
+        ex = None
+        if results is not None and name in results.algorithms:
+            ex = exhausted_fraction(results, name)["fraction"]
+        rows.append(
+            dict(
+                algorithm=name,
+                method=method,
+                w=w,
+                type_v=typev,
+                frames=int(b["frames"]),
+                mean_us=float(b["mean_s"] * 1e6),
+                median_us=float(b["median_s"] * 1e6),
+                p95_us=float(b["p95_s"] * 1e6),
+                exhausted_fraction=ex,
+                paper_mean_us=None if typev else TABLE2_US.get((method, w)),
+            )
+        )
+    return rows
+
+
+def growth_ratio(rows, method: str, lo=10, hi=80, key="mean_us", type_v=False):
+    """Per-frame time at window ``hi`` over that at window ``lo`` for one method.
+
+    Parameters
+    ----------
+    rows : list of dict
+        From :func:`time_per_frame_rows` (or any rows with ``method``, ``w``, ``type_v``
+        and ``key``).
+    method : {"B", "C"}
+
+    Returns
+    -------
+    ratio : float or None
+        None when either window is missing.
+
+    Paper: FP-DTW Table 2 (B: 16945 / 856 = 19.8; C: 10106 / 782 = 12.9).
+    Notebook: 09_table2_timing.ipynb
+    """
+    by = {(r["method"], r["w"], r["type_v"]): r[key] for r in _default_rows(rows)}
+    a, b = by.get((method, lo, type_v)), by.get((method, hi, type_v))
+    if a is None or b is None or a <= 0:
+        return None
+    return float(b / a)
+
+
+def paper_growth_ratio(method: str, lo=10, hi=80) -> float:
+    """The paper's Table 2 ratio of per-frame time at window ``hi`` over ``lo``."""
+    return TABLE2_US[(method, hi)] / TABLE2_US[(method, lo)]
+
+
+def slowest_window(rows, method: str, key="mean_us", type_v=False):
+    """The window with the highest per-frame time of a method (None if none timed)."""
+    cand = [
+        r for r in _default_rows(rows) if r["method"] == method and r["type_v"] == type_v and r["w"]
+    ]
+    if not cand:
+        return None
+    return int(max(cand, key=lambda r: r[key])["w"])
+
+
+def load_bench(path=None):
+    """The report of ``make bench`` (``results/bench.json``), or None if it does not exist.
+
+    Notebook: 09_table2_timing.ipynb
+    """
+    from fpdtw.paper.paths import results_dir
+
+    path = results_dir() / "bench.json" if path is None else path
+    try:
+        with open(path) as fh:
+            return json.load(fh)
+    except FileNotFoundError:
+        return None
+
+
+def plot_time_vs_w(rows, ax=None, key="median_us"):
+    """Per-frame time against window, log y: ours (Methods B and C, with and without Type V)
+    next to the paper's Table 2, and the 120 Hz real-time budget (8333 us).
+
+    Parameters
+    ----------
+    rows : list of dict
+        From :func:`time_per_frame_rows`.
+    ax : matplotlib.axes.Axes, optional
+    key : str
+        Our statistic: ``"median_us"`` (default: robust to outliers such as a busy
+        machine) or ``"mean_us"`` (the paper reports means).
+
+    Returns
+    -------
+    fig, ax
+        One line per (method, constraint) of ours, plus the paper's two lines.
+
+    Paper: FP-DTW Table 2 ("per-frame cost grows steeply with w").
+    Notebook: 09_table2_timing.ipynb
+    """
+    fig, ax = new_axes(ax, figsize=(6, 4.2))
+    rows = _default_rows(rows)
+    colours = {"B": "tab:green", "C": "tab:purple"}
+    for method in ("B", "C"):
+        ws = list(WINDOWS)
+        ax.plot(
+            ws,
+            [TABLE2_US[(method, w)] for w in ws],
+            "--s",
+            color=colours[method],
+            alpha=0.6,
+            label=f"paper M{method.lower()} (mean, Table 2)",
+        )
+        for tv in (False, True):
+            pts = sorted(
+                (r["w"], r[key])
+                for r in rows
+                if r["method"] == method and r["type_v"] == tv and r.get(key) is not None
+            )
+            if not pts:
+                continue
+            x, y = zip(*pts)
+            ax.plot(
+                x,
+                y,
+                "-o" if not tv else ":^",
+                color=colours[method],
+                label=f"ours M{method.lower()}{' + Type V' if tv else ''} ({key[:-3]})",
+            )
+    ax.axhline(1e6 / 120, color="red", lw=0.8)
+    ax.text(10, 1e6 / 120 * 1.1, "120 Hz budget: 8333 us", color="red", fontsize=8)
+    ax.set_xscale("log", base=2)
+    ax.set_yscale("log")
+    ax.set_xticks(list(WINDOWS))
+    ax.set_xticklabels([str(w) for w in WINDOWS])
+    ax.set_xlabel("window w (frames)")
+    ax.set_ylabel("time per target frame (us)")
+    ax.legend(fontsize=7, loc="center right")
+    ax.grid(alpha=0.3, which="both")
+    return fig, ax
+
+
+__all__ = [
+    "TIMED_NAMES",
+    "exhausted_fraction",
+    "growth_ratio",
+    "last_input_frame",
+    "load_bench",
+    "paper_growth_ratio",
+    "plot_time_vs_w",
+    "slowest_window",
+    "time_per_frame_rows",
+]

@@ -1,0 +1,424 @@
+"""Figs. 2 and 4: the search windows of Methods A, B and C, drawn from real steps.
+
+Each aligner is run frame by frame with ``record=True`` and the
+:class:`~fpdtw.online.window.WindowSnapshot` of every step is kept
+(:func:`record_steps`); the figures draw one real step each, picked by a stated rule:
+
+* Fig. 2 (Method A, w = 2): the step at a fixed target frame (:func:`step_at`).
+* Fig. 4 (Method B): the first window step (after the warm-up) whose back-tracked path
+  leaves (0, 0) through (1, 0), and the first through (0, 1) (:func:`first_leaving`).
+* Method C: the step at the same target frame as the first Fig. 4 panel.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from fpdtw.online.window import B_CORNER, WindowSnapshot
+from fpdtw.paper.figures.plotting import new_axes
+
+#: Offsets of the second path cell when Method B's path leaves (0, 0): (row, column).
+VIA_INPUT = (1, 0)  # advance one input frame within F_0 = T_n
+VIA_TARGET = (0, 1)  # hold the input frame into F_1 = T_{n+1}
+
+
+def record_steps(aligner, T, n_frames=None):
+    """Run an aligner frame by frame and keep the snapshot of every step.
+
+    Parameters
+    ----------
+    aligner : WindowAligner
+        Built with ``record=True``; it is reset first.
+    T : MotionFeatures
+        Target motion.
+    n_frames : int, optional
+        Stop after this many target frames (default: all).
+
+    Returns
+    -------
+    M : ndarray of int64, shape (n,)
+        The map.
+    snaps : list of WindowSnapshot
+        ``snaps[q]`` is the step that mapped target frame q.
+
+    Paper: FP-DTW Figs. 2 and 4 (drawn from real steps).
+    Notebook: 03_fig2_fig4_windows.ipynb
+    """
+    if not getattr(aligner, "record", False):
+        raise ValueError("the aligner must be built with record=True")
+    n = T.n_frames if n_frames is None else min(int(n_frames), T.n_frames)
+    aligner.reset()
+    M = np.empty(n, dtype=np.int64)
+    snaps = []
+    for q in range(n):
+        M[q] = aligner.step(T.frame(q))
+        snaps.append(aligner.window_snapshot())
+    return M, snaps
+
+
+def step_at(snaps, q: int) -> WindowSnapshot:
+    """The snapshot of target frame ``q``; it must be a window step (not warm-up/end).
+
+    Raises
+    ------
+    ValueError
+        ``q`` out of range or not a window step.
+    """
+    q = int(q)
+    if not 0 <= q < len(snaps):
+        raise ValueError(f"target frame {q} not recorded (have 0..{len(snaps) - 1})")
+    s = snaps[q]
+    if s.kind != "window":
+        raise ValueError(f"target frame {q} is a {s.kind!r} step, not a window step")
+    return s
+
+
+def first_leaving(snaps, via, q_min: int = 0):
+    """The first Method B window step at or after ``q_min`` whose path leaves (0, 0) via ``via``.
+
+    Parameters
+    ----------
+    snaps : sequence of WindowSnapshot
+        Method B snapshots (``path`` set on window steps).
+    via : tuple of int
+        :data:`VIA_INPUT` ``(1, 0)`` or :data:`VIA_TARGET` ``(0, 1)``: the path's second
+        cell (input offset, forecast column).
+    q_min : int
+
+    Returns
+    -------
+    snap : WindowSnapshot or None
+
+    Paper: FP-DTW Fig. 4 (two example steps).
+    Notebook: 03_fig2_fig4_windows.ipynb
+    """
+    via = tuple(int(v) for v in via)
+    for s in snaps:
+        if s.q < q_min or s.kind != "window" or s.path is None or len(s.path) < 2:
+            continue
+        if tuple(int(v) for v in s.path[1]) == via:
+            return s
+    return None
+
+
+def snapshot_facts(s: WindowSnapshot) -> dict:
+    """Plain facts of one step: q, kind, window start M_n, w_i, offset, M_{n+1}."""
+    out = {"q": s.q, "kind": s.kind, "M_n": s.start, "w_i": s.w_i, "offset": s.offset, "M": s.M}
+    if s.path is not None and len(s.path) > 1:
+        out["leaves_via"] = [int(v) for v in s.path[1]]
+    return out
+
+
+def _grid(ax, n_rows, n_cols, x0, y0):
+    """Cell borders (minor grid) of a grid whose cell centres are x0.., y0.."""
+    ax.set_xticks(np.arange(n_cols + 1) + x0 - 0.5, minor=True)
+    ax.set_yticks(np.arange(n_rows + 1) + y0 - 0.5, minor=True)
+    ax.grid(which="minor", color="0.8", lw=0.5)
+    ax.tick_params(which="minor", length=0)
+    ax.set_axisbelow(True)
+
+
+def plot_method_a_window(snaps, q: int, ax=None, before: int = 6, after: int = 1):
+    """Fig. 2: Method A's window at target frame ``q`` on a grid of input x target frames.
+
+    Shows the map so far (target frames ``q - before .. q - 1``), the window cells
+    ``{I_{M_n}..I_{M_n+w_i}}`` in column ``q`` coloured and labelled with their real
+    costs (eq. 1 to ``T_q``), and the chosen cell.
+
+    Parameters
+    ----------
+    snaps : sequence of WindowSnapshot
+        Method A snapshots from :func:`record_steps` (``snaps[t].M`` is ``M_t``).
+    q : int
+        A window step.
+    ax : Axes, optional
+    before, after : int
+        Target frames shown before and after ``q``.
+
+    Returns
+    -------
+    fig, ax
+        One image (the window's costs); lines: the map so far, the step from ``M_n`` to
+        the chosen cell; patches: the window (blue) and the chosen cell (red).
+
+    Paper: FP-DTW Fig. 2 (search window of the frame matching algorithm).
+    Notebook: 03_fig2_fig4_windows.ipynb
+    """
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    s = step_at(snaps, q)
+    fig, ax = new_axes(ax, figsize=(5.5, 6))
+    t0 = max(0, q - before)
+    t1 = q + after
+    M = np.array([snaps[t].M for t in range(t0, q)], dtype=np.int64)
+    r0 = max(0, int(M.min()) - 1) if M.size else max(0, s.start - 1)
+    r1 = s.start + s.w_i + 1
+    costs = np.asarray(s.C)[:, 0]
+    grid = np.full((r1 - r0 + 1, t1 - t0 + 1), np.nan)
+    grid[s.start - r0 : s.start - r0 + s.w_i + 1, q - t0] = costs
+    span = max(float(costs.max() - costs.min()), 1e-6)
+    im = ax.imshow(
+        grid,
+        origin="lower",
+        cmap="YlOrRd",
+        interpolation="nearest",
+        extent=(t0 - 0.5, t1 + 0.5, r0 - 0.5, r1 + 0.5),
+        aspect="equal",
+        vmin=costs.min() - 0.3 * span,
+        vmax=costs.max() + 0.1 * span,
+        zorder=0,
+    )
+    fig.colorbar(im, ax=ax, label=f"geoDistance($I_i$, $T_{{{q}}}$) (eq. 1)", shrink=0.7)
+    _grid(ax, r1 - r0 + 1, t1 - t0 + 1, t0, r0)
+    if M.size:
+        ax.plot(np.arange(t0, q), M, "o-", color="0.3", ms=6, lw=1.2, zorder=3)
+        ax.plot([q - 1, q], [M[-1], s.M], "--", color="tab:red", lw=1.2, zorder=3)
+    ax.add_patch(_rect(q, s.start - 0.5, s.w_i + 1, color="tab:blue", lw=2.5))
+    ax.add_patch(_rect(q, s.M - 0.5, 1, color="tab:red", lw=2.0, inset=0.08))
+    for r, c in enumerate(costs):
+        ax.text(q, s.start + r, f"{c:.3f}", ha="center", va="center", fontsize=6.5, zorder=4)
+    handles = [
+        Line2D([], [], marker="o", color="0.3", ms=6, label="map so far $M_t$"),
+        Patch(
+            fill=False,
+            ec="tab:blue",
+            lw=2,
+            label=f"window $I_{{{s.start}}}..I_{{{s.start + s.w_i}}}$ ($w$ = {s.w_i})",
+        ),
+        Patch(
+            fill=False,
+            ec="tab:red",
+            lw=2,
+            label=f"chosen $M_{{{q}}} = M_{{{q - 1}}} + {s.offset} = {s.M}$",
+        ),
+    ]
+    ax.set_xlim(t0 - 0.5, t1 + 0.5)
+    ax.set_ylim(r0 - 0.5, r1 + 0.5)
+    ax.set_xticks(np.arange(t0, t1 + 1))
+    ax.set_yticks(np.arange(r0, r1 + 1))
+    ax.tick_params(labelsize=7)
+    ax.set_xlabel("target frame (T)")
+    ax.set_ylabel("input frame (I)")
+    ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.95)
+    ax.set_title(f"Method A ($w$ = 2), target frame {q}", fontsize=9)
+    return fig, ax
+
+
+def _rect(x, y0, height, color, lw=2.0, inset=0.0):
+    from matplotlib.patches import Rectangle
+
+    return Rectangle(
+        (x - 0.5 + inset, y0 + inset),
+        1 - 2 * inset,
+        height - 2 * inset,
+        fill=False,
+        ec=color,
+        lw=lw,
+        zorder=5,
+    )
+
+
+def _window_heatmap(ax, fig, A, start, col_labels, mask=None, label="", annotate=True):
+    """Heat map of a window matrix (rows input offsets, columns forecast frames)."""
+    A = np.asarray(A, dtype=float)
+    shown = A.copy()
+    if mask is not None:
+        shown[mask] = np.nan
+    shown[~np.isfinite(shown)] = np.nan
+    cmap = _cmap()
+    im = ax.imshow(shown, origin="lower", cmap=cmap, interpolation="nearest", aspect="auto")
+    fig.colorbar(im, ax=ax, label=label, fraction=0.046, pad=0.04)
+    nr, nc = A.shape
+    ax.set_xticks(np.arange(nc))
+    ax.set_xticklabels(col_labels, fontsize=7)
+    step = max(1, nr // 12)
+    ax.set_yticks(np.arange(0, nr, step))
+    ax.set_yticklabels([f"{start + r}" for r in range(0, nr, step)], fontsize=7)
+    ax.set_ylabel(f"input frame ($I_{{M_n + r}}$, $M_n$ = {start})")
+    if annotate:
+        vals = shown[np.isfinite(shown)]
+        mid = 0.5 * (vals.min() + vals.max()) if vals.size else 0.0
+        for r in range(nr):
+            for c in range(nc):
+                if np.isfinite(shown[r, c]):
+                    ax.text(
+                        c,
+                        r,
+                        f"{A[r, c]:.2f}",
+                        ha="center",
+                        va="center",
+                        fontsize=5,
+                        color="white" if shown[r, c] < mid else "black",
+                    )
+    return im
+
+
+def _cmap():
+    import matplotlib as mpl
+
+    return mpl.colormaps["viridis"].with_extremes(bad="0.92")
+
+
+def forecast_labels(n_cols: int, with_prev: bool) -> list:
+    """Column labels of a forecast window: ``F_0 = T_n, F_1 = T_{n+1}, F_2, ...`` (Method B)
+    or ``F_0 = T_{n+1}, F_1, ...`` (Method C)."""
+    out = []
+    for c in range(n_cols):
+        if with_prev and c == 0:
+            out.append("$F_0$\n$=T_n$")
+        elif (with_prev and c == 1) or (not with_prev and c == 0):
+            out.append(f"$F_{c}$\n$=T_{{n+1}}$")
+        else:
+            out.append(f"$F_{{{c}}}$")
+    return out
+
+
+def plot_method_b_window(s: WindowSnapshot, ax=None, which: str = "D", annotate=True):
+    """Fig. 4: one real Method B step: the window's D (or C), its path and the choice X.
+
+    ``D[0, 0]`` (set to 10000 before back-tracking) is left out of the colour scale and
+    labelled; the path is drawn from (0, 0) to the far corner; X marks the chosen input
+    frame, the lowest row of the path in column ``F_1 = T_{n+1}`` (``P_1``).
+
+    Parameters
+    ----------
+    s : WindowSnapshot
+        A Method B window step.
+    ax : Axes, optional
+    which : {"D", "C"}
+        Accumulated (default) or local cost as the heat map.
+    annotate : bool
+        Write every cell's value.
+
+    Returns
+    -------
+    fig, ax
+        One image of shape ``(w_i + 1, w + 1)``; lines: the path, X.
+
+    Paper: FP-DTW Fig. 4 and Algorithm 2.
+    Notebook: 03_fig2_fig4_windows.ipynb
+    """
+    from matplotlib.patches import Patch
+
+    if s.kind != "window" or s.path is None:
+        raise ValueError("a Method B window step (with a path) is needed")
+    fig, ax = new_axes(ax, figsize=(6, 5))
+    A = s.D if which == "D" else s.C
+    mask = np.zeros(A.shape, dtype=bool)
+    mask[0, 0] = which == "D"
+    label = "accumulated cost D" if which == "D" else "cost C (eq. 1)"
+    _window_heatmap(ax, fig, A, s.start, forecast_labels(A.shape[1], True), mask, label, annotate)
+    if which == "D":
+        ax.text(
+            0,
+            0,
+            f"{B_CORNER:.0f}",
+            ha="center",
+            va="center",
+            fontsize=6,
+            color="tab:red",
+            fontweight="bold",
+        )
+        extra = [
+            Patch(fc="0.92", ec="tab:red", label="$D[0,0]$ = 10000 (set before back-tracking)")
+        ]
+    else:
+        extra = []
+    P = np.asarray(s.path)
+    ax.plot(P[:, 1], P[:, 0], "-", color="white", lw=3.2)
+    ax.plot(P[:, 1], P[:, 0], ".-", color="tab:red", lw=1.4, ms=5, label="back-tracked path")
+    ax.plot(
+        [1],
+        [s.offset],
+        "x",
+        color="tab:red",
+        ms=12,
+        mew=2.5,
+        label=f"X: $M_{{n+1}} = M_n + P_1 = {s.start} + {s.offset} = {s.M}$",
+    )
+    via = tuple(int(v) for v in P[1])
+    ax.set_title(
+        f"Method B ($w$ = {s.D.shape[1] - 1}), target frame {s.q}: path leaves (0,0) via "
+        f"(r, c) = {via}",
+        fontsize=9,
+    )
+    ax.set_xlabel("forecast window F (target frames)")
+    handles, _ = ax.get_legend_handles_labels()
+    ax.legend(handles=handles + extra, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.13))
+    return fig, ax
+
+
+def plot_method_c_window(s: WindowSnapshot, ax=None, annotate=True):
+    """One real Method C step: the reverse-accumulated D and the argmin of column 0.
+
+    Parameters
+    ----------
+    s : WindowSnapshot
+        A Method C window step (``D`` accumulated from the far corner back to (0, 0)).
+    ax : Axes, optional
+    annotate : bool
+
+    Returns
+    -------
+    fig, ax
+        One image of the window's shape (the default square window: ``(w_i, w)``); one
+        line (X).
+
+    Paper: FP-DTW Algorithm 3 (getReverseTotalCostMatrix, argmin of column 0).
+    Notebook: 03_fig2_fig4_windows.ipynb
+    """
+    if s.kind != "window" or s.D is None:
+        raise ValueError("a Method C window step is needed")
+    fig, ax = new_axes(ax, figsize=(6, 5))
+    D = np.asarray(s.D)
+    _window_heatmap(
+        ax,
+        fig,
+        D,
+        s.start,
+        forecast_labels(D.shape[1], False),
+        label="reverse-accumulated cost D",
+        annotate=annotate,
+    )
+    nr, nc = D.shape
+    ax.plot(
+        [0],
+        [s.offset],
+        "x",
+        color="tab:red",
+        ms=12,
+        mew=2.5,
+        label=f"X: argmin of column 0, $M_{{n+1}} = {s.start} + {s.offset} = {s.M}$",
+    )
+    ax.annotate(
+        "accumulation\nstarts here",
+        (nc - 1, nr - 1),
+        xytext=(-95, -40),
+        textcoords="offset points",
+        fontsize=7,
+        color="tab:red",
+        bbox={"fc": "white", "ec": "none", "alpha": 0.8, "pad": 1},
+        arrowprops={"arrowstyle": "->", "color": "tab:red"},
+    )
+    ax.set_title(
+        f"Method C ($w$ = {D.shape[1]}), target frame {s.q}: reverse accumulation, argmin of $F_0$",
+        fontsize=9,
+    )
+    ax.set_xlabel("forecast window F (target frames)")
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.13))
+    return fig, ax
+
+
+__all__ = [
+    "VIA_INPUT",
+    "VIA_TARGET",
+    "first_leaving",
+    "forecast_labels",
+    "plot_method_a_window",
+    "plot_method_b_window",
+    "plot_method_c_window",
+    "record_steps",
+    "snapshot_facts",
+    "step_at",
+]

@@ -1,0 +1,75 @@
+"""Every path fpdtw reads or writes, in one place.
+
+Environment variables override the defaults:
+
+``FPDTW_DATA_DIR``
+    Data cache (default: ``<repo>/data_cache`` in a source checkout, else the
+    user cache folder, e.g. ``~/.cache/fpdtw``).
+``FPDTW_MIRROR``
+    A local folder or a base URL laid out like the upstream datasets
+    (``<dataset>/<path>``), used instead of the upstream URLs (see README).
+``FPDTW_RESULTS_DIR``
+    Experiment results (default: ``<repo>/results``).
+``FPDTW_FIGURES_DIR``
+    Figures and tables (default: ``<repo>/figures``).
+``FPDTW_MANIFEST_DIR``
+    Data manifests (default: ``<repo>/data_manifest``).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+#: Root of the source checkout (the folder holding ``pyproject.toml``).
+REPO_ROOT = Path(__file__).resolve().parents[2]
+
+MIRROR_ENV = "FPDTW_MIRROR"
+DATA_ENV = "FPDTW_DATA_DIR"
+
+
+def _env_path(var: str, default: Path) -> Path:
+    value = os.environ.get(var)
+    return Path(value).expanduser().resolve() if value else default
+
+
+def data_dir() -> Path:
+    """Folder of the verified data cache (laid out like a mirror)."""
+    if (REPO_ROOT / "pyproject.toml").is_file() and os.access(REPO_ROOT, os.W_OK):
+        default = REPO_ROOT / "data_cache"
+    else:
+        import pooch
+
+        default = Path(pooch.os_cache("fpdtw"))
+    return _env_path(DATA_ENV, default)
+
+
+def mirror() -> str | None:
+    """The mirror given by ``FPDTW_MIRROR`` (folder or base URL), or None."""
+    value = os.environ.get(MIRROR_ENV, "").strip()
+    return value or None
+
+
+def manifest_dir() -> Path:
+    """Folder of the data manifests (one TOML file per dataset)."""
+    return _env_path("FPDTW_MANIFEST_DIR", REPO_ROOT / "data_manifest")
+
+
+def results_dir() -> Path:
+    """Folder of experiment results (one file per algorithm)."""
+    return _env_path("FPDTW_RESULTS_DIR", REPO_ROOT / "results")
+
+
+def figures_dir() -> Path:
+    """Folder of figures (PDF + PNG) and tables (CSV + Markdown)."""
+    return _env_path("FPDTW_FIGURES_DIR", REPO_ROOT / "figures")
+
+
+def notebooks_dir() -> Path:
+    """Folder of the source notebooks."""
+    return REPO_ROOT / "notebooks"
+
+
+def executed_dir() -> Path:
+    """Folder where papermill writes executed notebooks."""
+    return _env_path("FPDTW_EXECUTED_DIR", REPO_ROOT / "build" / "notebooks")

@@ -1,0 +1,493 @@
+"""Readings of Algorithm 3 and the paper's other silent choices: what each one changes.
+
+Notebook 15 asks, in the open, whether our Method C differs from the paper's because of
+the paper or because of our reading of it. Everything it shows is computed here from the
+experiment results of the ``"study"`` mode (the paper-shaped selection, see
+:data:`fpdtw.paper.runner.run.SELECTIONS`) and, for the whole-class comparison, of the
+``"full"`` mode:
+
+* :func:`readings_table`: per reading of the window (:data:`fpdtw.registry.C_READINGS`),
+  window w, Type V or not, dataset and frame rate: median similarity and deviation, the
+  share of steps taken after the input ran out, the stick/skip index and the hold share;
+* :func:`reading_signature`: the paper's qualitative signature of Method C per reading
+  (stick at w10, skip at w80, best w at 120 and 60 Hz, Mc w40 passing both benchmarks);
+* :func:`mechanism_profile`: the mechanism itself, the rest-of-path cost
+  ``f(r) = D[r, 0] - C[r, 0]`` of every row offset r in real windows;
+* :func:`silent_choice_rows`: one row per silent choice: the alternative and how far it
+  moves the headline medians of the algorithms it touches;
+* :func:`selection_rows`: the headline medians on the paper-shaped and whole-class
+  selections side by side.
+
+Paper: FP-DTW Algorithm 3, Section 3.3, Sections 4-5.
+Notebook: 15_readings_of_algorithm_3.ipynb
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from fpdtw.metrics import similarity_per_axis, step_counts, stick_skip_index
+from fpdtw.paper import numbers
+from fpdtw.paper.numbers import WINDOWS
+from fpdtw.registry import C_READINGS, method_c_name
+
+#: Rates of the study (Hz) and their name suffixes.
+RATES = {120: "", 60: "@60Hz"}
+
+
+def study_mode(smoke: bool) -> str:
+    """Results folder of notebook 15: ``"smoke-study"`` or ``"study"``.
+
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    return "smoke-study" if smoke else "study"
+
+
+def reading_name(reading: str, w: int, typev: bool = False, rate: int = 120) -> str:
+    """``reading_name("literal", 40, rate=60)`` -> ``"Mc w40 (literal window)@60Hz"``.
+
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    return method_c_name(w, reading, typev) + RATES[rate]
+
+
+def _pair_rows(results, dataset):
+    """Indices (into the algorithm arrays, which follow ``results.pairs``) of a dataset."""
+    ds = np.array([p["dataset"] for p in results.pairs])
+    return np.arange(ds.size) if dataset is None else np.flatnonzero(ds == dataset)
+
+
+def map_shape(results, name: str, dataset=None) -> dict:
+    """How an algorithm's maps move through the input, over the pairs of a dataset.
+
+    Parameters
+    ----------
+    results : fpdtw.paper.runner.run.Results
+    name : str
+    dataset : str, optional
+        ``"authors_fbx"`` or ``"hdm05"``; None: every pair.
+
+    Returns
+    -------
+    out : dict
+        ``exhausted`` (steps taken after the input ran out over all steps, pooled over
+        pairs: :func:`fpdtw.metrics.exhausted_share`), ``hold`` (holds over the steps
+        taken while input remained, pooled: :func:`fpdtw.metrics.hold_share`),
+        ``stick_skip`` (median over pairs of :func:`fpdtw.metrics.stick_skip_index`:
+        < 0 sticks, > 0 skips), ``pairs``.
+
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    arr = results.get(name)
+    m_all, _ = results.frames(name)
+    offsets = np.asarray(arr["offsets"], dtype=np.int64)
+    maps = np.asarray(arr["maps"], dtype=np.int64)
+    total = dict(steps=0, exhausted=0, live=0, holds=0)
+    index = []
+    for k in _pair_rows(results, dataset):
+        M = maps[offsets[k] : offsets[k + 1]]
+        for key, v in step_counts(M, int(m_all[k])).items():
+            total[key] += v
+        index.append(stick_skip_index(M, int(m_all[k])))
+    return dict(
+        exhausted=total["exhausted"] / total["steps"] if total["steps"] else 0.0,
+        hold=total["holds"] / total["live"] if total["live"] else 0.0,
+        stick_skip=float(np.median(index)) if index else float("nan"),
+        pairs=len(index),
+    )
+
+
+def _median(results, name, metric, dataset):
+    v = np.asarray(results.get(name)[metric], dtype=np.float64)[_pair_rows(results, dataset)]
+    v = v[np.isfinite(v)]
+    return float(np.median(v)) if v.size else float("nan")
+
+
+def benchmarks(results, dataset=None, rate: int = 120) -> dict:
+    """The paper's two benchmarks at a rate, over a dataset's pairs.
+
+    Returns
+    -------
+    out : dict
+        ``similarity``: UTW's median similarity (pass: strictly above);
+        ``deviation``: 150 ms in frames of the rate (18 at 120 Hz, 9 at 60 Hz; pass:
+        strictly below).
+
+    Paper: FP-DTW Sections 4 and 5.
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    return dict(
+        similarity=_median(results, "UTW" + RATES[rate], "similarity", dataset),
+        deviation=numbers.deviation_benchmark_frames(rate),
+    )
+
+
+def readings_table(
+    results, readings=C_READINGS, windows=WINDOWS, rates=(120, 60), datasets=(None,)
+) -> list[dict]:
+    """Every reading of Algorithm 3 at every w, with and without Type V, per dataset and rate.
+
+    Parameters
+    ----------
+    results : fpdtw.paper.runner.run.Results
+        A run with the names of :func:`reading_name` (mode ``"study"``), DTW and UTW at
+        each rate.
+    readings, windows, rates : sequences
+    datasets : sequence of str or None
+        None stands for every pair.
+
+    Returns
+    -------
+    rows : list of dict
+        Keys ``dataset`` ("all", "authors_fbx", "hdm05"), ``rate_hz``, ``reading``, ``w``,
+        ``type_v``, ``algorithm``, ``similarity`` and ``deviation`` (medians; deviation
+        in frames of the rate), ``passes_similarity``, ``passes_deviation``, ``pairs``
+        and the :func:`map_shape` keys ``exhausted``, ``stick_skip``, ``hold``. Rows of
+        DTW (reading ``"DTW"``, w None) come first per dataset and rate: its hold share is
+        the reference for how often a good alignment holds.
+
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    rows = []
+    for dataset in datasets:
+        for rate in rates:
+            bench = benchmarks(results, dataset, rate)
+            cases = [("DTW", None, False, "DTW" + RATES[rate])]
+            cases += [
+                (r, w, t, reading_name(r, w, t, rate))
+                for r in readings
+                for t in (False, True)
+                for w in windows
+            ]
+            for reading, w, typev, name in cases:
+                sim = _median(results, name, "similarity", dataset)
+                dev = _median(results, name, "deviation", dataset)
+                shape = map_shape(results, name, dataset)
+                rows.append(
+                    dict(
+                        dataset=dataset or "all",
+                        rate_hz=rate,
+                        reading=reading,
+                        w=w,
+                        type_v=typev,
+                        algorithm=name,
+                        similarity=sim,
+                        deviation=dev,
+                        passes_similarity=numbers.passes_similarity(sim, bench["similarity"]),
+                        passes_deviation=numbers.passes_deviation(dev, rate),
+                        exhausted=shape["exhausted"],
+                        stick_skip=shape["stick_skip"],
+                        hold=shape["hold"],
+                        pairs=shape["pairs"],
+                    )
+                )
+    return rows
+
+
+def _best_w(rows, rate):
+    sims = {r["w"]: r["similarity"] for r in rows if r["rate_hz"] == rate and not r["type_v"]}
+    return max(sorted(sims), key=lambda w: (sims[w], -w)) if sims else None
+
+
+def reading_signature(rows, dataset: str = "all") -> list[dict]:
+    """The paper's qualitative signature of Method C, per reading (from :func:`readings_table`).
+
+    Returns
+    -------
+    out : list of dict
+        Per reading: ``dataset``, ``reading``, ``best_w_120`` and ``best_w_60`` (the
+        highest median similarity without Type V; the paper: 40 and 20),
+        ``w10_stick_skip`` and ``w80_stick_skip`` (the paper: w10 sticks, < 0; w80 skips,
+        > 0), ``w40_passes_both`` (the paper: yes), ``pass_both`` (every configuration at
+        120 Hz whose medians pass both benchmarks; the paper: Mc w40 and Mc w80 + Type V),
+        ``exhausted`` (mean over w at 120 Hz, without Type V).
+
+    Paper: FP-DTW Section 5, Table 1, Figs. 5-7.
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    out = []
+    readings = [r for r in dict.fromkeys(x["reading"] for x in rows) if r != "DTW"]
+    for reading in readings:
+        rr = [x for x in rows if x["reading"] == reading and x["dataset"] == dataset]
+        at120 = {(x["w"], x["type_v"]): x for x in rr if x["rate_hz"] == 120}
+        w40 = at120.get((40, False))
+        both = [
+            f"w{x['w']}" + (" + Type V" if x["type_v"] else "")
+            for x in at120.values()
+            if x["passes_similarity"] and x["passes_deviation"]
+        ]
+        plain = [x for (_, t), x in at120.items() if not t]
+        out.append(
+            dict(
+                dataset=dataset,
+                reading=reading,
+                best_w_120=_best_w(rr, 120),
+                best_w_60=_best_w(rr, 60),
+                w10_stick_skip=at120[(10, False)]["stick_skip"] if (10, False) in at120 else None,
+                w80_stick_skip=at120[(80, False)]["stick_skip"] if (80, False) in at120 else None,
+                w40_passes_both=None
+                if w40 is None
+                else bool(w40["passes_similarity"] and w40["passes_deviation"]),
+                pass_both=", ".join(both) or "none",
+                exhausted=float(np.mean([x["exhausted"] for x in plain])) if plain else None,
+            )
+        )
+    return out
+
+
+#: The paper's signature (Section 5, Table 1), in the columns of :func:`reading_signature`.
+PAPER_SIGNATURE = dict(
+    dataset="paper",
+    reading="(the paper's Method C)",
+    best_w_120=40,
+    best_w_60=20,
+    w10_stick_skip="sticks (< 0)",
+    w80_stick_skip="skips (> 0)",
+    w40_passes_both=True,
+    pass_both="w40, w80 + Type V",
+    exhausted="Mc w80 runs out early",
+)
+
+
+# -- the mechanism -----------------------------------------------------------------------------
+
+
+def mechanism_profile(pairs, w: int = 40, readings=("literal", "square")) -> dict:
+    """Rest-of-path cost per row offset, in real Method C windows.
+
+    For every step whose window has its full size, ``f(r) = D[r, 0] - C[r, 0]`` is the
+    cost of the cheapest path from row r's first forecast cell onwards, without the
+    cell's own match. In the literal window ``f(0)`` carries one cell more than every
+    other ``f(r)``, whatever the motion; in the square window it does not.
+
+    Parameters
+    ----------
+    pairs : iterable of (MotionFeatures, MotionFeatures)
+        (input, target) pairs.
+    w : int
+    readings : sequence of str
+
+    Returns
+    -------
+    out : dict
+        Per reading: ``r`` (int, shape (rows,)), ``mean_f`` (mean of f(r) over steps),
+        ``excess`` (median over steps of ``f(0) - f(1)``), ``neighbour`` (median over
+        steps and rows of ``|C[r, 0] - C[r+1, 0]|``: how much neighbouring input frames
+        differ in their match of ``T_{n+1}``), ``hold`` (share of the steps that held),
+        ``best_row0`` (share of the steps where ``C[0, 0]`` was the smallest of column
+        0, i.e. where the held frame matched ``T_{n+1}`` best), ``steps``.
+
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    from fpdtw.online import MethodC
+
+    pairs = list(pairs)
+    out = {}
+    for reading in readings:
+        f_sum, excess, neighbour = None, [], []
+        hold = best0 = steps = 0
+        for I, T in pairs:
+            a = MethodC(I, w, window=reading, record=True)
+            full = a.window_rows(0)
+            for frame in T.frames():
+                a.step(frame)
+                s = a.window_snapshot()
+                if s.kind != "window" or s.C.shape[0] != full:
+                    continue
+                f = s.D[:, 0] - s.C[:, 0]
+                f_sum = f.copy() if f_sum is None else f_sum + f
+                excess.append(f[0] - f[1])
+                neighbour.append(np.median(np.abs(np.diff(s.C[:, 0]))))
+                hold += s.offset == 0
+                best0 += int(np.argmin(s.C[:, 0])) == 0
+                steps += 1
+        out[reading] = dict(
+            r=np.arange(0 if f_sum is None else f_sum.size),
+            mean_f=np.zeros(0) if f_sum is None else f_sum / steps,
+            excess=float(np.median(excess)) if excess else float("nan"),
+            neighbour=float(np.median(neighbour)) if neighbour else float("nan"),
+            hold=hold / steps if steps else 0.0,
+            best_row0=best0 / steps if steps else 0.0,
+            steps=steps,
+        )
+    return out
+
+
+# -- silent choices ---------------------------------------------------------------------------
+
+
+def _choice_medians(results, name, features, variant):
+    """Median similarity and deviation of ``name`` (120 Hz) under a metric-side variant."""
+    arr = results.get(name)
+    dtw = results.get("DTW")
+    offsets, maps = np.asarray(arr["offsets"]), np.asarray(arr["maps"], dtype=np.int64)
+    d_off, d_maps = np.asarray(dtw["offsets"]), np.asarray(dtw["maps"], dtype=np.int64)
+    m_all, _ = results.frames(name)
+    sims, devs = [], []
+    for k in range(offsets.size - 1):
+        M = maps[offsets[k] : offsets[k + 1]]
+        P = d_maps[d_off[k] : d_off[k + 1]]
+        if variant == "deviation_frames":
+            devs.append(float(np.abs(M - P)[1:].sum() / max(M.size - 1, 1)))
+            continue
+        I, T = features(k)
+        if variant == "flat_axis":
+            r = similarity_per_axis(I.quats, T.quats, M, one_flat=np.nan)
+            sims.append(float(np.nanmean(r)) if np.isfinite(r).any() else np.nan)
+        elif variant == "after_input":
+            end = int(np.argmax(M >= m_all[k])) + 1 if np.any(M >= m_all[k]) else M.size
+            end = max(end, 2)
+            r = similarity_per_axis(I.quats, T.quats[:end], M[:end])
+            sims.append(float(np.mean(r)))
+            devs.append(float(np.mean(np.abs(M[:end] - P[:end]))))
+    sim = float(np.nanmedian(sims)) if sims else _median(results, name, "similarity", None)
+    dev = float(np.median(devs)) if devs else _median(results, name, "deviation", None)
+    return sim, dev
+
+
+def silent_choice_rows(results, features=None) -> tuple[list[dict], list[dict]]:
+    """How much each silent choice moves the headline medians (120 Hz, study selection).
+
+    Parameters
+    ----------
+    results : fpdtw.paper.runner.run.Results
+        Mode ``"study"`` (it holds every alternative of
+        :data:`fpdtw.paper.runner.grid.SILENT_CHOICES` for the algorithms of
+        :data:`fpdtw.paper.runner.run.CHOICE_TARGETS`).
+    features : callable, optional
+        ``features(k) -> (I, T)`` of pair k at 120 Hz
+        (:func:`fpdtw.paper.runner.run.pair_features`); needed by the metric-side choices
+        of eq. 2 and of scoring after the input ran out (those rows are left out
+        without it).
+
+    Returns
+    -------
+    summary : list of dict
+        One row per choice: ``choice``, ``ours``, ``alternative``, ``touches``
+        (algorithms measured), ``max_d_similarity`` and ``max_d_deviation`` (largest
+        absolute change of a median), ``verdicts_changed`` (algorithms whose pass/fail
+        of a benchmark flips).
+    detail : list of dict
+        One row per choice and algorithm: the medians under ours and the alternative.
+
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    from fpdtw.paper.runner.grid import SILENT_CHOICES, choice_targets, choice_variant
+
+    bench = benchmarks(results)
+    summary, detail = [], []
+    for key, choice in SILENT_CHOICES.items():
+        if choice["option"] is None and key != "deviation_frames" and features is None:
+            continue
+        targets = [n for n in choice_targets(choice) if n in results.algorithms]
+        rows = []
+        for name in targets:
+            s0 = _median(results, name, "similarity", None)
+            d0 = _median(results, name, "deviation", None)
+            if choice["option"] is not None:
+                alt = choice_variant(name, choice)
+                if alt not in results.algorithms:
+                    continue
+                s1 = _median(results, alt, "similarity", None)
+                d1 = _median(results, alt, "deviation", None)
+            else:
+                s1, d1 = _choice_medians(results, name, features, key)
+            u = bench["similarity"]
+            flips = numbers.passes_similarity(s0, u) != numbers.passes_similarity(s1, u) or (
+                numbers.passes_deviation(d0) != numbers.passes_deviation(d1)
+            )
+            rows.append(
+                dict(
+                    choice=key,
+                    algorithm=name,
+                    similarity_ours=s0,
+                    similarity_alternative=s1,
+                    deviation_ours=d0,
+                    deviation_alternative=d1,
+                    verdict_changes=bool(flips),
+                )
+            )
+        detail += rows
+        summary.append(
+            dict(
+                choice=key,
+                ours=choice["ours"],
+                alternative=choice["alternative"],
+                touches=", ".join(r["algorithm"] for r in rows),
+                max_d_similarity=max(
+                    (abs(r["similarity_alternative"] - r["similarity_ours"]) for r in rows),
+                    default=0.0,
+                ),
+                max_d_deviation=max(
+                    (abs(r["deviation_alternative"] - r["deviation_ours"]) for r in rows),
+                    default=0.0,
+                ),
+                verdicts_changed=", ".join(r["algorithm"] for r in rows if r["verdict_changes"])
+                or "none",
+            )
+        )
+    return summary, detail
+
+
+#: The headline algorithms compared across selections (the paper's claims and ours).
+HEADLINE_NAMES = (
+    ("UTW", "DTW", "Ma", "Ma + Type V")
+    + tuple(f"Mb w{w}" for w in WINDOWS)
+    + ("Mb w80 + Type V",)
+    + tuple(f"Mc w{w}" for w in WINDOWS)
+    + ("Mc w80 + Type V",)
+)
+
+
+def selection_rows(full, study, names=HEADLINE_NAMES) -> list[dict]:
+    """Headline medians on the whole-class and the paper-shaped selections, side by side.
+
+    Parameters
+    ----------
+    full, study : fpdtw.paper.runner.run.Results
+        Modes ``"full"`` (every take of every class) and ``"study"`` (at most 8 takes per
+        movement, drawn with a fixed seed).
+    names : sequence of str
+
+    Returns
+    -------
+    rows : list of dict
+        Per algorithm: ``similarity_full``, ``similarity_paper_shaped``,
+        ``deviation_full``, ``deviation_paper_shaped`` (medians, 120 Hz) and the
+        benchmark verdicts under each (``passes_full``, ``passes_paper_shaped``: "both",
+        "similarity", "deviation" or "neither").
+
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    out = []
+    verdict = {(True, True): "both", (True, False): "similarity", (False, True): "deviation"}
+    for name in names:
+        row = {"algorithm": name}
+        for tag, res in (("full", full), ("paper_shaped", study)):
+            if name not in res.algorithms:
+                row[f"similarity_{tag}"] = row[f"deviation_{tag}"] = row[f"passes_{tag}"] = None
+                continue
+            b = benchmarks(res)
+            s = _median(res, name, "similarity", None)
+            d = _median(res, name, "deviation", None)
+            row[f"similarity_{tag}"] = s
+            row[f"deviation_{tag}"] = d
+            passed = (numbers.passes_similarity(s, b["similarity"]), numbers.passes_deviation(d))
+            row[f"passes_{tag}"] = verdict.get(passed, "neither")
+        out.append(row)
+    return out
+
+
+__all__ = [
+    "HEADLINE_NAMES",
+    "PAPER_SIGNATURE",
+    "benchmarks",
+    "map_shape",
+    "mechanism_profile",
+    "reading_name",
+    "reading_signature",
+    "readings_table",
+    "selection_rows",
+    "silent_choice_rows",
+    "study_mode",
+]

@@ -1,0 +1,184 @@
+"""The experiment grid: which algorithms each mode runs, by the registry's names.
+
+* mode ``"full"`` / ``"smoke"``: :data:`DEFAULT_ALGORITHMS`, the paper's evaluation
+  (Figs. 5-7, 10, Table 1 at 60 Hz), Method C's literal window beside the default and
+  the two online baselines beyond the paper (OPW, OLTW);
+* mode ``"study"`` / ``"smoke-study"``: :data:`STUDY_ALGORITHMS`, notebook 15's readings of
+  Algorithm 3 and the paper's silent choices (:data:`SILENT_CHOICES`).
+
+A name ending in ``"@60Hz"`` runs the named algorithm on the motions resampled to 60 Hz.
+
+Notebook: 05_run_experiments.ipynb
+"""
+
+from __future__ import annotations
+
+from fpdtw import registry
+from fpdtw.paper.numbers import PAPER_NAMES, WINDOWS
+from fpdtw.paper.runner.results import BASE_FPS, LOW_FPS, RATE_SUFFIX
+from fpdtw.registry import C_READINGS, method_c_name
+
+#: Method C's literal window at every w, without and with Type V.
+MC_LITERAL_NAMES = tuple(method_c_name(w, "literal", t) for t in (False, True) for w in WINDOWS)
+
+#: The algorithms of Table 1 at 60 Hz (DTW for the deviation, UTW for the benchmark).
+TABLE1_60HZ_NAMES = (
+    "DTW@60Hz",
+    "UTW@60Hz",
+    "Mc w10@60Hz",
+    "Mc w20@60Hz",
+    "Mc w40@60Hz",
+    "Mc w80@60Hz",
+)
+#: Method C's literal ``(w_i + 1) x w`` window, at 120 Hz (with and without Type V) and,
+#: for Table 1, at 60 Hz: the claims table shows its verdicts next to the default's.
+LITERAL_NAMES = MC_LITERAL_NAMES + tuple(method_c_name(w, "literal") + "@60Hz" for w in WINDOWS)
+#: Online baselines beyond the FP-DTW paper, run on its pairs: the OPW poster's method
+#: and Dixon's on-line time warping (the paper's ref. 3); registered at the end of
+#: this module.
+EXTRA_ALGORITHMS = ("OPW", "OLTW")
+#: What a run computes by default (modes "full" and "smoke").
+DEFAULT_ALGORITHMS = tuple(PAPER_NAMES) + TABLE1_60HZ_NAMES + EXTRA_ALGORITHMS + LITERAL_NAMES
+
+
+def _study_algorithms() -> tuple:
+    """The algorithms of notebook 15 (modes "study" and "smoke-study").
+
+    * DTW and UTW at 120 and 60 Hz (the references of deviation and similarity);
+    * every reading of Algorithm 3 (:data:`fpdtw.registry.C_READINGS`) at every w,
+      with and without Type V, at 120 and 60 Hz;
+    * Methods A and B as in the paper (the headline medians on this selection);
+    * the paper's silent choices (:data:`SILENT_CHOICES`), each on the algorithms it
+      touches among the headline ones (:data:`CHOICE_TARGETS`).
+    """
+    names = ["DTW", "UTW", "DTW@60Hz", "UTW@60Hz"]
+    for rate in ("", "@60Hz"):
+        for reading in C_READINGS:
+            for typev in (False, True):
+                names += [method_c_name(w, reading, typev) + rate for w in WINDOWS]
+    names += [n for n in PAPER_NAMES if n.startswith(("Ma", "Mb"))]
+    for choice in SILENT_CHOICES.values():
+        if choice["option"] is not None:
+            names += [choice_variant(n, choice) for n in choice_targets(choice)]
+    out = []
+    for n in names:  # keep the first of any duplicate
+        if n not in out:
+            out.append(n)
+    return tuple(out)
+
+
+#: The paper's silent choices (notebook 15: how much does each move a result?). Per
+#: choice: ``ours`` and ``alternative`` in words; ``option`` (the aligner option and its
+#: alternative value, for choices that change the maps) or None (choices of the
+#: metrics, recomputed from the stored maps); ``methods`` it touches.
+SILENT_CHOICES = {
+    "ties": {
+        "ours": "ties go to the lowest offset (Methods A, C)",
+        "alternative": "ties go to the highest offset",
+        "option": ("ties", "high"),
+        "methods": "AC",
+    },
+    "backtrack": {
+        "ours": "Method B's back-track prefers the diagonal, then the target step",
+        "alternative": "the diagonal, then the input step",
+        "option": ("backtrack", "input-first"),
+        "methods": "B",
+    },
+    "forecast": {
+        "ours": "dead reckoning in Euler angles (the paper)",
+        "alternative": "zero-order hold: every forecast frame is T_{n+1}",
+        "option": ("forecast", "hold"),
+        "methods": "BC",
+    },
+    "forecast_start": {
+        "ours": "Method C's forecast window starts with T_{n+1} itself",
+        "alternative": "it starts with the first prediction T^_{n+2}",
+        "option": ("forecast_start", "next"),
+        "methods": "C",
+    },
+    "start": {
+        "ours": "M_0 = 0 (both motions start together)",
+        "alternative": "M_0 = the best match of T_0 among I_0..I_w",
+        "option": ("start", "best"),
+        "methods": "ABC",
+    },
+    "deviation_frames": {
+        "ours": "eq. 3 averages over all n + 1 target frames",
+        "alternative": "over the n frames q = 1..n, as printed",
+        "option": None,
+        "methods": "ABC",
+    },
+    "flat_axis": {
+        "ours": "eq. 2: an axis flat in only one motion scores 0",
+        "alternative": "such an axis is left out of the average",
+        "option": None,
+        "methods": "ABC",
+    },
+    "after_input": {
+        "ours": "once the input is exhausted the map holds at m (forced, even under "
+        "Type V), and those frames are scored",
+        "alternative": "frames after the first frame mapped to m are not scored",
+        "option": None,
+        "methods": "ABC",
+    },
+}
+
+#: Per method, the headline algorithms a silent choice is measured on (those of the
+#: paper's claims, at both ends of the window range).
+CHOICE_TARGETS = {
+    "A": ("Ma", "Ma + Type V"),
+    "B": ("Mb w10", "Mb w40", "Mb w80", "Mb w80 + Type V"),
+    "C": ("Mc w10", "Mc w40", "Mc w80", "Mc w80 + Type V"),
+}
+
+
+def choice_targets(choice: dict) -> list:
+    """The algorithms of :data:`CHOICE_TARGETS` a silent choice touches.
+
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    return [n for method in choice["methods"] for n in CHOICE_TARGETS[method]]
+
+
+def choice_variant(name: str, choice: dict) -> str:
+    """``name`` with the choice's alternative option: ``"Mc w40"`` -> ``"Mc w40 (ties high)"``.
+
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    a = registry.resolve(name)
+    key, value = choice["option"]
+    return registry.name(a.entry.key, a.value, a.typev, **{**a.options, key: value})
+
+
+#: What notebook 15 computes by default (modes "study" and "smoke-study").
+STUDY_ALGORITHMS = _study_algorithms()
+#: The default algorithm list of each mode.
+MODE_ALGORITHMS = {
+    "full": DEFAULT_ALGORITHMS,
+    "smoke": DEFAULT_ALGORITHMS,
+    "study": STUDY_ALGORITHMS,
+    "smoke-study": STUDY_ALGORITHMS,
+}
+
+
+def split_rate(name: str) -> tuple:
+    """``"Mc w40@60Hz"`` -> ``("Mc w40", 60.0)``; names without the suffix run at 120 Hz."""
+    if name.endswith(RATE_SUFFIX):
+        return name[: -len(RATE_SUFFIX)], LOW_FPS
+    return name, BASE_FPS
+
+
+__all__ = [
+    "CHOICE_TARGETS",
+    "DEFAULT_ALGORITHMS",
+    "EXTRA_ALGORITHMS",
+    "LITERAL_NAMES",
+    "MC_LITERAL_NAMES",
+    "MODE_ALGORITHMS",
+    "SILENT_CHOICES",
+    "STUDY_ALGORITHMS",
+    "TABLE1_60HZ_NAMES",
+    "choice_targets",
+    "choice_variant",
+    "split_rate",
+]

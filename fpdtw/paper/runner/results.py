@@ -1,0 +1,385 @@
+"""Result files of the experiments: deterministic atomic writers, and the reader.
+
+Writing
+-------
+:func:`numpy.savez` stamps the current time into every zip entry, so two runs that
+compute identical arrays still write different files. :func:`save_npz` writes the
+zip itself: entries in the order given, each a ``.npy`` member written by
+:func:`numpy.lib.format.write_array`, stored uncompressed, with the fixed date
+1980-01-01 00:00:00 and fixed permissions. The file is written to a temporary file
+next to its destination and renamed into place (:func:`os.replace`), so a reader
+(or a run killed half way) never sees a half-written file. :func:`numpy.load`
+reads the result like any ``.npz``.
+
+:func:`save_json` does the same for JSON (sorted keys are NOT imposed: the caller's
+order is kept, so build dicts in a deterministic order).
+
+Reading
+-------
+:func:`load_results` reads a run of :func:`fpdtw.paper.runner.run.run_experiments`
+(file formats: see :mod:`fpdtw.paper.runner.run`) into a :class:`Results`;
+:func:`aggregate_heatmap` accumulates every path of an algorithm on the unit square
+(Figs. 7 and 10).
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import os
+import re
+import zipfile
+from pathlib import Path
+
+import numpy as np
+
+from fpdtw.paper.paths import results_dir
+
+#: Date of every zip entry (the earliest a zip file can hold).
+ZIP_DATE = (1980, 1, 1, 0, 0, 0)
+#: Unix permissions of every zip entry (rw-r--r--).
+_ZIP_MODE = 0o100644 << 16
+
+#: Prefix and suffix of temporary files (a killed run may leave these; they are ignored).
+TMP_PREFIX, TMP_SUFFIX = ".", ".part"
+
+
+def _tmp_path(path: Path) -> Path:
+    return path.with_name(f"{TMP_PREFIX}{path.name}.{os.getpid()}{TMP_SUFFIX}")
+
+
+def write_atomic(path, data: bytes) -> Path:
+    """Write ``data`` to ``path`` through a temporary file and :func:`os.replace`.
+
+    Parameters
+    ----------
+    path : path-like
+        Destination; its folder is created if needed.
+    data : bytes
+
+    Returns
+    -------
+    path : Path
+
+    Notebook: 05_run_experiments.ipynb
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = _tmp_path(path)
+    try:
+        with open(tmp, "wb") as f:
+            f.write(data)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return path
+
+
+def npz_bytes(arrays: dict) -> bytes:
+    """The bytes of a deterministic ``.npz`` holding ``arrays`` (see module docstring).
+
+    Parameters
+    ----------
+    arrays : dict of str -> array_like
+        Entry names (without ``.npy``) to arrays; object arrays are refused.
+
+    Returns
+    -------
+    data : bytes
+    """
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", compression=zipfile.ZIP_STORED) as zf:
+        for name, value in arrays.items():
+            a = np.asarray(value)
+            if a.dtype.hasobject:
+                raise TypeError(f"{name}: object arrays cannot be saved (got dtype {a.dtype})")
+            member = io.BytesIO()
+            np.lib.format.write_array(member, a, allow_pickle=False)
+            info = zipfile.ZipInfo(f"{name}.npy", date_time=ZIP_DATE)
+            info.compress_type = zipfile.ZIP_STORED
+            info.external_attr = _ZIP_MODE
+            info.create_system = 3
+            zf.writestr(info, member.getvalue())
+    return buf.getvalue()
+
+
+def save_npz(path, **arrays) -> Path:
+    """Write arrays to ``path`` as a deterministic ``.npz``, atomically.
+
+    The same arrays always give the same bytes (fixed entry dates, entry order as
+    given, no compression), unlike :func:`numpy.savez`.
+
+    Parameters
+    ----------
+    path : path-like
+        Destination file (conventionally ending in ``.npz``).
+    **arrays : array_like
+        Entries by name.
+
+    Returns
+    -------
+    path : Path
+
+    Notebook: 05_run_experiments.ipynb
+    """
+    return write_atomic(path, npz_bytes(arrays))
+
+
+def load_npz(path, keys=None) -> dict:
+    """Read a ``.npz`` into a dict of arrays (no pickles).
+
+    Parameters
+    ----------
+    path : path-like
+    keys : iterable of str, optional
+        Read only these entries (all by default); a missing key raises KeyError.
+
+    Returns
+    -------
+    arrays : dict of str -> ndarray
+        In the file's entry order (or the order of ``keys``).
+
+    Notebook: 05_run_experiments.ipynb
+    """
+    with np.load(path, allow_pickle=False) as z:
+        names = list(z.files) if keys is None else list(keys)
+        return {k: z[k] for k in names}
+
+
+def npz_keys(path) -> list:
+    """Entry names of a ``.npz`` without reading the arrays."""
+    with zipfile.ZipFile(path) as zf:
+        return [n[:-4] if n.endswith(".npy") else n for n in zf.namelist()]
+
+
+def json_bytes(obj) -> bytes:
+    """Indented JSON (UTF-8, trailing newline) of ``obj``; NaN is written as null."""
+    return (json.dumps(_nan_to_none(obj), indent=1, allow_nan=False) + "\n").encode()
+
+
+def _nan_to_none(obj):
+    if isinstance(obj, float) and obj != obj:
+        return None
+    if isinstance(obj, dict):
+        return {k: _nan_to_none(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_nan_to_none(v) for v in obj]
+    return obj
+
+
+def save_json(path, obj) -> Path:
+    """Write ``obj`` as indented JSON, atomically (see :func:`json_bytes`).
+
+    Notebook: 05_run_experiments.ipynb
+    """
+    return write_atomic(path, json_bytes(obj))
+
+
+def load_json(path):
+    """Read a JSON file."""
+    return json.loads(Path(path).read_text())
+
+
+# -- algorithm names and file names ----------------------------------------------------------
+
+#: Suffix of an algorithm name that runs it on the motions resampled to 60 Hz.
+RATE_SUFFIX = "@60Hz"
+#: Frame rates of the experiments.
+BASE_FPS, LOW_FPS = 120.0, 60.0
+
+
+def slug(name: str) -> str:
+    """File name of an algorithm's results: ``"Mc w40 + Type V"`` -> ``"Mc_w40_TypeV"``.
+
+    ``" + Type V"`` -> ``"_TypeV"``, ``"@60Hz"`` -> ``"_60Hz"``, spaces -> ``"_"``; the
+    brackets and commas of options are dropped: ``"Mc w40 (literal window)"`` ->
+    ``"Mc_w40_literal_window"``.
+
+    Notebook: 05_run_experiments.ipynb
+    """
+    s = name.replace(" + Type V", "_TypeV").replace(RATE_SUFFIX, "_60Hz").replace(" ", "_")
+    return re.sub(r"_+", "_", re.sub(r"[(),]", "", s))
+
+
+# -- reading results ---------------------------------------------------------------------------
+
+
+class AlgorithmResult(dict):
+    """The arrays of ``algorithms/<slug>.npz`` plus ``name``, ``fps`` and a map accessor.
+
+    Keys ``pair_id`` (P,) int32, ``offsets`` (P+1,) int64, ``maps`` int32,
+    ``similarity`` (P,) float64, ``deviation`` (P,) float64, ``name``, ``fps``, and
+    ``map``: the same function as the method :meth:`map`.
+    """
+
+    def __init__(self, arrays: dict, name: str, fps: float):
+        super().__init__(arrays)
+        self["name"] = name
+        self["fps"] = fps
+        self["map"] = self.map
+
+    def map(self, k: int) -> np.ndarray:
+        """The map of pair ``k``: int32 array of shape (n + 1,), target frame -> input frame."""
+        o = self["offsets"]
+        return self["maps"][o[k] : o[k + 1]]
+
+    @property
+    def n_pairs(self) -> int:
+        return int(self["pair_id"].shape[0])
+
+
+class Results:
+    """The results of a run (see :func:`load_results`).
+
+    Attributes
+    ----------
+    folder : Path
+    mode : str
+    pairs : list of dict
+        The pairs of ``pairs.json`` (``id, dataset, movement, input, target,
+        input_path, target_path, m, n, m60, n60``).
+    counts : dict
+        Motions, movements and pairs per dataset and in total.
+    algorithms : list of str
+        Names of the algorithms with results, in run order.
+    summary : dict
+        ``summary.json`` (see :func:`fpdtw.paper.runner.run.summarize`); {} before it is written.
+    run : dict
+        ``run.json``; {} before it is written.
+    """
+
+    def __init__(self, folder, algorithms=None):
+        self.folder = Path(folder)
+        meta = load_json(self.folder / "pairs.json")
+        self.mode = meta["mode"]
+        self.pairs = meta["pairs"]
+        self.counts = meta["counts"]
+        self.selection = meta.get("selection")
+        runf, sumf = self.folder / "run.json", self.folder / "summary.json"
+        self.run = load_json(runf) if runf.is_file() else {}
+        self.summary = load_json(sumf) if sumf.is_file() else {}
+        info = algorithms if algorithms is not None else self.run.get("algorithms", [])
+        self._info = {a["name"]: a for a in info}
+        self.algorithms = [a["name"] for a in info]
+        self._cache = {}
+
+    def __repr__(self):
+        return (
+            f"Results({self.mode!r}, {len(self.pairs)} pairs, "
+            f"{len(self.algorithms)} algorithms, folder={str(self.folder)!r})"
+        )
+
+    def _check(self, name):
+        if name not in self._info:
+            raise KeyError(f"no results for {name!r}; have: {', '.join(self.algorithms)}")
+
+    def fps(self, name: str) -> float:
+        """Frame rate the algorithm ran at (120 or 60)."""
+        self._check(name)
+        return float(self._info[name]["fps"])
+
+    def is_online(self, name: str) -> bool:
+        """Whether the algorithm is online (it sees one target frame at a time)."""
+        self._check(name)
+        return bool(self._info[name]["online"])
+
+    def get(self, name: str) -> AlgorithmResult:
+        """Maps, similarity and deviation of every pair for one algorithm."""
+        self._check(name)
+        if name not in self._cache:
+            arrays = load_npz(self.folder / "algorithms" / f"{slug(name)}.npz")
+            self._cache[name] = AlgorithmResult(arrays, name, self.fps(name))
+        return self._cache[name]
+
+    def frames(self, name: str) -> tuple:
+        """Last input and target frame indices ``(m, n)`` of every pair at the algorithm's rate.
+
+        Returns
+        -------
+        m, n : ndarray of int64, shape (P,)
+        """
+        low = self.fps(name) == LOW_FPS
+        m = np.array([p["m60" if low else "m"] for p in self.pairs], dtype=np.int64)
+        n = np.array([p["n60" if low else "n"] for p in self.pairs], dtype=np.int64)
+        return m, n
+
+
+def load_results(mode: str = "full") -> Results:
+    """Read the results of a run from ``results_dir()/<mode>``.
+
+    Raises
+    ------
+    FileNotFoundError
+        No run of that mode (the message says how to make one).
+
+    Notebook: 06_fig5_fig6_scores.ipynb, 07_table1_60hz.ipynb, 08_fig7_fig10_heatmaps.ipynb,
+    09_table2_timing.ipynb, 12_claims.ipynb
+    """
+    folder = results_dir() / mode
+    if not (folder / "run.json").is_file():
+        flag = " --smoke" if mode == "smoke" else ""
+        raise FileNotFoundError(
+            f"no finished {mode!r} run in {folder}; run `python -m fpdtw.paper.runner.run{flag}` "
+            "or notebooks/05_run_experiments.ipynb first"
+        )
+    return Results(folder)
+
+
+def aggregate_heatmap(results: Results, name: str, bins: int = 100) -> np.ndarray:
+    """Every path of an algorithm on the unit square, accumulated as a 2-D histogram.
+
+    Each path point ``(q / n, M_q / m)`` (target fraction, input fraction) is
+    counted in a ``bins x bins`` grid with weight ``1 / (n + 1)``, so every path
+    weighs the same and the grid sums to the number of pairs. A fraction of 1 falls
+    in the last bin.
+
+    Parameters
+    ----------
+    results : Results
+    name : str
+        Algorithm name.
+    bins : int
+
+    Returns
+    -------
+    H : ndarray of float64, shape (bins, bins)
+        ``H[i, j]``: row ``i`` = input fraction bin (y), column ``j`` = target
+        fraction bin (x); draw with ``imshow(H, origin="lower")``.
+
+    Paper: FP-DTW Figs. 7 and 10.
+    Notebook: 08_fig7_fig10_heatmaps.ipynb
+    """
+    r = results.get(name)
+    m, n = results.frames(name)
+    offsets = r["offsets"]
+    lengths = np.diff(offsets)
+    seg = np.repeat(np.arange(lengths.shape[0]), lengths)
+    q = np.arange(offsets[-1]) - offsets[seg]
+    x = q / np.maximum(n[seg], 1)
+    y = r["maps"].astype(np.float64) / np.maximum(m[seg], 1)
+    w = 1.0 / lengths[seg]
+    xb = np.minimum((x * bins).astype(np.int64), bins - 1)
+    yb = np.minimum((y * bins).astype(np.int64), bins - 1)
+    H = np.bincount(yb * bins + xb, weights=w, minlength=bins * bins)
+    return H.reshape(bins, bins)
+
+
+__all__ = [
+    "AlgorithmResult",
+    "Results",
+    "ZIP_DATE",
+    "aggregate_heatmap",
+    "json_bytes",
+    "load_json",
+    "load_results",
+    "load_npz",
+    "npz_bytes",
+    "npz_keys",
+    "save_json",
+    "save_npz",
+    "slug",
+    "write_atomic",
+]

@@ -1,0 +1,351 @@
+"""One registry: every alignment algorithm by name, and how to run it.
+
+Names follow the FP-DTW paper's figures. Fixed names: ``"DTW"``, ``"UTW"`` (offline),
+``"OE-DTW"``, ``"OPW"``, ``"OLTW"`` (online; ``"OLTW c60"`` sets Dixon's search width).
+The FP-DTW methods: ``"Ma"`` (window 2; ``"Ma w3"``), ``"Mb w40"``, ``"Mc w40"``, the
+constrained variants with the suffix ``" + Type V"``, and any option other than the
+default in brackets before it, by its label in the method's ``options`` table:
+``"Mc w40 (literal window) + Type V"``, ``"Mb w40 (hold forecast)"``.
+
+The experiment runner, the command line, the benchmark and the figures all ask this
+module: :func:`resolve` a name into an :class:`Algorithm`, :func:`make_online` its
+streaming aligner, :func:`align` a pair.
+
+Adding an aligner: write its :class:`~fpdtw.online.base.OnlineAligner` subclass and add
+one :class:`Entry` line to :data:`ENTRIES`.
+
+Notebook: 05_run_experiments.ipynb
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from fpdtw.errors import AlignmentError
+from fpdtw.motion.features import MotionFeatures
+
+#: Suffix of the Type V constraint in names.
+TYPE_V_SUFFIX = " + Type V"
+
+
+def _dtw(I: MotionFeatures, T: MotionFeatures):
+    from fpdtw.dtw import dtw_pair
+
+    return dtw_pair(I, T).map
+
+
+def _utw(I: MotionFeatures, T: MotionFeatures):
+    from fpdtw.dtw import utw_map
+
+    return utw_map(I.n_frames - 1, T.n_frames - 1)
+
+
+def _oedtw(I, **_):
+    from fpdtw.online import OEDTW
+
+    return OEDTW(I)
+
+
+def _opw(I, **_):
+    from fpdtw.online import OPW
+
+    return OPW(I)
+
+
+def _oltw(I, value, **_):
+    from fpdtw.online import OLTW
+
+    return OLTW(I, value)
+
+
+def _window_method(letter):
+    def build(I, value, typev=False, options=None, cache=None, record=False):
+        cls = _fpdtw_class(letter)
+        opts = dict(options or {})
+        if letter != "A":
+            opts["cache"] = cache
+        return cls(I, value, constraint="typeV" if typev else None, record=record, **opts)
+
+    return build
+
+
+def _fpdtw_class(letter: str):
+    from fpdtw.online import MethodA, MethodB, MethodC
+
+    return {"A": MethodA, "B": MethodB, "C": MethodC}[letter]
+
+
+@dataclass(frozen=True)
+class Entry:
+    """One algorithm family of the registry.
+
+    Attributes
+    ----------
+    key : str
+        Its name, or the start of its names (``"Mc"`` in ``"Mc w40"``).
+    family : str
+        Short code used by tables and plots: ``"DTW"``, ``"UTW"``, ``"OE"``, ``"A"``,
+        ``"B"``, ``"C"``, ``"OPW"``, ``"OLTW"``.
+    cli : str
+        Its ``--method`` value on the command line.
+    online : bool
+    build : callable
+        Online: ``build(I, value=..., typev=..., options=..., cache=..., record=...)``
+        returns the aligner; offline: ``build(I, T)`` returns the map.
+    param : str or None
+        Letter of its numeric parameter in names (``"w"``: window, ``"c"``: band width).
+    default : int or None
+        The parameter's value when a name leaves it out (None: a name must give it).
+    typev : bool
+        Takes the Type V constraint.
+    about : str
+        One line for ``fpdtw --help``.
+    """
+
+    key: str
+    family: str
+    cli: str
+    online: bool
+    build: object = field(repr=False)
+    param: str | None = None
+    default: int | None = None
+    typev: bool = False
+    about: str = ""
+
+
+#: Every algorithm family, in the order of the papers' figures and the command line.
+ENTRIES = (
+    Entry("DTW", "DTW", "dtw", False, _dtw,
+          about="offline DTW over the whole motions (the reference the papers compare with)"),
+    Entry("UTW", "UTW", "utw", False, _utw,
+          about="uniform time warping: stretch the input linearly (offline)"),
+    Entry("OE-DTW", "OE", "oe-dtw", True, _oedtw,
+          about="open-end DTW, online (its answer can jump backwards)"),
+    Entry("Ma", "A", "a", True, _window_method("A"), "w", 2, True,
+          "FP-DTW Method A: greedy window of 2 frames (online)"),
+    Entry("Mb", "B", "b", True, _window_method("B"), "w", None, True,
+          "FP-DTW Method B: forecast window, forward DTW path (online; --window)"),
+    Entry("Mc", "C", "c", True, _window_method("C"), "w", None, True,
+          "FP-DTW Method C: forecast window, reverse accumulation (online; --window)"),
+    Entry("OPW", "OPW", "opw", True, _opw,
+          about="On-line Predictive Warping (the OPW poster; online, joint positions)"),
+    Entry("OLTW", "OLTW", "oltw", True, _oltw, "c", 120,
+          about="Dixon's on-line time warping (DAFx 2005; online; --window = search width c)"),
+)  # fmt: skip
+
+_BY_KEY = {e.key: e for e in ENTRIES}
+_PATTERN = re.compile(
+    r"^(?P<key>[A-Za-z][A-Za-z-]*)(?: (?P<p>[a-z])(?P<n>\d+))?(?: \((?P<opts>[^()]+)\))?"
+    r"(?P<tv> \+ Type V)?$"
+)
+
+
+@dataclass(frozen=True)
+class Algorithm:
+    """A resolved name: which entry, with which parameter, constraint and options.
+
+    Attributes
+    ----------
+    name : str
+        The name as given.
+    entry : Entry
+    value : int or None
+        The window ``w`` or band width ``c``.
+    typev : bool
+    options : dict
+        Non-default options of an FP-DTW method (``{"window": "literal"}``).
+    """
+
+    name: str
+    entry: Entry
+    value: int | None
+    typev: bool
+    options: dict
+
+    @property
+    def family(self) -> str:
+        return self.entry.family
+
+    @property
+    def online(self) -> bool:
+        return self.entry.online
+
+    @property
+    def w(self) -> int | None:
+        """The window of an FP-DTW method (None for the others)."""
+        return self.value if self.entry.param == "w" else None
+
+    @property
+    def shares_window(self) -> bool:
+        """Methods B and C: their window costs can be shared (a WindowCache)."""
+        return self.family in ("B", "C")
+
+    def make(self, I: MotionFeatures, *, cache=None, record=False):
+        """The streaming aligner of an online algorithm, for the input motion ``I``."""
+        if not self.online:
+            raise AlignmentError(f"{self.name!r} is offline: it has no streaming aligner")
+        kw = dict(value=self.value, typev=self.typev, options=self.options)
+        if self.family in ("A", "B", "C"):
+            kw.update(cache=cache, record=record)
+        return self.entry.build(I, **kw)
+
+    def run(self, I: MotionFeatures, T: MotionFeatures):
+        """``(M, seconds)``: the map of the pair and, online, the time of each step."""
+        from fpdtw.online.base import run_online
+
+        if not self.online:
+            return np.asarray(self.entry.build(I, T), dtype=np.int64), None
+        M, seconds = run_online(self.make(I), T)
+        return np.asarray(M, dtype=np.int64), seconds
+
+
+def _options(entry: Entry, text: str, name: str) -> dict:
+    if entry.family not in ("A", "B", "C"):
+        raise AlignmentError(f"{name!r}: {entry.key} has no options")
+    table = _fpdtw_class(entry.family).options
+    by_label = {lab: (key, val) for key, (_, vals) in table.items() for val, lab in vals.items()}
+    out = {}
+    for label in (x.strip() for x in text.split(",")):
+        if label not in by_label:
+            known = ", ".join(repr(x) for x in by_label)
+            raise AlignmentError(f"{name!r}: unknown option {label!r} (known: {known})")
+        key, value = by_label[label]
+        if key in out:
+            raise AlignmentError(f"{name!r}: two values for {key}")
+        out[key] = value
+    return out
+
+
+def resolve(name: str) -> Algorithm:
+    """The :class:`Algorithm` a name stands for.
+
+    Raises
+    ------
+    AlignmentError
+        An unknown name, a missing or unexpected parameter, an unknown option, or Type V
+        on an algorithm that does not take it.
+    """
+    m = _PATTERN.match(name) if isinstance(name, str) else None
+    entry = _BY_KEY.get(m.group("key")) if m else None
+    if entry is None:
+        known = ", ".join(e.key for e in ENTRIES)
+        raise AlignmentError(
+            f"unknown algorithm {name!r}; known: {known} (e.g. 'Mc w40 + Type V', "
+            "'Mc w40 (literal window)', 'OLTW c60')"
+        )
+    value = entry.default
+    if m.group("p"):
+        if m.group("p") != entry.param:
+            raise AlignmentError(f"{name!r}: {entry.key} takes no parameter {m.group('p')!r}")
+        value = int(m.group("n"))
+    elif entry.param and value is None:
+        raise AlignmentError(f"{name!r}: {entry.key} needs a window, e.g. '{entry.key} w40'")
+    if m.group("tv") and not entry.typev:
+        raise AlignmentError(f"{name!r}: {entry.key} does not take the Type V constraint")
+    options = _options(entry, m.group("opts"), name) if m.group("opts") else {}
+    return Algorithm(name, entry, value, bool(m.group("tv")), options)
+
+
+def by_cli(method: str) -> Entry:
+    """The entry of a command-line ``--method`` value."""
+    for e in ENTRIES:
+        if e.cli == method:
+            return e
+    raise AlignmentError(f"unknown method {method!r}; known: {', '.join(e.cli for e in ENTRIES)}")
+
+
+def name(key: str, value=None, typev: bool = False, **options) -> str:
+    """The canonical name of a configuration.
+
+    ``name("Mc", 40, window="literal")`` -> ``"Mc w40 (literal window)"``;
+    ``name("Ma")`` -> ``"Ma"``; ``name("OLTW", 60)`` -> ``"OLTW c60"``.
+
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    entry = _BY_KEY.get(key)
+    if entry is None:
+        raise AlignmentError(f"unknown algorithm {key!r}")
+    if entry.family in ("A", "B", "C"):
+        w = entry.default if value is None else value
+        return _fpdtw_class(entry.family).name_for(w, typev, **options)
+    if typev or options:
+        raise AlignmentError(f"{key} takes neither Type V nor options")
+    if entry.param and value is not None and value != entry.default:
+        return f"{key} {entry.param}{value}"
+    return key
+
+
+def method_c_name(w: int, window: str = "square", typev: bool = False, **options) -> str:
+    """``method_c_name(40, "literal")`` -> ``"Mc w40 (literal window)"``.
+
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    return name("Mc", w, typev, window=window, **options)
+
+
+def make_online(name: str, I: MotionFeatures, *, record=False, cache=None):
+    """The streaming aligner called ``name``, for the input motion ``I``.
+
+    Parameters
+    ----------
+    name : str
+    I : MotionFeatures
+        Input (recorded) motion.
+    record : bool
+        Keep the last window for inspection (FP-DTW methods only).
+    cache : WindowCache, optional
+        Shared by Methods B and C stepping together (see
+        :class:`fpdtw.online.window.WindowCache`); ignored by the others.
+
+    Returns
+    -------
+    aligner : OnlineAligner
+
+    Notebook: 05_run_experiments.ipynb
+    """
+    return resolve(name).make(I, cache=cache, record=record)
+
+
+def align(name: str, I: MotionFeatures, T: MotionFeatures):
+    """Map every target frame to an input frame with the algorithm ``name``.
+
+    Returns
+    -------
+    M : ndarray of int64, shape (n + 1,)
+        Input frame of each target frame.
+    seconds : ndarray of float64, shape (n + 1,) or None
+        Per-frame processing time (online algorithms only).
+
+    Paper: FP-DTW Sections 3-6.
+    Notebook: 05_run_experiments.ipynb
+    """
+    return resolve(name).run(I, T)
+
+
+def _readings() -> tuple:
+    from fpdtw.online import MethodC
+
+    default, others = MethodC.options["window"]
+    return (default, *others)
+
+
+#: Method C's readings of Algorithm 3's window, the default first (see
+#: :class:`fpdtw.online.MethodC`).
+C_READINGS = _readings()
+
+__all__ = [
+    "C_READINGS",
+    "ENTRIES",
+    "TYPE_V_SUFFIX",
+    "Algorithm",
+    "Entry",
+    "align",
+    "by_cli",
+    "make_online",
+    "method_c_name",
+    "name",
+    "resolve",
+]

@@ -1,0 +1,1 @@
+"""Test-only references: plain-numpy steps of the window methods and synthetic motions."""
