@@ -154,45 +154,16 @@ build/notebooks/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP)
 	$(PY) -m papermill --kernel fpdtw --cwd notebooks -p SMOKE False $< $(@:.ipynb=.part.ipynb)
 	mv $(@:.ipynb=.part.ipynb) $@
 
-# notebook order: the result notebooks read what 05 computes; the claims table reads
-# every other notebook's facts
-RESULT_NBS := 06_fig5_fig6_scores 07_table1_60hz 08_fig7_fig10_heatmaps 09_table2_timing \
-              15_readings_of_algorithm_3
-CLAIMS_NB  := 12_claims
-$(patsubst %,build/notebooks/%.ipynb,$(RESULT_NBS)): build/notebooks/05_run_experiments.ipynb
-$(patsubst %,$(SMOKE_DIR)/%.ipynb,$(RESULT_NBS)): $(SMOKE_DIR)/05_run_experiments.ipynb
-build/notebooks/$(CLAIMS_NB).ipynb: $(filter-out %/$(CLAIMS_NB).ipynb %/20_align_a_live_performance.ipynb,$(EXECUTED))
-$(SMOKE_DIR)/$(CLAIMS_NB).ipynb: $(filter-out %/$(CLAIMS_NB).ipynb %/20_align_a_live_performance.ipynb,$(SMOKE_NBS))
-
-# one figure or table alone, e.g. `make figures/fig5_similarity.pdf`: runs its notebook
-# (and what that notebook needs)
+# notebook order and one target per figure or table (`make figures/fig5_similarity.pdf` runs
+# its notebook and what that needs): generated from the one map, fpdtw/paper/figure_map.py
 define FIGURE_RULE
-figures/$(1)%: build/notebooks/$(2).ipynb
+figures/$(1).%: build/notebooks/$(2).ipynb
 	@test -f $$@ || { echo "$(2) did not write $$@"; exit 1; }
 endef
-$(eval $(call FIGURE_RULE,data_,01_data_and_motions))
-$(eval $(call FIGURE_RULE,fig1_,02_fig1_oedtw))
-$(eval $(call FIGURE_RULE,fig2_,03_fig2_fig4_windows))
-$(eval $(call FIGURE_RULE,fig4_,03_fig2_fig4_windows))
-$(eval $(call FIGURE_RULE,fig3_,04_fig3_forecast))
-$(eval $(call FIGURE_RULE,experiment_,05_run_experiments))
-$(eval $(call FIGURE_RULE,fig5_,06_fig5_fig6_scores))
-$(eval $(call FIGURE_RULE,fig6_,06_fig5_fig6_scores))
-$(eval $(call FIGURE_RULE,table1_,07_table1_60hz))
-$(eval $(call FIGURE_RULE,fig7_,08_fig7_fig10_heatmaps))
-$(eval $(call FIGURE_RULE,fig10_,08_fig7_fig10_heatmaps))
-$(eval $(call FIGURE_RULE,table2_,09_table2_timing))
-$(eval $(call FIGURE_RULE,fig8_,10_fig8_walk_pair))
-$(eval $(call FIGURE_RULE,fig9_,11_fig9_typev))
-$(eval $(call FIGURE_RULE,claims,12_claims))
-$(eval $(call FIGURE_RULE,opw_fig4,13_opw_fig4))
-$(eval $(call FIGURE_RULE,opw_curve,13_opw_fig4))
-$(eval $(call FIGURE_RULE,opw_fig5,14_opw_fig5_fig6))
-$(eval $(call FIGURE_RULE,opw_fig6,14_opw_fig5_fig6))
-$(eval $(call FIGURE_RULE,readings_,15_readings_of_algorithm_3))
-$(eval $(call FIGURE_RULE,silent_choices,15_readings_of_algorithm_3))
-$(eval $(call FIGURE_RULE,selection_,15_readings_of_algorithm_3))
-$(eval $(call FIGURE_RULE,live_,20_align_a_live_performance))
+build/figure_map.mk: fpdtw/paper/figure_map.py
+	mkdir -p $(dir $@)
+	$(PYTHON) fpdtw/paper/figure_map.py makefile > $@.part && mv $@.part $@
+-include build/figure_map.mk
 
 clean:
 	rm -rf build .pytest_cache

@@ -26,8 +26,7 @@ from fpdtw.online.typev import is_legal_typev
 from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES
 from fpdtw.paper.runner import run as E
 from fpdtw.paper.runner.grid import DEFAULT_ALGORITHMS
-from fpdtw.paper.runner.results import aggregate_heatmap
-from fpdtw.paper.runner.results import ZIP_DATE, load_npz, npz_bytes, save_npz
+from fpdtw.paper.runner.results import ZIP_DATE, aggregate_heatmap, load_npz, npz_bytes, save_npz
 
 TINY = E.Selection(
     datasets=("authors_fbx",), movements=("Twirls", "Walk"), takes_per_movement=2, crop_seconds=1.0

@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 import pytest
+from reference.steps import backtrack_lowest, reference_run
 from reference.synthetic import (
     features_from_euler,
     one_joint_motion,
@@ -26,10 +27,10 @@ from fpdtw.metrics import hold_share
 from fpdtw.motion.features import Frame, MotionFeatures
 from fpdtw.online.base import run_online, run_together
 from fpdtw.online.method_a import MethodA
-from fpdtw.online.method_b import MethodB, backtrack_lowest
+from fpdtw.online.method_b import MethodB
 from fpdtw.online.method_c import MethodC
 from fpdtw.online.typev import dtw_python_accepts, is_legal_typev, legal_prefix
-from fpdtw.online.window import B_CORNER, WindowCache, reference_run, run_group
+from fpdtw.online.window import B_CORNER, WindowCache, run_group
 from fpdtw.registry import C_READINGS, make_online, method_c_name
 
 INF = math.inf

@@ -28,23 +28,16 @@ import sys
 import textwrap
 from pathlib import Path
 
+from fpdtw import registry
+
 PROG = "fpdtw"
 
-#: Methods by command-line name: (description, kind).
-METHODS = {
-    "dtw": "offline DTW over the whole motions (the reference the papers compare with)",
-    "utw": "uniform time warping: stretch the input linearly (offline)",
-    "oe-dtw": "open-end DTW, online (its answer can jump backwards)",
-    "a": "FP-DTW Method A: greedy window of 2 frames (online)",
-    "b": "FP-DTW Method B: forecast window, forward DTW path (online; --window)",
-    "c": "FP-DTW Method C: forecast window, reverse accumulation (online; --window)",
-    "opw": "On-line Predictive Warping (the OPW poster; online, joint positions)",
-    "oltw": "Dixon's on-line time warping (DAFx 2005; online; --window = search width c)",
-}
-OFFLINE = ("dtw", "utw")
-#: Default --window of the methods that take one.
-WINDOW_DEFAULTS = {"a": 2, "b": 40, "c": 40, "oltw": 120}
-CONSTRAINED = ("a", "b", "c")
+#: Methods by command-line name (from the registry, :data:`fpdtw.registry.ENTRIES`).
+METHODS = {e.cli: e.about for e in registry.ENTRIES}
+OFFLINE = tuple(e.cli for e in registry.ENTRIES if not e.online)
+#: Default --window of the methods that take one (Methods B and C: the paper's 40).
+WINDOW_DEFAULTS = {e.cli: e.default or 40 for e in registry.ENTRIES if e.param}
+CONSTRAINED = tuple(e.cli for e in registry.ENTRIES if e.typev)
 
 _DESCRIPTION = """\
 Time a recorded motion (INPUT) to another performance of the same movement (TARGET).
@@ -422,48 +415,19 @@ def _features(motion, method):
     )
 
 
+def _algorithm_name(args) -> str:
+    """The registry name of the method and options on the command line ("Mc w40 + Type V")."""
+    entry = registry.by_cli(args.method)
+    value = args.window or WINDOW_DEFAULTS.get(args.method)
+    if entry.family in ("A", "B", "C"):
+        return registry.name(entry.key, value, bool(args.constraint))
+    return registry.name(entry.key, value if entry.param else None)
+
+
 def _factory(args):
     """``factory(I_features) -> OnlineAligner`` for an online method."""
-    m, w = args.method, args.window or WINDOW_DEFAULTS.get(args.method)
-    constraint = args.constraint
-
-    def make(I):
-        from fpdtw.errors import AlignmentError
-
-        if m == "oe-dtw":
-            from fpdtw.online import OEDTW
-
-            return OEDTW(I)
-        if m in ("a", "b", "c"):
-            from fpdtw.online import MethodA, MethodB, MethodC
-
-            cls = {"a": MethodA, "b": MethodB, "c": MethodC}[m]
-            return cls(I, w, constraint=constraint)
-        if m == "oltw":
-            from fpdtw.online.oltw import OLTW
-
-            return OLTW(I, w)
-        if m == "opw":
-            try:
-                from fpdtw.online.opw import OPW
-            except ImportError:
-                raise AlignmentError("method opw is not available in this version") from None
-            return OPW(I)
-        raise AlignmentError(f"unknown method {m!r}")  # pragma: no cover - argparse checks
-
-    return make
-
-
-def _method_label(args) -> str:
-    m = args.method
-    w = args.window or WINDOW_DEFAULTS.get(m)
-    label = {"dtw": "DTW", "utw": "UTW", "oe-dtw": "OE-DTW", "opw": "OPW"}.get(m)
-    if label is None:
-        label = {"a": f"Ma w{w}", "b": f"Mb w{w}", "c": f"Mc w{w}", "oltw": f"OLTW c{w}"}[m]
-        label = {"Ma w2": "Ma", "OLTW c120": "OLTW"}.get(label, label)
-    if args.constraint:
-        label += " + Type V"
-    return label
+    algorithm = registry.resolve(_algorithm_name(args))
+    return algorithm.make
 
 
 def _describe(mo) -> str:
@@ -484,14 +448,8 @@ def _cmd_align(args, log) -> int:
     I, T = _prepare(args, log)
     FI, FT = _features(I, args.method), _features(T, args.method)
     seconds = None
-    if args.method == "dtw":
-        from fpdtw.dtw import dtw_pair
-
-        M = dtw_pair(FI, FT).map
-    elif args.method == "utw":
-        from fpdtw.dtw import utw_map
-
-        M = utw_map(FI.n_frames - 1, FT.n_frames - 1)
+    if args.method in OFFLINE:
+        M, _ = registry.align(_algorithm_name(args), FI, FT)
     else:
         from fpdtw.app.live import warm_up
         from fpdtw.online.base import run_online
@@ -502,7 +460,7 @@ def _cmd_align(args, log) -> int:
     M = np.asarray(M, dtype=np.int64)
     _stage(args, args.out)
     write_map_csv(args.out, M, T.fps, I.fps, seconds)
-    print(f"aligned target {_describe(T)} to input {_describe(I)} with {_method_label(args)}")
+    print(f"aligned target {_describe(T)} to input {_describe(I)} with {_algorithm_name(args)}")
     print(f"map: {args.out} ({M.size} rows)")
     if seconds is not None:
         print(
@@ -533,7 +491,7 @@ def _cmd_live(args, log) -> int:
         check_writer(args.animate)  # fail before the replay, not after
     I, T = _prepare(args, log)
     mode = "as fast as possible" if args.fast else "in real time"
-    log(f"replaying {_describe(T)} {mode}, aligning to {_describe(I)} with {_method_label(args)}")
+    log(f"replaying {_describe(T)} {mode}, aligning to {_describe(I)} with {_algorithm_name(args)}")
     report = replay(
         I,
         T,

@@ -10,9 +10,9 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from fpdtw.costs import _geo_frame, geodesic_cost_matrix_numpy
+from fpdtw.costs import _geo_frame
 from fpdtw.motion.features import MotionFeatures
-from fpdtw.online.window import WindowAligner, WindowSnapshot, _is_allowed, reference_mask
+from fpdtw.online.window import WindowAligner, _is_allowed
 
 
 @numba.njit(cache=True)
@@ -95,50 +95,5 @@ class MethodA(WindowAligner):
         self._advance_state(m_next - start)
         return m_next
 
-    @staticmethod
-    def reference_step(I, T_quats, T_euler, M, w=2, allowed=None) -> WindowSnapshot:
-        """Plain-numpy Method A step; see :func:`reference_step_a`."""
-        return reference_step_a(I, T_quats, T_euler, M, w, allowed)
 
-
-def reference_step_a(I, T_quats, T_euler, M, w=2, allowed=None) -> WindowSnapshot:
-    """Plain-numpy reference of one Method A step (for tests).
-
-    Parameters
-    ----------
-    I : MotionFeatures
-        Input motion.
-    T_quats : ndarray of float, shape (q + 1, k, 4)
-        Target frames received so far (``T_{n+1}`` last).
-    T_euler : ndarray of float, shape (q + 1, k, 3)
-        Unused (Method A does not forecast); kept for a uniform signature.
-    M : ndarray of int, shape (q,)
-        Map so far.
-    w : int
-    allowed : ndarray of bool, shape (4,), or None
-        Type V: offsets 0..3 allowed (larger offsets never are); None: unconstrained.
-
-    Returns
-    -------
-    snap : WindowSnapshot
-
-    Paper: FP-DTW Algorithm 1.
-    """
-    q = len(T_quats) - 1
-    if q == 0:
-        return WindowSnapshot(0, "first", -1, 0, 0, 0)
-    m = I.n_frames - 1
-    Mn = int(M[q - 1])
-    w_i = w
-    if Mn + w_i > m:
-        w_i = m - Mn
-    if w_i == 0:
-        return WindowSnapshot(q, "end", Mn, 0, 0, Mn)
-    C = geodesic_cost_matrix_numpy(I.quats[Mn : Mn + w_i + 1], T_quats[q : q + 1])
-    ok = reference_mask(allowed, w_i + 1)
-    cand = np.where(ok, C[:, 0], np.inf)
-    off = int(np.argmin(cand))  # first minimum: the lowest offset
-    return WindowSnapshot(q, "window", Mn, w_i, off, Mn + off, C=C)
-
-
-__all__ = ["MethodA", "reference_step_a"]
+__all__ = ["MethodA"]

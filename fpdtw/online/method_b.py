@@ -10,17 +10,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from fpdtw.costs import geodesic_cost_matrix_numpy
 from fpdtw.online.window import (
-    B_CORNER,
     METHOD_B,
     P_INPUT_FIRST,
     P_METHOD,
     ForecastAligner,
-    WindowSnapshot,
-    reference_forecast_quats,
-    reference_mask,
-    reference_prologue,
 )
 
 
@@ -107,94 +101,5 @@ class MethodB(ForecastAligner):
         )
         return nrows - 1, arrays
 
-    @staticmethod
-    def reference_step(I, T_quats, T_euler, M, w, allowed=None) -> WindowSnapshot:
-        """Plain-numpy Method B step; see :func:`reference_step_b`."""
-        return reference_step_b(I, T_quats, T_euler, M, w, allowed)
 
-
-def backtrack_lowest(D) -> tuple:
-    """Plain-Python back-track of Method B with the paper's overwrite rule.
-
-    Parameters
-    ----------
-    D : ndarray of float, shape (r, c)
-        Accumulated cost (with ``D[0, 0]`` already set to 10000).
-
-    Returns
-    -------
-    path : ndarray of int64, shape (L, 2)
-        Cells from (0, 0) to (r - 1, c - 1).
-    P : ndarray of int64, shape (c,)
-        Lowest row of the path in each column.
-
-    Paper: FP-DTW Section 3.2 (plotPath), Fig. 4.
-    """
-    i, j = D.shape[0] - 1, D.shape[1] - 1
-    cells = [(i, j)]
-    P = np.full(D.shape[1], -1, dtype=np.int64)
-    P[j] = i
-    while (i, j) != (0, 0):
-        if i == 0:
-            j -= 1
-        elif j == 0:
-            i -= 1
-        else:
-            options = [(D[i - 1, j - 1], 0), (D[i, j - 1], 1), (D[i - 1, j], 2)]
-            best = min(options)[1]  # equal costs: the earlier option (diagonal first)
-            i, j = [(i - 1, j - 1), (i, j - 1), (i - 1, j)][best]
-        P[j] = i  # same column: overwrite with the lower row
-        cells.append((i, j))
-    return np.array(cells[::-1], dtype=np.int64), P
-
-
-def reference_step_b(I, T_quats, T_euler, M, w, allowed=None) -> WindowSnapshot:
-    """Plain-numpy reference of one Method B step (for tests).
-
-    Parameters
-    ----------
-    I : MotionFeatures
-        Input motion.
-    T_quats : ndarray of float, shape (q + 1, k, 4)
-        Target frames received so far (``T_{n+1}`` last).
-    T_euler : ndarray of float, shape (q + 1, k, 3)
-        Their unwrapped Euler angles.
-    M : ndarray of int, shape (q,)
-        Map so far.
-    w : int
-    allowed : ndarray of bool, shape (4,), or None
-        Type V: offsets 0..3 allowed (larger offsets never are); None: unconstrained.
-
-    Returns
-    -------
-    snap : WindowSnapshot
-
-    Paper: FP-DTW Algorithm 2.
-    """
-    head = reference_prologue(I, T_quats, M, w, MethodB.s)
-    if isinstance(head, WindowSnapshot):
-        return head
-    q, n, Mn, w_i = head
-    F = np.concatenate(
-        [T_quats[n : n + 2], reference_forecast_quats(T_euler[n : n + 2], I.orders, w)]
-    )
-    C = geodesic_cost_matrix_numpy(I.quats[Mn : Mn + w_i + 1], F)
-    C[~reference_mask(allowed, w_i + 1), 1] = np.inf
-    D = np.empty_like(C)
-    for i in range(C.shape[0]):
-        for j in range(C.shape[1]):
-            if i == 0 and j == 0:
-                D[i, j] = C[i, j]
-            elif i == 0:
-                D[i, j] = C[i, j] + D[i, j - 1]
-            elif j == 0:
-                D[i, j] = C[i, j] + D[i - 1, j]
-            else:
-                D[i, j] = C[i, j] + min(D[i - 1, j - 1], D[i - 1, j], D[i, j - 1])
-    D[0, 0] = B_CORNER
-    path, P = backtrack_lowest(D)
-    off = int(P[1])
-    return WindowSnapshot(q, "window", Mn, w_i, off, Mn + off, C=C, D=D, path=path, P=P)
-
-
-__all__ = ["MethodB", "backtrack_lowest", "reference_step_b"]
+__all__ = ["MethodB"]

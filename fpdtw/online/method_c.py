@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from fpdtw.costs import geodesic_cost_matrix_numpy
 from fpdtw.online.window import (
     C_LITERAL,
     C_NORMALISED,
@@ -32,10 +31,6 @@ from fpdtw.online.window import (
     P_SHIFT,
     P_TIES_HIGH,
     ForecastAligner,
-    WindowSnapshot,
-    reference_forecast_quats,
-    reference_mask,
-    reference_prologue,
 )
 
 #: Method C's window readings: option value -> kernel code.
@@ -175,80 +170,5 @@ class MethodC(ForecastAligner):
         )
         return w_i, arrays
 
-    @staticmethod
-    def reference_step(
-        I, T_quats, T_euler, M, w, allowed=None, window="square", ties="low"
-    ) -> WindowSnapshot:
-        """Plain-numpy Method C step; see :func:`reference_step_c`."""
-        return reference_step_c(I, T_quats, T_euler, M, w, allowed, window, ties)
 
-
-def reference_step_c(
-    I, T_quats, T_euler, M, w, allowed=None, window="square", ties="low"
-) -> WindowSnapshot:
-    """Plain-numpy reference of one Method C step (for tests).
-
-    Parameters
-    ----------
-    I : MotionFeatures
-        Input motion.
-    T_quats : ndarray of float, shape (q + 1, k, 4)
-        Target frames received so far (``T_{n+1}`` last).
-    T_euler : ndarray of float, shape (q + 1, k, 3)
-        Their unwrapped Euler angles.
-    M : ndarray of int, shape (q,)
-        Map so far.
-    w : int
-    allowed : ndarray of bool, shape (4,), or None
-        Type V: offsets 0..3 allowed (larger offsets never are); None: unconstrained.
-    window : str
-        The reading (see :class:`MethodC`).
-    ties : {"low", "high"}
-
-    Returns
-    -------
-    snap : WindowSnapshot
-
-    Paper: FP-DTW Algorithm 3.
-    """
-    head = reference_prologue(I, T_quats, M, w, MethodC.s)
-    if isinstance(head, WindowSnapshot):
-        return head
-    q, n, Mn, w_i = head
-    m = I.n_frames - 1
-    rows = min(w, m - Mn + 1) if window == "square" else w_i + 1
-    F = reference_forecast_quats(T_euler[n : n + 2], I.orders, w)
-    F = np.concatenate([T_quats[q : q + 1], F])
-    if window == "square-tn":
-        F = np.concatenate([T_quats[n : n + 1], F])
-    C = geodesic_cost_matrix_numpy(I.quats[Mn : Mn + rows], F)
-    ok = reference_mask(allowed, rows)
-    C[~ok, 0] = np.inf
-    D = np.empty_like(C)
-    last_i, last_j = C.shape[0] - 1, C.shape[1] - 1
-    for i in range(last_i, -1, -1):
-        for j in range(last_j, -1, -1):
-            c = C[i, j]
-            if j == last_j and (i == last_i or window == "open-end"):
-                D[i, j] = c
-            elif i == last_i:
-                D[i, j] = c + D[i, j + 1]
-            elif j == last_j:
-                D[i, j] = c + D[i + 1, j]
-            elif window == "normalised":
-                D[i, j] = min(D[i + 1, j + 1] + 2 * c, D[i + 1, j] + c, D[i, j + 1] + c)
-            else:
-                D[i, j] = c + min(D[i + 1, j + 1], D[i + 1, j], D[i, j + 1])
-    score = D[:, 0].copy()
-    if window == "normalised":
-        score = score / ((C.shape[0] - np.arange(C.shape[0])) + C.shape[1])
-    cand = np.where(ok, score, np.inf)
-    if ties == "high":
-        off = int(len(cand) - 1 - np.argmin(cand[::-1]))
-    else:
-        off = int(np.argmin(cand))  # first minimum: lowest row
-    w_i = rows if window == "square" else rows - 1
-    return WindowSnapshot(q, "window", Mn, w_i, off, Mn + off, C=C, D=D, score=score)
-
-
-__all__ = ["READINGS", "MethodC", "reference_step_c"]
+__all__ = ["READINGS", "MethodC"]

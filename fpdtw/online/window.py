@@ -19,7 +19,6 @@ Its inner loop runs over the forecast frames, stored joint-major as ``F[j, c, co
 
 from __future__ import annotations
 
-import inspect
 import math
 from abc import abstractmethod
 from dataclasses import dataclass
@@ -27,11 +26,10 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from fpdtw.costs import _acos01, _geo_frame, geodesic_cost_matrix_numpy
+from fpdtw.costs import _acos01, _geo_frame
 from fpdtw.errors import AlignmentError
-from fpdtw.forecast import _euler_to_quat, forecast_joints, order_codes
+from fpdtw.forecast import _euler_to_quat, order_codes
 from fpdtw.motion.features import Frame, MotionFeatures
-from fpdtw.motion.rotations import euler_to_quat
 from fpdtw.online.base import OnlineAligner
 from fpdtw.online.typev import MAX_ADVANCE, resolve_constraint
 
@@ -960,110 +958,8 @@ def run_group(aligners, T: MotionFeatures) -> list:
     return list(M)
 
 
-# --- reference runs -------------------------------------------------------------------
-
-
-def reference_prologue(I, T_quats, M, w, s):
-    """The branches Methods B and C share before their window (plain Python, for tests).
-
-    Returns either a finished :class:`WindowSnapshot` (first frame, warm-up
-    ``n < s``, input exhausted) or the tuple ``(q, n, M_n, w_i)`` of a window step.
-
-    Paper: FP-DTW Algorithms 2 and 3 (first lines).
-    """
-    q = len(T_quats) - 1
-    if q == 0:
-        return WindowSnapshot(0, "first", -1, 0, 0, 0)
-    m = I.n_frames - 1
-    n = q - 1
-    Mn = int(M[n])
-    if n < s:
-        return WindowSnapshot(q, "warmup", Mn, 0, min(n + 1, m) - Mn, min(n + 1, m))
-    if Mn >= m:
-        return WindowSnapshot(q, "end", Mn, 0, m - Mn, m)
-    return q, n, Mn, min(w, m - Mn)
-
-
-def reference_forecast_quats(T_euler, orders, w: int) -> np.ndarray:
-    """Plain-numpy forecast quaternions of frames ``T_{n+1} + i delta``, ``i = 1..w-1``.
-
-    Parameters
-    ----------
-    T_euler : ndarray of float, shape (q + 1, k, 3)
-        Target Euler angles received so far (the last two are used).
-    orders : sequence of str, length k
-    w : int
-
-    Returns
-    -------
-    Q : ndarray of float64, shape (w - 1, k, 4)
-        Converted with :func:`fpdtw.motion.rotations.euler_to_quat` (scipy), independent of the
-        numba conversion.
-    """
-    E = forecast_joints(T_euler[-2], T_euler[-1], w)[1:]
-    k = E.shape[1]
-    Q = np.empty((E.shape[0], k, 4))
-    for j in range(k):
-        Q[:, j] = euler_to_quat(E[:, j], orders[j])
-    return Q
-
-
-def reference_cost(I_quats, start, w_i, W) -> np.ndarray:
-    """Reference cost window: :func:`fpdtw.costs.geodesic_cost_matrix_numpy`."""
-    return geodesic_cost_matrix_numpy(I_quats[start : start + w_i + 1], W)
-
-
-def reference_mask(allowed, n_rows) -> np.ndarray:
-    """Bool (n_rows,): rows (offsets) allowed; None = unconstrained."""
-    ok = np.ones(n_rows, dtype=bool)
-    if allowed is not None:
-        ok[:] = False
-        ok[: min(4, n_rows)] = np.asarray(allowed, dtype=bool)[: min(4, n_rows)]
-    return ok
-
-
-def reference_run(aligner: WindowAligner, T: MotionFeatures):
-    """Run the plain-numpy reference of ``aligner``'s method over a whole target.
-
-    Uses ``type(aligner).reference_step`` with the aligner's input, window, constraint
-    and the options the reference takes (Method C: ``window``, ``ties``); tracks the
-    Type V state with the pure-Python state table.
-
-    Returns
-    -------
-    M : ndarray of int64, shape (n,)
-    snaps : list of WindowSnapshot
-        One per target frame.
-    """
-    step = type(aligner).reference_step
-    accepted = inspect.signature(step).parameters
-    options = {k: v for k, v in aligner.settings.items() if k in accepted}
-    tv = aligner.constraint
-    state = None if tv is None else tv.start
-    M = np.empty(T.n_frames, dtype=np.int64)
-    snaps = []
-    for q in range(T.n_frames):
-        allowed = None if tv is None else tv.allowed(state)
-        snap = step(
-            aligner.I, T.quats[: q + 1], T.euler[: q + 1], M[:q], aligner.w, allowed, **options
-        )
-        M[q] = snap.M
-        if tv is not None:
-            snap.allowed = allowed
-            snap.state = tv.states[state]
-            if q > 0:
-                nxt = tv.next_state(state, int(M[q] - M[q - 1]))
-                state = nxt if nxt >= 0 else state
-        snaps.append(snap)
-    return M, snaps
-
-
 __all__ = [
     "B_CORNER",
     "WindowAligner",
     "WindowSnapshot",
-    "reference_cost",
-    "reference_forecast_quats",
-    "reference_mask",
-    "reference_run",
 ]

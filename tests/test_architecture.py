@@ -1,0 +1,118 @@
+"""The layout: the library below, the paper layer above it, the apps on top; one registry;
+one figure map that the Makefile, the README and the notebooks agree with."""
+
+from __future__ import annotations
+
+import ast
+import json
+from pathlib import Path
+
+import pytest
+
+from fpdtw import registry
+from fpdtw.paper import figure_map
+from fpdtw.paper.paths import REPO_ROOT
+
+PKG = REPO_ROOT / "fpdtw"
+
+
+def _imports(path: Path) -> set:
+    """Every fpdtw module a file imports, at any depth (functions included)."""
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            out.update(a.name for a in node.names if a.name.startswith("fpdtw"))
+        elif isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("fpdtw"):
+            out.add(node.module)
+            out.update(f"{node.module}.{a.name}" for a in node.names)
+    return out
+
+
+def _layer(rel: Path) -> str:
+    return rel.parts[0] if rel.parts[0] in ("paper", "app") else "library"
+
+
+def test_nothing_below_imports_the_layers_above():
+    """library <- paper <- app: the library imports neither, the paper layer not the apps."""
+    above = {"library": ("fpdtw.paper", "fpdtw.app"), "paper": ("fpdtw.app",), "app": ()}
+    bad = []
+    for f in sorted(PKG.rglob("*.py")):
+        layer = _layer(f.relative_to(PKG))
+        for mod in _imports(f):
+            if any(mod == a or mod.startswith(a + ".") for a in above[layer]):
+                bad.append(f"{f.relative_to(REPO_ROOT)} ({layer}) imports {mod}")
+    assert not bad, "\n".join(bad)
+
+
+def test_the_check_would_catch_an_upward_import(tmp_path):
+    f = tmp_path / "costs.py"
+    f.write_text("def f():\n    from fpdtw.paper.numbers import WINDOWS\n")
+    assert "fpdtw.paper.numbers" in _imports(f)
+
+
+def test_the_library_has_no_test_only_code():
+    for f in PKG.rglob("*.py"):
+        text = f.read_text()
+        assert "def reference_step" not in text and "synthetic" not in f.name, f
+
+
+def test_the_registry_names_every_method_of_the_command_line():
+    from fpdtw.app import cli
+
+    assert list(cli.METHODS) == [e.cli for e in registry.ENTRIES]
+    for e in registry.ENTRIES:
+        name = registry.name(e.key, e.default or (40 if e.param else None))
+        a = registry.resolve(name)
+        assert (a.entry, a.online) == (e, e.online)
+    assert registry.resolve("Mc w40 (literal window) + Type V").options == {"window": "literal"}
+    assert registry.name("OLTW", 60) == "OLTW c60" and registry.name("Ma") == "Ma"
+    for bad in (
+        "Md w10",
+        "Mc",
+        "DTW + Type V",
+        "OLTW w40",
+        "Mc w40 (wide)",
+        "UTW (literal window)",
+    ):
+        with pytest.raises(Exception, match=r"\S"):
+            registry.resolve(bad)
+
+
+def test_every_notebook_is_in_the_figure_map():
+    on_disk = sorted(p.stem for p in (REPO_ROOT / "notebooks").glob("[0-9]*.ipynb"))
+    assert sorted(figure_map.by_stem()) == on_disk
+
+
+def test_every_notebook_says_what_it_makes():
+    """Each notebook's opening cell names every file the map says it makes."""
+    for nb in figure_map.NOTEBOOKS:
+        cells = json.loads((REPO_ROOT / "notebooks" / f"{nb.stem}.ipynb").read_text())["cells"]
+        first = "".join(cells[0]["source"])
+        missing = [m for m in nb.makes if m not in first]
+        assert not missing, f"{nb.stem} does not mention {missing}"
+
+
+def test_the_readme_table_is_the_figure_map():
+    readme = (REPO_ROOT / "README.md").read_text()
+    assert figure_map.readme_table() in readme
+
+
+def test_committed_figures_are_in_the_map():
+    made = {m for nb in figure_map.NOTEBOOKS for m in nb.makes}
+    stems = {p.name.split(".")[0] for p in (REPO_ROOT / "figures").iterdir() if p.is_file()}
+    stems -= {"ENVIRONMENT", "README"}
+    assert stems <= made, sorted(stems - made)
+
+
+def test_makefile_rules_come_from_the_map(tmp_path):
+    text = figure_map.makefile()
+    for nb in figure_map.NOTEBOOKS:
+        for m in nb.makes:
+            assert f"$(eval $(call FIGURE_RULE,{m},{nb.stem}))" in text
+    assert (
+        "build/notebooks/06_fig5_fig6_scores.ipynb: build/notebooks/05_run_experiments.ipynb"
+        in text
+    )
+    makefile = (REPO_ROOT / "Makefile").read_text()
+    assert "-include build/figure_map.mk" in makefile
+    assert "$(call FIGURE_RULE" not in makefile.replace("define FIGURE_RULE", "")
