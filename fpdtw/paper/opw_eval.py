@@ -575,6 +575,118 @@ def opw_pair(I: MotionFeatures, T: MotionFeatures, pair_info=None):
     return opw_align(I, T)
 
 
+def _r(v, digits=3):
+    return None if v is None else round(float(v), digits)
+
+
+def fig4_facts(rows: list, motions: dict) -> dict:
+    """The facts of poster Fig. 4 (notebook 13, and the claims table): ours and the poster's.
+
+    Parameters
+    ----------
+    rows : list of dict
+        :func:`summary_row` rows of every motion.
+    motions : dict of str to OPWMotion
+        Label -> the motion's entry (:data:`FIG4_MOTIONS`).
+
+    Returns
+    -------
+    facts : dict
+        ``opw_mean_ms_range``, ``opw_max_ms``, ``dtw_mean_ms_range`` (ms), ``opw_removed_mean``,
+        ``dtw_better_everywhere`` (DTW's mean deviation below OPW's on every motion),
+        ``opw_smoother_everywhere`` (OPW's largest slope change below DTW's), ``per_motion``
+        and ``poster`` (the poster's numbers, from :mod:`fpdtw.paper.numbers`).
+
+    Paper: OPW poster Section 5 and Fig. 4.
+    Notebook: 13_opw_fig4.ipynb
+    """
+    opw = [r for r in rows if r["method"] == "OPW"]
+    dtw = [r for r in rows if r["method"] == "DTW"]
+    keys = ("mean_ms", "max_ms", "slope_mean_pct", "slope_max_pct", "removed")
+    return {
+        "motions": {lab: {"dataset": m.dataset, "path": m.path} for lab, m in motions.items()},
+        "per_motion": {
+            f"{r['motion']} {r['method']}": {k: _r(r[k], 4) for k in keys} for r in rows
+        },
+        "opw_mean_ms_range": [_r(min(r["mean_ms"] for r in opw), 1),
+                              _r(max(r["mean_ms"] for r in opw), 1)],
+        "opw_max_ms": _r(max(r["max_ms"] for r in opw), 1),
+        "dtw_mean_ms_range": [_r(min(r["mean_ms"] for r in dtw), 1),
+                              _r(max(r["mean_ms"] for r in dtw), 1)],
+        "opw_removed_mean": _r(np.mean([r["removed"] for r in opw])),
+        "dtw_better_everywhere": all(d["mean_ms"] < o["mean_ms"] for d, o in zip(dtw, opw)),
+        "opw_smoother_everywhere": all(
+            o["slope_max_pct"] < d["slope_max_pct"] for d, o in zip(dtw, opw)
+        ),
+        "poster": {
+            "opw_mean_ms_range": list(numbers.OPW_MEAN_DEVIATION_MS),
+            "opw_max_ms": numbers.OPW_MAX_DEVIATION_MS,
+        },
+    }  # fmt: skip
+
+
+def fig5_fig6_facts(rows5: list, offsets, rows6: list, gammas, gamma=GAMMA) -> dict:
+    """The facts of poster Figs. 5 and 6 (notebook 14, and the claims table).
+
+    Parameters
+    ----------
+    rows5 : list of dict
+        :func:`sweep` rows over ``offsets`` at ``gamma`` (Fig. 5).
+    rows6 : list of dict
+        :func:`sweep` rows over ``gammas`` at the poster's offset (Fig. 6).
+
+    Returns
+    -------
+    facts : dict
+        ``largest_offset_max_below_150ms_s`` and ``..._mean_...`` (the largest offset whose
+        pooled maximum / mean deviation stays below 150 ms; None if none),
+        ``removed_gamma5_range_over_offsets``, ``removed_gamma5_mean_over_offsets``,
+        ``removed_gamma5_at_offset`` (at the poster's 0.25 s, if swept), ``best_gamma``
+        (lowest pooled mean deviation), ``removed_best_gamma``,
+        ``max_ms_at_offset_best_gamma``, the tables ``fig5`` and ``fig6``, and ``poster``
+        (from :mod:`fpdtw.paper.numbers`).
+
+    Paper: OPW poster Section 5, Figs. 5 and 6.
+    Notebook: 14_opw_fig5_fig6.ipynb
+    """
+    opw5 = {o: pooled(rows5, "OPW", offset_s=o) for o in offsets}
+    ok_max = [o for o in offsets if opw5[o]["max_ms"] < HOYET_MS]
+    ok_mean = [o for o in offsets if opw5[o]["mean_ms"] < HOYET_MS]
+    removed5 = [opw5[o]["removed"] for o in offsets]
+    table5 = [
+        {"offset_s": o, "method": k, **pooled(rows5, k, offset_s=o)}
+        for o in offsets
+        for k in ("DTW", "OPW")
+    ]
+    table6 = [{"gamma": g, **pooled(rows6, "OPW", gamma=g)} for g in gammas]
+    best = min(table6, key=lambda r: r["mean_ms"])
+    at = next((o for o in offsets if np.isclose(o, OFFSET)), None)
+
+    def plain(rows):
+        return [{k: _r(v) if isinstance(v, float) else v for k, v in r.items()} for r in rows]
+
+    return {
+        "gamma_fig5": gamma,
+        "fig5": plain(table5),
+        "fig6": plain(table6),
+        "largest_offset_max_below_150ms_s": max(ok_max) if ok_max else None,
+        "largest_offset_mean_below_150ms_s": max(ok_mean) if ok_mean else None,
+        "removed_gamma5_range_over_offsets": [_r(min(removed5)), _r(max(removed5))],
+        "removed_gamma5_mean_over_offsets": _r(np.mean(removed5)),
+        "removed_gamma5_at_offset": None if at is None else _r(opw5[at]["removed"]),
+        "best_gamma": _r(best["gamma"]),
+        "removed_best_gamma": _r(best["removed"]),
+        "max_ms_at_offset_best_gamma": _r(best["max_ms"]),
+        "poster": {
+            "removed_gamma5": numbers.OPW_REMOVED_GAMMA5,
+            "removed_best": numbers.OPW_REMOVED_BEST_GAMMA,
+            "best_gamma": numbers.OPW_BEST_GAMMA,
+            "largest_offset_max_below_150ms_s": numbers.OPW_OFFSET_MAX_OK_S,
+            "largest_offset_mean_below_150ms_s": numbers.OPW_OFFSET_MEAN_OK_S,
+        },
+    }
+
+
 def bench_opw(pairs, omega: float = OMEGA, gamma: float = GAMMA) -> dict:
     """Per-target-frame time of OPW: median, 95th percentile, mean (after a warm-up run).
 
@@ -622,6 +734,8 @@ def load_bench_pairs_opw():
 
 
 __all__ = [
+    "fig4_facts",
+    "fig5_fig6_facts",
     "CROP_S",
     "FIG4_MOTIONS",
     "GAMMA",
