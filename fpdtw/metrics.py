@@ -27,7 +27,7 @@ FLAT_RANGE = 0.001
 #: Score of an axis that is flat in exactly one of the two motions (tau undefined).
 ONE_FLAT_SCORE = 0.0
 
-#: The unit vector rotated by each joint's local rotation (NOTES: (0, 1, 0)).
+#: The unit vector rotated by each joint's local rotation (the reading notes: (0, 1, 0)).
 BONE_AXIS = (0.0, 1.0, 0.0)
 
 

@@ -6,8 +6,9 @@ the INPUT here), the live motion is ``B`` (time series X, being captured, the TA
 curve (:class:`~fpdtw.warpcurve.WarpCurve`), ``omega`` the sample period of OPW's
 steps, ``gamma`` the warp parameter.
 
-Our reading of the poster (Section 3, eqs. 1, 2, 4, 5 and Algorithm 1), settled by
-NOTES.md; choices where the poster is silent or contradicts itself are marked (*):
+Our reading of the poster (Section 3, eqs. 1, 2, 4, 5 and Algorithm 1), settled by the
+reading notes (``notebooks/reading_notes.md``); choices where the poster is silent or
+contradicts itself are marked (*):
 
 1. Start: ``f`` is the identity, keys ``(0, 0)`` and ``(D_A, D_A)`` (``D_A`` = duration
    of the recording): ``t' = t``. After the last key ``f`` holds at ``D_A`` (the

@@ -29,7 +29,8 @@ highest input frame of the row, which is also where the next window starts
 advances by 0..3, and a run of 0s (holds) is at most 2 long and directly follows an
 advance of exactly 1 -- the forward form in the reading notes. (Recording the LOWEST
 cell instead would give the time-reversed rule, holds that may follow any advance but
-must be followed by an advance of exactly 1; NOTES.md settles the forward form above.)
+must be followed by an advance of exactly 1; the reading notes,
+``notebooks/reading_notes.md``, settle the forward form above.)
 
 That is a 3-state machine (the paper's Fig. 9 iii/iv), rows = states, columns = advance
 0..3, cells = next state or "-" (not allowed); advances above 3 are never allowed::

@@ -63,7 +63,7 @@ TMP_PREFIX, TMP_SUFFIX = ".fpdtw-", ".part"
 
 MIRROR_HINT = (
     "no network here? set FPDTW_MIRROR to a folder or base URL holding a copy laid out as "
-    "<mirror>/<dataset folder>/<path> (for example FPDTW_MIRROR=../shared/data)"
+    "<mirror>/<dataset folder>/<path> (for example FPDTW_MIRROR=/path/to/a/copy)"
 )
 
 _SHA256 = re.compile(r"^[0-9a-f]{64}$")
@@ -180,47 +180,78 @@ class Manifest:
 
 
 _DATASET_KEYS = ("name", "title", "mirror_prefix", "licence", "citation", "upstream", "notes")
-_FILE_KEYS = {
-    "path": (str, True),
-    "kind": (str, True),
-    "url": (str, False),
-    "archive": (str, False),
-    "member": (str, False),
-    "size": (int, False),
-    "sha256": (str, False),
-    "git_blob_sha1": (str, False),
-    "movement": (str, False),
-    "take": (str, False),
-    "actor": (str, False),
-    "frames": (int, False),
-    "available_here": (bool, False),
-}
-_ARCHIVE_KEYS = {
-    "url": (str, True),
-    "sha256": (str, False),
-    "approx_size": (str, False),
-    "notes": (str, False),
+_STR = {"type": "string"}
+#: The manifest's schema (JSON Schema, checked by :mod:`jsonschema`); what a schema cannot
+#: say (paths, one source per file, archives that exist) is checked in :func:`_parse_manifest`.
+MANIFEST_SCHEMA = {
+    "type": "object",
+    "additionalProperties": False,
+    "required": ["dataset", "files"],
+    "properties": {
+        "dataset": {
+            "type": "object",
+            "additionalProperties": False,
+            "required": list(_DATASET_KEYS),
+            "properties": dict.fromkeys(_DATASET_KEYS, _STR),
+        },
+        "archives": {
+            "type": "object",
+            "additionalProperties": {
+                "type": "object",
+                "additionalProperties": False,
+                "required": ["url"],
+                "properties": {
+                    "url": {"type": "string", "pattern": "^https?://"},
+                    "sha256": {"type": "string", "pattern": _SHA256.pattern},
+                    "approx_size": _STR,
+                    "notes": _STR,
+                },
+            },
+        },
+        "files": {
+            "type": "array",
+            "minItems": 1,
+            "items": {
+                "type": "object",
+                "additionalProperties": False,
+                "required": ["path", "kind"],
+                "properties": {
+                    "path": _STR,
+                    "kind": {"enum": list(_KINDS)},
+                    "url": {"type": "string", "pattern": "^https?://"},
+                    "archive": _STR,
+                    "member": _STR,
+                    "size": {"type": "integer", "minimum": 0},
+                    "sha256": {"type": "string", "pattern": _SHA256.pattern},
+                    "git_blob_sha1": {"type": "string", "pattern": _SHA1.pattern},
+                    "movement": _STR,
+                    "take": _STR,
+                    "actor": _STR,
+                    "frames": {"type": "integer", "minimum": 0},
+                    "available_here": {"type": "boolean"},
+                },
+            },
+        },
+    },
 }
 
 
-def _check_table(table, spec: dict, file: Path, where: str) -> dict:
-    if not isinstance(table, dict):
-        raise ManifestError(f"{file}: {where} must be a table")
-    for key in table:
-        if key not in spec:
-            raise ManifestError(f"{file}: {where}: unknown key {key!r}")
-    out = {}
-    for key, (typ, required) in spec.items():
-        if key not in table:
-            if required:
-                raise ManifestError(f"{file}: {where}: missing key {key!r}")
-            continue
-        v = table[key]
-        # bool is an int subclass: reject it where an int is wanted, and vice versa
-        if not isinstance(v, typ) or (typ is int and isinstance(v, bool)):
-            raise ManifestError(f"{file}: {where}: key {key!r} must be {typ.__name__}, got {v!r}")
-        out[key] = v
-    return out
+def _where(raw: dict, path) -> str:
+    """Where a schema error is, in the manifest's own terms: ``[[files]] #3 (path 'x') key 'y'``."""
+    path = list(path)
+    if not path:
+        return "top level"
+    if path[0] == "files" and len(path) > 1:
+        where = f"[[files]] #{path[1] + 1}"
+        entry = raw["files"][path[1]]
+        if isinstance(entry, dict) and isinstance(entry.get("path"), str):
+            where += f" (path {entry['path']!r})"
+        rest = path[2:]
+    elif path[0] == "archives" and len(path) > 1:
+        where, rest = f"[archives.{path[1]}]", path[2:]
+    else:
+        where, rest = f"[{path[0]}]", path[1:]
+    return where + (f" key {rest[0]!r}" if rest else "")
 
 
 def _check_relpath(p: str, file: Path, where: str) -> None:
@@ -229,72 +260,39 @@ def _check_relpath(p: str, file: Path, where: str) -> None:
         raise ManifestError(f"{file}: {where}: {p!r} is not a clean relative path")
 
 
-def _check_url(u: str, file: Path, where: str) -> None:
-    if not u.startswith(("http://", "https://")):
-        raise ManifestError(f"{file}: {where}: key 'url' must be an http(s) URL, got {u!r}")
-
-
 def _parse_manifest(file: Path) -> Manifest:
+    import jsonschema
+
     try:
         raw = tomllib.loads(file.read_text(encoding="utf-8"))
     except OSError as exc:
         raise ManifestError(f"{file}: cannot read manifest: {exc}") from exc
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise ManifestError(f"{file}: not valid TOML: {exc}") from exc
-    for key in raw:
-        if key not in ("dataset", "files", "archives"):
-            raise ManifestError(f"{file}: unknown top-level key {key!r}")
-    if "dataset" not in raw:
-        raise ManifestError(f"{file}: missing table [dataset]")
-    ds = _check_table(raw["dataset"], {k: (str, True) for k in _DATASET_KEYS}, file, "[dataset]")
+    error = jsonschema.exceptions.best_match(
+        jsonschema.Draft202012Validator(MANIFEST_SCHEMA).iter_errors(raw)
+    )
+    if error is not None:
+        raise ManifestError(f"{file}: {_where(raw, error.absolute_path)}: {error.message}")
+    ds = raw["dataset"]
     if ds["name"] != file.stem:
         raise ManifestError(
             f"{file}: [dataset]: key 'name' is {ds['name']!r} but the file is {file.name}"
         )
     _check_relpath(ds["mirror_prefix"], file, "[dataset] key 'mirror_prefix'")
-
-    archives = {}
-    raw_arch = raw.get("archives", {})
-    if not isinstance(raw_arch, dict):
-        raise ManifestError(f"{file}: 'archives' must be a table of tables")
-    for aname, table in raw_arch.items():
-        where = f"[archives.{aname}]"
-        a = _check_table(table, _ARCHIVE_KEYS, file, where)
-        _check_url(a["url"], file, where)
-        if "sha256" in a and not _SHA256.match(a["sha256"]):
-            raise ManifestError(f"{file}: {where}: key 'sha256' is not 64 lower-case hex digits")
-        archives[aname] = Archive(name=aname, **a)
-
-    raw_files = raw.get("files")
-    if not isinstance(raw_files, list) or not raw_files:
-        raise ManifestError(f"{file}: missing [[files]] entries")
+    archives = {n: Archive(name=n, **a) for n, a in raw.get("archives", {}).items()}
     entries, seen = [], set()
-    for i, table in enumerate(raw_files, start=1):
-        where = f"[[files]] #{i}"
-        if isinstance(table, dict) and isinstance(table.get("path"), str):
-            where += f" (path {table['path']!r})"
-        f = _check_table(table, _FILE_KEYS, file, where)
+    for i, f in enumerate(raw["files"]):
+        where = _where(raw, ["files", i])
         _check_relpath(f["path"], file, f"{where} key 'path'")
         if f["path"] in seen:
             raise ManifestError(f"{file}: {where}: key 'path' repeats an earlier entry")
         seen.add(f["path"])
-        if f["kind"] not in _KINDS:
-            raise ManifestError(f"{file}: {where}: key 'kind' must be one of {_KINDS}")
-        for key, rx, what in (("sha256", _SHA256, 64), ("git_blob_sha1", _SHA1, 40)):
-            if key in f and not rx.match(f[key]):
-                raise ManifestError(
-                    f"{file}: {where}: key {key!r} is not {what} lower-case hex digits"
-                )
-        for key in ("size", "frames"):
-            if key in f and f[key] < 0:
-                raise ManifestError(f"{file}: {where}: key {key!r} is negative")
         if ("url" in f) == ("archive" in f):
             raise ManifestError(f"{file}: {where}: give exactly one of the keys 'url', 'archive'")
-        if "url" in f:
-            _check_url(f["url"], file, where)
-            if "member" in f:
-                raise ManifestError(f"{file}: {where}: key 'member' needs key 'archive'")
-        else:
+        if "url" in f and "member" in f:
+            raise ManifestError(f"{file}: {where}: key 'member' needs key 'archive'")
+        if "archive" in f:
             if f["archive"] not in archives:
                 raise ManifestError(
                     f"{file}: {where}: key 'archive' names {f['archive']!r}, "

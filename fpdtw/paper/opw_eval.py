@@ -1,6 +1,6 @@
 """The OPW poster's evaluation: a known example warp, OPW and smoothed DTW against it.
 
-Protocol (poster Sections 4-5, NOTES.md "Evaluation protocol (OPW poster)"):
+Protocol (poster Sections 4-5; the reading notes, ``notebooks/reading_notes.md``):
 
 1. Crop a recorded motion A to its first 2.5 s (``Motion.crop(0, 2.5)``; the poster
    cropped every motion at 2.5 s "to eliminate any impact of variations in temporal
@@ -687,52 +687,6 @@ def fig5_fig6_facts(rows5: list, offsets, rows6: list, gammas, gamma=GAMMA) -> d
     }
 
 
-def bench_opw(pairs, omega: float = OMEGA, gamma: float = GAMMA) -> dict:
-    """Per-target-frame time of OPW: median, 95th percentile, mean (after a warm-up run).
-
-    Parameters
-    ----------
-    pairs : sequence of (MotionFeatures, MotionFeatures)
-        (input, target) pairs WITH positions.
-
-    Returns
-    -------
-    row : dict
-        ``name`` ("OPW"), ``frames`` (timed), ``median_s``, ``p95_s``, ``mean_s`` (seconds
-        per target frame; measurements, not deterministic).
-
-    Paper: OPW poster Section 4 (real time at 25 steps per second).
-    Notebook: 09_table2_timing.ipynb (via ``make bench``, to be wired by the lead)
-    """
-    pairs = list(pairs)
-    if not pairs:
-        raise ValueError("no pairs to time")
-    for I, T in pairs:  # warm-up
-        opw_align(I, T, omega, gamma)
-    dt = np.concatenate([opw_align(I, T, omega, gamma)[1] for I, T in pairs])
-    return {
-        "name": "OPW",
-        "frames": int(dt.size),
-        "median_s": float(np.median(dt)),
-        "p95_s": float(np.percentile(dt, 95)),
-        "mean_s": float(dt.mean()),
-    }
-
-
-def load_bench_pairs_opw():
-    """The real pairs of :data:`fpdtw.paper.bench.BENCH_PAIRS` with OPW positions.
-
-    Returns
-    -------
-    pairs : list of (MotionFeatures, MotionFeatures)
-        (input, target), each with ``positions`` (F, 16, 3).
-    """
-    from fpdtw.paper.bench import BENCH_PAIRS
-    from fpdtw.paper.catalog import load
-
-    return [tuple(opw_features(load(ds, p)) for p in (a, b)) for ds, a, b in BENCH_PAIRS]
-
-
 __all__ = [
     "fig4_facts",
     "fig5_fig6_facts",
@@ -744,13 +698,11 @@ __all__ = [
     "OMEGA",
     "SAMPLE_RATE",
     "OPWMotion",
-    "bench_opw",
     "deviation_ms",
     "dtw_curve",
     "evaluate",
     "example_curve",
     "fig3_key_points",
-    "load_bench_pairs_opw",
     "load_cropped",
     "opw_align",
     "opw_features",
