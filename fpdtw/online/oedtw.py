@@ -23,7 +23,7 @@ import numba
 import numpy as np
 
 from fpdtw import limits
-from fpdtw.costs import _TWO_OVER_PI, _acos01, _geo_frame
+from fpdtw.costs import _TWO_OVER_PI, _acos01, _geo_block
 from fpdtw.dtw import _backtrack, diagonal_weight
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import MotionFeatures
@@ -108,14 +108,6 @@ def _oe_step(Isoa, Tq, cols, q, wd, norm_offset, c):
     of ``cols`` from column ``q - 1``."""
     prev = cols[q - 1] if q > 0 else cols[0]
     return _oe_column(Isoa, Tq[q], prev, cols[q], q == 0, wd, norm_offset, c)
-
-
-@numba.njit(cache=True)
-def _cost_block(Iq, Tq, out):
-    for i in range(out.shape[0]):
-        for j in range(out.shape[1]):
-            out[i, j] = _geo_frame(Iq[i], Tq[j])
-    return out
 
 
 class OEDTW(OnlineAligner):
@@ -246,7 +238,7 @@ class OEDTW(OnlineAligner):
             raise AlignmentError(f"target frame {q} not received (have 0..{n1 - 1})")
         e = int(self.M[q])
         D = np.ascontiguousarray(self._cols[: q + 1, : e + 1].T)
-        C = _cost_block(self._Iq[: e + 1], self._Tq[: q + 1], np.empty_like(D))
+        C = _geo_block(self._Iq[: e + 1], self._Tq[: q + 1], np.empty_like(D))
         return _backtrack(D, C, self._wd, True)
 
 

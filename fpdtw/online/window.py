@@ -207,44 +207,16 @@ def _accumulate(C, nrows, ncols, D):
 
 
 @numba.njit(cache=True)
-def _accumulate_reverse(C, nrows, ncols, D):
-    """Reverse accumulation (symmetric1) from the far corner (nrows-1, ncols-1) to (0, 0)."""
-    lr = nrows - 1
-    lc = ncols - 1
-    D[lr, lc] = C[lr, lc]
-    for col in range(lc - 1, -1, -1):
-        D[lr, col] = C[lr, col] + D[lr, col + 1]
-    for r in range(lr - 1, -1, -1):
-        D[r, lc] = C[r, lc] + D[r + 1, lc]
-        for col in range(lc - 1, -1, -1):
-            D[r, col] = C[r, col] + min(D[r + 1, col + 1], min(D[r + 1, col], D[r, col + 1]))
+def _accumulate_reverse(C, nrows, ncols, D, open_end=False, wd=1.0):
+    """Reverse accumulation from the far corner (nrows-1, ncols-1) back to (0, 0).
 
-
-@numba.njit(cache=True)
-def _accumulate_reverse_open(C, nrows, ncols, D):
-    """Reverse accumulation (symmetric1) whose path may end in ANY row of the last column.
-
-    ``D[r, ncols-1] = C[r, ncols-1]`` (an open end: Tormene et al.'s open-end DTW with
-    the time axis reversed), then the recurrence of :func:`_accumulate_reverse`.
-    """
-    lr = nrows - 1
-    lc = ncols - 1
-    for r in range(nrows):
-        D[r, lc] = C[r, lc]
-    for col in range(lc - 1, -1, -1):
-        D[lr, col] = C[lr, col] + D[lr, col + 1]
-    for r in range(lr - 1, -1, -1):
-        for col in range(lc - 1, -1, -1):
-            D[r, col] = C[r, col] + min(D[r + 1, col + 1], min(D[r + 1, col], D[r, col + 1]))
-
-
-@numba.njit(cache=True)
-def _accumulate_reverse_sym2(C, nrows, ncols, D):
-    """Reverse accumulation with the symmetric2 weights (a diagonal step counts twice).
-
-    Every path from ``(r, 0)`` to the far corner then has the same total weight,
-    ``(nrows - r) + ncols - 1``: dividing by it compares rows fairly
-    (dtw-python's normalizable ``symmetric2``, normalised by ``N + M``).
+    ``D[i, j] = min(D[i+1, j+1] + wd C[i, j], min(D[i+1, j], D[i, j+1]) + C[i, j])``:
+    symmetric1 with ``wd = 1`` (the same as ``C[i, j] + min(...)``: adding ``C[i, j]`` keeps
+    the order of the three), the symmetric2 weights with ``wd = 2``, which give every path
+    from ``(r, 0)`` to the corner the same total weight ``(nrows - r) + ncols - 1``
+    (dtw-python's normalizable ``symmetric2``). ``open_end``: the path may end in ANY row
+    of the last column, ``D[r, ncols-1] = C[r, ncols-1]`` (Tormene et al.'s open-end DTW
+    with the time axis reversed).
     """
     lr = nrows - 1
     lc = ncols - 1
@@ -252,10 +224,10 @@ def _accumulate_reverse_sym2(C, nrows, ncols, D):
     for col in range(lc - 1, -1, -1):
         D[lr, col] = C[lr, col] + D[lr, col + 1]
     for r in range(lr - 1, -1, -1):
-        D[r, lc] = C[r, lc] + D[r + 1, lc]
+        D[r, lc] = C[r, lc] if open_end else C[r, lc] + D[r + 1, lc]
         for col in range(lc - 1, -1, -1):
             c = C[r, col]
-            D[r, col] = min(D[r + 1, col + 1] + 2.0 * c, min(D[r + 1, col], D[r, col + 1]) + c)
+            D[r, col] = min(D[r + 1, col + 1] + wd * c, min(D[r + 1, col], D[r, col + 1]) + c)
 
 
 @numba.njit(cache=True)
@@ -329,12 +301,9 @@ def _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high):
     for r in range(nrows):
         if not _is_allowed(r, limit, allow):
             C[r, 0] = np.inf
-    if reading == C_OPEN_END:
-        _accumulate_reverse_open(C, nrows, ncols, D)
-    elif reading == C_NORMALISED:
-        _accumulate_reverse_sym2(C, nrows, ncols, D)
-    else:
-        _accumulate_reverse(C, nrows, ncols, D)
+    _accumulate_reverse(
+        C, nrows, ncols, D, reading == C_OPEN_END, 2.0 if reading == C_NORMALISED else 1.0
+    )
     best = -1
     for r in range(nrows):
         s = D[r, 0]
