@@ -143,9 +143,8 @@ def hold_share(M, m: int) -> float:
 
     Parameters
     ----------
-    M : ndarray of int, shape (n + 1,)
-    m : int
-        Index of the last input frame.
+    M, m
+        A map and the index of the last input frame, as in :func:`step_counts`.
 
     Returns
     -------
@@ -163,8 +162,8 @@ def exhausted_share(M, m: int) -> float:
 
     Parameters
     ----------
-    M : ndarray of int, shape (n + 1,)
-    m : int
+    M, m
+        A map and the index of the last input frame, as in :func:`step_counts`.
 
     Returns
     -------
@@ -187,8 +186,8 @@ def stick_skip_index(M, m: int) -> float:
 
     Parameters
     ----------
-    M : ndarray of int, shape (n + 1,)
-    m : int
+    M, m
+        A map and the index of the last input frame, as in :func:`step_counts`.
 
     Returns
     -------

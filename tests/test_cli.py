@@ -11,9 +11,9 @@ import os
 import subprocess
 import sys
 
-import bvhio
 import numpy as np
 import pytest
+from reference.files import bvhio_positions
 
 from fpdtw.app.export import MAP_COLUMNS, read_map_csv, retime_by_map, write_map_csv
 from fpdtw.dtw import dtw_pair
@@ -55,16 +55,6 @@ def frame_time(path):
         if line.startswith("Frame Time:"):
             return float(line.split(":")[1])
     raise AssertionError("no Frame Time line")
-
-
-def bvhio_positions(path, frames):
-    root = bvhio.readAsHierarchy(str(path))
-    names = [j.Name for j, _, _ in root.layout()]
-    out = []
-    for f in frames:
-        root.loadPose(f)
-        out.append([list(j.PositionWorld) for j, _, _ in root.layout()])
-    return names, np.array(out, dtype=float)
 
 
 def check_exported_bvh(path, I, M, fps):

@@ -8,6 +8,7 @@ import time
 
 import numpy as np
 import pytest
+from reference.files import with_line
 
 from fpdtw.errors import MotionFormatError
 from fpdtw.io import load_motion
@@ -482,12 +483,7 @@ BASE = TINY_AMC.splitlines()  # line k of the file is BASE[k - 1]
 
 
 def _with(line_no, new):
-    lines = list(BASE)
-    if new is None:
-        del lines[line_no - 1]
-    else:
-        lines[line_no - 1] = new
-    return "\n".join(lines) + "\n"
+    return with_line(TINY_AMC, line_no, new)
 
 
 BAD_AMC = [

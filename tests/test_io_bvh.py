@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-import bvhio
 import numpy as np
 import pytest
+from reference.files import bvhio_positions, with_line
 
 from fpdtw.errors import MotionFormatError
 from fpdtw.io import load_motion
@@ -21,17 +21,6 @@ def cmu_path(data_path):
 @pytest.fixture(scope="module")
 def cmu(cmu_path):
     return read_bvh(cmu_path)
-
-
-def _bvhio_positions(path, frames):
-    """World joint positions per frame from the independent bvhio package."""
-    root = bvhio.readAsHierarchy(str(path))
-    names = [j.Name for j, _, _ in root.layout()]
-    out = []
-    for f in frames:
-        root.loadPose(f)
-        out.append([list(j.PositionWorld) for j, _, _ in root.layout()])
-    return names, np.array(out, dtype=float)
 
 
 # --------------------------------------------------------------------------- CMU 18_01
@@ -74,7 +63,7 @@ def test_cmu_bone_lengths_constant(cmu):
 
 def test_cmu_positions_match_bvhio(cmu, cmu_path):
     frames = [0, 1, 150, 302]
-    names, ref = _bvhio_positions(cmu_path, frames)
+    names, ref = bvhio_positions(cmu_path, frames)
     assert names == list(cmu.joint_names)
     pos, _ = cmu.forward_kinematics()
     # bvhio computes in float32 (glm): agreement to ~1e-5 of a ~20-unit skeleton
@@ -157,7 +146,7 @@ def test_hand_computed_pose(tiny):
 
 
 def test_tiny_matches_bvhio(tiny):
-    names, ref = _bvhio_positions(tiny, [0, 1, 2])
+    names, ref = bvhio_positions(tiny, [0, 1, 2])
     assert names == ["Hips", "Chest", "Head", "Nose"]
     np.testing.assert_allclose(ref, TINY_POS, atol=1e-5)
 
@@ -184,7 +173,7 @@ def test_constant_non_root_position_replaces_offset(tmp_path):
     p.write_text("\n".join(lines) + "\n")
     m = read_bvh(p)
     np.testing.assert_allclose(m.forward_kinematics()[0], TINY_POS, atol=1e-12)
-    _, ref = _bvhio_positions(p, [0, 1, 2])
+    _, ref = bvhio_positions(p, [0, 1, 2])
     np.testing.assert_allclose(ref, TINY_POS, atol=1e-5)
     # a different constant moves the joint (replaces, does not add to, the OFFSET)
     p.write_text(
@@ -218,15 +207,10 @@ def test_frame_rate(tmp_path, frame_time, fps):
 
 
 # --------------------------------------------------------------------------- bad input
+
+
 def _with(line_no, new):
-    lines = TINY.splitlines()
-    if new is None:
-        del lines[line_no - 1]
-    elif isinstance(new, list):
-        lines[line_no - 1 : line_no] = new
-    else:
-        lines[line_no - 1] = new
-    return "\n".join(lines) + "\n"
+    return with_line(TINY, line_no, new)
 
 
 BAD = [
@@ -346,7 +330,7 @@ def test_write_asf_motion_bakes_axes(data_path, tmp_path):
     assert np.abs(np.diff(back.euler, axis=0)).max() < 180
     # the independent reader sees the same joint positions
     frames = [0, m.n_frames // 2, m.n_frames - 1]
-    names, ref = _bvhio_positions(out, frames)
+    names, ref = bvhio_positions(out, frames)
     assert names == list(m.joint_names)
     np.testing.assert_allclose(ref, m.forward_kinematics()[0][frames], atol=1e-4)
 

@@ -22,11 +22,44 @@ from abc import ABC, abstractmethod
 import numpy as np
 
 from fpdtw import limits
+from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import Frame, MotionFeatures
 
 #: Fewest rows kept when a bounded history is compacted (so that the rules of the first
 #: frames, ``q < 16``, never see a compacted row).
 _MIN_KEEP = 16
+
+
+def check_input(I, min_frames: int = 1, who: str = "") -> None:
+    """Refuse an input motion that is not :class:`MotionFeatures` or is too short.
+
+    Raises
+    ------
+    AlignmentError
+        Naming the aligner (``who``) and the motion.
+    """
+    who = f"{who}: " if who else ""
+    if not isinstance(I, MotionFeatures):
+        raise AlignmentError(
+            f"{who}the input motion must be given as MotionFeatures, got {type(I).__name__}"
+        )
+    if I.n_frames == 0:
+        raise AlignmentError(f"{who}input motion {I.name or '(unnamed)'!r} has no frames")
+    if I.n_frames < min_frames:
+        raise AlignmentError(
+            f"{who}input motion {I.name or '(unnamed)'!r} has {I.n_frames} frame(s); "
+            f"at least {min_frames} needed"
+        )
+
+
+def check_count(value, what: str, who: str, minimum: int = 1) -> int:
+    """``value`` as an int, or an :class:`AlignmentError` unless it is an int >= minimum.
+
+    Booleans are refused (``True`` is an int to Python, never a window size here).
+    """
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
+        raise AlignmentError(f"{who}: {what} must be an int >= {minimum}, got {value!r}")
+    return int(value)
 
 
 class OnlineAligner(ABC):
@@ -65,8 +98,7 @@ class OnlineAligner(ABC):
     history: int | None = None
 
     def __init__(self, I: MotionFeatures):
-        if not isinstance(I, MotionFeatures):
-            raise TypeError("the input motion must be given as MotionFeatures")
+        check_input(I, who=type(self).__name__)
         self.I = I
         self.m = I.n_frames - 1  # index of the last input frame (paper: I_0..I_m)
         self.reset()

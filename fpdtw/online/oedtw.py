@@ -146,8 +146,6 @@ class OEDTW(OnlineAligner):
                 f"{step_pattern!r} is not normalisable"
             )
         super().__init__(I)
-        if I.n_frames == 0:
-            raise AlignmentError("the input motion has no frames")
         self._Iq = np.ascontiguousarray(I.quats, dtype=np.float64)
         self._Isoa = np.ascontiguousarray(self._Iq.transpose(1, 2, 0))  # (k, 4, m+1)
         self._c = np.empty(I.n_frames)

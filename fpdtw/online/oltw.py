@@ -83,7 +83,7 @@ from fpdtw import limits
 from fpdtw.costs import _geo_frame
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import MotionFeatures
-from fpdtw.online.base import OnlineAligner, run_online
+from fpdtw.online.base import OnlineAligner, check_count, check_input, run_online
 
 #: Increment codes (Dixon's names in brackets).
 NONE, TARGET, INPUT, BOTH = 0, 1, 2, 3
@@ -295,20 +295,11 @@ class OLTW(OnlineAligner):
         constraint=None,
         record: bool = False,
     ):
-        if isinstance(c, bool) or not isinstance(c, int | np.integer) or c < 2:
-            raise AlignmentError(f"OLTW: search width c must be an int >= 2, got {c!r}")
-        if (
-            isinstance(max_run_count, bool)
-            or not isinstance(max_run_count, int | np.integer)
-            or max_run_count < 1
-        ):
-            raise AlignmentError(f"OLTW: max_run_count must be an int >= 1, got {max_run_count!r}")
+        check_count(c, "search width c", "OLTW", minimum=2)
+        check_count(max_run_count, "max_run_count", "OLTW")
         if constraint is not None:
             raise AlignmentError(f"OLTW has no local constraint (got {constraint!r})")
-        if not isinstance(I, MotionFeatures):
-            raise AlignmentError("the input motion must be given as MotionFeatures")
-        if I.n_frames < 1:
-            raise AlignmentError(f"input motion {I.name!r} has no frames")
+        check_input(I, who="OLTW")
         limits.check_bytes(
             limits.band_bytes(c),
             I.name,

@@ -57,7 +57,7 @@ import numpy as np
 
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import MotionFeatures
-from fpdtw.online.base import OnlineAligner
+from fpdtw.online.base import OnlineAligner, check_input
 from fpdtw.warpcurve import WarpCurve
 
 #: Tolerance when comparing a step time with a frame time (seconds).
@@ -147,8 +147,7 @@ class OPW(OnlineAligner):
     name = "OPW"
 
     def __init__(self, I: MotionFeatures, omega: float = 0.04, gamma: float = 0.05, fps=None):
-        if not isinstance(I, MotionFeatures):
-            raise TypeError("the input motion must be given as MotionFeatures")
+        check_input(I, who="OPW")
         if I.positions is None:
             raise ValueError(
                 "OPW needs joint positions: build the features with "

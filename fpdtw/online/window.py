@@ -30,7 +30,7 @@ from fpdtw.costs import _acos01, _geo_frame
 from fpdtw.errors import AlignmentError
 from fpdtw.forecast import _euler_to_quat, order_codes
 from fpdtw.motion.features import Frame, MotionFeatures
-from fpdtw.online.base import OnlineAligner
+from fpdtw.online.base import OnlineAligner, check_count, check_input
 from fpdtw.online.typev import MAX_ADVANCE, resolve_constraint
 
 _TWO_OVER_PI = 2.0 / math.pi
@@ -491,10 +491,8 @@ class WindowCache:
     """
 
     def __init__(self, I: MotionFeatures, w_max: int):
-        if isinstance(w_max, bool) or not isinstance(w_max, int | np.integer) or w_max < 1:
-            raise AlignmentError(f"WindowCache: w_max must be an int >= 1, got {w_max!r}")
         self.I = I
-        self.w_max = int(w_max)
+        self.w_max = check_count(w_max, "w_max", "WindowCache")
         k = np.shape(I.quats)[1]
         self.F = np.empty((k, 4, self.w_max))
         self.G = np.empty((I.n_frames, self.w_max))
@@ -612,12 +610,8 @@ class WindowAligner(OnlineAligner):
     options = {"start": ("zero", {"best": "M_0 best match"})}
 
     def __init__(self, I: MotionFeatures, w: int, *, constraint=None, record=False, **options):
-        if isinstance(w, bool) or not isinstance(w, int | np.integer) or w < 1:
-            raise AlignmentError(f"{type(self).__name__}: window w must be an int >= 1, got {w!r}")
-        if not isinstance(I, MotionFeatures):
-            raise AlignmentError("the input motion must be given as MotionFeatures")
-        if I.n_frames < 1:
-            raise AlignmentError(f"input motion {I.name!r} has no frames")
+        check_count(w, "window w", type(self).__name__)
+        check_input(I, who=type(self).__name__)
         from fpdtw import limits
 
         limits.check_bytes(

@@ -103,6 +103,14 @@ def _median(results, name, metric, dataset):
     return float(np.median(v)) if v.size else float("nan")
 
 
+def _medians(results, name, dataset=None) -> tuple[float, float]:
+    """Median similarity and deviation of ``name`` over a dataset's pairs."""
+    return (
+        _median(results, name, "similarity", dataset),
+        _median(results, name, "deviation", dataset),
+    )
+
+
 def benchmarks(results, dataset=None, rate: int = 120) -> dict:
     """The paper's two benchmarks at a rate, over a dataset's pairs.
 
@@ -160,27 +168,16 @@ def readings_table(
                 for w in windows
             ]
             for reading, w, typev, name in cases:
-                sim = _median(results, name, "similarity", dataset)
-                dev = _median(results, name, "deviation", dataset)
+                sim, dev = _medians(results, name, dataset)
+                verdict = {
+                    "passes_similarity": numbers.passes_similarity(sim, bench["similarity"]),
+                    "passes_deviation": numbers.passes_deviation(dev, rate),
+                }
+                where = {"dataset": dataset or "all", "rate_hz": rate, "reading": reading}
+                what = {"w": w, "type_v": typev, "algorithm": name}
+                measured = {"similarity": sim, "deviation": dev}
                 shape = map_shape(results, name, dataset)
-                rows.append(
-                    dict(
-                        dataset=dataset or "all",
-                        rate_hz=rate,
-                        reading=reading,
-                        w=w,
-                        type_v=typev,
-                        algorithm=name,
-                        similarity=sim,
-                        deviation=dev,
-                        passes_similarity=numbers.passes_similarity(sim, bench["similarity"]),
-                        passes_deviation=numbers.passes_deviation(dev, rate),
-                        exhausted=shape["exhausted"],
-                        stick_skip=shape["stick_skip"],
-                        hold=shape["hold"],
-                        pairs=shape["pairs"],
-                    )
-                )
+                rows.append(where | what | measured | verdict | shape)
     return rows
 
 
@@ -340,8 +337,9 @@ def _choice_medians(results, name, features, variant):
             r = similarity_per_axis(I.quats, T.quats[:end], M[:end])
             sims.append(float(np.mean(r)))
             devs.append(float(np.mean(np.abs(M[:end] - P[:end]))))
-    sim = float(np.nanmedian(sims)) if sims else _median(results, name, "similarity", None)
-    dev = float(np.median(devs)) if devs else _median(results, name, "deviation", None)
+    sim0, dev0 = _medians(results, name)  # where the variant leaves a metric as it is
+    sim = float(np.nanmedian(sims)) if sims else sim0
+    dev = float(np.median(devs)) if devs else dev0
     return sim, dev
 
 
@@ -382,14 +380,12 @@ def silent_choice_rows(results, features=None) -> tuple[list[dict], list[dict]]:
         targets = [n for n in choice_targets(choice) if n in results.algorithms]
         rows = []
         for name in targets:
-            s0 = _median(results, name, "similarity", None)
-            d0 = _median(results, name, "deviation", None)
+            s0, d0 = _medians(results, name)
             if choice["option"] is not None:
                 alt = choice_variant(name, choice)
                 if alt not in results.algorithms:
                     continue
-                s1 = _median(results, alt, "similarity", None)
-                d1 = _median(results, alt, "deviation", None)
+                s1, d1 = _medians(results, alt)
             else:
                 s1, d1 = _choice_medians(results, name, features, key)
             u = bench["similarity"]

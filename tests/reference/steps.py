@@ -127,7 +127,8 @@ def reference_step_a(I, T_quats, T_euler, M, w=2, allowed=None) -> WindowSnapsho
     T_quats : ndarray of float, shape (q + 1, k, 4)
         Target frames received so far (``T_{n+1}`` last).
     T_euler : ndarray of float, shape (q + 1, k, 3)
-        Unused (Method A does not forecast); kept for a uniform signature.
+        The target's unwrapped Euler angles: unused by Method A (it does not forecast),
+        kept for a signature shared with the steps of B and C.
     M : ndarray of int, shape (q,)
         Map so far.
     w : int
@@ -195,23 +196,8 @@ def backtrack_lowest(D) -> tuple:
 def reference_step_b(I, T_quats, T_euler, M, w, allowed=None) -> WindowSnapshot:
     """Plain-numpy reference of one Method B step (for tests).
 
-    Parameters
-    ----------
-    I : MotionFeatures
-        Input motion.
-    T_quats : ndarray of float, shape (q + 1, k, 4)
-        Target frames received so far (``T_{n+1}`` last).
-    T_euler : ndarray of float, shape (q + 1, k, 3)
-        Their unwrapped Euler angles.
-    M : ndarray of int, shape (q,)
-        Map so far.
-    w : int
-    allowed : ndarray of bool, shape (4,), or None
-        Type V: offsets 0..3 allowed (larger offsets never are); None: unconstrained.
-
-    Returns
-    -------
-    snap : WindowSnapshot
+    The arguments are those of :func:`reference_step_a` (here ``T_euler``, the target's
+    unwrapped Euler angles, feeds the forecast). Returns a :class:`WindowSnapshot`.
 
     Paper: FP-DTW Algorithm 2.
     """
@@ -246,26 +232,9 @@ def reference_step_c(
 ) -> WindowSnapshot:
     """Plain-numpy reference of one Method C step (for tests).
 
-    Parameters
-    ----------
-    I : MotionFeatures
-        Input motion.
-    T_quats : ndarray of float, shape (q + 1, k, 4)
-        Target frames received so far (``T_{n+1}`` last).
-    T_euler : ndarray of float, shape (q + 1, k, 3)
-        Their unwrapped Euler angles.
-    M : ndarray of int, shape (q,)
-        Map so far.
-    w : int
-    allowed : ndarray of bool, shape (4,), or None
-        Type V: offsets 0..3 allowed (larger offsets never are); None: unconstrained.
-    window : str
-        The reading (see :class:`MethodC`).
-    ties : {"low", "high"}
-
-    Returns
-    -------
-    snap : WindowSnapshot
+    The arguments are those of :func:`reference_step_b`, and two more: ``window``, the
+    reading of Algorithm 3 (see :class:`MethodC`), and ``ties`` (``"low"`` or ``"high"``),
+    which of equal window scores wins. Returns a :class:`WindowSnapshot`.
 
     Paper: FP-DTW Algorithm 3.
     """
