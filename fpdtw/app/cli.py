@@ -250,28 +250,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     dsub = d.add_subparsers(dest="data_command", metavar="ACTION", parser_class=_Parser)
     dsub.required = True
-    help_ds = "dataset name, repeatable (authors_fbx, hdm05, cmu; default: all)"
-    f = dsub.add_parser("fetch", help="fetch files into the cache, verified by hash")
-    f.add_argument("--dataset", action="append", help=help_ds)
-    f.add_argument(
-        "--all",
-        action="store_true",
-        help="also try files the manifest marks as not in the local mirror",
-    )
-    f.add_argument("--file", help="fetch only this file (needs one --dataset)")
-    f.add_argument("--quiet", action="store_true", help="no progress bars")
-    v = dsub.add_parser(
-        "verify",
-        help="re-hash every cached file; exit 1 if any listed file is missing or wrong",
-    )
-    v.add_argument("--dataset", action="append", help=help_ds)
-    v.add_argument(
-        "--all",
-        action="store_true",
-        help="also require the files the manifest marks as not in the local mirror",
-    )
-    c = dsub.add_parser("cite", help="print licences and citations")
-    c.add_argument("--dataset", action="append", help=help_ds)
+    from fpdtw.paper.datasets import add_data_commands
+
+    add_data_commands(dsub)
     ap.commands = {"align": a, "live": lv, "data": d}
     return ap
 
@@ -514,18 +495,9 @@ def _cmd_live(args, log) -> int:
 
 
 def _cmd_data(args) -> int:
-    from fpdtw.paper import datasets as data
+    from fpdtw.paper.datasets import run_data_command
 
-    argv = [args.data_command]
-    for ds in args.dataset or []:
-        argv += ["--dataset", ds]
-    if args.data_command in ("fetch", "verify"):
-        argv += ["--all"] * args.all
-    if args.data_command == "fetch":
-        argv += ["--quiet"] * args.quiet
-        if args.file:
-            argv += ["--file", args.file]
-    return int(data.main(argv, prog=PROG))
+    return run_data_command(args, prog=PROG)
 
 
 def main(argv=None) -> int:
@@ -549,10 +521,6 @@ def main(argv=None) -> int:
     except SystemExit as e:  # --help (0) or a usage error (2)
         return e.code if isinstance(e.code, int) else 0
     if args.command == "data":
-        if getattr(args, "file", None) is not None and len(args.dataset or []) != 1:
-            ap.commands["data"].print_usage(sys.stderr)
-            print(f"{PROG} data fetch: error: --file needs exactly one --dataset", file=sys.stderr)
-            return 2
         return _cmd_data(args)
     sub = ap.commands[args.command]
 

@@ -939,22 +939,19 @@ class _Parser(argparse.ArgumentParser):
         self.exit(1, f"{self.prog}: error: {message}\n")
 
 
-def main(argv: list[str] | None = None, prog: str = "python -m fpdtw.paper.datasets") -> int:
-    """Command line: ``python -m fpdtw.paper.datasets fetch|verify|cite``; returns the exit code.
+def add_data_commands(sub) -> None:
+    """Add the actions ``fetch``, ``verify`` and ``cite`` to an argparse subparsers object.
 
-    ``prog`` starts every error line (``fpdtw`` when run as ``fpdtw data``).
+    Used by this module's own command line and by ``fpdtw data`` (one set of options).
     """
-    ap = _Parser(prog=prog, description="Fetch, verify and cite the datasets.")
-    sub = ap.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    help_ds = "dataset name (repeatable; default: every dataset)"
-    f = sub.add_parser("fetch", help="fetch files into the cache, verified")
-    f.add_argument("--dataset", action="append", help=help_ds)
-    f.add_argument(
-        "--all",
-        action="store_true",
-        help="also try the files the manifest marks as not in the local mirror "
-        "(the default when FPDTW_MIRROR is unset)",
+    help_ds = "dataset name, repeatable (authors_fbx, hdm05, cmu; default: all)"
+    help_all = (
+        "files the manifest marks as not in the local mirror "
+        "(the default when FPDTW_MIRROR is unset)"
     )
+    f = sub.add_parser("fetch", help="fetch files into the cache, verified by hash")
+    f.add_argument("--dataset", action="append", help=help_ds)
+    f.add_argument("--all", action="store_true", help="also try the " + help_all)
     f.add_argument("--file", help="fetch only this file (needs one --dataset)")
     f.add_argument("--quiet", action="store_true", help="no progress bars")
     v = sub.add_parser(
@@ -962,26 +959,30 @@ def main(argv: list[str] | None = None, prog: str = "python -m fpdtw.paper.datas
         help="re-hash every cached file; exit 1 if any listed file is missing or wrong",
     )
     v.add_argument("--dataset", action="append", help=help_ds)
-    v.add_argument(
-        "--all",
-        action="store_true",
-        help="also require the files the manifest marks as not in the local mirror "
-        "(the default when FPDTW_MIRROR is unset)",
-    )
+    v.add_argument("--all", action="store_true", help="also require the " + help_all)
     c = sub.add_parser("cite", help="print licences and citations")
     c.add_argument("--dataset", action="append", help=help_ds)
-    args = ap.parse_args(argv)
 
+
+def run_data_command(args, prog: str) -> int:
+    """Carry out ``fetch``, ``verify`` or ``cite`` (``args.data_command``); the exit code.
+
+    0 on success; 1 when a file is missing, fails its hash or cannot be fetched; 2 on a
+    usage error argparse cannot express (``--file`` without exactly one ``--dataset``).
+    Errors are printed to stderr, each line starting with ``prog``.
+    """
+    command = args.data_command
+    if command == "fetch" and args.file is not None and len(args.dataset or []) != 1:
+        print(f"{prog}: error: fetch --file needs exactly one --dataset", file=sys.stderr)
+        return 2
     try:
-        if args.command == "cite":
+        if command == "cite":
             print(cite(args.dataset))
             return 0
-        if args.command == "verify":
+        if command == "verify":
             report = verify(args.dataset, available_only=None if not args.all else False)
             print(f"cache {paths.data_dir()}: {report.summary()}")
             return 0 if report.ok else 1
-        if args.file is not None and (not args.dataset or len(args.dataset) != 1):
-            ap.error("--file needs exactly one --dataset")
         mirror = paths.mirror()
         print(
             f"cache {paths.data_dir()}; source: "
@@ -1002,6 +1003,17 @@ def main(argv: list[str] | None = None, prog: str = "python -m fpdtw.paper.datas
     except (DataFetchError, ManifestError) as exc:
         print(f"{prog}: error: {exc}", file=sys.stderr)
         return 1
+
+
+def main(argv: list[str] | None = None, prog: str = "python -m fpdtw.paper.datasets") -> int:
+    """Command line: ``python -m fpdtw.paper.datasets fetch|verify|cite``; returns the exit code.
+
+    The same actions as ``fpdtw data`` (see :func:`add_data_commands`).
+    """
+    ap = _Parser(prog=prog, description="Fetch, verify and cite the datasets.")
+    sub = ap.add_subparsers(dest="data_command", required=True, parser_class=_Parser)
+    add_data_commands(sub)
+    return run_data_command(ap.parse_args(argv), prog)
 
 
 if __name__ == "__main__":
