@@ -307,14 +307,16 @@ def holt(E_hist, alpha: float, beta: float, H: int) -> np.ndarray:
     Parameters
     ----------
     E_hist : ndarray of float, shape (t, ...)
-        Unwrapped Euler angles (degrees), oldest first, ``t >= 2``.
+        As for :func:`exponential_smoothing`, with at least two frames (``t >= 2``).
     alpha, beta : float
         Level and trend smoothing factors in (0, 1].
     H : int
+        How many frames ahead.
 
     Returns
     -------
     F : ndarray of float64, shape (H, ...)
+        ``F[i - 1]``: the forecast ``i`` frames ahead.
 
     Paper: FP-DTW Fig. 3 (alternative smoothing function, ref. 7).
     Notebook: 04_fig3_forecast.ipynb

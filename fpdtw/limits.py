@@ -209,15 +209,24 @@ def check_file_fps(fps: float, path, *, line: int | None = None, source: str = "
 # -- frame counts ----------------------------------------------------------------------------
 
 
+def _beyond(name: str, value, show=str) -> str | None:
+    """``"more than the limit of <limit> (<env var>)"`` when ``value`` exceeds the limit
+    ``name``, else None (``show`` formats the limit)."""
+    hi = get(name)
+    if value <= hi:
+        return None
+    return f"more than the limit of {show(hi)} ({env_name(name)})"
+
+
+def _frames(n) -> str:
+    return f"{int(n)} frames"
+
+
 def check_file_frames(n: int, path, *, line: int | None = None) -> int:
     """A frame count a file declares; MotionFormatError naming the file past the limit."""
-    hi = int(get("max_frames"))
-    if n > hi:
-        raise MotionFormatError(
-            path,
-            f"{n} frames, more than the limit of {hi} frames ({env_name('max_frames')})",
-            line=line,
-        )
+    why = _beyond("max_frames", n, _frames)
+    if why:
+        raise MotionFormatError(path, f"{n} frames, {why}", line=line)
     return int(n)
 
 
@@ -234,12 +243,10 @@ def check_frames(n: int, paths, what: str) -> int:
     what : str
         How it came about, e.g. ``"resampling to 1e+06 Hz"``.
     """
-    hi = int(get("max_frames"))
-    if n > hi:
+    why = _beyond("max_frames", n, _frames)
+    if why:
         raise LimitError(
-            paths,
-            f"{what} would give {n} frames, more than the limit of {hi} frames "
-            f"({env_name('max_frames')}); use a lower frame rate or shorter takes",
+            paths, f"{what} would give {n} frames, {why}; use a lower frame rate or shorter takes"
         )
     if n < MIN_FRAMES:
         raise LimitError(
@@ -264,12 +271,10 @@ def check_min_frames(n: int, path, role: str = "motion") -> None:
 
 def check_file_size(path, size: int) -> None:
     """A file to read whole: MotionFormatError naming it past :data:`MAX_FILE_BYTES`."""
-    hi = int(get("max_file_bytes"))
-    if size > hi:
+    why = _beyond("max_file_bytes", size, format_bytes)
+    if why:
         raise MotionFormatError(
-            path,
-            f"file is {format_bytes(size)}, more than the limit of {format_bytes(hi)} "
-            f"({env_name('max_file_bytes')}); split or crop the take",
+            path, f"file is {format_bytes(size)}, {why}; split or crop the take"
         )
 
 
@@ -307,13 +312,9 @@ def check_bytes(nbytes: int, paths, what: str, hint: str = HINT_LONG) -> None:
     hint : str
         The way out.
     """
-    hi = int(get("max_matrix_bytes"))
-    if nbytes > hi:
-        raise LimitError(
-            paths,
-            f"{what} ({format_bytes(nbytes)}), more than the limit of {format_bytes(hi)} "
-            f"({env_name('max_matrix_bytes')}); {hint}",
-        )
+    why = _beyond("max_matrix_bytes", nbytes, format_bytes)
+    if why:
+        raise LimitError(paths, f"{what} ({format_bytes(nbytes)}), {why}; {hint}")
 
 
 __all__ = [

@@ -63,8 +63,9 @@ def in_range(M, m: int) -> bool:
     Parameters
     ----------
     M : ndarray of int, shape (n + 1,)
+        A map: ``M[q]`` is the input frame matched to target frame ``q``.
     m : int
-        Index of the last input frame.
+        Index of the last input frame (the input holds frames ``0..m``).
 
     Notebook: 05_run_experiments.ipynb
     """
@@ -139,17 +140,9 @@ def hold_share(M, m: int) -> float:
     """Share of steps that hold the input frame while input remains.
 
     A step ``q = 1..n`` holds when ``M_q = M_{q-1}``; steps taken after the input ran
-    out (``M_{q-1} = m``, where a hold is the only choice) are not counted.
-
-    Parameters
-    ----------
-    M, m
-        A map and the index of the last input frame, as in :func:`step_counts`.
-
-    Returns
-    -------
-    share : float
-        In [0, 1]; 0.0 when no step was taken with input remaining.
+    out (``M_{q-1} = m``, where a hold is the only choice) are not counted. ``M`` and
+    ``m`` as in :func:`step_counts`; the share is in [0, 1], 0.0 when no step was taken
+    with input remaining.
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
@@ -160,15 +153,7 @@ def hold_share(M, m: int) -> float:
 def exhausted_share(M, m: int) -> float:
     """Share of the steps ``q = 1..n`` taken after the input ran out (``M_{q-1} = m``).
 
-    Parameters
-    ----------
-    M, m
-        A map and the index of the last input frame, as in :func:`step_counts`.
-
-    Returns
-    -------
-    share : float
-        In [0, 1].
+    ``M`` and ``m`` as in :func:`step_counts`; the share is in [0, 1].
 
     Paper: FP-DTW Section 5 ("running out of input frames, early in the alignment").
     Notebook: 15_readings_of_algorithm_3.ipynb

@@ -311,28 +311,16 @@ def _reader_test(seeds, fmt, ops):
         event(f"{fmt}: {check_outcome(read, (mutant, partner))}")
 
 
-@settings(max_examples=BUDGET["bvh"])
-@given(ops=mutations(binary=False))
-def test_fuzz_bvh(seeds, ops):
-    _reader_test(seeds, "bvh", ops)
+@pytest.mark.parametrize("fmt", ["bvh", "amc", "asf", "fbx"])
+def test_fuzz_reader(seeds, fmt):
+    """Mutated files of one format: a Motion or a MotionFormatError naming the file."""
 
+    @settings(max_examples=BUDGET[fmt])
+    @given(ops=mutations(binary=fmt == "fbx"))
+    def check(ops):
+        _reader_test(seeds, fmt, ops)
 
-@settings(max_examples=BUDGET["amc"])
-@given(ops=mutations(binary=False))
-def test_fuzz_amc(seeds, ops):
-    _reader_test(seeds, "amc", ops)
-
-
-@settings(max_examples=BUDGET["asf"])
-@given(ops=mutations(binary=False))
-def test_fuzz_asf(seeds, ops):
-    _reader_test(seeds, "asf", ops)
-
-
-@settings(max_examples=BUDGET["fbx"])
-@given(ops=mutations(binary=True))
-def test_fuzz_fbx(seeds, ops):
-    _reader_test(seeds, "fbx", ops)
+    check()
 
 
 # --------------------------------------------------------------------------- fpdtw align

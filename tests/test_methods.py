@@ -111,6 +111,20 @@ B_I = [0, 2, 3, 4, 4, 5, 5, 6]  # m = 7
 B_T = [0, 1, 2, 4, 5, 7, 7]
 
 
+def check_b_step(s, C, D, path, P, offset_M):
+    """A recorded Method B step against hand-worked C and D (in tenths of a unit, D
+    before its corner is set to 10000), back-tracked path, P (None: not checked) and
+    (offset, M_{n+1})."""
+    np.testing.assert_allclose(s.C, tenths(C), atol=1e-9)
+    D = tenths(D)
+    D[0, 0] = B_CORNER
+    np.testing.assert_allclose(s.D, D, atol=1e-9)
+    np.testing.assert_array_equal(s.path, path)
+    if P is not None:
+        np.testing.assert_array_equal(s.P, P)
+    assert (s.offset, s.M) == offset_M
+
+
 def test_method_b_hand_worked():
     M, snaps = run_recording(MethodB(units(B_I), 3, record=True), units(B_T))
     np.testing.assert_array_equal(M, [0, 1, 2, 2, 5, 7, 7])
@@ -122,45 +136,31 @@ def test_method_b_hand_worked():
     # = [2, 4, 6, 8] (d = 2).
     s = snaps[3]
     assert (s.start, s.w_i) == (2, 3)
-    np.testing.assert_allclose(
-        s.C, tenths([[1, 1, 3, 5], [2, 0, 2, 4], [2, 0, 2, 4], [3, 1, 1, 3]]), atol=1e-9
-    )
+    C = [[1, 1, 3, 5], [2, 0, 2, 4], [2, 0, 2, 4], [3, 1, 1, 3]]
     # D row 0: 1, 2, 5, 10; row 1: 3, 0+min(1,2,3)=1, 2+min(2,5,1)=3, 4+min(5,10,3)=7;
     # row 2: 5, 0+min(3,1,5)=1, 2+min(1,3,1)=3, 4+min(3,7,3)=7; row 3: 8, 1+min(5,1,8)=2,
     # 1+min(1,3,2)=2, 3+min(3,7,2)=5; then D[0,0] = 10000.
-    D = tenths([[1, 2, 5, 10], [3, 1, 3, 7], [5, 1, 3, 7], [8, 2, 2, 5]])
-    D[0, 0] = B_CORNER
-    np.testing.assert_allclose(s.D, D, atol=1e-9)
+    D = [[1, 2, 5, 10], [3, 1, 3, 7], [5, 1, 3, 7], [8, 2, 2, 5]]
     # back-track: (3,3) -> (3,2) [2 < 3 diag, 7 input] -> (2,1) [diag 1] -> (1,1) [input
     # 1 < diag 3, target 5: overwrite col 1] -> (0,1) [input 2 < target 3 < 10000:
     # overwrite again] -> (0,0)
-    np.testing.assert_array_equal(s.path, [[0, 0], [0, 1], [1, 1], [2, 1], [3, 2], [3, 3]])
-    np.testing.assert_array_equal(s.P, [0, 0, 3, 3])
-    assert (s.offset, s.M) == (0, 2)  # P_1 = 0: hold
+    path = [[0, 0], [0, 1], [1, 1], [2, 1], [3, 2], [3, 3]]
+    check_b_step(s, C, D, path, P=[0, 0, 3, 3], offset_M=(0, 2))  # P_1 = 0: hold
     # without the overwrite rule column 1 would keep row 2 (M = 4); without D[0,0] =
     # 10000, (1,1) would step diagonally to (0,0) (D[0,0] = 0.1 < 0.2) and P_1 = 1.
 
     # q=4: F = [4, 5, 6, 7] (d = 1); the path enters column 1 at row 3 from (2,0).
-    s = snaps[4]
-    np.testing.assert_allclose(
-        s.C, tenths([[1, 2, 3, 4], [0, 1, 2, 3], [0, 1, 2, 3], [1, 0, 1, 2]]), atol=1e-9
-    )
-    D = tenths([[1, 3, 6, 10], [1, 2, 4, 7], [1, 2, 4, 7], [2, 1, 2, 4]])
-    D[0, 0] = B_CORNER
-    np.testing.assert_allclose(s.D, D, atol=1e-9)
-    np.testing.assert_array_equal(s.path, [[0, 0], [1, 0], [2, 0], [3, 1], [3, 2], [3, 3]])
-    np.testing.assert_array_equal(s.P, [0, 3, 3, 3])
-    assert (s.offset, s.M) == (3, 5)
+    C = [[1, 2, 3, 4], [0, 1, 2, 3], [0, 1, 2, 3], [1, 0, 1, 2]]
+    D = [[1, 3, 6, 10], [1, 2, 4, 7], [1, 2, 4, 7], [2, 1, 2, 4]]
+    path = [[0, 0], [1, 0], [2, 0], [3, 1], [3, 2], [3, 3]]
+    check_b_step(snaps[4], C, D, path, P=[0, 3, 3, 3], offset_M=(3, 5))
 
     # q=5: the window shrinks, w_i = min(3, 7 - 5) = 2; rows [5, 5, 6]; F = [5, 7, 9, 11].
     s = snaps[5]
     assert (s.start, s.w_i) == (5, 2)
-    np.testing.assert_allclose(s.C, tenths([[0, 2, 4, 6], [0, 2, 4, 6], [1, 1, 3, 5]]), atol=1e-9)
-    D = tenths([[0, 2, 6, 12], [0, 2, 6, 12], [1, 1, 4, 9]])
-    D[0, 0] = B_CORNER
-    np.testing.assert_allclose(s.D, D, atol=1e-9)
-    np.testing.assert_array_equal(s.path, [[0, 0], [1, 0], [2, 1], [2, 2], [2, 3]])
-    assert (s.offset, s.M) == (2, 7)
+    C = [[0, 2, 4, 6], [0, 2, 4, 6], [1, 1, 3, 5]]
+    D = [[0, 2, 6, 12], [0, 2, 6, 12], [1, 1, 4, 9]]
+    check_b_step(s, C, D, [[0, 0], [1, 0], [2, 1], [2, 2], [2, 3]], P=None, offset_M=(2, 7))
     # q=6: M_n = m -> M = m without a window
     assert (snaps[6].kind, snaps[6].M) == ("end", 7)
 

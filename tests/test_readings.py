@@ -116,7 +116,7 @@ def test_silent_choices_and_selection_tables(tmp_path, monkeypatch):
     for key, choice in SILENT_CHOICES.items():
         for name in choice_targets(choice):
             algos[name] = dict(base)
-            if choice["option"] is not None:
+            if choice.option is not None:
                 worse = key == "forecast"  # the only alternative that moves anything here
                 algos[choice_variant(name, choice)] = dict(
                     base, deviation=[30.0 if worse else 10.0] * 5
@@ -125,7 +125,7 @@ def test_silent_choices_and_selection_tables(tmp_path, monkeypatch):
     study = load_results("study")
     summary, detail = R.silent_choice_rows(study)  # without features: no eq. 2 rows
     by = {r["choice"]: r for r in summary}
-    assert set(by) == {k for k, c in SILENT_CHOICES.items() if c["option"]} | {"deviation_frames"}
+    assert set(by) == {k for k, c in SILENT_CHOICES.items() if c.option} | {"deviation_frames"}
     assert by["forecast"]["max_d_deviation"] == 20.0
     assert by["forecast"]["verdicts_changed"] == ", ".join(
         choice_targets(SILENT_CHOICES["forecast"])

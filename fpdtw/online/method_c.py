@@ -98,22 +98,15 @@ class MethodC(ForecastAligner):
 
     Parameters
     ----------
-    I : MotionFeatures
-        Input (recorded) motion.
-    w : int
-        Forecast window size (the paper: 10, 20, 40, 80).
-    constraint : None, "typeV" or TypeV
+    I, w, constraint, forecast, start, cache
+        As for :class:`~fpdtw.online.method_b.MethodB`.
     window : {"square", "literal", "square-tn", "open-end", "normalised"}
-    forecast : {"dead-reckoning", "hold"}
+        The reading of Algorithm 3's window (above).
     forecast_start : {"T_{n+1}", "next"}
     ties : {"low", "high"}
-    start : {"zero", "best"}
     record : bool
         Keep a :class:`~fpdtw.online.window.WindowSnapshot` of the last step (C, D and
         the per-row ``score``).
-    cache : WindowCache, optional
-        Shared with other B/C aligners stepping over the same target together (speed
-        only; see :class:`~fpdtw.online.window.WindowCache`).
 
     Paper: FP-DTW Algorithm 3, Section 3.3.
     Notebook: 15_readings_of_algorithm_3.ipynb

@@ -100,76 +100,70 @@ _LOG_COLS = 7
 
 
 @numba.njit(cache=True)
-def _new_target_column(Iq, Tq, base, D, c, i, q):
-    """Evaluate cells (i', q), i' = max(0, i - c + 1) .. i, of the new target column q >= 1.
+def _cell(D, r, cq, rp, pc, d):
+    """Path cost of a cell from its three predecessors in the ring buffer ``D``.
 
-    D is the (c, c) ring buffer: cell (i', q') lives at ``D[i' % c, q' % c]``; every cell
-    of the ``c x c`` block behind the corner is computed, cells outside it are unreachable.
-    Target frame q' is row ``q' - base`` of ``Tq`` (the aligner's bounded history).
+    The cell is ``D[r, cq]``; its input step ``D[rp, cq]`` and target step ``D[r, pc]``
+    add the local cost ``d`` once, the diagonal ``D[rp, pc]`` twice (Dixon's weights).
     """
-    lo = max(0, i - c + 1)
-    cq = q % c
-    pq = (q - 1) % c
-    for ii in range(lo, i + 1):
-        d = _geo_frame(Iq[ii], Tq[q - base])
-        r = ii % c
-        best = D[r, pq] + d  # (ii, q - 1)
-        if ii > lo:
-            rp = (ii - 1) % c
-            v = D[rp, cq] + d  # (ii - 1, q)
-            if v < best:
-                best = v
-            v = D[rp, pq] + 2.0 * d  # (ii - 1, q - 1)
-            if v < best:
-                best = v
-        D[r, cq] = best
+    best = D[rp, cq] + d
+    v = D[r, pc] + d
+    if v < best:
+        best = v
+    v = D[rp, pc] + 2.0 * d
+    if v < best:
+        best = v
+    return best
 
 
 @numba.njit(cache=True)
-def _new_input_row(Iq, Tq, base, D, c, i, q):
-    """Evaluate cells (i, q'), q' = max(0, q - c + 1) .. q, of the new input row i (i >= 1)."""
-    lo = max(0, q - c + 1)
-    r = i % c
-    pr = (i - 1) % c
-    for qq in range(lo, q + 1):
-        d = _geo_frame(Iq[i], Tq[qq - base])
-        cq = qq % c
-        best = D[pr, cq] + d  # (i - 1, qq)
-        if qq > lo:
-            pc = (qq - 1) % c
-            v = D[r, pc] + d  # (i, qq - 1)
-            if v < best:
-                best = v
-            v = D[pr, pc] + 2.0 * d  # (i - 1, qq - 1)
-            if v < best:
-                best = v
-        D[r, cq] = best
+def _new_band_line(Iq, Tq, base, D, c, i, q, column):
+    """Evaluate the new line of the band at the corner (i, q): target column q (``column``
+    true; cells (i', q), i' = max(0, i - c + 1) .. i) or input row i (cells (i, q'),
+    q' = max(0, q - c + 1) .. q).
+
+    D is the (c, c) ring buffer: cell (i', q') lives at ``D[i' % c, q' % c]``; every cell
+    of the ``c x c`` block behind the corner is computed, cells outside it are unreachable,
+    so the line's first cell has one predecessor only (its target step in a new column,
+    its input step in a new row). Target frame q' is row ``q' - base`` of ``Tq`` (the
+    aligner's bounded history).
+    """
+    lo = max(0, (i if column else q) - c + 1)
+    for k in range(lo, (i if column else q) + 1):
+        ii = k if column else i
+        qq = q if column else k
+        d = _geo_frame(Iq[ii], Tq[qq - base])
+        r, cq = ii % c, qq % c
+        rp, pc = (ii - 1) % c, (qq - 1) % c
+        if k > lo:
+            D[r, cq] = _cell(D, r, cq, rp, pc, d)
+        elif column:
+            D[r, cq] = D[r, pc] + d  # (ii, q - 1)
+        else:
+            D[r, cq] = D[rp, cq] + d  # (i - 1, qq)
 
 
 @numba.njit(cache=True)
 def _best_cell(D, c, i, q, normalize):
-    """Lowest (normalised) path cost among the newest target column and input row."""
+    """Lowest (normalised) path cost among the newest target column and input row.
+
+    The column is scanned first, from its lowest cell; the first minimum wins.
+    """
     best = np.inf
     bi = i
     bq = q
-    cq = q % c
-    for ii in range(max(0, i - c + 1), i + 1):
-        v = D[ii % c, cq]
-        if normalize:
-            v = v / (1.0 + ii + q)
-        if v < best:
-            best = v
-            bi = ii
-            bq = q
-    r = i % c
-    for qq in range(max(0, q - c + 1), q + 1):
-        v = D[r, qq % c]
-        if normalize:
-            v = v / (1.0 + i + qq)
-        if v < best:
-            best = v
-            bi = i
-            bq = qq
+    for column in (True, False):
+        lo = max(0, (i if column else q) - c + 1)
+        for k in range(lo, (i if column else q) + 1):
+            ii = k if column else i
+            qq = q if column else k
+            v = D[ii % c, qq % c]
+            if normalize:
+                v = v / (1.0 + ii + qq)
+            if v < best:
+                best = v
+                bi = ii
+                bq = qq
     return bi, bq
 
 
@@ -177,10 +171,10 @@ def _best_cell(D, c, i, q, normalize):
 def _apply(Iq, Tq, base, D, st, c, inc):
     if inc == 1 or inc == 3:  # TARGET or BOTH
         st[1] += 1
-        _new_target_column(Iq, Tq, base, D, c, st[0], st[1])
+        _new_band_line(Iq, Tq, base, D, c, st[0], st[1], True)
     if inc == 2 or inc == 3:  # INPUT or BOTH
         st[0] += 1
-        _new_input_row(Iq, Tq, base, D, c, st[0], st[1])
+        _new_band_line(Iq, Tq, base, D, c, st[0], st[1], False)
     if inc == st[2]:
         st[3] += 1
     else:

@@ -375,13 +375,13 @@ def silent_choice_rows(results, features=None) -> tuple[list[dict], list[dict]]:
     bench = benchmarks(results)
     summary, detail = [], []
     for key, choice in SILENT_CHOICES.items():
-        if choice["option"] is None and key != "deviation_frames" and features is None:
+        if choice.option is None and key != "deviation_frames" and features is None:
             continue
         targets = [n for n in choice_targets(choice) if n in results.algorithms]
         rows = []
         for name in targets:
             s0, d0 = _medians(results, name)
-            if choice["option"] is not None:
+            if choice.option is not None:
                 alt = choice_variant(name, choice)
                 if alt not in results.algorithms:
                     continue
@@ -407,8 +407,8 @@ def silent_choice_rows(results, features=None) -> tuple[list[dict], list[dict]]:
         summary.append(
             dict(
                 choice=key,
-                ours=choice["ours"],
-                alternative=choice["alternative"],
+                ours=choice.ours,
+                alternative=choice.alternative,
                 touches=", ".join(r["algorithm"] for r in rows),
                 max_d_similarity=max(
                     (abs(r["similarity_alternative"] - r["similarity_ours"]) for r in rows),

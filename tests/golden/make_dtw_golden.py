@@ -12,10 +12,11 @@ joint conventions) and review the diff.
 
 from __future__ import annotations
 
-import json
 import os
 import sys
 from pathlib import Path
+
+from golden_io import write_golden
 
 OUT = Path(__file__).with_name("dtw_squat1Reps_bd001_bd002.json")
 PAIR = (
@@ -59,11 +60,7 @@ def main() -> int:
         print("set FPDTW_MIRROR to the local data mirror folder", file=sys.stderr)
         return 2
     record = make(Path(mirror))
-    # one key per line, lists on one line: small, reviewable diffs
-    lines = [f" {json.dumps(k)}: {json.dumps(v)}" for k, v in record.items()]
-    OUT.write_text("{\n" + ",\n".join(lines) + "\n}\n")
-    print(f"wrote {OUT}")
-    return 0
+    return write_golden(record, OUT)
 
 
 if __name__ == "__main__":

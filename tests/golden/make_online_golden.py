@@ -13,9 +13,10 @@ change and review the diff.
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
+
+from golden_io import write_golden
 
 OUT = Path(__file__).with_name("online_squat1Reps_bd001_bd002.json")
 PAIR = (
@@ -50,10 +51,7 @@ def make() -> dict:
 
 def main() -> int:
     record = make()
-    lines = [f" {json.dumps(k)}: {json.dumps(v)}" for k, v in record.items()]
-    OUT.write_text("{\n" + ",\n".join(lines) + "\n}\n")
-    print(f"wrote {OUT}")
-    return 0
+    return write_golden(record, OUT)
 
 
 if __name__ == "__main__":

@@ -142,6 +142,24 @@ def _unit_grid(ax, xs, ys):
     ax.tick_params(labelsize=7)
 
 
+def _draw_local_paths(ax, paths, labels, ticks, title, legend):
+    """Local paths (target, input) as coloured lines, slightly apart so that shared
+    segments stay visible, on a unit grid with (0, 0) marked by a black square;
+    ``legend``: the legend's title and location."""
+    import matplotlib as mpl
+
+    cmap = mpl.colormaps["tab10"]
+    for k, (P, label) in enumerate(zip(paths, labels, strict=True)):
+        jitter = 0.06 * (k - 2)
+        ax.plot(P[:, 0] + jitter, P[:, 1] + jitter, "o-", color=cmap(k), ms=4, lw=1.5, label=label)
+    ax.plot([0], [0], "s", color="black", ms=8)
+    _unit_grid(ax, ticks, ticks)
+    ax.set_xlabel("target frame (relative)")
+    ax.set_ylabel("input frame (relative)")
+    ax.set_title(title, fontsize=9)
+    ax.legend(fontsize=7, title=legend[0], title_fontsize=7, loc=legend[1])
+
+
 def plot_backward_steps(steps=None, ax=None):
     """Fig. 9 i: the backward Type V local paths ending at (0, 0).
 
@@ -153,29 +171,12 @@ def plot_backward_steps(steps=None, ax=None):
     Paper: FP-DTW Fig. 9 i.
     Notebook: 11_fig9_typev.ipynb
     """
-    import matplotlib as mpl
-
     fig, ax = new_axes(ax, figsize=(4, 4))
-    steps = backward_steps() if steps is None else steps
-    cmap = mpl.colormaps["tab10"]
-    for k, S in enumerate(steps):
-        S = np.asarray(S)
-        jitter = 0.06 * (k - 2)
-        ax.plot(
-            S[:, 0] + jitter,
-            S[:, 1] + jitter,
-            "o-",
-            color=cmap(k),
-            ms=4,
-            lw=1.5,
-            label=f"({-S[0, 0]}, {-S[0, 1]})",
-        )
-    ax.plot([0], [0], "s", color="black", ms=8)
-    _unit_grid(ax, np.arange(-3, 1), np.arange(-3, 1))
-    ax.set_xlabel("target frame (relative)")
-    ax.set_ylabel("input frame (relative)")
-    ax.set_title('(i) backward Type V\nrabinerJuangStepPattern(5, "c")', fontsize=9)
-    ax.legend(fontsize=7, title="step (target, input)", title_fontsize=7, loc="lower left")
+    steps = [np.asarray(S) for S in (backward_steps() if steps is None else steps)]
+    labels = [f"({-S[0, 0]}, {-S[0, 1]})" for S in steps]
+    title = '(i) backward Type V\nrabinerJuangStepPattern(5, "c")'
+    legend = ("step (target, input)", "lower left")
+    _draw_local_paths(ax, steps, labels, np.arange(-3, 1), title, legend)
     return fig, ax
 
 
@@ -186,38 +187,20 @@ def plot_forward_steps(advances=None, ax=None):
     drawn from (0, 0) forwards; holds (advance 0) only follow an advance of exactly 1,
     at most two in a row.
 
-    Returns
-    -------
-    fig, ax
-        One line per local path.
+    Returns the figure and axes: one line per local path, its advances in the legend.
 
     Paper: FP-DTW Fig. 9 ii.
     Notebook: 11_fig9_typev.ipynb
     """
-    import matplotlib as mpl
-
     fig, ax = new_axes(ax, figsize=(4, 4))
     advances = forward_advances(backward_steps()) if advances is None else advances
-    cmap = mpl.colormaps["tab10"]
-    for k, adv in enumerate(advances):
+    paths = []
+    for adv in advances:
         y = np.concatenate([[0], np.cumsum(adv)])
-        x = np.arange(y.size)
-        jitter = 0.06 * (k - 2)
-        ax.plot(
-            x + jitter,
-            y + jitter,
-            "o-",
-            color=cmap(k),
-            ms=4,
-            lw=1.5,
-            label=", ".join(str(a) for a in adv),
-        )
-    ax.plot([0], [0], "s", color="black", ms=8)
-    _unit_grid(ax, np.arange(0, 4), np.arange(0, 4))
-    ax.set_xlabel("target frame (relative)")
-    ax.set_ylabel("input frame (relative)")
-    ax.set_title("(ii) forward form: advances\nper target frame", fontsize=9)
-    ax.legend(fontsize=7, title="advances", title_fontsize=7, loc="upper left")
+        paths.append(np.column_stack([np.arange(y.size), y]))
+    labels = [", ".join(str(a) for a in adv) for adv in advances]
+    title = "(ii) forward form: advances\nper target frame"
+    _draw_local_paths(ax, paths, labels, np.arange(0, 4), title, ("advances", "upper left"))
     return fig, ax
 
 

@@ -254,6 +254,11 @@ def _window_heatmap(ax, fig, A, start, col_labels, mask=None, label="", annotate
     return im
 
 
+def _mark_x(ax, col, row, label):
+    """The chosen cell of a window step as a large red X (in the legend as ``label``)."""
+    ax.plot([col], [row], "x", color="tab:red", ms=12, mew=2.5, label=label)
+
+
 def _cmap():
     import matplotlib as mpl
 
@@ -328,15 +333,7 @@ def plot_method_b_window(s: WindowSnapshot, ax=None, which: str = "D", annotate=
     P = np.asarray(s.path)
     ax.plot(P[:, 1], P[:, 0], "-", color="white", lw=3.2)
     ax.plot(P[:, 1], P[:, 0], ".-", color="tab:red", lw=1.4, ms=5, label="back-tracked path")
-    ax.plot(
-        [1],
-        [s.offset],
-        "x",
-        color="tab:red",
-        ms=12,
-        mew=2.5,
-        label=f"X: $M_{{n+1}} = M_n + P_1 = {s.start} + {s.offset} = {s.M}$",
-    )
+    _mark_x(ax, 1, s.offset, f"X: $M_{{n+1}} = M_n + P_1 = {s.start} + {s.offset} = {s.M}$")
     via = tuple(int(v) for v in P[1])
     ax.set_title(
         f"Method B ($w$ = {s.D.shape[1] - 1}), target frame {s.q}: path leaves (0,0) via "
@@ -382,15 +379,7 @@ def plot_method_c_window(s: WindowSnapshot, ax=None, annotate=True):
         annotate=annotate,
     )
     nr, nc = D.shape
-    ax.plot(
-        [0],
-        [s.offset],
-        "x",
-        color="tab:red",
-        ms=12,
-        mew=2.5,
-        label=f"X: argmin of column 0, $M_{{n+1}} = {s.start} + {s.offset} = {s.M}$",
-    )
+    _mark_x(ax, 0, s.offset, f"X: argmin of column 0, $M_{{n+1}} = {s.start} + {s.offset} = {s.M}$")
     ax.annotate(
         "accumulation\nstarts here",
         (nc - 1, nr - 1),

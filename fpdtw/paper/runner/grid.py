@@ -13,6 +13,8 @@ Notebook: 05_run_experiments.ipynb
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 from fpdtw import registry
 from fpdtw.paper.numbers import PAPER_NAMES, WINDOWS
 from fpdtw.paper.runner.results import BASE_FPS, LOW_FPS, RATE_SUFFIX
@@ -58,7 +60,7 @@ def _study_algorithms() -> tuple:
                 names += [method_c_name(w, reading, typev) + rate for w in WINDOWS]
     names += [n for n in PAPER_NAMES if n.startswith(("Ma", "Mb"))]
     for choice in SILENT_CHOICES.values():
-        if choice["option"] is not None:
+        if choice.option is not None:
             names += [choice_variant(n, choice) for n in choice_targets(choice)]
     out = []
     for n in names:  # keep the first of any duplicate
@@ -67,61 +69,64 @@ def _study_algorithms() -> tuple:
     return tuple(out)
 
 
-#: The paper's silent choices (notebook 15: how much does each move a result?). Per
-#: choice: ``ours`` and ``alternative`` in words; ``option`` (the aligner option and its
-#: alternative value, for choices that change the maps) or None (choices of the
-#: metrics, recomputed from the stored maps); ``methods`` it touches.
+class SilentChoice(NamedTuple):
+    """A choice the paper leaves open (notebook 15 measures how much each moves a result)."""
+
+    #: What we do, in words.
+    ours: str
+    #: The other reading, in words.
+    alternative: str
+    #: ``(aligner option, alternative value)`` for choices that change the maps; None for
+    #: choices of the metrics (recomputed from the stored maps).
+    option: tuple | None
+    #: The methods it touches (letters of A, B, C).
+    methods: str
+
+
+#: The paper's silent choices, by key.
 SILENT_CHOICES = {
-    "ties": {
-        "ours": "ties go to the lowest offset (Methods A, C)",
-        "alternative": "ties go to the highest offset",
-        "option": ("ties", "high"),
-        "methods": "AC",
-    },
-    "backtrack": {
-        "ours": "Method B's back-track prefers the diagonal, then the target step",
-        "alternative": "the diagonal, then the input step",
-        "option": ("backtrack", "input-first"),
-        "methods": "B",
-    },
-    "forecast": {
-        "ours": "dead reckoning in Euler angles (the paper)",
-        "alternative": "zero-order hold: every forecast frame is T_{n+1}",
-        "option": ("forecast", "hold"),
-        "methods": "BC",
-    },
-    "forecast_start": {
-        "ours": "Method C's forecast window starts with T_{n+1} itself",
-        "alternative": "it starts with the first prediction T^_{n+2}",
-        "option": ("forecast_start", "next"),
-        "methods": "C",
-    },
-    "start": {
-        "ours": "M_0 = 0 (both motions start together)",
-        "alternative": "M_0 = the best match of T_0 among I_0..I_w",
-        "option": ("start", "best"),
-        "methods": "ABC",
-    },
-    "deviation_frames": {
-        "ours": "eq. 3 averages over all n + 1 target frames",
-        "alternative": "over the n frames q = 1..n, as printed",
-        "option": None,
-        "methods": "ABC",
-    },
-    "flat_axis": {
-        "ours": "eq. 2: an axis flat in only one motion scores 0",
-        "alternative": "such an axis is left out of the average",
-        "option": None,
-        "methods": "ABC",
-    },
-    "after_input": {
-        "ours": "once the input is exhausted the map holds at m (forced, even under "
-        "Type V), and those frames are scored",
-        "alternative": "frames after the first frame mapped to m are not scored",
-        "option": None,
-        "methods": "ABC",
-    },
-}
+    "ties": SilentChoice(
+        "ties go to the lowest offset (Methods A, C)",
+        "ties go to the highest offset",
+        ("ties", "high"), "AC",
+    ),
+    "backtrack": SilentChoice(
+        "Method B's back-track prefers the diagonal, then the target step",
+        "the diagonal, then the input step",
+        ("backtrack", "input-first"), "B",
+    ),
+    "forecast": SilentChoice(
+        "dead reckoning in Euler angles (the paper)",
+        "zero-order hold: every forecast frame is T_{n+1}",
+        ("forecast", "hold"), "BC",
+    ),
+    "forecast_start": SilentChoice(
+        "Method C's forecast window starts with T_{n+1} itself",
+        "it starts with the first prediction T^_{n+2}",
+        ("forecast_start", "next"), "C",
+    ),
+    "start": SilentChoice(
+        "M_0 = 0 (both motions start together)",
+        "M_0 = the best match of T_0 among I_0..I_w",
+        ("start", "best"), "ABC",
+    ),
+    "deviation_frames": SilentChoice(
+        "eq. 3 averages over all n + 1 target frames",
+        "over the n frames q = 1..n, as printed",
+        None, "ABC",
+    ),
+    "flat_axis": SilentChoice(
+        "eq. 2: an axis flat in only one motion scores 0",
+        "such an axis is left out of the average",
+        None, "ABC",
+    ),
+    "after_input": SilentChoice(
+        "once the input is exhausted the map holds at m (forced, even under Type V), "
+        "and those frames are scored",
+        "frames after the first frame mapped to m are not scored",
+        None, "ABC",
+    ),
+}  # fmt: skip
 
 #: Per method, the headline algorithms a silent choice is measured on (those of the
 #: paper's claims, at both ends of the window range).
@@ -132,21 +137,21 @@ CHOICE_TARGETS = {
 }
 
 
-def choice_targets(choice: dict) -> list:
+def choice_targets(choice: SilentChoice) -> list:
     """The algorithms of :data:`CHOICE_TARGETS` a silent choice touches.
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
-    return [n for method in choice["methods"] for n in CHOICE_TARGETS[method]]
+    return [n for method in choice.methods for n in CHOICE_TARGETS[method]]
 
 
-def choice_variant(name: str, choice: dict) -> str:
+def choice_variant(name: str, choice: SilentChoice) -> str:
     """``name`` with the choice's alternative option: ``"Mc w40"`` -> ``"Mc w40 (ties high)"``.
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
     a = registry.resolve(name)
-    key, value = choice["option"]
+    key, value = choice.option
     return registry.name(a.entry.key, a.value, a.typev, **{**a.options, key: value})
 
 
@@ -176,6 +181,7 @@ __all__ = [
     "MC_LITERAL_NAMES",
     "MODE_ALGORITHMS",
     "SILENT_CHOICES",
+    "SilentChoice",
     "STUDY_ALGORITHMS",
     "TABLE1_60HZ_NAMES",
     "choice_targets",
