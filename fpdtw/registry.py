@@ -11,14 +11,19 @@ The experiment runner, the command line, the benchmark and the figures all ask t
 module: :func:`resolve` a name into an :class:`Algorithm`, :func:`make_online` its
 streaming aligner, :func:`align` a pair.
 
-Adding an aligner: write its :class:`~fpdtw.online.base.OnlineAligner` subclass and add
-one :class:`Entry` line to :data:`ENTRIES`.
+Adding an aligner: write its :class:`~fpdtw.online.base.OnlineAligner` subclass (in any
+module) and add one :class:`Entry` line to :data:`ENTRIES` naming it, e.g.
+``Entry("OLTW", "OLTW", "oltw", True, online("fpdtw.online.oltw:OLTW"), "c", 120)``:
+the runner, the command line (``--method oltw``), the benchmark and the figures then
+know it by name.
 
 Notebook: 05_run_experiments.ipynb
 """
 
 from __future__ import annotations
 
+import importlib
+import inspect
 import re
 from dataclasses import dataclass, field
 
@@ -43,39 +48,39 @@ def _utw(I: MotionFeatures, T: MotionFeatures):
     return utw_map(I.n_frames - 1, T.n_frames - 1)
 
 
-def _oedtw(I, **_):
-    from fpdtw.online import OEDTW
-
-    return OEDTW(I)
-
-
-def _opw(I, **_):
-    from fpdtw.online import OPW
-
-    return OPW(I)
+def _import(target: str):
+    """``"fpdtw.online.oltw:OLTW"`` -> the class (imported when first needed)."""
+    module, _, attr = target.partition(":")
+    return getattr(importlib.import_module(module), attr)
 
 
-def _oltw(I, value, **_):
-    from fpdtw.online import OLTW
+def online(target: str):
+    """Builder of an online aligner class given as ``"module:Class"``.
 
-    return OLTW(I, value)
+    The class is called ``Class(I)``, or ``Class(I, value)`` when the name carries a
+    parameter (``"OLTW c60"``: 60).
+    """
 
+    def build(I, value=None, **_):
+        cls = _import(target)
+        return cls(I) if value is None else cls(I, value)
 
-def _window_method(letter):
-    def build(I, value, typev=False, options=None, cache=None, record=False):
-        cls = _fpdtw_class(letter)
-        opts = dict(options or {})
-        if letter != "A":
-            opts["cache"] = cache
-        return cls(I, value, constraint="typeV" if typev else None, record=record, **opts)
-
+    build.target, build.window = target, False
     return build
 
 
-def _fpdtw_class(letter: str):
-    from fpdtw.online import MethodA, MethodB, MethodC
+def window_method(target: str):
+    """Builder of an FP-DTW window method (``Class(I, w, constraint=..., **options)``)."""
 
-    return {"A": MethodA, "B": MethodB, "C": MethodC}[letter]
+    def build(I, value, typev=False, options=None, cache=None, record=False):
+        cls = _import(target)
+        opts = dict(options or {})
+        if "cache" in inspect.signature(cls).parameters:
+            opts["cache"] = cache
+        return cls(I, value, constraint="typeV" if typev else None, record=record, **opts)
+
+    build.target, build.window = target, True
+    return build
 
 
 @dataclass(frozen=True)
@@ -115,6 +120,17 @@ class Entry:
     typev: bool = False
     about: str = ""
 
+    @property
+    def window_method(self) -> bool:
+        """An FP-DTW window method (options in names, a window cache, snapshots)."""
+        return getattr(self.build, "window", False)
+
+    @property
+    def aligner_class(self):
+        """The online aligner's class (None for an offline algorithm)."""
+        target = getattr(self.build, "target", None)
+        return None if target is None else _import(target)
+
 
 #: Every algorithm family, in the order of the papers' figures and the command line.
 ENTRIES = (
@@ -122,17 +138,17 @@ ENTRIES = (
           about="offline DTW over the whole motions (the reference the papers compare with)"),
     Entry("UTW", "UTW", "utw", False, _utw,
           about="uniform time warping: stretch the input linearly (offline)"),
-    Entry("OE-DTW", "OE", "oe-dtw", True, _oedtw,
+    Entry("OE-DTW", "OE", "oe-dtw", True, online("fpdtw.online.oedtw:OEDTW"),
           about="open-end DTW, online (its answer can jump backwards)"),
-    Entry("Ma", "A", "a", True, _window_method("A"), "w", 2, True,
+    Entry("Ma", "A", "a", True, window_method("fpdtw.online.method_a:MethodA"), "w", 2, True,
           "FP-DTW Method A: greedy window of 2 frames (online)"),
-    Entry("Mb", "B", "b", True, _window_method("B"), "w", None, True,
+    Entry("Mb", "B", "b", True, window_method("fpdtw.online.method_b:MethodB"), "w", None, True,
           "FP-DTW Method B: forecast window, forward DTW path (online; --window)"),
-    Entry("Mc", "C", "c", True, _window_method("C"), "w", None, True,
+    Entry("Mc", "C", "c", True, window_method("fpdtw.online.method_c:MethodC"), "w", None, True,
           "FP-DTW Method C: forecast window, reverse accumulation (online; --window)"),
-    Entry("OPW", "OPW", "opw", True, _opw,
+    Entry("OPW", "OPW", "opw", True, online("fpdtw.online.opw:OPW"),
           about="On-line Predictive Warping (the OPW poster; online, joint positions)"),
-    Entry("OLTW", "OLTW", "oltw", True, _oltw, "c", 120,
+    Entry("OLTW", "OLTW", "oltw", True, online("fpdtw.online.oltw:OLTW"), "c", 120,
           about="Dixon's on-line time warping (DAFx 2005; online; --window = search width c)"),
 )  # fmt: skip
 
@@ -188,9 +204,7 @@ class Algorithm:
         if not self.online:
             raise AlignmentError(f"{self.name!r} is offline: it has no streaming aligner")
         kw = dict(value=self.value, typev=self.typev, options=self.options)
-        if self.family in ("A", "B", "C"):
-            kw.update(cache=cache, record=record)
-        return self.entry.build(I, **kw)
+        return self.entry.build(I, cache=cache, record=record, **kw)
 
     def run(self, I: MotionFeatures, T: MotionFeatures):
         """``(M, seconds)``: the map of the pair and, online, the time of each step."""
@@ -203,9 +217,9 @@ class Algorithm:
 
 
 def _options(entry: Entry, text: str, name: str) -> dict:
-    if entry.family not in ("A", "B", "C"):
+    if not entry.window_method:
         raise AlignmentError(f"{name!r}: {entry.key} has no options")
-    table = _fpdtw_class(entry.family).options
+    table = entry.aligner_class.options
     by_label = {lab: (key, val) for key, (_, vals) in table.items() for val, lab in vals.items()}
     out = {}
     for label in (x.strip() for x in text.split(",")):
@@ -268,9 +282,9 @@ def name(key: str, value=None, typev: bool = False, **options) -> str:
     entry = _BY_KEY.get(key)
     if entry is None:
         raise AlignmentError(f"unknown algorithm {key!r}")
-    if entry.family in ("A", "B", "C"):
+    if entry.window_method:
         w = entry.default if value is None else value
-        return _fpdtw_class(entry.family).name_for(w, typev, **options)
+        return entry.aligner_class.name_for(w, typev, **options)
     if typev or options:
         raise AlignmentError(f"{key} takes neither Type V nor options")
     if entry.param and value is not None and value != entry.default:

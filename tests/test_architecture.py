@@ -7,9 +7,12 @@ import ast
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from fpdtw import registry
+from fpdtw.costs import geodesic_cost_matrix_numpy
+from fpdtw.online.base import OnlineAligner
 from fpdtw.paper import figure_map
 from fpdtw.paper.paths import REPO_ROOT
 
@@ -76,6 +79,55 @@ def test_the_registry_names_every_method_of_the_command_line():
     ):
         with pytest.raises(Exception, match=r"\S"):
             registry.resolve(bad)
+
+
+class Greedy(OnlineAligner):
+    """A toy aligner for the test below: the best of the ``k + 1`` input frames from the
+    last one matched (Method A with any window, without its Type V or options)."""
+
+    name = "Greedy"
+    history = 0
+
+    def __init__(self, I, k=1):
+        self.k = int(k)
+        super().__init__(I)
+
+    def _step(self, q):
+        start = 0 if q == 0 else int(self.M[q - 1])
+        rows = self.I.quats[start : start + self.k + 1]
+        return start + int(np.argmin(geodesic_cost_matrix_numpy(rows, self.T_quats[q : q + 1])))
+
+
+def test_adding_an_aligner_is_one_class_and_one_entry(monkeypatch):
+    """The README's promise, walked through: the class above plus this one Entry line
+    (in ENTRIES) make "Greedy k3" a name the registry resolves, builds, runs and the
+    benchmark times."""
+    from reference.synthetic import synthetic_pair
+
+    from fpdtw.paper.bench import bench_online
+
+    entry = registry.Entry(
+        "Greedy", "G", "greedy", True, registry.online("test_architecture:Greedy"), "k", 1
+    )
+    monkeypatch.setattr(registry, "ENTRIES", (*registry.ENTRIES, entry))
+    monkeypatch.setitem(registry._BY_KEY, "Greedy", entry)
+
+    I, T, _ = synthetic_pair(120)
+    a = registry.resolve("Greedy k3")
+    assert (a.entry, a.value, a.online) == (entry, 3, True)
+    assert registry.name("Greedy", 3) == "Greedy k3" and registry.name("Greedy") == "Greedy"
+    assert isinstance(registry.make_online("Greedy k3", I), Greedy)
+    M, seconds = registry.align("Greedy k3", I, T)
+    assert M.shape == seconds.shape == (T.n_frames,)
+    assert M[0] == 0 and np.all(np.diff(M) >= 0) and np.all(np.diff(M) <= 3)
+    # k = 2 is Method A's window: the same map (Greedy breaks ties the same way)
+    np.testing.assert_array_equal(
+        registry.align("Greedy k2", I, T)[0], registry.align("Ma", I, T)[0]
+    )
+    (row,) = bench_online([(I, T)], names=["Greedy k3"])
+    assert row["frames"] == T.n_frames and row["median_s"] > 0
+    with pytest.raises(Exception, match="Type V"):
+        registry.resolve("Greedy k3 + Type V")
 
 
 def test_every_notebook_is_in_the_figure_map():

@@ -400,7 +400,7 @@ def _algorithm_name(args) -> str:
     """The registry name of the method and options on the command line ("Mc w40 + Type V")."""
     entry = registry.by_cli(args.method)
     value = args.window or WINDOW_DEFAULTS.get(args.method)
-    if entry.family in ("A", "B", "C"):
+    if entry.typev:
         return registry.name(entry.key, value, bool(args.constraint))
     return registry.name(entry.key, value if entry.param else None)
 
