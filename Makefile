@@ -147,7 +147,11 @@ build/notebooks/09_table2_timing.ipynb: results/bench.json
 
 # every notebook is executed by papermill into build/notebooks (sources never edited
 # in place), with an explicit kernel and the notebooks folder as working directory
-figures: $(EXECUTED)
+figures: $(EXECUTED) figures/ENVIRONMENT.md
+
+# what made the figures: package versions, Python, commit, CPU (fpdtw.paper.provenance)
+figures/ENVIRONMENT.md: $(EXECUTED)
+	$(PY) -m fpdtw.paper.provenance --markdown $@
 
 build/notebooks/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(LIB_SRC)
 	mkdir -p $(dir $@)

@@ -17,11 +17,11 @@ from __future__ import annotations
 
 import json
 import os
-import platform
 import time
 
 import numpy as np
 
+from fpdtw.paper import provenance
 from fpdtw.paper.numbers import TABLE2_US
 
 #: Issue targets on one core of this machine (microseconds per frame, median).
@@ -161,16 +161,6 @@ def dtw_throughput(C, repeats=5):
     return {"cells": int(C.size), "median_s": med, "cells_per_s": C.size / med}
 
 
-def _cpu_name() -> str:
-    try:
-        for line in open("/proc/cpuinfo"):
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
-
-
 def load_bench_pairs(seconds=None):
     """The real (input, target) feature pairs of :data:`BENCH_PAIRS` (fetched, verified).
 
@@ -248,8 +238,9 @@ def run_benchmark(pairs=None, out=None, single_core=True):
     Returns
     -------
     report : dict
-        ``machine``, ``pairs``, ``online`` (rows of :func:`bench_online`), ``oe_dtw``
-        (OE-DTW against a 1000-frame input) and ``dtw`` (offline throughput).
+        ``environment`` (:func:`fpdtw.paper.provenance.environment`), ``single_core``,
+        ``pairs``, ``online`` (rows of :func:`bench_online`), ``oe_dtw`` (OE-DTW against
+        a 1000-frame input) and ``dtw`` (offline throughput).
 
     Paper: FP-DTW Table 2.
     Notebook: 09_table2_timing.ipynb
@@ -276,13 +267,8 @@ def run_benchmark(pairs=None, out=None, single_core=True):
     C = geodesic_cost_matrix(I_big.quats, T_big.quats)
     offline = dtw_throughput(C)
     report = {
-        "machine": {
-            "cpu": _cpu_name(),
-            "python": platform.python_version(),
-            "numba": __import__("numba").__version__,
-            "numpy": np.__version__,
-            "single_core": bool(single_core),
-        },
+        "environment": provenance.environment(),
+        "single_core": bool(single_core),
         "pairs": [f"{I.name} -> {T.name} ({I.n_frames} x {T.n_frames})" for I, T in pairs],
         "online": online,
         "oe_dtw": oe,
@@ -321,7 +307,8 @@ def main(argv=None) -> None:
     args = ap.parse_args(argv)
     report = run_benchmark(single_core=not args.all_cores)
     print("pairs:", *report["pairs"], sep="\n  ")
-    print(f"cpu: {report['machine']['cpu']}")
+    cpu = report["environment"]["cpu"]
+    print(f"cpu: {cpu['model']} ({', '.join(cpu['simd'])}); {provenance.versions_line()}")
     print()
     print(format_bench(report["online"] + report["oe_dtw"]))
     print()

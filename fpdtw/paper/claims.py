@@ -695,8 +695,13 @@ def save_claims(rows, mode="full"):
     """
     from fpdtw.paper.figures.tables import save_table
     from fpdtw.paper.paths import results_dir
+    from fpdtw.paper.provenance import versions_line
 
-    out = list(save_table(rows, "claims", columns=COLUMNS))
+    note = (
+        f"Computed with {versions_line()}. The commit and the machine that made these "
+        "figures: ENVIRONMENT.md."
+    )
+    out = list(save_table(rows, "claims", columns=COLUMNS, note=note))
     path = results_dir() / mode / "claims.json"
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(".json.part")

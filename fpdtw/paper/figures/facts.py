@@ -2,9 +2,11 @@
 
 Every figure notebook records the facts it shows (counts, chosen steps, rounded scores)
 in ``results_dir()/<mode>/figs/<notebook>.json``, ``mode`` = ``"smoke"`` or ``"full"``;
-the claims notebook and the tests read them back. Content is deterministic: keys are
+the claims notebook and the tests read them back. Content is deterministic (keys are
 sorted, numpy scalars and arrays become plain JSON numbers and lists, floats are written
-with 6 significant digits; the file is replaced atomically.
+with 6 significant digits; the file is replaced atomically) except the one key
+``"environment"``, which records what computed them
+(:func:`fpdtw.paper.provenance.environment`: versions, commit, CPU).
 """
 
 from __future__ import annotations
@@ -76,9 +78,12 @@ def save_facts(notebook: str, facts: dict, smoke: bool) -> Path:
     Notebook: 02_fig1_oedtw.ipynb, 03_fig2_fig4_windows.ipynb, 04_fig3_forecast.ipynb,
     10_fig8_walk_pair.ipynb, 11_fig9_typev.ipynb
     """
+    from fpdtw.paper.provenance import environment
+
     path = facts_path(notebook, smoke)
     path.parent.mkdir(parents=True, exist_ok=True)
-    text = json.dumps(_plain(facts), indent=1, sort_keys=True) + "\n"
+    record = {**_plain(facts), "environment": environment()}
+    text = json.dumps(record, indent=1, sort_keys=True) + "\n"
     tmp = path.with_suffix(".json.part")
     tmp.write_text(text)
     os.replace(tmp, path)

@@ -25,7 +25,9 @@ def to_markdown(rows: list[dict], columns=None, floatfmt=".3f") -> str:
     return "\n".join(lines) + "\n"
 
 
-def save_table(rows: list[dict], name: str, folder=None, columns=None, floatfmt=".3f"):
+def save_table(
+    rows: list[dict], name: str, folder=None, columns=None, floatfmt=".3f", note: str = ""
+):
     """Write ``<name>.csv`` and ``<name>.md`` atomically.
 
     Parameters
@@ -38,6 +40,8 @@ def save_table(rows: list[dict], name: str, folder=None, columns=None, floatfmt=
         Default :func:`fpdtw.paper.paths.figures_dir`.
     columns : sequence of str, optional
         Column order (default: keys of the first row).
+    note : str, optional
+        A paragraph put under the Markdown table.
 
     Returns
     -------
@@ -53,7 +57,8 @@ def save_table(rows: list[dict], name: str, folder=None, columns=None, floatfmt=
     for r in rows:
         w.writerow({c: _fmt(r.get(c), ".6g") for c in columns})
     out = []
-    for ext, text in (("csv", buf.getvalue()), ("md", to_markdown(rows, columns, floatfmt))):
+    md = to_markdown(rows, columns, floatfmt) + (f"\n{note}\n" if note else "")
+    for ext, text in (("csv", buf.getvalue()), ("md", md)):
         path = folder / f"{name}.{ext}"
         tmp = path.with_suffix(f".{ext}.part")
         tmp.write_text(text)

@@ -26,7 +26,9 @@ byte the same for the same arrays)
     ``{"benchmarks": {...}, "algorithms": {name: {...}}}`` (see :func:`summarize`).
     Deterministic.
 ``run.json``
-    The keys, what was computed, start and end time, wall time, n_jobs, the machine.
+    The keys, what was computed, start and end time, wall time, n_jobs, and the
+    environment (package versions, Python, the package's commit, the CPU:
+    :func:`fpdtw.paper.provenance.environment`).
 ``features/``, ``chunks/``
     Caches: the features of every motion (keyed by the data file's sha256, the crop
     and the library's source) and one file per work unit (one input motion against
@@ -61,8 +63,6 @@ import datetime as _dt
 import functools
 import hashlib
 import json
-import os
-import platform
 import shutil
 import sys
 import time
@@ -78,7 +78,7 @@ from fpdtw.metrics import deviation, joint_trajectories, trajectory_scores
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.motion.joints import OPW_JOINTS
 from fpdtw.online.window import WindowCache, run_group
-from fpdtw.paper import catalog, numbers
+from fpdtw.paper import catalog, numbers, provenance
 from fpdtw.paper.paths import results_dir
 from fpdtw.paper.runner.grid import (
     DEFAULT_ALGORITHMS,
@@ -572,16 +572,6 @@ def summarize(results: Results) -> dict:
 # -- the run -----------------------------------------------------------------------------------
 
 
-def _cpu_name() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or platform.machine()
-
-
 def _now() -> str:
     return _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
 
@@ -775,7 +765,6 @@ def run_experiments(
     results = Results(out, algorithms=info)
     summary = summarize(results)
     save_json(out / "summary.json", summary)
-    import numba
 
     run = {
         "config_key": config_key,
@@ -797,13 +786,7 @@ def run_experiments(
         "end": _now(),
         "wall_seconds": round(time.perf_counter() - t_start, 3),
         "n_jobs": n_jobs,
-        "machine": {
-            "cpu": _cpu_name(),
-            "n_cpus": os.cpu_count(),
-            "python": platform.python_version(),
-            "numpy": np.__version__,
-            "numba": numba.__version__,
-        },
+        "environment": provenance.environment(),
     }
     save_json(runf, run)
     say(f"done in {run['wall_seconds']:.1f} s ({runs} pair x algorithm runs)")

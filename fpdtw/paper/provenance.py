@@ -1,0 +1,203 @@
+"""What made a result: package versions, Python, the package's git commit, the machine.
+
+Every experiment run (``results/<mode>/run.json``), the benchmark
+(``results/bench.json``), every figure notebook's facts and ``figures/ENVIRONMENT.md``
+(written by ``make figures``) carry :func:`environment`, so a reader can see exactly
+which versions computed them. Figures and the claims table themselves stay byte-stable:
+they carry no commit and no machine.
+
+Run ``python -m fpdtw.paper.provenance [--markdown OUT]`` to print the record.
+
+Notebook: 12_claims.ipynb
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+from importlib import metadata
+from pathlib import Path
+
+from fpdtw.paper.paths import REPO_ROOT
+
+#: The distributions whose versions can change a number we report (those that compute:
+#: arrays, compiled kernels, the FBX reader, the reference DTW) and those that draw.
+COMPUTE_PACKAGES = ("numpy", "scipy", "numba", "llvmlite", "pufbx", "dtw-python")
+DRAW_PACKAGES = ("matplotlib", "seaborn", "jupyterlab", "papermill", "nbval")
+#: CPU flags that decide which SIMD code numba/LLVM emits.
+SIMD_FLAGS = ("sse4_2", "avx", "avx2", "fma", "avx512f", "avx512bw", "avx512vl")
+
+
+def package_versions(names=COMPUTE_PACKAGES + DRAW_PACKAGES) -> dict:
+    """``{distribution: version}`` of the installed distributions (None: not installed)."""
+    out = {}
+    for n in names:
+        try:
+            out[n] = metadata.version(n)
+        except metadata.PackageNotFoundError:
+            out[n] = None
+    return out
+
+
+def git_commit(root: Path = REPO_ROOT) -> dict:
+    """``{"commit": sha or None, "dirty": bool or None}`` of the source checkout.
+
+    None where the package does not run from a git checkout (an installed wheel) or git
+    is missing.
+    """
+    try:
+        sha = subprocess.run(
+            ["git", "-C", str(root), "rev-parse", "HEAD"],
+            capture_output=True, text=True, timeout=10, check=True,
+        ).stdout.strip()  # fmt: skip
+        status = subprocess.run(
+            ["git", "-C", str(root), "status", "--porcelain", "--untracked-files=no"],
+            capture_output=True, text=True, timeout=10, check=True,
+        ).stdout  # fmt: skip
+    except (OSError, subprocess.SubprocessError):
+        return {"commit": None, "dirty": None}
+    return {"commit": sha, "dirty": bool(status.strip())}
+
+
+def cpu_info() -> dict:
+    """The CPU: ``model``, ``cores`` (logical, as the OS reports), ``simd`` (the flags of
+    :data:`SIMD_FLAGS` it has), ``mhz`` (current clock of core 0 where readable, else
+    None), ``machine`` (e.g. ``x86_64``)."""
+    model, flags, mhz = platform.processor() or None, set(), None
+    try:
+        text = Path("/proc/cpuinfo").read_text()
+    except OSError:
+        text = ""
+    for line in text.splitlines():
+        key, _, value = line.partition(":")
+        key = key.strip()
+        if key == "model name" and (model is None or model == platform.machine()):
+            model = value.strip()
+        elif key == "flags" and not flags:
+            flags = set(value.split())
+        elif key == "cpu MHz" and mhz is None:
+            try:
+                mhz = round(float(value), 0)
+            except ValueError:
+                pass
+    return {
+        "model": model,
+        "cores": os.cpu_count(),
+        "simd": [f for f in SIMD_FLAGS if f in flags],
+        "mhz": mhz,
+        "machine": platform.machine(),
+    }
+
+
+def environment(machine: bool = True) -> dict:
+    """The whole record: ``python``, ``platform``, ``fpdtw`` (version, commit, dirty),
+    ``packages`` (:func:`package_versions`) and, with ``machine``, ``cpu``
+    (:func:`cpu_info`).
+
+    Notebook: 12_claims.ipynb
+    """
+    from fpdtw import __version__
+
+    env = {
+        "python": platform.python_version(),
+        "implementation": platform.python_implementation(),
+        "platform": f"{platform.system()} {platform.machine()}",
+        "fpdtw": {"version": __version__, **git_commit()},
+        "packages": package_versions(),
+    }
+    if machine:
+        env["cpu"] = cpu_info()
+    return env
+
+
+def versions_line(env: dict | None = None) -> str:
+    """One line of the computing packages' versions (no commit, no machine), stable while
+    the lock file is: ``"Python 3.11.2; numpy 2.1.3, scipy ..."``."""
+    env = env or environment(machine=False)
+    pk = env["packages"]
+    names = [n for n in COMPUTE_PACKAGES if pk.get(n)]
+    return f"Python {env['python']}; " + ", ".join(f"{n} {pk[n]}" for n in names)
+
+
+def environment_markdown(env: dict | None = None, results: dict | None = None) -> str:
+    """``figures/ENVIRONMENT.md``: what made the figures, as a Markdown page.
+
+    Parameters
+    ----------
+    env : dict, optional
+        From :func:`environment` (default: now).
+    results : dict, optional
+        ``{label: environment dict}`` of the experiment runs the figures read (from
+        their ``run.json``), listed when they differ from ``env``.
+    """
+    env = env or environment()
+    fp = env["fpdtw"]
+    commit = fp["commit"] or "unknown (not a git checkout)"
+    if fp["dirty"]:
+        commit += " with uncommitted changes"
+    cpu = env.get("cpu") or {}
+    lines = [
+        "# The environment that made these figures",
+        "",
+        "Written by `make figures` (`python -m fpdtw.paper.provenance --markdown`). The",
+        "figures and tables are byte-stable for a given set of package versions; this page",
+        "also names the commit and the machine, which change only timings.",
+        "",
+        f"- fpdtw {fp['version']}, commit {commit}",
+        f"- Python {env['python']} ({env['implementation']}), {env['platform']}",
+    ]
+    if cpu:
+        simd = ", ".join(cpu["simd"]) or "none of " + ", ".join(SIMD_FLAGS)
+        mhz = f", {cpu['mhz']:.0f} MHz" if cpu.get("mhz") else ""
+        lines.append(f"- CPU: {cpu['model']}, {cpu['cores']} logical cores{mhz}; SIMD: {simd}")
+    lines += ["", "| package | version | role |", "|---|---|---|"]
+    for n, v in env["packages"].items():
+        role = "computes results" if n in COMPUTE_PACKAGES else "draws / runs notebooks"
+        lines.append(f"| {n} | {v or 'not installed'} | {role} |")
+    for label, other in (results or {}).items():
+        if other.get("packages") != env["packages"] or other.get("python") != env["python"]:
+            lines += ["", f"**{label}** was computed with different versions:", ""]
+            lines.append("    " + versions_line(other))
+    lines.append("")
+    return "\n".join(lines)
+
+
+def write_json(path: Path, env: dict | None = None) -> Path:
+    """Write :func:`environment` to ``path`` as JSON (atomically)."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(json.dumps(env or environment(), indent=1, sort_keys=True) + "\n")
+    os.replace(tmp, path)
+    return path
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m fpdtw.paper.provenance", description=__doc__)
+    ap.add_argument("--markdown", metavar="OUT", help="write the Markdown page to OUT")
+    args = ap.parse_args(argv)
+    if args.markdown:
+        from fpdtw.paper.paths import results_dir
+
+        runs = {}
+        for mode in ("full", "study", "smoke", "smoke-study"):
+            f = results_dir() / mode / "run.json"
+            env = json.loads(f.read_text()).get("environment") if f.is_file() else None
+            if env:
+                runs[f"results/{mode}"] = env
+        out = Path(args.markdown)
+        tmp = out.with_name(out.name + ".tmp")
+        tmp.write_text(environment_markdown(results=runs))
+        os.replace(tmp, out)
+        print(f"wrote {out}")
+    else:
+        print(json.dumps(environment(), indent=1, sort_keys=True))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

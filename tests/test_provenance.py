@@ -1,0 +1,62 @@
+"""What made a result: the environment record carried by runs, the bench, facts, figures."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numba
+import numpy as np
+import scipy
+
+from fpdtw.paper import provenance
+from fpdtw.paper.paths import REPO_ROOT
+
+
+def test_the_record_names_the_versions_that_compute():
+    env = provenance.environment()
+    pk = env["packages"]
+    assert (pk["numpy"], pk["scipy"], pk["numba"]) == (
+        np.__version__,
+        scipy.__version__,
+        numba.__version__,
+    )
+    assert pk["llvmlite"] and pk["pufbx"] == "0.1.0"
+    assert env["python"] == ".".join(map(str, sys.version_info[:3]))
+    head = subprocess.run(
+        ["git", "-C", str(REPO_ROOT), "rev-parse", "HEAD"], capture_output=True, text=True
+    ).stdout.strip()
+    if head:  # a git checkout (always, in this repository's test runs)
+        assert env["fpdtw"]["commit"] == head and isinstance(env["fpdtw"]["dirty"], bool)
+    cpu = env["cpu"]
+    assert cpu["cores"] >= 1 and set(cpu["simd"]) <= set(provenance.SIMD_FLAGS)
+    flags = open("/proc/cpuinfo").read() if sys.platform == "linux" else ""
+    assert ("avx2" in cpu["simd"]) == (" avx2" in flags)
+
+
+def test_versions_line_and_markdown_page():
+    env = provenance.environment()
+    line = provenance.versions_line(env)
+    assert line.startswith(f"Python {env['python']}; numpy {np.__version__}")
+    assert "commit" not in line  # stable across commits: it goes into claims.md
+    other = json.loads(json.dumps(env))
+    other["packages"]["numpy"] = "1.0.0"
+    md = provenance.environment_markdown(env, {"results/full": other, "results/same": env})
+    assert md.startswith("# The environment that made these figures")
+    assert f"| numba | {numba.__version__} | computes results |" in md
+    assert "**results/full** was computed with different versions" in md
+    assert "numpy 1.0.0" in md and "results/same" not in md
+
+
+def test_command_line_writes_the_page(tmp_path, monkeypatch):
+    monkeypatch.setenv("FPDTW_RESULTS_DIR", str(tmp_path / "results"))
+    run = tmp_path / "results" / "full" / "run.json"
+    run.parent.mkdir(parents=True)
+    env = provenance.environment()
+    env["packages"]["scipy"] = "0.1"
+    run.write_text(json.dumps({"environment": env}))
+    out = tmp_path / "ENVIRONMENT.md"
+    assert provenance.main(["--markdown", str(out)]) == 0
+    text = out.read_text()
+    assert "commit" in text and "**results/full** was computed with different versions" in text
