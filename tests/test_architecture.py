@@ -130,6 +130,33 @@ def test_adding_an_aligner_is_one_class_and_one_entry(monkeypatch):
         registry.resolve("Greedy k3 + Type V")
 
 
+def test_every_name_a_notebook_imports_from_fpdtw_exists():
+    """Catches a notebook left behind by a move of modules, without running it."""
+    import importlib
+
+    missing = []
+    for path in sorted((REPO_ROOT / "notebooks").glob("*.ipynb")):
+        for cell in json.loads(path.read_text())["cells"]:
+            if cell["cell_type"] != "code":
+                continue
+            src = "".join(cell["source"])
+            src = "\n".join(x for x in src.splitlines() if not x.lstrip().startswith(("%", "!")))
+            for node in ast.walk(ast.parse(src)):
+                if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("fpdtw"):
+                    mod = importlib.import_module(node.module)
+                    missing += [
+                        f"{path.name}: {node.module}.{a.name}"
+                        for a in node.names
+                        if not hasattr(mod, a.name)
+                        and importlib.util.find_spec(f"{node.module}.{a.name}") is None
+                    ]
+                elif isinstance(node, ast.Import):
+                    for a in node.names:
+                        if a.name.startswith("fpdtw"):
+                            importlib.import_module(a.name)
+    assert not missing, missing
+
+
 def test_every_notebook_is_in_the_figure_map():
     on_disk = sorted(p.stem for p in (REPO_ROOT / "notebooks").glob("[0-9]*.ipynb"))
     assert sorted(figure_map.by_stem()) == on_disk
