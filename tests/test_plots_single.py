@@ -415,8 +415,10 @@ def test_save_facts_roundtrip_and_deterministic(tmp_path, monkeypatch):
     first = p.read_bytes()
     pf.save_facts("99_test", facts, smoke=True)
     assert p.read_bytes() == first
-    assert list(json.loads(first)) == ["a", "b", "flag", "nan", "nested"]
-    assert pf.load_facts("99_test", True) == {
+    assert list(json.loads(first)) == ["a", "b", "environment", "flag", "nan", "nested"]
+    loaded = pf.load_facts("99_test", True)
+    assert loaded.pop("environment")["packages"]["numpy"] == np.__version__
+    assert loaded == {
         "a": [0.123457, 2.0],
         "b": 3,
         "flag": True,
