@@ -33,6 +33,7 @@ from __future__ import annotations
 import os
 import re
 import sys
+import uuid
 from collections.abc import Callable, Iterator, Sequence
 
 from fpdtw.errors import FpdtwError
@@ -299,7 +300,8 @@ class Executor:
         progress : bool
             Show a progress bar (stderr).
         keys : sequence of str, optional
-            Dask task names (shown on the scheduler's dashboard); unique per task.
+            Dask task names (shown on the scheduler's dashboard), one per task; each call
+            adds its own suffix, so that no two runs share a task.
 
         Yields
         ------
@@ -337,19 +339,21 @@ class Executor:
         from distributed import KilledWorker, as_completed
 
         client = self.client()
-        if keys is None:
-            keys = [None] * len(tasks)
-        elif len(set(keys)) != len(tasks):
-            raise ValueError("keys must name every task once")
         n = len(tasks)
+        token = uuid.uuid4().hex[:8]
+        if keys is None:
+            keys = [f"{fn.__name__}-{i}" for i in range(n)]
+        if len(set(keys)) != n:
+            raise ValueError("keys must name every task once")
+        keys = [f"{k}-{token}" for k in keys]
         futures = [
-            client.submit(fn, *t, key=k, pure=False, priority=n - i, retries=0)
+            client.submit(fn, *t, key=k, priority=n - i, retries=0)
             for i, (t, k) in enumerate(zip(tasks, keys))
         ]
         bar = _bar(n, desc, progress)
         done = 0
         try:
-            for fut in as_completed(futures):
+            for fut in as_completed(futures, loop=client.loop):
                 try:
                     result = fut.result()
                 except KilledWorker as e:

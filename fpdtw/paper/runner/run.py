@@ -419,7 +419,7 @@ def _await_files(paths: list, ready, what: str, folder: Path) -> None:
     deadline = time.monotonic() + VISIBLE_TIMEOUT
     missing = [p for p in paths if not ready(p)]
     while missing and time.monotonic() < deadline:
-        time.sleep(1.0)
+        time.sleep(min(1.0, max(0.0, deadline - time.monotonic())))
         missing = [p for p in missing if not ready(p)]
     if missing:
         raise ClusterError(
@@ -739,7 +739,7 @@ def _compute(executor: Executor, mode, plan, specs, out: Path, base_key: str, pr
         used = sorted({i for p in u["pairs"] for i in (p["input_index"], p["target_index"])})
         files = {i: str(feature_files[i]) for i in used}
         jobs.append((u, missing, files, base_key, code))
-        keys.append(f"fpdtw-unit-{u['id']}-{_hash([base_key, [s.name for s in missing]])[:10]}")
+        keys.append(f"fpdtw-unit-{u['id']}")
     work, seen = [], set()
     for r in executor.map(_compute_unit, jobs, desc="units", progress=progress, keys=keys):
         if r["unit"] in seen:  # a task's result delivered twice
