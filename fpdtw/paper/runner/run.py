@@ -26,9 +26,13 @@ byte the same for the same arrays)
     ``{"benchmarks": {...}, "algorithms": {name: {...}}}`` (see :func:`summarize`).
     Deterministic.
 ``run.json``
-    The keys, what was computed, start and end time, wall time, n_jobs, and the
+    The keys, what was computed (units, pair runs, algorithms, the seconds the units
+    took in their workers, in total and the longest, and how many units each worker
+    ``host:pid`` computed), start and end time, wall time and that of the features and
+    units phases (``phase_seconds``), n_jobs (joblib processes, or the Dask cluster's
+    threads), ``backend`` (joblib, or the Dask scheduler address and its workers), and the
     environment (package versions, Python, the package's commit, the CPU:
-    :func:`fpdtw.paper.provenance.environment`).
+    :func:`fpdtw.paper.provenance.environment`). Not deterministic.
 ``features/``, ``chunks/``
     Caches: the features of every motion (keyed by the data file's sha256, the crop
     and the library's source) and one file per work unit (one input motion against
@@ -694,15 +698,19 @@ def _pairs_json(mode, plan, feature_files) -> dict:
     }
 
 
-def _compute(executor: Executor, mode, plan, specs, out: Path, base_key: str, progress, say):
+def _compute(executor: Executor, mode, plan, specs, out: Path, base_key, progress, say, phases):
     """The features, ``pairs.json`` and every missing chunk of a run (on ``executor``).
 
     Returns ``(units, tasks, recomputed, work)``: every unit, the ``(cost, unit,
     missing specs)`` computed, the names of the algorithms computed, and the result of
-    each computed unit (:func:`_compute_unit`), exactly one per task.
+    each computed unit (:func:`_compute_unit`), exactly one per task. ``phases`` gets the
+    wall seconds of the features (with ``pairs.json``) and of the units.
     """
+    t0 = time.perf_counter()
     feature_files = build_features(plan, out / "features", progress=progress, executor=executor)
     save_json(out / "pairs.json", _pairs_json(mode, plan, feature_files))
+    phases["features"] = round(time.perf_counter() - t0, 3)
+    t0 = time.perf_counter()
 
     # work units: one input motion against every other take of its movement
     units = OrderedDict()
@@ -757,6 +765,7 @@ def _compute(executor: Executor, mode, plan, specs, out: Path, base_key: str, pr
             out / "chunks",
         )
         _remove_temporaries(out)  # those of workers that died while writing
+    phases["units"] = round(time.perf_counter() - t0, 3)
     return units, tasks, recomputed, work
 
 
@@ -870,9 +879,10 @@ def run_experiments(
     say(f"{len(specs)} algorithms, {where}, results in {out}")
     out.mkdir(parents=True, exist_ok=True)
     _remove_temporaries(out)
+    phases = {}
     with executor:
         units, tasks, recomputed, work = _compute(
-            executor, mode, plan, specs, out, base_key, progress, say
+            executor, mode, plan, specs, out, base_key, progress, say, phases
         )
         backend = executor.describe()
         slots = executor.slots
@@ -940,6 +950,7 @@ def run_experiments(
         "start": start,
         "end": _now(),
         "wall_seconds": round(time.perf_counter() - t_start, 3),
+        "phase_seconds": phases,
         "n_jobs": slots,
         "backend": backend,
         "environment": provenance.environment(),
