@@ -37,3 +37,22 @@ def test_readme_streaming_example(mirror_root):
     assert line.startswith("Ma + Type V: live frame 636 -> recorded frame ")
     m = int(line.split("recorded frame ")[1].split(" of ")[0])
     assert line.endswith("of 648") and 600 <= m <= 648
+
+
+def test_readme_cluster_commands_parse():
+    """Every `fpdtw experiments run` line of the cluster section is a valid command."""
+    import shlex
+
+    from fpdtw.app.cli import build_parser
+
+    section = (REPO_ROOT / "README.md").read_text().split("## Running the grid on a cluster")[1]
+    section = section.split("\n## ", 1)[0]
+    lines = [ln.split("#")[0] for ln in section.splitlines() if "fpdtw experiments run" in ln]
+    lines = [ln for ln in lines if not ln.lstrip().startswith(("from", "run_experiments"))]
+    assert len(lines) == 4
+    parser = build_parser()
+    for line in lines:
+        argv = shlex.split(line.split("fpdtw", 1)[1])
+        args = parser.parse_args(argv)
+        assert args.command == "experiments"
+    assert "SCALING_TABLE" not in section, "the scaling numbers are not filled in"

@@ -5,6 +5,7 @@
     fpdtw align INPUT TARGET --method c --window 40 --out map.csv [--export-bvh aligned.bvh]
     fpdtw live  INPUT TARGET --method c --window 40 [--fast] [--animate side_by_side.gif]
     fpdtw data  fetch|verify|cite
+    fpdtw experiments run [--smoke] [--results DIR] [--jobs N] [--scheduler ADDRESS]
 
 Until the ``fpdtw`` script is installed, run ``python -m fpdtw.app.cli ...``.
 
@@ -160,7 +161,7 @@ def _add_pair_arguments(p, *, live: bool):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of the ``fpdtw`` command (sub-commands align, live, data)."""
+    """The argument parser of the ``fpdtw`` command (align, live, data, experiments)."""
     fmt = argparse.RawDescriptionHelpFormatter
     ap = _Parser(
         prog=PROG,
@@ -173,6 +174,7 @@ def build_parser() -> argparse.ArgumentParser:
               fpdtw align a.amc b.amc --method dtw --out map.csv --export-bvh a_aligned.bvh
               fpdtw live Walk_01.fbx Walk_02.fbx --method c --window 40 --animate walk.gif
               fpdtw data cite
+              fpdtw experiments run --smoke
 
             run "fpdtw COMMAND --help" for the options of a command."""
         ),
@@ -253,7 +255,24 @@ def build_parser() -> argparse.ArgumentParser:
     from fpdtw.paper.datasets import add_data_commands
 
     add_data_commands(dsub)
-    ap.commands = {"align": a, "live": lv, "data": d}
+
+    e = sub.add_parser(
+        "experiments",
+        help="run the papers' experiment grid (every pair, every algorithm), on this "
+        "machine or on a Dask cluster",
+        description=_fill(
+            "The experiment grid behind the figures and tables: every ordered pair of takes "
+            "of a movement, every algorithm, resumably, in worker processes here or as tasks "
+            "on a Dask cluster (--scheduler). The notebook 05_run_experiments runs the same."
+        ),
+        formatter_class=fmt,
+    )
+    esub = e.add_subparsers(dest="experiments_command", metavar="ACTION", parser_class=_Parser)
+    esub.required = True
+    from fpdtw.paper.runner.run import add_experiments_commands
+
+    add_experiments_commands(esub)
+    ap.commands = {"align": a, "live": lv, "data": d, "experiments": e}
     return ap
 
 
@@ -500,6 +519,12 @@ def _cmd_data(args) -> int:
     return run_data_command(args, prog=PROG)
 
 
+def _cmd_experiments(args) -> int:
+    from fpdtw.paper.runner.run import run_command
+
+    return run_command(args, prog=f"{PROG} experiments {args.experiments_command}")
+
+
 def main(argv=None) -> int:
     """Run the ``fpdtw`` command line; return the exit code (0, 1 or 2).
 
@@ -522,6 +547,8 @@ def main(argv=None) -> int:
         return e.code if isinstance(e.code, int) else 0
     if args.command == "data":
         return _cmd_data(args)
+    if args.command == "experiments":
+        return _cmd_experiments(args)
     sub = ap.commands[args.command]
 
     def log(msg):

@@ -26,9 +26,13 @@ byte the same for the same arrays)
     ``{"benchmarks": {...}, "algorithms": {name: {...}}}`` (see :func:`summarize`).
     Deterministic.
 ``run.json``
-    The keys, what was computed, start and end time, wall time, n_jobs, and the
+    The keys, what was computed (units, pair runs, algorithms, the seconds the units
+    took in their workers, in total and the longest, and how many units each worker
+    ``host:pid`` computed), start and end time, wall time and that of the features and
+    units phases (``phase_seconds``), n_jobs (joblib processes, or the Dask cluster's
+    threads), ``backend`` (joblib, or the Dask scheduler address and its workers), and the
     environment (package versions, Python, the package's commit, the CPU:
-    :func:`fpdtw.paper.provenance.environment`).
+    :func:`fpdtw.paper.provenance.environment`). Not deterministic.
 ``features/``, ``chunks/``
     Caches: the features of every motion (keyed by the data file's sha256, the crop
     and the library's source) and one file per work unit (one input motion against
@@ -49,8 +53,14 @@ Reading: :func:`load_results` -> :class:`Results` (``.pairs``, ``.algorithms``,
 
 Command line::
 
-    python -m fpdtw.paper.runner.run [--mode full|smoke|study|smoke-study] [--jobs N]
-                                     [--algorithms NAME ...] [--quiet]
+    fpdtw experiments run [--mode full|smoke|study|smoke-study | --smoke] [--jobs N]
+                          [--algorithms NAME ...] [--results DIR] [--scheduler ADDRESS]
+                          [--connect-timeout SECONDS] [--quiet]
+
+(or ``python -m fpdtw.paper.runner.run`` with the same options). Where the work units run
+(joblib processes here, or the tasks of a Dask cluster: ``--scheduler`` /
+``FPDTW_SCHEDULER``) changes nothing in the result files: see
+:mod:`fpdtw.paper.runner.parallel`.
 
 Paper: FP-DTW Section 4 (pairs), eq. 2 and eq. 3, Figs. 5-7 and 10, Tables 1 and 2.
 Notebook: 05_run_experiments.ipynb
@@ -63,17 +73,20 @@ import datetime as _dt
 import functools
 import hashlib
 import json
+import os
 import shutil
+import socket
 import sys
+import textwrap
 import time
-from collections import OrderedDict
+from collections import Counter, OrderedDict
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from fpdtw import registry
-from fpdtw.errors import AlignmentError, MotionFormatError
+from fpdtw.errors import AlignmentError, FpdtwError, MotionFormatError
 from fpdtw.metrics import deviation, joint_trajectories, trajectory_scores
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.motion.joints import OPW_JOINTS
@@ -84,6 +97,14 @@ from fpdtw.paper.runner.grid import (
     DEFAULT_ALGORITHMS,
     MODE_ALGORITHMS,
     split_rate,
+)
+from fpdtw.paper.runner.parallel import (
+    CONNECT_TIMEOUT,
+    SCHEDULER_ENV,
+    ClusterError,
+    Executor,
+    scheduler_address,
+    scheduler_from_env,
 )
 from fpdtw.paper.runner.results import (
     BASE_FPS,
@@ -217,8 +238,12 @@ def _features_of(motion) -> dict:
     return f
 
 
-def _build_feature_file(record, path: Path, crop) -> tuple:
-    """Load one motion, build its 120 Hz and 60 Hz features and save them (worker)."""
+def _build_feature_file(record, path: Path, crop, code: str) -> Path:
+    """Load one motion, build its 120 Hz and 60 Hz features and save them (worker).
+
+    ``code`` is the run's :func:`_code_key` (checked: :func:`_check_code`).
+    """
+    _check_code(code)
     motion = catalog.load(record)
     if abs(motion.fps - BASE_FPS) > 1e-6:
         motion = motion.resample(BASE_FPS)
@@ -299,35 +324,60 @@ def pair_features(results, fps: float = BASE_FPS):
     return features
 
 
-# -- parallel helper ---------------------------------------------------------------------------
+# -- workers -----------------------------------------------------------------------------------
 
 
-def _parallel(fn, tasks, n_jobs, progress, desc):
-    """Run ``fn(*task)`` over tasks with joblib, yielding results as they finish."""
-    from joblib import Parallel, delayed
-    from tqdm import tqdm
-
-    gen = Parallel(n_jobs=n_jobs, return_as="generator_unordered", batch_size=1)(
-        delayed(fn)(*t) for t in tasks
-    )
-    bar = tqdm(
-        total=len(tasks),
-        desc=desc,
-        disable=not progress,
-        file=sys.stderr,
-        mininterval=1.0,
-        smoothing=0.05,
-    )
-    try:
-        for r in gen:
-            bar.update(1)
-            yield r
-    finally:
-        bar.close()
+def _worker_name() -> str:
+    return f"{socket.gethostname()}:{os.getpid()}"
 
 
-def build_features(plan: PairSelection, folder: Path, n_jobs=2, progress=True) -> list:
+def _code_key() -> str:
+    """What decides the computed numbers in this process: CACHE_FORMAT and the library source."""
+    return f"{CACHE_FORMAT}:{source_hash(compute_files())}"
+
+
+@functools.lru_cache(maxsize=1)
+def _worker_code_key() -> str:
+    return _code_key()
+
+
+def _check_code(expected: str) -> None:
+    """Refuse to compute with other code than the run's (a cluster worker with another fpdtw).
+
+    Raises
+    ------
+    ClusterError
+        This process's :func:`_code_key` (taken at its first task) is not ``expected``.
+    """
+    have = _worker_code_key()
+    if have != expected:
+        raise ClusterError(
+            f"worker {_worker_name()} runs other fpdtw code than the run it works for "
+            f"(CACHE_FORMAT:library source {have[:20]} from {_PKG_ROOT}, the run's "
+            f"{expected[:20]}): install the same fpdtw commit on every worker and restart them"
+        )
+
+
+def build_features(
+    plan: PairSelection,
+    folder: Path,
+    n_jobs=2,
+    progress=True,
+    executor: Executor | None = None,
+) -> list:
     """Feature cache files of every motion of a plan (built where missing).
+
+    Parameters
+    ----------
+    plan : PairSelection
+    folder : Path
+        The feature cache folder (``<results>/<mode>/features``).
+    n_jobs : int
+        joblib worker processes, when no ``executor`` is given.
+    progress : bool
+    executor : Executor, optional
+        Where the missing files are built (joblib on this machine, or a Dask cluster
+        whose workers see ``folder`` at the same path).
 
     Returns
     -------
@@ -340,15 +390,47 @@ def build_features(plan: PairSelection, folder: Path, n_jobs=2, progress=True) -
     crop = plan.selection.crop_seconds
     src = source_hash(compute_files())
     files = [_feature_file(folder, r, d, crop, src) for r, d in zip(plan.motions, plan.sha256)]
-    todo = [(r, p, crop) for r, p in zip(plan.motions, files) if not p.is_file()]
+    code = _code_key()
+    todo = [(r, p, crop, code) for r, p in zip(plan.motions, files) if not p.is_file()]
     if todo:
-        for _ in _parallel(_build_feature_file, todo, n_jobs, progress, "features"):
+        ex = executor if executor is not None else Executor(n_jobs)
+        keys = [f"fpdtw-features-{p.stem}" for _, p, _, _ in todo]
+        for _ in ex.map(_build_feature_file, todo, desc="features", progress=progress, keys=keys):
             pass
+        if ex.kind == "dask":
+            _await_files([p for _, p, _, _ in todo], Path.is_file, "feature files", folder)
     keep = {p.name for p in files}
     for p in folder.glob("*.npz"):  # features of another crop or older code
         if p.name not in keep:
             p.unlink()
     return files
+
+
+#: Seconds to wait for files that cluster workers wrote to appear here (a network
+#: filesystem may show a new file to other machines after a delay).
+VISIBLE_TIMEOUT = 60.0
+
+
+def _await_files(paths: list, ready, what: str, folder: Path) -> None:
+    """Wait until ``ready(path)`` holds for every path written by cluster workers.
+
+    Raises
+    ------
+    ClusterError
+        Some are still not there after :data:`VISIBLE_TIMEOUT` seconds: the workers
+        write to a folder this process does not see.
+    """
+    deadline = time.monotonic() + VISIBLE_TIMEOUT
+    missing = [p for p in paths if not ready(p)]
+    while missing and time.monotonic() < deadline:
+        time.sleep(min(1.0, max(0.0, deadline - time.monotonic())))
+        missing = [p for p in missing if not ready(p)]
+    if missing:
+        raise ClusterError(
+            f"{folder}: {len(missing)} {what} the cluster's workers wrote are not here after "
+            f"{VISIBLE_TIMEOUT:g} s (e.g. {Path(missing[0]).name}): the results folder must be "
+            "on a filesystem this machine and every worker share, at the same path (--results)"
+        )
 
 
 # -- work units --------------------------------------------------------------------------------
@@ -394,13 +476,16 @@ def _pair_maps(specs: list, I: MotionFeatures, T: MotionFeatures, info: dict) ->
     return {name: _check_map(s, out[s.name], I, T, info) for s in specs for name in [s.name]}
 
 
-def _compute_unit(unit: dict, specs: list, feature_files: list, base_key: str) -> dict:
+def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: str) -> dict:
     """Compute the algorithms ``specs`` on every pair of one unit and write its chunk (worker).
 
     The chunk keeps the algorithms it already held (same base key) that are not
-    recomputed. Returns ``{"unit", "pairs", "runs", "seconds"}``.
+    recomputed. ``feature_files`` maps motion index -> feature file (list or dict);
+    ``code`` is the run's :func:`_code_key` (checked: :func:`_check_code`). Returns
+    ``{"unit", "pairs", "runs", "seconds", "worker"}`` (worker: ``host:pid``).
     """
     t0 = time.perf_counter()
+    _check_code(code)
     path = Path(unit["chunk"])
     pairs = unit["pairs"]
     keep = _chunk_algorithms(path, base_key) - {s.name for s in specs}
@@ -457,6 +542,7 @@ def _compute_unit(unit: dict, specs: list, feature_files: list, base_key: str) -
         "pairs": len(pairs),
         "runs": runs,
         "seconds": time.perf_counter() - t0,
+        "worker": _worker_name(),
     }
 
 
@@ -612,86 +698,19 @@ def _pairs_json(mode, plan, feature_files) -> dict:
     }
 
 
-def run_experiments(
-    mode: str = "full",
-    algorithms=None,
-    n_jobs: int = 2,
-    progress: bool = True,
-    selection: Selection | None = None,
-) -> Results:
-    """Run the algorithms over every pair of a mode, resumably, and write the result files.
+def _compute(executor: Executor, mode, plan, specs, out: Path, base_key, progress, say, phases):
+    """The features, ``pairs.json`` and every missing chunk of a run (on ``executor``).
 
-    Parameters
-    ----------
-    mode : str
-        ``"full"`` or ``"smoke"`` (see :data:`SELECTIONS`), or any folder name
-        together with ``selection``. Results go to ``results_dir()/<mode>``.
-    algorithms : sequence of str, optional
-        Registry names (default: the mode's list, :data:`fpdtw.paper.runner.grid.MODE_ALGORITHMS`);
-        ``"X@60Hz"`` runs X at 60 Hz. Results of other algorithms already in the folder
-        (same pairs and code) are kept.
-    n_jobs : int
-        Worker processes (joblib); 1 runs everything in this process.
-    progress : bool
-        Print the selection and show progress bars.
-    selection : Selection, optional
-        Overrides the mode's selection (tests: a tiny subset).
-
-    Returns
-    -------
-    Results
-
-    Paper: FP-DTW Sections 4-6.
-    Notebook: 05_run_experiments.ipynb
+    Returns ``(units, tasks, recomputed, work)``: every unit, the ``(cost, unit,
+    missing specs)`` computed, the names of the algorithms computed, and the result of
+    each computed unit (:func:`_compute_unit`), exactly one per task. ``phases`` gets the
+    wall seconds of the features (with ``pairs.json``) and of the units.
     """
-    t_start, start = time.perf_counter(), _now()
-    say = print if progress else (lambda *a, **k: None)
-    if selection is None:
-        if mode not in SELECTIONS:
-            raise ValueError(f"mode {mode!r} needs a selection (known modes: {list(SELECTIONS)})")
-        selection = SELECTIONS[mode]
-    names = list(
-        MODE_ALGORITHMS.get(mode, DEFAULT_ALGORITHMS) if algorithms is None else algorithms
-    )
-    if len(set(names)) != len(names):
-        raise ValueError(f"an algorithm is listed twice: {names}")
-    specs = [resolve_algorithm(n) for n in names]
-    slugs = [s.slug for s in specs]
-    if len(set(slugs)) != len(slugs):
-        raise ValueError(f"two algorithms share a file name: {slugs}")
-
-    plan = pair_selection(selection)
-    if not plan.pairs:
-        raise ValueError(f"the selection {selection} has no pairs")
-    out = results_dir() / mode
-    pair_key = [(p["dataset"], p["input_path"], p["target_path"]) for p in plan.pairs]
-    compute_src = source_hash(compute_files())
-    base_key = _hash([CACHE_FORMAT, mode, selection.as_dict(), plan.sha256, pair_key, compute_src])
-    config_key = _hash([mode, names, pair_key, plan.sha256, source_hash()])
-
-    runf = out / "run.json"
-    prev = load_json(runf) if runf.is_file() else {}
-    if prev.get("config_key") == config_key and _outputs_exist(out, prev):
-        say(f"{mode}: nothing to do (config key {config_key[:12]} matches, all outputs in {out})")
-        return Results(out)
-    if not prev:
-        reason = "no earlier run here"
-    elif prev.get("config_key") == config_key:
-        reason = "some outputs are missing"
-    else:
-        reason = "the algorithm list, the pairs or the package source changed since the last run"
-    say(f"{mode}: {reason}; only what is not computed yet is computed")
-
-    say(f"mode {mode!r}: {selection}")
-    say(format_counts(plan.counts))
-    if plan.dropped:
-        say("left out (fewer than two takes):", ", ".join(plan.dropped))
-    say(f"{len(specs)} algorithms, n_jobs={n_jobs}, results in {out}")
-    out.mkdir(parents=True, exist_ok=True)
-    _remove_temporaries(out)
-
-    feature_files = build_features(plan, out / "features", n_jobs, progress)
+    t0 = time.perf_counter()
+    feature_files = build_features(plan, out / "features", progress=progress, executor=executor)
     save_json(out / "pairs.json", _pairs_json(mode, plan, feature_files))
+    phases["features"] = round(time.perf_counter() - t0, 3)
+    t0 = time.perf_counter()
 
     # work units: one input motion against every other take of its movement
     units = OrderedDict()
@@ -718,14 +737,156 @@ def run_experiments(
             tasks.append((cost, u, missing))
             recomputed.update(s.name for s in missing)
     tasks.sort(key=lambda t: -t[0])
-    runs = 0
-    if tasks:
-        say(f"computing {len(tasks)} of {len(units)} units ({len(recomputed)} algorithms)")
-        jobs = [(u, missing, [str(f) for f in feature_files], base_key) for _, u, missing in tasks]
-        for r in _parallel(_compute_unit, jobs, n_jobs, progress, "units"):
-            runs += r["runs"]
-    else:
+    if not tasks:
         say("every unit is already computed")
+        return units, tasks, recomputed, []
+    say(f"computing {len(tasks)} of {len(units)} units ({len(recomputed)} algorithms)")
+    code = _code_key()
+    jobs, keys = [], []
+    for _, u, missing in tasks:
+        used = sorted({i for p in u["pairs"] for i in (p["input_index"], p["target_index"])})
+        files = {i: str(feature_files[i]) for i in used}
+        jobs.append((u, missing, files, base_key, code))
+        keys.append(f"fpdtw-unit-{u['id']}")
+    work, seen = [], set()
+    for r in executor.map(_compute_unit, jobs, desc="units", progress=progress, keys=keys):
+        if r["unit"] in seen:  # a task's result delivered twice
+            raise RuntimeError(f"unit {r['unit']} was computed twice in one run")
+        seen.add(r["unit"])
+        work.append(r)
+    if len(work) != len(jobs):
+        raise RuntimeError(f"{len(jobs) - len(work)} units of {len(jobs)} were never computed")
+    if executor.kind == "dask":
+        names = {u["id"]: {s.name for s in missing} for _, u, missing in tasks}
+        _await_files(
+            [Path(u["chunk"]) for _, u, _ in tasks],
+            lambda p: names[p.stem] <= _chunk_algorithms(p, base_key),
+            "chunk files",
+            out / "chunks",
+        )
+        _remove_temporaries(out)  # those of workers that died while writing
+    phases["units"] = round(time.perf_counter() - t0, 3)
+    return units, tasks, recomputed, work
+
+
+def run_experiments(
+    mode: str = "full",
+    algorithms=None,
+    n_jobs: int = 2,
+    progress: bool = True,
+    selection: Selection | None = None,
+    *,
+    results=None,
+    scheduler=None,
+    connect_timeout: float = CONNECT_TIMEOUT,
+) -> Results:
+    """Run the algorithms over every pair of a mode, resumably, and write the result files.
+
+    The work units (one input motion against every other take of its movement, every
+    algorithm) run in joblib worker processes on this machine, or as tasks on a Dask
+    cluster (``scheduler``): the same function writes the same chunk files either way, and
+    the result files are byte for byte the same (:mod:`fpdtw.paper.runner.parallel`).
+
+    Parameters
+    ----------
+    mode : str
+        ``"full"`` or ``"smoke"`` (see :data:`SELECTIONS`), or any folder name
+        together with ``selection``. Results go to ``<results>/<mode>``.
+    algorithms : sequence of str, optional
+        Registry names (default: the mode's list, :data:`fpdtw.paper.runner.grid.MODE_ALGORITHMS`);
+        ``"X@60Hz"`` runs X at 60 Hz. Results of other algorithms already in the folder
+        (same pairs and code) are kept.
+    n_jobs : int
+        Worker processes (joblib); 1 runs everything in this process.
+    progress : bool
+        Print the selection and show progress bars.
+    selection : Selection, optional
+        Overrides the mode's selection (tests: a tiny subset).
+    results : path-like, optional
+        The results root (default :func:`fpdtw.paper.paths.results_dir`, i.e.
+        ``FPDTW_RESULTS_DIR`` or ``<repo>/results``). On a cluster, a folder every worker
+        sees at the same path.
+    scheduler : str or distributed.Client, optional
+        A Dask scheduler address (``tcp://host:port``) or a connected client: the units
+        run on that cluster (``n_jobs`` unused). Default: ``FPDTW_SCHEDULER`` if set,
+        else joblib; ``"local"``: joblib whatever ``FPDTW_SCHEDULER`` says.
+    connect_timeout : float
+        Seconds to wait for the scheduler to answer.
+
+    Returns
+    -------
+    Results
+
+    Raises
+    ------
+    ClusterError
+        A malformed or unreachable scheduler address, a worker with other fpdtw code,
+        a task whose workers kept dying, files the workers wrote that are not visible here.
+
+    Paper: FP-DTW Sections 4-6.
+    Notebook: 05_run_experiments.ipynb
+    """
+    t_start, start = time.perf_counter(), _now()
+    say = print if progress else (lambda *a, **k: None)
+    if selection is None:
+        if mode not in SELECTIONS:
+            raise ValueError(f"mode {mode!r} needs a selection (known modes: {list(SELECTIONS)})")
+        selection = SELECTIONS[mode]
+    names = list(
+        MODE_ALGORITHMS.get(mode, DEFAULT_ALGORITHMS) if algorithms is None else algorithms
+    )
+    if len(set(names)) != len(names):
+        raise ValueError(f"an algorithm is listed twice: {names}")
+    specs = [resolve_algorithm(n) for n in names]
+    slugs = [s.slug for s in specs]
+    if len(set(slugs)) != len(slugs):
+        raise ValueError(f"two algorithms share a file name: {slugs}")
+
+    if scheduler is None:
+        scheduler = scheduler_from_env()
+    executor = Executor(n_jobs, scheduler, connect_timeout=connect_timeout, say=say)
+
+    plan = pair_selection(selection)
+    if not plan.pairs:
+        raise ValueError(f"the selection {selection} has no pairs")
+    root = results_dir() if results is None else Path(results).expanduser().resolve()
+    out = root / mode
+    pair_key = [(p["dataset"], p["input_path"], p["target_path"]) for p in plan.pairs]
+    compute_src = source_hash(compute_files())
+    base_key = _hash([CACHE_FORMAT, mode, selection.as_dict(), plan.sha256, pair_key, compute_src])
+    config_key = _hash([mode, names, pair_key, plan.sha256, source_hash()])
+
+    runf = out / "run.json"
+    prev = load_json(runf) if runf.is_file() else {}
+    if prev.get("config_key") == config_key and _outputs_exist(out, prev):
+        say(f"{mode}: nothing to do (config key {config_key[:12]} matches, all outputs in {out})")
+        return Results(out)
+    if not prev:
+        reason = "no earlier run here"
+    elif prev.get("config_key") == config_key:
+        reason = "some outputs are missing"
+    else:
+        reason = "the algorithm list, the pairs or the package source changed since the last run"
+    say(f"{mode}: {reason}; only what is not computed yet is computed")
+
+    say(f"mode {mode!r}: {selection}")
+    say(format_counts(plan.counts))
+    if plan.dropped:
+        say("left out (fewer than two takes):", ", ".join(plan.dropped))
+    where = (
+        f"n_jobs={n_jobs}" if executor.kind == "joblib" else f"Dask scheduler {executor.address}"
+    )
+    say(f"{len(specs)} algorithms, {where}, results in {out}")
+    out.mkdir(parents=True, exist_ok=True)
+    _remove_temporaries(out)
+    phases = {}
+    with executor:
+        units, tasks, recomputed, work = _compute(
+            executor, mode, plan, specs, out, base_key, progress, say, phases
+        )
+        backend = executor.describe()
+        slots = executor.slots
+    runs = sum(r["runs"] for r in work)
 
     # per-algorithm files: (re)written where something changed
     prev_algos = (
@@ -762,8 +923,7 @@ def run_experiments(
             p.unlink()
     shutil.rmtree(out / "timings", ignore_errors=True)  # written by runs before CACHE_FORMAT 2
 
-    results = Results(out, algorithms=info)
-    summary = summarize(results)
+    summary = summarize(Results(out, algorithms=info))
     save_json(out / "summary.json", summary)
 
     run = {
@@ -781,11 +941,18 @@ def run_experiments(
             "units_total": len(units),
             "pair_runs": runs,
             "algorithms": sorted(recomputed),
+            "unit_seconds": {
+                "total": round(sum(r["seconds"] for r in work), 3),
+                "max": round(max((r["seconds"] for r in work), default=0.0), 3),
+            },
+            "workers": dict(sorted(Counter(r["worker"] for r in work).items())),
         },
         "start": start,
         "end": _now(),
         "wall_seconds": round(time.perf_counter() - t_start, 3),
-        "n_jobs": n_jobs,
+        "phase_seconds": phases,
+        "n_jobs": slots,
+        "backend": backend,
         "environment": provenance.environment(),
     }
     save_json(runf, run)
@@ -796,12 +963,60 @@ def run_experiments(
 # -- command line ------------------------------------------------------------------------------
 
 
-def main(argv=None) -> int:
-    """``python -m fpdtw.paper.runner.run [--mode MODE | --smoke] [--jobs N] [--algorithms NAME ...]
-    [--quiet]``."""
-    ap = argparse.ArgumentParser(
-        prog="python -m fpdtw.paper.runner.run", description=__doc__.split("\n")[0]
-    )
+def _positive_int(text):
+    try:
+        v = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a whole number, got {text!r}") from None
+    if v < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {text!r}")
+    return v
+
+
+def _positive_float(text):
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
+    if not 0 < v < float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a positive number, got {text!r}")
+    return v
+
+
+def _scheduler_option(text):
+    try:
+        return scheduler_address(text) or "local"
+    except ClusterError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
+_RUN_EPILOG = f"""\
+where it runs:
+  joblib worker processes on this machine (--jobs), unless a Dask scheduler is given
+  (--scheduler tcp://host:port, or {SCHEDULER_ENV}=tcp://host:port): then every work unit
+  is a task on that cluster. Workers need this package (the same commit), the data cache
+  (FPDTW_DATA_DIR: a shared folder, or `fpdtw data fetch` on each) and the results folder
+  at the same path (a shared filesystem). The result files are the same bytes either way.
+
+resuming:
+  a run stopped at any point (Ctrl-C, a killed process, a lost worker) goes on from the
+  finished work units when run again; a run with nothing left to do returns at once.
+
+examples:
+  fpdtw experiments run --smoke
+  fpdtw experiments run --jobs 8 --results /scratch/me/fpdtw-results
+  dask scheduler --port 8786 &   dask worker tcp://HOST:8786 --nthreads 1 --nworkers 4 &
+  fpdtw experiments run --scheduler tcp://HOST:8786 --results /shared/fpdtw-results"""
+
+
+def add_run_arguments(ap: argparse.ArgumentParser) -> None:
+    """Add the options of ``fpdtw experiments run`` (and ``python -m fpdtw.paper.runner.run``).
+
+    ``--mode``, ``--smoke``, ``--jobs``, ``--algorithms``, ``--results``, ``--scheduler``,
+    ``--connect-timeout``, ``--quiet``: see :func:`run_command`.
+
+    Notebook: 05_run_experiments.ipynb
+    """
     ap.add_argument(
         "--mode",
         choices=sorted(SELECTIONS),
@@ -809,7 +1024,13 @@ def main(argv=None) -> int:
         help="which selection and algorithm list (default full; study: notebook 15)",
     )
     ap.add_argument("--smoke", action="store_true", help="the same as --mode smoke")
-    ap.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
+    ap.add_argument(
+        "--jobs",
+        type=_positive_int,
+        default=2,
+        metavar="N",
+        help="worker processes on this machine (default 2; unused with --scheduler)",
+    )
     ap.add_argument(
         "--algorithms",
         nargs="+",
@@ -817,11 +1038,89 @@ def main(argv=None) -> int:
         metavar="NAME",
         help="algorithm names (default: the mode's list)",
     )
+    ap.add_argument(
+        "--results",
+        metavar="DIR",
+        default=None,
+        help="results root; the run writes DIR/<mode>/ (default: FPDTW_RESULTS_DIR, "
+        "else results/ of the checkout)",
+    )
+    ap.add_argument(
+        "--scheduler",
+        type=_scheduler_option,
+        default=None,
+        metavar="ADDRESS",
+        help=f"Dask scheduler, tcp://host:port: run the work units on that cluster "
+        f"(default: {SCHEDULER_ENV} if set; 'local': this machine whatever it says)",
+    )
+    ap.add_argument(
+        "--connect-timeout",
+        type=_positive_float,
+        default=CONNECT_TIMEOUT,
+        metavar="SECONDS",
+        help=f"how long to wait for the scheduler to answer (default {CONNECT_TIMEOUT:g})",
+    )
     ap.add_argument("--quiet", action="store_true", help="no progress output")
-    a = ap.parse_args(argv)
-    mode = "smoke" if a.smoke else a.mode
-    res = run_experiments(mode, a.algorithms, a.jobs, not a.quiet)
-    if not a.quiet:
+
+
+def add_experiments_commands(sub) -> None:
+    """Add the action ``run`` to an argparse subparsers object (``fpdtw experiments run``).
+
+    Notebook: 05_run_experiments.ipynb
+    """
+    r = sub.add_parser(
+        "run",
+        help="run the experiment grid (resumable; on this machine or a Dask cluster)",
+        description=textwrap.fill(
+            "Run every algorithm of a mode over every pair of its selection and write the "
+            "result files (algorithms/*.npz, pairs.json, summary.json, run.json) under the "
+            "results folder, resumably.",
+            88,
+        ),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=_RUN_EPILOG,
+    )
+    add_run_arguments(r)
+
+
+def run_command(args, prog: str) -> int:
+    """Carry out a run from parsed options (:func:`add_run_arguments`); the exit code.
+
+    0 on success; 2 on a usage error (a malformed ``FPDTW_SCHEDULER``, an unknown
+    algorithm); 1 when the run cannot go on (the scheduler cannot be reached, a worker
+    fails, the data are missing); 130 when interrupted (run again to resume). Errors are
+    one line on stderr starting with ``prog``.
+
+    Notebook: 05_run_experiments.ipynb
+    """
+    mode = "smoke" if args.smoke else args.mode
+    scheduler = args.scheduler
+    if scheduler is None:
+        try:
+            scheduler = scheduler_from_env() or "local"
+        except ClusterError as e:
+            print(f"{prog}: error: {e}", file=sys.stderr)
+            return 2
+    try:
+        res = run_experiments(
+            mode,
+            args.algorithms,
+            args.jobs,
+            not args.quiet,
+            results=args.results,
+            scheduler=scheduler,
+            connect_timeout=args.connect_timeout,
+        )
+    except KeyboardInterrupt:
+        print(f"{prog}: interrupted; run the same command again to resume", file=sys.stderr)
+        return 130
+    except AlignmentError as e:  # an unknown algorithm name
+        print(f"{prog}: error: {e}", file=sys.stderr)
+        return 2
+    except (FpdtwError, OSError) as e:
+        print(f"{prog}: error: {' '.join(str(e).split())}", file=sys.stderr)
+        return 1
+    if not args.quiet:
         for name in res.algorithms:
             s = res.summary["algorithms"][name]
             print(
@@ -831,9 +1130,28 @@ def main(argv=None) -> int:
     return 0
 
 
+def main(argv=None) -> int:
+    """``python -m fpdtw.paper.runner.run [--mode MODE | --smoke] [--jobs N] [--algorithms NAME
+    ...] [--results DIR] [--scheduler ADDRESS] [--quiet]``: the same as ``fpdtw experiments run``.
+
+    Notebook: 05_run_experiments.ipynb
+    """
+    ap = argparse.ArgumentParser(
+        prog="python -m fpdtw.paper.runner.run",
+        description=__doc__.split("\n")[0],
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=_RUN_EPILOG,
+    )
+    add_run_arguments(ap)
+    return run_command(ap.parse_args(argv), ap.prog)
+
+
 __all__ = [
     "CACHE_FORMAT",
     "AlgorithmSpec",
+    "ClusterError",
+    "add_experiments_commands",
+    "add_run_arguments",
     "build_features",
     "compute_files",
     "load_features",
@@ -841,6 +1159,7 @@ __all__ = [
     "main",
     "pair_features",
     "resolve_algorithm",
+    "run_command",
     "run_experiments",
     "source_hash",
     "summarize",

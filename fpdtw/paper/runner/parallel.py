@@ -1,0 +1,392 @@
+"""Where the grid's work runs: joblib on this machine's cores, or the workers of a Dask cluster.
+
+One seam, :class:`Executor`: :meth:`Executor.map` runs a function over a list of tasks
+and yields the results as they finish, counted by a progress bar, either in joblib
+worker processes on this machine (the default) or as tasks on a Dask cluster
+(:mod:`distributed`) whose scheduler address is given (``--scheduler tcp://host:port``,
+or the environment variable ``FPDTW_SCHEDULER``). The runner
+(:mod:`fpdtw.paper.runner.run`) gives both the same functions and the same tasks, and
+assembles the results the same way: what a task computes and the files it writes do not
+depend on where it ran.
+
+On a cluster
+------------
+* Every worker needs the package (the same source as this process: each task checks),
+  the data cache (a shared folder named by ``FPDTW_DATA_DIR``, or ``fpdtw data fetch`` on
+  each worker) and the results folder at the same path as here (a shared filesystem):
+  workers write the feature and chunk files there, atomically (temporary file +
+  :func:`os.replace`), and this process checks that it sees every one of them.
+* A worker that dies: the scheduler gives its tasks to the other workers. A task whose
+  workers died more than ``distributed.scheduler.allowed-failures`` times (3 by default)
+  fails the run with :class:`ClusterError`. A chunk a dead worker was writing is a
+  temporary file and never counts; the task's rerun writes the same bytes.
+* An error raised by a task is not retried (the computation is deterministic: a retry
+  fails the same way); it stops the run, as with joblib.
+* This process killed: the scheduler forgets its tasks (tasks already running finish and
+  write their chunks); the next run computes the chunks still missing.
+
+Notebook: 05_run_experiments.ipynb
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import sys
+import uuid
+from collections.abc import Callable, Iterator, Sequence
+
+from fpdtw.errors import FpdtwError
+
+#: Environment variable naming the Dask scheduler (``tcp://host:port``) of a run.
+SCHEDULER_ENV = "FPDTW_SCHEDULER"
+#: The scheduler value that means "joblib on this machine" (overrides ``FPDTW_SCHEDULER``).
+LOCAL = "local"
+#: Seconds to wait for the scheduler to answer.
+CONNECT_TIMEOUT = 20.0
+#: Protocols of a scheduler address.
+SCHEMES = ("tcp", "tls")
+_HOST = re.compile(r"^(\[[0-9A-Fa-f:.%a-zA-Z]+\]|[A-Za-z0-9]([A-Za-z0-9._-]*[A-Za-z0-9])?)$")
+
+
+class ClusterError(FpdtwError, RuntimeError):
+    """A run on a Dask cluster cannot go on.
+
+    The scheduler address is malformed or cannot be reached, a worker runs other code
+    than this process, the cluster lost the workers of a task too often or cancelled
+    it, or a file a worker wrote is not visible here. The message names the address (or
+    the worker, task or file) and what is wrong.
+    """
+
+
+def scheduler_address(text) -> str | None:
+    """Check a Dask scheduler address and return it in full (``tcp://host:port``).
+
+    Parameters
+    ----------
+    text : str or None
+        ``tcp://host:port``, ``tls://host:port`` or ``host:port`` (TCP); IPv6 hosts in
+        brackets (``tcp://[::1]:8786``). None, ``""`` and ``"local"`` mean no cluster.
+
+    Returns
+    -------
+    address : str or None
+        With its protocol; None for no cluster.
+
+    Raises
+    ------
+    ClusterError
+        A malformed address: the message names it and what is wrong.
+
+    Notebook: 05_run_experiments.ipynb
+    """
+    if text is None:
+        return None
+    s = str(text).strip()
+    if s in ("", LOCAL):
+        return None
+    where = f"scheduler address {str(text)!r}"
+    example = "e.g. tcp://10.0.0.5:8786 (8786 is the port `dask scheduler` listens on by default)"
+    scheme, sep, rest = s.partition("://")
+    if not sep:
+        scheme, rest = "tcp", s
+    if scheme not in SCHEMES:
+        raise ClusterError(
+            f"{where}: unknown protocol {scheme!r}; use tcp://host:port or tls://host:port"
+        )
+    if not rest or any(c in rest for c in "/?#@ "):
+        raise ClusterError(f"{where}: expected {scheme}://host:port and nothing else, {example}")
+    if rest.startswith("["):  # an IPv6 host
+        host, _, after = rest.partition("]")
+        host += "]"
+        if not after.startswith(":"):
+            raise ClusterError(f"{where}: no port, expected {scheme}://[host]:port, {example}")
+        port = after[1:]
+    elif rest.count(":") > 1:
+        raise ClusterError(f"{where}: IPv6 hosts go in brackets, e.g. {scheme}://[::1]:8786")
+    else:
+        host, colon, port = rest.partition(":")
+        if not colon:
+            raise ClusterError(f"{where}: no port, expected {scheme}://host:port, {example}")
+    if not host:
+        raise ClusterError(f"{where}: no host, expected {scheme}://host:port, {example}")
+    if not _HOST.match(host):
+        raise ClusterError(f"{where}: {host!r} is not a host name or IP address")
+    if not port.isdigit() or not 1 <= int(port) <= 65535:
+        raise ClusterError(f"{where}: the port {port!r} is not a number from 1 to 65535")
+    return f"{scheme}://{host}:{int(port)}"
+
+
+def scheduler_from_env() -> str | None:
+    """The scheduler named by ``FPDTW_SCHEDULER`` (checked), or None when it is unset.
+
+    Raises
+    ------
+    ClusterError
+        A malformed address (the message names the variable).
+    """
+    value = os.environ.get(SCHEDULER_ENV, "")
+    try:
+        return scheduler_address(value)
+    except ClusterError as e:
+        raise ClusterError(f"{SCHEDULER_ENV}: {e}") from None
+
+
+def _bar(total: int, desc: str, progress: bool):
+    from tqdm import tqdm
+
+    return tqdm(
+        total=total,
+        desc=desc,
+        disable=not progress,
+        file=sys.stderr,
+        mininterval=1.0,
+        smoothing=0.05,
+    )
+
+
+class Executor:
+    """Runs a function over tasks with joblib on this machine or on a Dask cluster.
+
+    Parameters
+    ----------
+    n_jobs : int
+        joblib worker processes (1: everything in this process). Unused on a cluster,
+        whose workers decide.
+    scheduler : str or distributed.Client, optional
+        A Dask scheduler address (:func:`scheduler_address`) or a connected
+        :class:`distributed.Client` (kept open: the caller closes it). None or
+        ``"local"``: joblib.
+    connect_timeout : float
+        Seconds to wait for the scheduler to answer (:data:`CONNECT_TIMEOUT`).
+    say : callable, optional
+        Prints what the executor does (the cluster it reached); default silent.
+
+    Notes
+    -----
+    The connection to a scheduler is made when there is first something to compute
+    (a re-run with nothing to do never connects) and closed by :meth:`close` (or at the
+    end of a ``with`` block).
+
+    Notebook: 05_run_experiments.ipynb
+    """
+
+    def __init__(
+        self,
+        n_jobs: int = 2,
+        scheduler=None,
+        *,
+        connect_timeout: float = CONNECT_TIMEOUT,
+        say: Callable | None = None,
+    ):
+        self.n_jobs = int(n_jobs)
+        self.connect_timeout = float(connect_timeout)
+        self._say = say or (lambda *a, **k: None)
+        self._client = None
+        self._own = False
+        self._cluster: dict = {}
+        if scheduler is None or isinstance(scheduler, str):
+            self.address = scheduler_address(scheduler)
+        elif hasattr(scheduler, "submit") and hasattr(scheduler, "scheduler_info"):
+            self._client = scheduler
+            self.address = str(getattr(scheduler.scheduler, "address", "") or "client")
+        else:
+            raise TypeError(
+                f"scheduler must be an address string or a distributed.Client, got {scheduler!r}"
+            )
+
+    @property
+    def kind(self) -> str:
+        """``"dask"`` or ``"joblib"``."""
+        return "joblib" if self.address is None else "dask"
+
+    def __enter__(self) -> Executor:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        """Close the connection this executor opened (a client given to it stays open)."""
+        if self._own and self._client is not None:
+            try:
+                self._client.close(timeout=10)
+            except Exception:  # closing a connection the cluster already dropped
+                pass
+        if self._own:
+            self._client = None
+            self._own = False
+
+    def describe(self) -> dict:
+        """What ran the tasks, for ``run.json``.
+
+        Returns
+        -------
+        info : dict
+            ``{"backend": "joblib", "n_jobs"}`` or ``{"backend": "dask", "scheduler",
+            "workers", "threads"}`` (workers and threads when first connected; empty
+            before).
+        """
+        if self.kind == "joblib":
+            return {"backend": "joblib", "n_jobs": self.n_jobs}
+        return {"backend": "dask", "scheduler": self.address, **self._cluster}
+
+    @property
+    def slots(self) -> int:
+        """Tasks that run at once: n_jobs, or the cluster's threads when connected."""
+        if self.kind == "joblib":
+            return self.n_jobs
+        return int(self._cluster.get("threads", 0))
+
+    def client(self):
+        """The :class:`distributed.Client` (connecting first if needed).
+
+        Raises
+        ------
+        ClusterError
+            The scheduler does not answer within ``connect_timeout`` seconds.
+        """
+        if self.kind != "dask":
+            raise RuntimeError("a joblib executor has no Dask client")
+        if self._client is None:
+            from distributed import Client
+
+            try:
+                self._client = Client(
+                    self.address, timeout=self.connect_timeout, set_as_default=False
+                )
+            except (OSError, TimeoutError) as e:
+                raise ClusterError(
+                    f"cannot reach the Dask scheduler at {self.address} within "
+                    f"{self.connect_timeout:g} s ({e}); start one there with "
+                    f"`dask scheduler` and workers with `dask worker {self.address}`, or run "
+                    f"without --scheduler and {SCHEDULER_ENV} to use this machine's cores"
+                ) from None
+            self._own = True
+        if not self._cluster:
+            workers = self._client.scheduler_info(n_workers=-1).get("workers", {})
+            threads = sum(int(w.get("nthreads", 0)) for w in workers.values())
+            self._cluster = {"workers": len(workers), "threads": threads}
+            if workers:
+                self._say(
+                    f"Dask scheduler {self.address}: {len(workers)} workers, {threads} threads"
+                )
+            else:
+                self._say(
+                    f"Dask scheduler {self.address} has no workers yet: the tasks wait for "
+                    f"`dask worker {self.address}` (Ctrl-C to stop)"
+                )
+        return self._client
+
+    def map(
+        self,
+        fn: Callable,
+        tasks: Sequence[tuple],
+        *,
+        desc: str,
+        progress: bool = True,
+        keys: Sequence[str] | None = None,
+    ) -> Iterator:
+        """Yield ``fn(*task)`` for every task, in the order they finish.
+
+        Parameters
+        ----------
+        fn : callable
+            A module-level function (workers import it by name).
+        tasks : sequence of tuple
+            Arguments of each call, most expensive first (they start in this order).
+        desc : str
+            Progress bar label.
+        progress : bool
+            Show a progress bar (stderr).
+        keys : sequence of str, optional
+            Dask task names (shown on the scheduler's dashboard), one per task; each call
+            adds its own suffix, so that no two runs share a task.
+
+        Yields
+        ------
+        result
+            Each call's return value, once per task.
+
+        Raises
+        ------
+        ClusterError
+            The scheduler cannot be reached, lost a task's workers too often or
+            cancelled a task. An exception raised by ``fn`` is raised as it is.
+        """
+        if not tasks:
+            return
+        if self.kind == "joblib":
+            yield from self._map_joblib(fn, tasks, desc, progress)
+        else:
+            yield from self._map_dask(fn, tasks, desc, progress, keys)
+
+    def _map_joblib(self, fn, tasks, desc, progress):
+        from joblib import Parallel, delayed
+
+        gen = Parallel(n_jobs=self.n_jobs, return_as="generator_unordered", batch_size=1)(
+            delayed(fn)(*t) for t in tasks
+        )
+        bar = _bar(len(tasks), desc, progress)
+        try:
+            for r in gen:
+                bar.update(1)
+                yield r
+        finally:
+            bar.close()
+
+    def _map_dask(self, fn, tasks, desc, progress, keys):
+        from distributed import KilledWorker, as_completed
+
+        client = self.client()
+        n = len(tasks)
+        token = uuid.uuid4().hex[:8]
+        if keys is None:
+            keys = [f"{fn.__name__}-{i}" for i in range(n)]
+        if len(set(keys)) != n:
+            raise ValueError("keys must name every task once")
+        keys = [f"{k}-{token}" for k in keys]
+        futures = [
+            client.submit(fn, *t, key=k, priority=n - i, retries=0)
+            for i, (t, k) in enumerate(zip(tasks, keys))
+        ]
+        bar = _bar(n, desc, progress)
+        done = 0
+        try:
+            for fut in as_completed(futures, loop=client.loop):
+                try:
+                    result = fut.result()
+                except KilledWorker as e:
+                    raise ClusterError(
+                        f"task {fut.key} of the scheduler at {self.address}: its workers died "
+                        f"too often ({e}); see the workers' logs (memory limit? killed?)"
+                    ) from None
+                except Exception as e:
+                    if fut.status != "cancelled":
+                        raise
+                    raise ClusterError(
+                        f"the scheduler at {self.address} cancelled task {fut.key} "
+                        f"(connection lost?): {e}"
+                    ) from None
+                fut.release()
+                done += 1
+                bar.update(1)
+                yield result
+        finally:
+            bar.close()
+            if done < n:  # stopped early: the cluster need not finish the rest
+                try:
+                    client.cancel([f for f in futures if not f.done()])
+                except Exception:  # the connection is gone already
+                    pass
+
+
+__all__ = [
+    "CONNECT_TIMEOUT",
+    "LOCAL",
+    "SCHEDULER_ENV",
+    "ClusterError",
+    "Executor",
+    "scheduler_address",
+    "scheduler_from_env",
+]
