@@ -435,3 +435,22 @@ def test_claims_summary_counts_each_verdict_per_reading():
         "square window: yes 2, partly 0, no 0, n/a 1 (of 3 claims)",
         "literal window: yes 0, partly 1, no 1, n/a 1 (of 3 claims)",
     ]
+
+
+def test_timing_claims_from_a_notebooks_own_rows():
+    """Notebook 09 checks claims 4 and 4b from its bench rows; the literal window's rows stand
+    for Method C under that reading."""
+    rows = [
+        dict(algorithm=f"M{m.lower()} w{w}{sfx}", method=m, w=w, type_v=False,
+             mean_us=t * k, median_us=t * k)
+        for m in ("B", "C")
+        for w, t in ((10, 1000.0), (20, 2000.0), (40, 5000.0), (80, 17000.0))
+        for sfx, k in (("", 1.0), (" (literal window)", 0.1 if w == 80 else 1.0))
+        if not (m == "B" and sfx)
+    ]  # fmt: skip
+    got = {r["id"]: r for r in claims.claim_rows(["4", "4b"], facts={"timing": rows})}
+    assert got["4"]["holds"] == "yes" and got["4b"]["holds"] == "yes"
+    assert "Mc w80 17000 us" in got["4b"]["ours"]
+    assert "Mc w80 1700 us" in got["4b"]["ours_literal"]  # the literal rows, as Mc's
+    assert got["4b"]["holds_literal"] == "partly"  # only Mb w80 over the budget
+    assert got["4"]["holds_literal"] == "partly"  # Mc: 1700 / 1000, not 8-fold

@@ -241,3 +241,13 @@ def test_live_comparison():
     rows = C.live_comparison({"Mc w40": 3.0, "Ma + Type V": 30.0, "OLTW": 1.0})
     assert [r["holds"] for r in rows] == ["yes", "no", "-"]
     assert rows[2]["paper"] == "not in the paper"
+
+
+def test_live_timing_comparison():
+    rows = C.live_timing_comparison(
+        {"Mc w40": [1e-5, 2e-5, 3e-5], "Ma + Type V": [1e-6], "OLTW": [5e-6]}, fps=120.0
+    )
+    assert rows[0]["paper"] == f"{N.TABLE2_US[('C', 40)]:.0f} us (mean)"
+    assert rows[0]["ours"] == "20 us (median; budget 8333 us)"
+    assert [r["paper"] for r in rows[1:]] == ["not in Table 2"] * 2
+    assert {r["holds"] for r in rows} == {"-"}

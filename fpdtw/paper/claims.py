@@ -192,17 +192,22 @@ class ClaimContext:
             Method C's reading (:func:`reading_alias`).
         **facts
             Attributes of :class:`ClaimContext` (``fig8``, ``opw_fig4``, ``opw_fig56``,
-            ``counts``, ``oedtw_backward``).
+            ``counts``, ``oedtw_backward``, ``timing``: rows of
+            :func:`fpdtw.paper.figures.timing.time_per_frame_rows`, which may hold Method
+            C's other readings too: each reading's rows stand for the paper's names).
 
         Paper: FP-DTW Sections 5-7; OPW poster Section 5.
         Notebook: 10_fig8_walk_pair.ipynb, 13_opw_fig4.ipynb, 14_opw_fig5_fig6.ipynb
         """
-        allowed = {"fig8", "opw_fig4", "opw_fig56", "counts", "oedtw_backward"}
+        allowed = {"fig8", "opw_fig4", "opw_fig56", "counts", "oedtw_backward", "timing"}
         unknown = set(facts) - allowed
         if unknown:
             raise TypeError(f"unknown facts {sorted(unknown)}; allowed: {sorted(allowed)}")
+        alias = reading_alias(reading)
         if facts.get("fig8") is not None:
-            facts["fig8"] = _alias_fig8(facts["fig8"], reading_alias(reading))
+            facts["fig8"] = _alias_fig8(facts["fig8"], alias)
+        if facts.get("timing") is not None:
+            facts["timing"] = _alias_timing(facts["timing"], alias)
         return cls(mode=mode, **facts)
 
 
@@ -238,6 +243,20 @@ def _alias_fig8(fig8, alias):
     out = {n: v for n, v in devs.items() if n not in alias}
     out.update({n: devs[s] for n, s in alias.items() if s in devs})
     return {"deviations": out}
+
+
+def _alias_timing(rows, alias):
+    """Timing rows keyed by the paper's names: a reading's Mc rows stand for "Mc w<w>"."""
+    by = {r["algorithm"]: r for r in rows}
+    out = []
+    for r in rows:
+        name = r["algorithm"]
+        if "(" in name:  # another reading's row: used below only if the reading asks for it
+            continue
+        src = by.get(alias.get(name, name))
+        if src is not None:
+            out.append({**src, "algorithm": name})
+    return out
 
 
 def oedtw_backward_jumps(results, name="OE-DTW") -> dict:
