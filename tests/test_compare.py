@@ -57,7 +57,10 @@ def test_data_comparison():
 def test_oedtw_comparison():
     jump = dict(jumps=2, n_frames=30, first_jump=dict(q=14, e_q=20, e_q1=17))
     (row,) = C.oedtw_comparison(jump)
-    assert row["holds"] == "yes" and "frames 14 -> 15 (end point 20 -> 17)" in row["ours"]
+    assert (
+        row["holds"] == "yes"
+        and row["ours"] == "2 in 29 steps; first at frames 14 -> 15: e 20 -> 17"
+    )
     assert f"{N.FIG1_FRAMES[0]} -> {N.FIG1_FRAMES[1]}" in row["paper"]
     (row,) = C.oedtw_comparison(dict(jumps=0, n_frames=30, first_jump=None))
     assert row["holds"] == "no" and row["ours"] == "none in 29 steps"
@@ -106,7 +109,9 @@ def test_forecast_comparison():
     assert got["best level s, dead reckoning, 3 frames ahead"] == "no"  # s = 3 at i = 3
     assert rows[1]["ours"] == "s = 3" and rows[0]["paper"] == f"s = {N.FORECAST_LEVEL}"
     # exponential's best (0.9) beats dead reckoning's 1.0 at i = 1, not at i = 2
-    assert got["dead reckoning (s = 2) error vs the others' best"] == "partly"
+    assert got["dead reckoning (s = 2) vs the others' best, 1 ahead"] == "no"
+    assert got["dead reckoning (s = 2) vs the others' best, 2 ahead"] == "yes"
+    assert rows[-1]["ours"] == "2.000 vs holt 2.500, exponential 2.000"
 
 
 def test_paper_passes_reads_sections_5_and_7():
