@@ -363,3 +363,94 @@ def test_opw_claims_fail_when_the_numbers_differ():
     # below 150 ms but not the poster's numbers: partly
     fig4 = {**POSTER_LIKE_FIG4, "opw_mean_ms_range": [22.0, 36.0], "opw_max_ms": 84.0}
     assert _opw_rows(fig4, POSTER_LIKE_FIG56)["P1"] == "partly"
+
+
+# -- the rows a notebook prints after its figure ---------------------------------------------
+
+
+def test_claim_rows_picks_rows_in_the_order_asked():
+    rows = claims.build_claims(context=ctx_paper_like())
+    got = claims.claim_rows(["5b", "1"], rows=rows)
+    assert [r["id"] for r in got] == ["5b", "1"]
+    assert got[1] is next(r for r in rows if r["id"] == "1")
+    with pytest.raises(KeyError, match="99"):
+        claims.claim_rows(["99"], rows=rows)
+    with pytest.raises(KeyError, match="99"):
+        claims.claims_by_id(["1", "99"])
+    with pytest.raises(ValueError, match="at most one"):
+        claims.claim_rows(["1"], rows=rows, facts={})
+
+
+def test_claim_rows_from_a_notebooks_own_facts():
+    """Notebook 10 checks claim 8 from its JSON alone, under both readings of Method C."""
+    fig8 = {
+        "deviation": {
+            **FIG8_DEVIATIONS,
+            "Mc w20 (literal window)": 150.0,
+            "Mc w40 (literal window)": 3.0,
+            "Mc w80 (literal window)": 300.0,
+        }
+    }
+    (row,) = claims.claim_rows(["8"], "smoke", facts={"fig8": fig8})
+    assert row["holds"] == "yes"  # the paper's numbers: below 18 are Mb w80 and Mc w80
+    assert row["holds_literal"] == "partly"  # literal: Mb w80 and Mc w40 below 18
+    assert "Mc w40 3.0" in row["ours_literal"]
+    assert fig8["deviation"]["Mc w40"] == FIG8_DEVIATIONS["Mc w40"]  # facts not changed
+    # a claim that needs the experiment results is not computed from facts
+    (row,) = claims.claim_rows(["1"], "smoke", facts={"fig8": fig8})
+    assert row["holds"] == "n/a" and row["ours"].startswith("not computed")
+    (row,) = claims.claim_rows(["P1"], facts={"opw_fig4": POSTER_LIKE_FIG4})
+    assert row["holds"] == "yes"
+    with pytest.raises(TypeError, match="unknown facts"):
+        claims.ClaimContext.from_facts(similarity={"Ma": 0.1})
+
+
+def test_format_claims_prints_paper_ours_holds_and_the_literal_window_where_it_differs():
+    rows = claims.build_claims(context=ctx_paper_like())
+    for r in rows:  # make one row differ under the literal window
+        if r["id"] == "1":
+            r["ours_literal"], r["holds_literal"] = "pass either: none", "no"
+    text = claims.format_claims(claims.claim_rows(["1", "5b"], rows=rows))
+    lines = text.splitlines()
+    assert lines[0].startswith("[1] Without a constraint, Mc w40")
+    assert "    paper: Mc w40" in lines
+    assert "    ours:  pass either: Mc w40" in lines
+    assert "    holds? yes" in lines
+    assert sum("literal window" in x for x in lines) == 1  # only for claim 1
+    assert "pass either: none; holds? no" in text
+    assert max(len(x) for x in lines) <= 96
+    assert claims.format_claims(rows, stable=False).startswith("[4]")
+    assert "[4]" not in claims.format_claims(rows, stable=True)
+    assert claims.format_claims([]) == "(no claims)"
+    assert claims.format_claims(rows) == claims.format_claims(rows)  # deterministic
+
+
+def test_claims_summary_counts_each_verdict_per_reading():
+    rows = [
+        dict(holds="yes", holds_literal="no"),
+        dict(holds="yes", holds_literal="partly"),
+        dict(holds="n/a", holds_literal="n/a"),
+    ]
+    assert claims.claims_summary(rows).splitlines() == [
+        "square window: yes 2, partly 0, no 0, n/a 1 (of 3 claims)",
+        "literal window: yes 0, partly 1, no 1, n/a 1 (of 3 claims)",
+    ]
+
+
+def test_timing_claims_from_a_notebooks_own_rows():
+    """Notebook 09 checks claims 4 and 4b from its bench rows; the literal window's rows stand
+    for Method C under that reading."""
+    rows = [
+        dict(algorithm=f"M{m.lower()} w{w}{sfx}", method=m, w=w, type_v=False,
+             mean_us=t * k, median_us=t * k)
+        for m in ("B", "C")
+        for w, t in ((10, 1000.0), (20, 2000.0), (40, 5000.0), (80, 17000.0))
+        for sfx, k in (("", 1.0), (" (literal window)", 0.1 if w == 80 else 1.0))
+        if not (m == "B" and sfx)
+    ]  # fmt: skip
+    got = {r["id"]: r for r in claims.claim_rows(["4", "4b"], facts={"timing": rows})}
+    assert got["4"]["holds"] == "yes" and got["4b"]["holds"] == "yes"
+    assert "Mc w80 17000 us" in got["4b"]["ours"]
+    assert "Mc w80 1700 us" in got["4b"]["ours_literal"]  # the literal rows, as Mc's
+    assert got["4b"]["holds_literal"] == "partly"  # only Mb w80 over the budget
+    assert got["4"]["holds_literal"] == "partly"  # Mc: 1700 / 1000, not 8-fold

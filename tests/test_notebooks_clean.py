@@ -37,3 +37,43 @@ def test_notebook_is_stripped_and_thin(path):
         if c.cell_type == "code":
             assert c.outputs == [], f"{path.name}: committed with outputs"
             assert c.execution_count is None
+
+
+def _paper_results() -> set:
+    """The papers' reported results (not their protocol parameters), as numbers."""
+    from fpdtw.paper import numbers as N
+
+    vals = [v for rate in N.TABLE1.values() for v in rate.values()]
+    vals += list(N.TABLE2_US.values()) + list(N.FIG8_DEVIATIONS.values())
+    vals += list(N.OPW_MEAN_DEVIATION_MS) + [N.OPW_MAX_DEVIATION_MS]
+    vals += [N.OPW_REMOVED_GAMMA5, N.OPW_REMOVED_BEST_GAMMA] + list(N.DATA.values())
+    vals += list(N.DATA_SOURCES.values())
+    # small whole numbers (6, 8, 62 frames) are too common in code to flag
+    return {float(v) for v in vals if float(v) != int(v) or v >= 100}
+
+
+@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
+def test_notebook_reads_as_a_companion(path):
+    """Each notebook shows the equation or algorithm it reproduces, and after its figures
+    prints the paper's values next to ours with a verdict (``fpdtw.paper.compare`` or the
+    claims table), in a cell nbval checks; its code never retypes a paper result."""
+    nb = nbformat.read(path, as_version=4)
+    md = "".join(c.source for c in nb.cells if c.cell_type == "markdown")
+    assert md.count("$$") >= 2, "no display equation ($$ ... $$) in the markdown"
+    code = [c for c in nb.cells if c.cell_type == "code"]
+    printers = ("format_comparison(", "format_claims(", "claims_summary(")
+    checked = [c for c in code if any(p in c.source for p in printers)]
+    assert checked, "no cell prints paper | ours | holds?"
+    assert any("# NBVAL_CHECK_OUTPUT" in c.source for c in checked), (
+        "no comparison cell is checked by nbval"
+    )
+    results = _paper_results()
+    for c in code:
+        if "parameters" in c.get("metadata", {}).get("tags", []):
+            continue
+        for node in ast.walk(ast.parse(c.source)):
+            if isinstance(node, ast.Constant) and type(node.value) in (int, float):
+                assert float(node.value) not in results, (
+                    f"{path.name}: the paper's {node.value} typed into a code cell; read it "
+                    "from fpdtw.paper.numbers"
+                )

@@ -173,6 +173,43 @@ class ClaimContext:
             counts=getattr(results, "counts", None) or data_counts(results.pairs),
         )
 
+    @classmethod
+    def from_facts(cls, mode="full", reading="square", **facts):
+        """A context holding only a notebook's own facts (no experiment results).
+
+        For notebooks that check a claim from what they computed themselves, without
+        loading the experiment grid: the walk pair (``fig8``: notebook 10's JSON), the OPW
+        poster's figures (``opw_fig4``, ``opw_fig56``), the data (``counts``, as
+        :func:`data_counts`) or OE-DTW's jumps (``oedtw_backward``, as
+        :func:`oedtw_backward_jumps`). Claims that need anything else come out "not
+        computed". With ``reading="literal"`` the Fig. 8 deviations of Method C are read
+        from its literal-window maps, as :meth:`from_results` does.
+
+        Parameters
+        ----------
+        mode : {"full", "smoke"}
+        reading : str
+            Method C's reading (:func:`reading_alias`).
+        **facts
+            Attributes of :class:`ClaimContext` (``fig8``, ``opw_fig4``, ``opw_fig56``,
+            ``counts``, ``oedtw_backward``, ``timing``: rows of
+            :func:`fpdtw.paper.figures.timing.time_per_frame_rows`, which may hold Method
+            C's other readings too: each reading's rows stand for the paper's names).
+
+        Paper: FP-DTW Sections 5-7; OPW poster Section 5.
+        Notebook: 10_fig8_walk_pair.ipynb, 13_opw_fig4.ipynb, 14_opw_fig5_fig6.ipynb
+        """
+        allowed = {"fig8", "opw_fig4", "opw_fig56", "counts", "oedtw_backward", "timing"}
+        unknown = set(facts) - allowed
+        if unknown:
+            raise TypeError(f"unknown facts {sorted(unknown)}; allowed: {sorted(allowed)}")
+        alias = reading_alias(reading)
+        if facts.get("fig8") is not None:
+            facts["fig8"] = _alias_fig8(facts["fig8"], alias)
+        if facts.get("timing") is not None:
+            facts["timing"] = _alias_timing(facts["timing"], alias)
+        return cls(mode=mode, **facts)
+
 
 def reading_alias(reading: str) -> dict:
     """Mc name -> the name of its results under a reading of Algorithm 3 ({} for the default).
@@ -206,6 +243,20 @@ def _alias_fig8(fig8, alias):
     out = {n: v for n, v in devs.items() if n not in alias}
     out.update({n: devs[s] for n, s in alias.items() if s in devs})
     return {"deviations": out}
+
+
+def _alias_timing(rows, alias):
+    """Timing rows keyed by the paper's names: a reading's Mc rows stand for "Mc w<w>"."""
+    by = {r["algorithm"]: r for r in rows}
+    out = []
+    for r in rows:
+        name = r["algorithm"]
+        if "(" in name:  # another reading's row: used below only if the reading asks for it
+            continue
+        src = by.get(alias.get(name, name))
+        if src is not None:
+            out.append({**src, "algorithm": name})
+    return out
 
 
 def oedtw_backward_jumps(results, name="OE-DTW") -> dict:
@@ -310,11 +361,15 @@ def _passing(ctx, names, both: bool):
 
 
 def _pass_either(ctx):
+    if not ctx.similarity:
+        return "no scores"
     ours = _passing(ctx, FPDTW_NAMES, both=False)
     return f"pass either: {_names(ours)}", ours
 
 
 def _pass_both(ctx):
+    if not ctx.similarity:
+        return "no scores"
     ours = _passing(ctx, FPDTW_NAMES + FPDTW_TYPEV_NAMES, both=True)
     return f"pass both: {_names(ours)}", ours
 
@@ -672,8 +727,13 @@ def build_claims(mode="full", results=None, claims=None, context=None) -> list[d
         }
     else:
         contexts = {suffix: context for suffix in READINGS}
+    return _evaluate(CLAIMS if claims is None else claims, contexts)
+
+
+def _evaluate(claims, contexts) -> list[dict]:
+    """Rows of :data:`COLUMNS` for ``claims``; ``contexts``: column suffix -> context."""
     rows = []
-    for claim in CLAIMS if claims is None else claims:
+    for claim in claims:
         row = claim.row(contexts[""])
         for suffix, ctx in contexts.items():
             if suffix:
@@ -682,6 +742,138 @@ def build_claims(mode="full", results=None, claims=None, context=None) -> list[d
                 row[f"holds{suffix}"] = other["holds"]
         rows.append({c: row[c] for c in COLUMNS})
     return rows
+
+
+def claims_by_id(ids, claims=None) -> list:
+    """The :class:`Claim` objects of ``ids``, in that order (KeyError names an unknown id)."""
+    by = {c.id: c for c in (CLAIMS if claims is None else claims)}
+    missing = [i for i in ids if str(i) not in by]
+    if missing:
+        raise KeyError(f"no claims {missing} in the table (ids: {', '.join(by)})")
+    return [by[str(i)] for i in ids]
+
+
+def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None) -> list[dict]:
+    """The rows of the claims table that a notebook is evidence for, in the order of ``ids``.
+
+    The companion notebooks print these right after their figure
+    (:func:`format_claims`), so that each figure is followed by what the paper claims
+    from it, our value and whether the claim holds here, decided by the same rules as
+    ``figures/claims.md`` (notebook 12).
+
+    Parameters
+    ----------
+    ids : sequence of str
+        Claim ids of :data:`CLAIMS`, e.g. ``["1", "2"]`` (KeyError for an unknown id).
+    mode : {"full", "smoke"}
+    results : fpdtw.paper.runner.Results, optional
+        The experiment results to evaluate the claims on (default: ``load_results(mode)``,
+        unless ``rows`` or ``facts`` is given).
+    rows : list of dict, optional
+        A claims table already built (:func:`build_claims`): its rows are picked.
+    facts : dict, optional
+        A notebook's own facts instead of results (:meth:`ClaimContext.from_facts`): the
+        claims are evaluated on them under each reading of :data:`READINGS`.
+
+    Returns
+    -------
+    rows : list of dict
+        Keys :data:`COLUMNS`, one row per id.
+
+    Paper: FP-DTW Sections 5-7; OPW poster Section 5.
+    Notebook: 06_fig5_fig6_scores.ipynb (and every notebook that checks a claim)
+    """
+    ids = [str(i) for i in ids]
+    if sum(x is not None for x in (results, rows, facts)) > 1:
+        raise ValueError("give at most one of results, rows and facts")
+    if rows is not None:
+        by = {r["id"]: r for r in rows}
+        missing = [i for i in ids if i not in by]
+        if missing:
+            raise KeyError(f"no rows {missing} in the claims table given")
+        return [by[i] for i in ids]
+    subset = claims_by_id(ids)
+    if facts is not None:
+        contexts = {
+            suffix: ClaimContext.from_facts(mode, reading, **dict(facts))
+            for suffix, reading in READINGS.items()
+        }
+        return _evaluate(subset, contexts)
+    return build_claims(mode, results, claims=subset)
+
+
+def format_claims(rows, stable=None, width: int = 96) -> str:
+    """The claims as text: the claim, then "paper", "ours" and "holds?" on their own lines.
+
+    Under Method C's literal window (``ours_literal``, ``holds_literal``) a line is added
+    only where it differs from the default window's. Deterministic for deterministic rows,
+    so a notebook cell printing it can be compared by nbval.
+
+    Parameters
+    ----------
+    rows : list of dict
+        From :func:`claim_rows` or :func:`build_claims`.
+    stable : bool, optional
+        True: only the deterministic rows; False: only the timing rows; None: all.
+    width : int
+        Line width the claim text is wrapped to.
+
+    Returns
+    -------
+    text : str
+
+    Notebook: 06_fig5_fig6_scores.ipynb (and every notebook that checks a claim)
+    """
+    import textwrap
+
+    out = []
+    for r in rows:
+        if stable is not None and bool(r.get("stable", True)) != stable:
+            continue
+        head = textwrap.fill(f"[{r['id']}] {r['claim']}", width, subsequent_indent="    ")
+        lines = [head]
+        for label, key in (("paper: ", "paper"), ("ours:  ", "ours"), ("holds? ", "holds")):
+            lines.append(
+                textwrap.fill(
+                    str(r[key]), width, initial_indent="    " + label, subsequent_indent=" " * 11
+                )
+            )
+        lit = [s for s in READINGS if s]
+        for s in lit:
+            if f"ours{s}" in r and (r[f"ours{s}"], r[f"holds{s}"]) != (r["ours"], r["holds"]):
+                lines.append(
+                    textwrap.fill(
+                        f"{r[f'ours{s}']}; holds? {r[f'holds{s}']}",
+                        width,
+                        initial_indent=f"    with Method C's {READINGS[s]} window: ",
+                        subsequent_indent=" " * 11,
+                    )
+                )
+        out.append("\n".join(lines))
+    return "\n".join(out) if out else "(no claims)"
+
+
+def claims_summary(rows) -> str:
+    """How many claims hold: counts of "yes", "partly", "no", "n/a" per reading of Method C.
+
+    Returns
+    -------
+    text : str
+        One line per reading, e.g. ``"square window: yes 6, partly 5, no 2, n/a 1"``.
+
+    Notebook: 12_claims.ipynb
+    """
+    lines = []
+    for suffix, reading in READINGS.items():
+        counts = {v: 0 for v in ("yes", "partly", "no", "n/a")}
+        for r in rows:
+            counts[r[f"holds{suffix}"]] = counts.get(r[f"holds{suffix}"], 0) + 1
+        lines.append(
+            f"{reading} window: "
+            + ", ".join(f"{k} {v}" for k, v in counts.items())
+            + f" (of {len(rows)} claims)"
+        )
+    return "\n".join(lines)
 
 
 def save_claims(rows, mode="full"):
@@ -717,8 +909,12 @@ __all__ = [
     "Claim",
     "ClaimContext",
     "build_claims",
+    "claim_rows",
+    "claims_by_id",
+    "claims_summary",
     "compare_sets",
     "data_counts",
+    "format_claims",
     "oedtw_backward_jumps",
     "reading_alias",
     "save_claims",

@@ -236,12 +236,12 @@ def reading_signature(rows, dataset: str = "all") -> list[dict]:
 PAPER_SIGNATURE = dict(
     dataset="paper",
     reading="(the paper's Method C)",
-    best_w_120=40,
-    best_w_60=20,
+    best_w_120=numbers.BEST_WINDOW[120],
+    best_w_60=numbers.BEST_WINDOW[60],
     w10_stick_skip="sticks (< 0)",
     w80_stick_skip="skips (> 0)",
-    w40_passes_both=True,
-    pass_both="w40, w80 + Type V",
+    w40_passes_both="Mc w40" in numbers.PASS_BOTH,
+    pass_both=", ".join(n[3:] for n in numbers.PASS_BOTH if n.startswith("Mc ")),
     exhausted="Mc w80 runs out early",
 )
 
