@@ -137,8 +137,8 @@ def test_front_page_holds_every_claim_the_data_and_how_to_rerun(tmp_path):
     assert '<span class="holds holds-na">n/a</span>' in rows[2]
     assert "{.claims}" in text
     # the data: here / listed, what is missing, what the experiments ran on
-    assert "| `authors_fbx` | 1 / 2 | 3 / 6 | Walk (3) |" in text
-    assert "| `hdm05` | 1 / 1 | 9 / 9 | nothing |" in text
+    assert "| `authors_fbx` | 1 / 2 | 3 / 6 | Walk (3) |  |" in text
+    assert "| `hdm05` | 1 / 1 | 9 / 9 | nothing | Not obtainable here: the walking" in text
     assert "12 motions of 2 movements, 78 ordered pairs" in text
     for command in ("make figures", "make book", "make test"):
         assert command in text
@@ -148,6 +148,24 @@ def test_front_page_holds_every_claim_the_data_and_how_to_rerun(tmp_path):
     smoke = book.front_page(None, pages, tmp_path / "none", mode="smoke")
     assert "smoke-banner" in smoke and "No claims table yet" in smoke
     assert "No data summary yet" in smoke
+
+
+def test_what_the_manifests_say_is_not_obtainable():
+    class M:
+        def __init__(self, name, notes):
+            self.name, self.notes = name, notes
+
+    said = book.unlisted_missing([
+        M("a", "All takes. The 15 takes of X are not (available_here = false)."),
+        M("b", "Every clip. Not obtainable here: the walking\n  classes. Upstream: a zip."),
+        M("c", "Take 1. The poster's other clips (19_01, 18_02) are not obtainable here."),
+    ])  # fmt: skip
+    assert said == {
+        "b": "Not obtainable here: the walking classes.",
+        "c": "The poster's other clips (19_01, 18_02) are not obtainable here.",
+    }
+    real = book.unlisted_missing()  # the manifests of data_manifest/
+    assert "sitting" in real["hdm05"] and "22_17" in real["cmu"]
 
 
 def test_figures_page_shows_images_tables_and_downloads(tmp_path):

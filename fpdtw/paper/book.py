@@ -68,8 +68,8 @@ table.claims td, table.claims th { vertical-align: top; }
 .holds-na { background: #e6e6e6; color: #444; }
 .smoke-banner { border-left: 0.3em solid #c77d00; padding: 0.4em 0.8em; background: #fff6e5; }
 math[display="block"] { margin: 0.5em 0; }
-/* the front page: the claims table may use the whole width */
-.bd-article-container:has(table.claims) { max-width: none; }
+/* the front page (no right-hand contents column): the claims table may use the width */
+.bd-main .bd-content .bd-article-container:has(table.claims) { max-width: none; }
 table.claims td:nth-child(2) { min-width: 16em; }
 table.claims td:nth-child(4) { min-width: 12em; }
 """
@@ -232,11 +232,11 @@ def claims_section(claims: list[dict] | None, pages: list[Page]) -> str:
         + summary
         + (f", other {extra}" if extra else "")
         + ". *Literal window*: the verdict with Method C's literal `(w_i + 1) x w` window "
-        "(notebook 15 explains the two readings). *Shown in*: the notebook pages with the "
+        "(notebook 15 explains the two readings). *Notebook*: the pages that show the "
         "evidence.",
         "",
         "{.claims}",
-        "| # | claim | paper | ours | holds | literal window | shown in |",
+        "| # | claim | paper | ours | holds | literal window | notebook |",
         "|---|---|---|---|---|---|---|",
     ]
     executed = {p.stem for p in pages if p.executed}
@@ -268,12 +268,46 @@ def claims_section(claims: list[dict] | None, pages: list[Page]) -> str:
     return "\n".join(out)
 
 
+def unlisted_missing(manifests=None) -> dict:
+    """What each dataset's manifest says is not obtainable here (and so is not listed).
+
+    The sentences of a manifest's ``notes`` that say "not obtainable here" (HDM05's
+    walking, turning, punching, jumping and sitting classes; the OPW poster's other CMU
+    clips). What a manifest lists but this machine lacks is in notebook 01's table.
+
+    Parameters
+    ----------
+    manifests : list of fpdtw.paper.datasets.Manifest, optional
+        Default: every manifest of ``data_manifest/``.
+
+    Returns
+    -------
+    dict of str to str
+        ``{dataset: sentences}``, only datasets whose notes say so.
+
+    Notebook: 01_data_and_motions.ipynb
+    """
+    if manifests is None:
+        from fpdtw.paper import datasets
+
+        manifests = datasets.manifests()
+    out = {}
+    for m in manifests:
+        sentences = re.split(r"(?<=\.)\s+(?=[A-Z])", " ".join(str(m.notes or "").split()))
+        said = [x for x in sentences if "not obtainable here" in x.lower()]
+        if said:
+            out[m.name] = " ".join(said)
+    return out
+
+
 def data_section(figures_dir) -> str:
     """The front page's data statement: what was used, what is missing (MyST Markdown).
 
     Read from notebook 01's ``data_summary.csv`` (every movement: takes listed, available
-    here, missing) and notebook 05's ``experiment_pairs.csv`` (motions and ordered pairs
-    per movement), next to the paper's counts (:data:`fpdtw.paper.numbers.DATA`).
+    here, missing), the manifests' word on what is not obtainable at all
+    (:func:`unlisted_missing`) and notebook 05's ``experiment_pairs.csv`` (motions and
+    ordered pairs per movement), next to the paper's counts
+    (:data:`fpdtw.paper.numbers.DATA`).
 
     Parameters
     ----------
@@ -298,8 +332,12 @@ def data_section(figures_dir) -> str:
     if summary is None:
         out += ["No data summary yet: notebook `01_data_and_motions` writes it.", ""]
     else:
-        out += ["| dataset | movements here / listed | motions here / listed | missing |"]
-        out += ["|---|---|---|---|"]
+        unlisted = unlisted_missing()
+        out += [
+            "| dataset | movements here / listed | motions here / listed | listed, not here "
+            "| not obtainable here (not listed) |",
+            "|---|---|---|---|---|",
+        ]
         for ds in dict.fromkeys(r["dataset"] for r in summary):
             rows = [r for r in summary if r["dataset"] == ds]
             here = sum(int(r["available"]) for r in rows)
@@ -309,6 +347,8 @@ def data_section(figures_dir) -> str:
             out.append(
                 f"| `{ds}` | {moves_here} / {len(rows)} | {here} / {listed} | "
                 + _cell(", ".join(gone) or "nothing")
+                + " | "
+                + _cell(unlisted.get(ds) or "")
                 + " |"
             )
         out.append("")
@@ -397,7 +437,8 @@ def front_page(
     Notebook: 12_claims.ipynb
     """
     title = "FP-DTW and OPW, reproduced" + (" (smoke run)" if mode == "smoke" else "")
-    out = [f"# {title}", ""]
+    # no right-hand contents column on the front page: the claims table needs the width
+    out = ["---", "html_theme.sidebar_secondary.remove: true", "---", "", f"# {title}", ""]
     if mode == "smoke":
         out += [
             '<p class="smoke-banner">The smoke book: every notebook run on 54 short pairs '
