@@ -1,6 +1,7 @@
 # fpdtw: two commands do everything on a machine with python3 and make:
-#   make figures   environment, data, every notebook, figures/ and tables
-#   make test      environment, data, lint, the test suite (incl. smoke notebooks)
+#   make figures   environment, data, every notebook, figures/ and tables, the book
+#   make test      environment, data, lint, the test suite (incl. smoke notebooks and the
+#                  smoke book in a headless browser)
 # Offline? Point FPDTW_MIRROR at a folder or base URL holding a copy of the data.
 
 PYTHON ?= python3
@@ -41,14 +42,26 @@ export NUMBA_CACHE_DIR := $(CURDIR)/build/numba-cache
 NUMBA_STAMP := $(NUMBA_CACHE_DIR)/.sources-stamp
 SMOKE_DIR := build/smoke
 SMOKE_NBS := $(patsubst notebooks/%.ipynb,$(SMOKE_DIR)/%.ipynb,$(NOTEBOOKS))
-LIB_SRC   := $(wildcard fpdtw/*.py fpdtw/*/*.py)
+# the book's tools (site, browser check, notebook runner) change no notebook's result
+BOOK_SRC  := fpdtw/paper/book.py fpdtw/paper/browser.py fpdtw/paper/execute.py
+LIB_SRC   := $(filter-out $(BOOK_SRC),$(wildcard fpdtw/*.py fpdtw/*/*.py))
+RUNNER_SRC := $(wildcard fpdtw/paper/runner/*.py)
 # smoke runs write their figures and results under build/smoke, never over figures/
 SMOKE_ENV := FPDTW_FIGURES_DIR=$(CURDIR)/$(SMOKE_DIR)/figures FPDTW_RESULTS_DIR=$(CURDIR)/$(SMOKE_DIR)/results
+SMOKE_BOOK := $(SMOKE_DIR)/book/index.html
+BOOK       := build/book/index.html
+# every notebook is executed by papermill through fpdtw.paper.execute (kernel fpdtw, the
+# notebooks folder as working directory, parameter SMOKE), which prints when each starts
+# and ends and how long it took
+EXECUTE := $(PY) -m fpdtw.paper.execute --kernel fpdtw --cwd notebooks
 
-.PHONY: env lock data test fuzz lint format figures bench clean distclean help
+.PHONY: env lock data test fuzz lint format figures book book-check smoke-book bench clean \
+	distclean help
 
 help:
-	@echo "make figures  - build env, fetch data, run every notebook, write figures/"
+	@echo "make figures  - build env, fetch data, run every notebook, write figures/, the book"
+	@echo "make book     - the book (build/book/index.html) from the executed notebooks"
+	@echo "make book-check - open the book in headless Chromium: console errors, images, links"
 	@echo "make test     - build env, fetch data, lint and run the test suite"
 	@echo "make fuzz     - the fuzz tests with a 15x budget (FUZZ_SEED=0 by default)"
 	@echo "make data     - fetch and verify the data listed in data_manifest/"
@@ -118,9 +131,10 @@ format: $(STAMP)
 	$(VENV)/bin/ruff format fpdtw tests tools
 	$(VENV)/bin/ruff check --fix fpdtw tests tools
 
-# the test suite, then the smoke notebooks re-executed under nbval (lax: only cells
-# marked NBVAL_CHECK_OUTPUT are compared with the papermill run's outputs)
-test: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) lint $(SMOKE_NBS)
+# the test suite (with the browser test of the smoke book: tests/test_book_browser.py),
+# then the smoke notebooks re-executed under nbval (lax: only cells marked
+# NBVAL_CHECK_OUTPUT are compared with the papermill run's outputs)
+test: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) lint $(SMOKE_NBS) $(SMOKE_BOOK)
 	$(VENV)/bin/pytest -q
 	$(SMOKE_ENV) $(VENV)/bin/pytest -q -p no:cacheprovider --nbval-lax $(SMOKE_NBS)
 
@@ -133,9 +147,12 @@ fuzz: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP)
 		--hypothesis-seed=$(FUZZ_SEED) --hypothesis-show-statistics
 
 $(SMOKE_DIR)/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(LIB_SRC)
-	mkdir -p $(dir $@)
-	$(SMOKE_ENV) $(PY) -m papermill --kernel fpdtw --cwd notebooks -p SMOKE True $< $(@:.ipynb=.part.ipynb)
-	mv $(@:.ipynb=.part.ipynb) $@
+	@$(SMOKE_ENV) $(EXECUTE) --smoke $< $@
+
+# the smoke book: the site of the smoke notebooks, which the browser test opens
+smoke-book: $(SMOKE_BOOK)
+$(SMOKE_BOOK): $(SMOKE_NBS) fpdtw/paper/book.py
+	$(SMOKE_ENV) $(PY) -m fpdtw.paper.book --mode smoke --notebooks $(SMOKE_DIR) --out $(@D)
 
 bench: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP)
 	$(PY) -m fpdtw.paper.bench
@@ -146,17 +163,46 @@ results/bench.json: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(LIB_SRC)
 build/notebooks/09_table2_timing.ipynb: results/bench.json
 
 # every notebook is executed by papermill into build/notebooks (sources never edited
-# in place), with an explicit kernel and the notebooks folder as working directory
-figures: $(EXECUTED) figures/ENVIRONMENT.md
+# in place), with an explicit kernel and the notebooks folder as working directory; the
+# book comes last
+figures: $(EXECUTED) figures/ENVIRONMENT.md $(BOOK)
 
 # what made the figures: package versions, Python, commit, CPU (fpdtw.paper.provenance)
 figures/ENVIRONMENT.md: $(EXECUTED)
 	$(PY) -m fpdtw.paper.provenance --markdown $@
 
 build/notebooks/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(LIB_SRC)
-	mkdir -p $(dir $@)
-	$(PY) -m papermill --kernel fpdtw --cwd notebooks -p SMOKE False $< $(@:.ipynb=.part.ipynb)
-	mv $(@:.ipynb=.part.ipynb) $@
+	@$(EXECUTE) $< $@
+
+# The experiment grids run first, in the terminal, where the runner's progress bar shows:
+# notebooks 05 (the full grid) and 15 (the study grid) then find them done and only load
+# them (the runner is resumable; a re-run with nothing changed computes nothing). One grid
+# at a time (order-only prerequisite), as when the notebooks ran them.
+GRID_DEPS := $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(LIB_SRC) $(RUNNER_SRC)
+build/grids/%.done: $(GRID_DEPS)
+	$(PY) -W ignore::RuntimeWarning:runpy -m fpdtw.paper.runner.run --mode $*
+	@mkdir -p $(@D) && touch $@
+$(SMOKE_DIR)/grids/%.done: $(GRID_DEPS)
+	$(SMOKE_ENV) $(PY) -W ignore::RuntimeWarning:runpy -m fpdtw.paper.runner.run --mode $*
+	@mkdir -p $(@D) && touch $@
+build/grids/study.done: | build/grids/full.done
+$(SMOKE_DIR)/grids/smoke-study.done: | $(SMOKE_DIR)/grids/smoke.done
+build/notebooks/05_run_experiments.ipynb: build/grids/full.done
+build/notebooks/15_readings_of_algorithm_3.ipynb: build/grids/study.done
+$(SMOKE_DIR)/05_run_experiments.ipynb: $(SMOKE_DIR)/grids/smoke.done
+$(SMOKE_DIR)/15_readings_of_algorithm_3.ipynb: $(SMOKE_DIR)/grids/smoke-study.done
+
+# the book: one static site of the executed notebooks (outputs as they ran, nothing
+# executed again) with the claims table, the data used and missing and how to rerun on its
+# front page (fpdtw.paper.book: Sphinx + MyST-NB); open build/book/index.html
+book: $(BOOK)
+$(BOOK): $(EXECUTED) figures/ENVIRONMENT.md fpdtw/paper/book.py
+	$(PY) -m fpdtw.paper.book --mode full --notebooks build/notebooks --out $(@D)
+
+# the book in headless Chromium (Debian's chromium package): every page without a console
+# error, every image loaded, every internal link resolving; screenshots in build/book/screenshots
+book-check: $(BOOK)
+	$(PY) -m fpdtw.paper.browser build/book --screenshots build/book/screenshots
 
 # notebook order and one target per figure or table (`make figures/fig5_similarity.pdf` runs
 # its notebook and what that needs): generated from the one map, fpdtw/paper/figure_map.py
