@@ -101,23 +101,6 @@ _LOG_COLS = 7
 
 
 @numba.njit(cache=True)
-def _cell(D, r, cq, rp, pc, d):
-    """Path cost of a cell from its three predecessors in the ring buffer ``D``.
-
-    The cell is ``D[r, cq]``; its input step ``D[rp, cq]`` and target step ``D[r, pc]``
-    add the local cost ``d`` once, the diagonal ``D[rp, pc]`` twice (Dixon's weights).
-    """
-    best = D[rp, cq] + d
-    v = D[r, pc] + d
-    if v < best:
-        best = v
-    v = D[rp, pc] + 2.0 * d
-    if v < best:
-        best = v
-    return best
-
-
-@numba.njit(cache=True)
 def _work_views(work, c, k):
     """OLTW's float64 scratch as views of one buffer: the band ``D`` (c, c), the last c
     target frames joint-major ``R`` (k, 4, c) (frame q' in slot ``q' % c``), a line's
@@ -156,18 +139,31 @@ def _new_band_line(Iq, Isoa, R, D, dl, acc, c, i, q, column):
         else:  # the run of slots wraps around the ring
             _geo_line(Iq[i], R, s0, c, acc, dl)
             _geo_line(Iq[i], R, 0, s1 + 1, acc, dl[c - s0 :])
+    # ring slots: of the line's running index k and of k - 1 (advanced without a modulo
+    # per cell), and of its fixed index and that minus one
+    s = lo % c
+    sp = (lo - 1) % c
+    f = (q if column else i) % c
+    fp = ((q if column else i) - 1) % c
+    x = 0.0
     for k in range(lo, hi):
-        ii = k if column else i
-        qq = q if column else k
         d = dl[k - lo]
-        r, cq = ii % c, qq % c
-        rp, pc = (ii - 1) % c, (qq - 1) % c
-        if k > lo:
-            D[r, cq] = _cell(D, r, cq, rp, pc, d)
-        elif column:
-            D[r, cq] = D[r, pc] + d  # (ii, q - 1)
+        if column:
+            r, cq, rp, pc = s, f, sp, fp
         else:
-            D[r, cq] = D[rp, cq] + d  # (i - 1, qq)
+            r, cq, rp, pc = f, s, fp, sp
+        if k > lo:
+            # the previous cell of the line (x, kept in a register) is this cell's input
+            # step in a column, its target step in a row; a min of three is exact in any
+            # order, so the value is _cell's
+            x = min(min(x + d, (D[r, pc] if column else D[rp, cq]) + d), D[rp, pc] + 2.0 * d)
+        elif column:
+            x = D[r, pc] + d  # (ii, q - 1)
+        else:
+            x = D[rp, cq] + d  # (i - 1, qq)
+        D[r, cq] = x
+        sp = s
+        s = s + 1 if s + 1 < c else 0
 
 
 @numba.njit(cache=True)
@@ -181,10 +177,13 @@ def _best_cell(D, c, i, q, normalize):
     bq = q
     for column in (True, False):
         lo = max(0, (i if column else q) - c + 1)
+        s = lo % c  # ring slot of k, advanced without a modulo per cell
+        f = (q if column else i) % c
         for k in range(lo, (i if column else q) + 1):
             ii = k if column else i
             qq = q if column else k
-            v = D[ii % c, qq % c]
+            v = D[s, f] if column else D[f, s]
+            s = s + 1 if s + 1 < c else 0
             if normalize:
                 v = v / (1.0 + ii + qq)
             if v < best:
