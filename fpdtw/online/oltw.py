@@ -153,9 +153,9 @@ def _new_band_line(Iq, Isoa, R, D, dl, acc, c, i, q, column):
         else:
             r, cq, rp, pc = f, s, fp, sp
         if k > lo:
-            # the previous cell of the line (x, kept in a register) is this cell's input
-            # step in a column, its target step in a row; a min of three is exact in any
-            # order, so the value is _cell's
+            # Dixon's weights: input and target steps add d, the diagonal 2 d. The line's
+            # previous cell (x, kept in a register) is the input step in a column, the
+            # target step in a row; a minimum of three is exact in any order
             x = min(min(x + d, (D[r, pc] if column else D[rp, cq]) + d), D[rp, pc] + 2.0 * d)
         elif column:
             x = D[r, pc] + d  # (ii, q - 1)
