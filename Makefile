@@ -55,8 +55,8 @@ BOOK       := build/book/index.html
 # and ends and how long it took
 EXECUTE := $(PY) -m fpdtw.paper.execute --kernel fpdtw --cwd notebooks
 
-.PHONY: env lock data test fuzz lint format figures book book-check smoke-book bench clean \
-	distclean help
+.PHONY: env lock data test fuzz lint format figures book book-check smoke-book bench bench-peers \
+	clean distclean help
 
 help:
 	@echo "make figures  - build env, fetch data, run every notebook, write figures/, the book"
@@ -66,6 +66,7 @@ help:
 	@echo "make fuzz     - the fuzz tests with a 15x budget (FUZZ_SEED=0 by default)"
 	@echo "make data     - fetch and verify the data listed in data_manifest/"
 	@echo "make bench    - per-frame latency benchmark (results/bench.json)"
+	@echo "make bench-peers - OLTW against pymatchmaker, own venv (results/bench_peers.json)"
 	@echo "make env      - .venv from requirements.lock (LOCKED=0: pyproject's version ranges)"
 	@echo "make lock     - refresh requirements.lock with uv (UPGRADE=1: newest versions)"
 	@echo "Set FPDTW_MIRROR=/path/or/url to fetch from a mirror instead of upstream."
@@ -156,6 +157,25 @@ $(SMOKE_BOOK): $(SMOKE_NBS) fpdtw/paper/book.py
 
 bench: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP)
 	$(PY) -m fpdtw.paper.bench
+
+# OLTW against pymatchmaker's OLTW-Dixon (optional). pymatchmaker needs numpy < 2, so it
+# gets its own venv, build/peers-venv, NEVER the project's .venv: the project's half
+# exports the bench pairs and our OLTW's times, the peers' half (run with -P: no fpdtw on
+# its path) times pymatchmaker on them and writes results/bench_peers.json, which
+# `make bench` shows next to our numbers
+PEERS_VENV := build/peers-venv
+PEERS_PY   := $(PEERS_VENV)/bin/python
+PEERS_REQS := "numpy<2" "pymatchmaker==0.3.0"
+
+$(PEERS_VENV)/.installed:
+	@test "$(abspath $(PEERS_VENV))" != "$(abspath $(VENV))" || { echo "the peers' venv must not be $(VENV)"; exit 1; }
+	$(PYTHON) -m venv --clear $(PEERS_VENV)
+	$(PEERS_PY) -m pip install --quiet --disable-pip-version-check $(PEERS_REQS)
+	touch $@
+
+bench-peers: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(PEERS_VENV)/.installed
+	$(PY) -m fpdtw.paper.bench_peers export build/peers/oltw_pairs.npz
+	$(PEERS_PY) -P fpdtw/paper/bench_peers.py peer build/peers/oltw_pairs.npz
 
 # Table 2's notebook shows the single-core benchmark next to the runner's timings
 results/bench.json: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(LIB_SRC)

@@ -110,6 +110,36 @@ def _geo_frame(qa, qb):
 
 
 @numba.njit(cache=True)
+def _geo_line(a, B, lo, hi, acc, out):
+    """``out[c] = geoDistance(a, B[:, :, lo + c])`` for ``c < hi - lo``: one frame against
+    a run of frames.
+
+    a : float64 (k, 4); B : float64 (k, 4, n), frames joint-major (structure of arrays:
+    the loop over frames vectorises); acc : scratch, length >= hi - lo. Joints are summed
+    in order, the dot product in (w, x, y, z) order and ``a``'s factor first, as in
+    :func:`_geo_frame` (a product's operands commute exactly): every value is
+    bit-identical to ``_geo_frame(a, B[:, :, lo + c])``.
+    """
+    n = hi - lo
+    for c in range(n):
+        acc[c] = 0.0
+    for j in range(a.shape[0]):
+        a0 = a[j, 0]
+        a1 = a[j, 1]
+        a2 = a[j, 2]
+        a3 = a[j, 3]
+        b0 = B[j, 0, lo:hi]
+        b1 = B[j, 1, lo:hi]
+        b2 = B[j, 2, lo:hi]
+        b3 = B[j, 3, lo:hi]
+        for c in range(n):
+            d = abs(a0 * b0[c] + a1 * b1[c] + a2 * b2[c] + a3 * b3[c])
+            acc[c] += _acos01(min(d, 1.0))
+    for c in range(n):
+        out[c] = acc[c] * _TWO_OVER_PI
+
+
+@numba.njit(cache=True)
 def _geo_block(A, B, out):
     """Fill ``out[i, j] = geoDistance(A[i], B[j])``; A (m, k, 4), B (n, k, 4)."""
     for i in range(A.shape[0]):

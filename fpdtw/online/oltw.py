@@ -67,8 +67,9 @@ Choices where the paper is silent or could not be re-checked here (marked * belo
 * Defaults: ``c = 120`` (one second at 120 Hz; Dixon's ``c = 500`` frames is 10 s of
   audio at his 20 ms hop, longer than most of our takes), ``max_run_count = 3`` (Dixon's).
 
-Cost per frame: one or two rows/columns of ``c`` geodesic costs and an argmin over
-``2c`` cells, in numba.
+Cost per frame: one or two rows/columns of ``c`` geodesic costs, each line's costs in one
+vectorised pass (the input and the last ``c`` target frames are kept joint-major), and an
+argmin over ``2c`` cells, in numba.
 
 Paper: FP-DTW reference 3 (Dixon 2005), an extra online baseline.
 Notebook: 20_align_a_live_performance.ipynb
@@ -80,7 +81,7 @@ import numba
 import numpy as np
 
 from fpdtw import limits
-from fpdtw.costs import _geo_frame
+from fpdtw.costs import _geo_frame, _geo_line
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.online.base import OnlineAligner, check_count, check_input, run_online
@@ -100,24 +101,18 @@ _LOG_COLS = 7
 
 
 @numba.njit(cache=True)
-def _cell(D, r, cq, rp, pc, d):
-    """Path cost of a cell from its three predecessors in the ring buffer ``D``.
-
-    The cell is ``D[r, cq]``; its input step ``D[rp, cq]`` and target step ``D[r, pc]``
-    add the local cost ``d`` once, the diagonal ``D[rp, pc]`` twice (Dixon's weights).
-    """
-    best = D[rp, cq] + d
-    v = D[r, pc] + d
-    if v < best:
-        best = v
-    v = D[rp, pc] + 2.0 * d
-    if v < best:
-        best = v
-    return best
+def _work_views(work, c, k):
+    """OLTW's float64 scratch as views of one buffer: the band ``D`` (c, c), the last c
+    target frames joint-major ``R`` (k, 4, c) (frame q' in slot ``q' % c``), a line's
+    local costs ``d`` (c) and the cost kernel's scratch ``acc`` (c)."""
+    D = work[: c * c].reshape((c, c))
+    R = work[c * c : c * c + 4 * k * c].reshape((k, 4, c))
+    o = c * c + 4 * k * c
+    return D, R, work[o : o + c], work[o + c : o + 2 * c]
 
 
 @numba.njit(cache=True)
-def _new_band_line(Iq, Tq, base, D, c, i, q, column):
+def _new_band_line(Iq, Isoa, R, D, dl, acc, c, i, q, column):
     """Evaluate the new line of the band at the corner (i, q): target column q (``column``
     true; cells (i', q), i' = max(0, i - c + 1) .. i) or input row i (cells (i, q'),
     q' = max(0, q - c + 1) .. q).
@@ -125,22 +120,50 @@ def _new_band_line(Iq, Tq, base, D, c, i, q, column):
     D is the (c, c) ring buffer: cell (i', q') lives at ``D[i' % c, q' % c]``; every cell
     of the ``c x c`` block behind the corner is computed, cells outside it are unreachable,
     so the line's first cell has one predecessor only (its target step in a new column,
-    its input step in a new row). Target frame q' is row ``q' - base`` of ``Tq`` (the
-    aligner's bounded history).
+    its input step in a new row). The line's local costs (eq. 1) are computed first, in
+    one vectorised pass (:func:`fpdtw.costs._geo_line`): target frame q against the input
+    joint-major ``Isoa`` (k, 4, m + 1), or input frame i against the last c target frames
+    ``R`` (k, 4, c), frame q' in slot ``q' % c``; values bit-identical to
+    ``_geo_frame(Iq[i'], T[q'])``.
     """
     lo = max(0, (i if column else q) - c + 1)
-    for k in range(lo, (i if column else q) + 1):
-        ii = k if column else i
-        qq = q if column else k
-        d = _geo_frame(Iq[ii], Tq[qq - base])
-        r, cq = ii % c, qq % c
-        rp, pc = (ii - 1) % c, (qq - 1) % c
-        if k > lo:
-            D[r, cq] = _cell(D, r, cq, rp, pc, d)
-        elif column:
-            D[r, cq] = D[r, pc] + d  # (ii, q - 1)
+    hi = (i if column else q) + 1
+    if column:
+        s = q % c
+        _geo_line(R[:, :, s], Isoa, lo, hi, acc, dl)
+    else:
+        s0 = lo % c
+        s1 = q % c
+        if s0 <= s1:
+            _geo_line(Iq[i], R, s0, s1 + 1, acc, dl)
+        else:  # the run of slots wraps around the ring
+            _geo_line(Iq[i], R, s0, c, acc, dl)
+            _geo_line(Iq[i], R, 0, s1 + 1, acc, dl[c - s0 :])
+    # ring slots: of the line's running index k and of k - 1 (advanced without a modulo
+    # per cell), and of its fixed index and that minus one
+    s = lo % c
+    sp = (lo - 1) % c
+    f = (q if column else i) % c
+    fp = ((q if column else i) - 1) % c
+    x = 0.0
+    for k in range(lo, hi):
+        d = dl[k - lo]
+        if column:
+            r, cq, rp, pc = s, f, sp, fp
         else:
-            D[r, cq] = D[rp, cq] + d  # (i - 1, qq)
+            r, cq, rp, pc = f, s, fp, sp
+        if k > lo:
+            # Dixon's weights: input and target steps add d, the diagonal 2 d. The line's
+            # previous cell (x, kept in a register) is the input step in a column, the
+            # target step in a row; a minimum of three is exact in any order
+            x = min(min(x + d, (D[r, pc] if column else D[rp, cq]) + d), D[rp, pc] + 2.0 * d)
+        elif column:
+            x = D[r, pc] + d  # (ii, q - 1)
+        else:
+            x = D[rp, cq] + d  # (i - 1, qq)
+        D[r, cq] = x
+        sp = s
+        s = s + 1 if s + 1 < c else 0
 
 
 @numba.njit(cache=True)
@@ -154,10 +177,13 @@ def _best_cell(D, c, i, q, normalize):
     bq = q
     for column in (True, False):
         lo = max(0, (i if column else q) - c + 1)
+        s = lo % c  # ring slot of k, advanced without a modulo per cell
+        f = (q if column else i) % c
         for k in range(lo, (i if column else q) + 1):
             ii = k if column else i
             qq = q if column else k
-            v = D[ii % c, qq % c]
+            v = D[s, f] if column else D[f, s]
+            s = s + 1 if s + 1 < c else 0
             if normalize:
                 v = v / (1.0 + ii + qq)
             if v < best:
@@ -168,13 +194,13 @@ def _best_cell(D, c, i, q, normalize):
 
 
 @numba.njit(cache=True)
-def _apply(Iq, Tq, base, D, st, c, inc):
+def _apply(Iq, Isoa, R, D, dl, acc, st, c, inc):
     if inc == 1 or inc == 3:  # TARGET or BOTH
         st[1] += 1
-        _new_band_line(Iq, Tq, base, D, c, st[0], st[1], True)
+        _new_band_line(Iq, Isoa, R, D, dl, acc, c, st[0], st[1], True)
     if inc == 2 or inc == 3:  # INPUT or BOTH
         st[0] += 1
-        _new_band_line(Iq, Tq, base, D, c, st[0], st[1], False)
+        _new_band_line(Iq, Isoa, R, D, dl, acc, c, st[0], st[1], False)
     if inc == st[2]:
         st[3] += 1
     else:
@@ -184,15 +210,22 @@ def _apply(Iq, Tq, base, D, st, c, inc):
 
 
 @numba.njit(cache=True)
-def _oltw_step(Iq, Tq, base, q_new, D, st, c, max_run, warmup, normalize, log):
+def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normalize, log):
     """Receive target frame ``q_new``; grow the matrix; return (M_q, number of log rows).
 
-    Tq : the target frames kept, frame q' in row ``q' - base`` (frames ``q_new - c + 1 ..
-    q_new`` at least).
+    Iq : float64 (m + 1, k, 4) the input; Isoa : the same joint-major (k, 4, m + 1).
+    Tq : the target frames kept, frame q' in row ``q' - base``; only ``q_new`` is read,
+    and copied into the ring of the last c frames (:func:`_work_views`).
+    work : float64 scratch of :func:`_work_views`.
     st : int64 (5,) state: corner i, corner q, previous increment, run count, pending.
     log : int64 (rows, 7) decisions of this step (see ``_LOG_COLS``).
     """
     m = Iq.shape[0] - 1
+    D, R, dl, acc = _work_views(work, c, Iq.shape[1])
+    s = q_new % c
+    for j in range(Iq.shape[1]):
+        for a in range(4):
+            R[j, a, s] = Tq[q_new - base, j, a]
     if q_new == 0:
         D[0, 0] = _geo_frame(Iq[0], Tq[0 - base])
         st[0] = 0
@@ -201,7 +234,7 @@ def _oltw_step(Iq, Tq, base, q_new, D, st, c, max_run, warmup, normalize, log):
         st[3] = 0
         st[4] = 0
     else:
-        _apply(Iq, Tq, base, D, st, c, st[4])  # the increment that waited for this frame
+        _apply(Iq, Isoa, R, D, dl, acc, st, c, st[4])  # the increment that waited for this frame
     n = 0
     while True:
         i = st[0]
@@ -235,7 +268,7 @@ def _oltw_step(Iq, Tq, base, q_new, D, st, c, max_run, warmup, normalize, log):
             log[n, 6] = bq
         n += 1
         if inc == 2:
-            _apply(Iq, Tq, base, D, st, c, inc)
+            _apply(Iq, Isoa, R, D, dl, acc, st, c, inc)
         else:
             st[4] = inc
             break
@@ -308,20 +341,25 @@ class OLTW(OnlineAligner):
         self.record = bool(record)
         self.name = "OLTW" if self.c == 120 else f"OLTW c{self.c}"
         self._Iq = np.ascontiguousarray(I.quats, dtype=np.float64)
+        self._Isoa = np.ascontiguousarray(self._Iq.transpose(1, 2, 0))  # (k, 4, m+1)
         self._log = np.zeros((self.max_run_count + 4, _LOG_COLS), dtype=np.int64)
         super().__init__(I)
 
     def reset(self) -> None:
         """Forget every target frame and the matrix."""
         super().reset()
-        self._D = np.full((self.c, self.c), np.inf)
+        c, k = self.c, self._Iq.shape[1]
+        self._work = np.zeros(c * c + 4 * k * c + 2 * c)
+        self._D, _, _, _ = _work_views(self._work, c, k)
+        self._D[:] = np.inf
         self._st = np.zeros(5, dtype=np.int64)
         self._decisions = []
 
     def _step(self, q: int) -> int:
         m, n = _oltw_step(
-            self._Iq, self._Tq, self.history_start, self.n_received - 1, self._D, self._st,
-            self.c, self.max_run_count, self.warmup, self.normalize, self._log,
+            self._Iq, self._Isoa, self._Tq, self.history_start, self.n_received - 1,
+            self._work, self._st, self.c, self.max_run_count, self.warmup, self.normalize,
+            self._log,
         )  # fmt: skip
         if self.record:
             self._decisions.append(self._log[:n].copy())

@@ -446,6 +446,96 @@ def _run_group(
             )  # fmt: skip
 
 
+# --- one call per streamed frame --------------------------------------------------------
+
+#: Header of an aligner's int64 work buffer (:func:`_work_views`): joints k, window
+#: capacity W = w + 1, number of Type V states.
+_H_K, _H_W, _H_NS = 0, 1, 2
+_HEADER = 3
+
+
+def _work_sizes(k: int, W: int, ns: int) -> tuple:
+    """Lengths of the float64 and int64 work buffers of :func:`_work_views`."""
+    floats = k * 4 * W + 2 * W * W + W + 4 * k + 1 + 12 * k
+    ints = _HEADER + N_PARAMS + 4 * ns + k + 1 + W + 4 * W + 4 + 1 + 2
+    return floats, ints
+
+
+@numba.njit(cache=True)
+def _work_views(work, iwork):
+    """An aligner's scratch, parameters and state as views of two flat buffers.
+
+    ``work`` (float64) holds ``F (k, 4, W), C (W, W), D (W, W), score (W)`` and the
+    placeholder cache arrays ``cF (k, 4, 1), cG (1, 1), cKey (3, k, 4)``; ``iwork``
+    (int64) the header ``k, W, ns``, then ``prm (N_PARAMS), table (ns, 4), codes (k),
+    tv (1), Pcol (W), path (2W, 2), out (4), cN (1), cMeta (2)``. Two buffers instead of
+    nineteen arrays: a compiled function costs about 0.1 us per array argument to call,
+    and :func:`_stream_step` is called once per frame.
+    """
+    k = iwork[_H_K]
+    W = iwork[_H_W]
+    ns = iwork[_H_NS]
+    o = 0
+    F = work[o : o + k * 4 * W].reshape((k, 4, W))
+    o += k * 4 * W
+    C = work[o : o + W * W].reshape((W, W))
+    o += W * W
+    D = work[o : o + W * W].reshape((W, W))
+    o += W * W
+    score = work[o : o + W]
+    o += W
+    cF = work[o : o + 4 * k].reshape((k, 4, 1))
+    o += 4 * k
+    cG = work[o : o + 1].reshape((1, 1))
+    o += 1
+    cKey = work[o : o + 12 * k].reshape((3, k, 4))
+    i = _HEADER
+    prm = iwork[i : i + N_PARAMS]
+    i += N_PARAMS
+    table = iwork[i : i + 4 * ns].reshape((ns, 4))
+    i += 4 * ns
+    codes = iwork[i : i + k]
+    i += k
+    tv = iwork[i : i + 1]
+    i += 1
+    Pcol = iwork[i : i + W]
+    i += W
+    path = iwork[i : i + 4 * W].reshape((2 * W, 2))
+    i += 4 * W
+    out = iwork[i : i + 4]
+    i += 4
+    cN = iwork[i : i + 1]
+    i += 1
+    cMeta = iwork[i : i + 2]
+    return F, C, D, score, cF, cG, cKey, prm, table, codes, tv, Pcol, path, out, cN, cMeta
+
+
+@numba.njit(cache=True)
+def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
+    """Receive one streamed frame: store it in row ``q`` of ``Tq, Te``, run
+    :func:`_forecast_step`, store ``M[q]``; the whole ``step`` of a B/C aligner in one call.
+
+    ``fq`` (k, 4) and ``fe`` (k, 3) are the frame's quaternions and Euler angles; a frame
+    of another shape changes nothing and returns -1 (the caller then raises).
+    """
+    k = Iq.shape[1]
+    if fq.shape[0] != k or fq.shape[1] != 4 or fe.shape[0] != k or fe.shape[1] != 3:
+        return -1
+    for j in range(k):
+        for a in range(4):
+            Tq[q, j, a] = fq[j, a]
+        for a in range(3):
+            Te[q, j, a] = fe[j, a]
+    views = _work_views(work, iwork)
+    F, C, D, score, cF, cG, cKey, prm, table, codes, tv, Pcol, path, out, cN, cMeta = views
+    m = _forecast_step(
+        Iq, Tq, Te, q, M, tv, prm, table, codes, F, C, D, Pcol, path, score,
+        cF, cG, cN, cMeta, cKey, out,
+    )  # fmt: skip
+    M[q] = m
+    return m
+
+
 # --- costs shared by aligners that step together ---------------------------------------
 
 
@@ -636,11 +726,6 @@ class WindowAligner(OnlineAligner):
         except ValueError as e:
             raise AlignmentError(f"input motion {I.name!r}: {e}") from None
         self._Iq = np.ascontiguousarray(I.quats, dtype=np.float64)
-        if self.constraint is None:
-            self._limit = np.iinfo(np.int64).max
-        else:
-            self._limit = MAX_ADVANCE
-        self._all = np.ones(4, dtype=np.int64)
         if self.constraint is not None:
             self._allow_by_state = (self.constraint.table >= 0).astype(np.int64)
         super().__init__(I)
@@ -719,30 +804,6 @@ class WindowAligner(OnlineAligner):
         return super().step(frame)
 
     # -- helpers for subclasses ----------------------------------------------------------
-    def _first(self) -> int:
-        """``M_0``: 0, or with ``start="best"`` the best match of ``T_0`` in ``I_0..I_w``."""
-        if self.settings["start"] == "zero":
-            m0 = 0
-        else:
-            last = min(self.w, self.m)
-            costs = [_geo_frame(self._Iq[r], self._Tq[0]) for r in range(last + 1)]
-            m0 = int(np.argmin(costs))
-        if self.record:
-            self._snap(0, "first", -1, 0, m0)
-        return m0
-
-    def _allow(self):
-        """Allowed-offset vector (int64, shape (4,)) of the current Type V state."""
-        if self.constraint is None:
-            return self._all
-        return self._allow_by_state[self.state]
-
-    def _advance_state(self, advance: int) -> None:
-        if self.constraint is not None:
-            nxt = self.constraint.next_state(self.state, advance)
-            if nxt >= 0:  # an illegal move is only ever a forced hold at m
-                self.state = nxt
-
     def _snap(self, q, kind, start, w_i, m_next, state=None, **arrays):
         """Keep the debug record of a step; ``state``: the Type V state before it
         (default: the current one)."""
@@ -797,20 +858,32 @@ class ForecastAligner(WindowAligner):
 
         k = self._Iq.shape[1]
         W = self.w + 1
-        self._F = np.empty((k, 4, W))
-        self._C = np.empty((W, W))
-        self._D = np.empty((W, W))
-        self._P = np.empty(W, dtype=np.int64)
-        self._path = np.empty((2 * W, 2), dtype=np.int64)
-        self._score = np.empty(W)
-        self._out = np.zeros(4, dtype=np.int64)
-        self._table = (
+        table = (
             np.zeros((3, 4), dtype=np.int64)
             if self.constraint is None
             else np.ascontiguousarray(self.constraint.table, dtype=np.int64)
         )
-        self._params = self.params()
-        self._cache_arrays = _no_cache(k) if self.cache is None else self.cache.arrays()
+        # every scratch array, the parameters and the Type V state live in two flat
+        # buffers (views below), so that one streamed frame is one compiled call with
+        # few arguments (:func:`_stream_step`)
+        nf, ni = _work_sizes(k, W, table.shape[0])
+        self._work = np.zeros(nf)
+        self._iwork = np.zeros(ni, dtype=np.int64)
+        self._iwork[[_H_K, _H_W, _H_NS]] = k, W, table.shape[0]
+        (
+            self._F, self._C, self._D, self._score, cF, cG, cKey, self._params, self._table,
+            codes, self._tv, self._P, self._path, self._out, cN, cMeta,
+        ) = _work_views(self._work, self._iwork)  # fmt: skip
+        self._params[:] = self.params()
+        self._table[:] = table
+        codes[:] = self._codes
+        self._codes = codes
+        cMeta[:] = (-1, 0)
+        self._tv[0] = 0 if self.constraint is None else self.constraint.start
+        placeholder = (cF, cG, cN, cMeta, cKey)
+        self._cache_arrays = placeholder if self.cache is None else self.cache.arrays()
+        # the one-call path: no debug record, no shared cache
+        self._lean = not self.record and self.cache is None
 
     def params(self) -> np.ndarray:
         """This aligner's parameter vector for :func:`_forecast_step` (int64, ``N_PARAMS``)."""
@@ -824,7 +897,41 @@ class ForecastAligner(WindowAligner):
 
     def reset(self) -> None:
         super().reset()
-        self._tv = np.array([0 if self.constraint is None else self.constraint.start])
+        tv = getattr(self, "_tv", None)  # None while the base class's __init__ resets
+        if tv is not None:
+            tv[0] = 0 if self.constraint is None else self.constraint.start
+
+    def step(self, frame: Frame) -> int:
+        """Receive target frame ``T_{n+1}`` and return ``M_{n+1}``.
+
+        The common case (numpy arrays, room in the buffers, no debug record, no shared
+        cache) is one compiled call, :func:`_stream_step`; anything else takes the
+        general path of :meth:`WindowAligner.step` (same result).
+        """
+        i = self.n_received - self._start
+        fq = frame.quats
+        fe = frame.euler
+        p = frame.positions
+        if (
+            self._lean
+            and i < self._M.shape[0]
+            and type(fq) is np.ndarray
+            and type(fe) is np.ndarray
+            and fq.ndim == 2
+            and fe.ndim == 2
+            and (p is None or self._Tp is not None)
+        ):
+            if p is not None:
+                self._Tp[i] = p
+            m = _stream_step(
+                self._Iq, self._Tq, self._Te, self._M, i, fq, fe, self._work, self._iwork
+            )
+            if m >= 0:
+                self.n_received += 1
+                if self.constraint is not None:
+                    self.state = int(self._tv[0])
+                return m
+        return super().step(frame)
 
     def _step(self, q: int) -> int:
         state = self.state
@@ -851,17 +958,6 @@ class ForecastAligner(WindowAligner):
     @abstractmethod
     def _window_record(self, nrows: int, ncols: int, npath: int) -> tuple:
         """``(w_i, arrays)`` of the debug record of a window step (``record=True``)."""
-
-
-def _no_cache(k: int) -> tuple:
-    """Placeholder :class:`WindowCache` arrays for an aligner without a cache."""
-    return (
-        np.zeros((k, 4, 1)),
-        np.zeros((1, 1)),
-        np.zeros(1, dtype=np.int64),
-        np.array([-1, 0], dtype=np.int64),
-        np.zeros((3, k, 4)),
-    )
 
 
 def run_group(aligners, T: MotionFeatures) -> list:

@@ -1,16 +1,29 @@
-"""Per-frame latency of the online aligners (FP-DTW Table 2) and offline DTW throughput.
+"""Per-frame latency of the online aligners (FP-DTW Table 2), against the hardware limit,
+the peers and the paper, measured in one run on this machine.
 
-``make bench`` runs :func:`main`: on real pairs of the data here it times every online
-aligner (Method A, Methods B and C at w = 10, 20, 40, 80, each with and without the
-Type V constraint, and OE-DTW) frame by frame with
+``make bench`` runs :func:`main`. On real pairs of the data here it times every online
+aligner (Method A, Methods B and C at w = 10, 20, 40, 80, each with and without the Type V
+constraint, Method C's literal window, OLTW, OPW and OE-DTW) frame by frame with
 :func:`fpdtw.online.base.run_online`, after an untimed warm-up run over the same pairs
-(numba compilation, caches), and reports the median and 95th percentile per frame. It
-also times offline DTW (accumulation + path) in cells per second, writes everything to
-``results/bench.json`` and prints our medians next to the paper's Table 2 (means on a
-3.58-3.95 GHz core, C#/Unity-era implementation; we report medians, and means too).
+(numba compilation, caches), and reports the median and 95th percentile per frame.
+Absolute times do not travel between machines (2-3x between two of ours), so the report
+puts each median next to:
 
-The process is pinned to one core (``os.sched_setaffinity``) so that the numbers are
-single-core numbers, as in the paper.
+* the LIMIT: the unavoidable work of the same steps on the same data, timed in the same
+  run (:mod:`fpdtw.paper.bench_limit`: the window's geodesic evaluations and its
+  accumulation), with the gap split into the forecast, the rest of the compiled step and
+  the Python call overhead; and the float32 measurement of the same limit;
+* the PEERS, side by side: offline DTW against dtw-python on the same cost matrix; OE-DTW
+  per frame against recomputing dtw-python's ``open_end`` per frame (what a dtw-python
+  user would do); OLTW per frame against pymatchmaker's OLTW-Dixon on the same features
+  (``make bench-peers``, a separate environment: :mod:`fpdtw.paper.bench_peers`);
+* the PAPER: our median over Table 2's mean, a cross-machine comparison (3.58-3.95 GHz,
+  C#/Unity-era implementation).
+
+Everything is written to ``results/bench.json`` with the machine (CPU model, SIMD flags,
+clock, LLVM's target CPU, Python, numba and llvmlite versions) and the load average before
+and after. The process is pinned to one core (``os.sched_setaffinity``) so that the
+numbers are single-core numbers, as in the paper.
 """
 
 from __future__ import annotations
@@ -21,11 +34,14 @@ import time
 
 import numpy as np
 
-from fpdtw.paper import provenance
+from fpdtw.paper import bench_limit, provenance
 from fpdtw.paper.numbers import TABLE2_US
 
-#: Issue targets on one core of this machine (microseconds per frame, median).
-TARGETS_US = {("A", 2): 3.0, ("B", 40): 40.0, ("C", 40): 40.0, ("B", 80): 150.0, ("C", 80): 150.0}
+#: A step above this many times its limit gets its gap explained in the report.
+EXPLAIN_ABOVE = 1.5
+#: Target frames at which OE-DTW's peer (dtw-python's open_end, recomputed) is timed:
+#: evenly spread, so that their median estimates the median over every frame.
+OE_PEER_FRAMES = 25
 
 #: Real pairs timed by ``make bench``: (dataset, input path, target path).
 BENCH_PAIRS = (
@@ -65,8 +81,9 @@ def _name_key(name: str) -> tuple:
     return a.family, a.value or 0, a.typev
 
 
-def bench_online(pairs, names=None, make=None):
-    """Median, 95th percentile and mean per-frame time of each online aligner.
+def bench_online(pairs, names=None, make=None, limits=False):
+    """Median, 95th percentile and mean per-frame time of each online aligner, and (with
+    ``limits``) how far each is from the limit of its steps.
 
     Parameters
     ----------
@@ -76,12 +93,16 @@ def bench_online(pairs, names=None, make=None):
         FP-DTW configurations by name (default :func:`bench_names`).
     make : callable, optional
         ``make(I) -> OnlineAligner``, to time one other aligner instead of ``names``.
+    limits : bool
+        Also replay every timed run with :func:`fpdtw.paper.bench_limit.replay` and add
+        the keys of :func:`limit_stats` (aligners without a replay get None there).
 
     Returns
     -------
     rows : list of dict
         Keys ``name``, ``method``, ``w``, ``typev``, ``frames`` (number timed),
-        ``median_s``, ``p95_s``, ``mean_s`` (seconds per frame).
+        ``median_s``, ``p95_s``, ``mean_s`` (seconds per frame), and with ``limits``
+        those of :func:`limit_stats`.
 
     Paper: FP-DTW Table 2.
     Notebook: 09_table2_timing.ipynb
@@ -97,41 +118,264 @@ def bench_online(pairs, names=None, make=None):
     else:
         jobs = [(n, lambda I, n=n: make_online(n, I)) for n in (names or bench_names())]
     rows = []
-    for name, build in jobs:
+    for name, build in _progress(jobs, "online aligners"):
         for I0, T0 in pairs:  # warm-up: compile, caches, branch predictors
             run_online(build(I0), T0)
-        times = []
+        times, recs = [], []
         for I, T in pairs:
             aligner = build(I)
-            _, dt = run_online(aligner, T)
+            M, dt = run_online(aligner, T)
             times.append(dt)
+            if limits:
+                recs.append(bench_limit.replay(aligner, T, M))
         dt = np.concatenate(times)
         name = name or aligner.name
         method, w, typev = _name_key(name)
-        rows.append(
-            dict(
-                name=name,
-                method=method,
-                w=int(w),
-                typev=bool(typev),
-                frames=int(dt.size),
-                median_s=float(np.median(dt)),
-                p95_s=float(np.percentile(dt, 95)),
-                mean_s=float(dt.mean()),
-            )
+        row = dict(
+            name=name,
+            method=method,
+            w=int(w),
+            typev=bool(typev),
+            frames=int(dt.size),
+            median_s=float(np.median(dt)),
+            p95_s=float(np.percentile(dt, 95)),
+            mean_s=float(dt.mean()),
         )
+        if limits:
+            ok = all(r is not None for r in recs)
+            row.update(limit_stats(dt, np.concatenate(recs) if ok else None))
+        rows.append(row)
     return rows
 
 
-def format_bench(rows) -> str:
-    """The rows of :func:`bench_online` as a text table in microseconds."""
-    lines = [f"{'aligner':<20} {'median us':>10} {'p95 us':>10} {'mean us':>10} {'frames':>8}"]
+#: Keys :func:`limit_stats` adds to a row (None where not measured).
+LIMIT_KEYS = (
+    "window_frames", "step_median_s", "limit_median_s", "limit_p95_s", "step_over_limit",
+    "compiled_median_s", "forecast_median_s", "other_median_s", "python_median_s",
+    "evals_median", "ns_per_eval", "same_costs", "limit32_median_s", "float32_speedup",
+    "float32_changed_choices",
+)  # fmt: skip
+
+
+def limit_stats(dt, rec) -> dict:
+    """One aligner's step against its limit, from its streamed times and its replay.
+
+    Parameters
+    ----------
+    dt : ndarray of float, shape (n,)
+        Streamed time of each frame (seconds), as :func:`fpdtw.online.base.run_online`.
+    rec : ndarray of int64, shape (n, N_REC), or None
+        :func:`fpdtw.paper.bench_limit.replay` of the same frames (None: no replay).
+
+    Returns
+    -------
+    stats : dict
+        Over the frames with a window (``window_frames``; warm-up and end-of-input steps
+        have none): medians (seconds) of the streamed ``step``, the ``limit``, the
+        ``compiled`` step, the ``forecast``, the ``other`` compiled work
+        (compiled - forecast - limit) and the ``python`` call overhead (step - compiled),
+        each the median of per-frame values; ``step_over_limit`` (median step / median
+        limit); ``evals_median`` (geodesic evaluations per step) and ``ns_per_eval``;
+        ``same_costs`` (the limit computed the step's own costs, bit for bit; None: not
+        checked); ``limit32_median_s``, ``float32_speedup`` (float64 limit / float32
+        limit) and ``float32_changed_choices`` (frames whose choice the float32 window
+        would change; None: not checked).
+
+    Paper: FP-DTW Table 2.
+    Notebook: 09_table2_timing.ipynb
+    """
+    out = dict.fromkeys(LIMIT_KEYS)
+    if rec is None:
+        return out
+    B = bench_limit
+    win = rec[:, B.R_KIND] == B.KIND_WINDOW
+    out["window_frames"] = int(win.sum())
+    if not win.any():
+        return out
+    tps = B.ticks_per_second()
+    r = rec[win]
+    step = np.asarray(dt, dtype=float)[win]
+    compiled = r[:, B.R_COMPILED] / tps
+    limit = r[:, B.R_LIMIT] / tps
+    forecast = r[:, B.R_FORECAST] / tps
+    med = lambda x: float(np.median(x))  # noqa: E731
+    out.update(
+        step_median_s=med(step),
+        limit_median_s=med(limit),
+        limit_p95_s=float(np.percentile(limit, 95)),
+        compiled_median_s=med(compiled),
+        forecast_median_s=med(forecast),
+        other_median_s=med(compiled - forecast - limit),
+        python_median_s=med(step - compiled),
+        evals_median=int(np.median(r[:, B.R_EVALS])),
+        limit32_median_s=med(r[:, B.R_LIMIT32] / tps),
+    )
+    out["step_over_limit"] = out["step_median_s"] / out["limit_median_s"]
+    out["ns_per_eval"] = out["limit_median_s"] / max(out["evals_median"], 1) * 1e9
+    out["float32_speedup"] = out["limit_median_s"] / out["limit32_median_s"]
+    same = r[:, B.R_SAME]
+    out["same_costs"] = None if (same < 0).all() else bool((same[same >= 0] == 1).all())
+    flip = r[:, B.R_FLIP]
+    out["float32_changed_choices"] = None if (flip < 0).all() else int((flip > 0).sum())
+    return out
+
+
+def _progress(items, what):
+    """``items`` with a tqdm progress bar on a terminal (plain otherwise)."""
+    import sys
+
+    items = list(items)
+    if not sys.stderr.isatty():
+        return items
+    try:
+        from tqdm.auto import tqdm
+    except ImportError:
+        return items
+    return tqdm(items, desc=what, leave=False)
+
+
+def step_s(row) -> float:
+    """Our time per frame of a row: the median over its window steps when the limit was
+    measured (the steady state Table 2 is about), else the median over every frame."""
+    return row.get("step_median_s") or row["median_s"]
+
+
+def _us(x, digits=1) -> str:
+    return "-" if x is None else f"{x * 1e6:.{digits}f}"
+
+
+def _ratio(x) -> str:
+    return "-" if x is None else (f"{x:.2f}" if x < 10 else f"{x:.0f}")
+
+
+def explain_gap(row) -> str:
+    """What a step above :data:`EXPLAIN_ABOVE` times its limit spends the rest on, from the
+    measured medians: the largest of forecast, Python call overhead and other compiled work.
+
+    Returns
+    -------
+    text : str
+        E.g. ``"python 1.5 us, forecast 2.3 us"``; ``""`` when the step is within
+        :data:`EXPLAIN_ABOVE` of its limit or nothing was measured.
+    """
+    ratio = row.get("step_over_limit")
+    if ratio is None or ratio <= EXPLAIN_ABOVE:
+        return ""
+    parts = [
+        ("forecast (Euler->quaternion, libm sin/cos)", row.get("forecast_median_s")),
+        ("Python call", row.get("python_median_s")),
+        ("other compiled", row.get("other_median_s")),
+    ]
+    parts = sorted((p for p in parts if p[1] is not None and p[1] > 0.05e-6), key=lambda p: -p[1])
+    return ", ".join(f"{label} {v * 1e6:.1f} us" for label, v in parts[:2])
+
+
+def format_bench(rows, peers=None) -> str:
+    """The rows of :func:`bench_online` as a text table in microseconds: the step, its
+    limit, the ratio, where the gap goes (when the rows carry :func:`limit_stats`), and the
+    ratios to the paper (Table 2 mean / our step) and to the peers (peer / our step).
+
+    Parameters
+    ----------
+    rows : list of dict
+        Rows of :func:`bench_online`.
+    peers : dict, optional
+        The ``peers`` of :func:`run_benchmark` (OE-DTW's and OLTW's peer ratios).
+
+    Returns
+    -------
+    text : str
+
+    Paper: FP-DTW Table 2.
+    Notebook: 09_table2_timing.ipynb
+    """
+    head = (
+        f"{'aligner':<34}{'step us':>9}{'p95 us':>9}{'limit us':>10}{'step/lim':>9}"
+        f"{'fcast':>7}{'python':>7}{'other':>7}{'ns/eval':>8}{'f32 x':>7}"
+        f"{'paper/ours':>11}{'peer/ours':>10}"
+    )
+    paper = paper_ratios(rows)
+    peer = peer_ratios(peers or {})
+    lines = [head]
     for r in rows:
         lines.append(
-            f"{r['name']:<20} {r['median_s'] * 1e6:10.2f} {r['p95_s'] * 1e6:10.2f} "
-            f"{r['mean_s'] * 1e6:10.2f} {r['frames']:8d}"
+            f"{r['name']:<34}{step_s(r) * 1e6:9.2f}{r['p95_s'] * 1e6:9.2f}"
+            f"{_us(r.get('limit_median_s'), 2):>10}{_ratio(r.get('step_over_limit')):>9}"
+            f"{_us(r.get('forecast_median_s')):>7}{_us(r.get('python_median_s')):>7}"
+            f"{_us(r.get('other_median_s')):>7}"
+            f"{'-' if r.get('ns_per_eval') is None else format(r['ns_per_eval'], '.2f'):>8}"
+            f"{_ratio(r.get('float32_speedup')):>7}"
+            f"{_times(paper.get(r['name'])):>11}{_times(peer.get(r['name'])):>10}"
         )
+    notes = [
+        f"  {r['name']}: {r['step_over_limit']:.1f}x its limit: {explain_gap(r)}"
+        for r in rows
+        if explain_gap(r)
+    ]
+    if notes:
+        lines += ["", f"Steps above {EXPLAIN_ABOVE}x their limit, the largest parts of the gap:"]
+        lines += notes
     return "\n".join(lines)
+
+
+def _times(x) -> str:
+    return "-" if x is None else f"{_ratio(x)}x"
+
+
+def peer_ratios(peers) -> dict:
+    """``{"OE-DTW": peer / ours, "OLTW": peer / ours}`` from the ``peers`` of a report
+    (the aligners with a per-frame peer; missing peers are left out)."""
+    out = {}
+    for key, name in (("open_end", "OE-DTW"), ("oltw", "OLTW")):
+        p = peers.get(key) or {}
+        if p.get("peer_over_ours") is not None:
+            out[name] = p["peer_over_ours"]
+    return out
+
+
+def paper_comparison(rows) -> str:
+    """Our median per-frame time over the paper's Table 2 mean, per method and w (a
+    CROSS-MACHINE comparison: the paper's 3.58-3.95 GHz core and implementation), as text.
+
+    Method C's literal window (notebook 15) gets its own column.
+    """
+    by = {(r["method"], r["w"], r["typev"]): r for r in rows if "(" not in r["name"]}
+    literal = {r["w"]: r for r in rows if "(literal window)" in r["name"] and not r["typev"]}
+    head = ("", "w", "paper us", "ours us", "paper/ours", "+TypeV us", "literal us")
+    us = lambda r: _us(None if r is None else step_s(r))  # noqa: E731
+    fmt = "{:<10}{:>5}{:>10}{:>10}{:>12}{:>11}{:>12}"
+    lines = [
+        "Against the paper (CROSS-MACHINE: Table 2 means on the paper's 3.58-3.95 GHz core and"
+        " implementation; ours: median window step, this machine): paper/ours > 1, we are faster",
+        fmt.format(*head),
+    ]
+    for method, label in (("B", "Method B"), ("C", "Method C")):
+        for w in (10, 20, 40, 80):
+            r = by.get((method, w, False))
+            if r is None:
+                continue
+            paper = TABLE2_US.get((method, w))
+            cells = (
+                label,
+                str(w),
+                "-" if paper is None else f"{paper:.0f}",
+                us(r),
+                "-" if paper is None else f"{paper / (step_s(r) * 1e6):.0f}x",
+                us(by.get((method, w, True))),
+                us(literal.get(w)) if method == "C" else "-",
+            )
+            lines.append(fmt.format(*cells))
+    return "\n".join(lines)
+
+
+def paper_ratios(rows) -> dict:
+    """``{"Mb w10": paper mean / our median, ...}`` for Table 2's configurations."""
+    out = {}
+    for r in rows:
+        paper = TABLE2_US.get((r["method"], r["w"]))
+        if paper is not None and not r["typev"] and "(" not in r["name"]:
+            out[r["name"]] = paper / (step_s(r) * 1e6)
+    return out
 
 
 def dtw_throughput(C, repeats=5):
@@ -151,14 +395,208 @@ def dtw_throughput(C, repeats=5):
     """
     from fpdtw.dtw import dtw
 
-    dtw(C)  # warm-up
+    med = _median_time(lambda: dtw(C), repeats)
+    return {"cells": int(C.size), "median_s": med, "cells_per_s": C.size / med}
+
+
+def _median_time(fn, repeats):
+    fn()  # warm-up (compilation; the first large allocations fault their pages in)
+    fn()
     times = []
     for _ in range(repeats):
         t0 = time.perf_counter()
-        dtw(C)
+        fn()
         times.append(time.perf_counter() - t0)
-    med = float(np.median(times))
-    return {"cells": int(C.size), "median_s": med, "cells_per_s": C.size / med}
+    return float(np.median(times))
+
+
+def peer_dtw(C, repeats=5, ours_median_s=None) -> dict:
+    """Offline DTW (accumulated cost + path, symmetric1) against dtw-python on the same
+    cost matrix.
+
+    Parameters
+    ----------
+    C : ndarray of float, shape (m, n)
+    repeats : int
+        Timed runs of each, after warm-up runs.
+    ours_median_s : float, optional
+        Our median on ``C`` measured already (:func:`dtw_throughput`), so that the report
+        shows one number for it; timed here otherwise.
+
+    Returns
+    -------
+    row : dict
+        ``peer`` (name and version), ``cells``, ``ours_median_s``, ``peer_median_s``,
+        ``peer_over_ours`` (how many times longer the peer takes), ``same_distance``.
+        Empty dict when dtw-python is not installed.
+
+    Notebook: 09_table2_timing.ipynb
+    """
+    try:
+        import dtw as dtwpy
+    except ImportError:
+        return {}
+    from fpdtw.dtw import dtw
+
+    ours = _median_time(lambda: dtw(C), repeats) if ours_median_s is None else ours_median_s
+    peer = _median_time(lambda: dtwpy.dtw(C, step_pattern=dtwpy.symmetric1), repeats)
+    same = dtw(C).distance == dtwpy.dtw(C, step_pattern=dtwpy.symmetric1).distance
+    return dict(
+        peer=f"dtw-python {provenance.package_versions(('dtw-python',))['dtw-python']}",
+        cells=int(C.size),
+        ours_median_s=ours,
+        peer_median_s=peer,
+        peer_over_ours=peer / ours,
+        same_distance=bool(same),
+    )
+
+
+def peer_open_end(I, T, ours_median_s, frames=OE_PEER_FRAMES) -> dict:
+    """OE-DTW per frame against what a dtw-python user would do at each new target frame:
+    recompute ``dtw(C[:, :q+1], open_end=True)`` (symmetric1, distance only) and read its
+    end point.
+
+    The peer is timed at ``frames`` target frames spread evenly over the target (its time
+    grows with q; the median of evenly spread frames estimates the median over all), on a
+    cost matrix computed beforehand (its cost is not counted: in the peer's favour). Every
+    end point is checked against ours.
+
+    Parameters
+    ----------
+    I, T : MotionFeatures
+        The OE-DTW pair of :func:`run_benchmark`.
+    ours_median_s : float
+        Our OE-DTW median per frame on the same pair.
+
+    Returns
+    -------
+    row : dict
+        ``peer``, ``frames``, ``ours_median_s``, ``peer_median_s``, ``peer_over_ours``,
+        ``same_end_points``; empty when dtw-python is not installed.
+
+    Notebook: 09_table2_timing.ipynb
+    """
+    try:
+        import dtw as dtwpy
+    except ImportError:
+        return {}
+    from fpdtw.costs import geodesic_cost_matrix
+    from fpdtw.online.base import run_online
+    from fpdtw.online.oedtw import OEDTW
+
+    C = geodesic_cost_matrix(I.quats, T.quats)
+    M, _ = run_online(OEDTW(I), T)
+    # dtw-python refuses open_end for "symmetric1" (not normalisable); with hint "N" it
+    # divides by the query length, the same for every candidate end: argmin unchanged
+    pattern = dtwpy.StepPattern(dtwpy.symmetric1.mx, hint="N")
+    n = T.n_frames
+    qs = sorted({min(n - 1, int((2 * i + 1) * n / (2 * frames))) for i in range(frames)})
+
+    def end(q):
+        return dtwpy.dtw(C[:, : q + 1].T, step_pattern=pattern, open_end=True, distance_only=True)
+
+    end(qs[0])  # warm-up
+    times, same = [], True
+    for q in qs:
+        t0 = time.perf_counter()
+        e = end(q).jmin
+        times.append(time.perf_counter() - t0)
+        same &= int(e) == int(M[q])
+    peer = float(np.median(times))
+    return dict(
+        peer=f"dtw-python {provenance.package_versions(('dtw-python',))['dtw-python']} open_end",
+        frames=len(qs),
+        ours_median_s=float(ours_median_s),
+        peer_median_s=peer,
+        peer_over_ours=peer / ours_median_s,
+        same_end_points=bool(same),
+    )
+
+
+def load_peers(path=None) -> dict | None:
+    """The report of ``make bench-peers`` (``results/bench_peers.json``), or None."""
+    from fpdtw.paper.paths import results_dir
+
+    path = results_dir() / "bench_peers.json" if path is None else path
+    try:
+        return json.loads(path.read_text())
+    except FileNotFoundError:
+        return None
+
+
+def peers_table(report) -> str:
+    """Our per-frame (or per-matrix) medians next to the peers', as text: ratios > 1 mean
+    the peer takes that many times longer."""
+    fmt = "{:<26}{:<40}{:>11}{:>11}{:>11}  {}"
+    lines = [
+        "Against the peers (same data, same run; peer/ours > 1: the peer is slower)",
+        fmt.format("ours", "peer", "ours us", "peer us", "peer/ours", "check"),
+    ]
+    d = report.get("peers", {}).get("dtw") or {}
+    if d:
+        lines.append(
+            fmt.format(
+                f"DTW, {d['cells']} cells", d["peer"], _us(d["ours_median_s"]),
+                _us(d["peer_median_s"]), _ratio(d["peer_over_ours"]),
+                "same distance" if d["same_distance"] else "DISTANCES DIFFER",
+            )
+        )  # fmt: skip
+    o = report.get("peers", {}).get("open_end") or {}
+    if o:
+        lines.append(
+            fmt.format(
+                "OE-DTW per frame", o["peer"] + " per frame", _us(o["ours_median_s"]),
+                _us(o["peer_median_s"]), _ratio(o["peer_over_ours"]),
+                "same end points" if o["same_end_points"] else "END POINTS DIFFER",
+            )
+        )  # fmt: skip
+    p = report.get("peers", {}).get("oltw") or {}
+    if p:
+        lines.append(
+            fmt.format(
+                "OLTW per frame", p["peer"], _us(p["ours_median_s"]), _us(p["peer_median_s"]),
+                _ratio(p["peer_over_ours"]), f"make bench-peers, {p.get('measured', '')}",
+            )
+        )  # fmt: skip
+    else:
+        lines.append(
+            fmt.format("OLTW per frame", "pymatchmaker OLTW-Dixon", "-", "-", "-",
+                       "run make bench-peers (optional, separate environment)")
+        )  # fmt: skip
+    return "\n".join(lines)
+
+
+def machine_header(report) -> str:
+    """The machine, versions, pinning and load of a report, as text lines."""
+    env = report["environment"]
+    cpu = env.get("cpu") or {}
+    pk = env["packages"]
+    mhz = f", {cpu['mhz']:.0f} MHz now" if cpu.get("mhz") else ""
+    tsc = report.get("cycle_counter_hz")
+    tsc = (
+        f"; cycle counter {tsc / 1e9:.3f} GHz"
+        if tsc
+        else "; no cycle counter (limits not measured)"
+    )
+    load = report.get("loadavg") or {}
+    return "\n".join(
+        [
+            f"machine: {cpu.get('model')} ({cpu.get('cores')} logical cores{mhz}); "
+            f"SIMD: {', '.join(cpu.get('simd') or []) or 'none'}; "
+            f"LLVM target: {cpu.get('llvm_cpu')}{tsc}",
+            f"versions: Python {env['python']}, numpy {pk.get('numpy')}, numba {pk.get('numba')}, "
+            f"llvmlite {pk.get('llvmlite')}, dtw-python {pk.get('dtw-python')}; fpdtw commit "
+            f"{(env['fpdtw'].get('commit') or 'unknown')[:10]}"
+            f"{' (uncommitted changes)' if env['fpdtw'].get('dirty') else ''}",
+            f"run: {'one pinned core' if report['single_core'] else 'all cores'}; load average "
+            f"(1 min) before {_load(load.get('before'))}, after {_load(load.get('after'))} "
+            f"(above 1: other work shared the machine, times are noisier)",
+        ]
+    )
+
+
+def _load(x):
+    return "-" if x is None else f"{x[0]:.2f}"
 
 
 def load_bench_pairs(seconds=None):
@@ -186,61 +624,40 @@ def load_bench_pairs(seconds=None):
     return pairs
 
 
-def _us(row, key="median_s") -> str:
-    return "-" if row is None else f"{row[key] * 1e6:.1f}"
+def oe_pair(pairs):
+    """OE-DTW's pair: the longest input repeated and cropped to :data:`OE_INPUT_FRAMES`
+    frames, against that pair's target."""
+    I_long, T_long = max(pairs, key=lambda p: p[0].n_frames)
+    reps = -(-OE_INPUT_FRAMES // I_long.n_frames)
+    I_oe = I_long if reps == 1 else _concat([I_long] * reps)
+    return I_oe.slice(0, OE_INPUT_FRAMES), T_long
 
 
-def paper_comparison(rows) -> str:
-    """Our median (and mean) per-frame time next to the paper's Table 2, as text.
-
-    Method C's literal window (notebook 15) gets its own column.
-    """
-    by = {(r["method"], r["w"], r["typev"]): r for r in rows if "(" not in r["name"]}
-    literal = {r["w"]: r for r in rows if "(literal window)" in r["name"] and not r["typev"]}
-    head = ("", "w", "paper", "ours med", "ours mean", "+TypeV med", "literal med", "target")
-    lines = [
-        "Per-frame time, microseconds (paper: mean, Table 2; ours: median / mean, one core)",
-        "{:<10}{:>5}{:>10}{:>10}{:>11}{:>12}{:>13}{:>8}".format(*head),
-    ]
-    labels = (
-        ("A", "Method A"),
-        ("B", "Method B"),
-        ("C", "Method C"),
-        ("OE", "OE-DTW"),
-        ("OLTW", "OLTW"),
-        ("OPW", "OPW"),
-    )
-    single = {"A": 2, "OE": 0, "OLTW": 0, "OPW": 0}
-    for method, label in labels:
-        for w in (single[method],) if method in single else (10, 20, 40, 80):
-            r = by.get((method, w, False))
-            if r is None:
-                continue
-            paper = TABLE2_US.get((method, w))
-            target = TARGETS_US.get((method, w), 10.0 if method == "OE" else None)
-            cells = (
-                label,
-                "-" if method in single else str(w),
-                "-" if paper is None else f"{paper:.0f}",
-                _us(r),
-                _us(r, "mean_s"),
-                _us(by.get((method, w, True))),
-                _us(literal.get(w)) if method == "C" else "-",
-                "-" if target is None else f"{target:g}",
-            )
-            lines.append("{:<10}{:>5}{:>10}{:>10}{:>11}{:>12}{:>13}{:>8}".format(*cells))
-    return "\n".join(lines)
-
-
-def run_benchmark(pairs=None, out=None, single_core=True):
+def run_benchmark(pairs=None, out=None, single_core=True, limits=True, peers=True):
     """Time everything ``make bench`` reports and write ``results/bench.json``.
+
+    Parameters
+    ----------
+    pairs : sequence of (MotionFeatures, MotionFeatures), optional
+        Default :func:`load_bench_pairs`.
+    out : Path, optional
+        Default ``results/bench.json``.
+    single_core : bool
+        Pin the process to one core first.
+    limits : bool
+        Measure every aligner's limit (:func:`limit_stats`).
+    peers : bool
+        Time dtw-python side by side (:func:`peer_dtw`, :func:`peer_open_end`); the OLTW
+        peer is read from ``results/bench_peers.json`` when ``make bench-peers`` wrote it.
 
     Returns
     -------
     report : dict
         ``environment`` (:func:`fpdtw.paper.provenance.environment`), ``single_core``,
-        ``pairs``, ``online`` (rows of :func:`bench_online`), ``oe_dtw`` (OE-DTW against
-        a 1000-frame input) and ``dtw`` (offline throughput).
+        ``loadavg`` (``before``, ``after``: :func:`os.getloadavg`), ``cycle_counter_hz``,
+        ``pairs``, ``online`` (rows of :func:`bench_online`), ``oe_dtw`` (OE-DTW against a
+        1000-frame input), ``dtw`` (offline throughput), ``peers`` (``dtw``, ``open_end``,
+        ``oltw``), ``paper_table2_us`` and ``paper_over_ours`` (:func:`paper_ratios`).
 
     Paper: FP-DTW Table 2.
     Notebook: 09_table2_timing.ipynb
@@ -248,32 +665,45 @@ def run_benchmark(pairs=None, out=None, single_core=True):
     from fpdtw.costs import geodesic_cost_matrix
     from fpdtw.paper.paths import results_dir
 
+    load_before = list(os.getloadavg()) if hasattr(os, "getloadavg") else None
     if single_core and hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
     pairs = load_bench_pairs() if pairs is None else pairs
+    limits = limits and bench_limit.HAVE_CYCLES
+    tps = bench_limit.ticks_per_second() if limits else None
 
-    online = bench_online(pairs)
-    online += bench_online(pairs, ["OLTW"])
+    online = bench_online(pairs, limits=limits)
+    online += bench_online(pairs, ["OLTW"], limits=limits)
     if all(I.positions is not None and T.positions is not None for I, T in pairs):
         online += bench_online(pairs, ["OPW"])
-    # OE-DTW against an input of exactly OE_INPUT_FRAMES frames (the longest input cropped)
-    I_long, T_long = max(pairs, key=lambda p: p[0].n_frames)
-    reps = -(-OE_INPUT_FRAMES // I_long.n_frames)
-    I_oe = I_long if reps == 1 else _concat([I_long] * reps)
-    I_oe = I_oe.slice(0, OE_INPUT_FRAMES)
-    oe = bench_online([(I_oe, T_long)], ["OE-DTW"])
+    I_oe, T_oe = oe_pair(pairs)
+    oe = bench_online([(I_oe, T_oe)], ["OE-DTW"], limits=limits)
     # offline DTW on the largest real cost matrix
     I_big, T_big = max(pairs, key=lambda p: p[0].n_frames * p[1].n_frames)
     C = geodesic_cost_matrix(I_big.quats, T_big.quats)
-    offline = dtw_throughput(C)
+    offline = dtw_throughput(C, repeats=9)
+    peer = {}
+    if peers:
+        peer["dtw"] = peer_dtw(C, ours_median_s=offline["median_s"])
+        peer["open_end"] = peer_open_end(I_oe, T_oe, step_s(oe[0]))
+        pm = load_peers()
+        if pm and pm.get("oltw"):
+            peer["oltw"] = pm["oltw"]
     report = {
         "environment": provenance.environment(),
         "single_core": bool(single_core),
+        "loadavg": {
+            "before": load_before,
+            "after": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
+        },
+        "cycle_counter_hz": tps,
         "pairs": [f"{I.name} -> {T.name} ({I.n_frames} x {T.n_frames})" for I, T in pairs],
         "online": online,
         "oe_dtw": oe,
         "dtw": offline,
+        "peers": peer,
         "paper_table2_us": {f"{m} w{w}": v for (m, w), v in TABLE2_US.items()},
+        "paper_over_ours": paper_ratios(online),
     }
     out = results_dir() / "bench.json" if out is None else out
     out.parent.mkdir(parents=True, exist_ok=True)
@@ -297,32 +727,72 @@ def _concat(features):
     )
 
 
+def format_report(report) -> str:
+    """Everything ``make bench`` prints: the machine, the limit table, the peers, the paper."""
+    rows = report["online"] + report["oe_dtw"]
+    d = report["dtw"]
+    parts = [
+        machine_header(report),
+        "pairs: " + "; ".join(report["pairs"]),
+        "",
+        "Against the hardware limit (medians over the frames with a window; limit: the "
+        "window's geodesic evaluations + accumulation, same data, same run; fcast/python/"
+        "other: the gap, us; f32 x: float32 limit speed-up)",
+        format_bench(rows, report.get("peers")),
+        "",
+        peers_table(report),
+        "",
+        paper_comparison(rows),
+        "",
+        f"offline DTW (accumulate + path) on {d['cells']} cells: {d['median_s'] * 1e3:.1f} ms, "
+        f"{d['cells_per_s'] / 1e6:.0f} million cells/s",
+    ]
+    f32 = [r for r in rows if r.get("float32_speedup") is not None]
+    if f32:
+        changed = sum(r["float32_changed_choices"] or 0 for r in f32)
+        big = max(f32, key=lambda r: r["evals_median"] or 0)
+        parts.append(
+            f"float32 cost window: limit {min(r['float32_speedup'] for r in f32):.2f}-"
+            f"{max(r['float32_speedup'] for r in f32):.2f}x as fast ({big['name']}: "
+            f"{big['float32_speedup']:.2f}x), and it changes {changed} choices over these "
+            "runs: kept float64 (float32 is not exact)"
+        )
+    return "\n".join(parts)
+
+
 def main(argv=None) -> None:
-    """``python -m fpdtw.paper.bench``: time every aligner on real pairs, write
-    ``results/bench.json``, print the table next to the paper's Table 2."""
+    """``python -m fpdtw.paper.bench``: time every aligner on real pairs against its limit,
+    the peers and the paper; write ``results/bench.json``; print the tables."""
     import argparse
 
     ap = argparse.ArgumentParser(description=main.__doc__)
     ap.add_argument("--all-cores", action="store_true", help="do not pin to one core")
+    ap.add_argument("--no-limits", action="store_true", help="skip the limit replays")
+    ap.add_argument("--no-peers", action="store_true", help="skip dtw-python")
     args = ap.parse_args(argv)
-    report = run_benchmark(single_core=not args.all_cores)
-    print("pairs:", *report["pairs"], sep="\n  ")
-    cpu = report["environment"]["cpu"]
-    print(f"cpu: {cpu['model']} ({', '.join(cpu['simd'])}); {provenance.versions_line()}")
-    print()
-    print(format_bench(report["online"] + report["oe_dtw"]))
-    print()
-    print(paper_comparison(report["online"] + report["oe_dtw"]))
-    d = report["dtw"]
-    print(
-        f"\noffline DTW (accumulate + path) on {d['cells']} cells: "
-        f"{d['median_s'] * 1e3:.1f} ms, {d['cells_per_s'] / 1e6:.0f} million cells/s "
-        "(target >= 500)"
+    report = run_benchmark(
+        single_core=not args.all_cores, limits=not args.no_limits, peers=not args.no_peers
     )
+    print(format_report(report))
 
 
 if __name__ == "__main__":
     main()
 
 
-__all__ = ["bench_online", "dtw_throughput", "format_bench", "paper_comparison", "run_benchmark"]
+__all__ = [
+    "bench_online",
+    "dtw_throughput",
+    "explain_gap",
+    "format_bench",
+    "format_report",
+    "limit_stats",
+    "paper_comparison",
+    "paper_ratios",
+    "peer_dtw",
+    "peer_open_end",
+    "peer_ratios",
+    "peers_table",
+    "step_s",
+    "run_benchmark",
+]

@@ -66,7 +66,8 @@ def git_commit(root: Path = REPO_ROOT) -> dict:
 def cpu_info() -> dict:
     """The CPU: ``model``, ``cores`` (logical, as the OS reports), ``simd`` (the flags of
     :data:`SIMD_FLAGS` it has), ``mhz`` (current clock of core 0 where readable, else
-    None), ``machine`` (e.g. ``x86_64``)."""
+    None), ``machine`` (e.g. ``x86_64``), ``llvm_cpu`` (the CPU numba compiles for, e.g.
+    ``znver4``; None without numba)."""
     model, flags, mhz = platform.processor() or None, set(), None
     try:
         text = Path("/proc/cpuinfo").read_text()
@@ -84,12 +85,20 @@ def cpu_info() -> dict:
                 mhz = round(float(value), 0)
             except ValueError:
                 pass
+    try:  # the CPU numba compiles for (what its SIMD code targets)
+        import numba
+        from llvmlite import binding
+
+        llvm_cpu = numba.config.CPU_NAME or binding.get_host_cpu_name()
+    except ImportError:
+        llvm_cpu = None
     return {
         "model": model,
         "cores": os.cpu_count(),
         "simd": [f for f in SIMD_FLAGS if f in flags],
         "mhz": mhz,
         "machine": platform.machine(),
+        "llvm_cpu": llvm_cpu,
     }
 
 
