@@ -30,6 +30,7 @@ import textwrap
 from pathlib import Path
 
 from fpdtw import registry
+from fpdtw.argtypes import positive_int
 
 PROG = "fpdtw"
 
@@ -92,16 +93,6 @@ class _Parser(argparse.ArgumentParser):
     """argparse with our program name in every sub-command's messages."""
 
 
-def _positive_int(text):
-    try:
-        v = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a whole number, got {text!r}") from None
-    if v < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {text!r}")
-    return v
-
-
 def _frame_rate(text):
     from fpdtw import limits
 
@@ -139,7 +130,7 @@ def _add_pair_arguments(p, *, live: bool):
     p.add_argument(
         "--window",
         "-w",
-        type=_positive_int,
+        type=positive_int,
         metavar="W",
         help="window of methods a (default 2), b and c (default 40, the paper used 10, 20, "
         "40, 80), or OLTW's search width c in frames (default 120)",
@@ -235,7 +226,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     lv.add_argument(
         "--stride",
-        type=_positive_int,
+        type=positive_int,
         metavar="K",
         help="animation: draw every K-th target frame (default: about 20 per second)",
     )

@@ -12,6 +12,7 @@ import numpy as np
 
 from fpdtw.costs import _geo_frame
 from fpdtw.motion.features import Frame, MotionFeatures
+from fpdtw.online.base import compiled_frame
 from fpdtw.online.typev import MAX_ADVANCE
 from fpdtw.online.window import WindowAligner, _first_frame, _is_allowed
 
@@ -169,20 +170,9 @@ class MethodA(WindowAligner):
         :meth:`WindowAligner.step` (same result).
         """
         i = self.n_received - self._start
-        fq = frame.quats
-        fe = frame.euler
-        p = frame.positions
-        if (
-            not self.record
-            and i < self._M.shape[0]
-            and type(fq) is np.ndarray
-            and type(fe) is np.ndarray
-            and fq.ndim == 2
-            and fe.ndim == 2
-            and (p is None or self._Tp is not None)
-        ):
-            if p is not None:
-                self._Tp[i] = p
+        arrays = None if self.record else compiled_frame(frame, i, self._M.shape[0], self._Tp)
+        if arrays is not None:
+            fq, fe = arrays
             m = _a_stream_step(
                 self._Iq, self._Tq, self._Te, self._M, i, fq, fe, self._C, self._iwork
             )

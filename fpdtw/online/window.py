@@ -30,7 +30,7 @@ from fpdtw.costs import _acos01, _geo_frame
 from fpdtw.errors import AlignmentError
 from fpdtw.forecast import _euler_to_quat, order_codes
 from fpdtw.motion.features import Frame, MotionFeatures
-from fpdtw.online.base import OnlineAligner, check_count, check_input
+from fpdtw.online.base import OnlineAligner, check_count, check_input, compiled_frame
 from fpdtw.online.typev import MAX_ADVANCE, resolve_constraint
 
 _TWO_OVER_PI = 2.0 / math.pi
@@ -909,20 +909,9 @@ class ForecastAligner(WindowAligner):
         general path of :meth:`WindowAligner.step` (same result).
         """
         i = self.n_received - self._start
-        fq = frame.quats
-        fe = frame.euler
-        p = frame.positions
-        if (
-            self._lean
-            and i < self._M.shape[0]
-            and type(fq) is np.ndarray
-            and type(fe) is np.ndarray
-            and fq.ndim == 2
-            and fe.ndim == 2
-            and (p is None or self._Tp is not None)
-        ):
-            if p is not None:
-                self._Tp[i] = p
+        arrays = compiled_frame(frame, i, self._M.shape[0], self._Tp) if self._lean else None
+        if arrays is not None:
+            fq, fe = arrays
             m = _stream_step(
                 self._Iq, self._Tq, self._Te, self._M, i, fq, fe, self._work, self._iwork
             )

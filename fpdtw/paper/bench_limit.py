@@ -51,7 +51,7 @@ from llvmlite import ir
 from numba.core import types
 from numba.extending import intrinsic
 
-from fpdtw.costs import _acos01
+from fpdtw.costs import _geo_line
 from fpdtw.online import oedtw, oltw
 from fpdtw.online import window as W
 from fpdtw.online.method_a import _A_HEADER as A_HEADER
@@ -141,79 +141,37 @@ def ticks_per_second() -> float:
     return _TICKS_PER_S
 
 
-# --- the limit kernels -----------------------------------------------------------------
-
-
-@numba.njit(cache=True)
-def _geo_line(a, B, lo, hi, acc, out):
-    """``out[c] = geoDistance(a, B[:, :, lo + c])`` (eq. 1) for ``c < hi - lo``.
-
-    a : float64 (k, 4), one frame; B : float64 (k, 4, n), frames joint-major (structure of
-    arrays, so that the loop over frames vectorises); acc : scratch, length >= hi - lo.
-    Joints are summed in order and the dot product in (w, x, y, z) order, so every value
-    is bit-identical to :func:`fpdtw.costs.geodesic_cost_matrix`.
-    """
-    n = hi - lo
-    for c in range(n):
-        acc[c] = 0.0
-    for j in range(a.shape[0]):
-        a0 = a[j, 0]
-        a1 = a[j, 1]
-        a2 = a[j, 2]
-        a3 = a[j, 3]
-        b0 = B[j, 0, lo:hi]
-        b1 = B[j, 1, lo:hi]
-        b2 = B[j, 2, lo:hi]
-        b3 = B[j, 3, lo:hi]
-        for c in range(n):
-            d = abs(a0 * b0[c] + a1 * b1[c] + a2 * b2[c] + a3 * b3[c])
-            acc[c] += _acos01(min(d, 1.0))
-    for c in range(n):
-        out[c] = acc[c] * _TWO_OVER_PI
-
-
-@numba.njit(cache=True)
-def _limit_window(Iq, start, nrows, F, ncols, C, D, acc):
-    """The unavoidable work of a window step: ``C[r, c] = geoDistance(I[start + r], F[.., c])``
-    for ``r < nrows``, ``c < ncols`` (eq. 1), and its forward DTW accumulation ``D``.
-
-    Iq : float64 (m + 1, k, 4); F : float64 (k, 4, >= ncols), the step's target columns
-    joint-major; C, D : float64 (>= nrows, >= ncols); acc : scratch (>= ncols).
-    Returns the number of geodesic evaluations, ``nrows * ncols * k``.
-    """
-    for r in range(nrows):
-        _geo_line(Iq[start + r], F, 0, ncols, acc, C[r])
-        if r == 0:
-            x = C[0, 0]
-            D[0, 0] = x
-            for c in range(1, ncols):
-                x = x + C[0, c]
-                D[0, c] = x
-        else:
-            x = D[r - 1, 0] + C[r, 0]
-            D[r, 0] = x
-            for c in range(1, ncols):
-                x = C[r, c] + min(D[r - 1, c - 1], min(D[r - 1, c], x))
-                D[r, c] = x
-    return nrows * ncols * Iq.shape[1]
-
-
 #: Modes of :func:`_limit_column`: Method A's argmin, OE-DTW's first column (a prefix
 #: sum), OE-DTW's recursion from the previous column.
 COL_ARGMIN, COL_FIRST, COL_DTW = 0, 1, 2
 
 
-@numba.njit(cache=True)
-def _limit_column(t, Isoa, start, nrows, prev, cur, acc, mode):
-    """One target frame against ``nrows`` input frames, a window column (Method A, OE-DTW):
-    ``cur[i] = geoDistance(I[start + i], t)`` (eq. 1), then (``mode``) the argmin
-    (:data:`COL_ARGMIN`) or the DTW accumulation down the column (:data:`COL_FIRST`:
-    a prefix sum; :data:`COL_DTW`: from the previous column ``prev``, symmetric1).
+# --- the limit kernels -----------------------------------------------------------------
 
-    t : float64 (k, 4); Isoa : float64 (k, 4, m + 1), the input joint-major.
-    Returns (geodesic evaluations ``nrows * k``, row of the lowest value).
-    """
-    _geo_line(t, Isoa, start, start + nrows, acc, cur)
+
+@numba.njit(cache=True)
+def _accumulate_row(C, D, r, ncols):
+    """Row ``r`` of the forward DTW accumulation (symmetric1) of ``C`` into ``D``: row 0 a
+    prefix sum, every other row from the row above. Any float dtype (no constants)."""
+    if r == 0:
+        x = C[0, 0]
+        D[0, 0] = x
+        for c in range(1, ncols):
+            x = x + C[0, c]
+            D[0, c] = x
+    else:
+        x = D[r - 1, 0] + C[r, 0]
+        D[r, 0] = x
+        for c in range(1, ncols):
+            x = C[r, c] + min(D[r - 1, c - 1], min(D[r - 1, c], x))
+            D[r, c] = x
+
+
+@numba.njit(cache=True)
+def _scan_column(prev, cur, nrows, mode):
+    """A column's argmin (:data:`COL_ARGMIN`), or its DTW accumulation in place
+    (:data:`COL_FIRST`: a prefix sum; :data:`COL_DTW`: from ``prev``) and the row of the
+    lowest accumulated value. Any float dtype (no constants)."""
     best = cur[0]
     bi = 0
     if mode == COL_ARGMIN:
@@ -221,7 +179,7 @@ def _limit_column(t, Isoa, start, nrows, prev, cur, acc, mode):
             if cur[i] < best:
                 best = cur[i]
                 bi = i
-        return nrows * t.shape[0], bi
+        return bi
     x = cur[0] if mode == COL_FIRST else prev[0] + cur[0]
     cur[0] = x
     best = x
@@ -235,7 +193,36 @@ def _limit_column(t, Isoa, start, nrows, prev, cur, acc, mode):
         if x < best:
             best = x
             bi = i
-    return nrows * t.shape[0], bi
+    return bi
+
+
+@numba.njit(cache=True)
+def _limit_window(Iq, start, nrows, F, ncols, C, D, acc):
+    """The unavoidable work of a window step: ``C[r, c] = geoDistance(I[start + r], F[.., c])``
+    for ``r < nrows``, ``c < ncols`` (eq. 1), and its forward DTW accumulation ``D``.
+
+    Iq : float64 (m + 1, k, 4); F : float64 (k, 4, >= ncols), the step's target columns
+    joint-major; C, D : float64 (>= nrows, >= ncols); acc : scratch (>= ncols).
+    Returns the number of geodesic evaluations, ``nrows * ncols * k``.
+    """
+    for r in range(nrows):
+        _geo_line(Iq[start + r], F, 0, ncols, acc, C[r])
+        _accumulate_row(C, D, r, ncols)
+    return nrows * ncols * Iq.shape[1]
+
+
+@numba.njit(cache=True)
+def _limit_column(t, Isoa, start, nrows, prev, cur, acc, mode):
+    """One target frame against ``nrows`` input frames, a window column (Method A, OE-DTW):
+    ``cur[i] = geoDistance(I[start + i], t)`` (eq. 1), then (``mode``) the argmin
+    (:data:`COL_ARGMIN`) or the DTW accumulation down the column (:data:`COL_FIRST`:
+    a prefix sum; :data:`COL_DTW`: from the previous column ``prev``, symmetric1).
+
+    t : float64 (k, 4); Isoa : float64 (k, 4, m + 1), the input joint-major.
+    Returns (geodesic evaluations ``nrows * k``, row of the lowest value).
+    """
+    _geo_line(t, Isoa, start, start + nrows, acc, cur)
+    return nrows * t.shape[0], _scan_column(prev, cur, nrows, mode)
 
 
 # float32: the same kernels in single precision (16 lanes instead of 8), for the
@@ -304,18 +291,7 @@ def _limit_window_f32(Iq, start, nrows, F, ncols, C, D, acc):
     """:func:`_limit_window` in float32 (every array float32)."""
     for r in range(nrows):
         _geo_line_f32(Iq[start + r], F, 0, ncols, acc, C[r])
-        if r == 0:
-            x = C[0, 0]
-            D[0, 0] = x
-            for c in range(1, ncols):
-                x = x + C[0, c]
-                D[0, c] = x
-        else:
-            x = D[r - 1, 0] + C[r, 0]
-            D[r, 0] = x
-            for c in range(1, ncols):
-                x = C[r, c] + min(D[r - 1, c - 1], min(D[r - 1, c], x))
-                D[r, c] = x
+        _accumulate_row(C, D, r, ncols)
     return nrows * ncols * Iq.shape[1]
 
 
@@ -323,28 +299,20 @@ def _limit_window_f32(Iq, start, nrows, F, ncols, C, D, acc):
 def _limit_column_f32(t, Isoa, start, nrows, prev, cur, acc, mode):
     """:func:`_limit_column` in float32."""
     _geo_line_f32(t, Isoa, start, start + nrows, acc, cur)
-    best = cur[0]
-    bi = 0
-    if mode == COL_ARGMIN:
-        for i in range(1, nrows):
-            if cur[i] < best:
-                best = cur[i]
-                bi = i
-        return nrows * t.shape[0], bi
-    x = cur[0] if mode == COL_FIRST else prev[0] + cur[0]
-    cur[0] = x
-    best = x
-    for i in range(1, nrows):
-        ci = cur[i]
-        if mode == COL_FIRST:
-            x = x + ci
-        else:
-            x = min(min(prev[i - 1] + ci, prev[i] + ci), x + ci)
-        cur[i] = x
-        if x < best:
-            best = x
-            bi = i
-    return nrows * t.shape[0], bi
+    return nrows * t.shape[0], _scan_column(prev, cur, nrows, mode)
+
+
+@numba.njit(cache=True)
+def _dixon_line(prev, out, n):
+    """A band line's DTW accumulation in place from the previous line ``prev`` (Dixon's
+    weights: the diagonal step counts its cost twice, written ``d + d``, exactly
+    ``2 d`` in any float dtype)."""
+    x = prev[0] + out[0]
+    out[0] = x
+    for c in range(1, n):
+        d = out[c]
+        x = min(min(prev[c] + d, x + d), prev[c - 1] + (d + d))
+        out[c] = x
 
 
 @numba.njit(cache=True)
@@ -353,12 +321,7 @@ def _limit_line(a, B, lo, hi, prev, acc, out):
     line's DTW accumulation (Dixon's weights) from the previous line ``prev``. Returns the
     geodesic evaluations."""
     _geo_line(a, B, lo, hi, acc, out)
-    x = prev[0] + out[0]
-    out[0] = x
-    for c in range(1, hi - lo):
-        d = out[c]
-        x = min(min(prev[c] + d, x + d), prev[c - 1] + 2.0 * d)
-        out[c] = x
+    _dixon_line(prev, out, hi - lo)
     return (hi - lo) * a.shape[0]
 
 
@@ -366,12 +329,7 @@ def _limit_line(a, B, lo, hi, prev, acc, out):
 def _limit_line_f32(a, B, lo, hi, prev, acc, out):
     """:func:`_limit_line` in float32."""
     _geo_line_f32(a, B, lo, hi, acc, out)
-    x = prev[0] + out[0]
-    out[0] = x
-    for c in range(1, hi - lo):
-        d = out[c]
-        x = min(min(prev[c] + d, x + d), prev[c - 1] + _F32_TWO * d)
-        out[c] = x
+    _dixon_line(prev, out, hi - lo)
     return (hi - lo) * a.shape[0]
 
 

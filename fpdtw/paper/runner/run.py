@@ -86,6 +86,7 @@ from pathlib import Path
 import numpy as np
 
 from fpdtw import registry
+from fpdtw.argtypes import positive_float, positive_int
 from fpdtw.errors import AlignmentError, FpdtwError, MotionFormatError
 from fpdtw.metrics import deviation, joint_trajectories, trajectory_scores
 from fpdtw.motion.features import MotionFeatures
@@ -963,26 +964,6 @@ def run_experiments(
 # -- command line ------------------------------------------------------------------------------
 
 
-def _positive_int(text):
-    try:
-        v = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a whole number, got {text!r}") from None
-    if v < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {text!r}")
-    return v
-
-
-def _positive_float(text):
-    try:
-        v = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
-    if not 0 < v < float("inf"):
-        raise argparse.ArgumentTypeError(f"must be a positive number, got {text!r}")
-    return v
-
-
 def _scheduler_option(text):
     try:
         return scheduler_address(text) or "local"
@@ -1026,7 +1007,7 @@ def add_run_arguments(ap: argparse.ArgumentParser) -> None:
     ap.add_argument("--smoke", action="store_true", help="the same as --mode smoke")
     ap.add_argument(
         "--jobs",
-        type=_positive_int,
+        type=positive_int,
         default=2,
         metavar="N",
         help="worker processes on this machine (default 2; unused with --scheduler)",
@@ -1055,7 +1036,7 @@ def add_run_arguments(ap: argparse.ArgumentParser) -> None:
     )
     ap.add_argument(
         "--connect-timeout",
-        type=_positive_float,
+        type=positive_float,
         default=CONNECT_TIMEOUT,
         metavar="SECONDS",
         help=f"how long to wait for the scheduler to answer (default {CONNECT_TIMEOUT:g})",
