@@ -14,7 +14,7 @@ from fpdtw.costs import _geo_frame
 from fpdtw.motion.features import Frame, MotionFeatures
 from fpdtw.online.base import compiled_frame
 from fpdtw.online.typev import MAX_ADVANCE
-from fpdtw.online.window import WindowAligner, _first_frame, _is_allowed
+from fpdtw.online.window import WindowAligner, _first_frame, _is_allowed, _store_frame
 
 
 @numba.njit(cache=True)
@@ -85,14 +85,8 @@ def _a_stream_step(Iq, Tq, Te, M, q, fq, fe, C, iwork):
     """Receive one streamed frame (store it in row ``q``), run :func:`_a_step`, store
     ``M[q]``: Method A's whole ``step`` in one call. A frame of another shape changes
     nothing and returns -1 (the caller then raises)."""
-    k = Iq.shape[1]
-    if fq.shape[0] != k or fq.shape[1] != 4 or fe.shape[0] != k or fe.shape[1] != 3:
+    if not _store_frame(Iq.shape[1], Tq, Te, q, fq, fe):
         return -1
-    for j in range(k):
-        for a in range(4):
-            Tq[q, j, a] = fq[j, a]
-        for a in range(3):
-            Te[q, j, a] = fe[j, a]
     m = _a_step(Iq, Tq, q, M, C, iwork)
     M[q] = m
     return m

@@ -511,6 +511,20 @@ def _work_views(work, iwork):
 
 
 @numba.njit(cache=True)
+def _store_frame(k, Tq, Te, q, fq, fe):
+    """Store a streamed frame (quaternions ``fq`` (k, 4), Euler angles ``fe`` (k, 3)) in
+    row ``q`` of ``Tq, Te``; False (nothing stored) for a frame of another shape."""
+    if fq.shape[0] != k or fq.shape[1] != 4 or fe.shape[0] != k or fe.shape[1] != 3:
+        return False
+    for j in range(k):
+        for a in range(4):
+            Tq[q, j, a] = fq[j, a]
+        for a in range(3):
+            Te[q, j, a] = fe[j, a]
+    return True
+
+
+@numba.njit(cache=True)
 def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
     """Receive one streamed frame: store it in row ``q`` of ``Tq, Te``, run
     :func:`_forecast_step`, store ``M[q]``; the whole ``step`` of a B/C aligner in one call.
@@ -518,14 +532,8 @@ def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
     ``fq`` (k, 4) and ``fe`` (k, 3) are the frame's quaternions and Euler angles; a frame
     of another shape changes nothing and returns -1 (the caller then raises).
     """
-    k = Iq.shape[1]
-    if fq.shape[0] != k or fq.shape[1] != 4 or fe.shape[0] != k or fe.shape[1] != 3:
+    if not _store_frame(Iq.shape[1], Tq, Te, q, fq, fe):
         return -1
-    for j in range(k):
-        for a in range(4):
-            Tq[q, j, a] = fq[j, a]
-        for a in range(3):
-            Te[q, j, a] = fe[j, a]
     views = _work_views(work, iwork)
     F, C, D, score, cF, cG, cKey, prm, table, codes, tv, Pcol, path, out, cN, cMeta = views
     m = _forecast_step(
