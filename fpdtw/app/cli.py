@@ -151,6 +151,25 @@ def _add_pair_arguments(p, *, live: bool):
     p.add_argument("--debug", action="store_true", help="show the traceback of an error")
 
 
+def _command_group(sub, name: str, help: str, description: str, add_commands: str):
+    """A command with ACTIONs (``fpdtw data fetch``, ``fpdtw experiments run``): the
+    actions are added by ``add_commands`` ("module:function", imported only here, so that
+    ``fpdtw align`` does not load the paper layer's modules until it is built)."""
+    import importlib
+
+    g = sub.add_parser(
+        name,
+        help=help,
+        description=_fill(description),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    actions = g.add_subparsers(dest=f"{name}_command", metavar="ACTION", parser_class=_Parser)
+    actions.required = True
+    module, _, function = add_commands.partition(":")
+    getattr(importlib.import_module(module), function)(actions)
+    return g
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``fpdtw`` command (align, live, data, experiments)."""
     fmt = argparse.RawDescriptionHelpFormatter
@@ -231,38 +250,25 @@ def build_parser() -> argparse.ArgumentParser:
         help="animation: draw every K-th target frame (default: about 20 per second)",
     )
 
-    d = sub.add_parser(
+    d = _command_group(
+        sub,
         "data",
-        help="fetch, verify or cite the datasets the papers used",
-        description=_fill(
-            "The datasets listed in data_manifest/ (authors' FBX takes, HDM05, CMU): "
-            "fetch them into the verified cache, re-check the cache, or print licences and "
-            "citations. Set FPDTW_MIRROR to a folder or URL holding a copy to fetch offline."
-        ),
-        formatter_class=fmt,
+        "fetch, verify or cite the datasets the papers used",
+        "The datasets listed in data_manifest/ (authors' FBX takes, HDM05, CMU): "
+        "fetch them into the verified cache, re-check the cache, or print licences and "
+        "citations. Set FPDTW_MIRROR to a folder or URL holding a copy to fetch offline.",
+        "fpdtw.paper.datasets:add_data_commands",
     )
-    dsub = d.add_subparsers(dest="data_command", metavar="ACTION", parser_class=_Parser)
-    dsub.required = True
-    from fpdtw.paper.datasets import add_data_commands
-
-    add_data_commands(dsub)
-
-    e = sub.add_parser(
+    e = _command_group(
+        sub,
         "experiments",
-        help="run the papers' experiment grid (every pair, every algorithm), on this "
+        "run the papers' experiment grid (every pair, every algorithm), on this "
         "machine or on a Dask cluster",
-        description=_fill(
-            "The experiment grid behind the figures and tables: every ordered pair of takes "
-            "of a movement, every algorithm, resumably, in worker processes here or as tasks "
-            "on a Dask cluster (--scheduler). The notebook 05_run_experiments runs the same."
-        ),
-        formatter_class=fmt,
+        "The experiment grid behind the figures and tables: every ordered pair of takes "
+        "of a movement, every algorithm, resumably, in worker processes here or as tasks "
+        "on a Dask cluster (--scheduler). The notebook 05_run_experiments runs the same.",
+        "fpdtw.paper.runner.run:add_experiments_commands",
     )
-    esub = e.add_subparsers(dest="experiments_command", metavar="ACTION", parser_class=_Parser)
-    esub.required = True
-    from fpdtw.paper.runner.run import add_experiments_commands
-
-    add_experiments_commands(esub)
     ap.commands = {"align": a, "live": lv, "data": d, "experiments": e}
     return ap
 
