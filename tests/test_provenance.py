@@ -60,3 +60,21 @@ def test_command_line_writes_the_page(tmp_path, monkeypatch):
     assert provenance.main(["--markdown", str(out)]) == 0
     text = out.read_text()
     assert "commit" in text and "**results/full** was computed with different versions" in text
+
+
+def test_dirty_means_source_changed_not_the_outputs(tmp_path):
+    def git(*args):
+        subprocess.run(["git", "-C", str(tmp_path), *args], check=True, capture_output=True)
+
+    git("init", "-q")
+    (tmp_path / "figures").mkdir()
+    (tmp_path / "fpdtw").mkdir()
+    (tmp_path / "figures" / "fig.csv").write_text("a\n")
+    (tmp_path / "fpdtw" / "m.py").write_text("x = 1\n")
+    git("add", ".")
+    git("-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "init")
+    assert provenance.git_commit(tmp_path)["dirty"] is False
+    (tmp_path / "figures" / "fig.csv").write_text("b\n")  # make figures rewrote an output
+    assert provenance.git_commit(tmp_path)["dirty"] is False
+    (tmp_path / "fpdtw" / "m.py").write_text("x = 2\n")  # the code changed
+    assert provenance.git_commit(tmp_path)["dirty"] is True

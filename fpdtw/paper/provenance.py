@@ -46,8 +46,9 @@ def package_versions(names=COMPUTE_PACKAGES + DRAW_PACKAGES) -> dict:
 def git_commit(root: Path = REPO_ROOT) -> dict:
     """``{"commit": sha or None, "dirty": bool or None}`` of the source checkout.
 
-    None where the package does not run from a git checkout (an installed wheel) or git
-    is missing.
+    ``dirty``: a tracked file other than the outputs (``figures/``, which ``make
+    figures`` rewrites while it runs) differs from the commit. None where the package
+    does not run from a git checkout (an installed wheel) or git is missing.
     """
     try:
         sha = subprocess.run(
@@ -55,7 +56,8 @@ def git_commit(root: Path = REPO_ROOT) -> dict:
             capture_output=True, text=True, timeout=10, check=True,
         ).stdout.strip()  # fmt: skip
         status = subprocess.run(
-            ["git", "-C", str(root), "status", "--porcelain", "--untracked-files=no"],
+            ["git", "-C", str(root), "status", "--porcelain", "--untracked-files=no",
+             "--", ".", ":(exclude)figures"],
             capture_output=True, text=True, timeout=10, check=True,
         ).stdout  # fmt: skip
     except (OSError, subprocess.SubprocessError):
