@@ -55,11 +55,12 @@ BOOK       := build/book/index.html
 # and ends and how long it took
 EXECUTE := $(PY) -m fpdtw.paper.execute --kernel fpdtw --cwd notebooks
 
-.PHONY: env lock data test fuzz lint format figures book book-check smoke-book bench bench-peers \
-	clean distclean help
+.PHONY: env lock data test fuzz lint format figures check-figures book book-check smoke-book bench \
+	bench-peers clean distclean help
 
 help:
 	@echo "make figures  - build env, fetch data, run every notebook, write figures/, the book"
+	@echo "make check-figures - after make figures: figures/ byte-identical to the commit?"
 	@echo "make book     - the book (build/book/index.html) from the executed notebooks"
 	@echo "make book-check - open the book in headless Chromium: console errors, images, links"
 	@echo "make test     - build env, fetch data, lint and run the test suite"
@@ -186,6 +187,11 @@ build/notebooks/09_table2_timing.ipynb: results/bench.json
 # in place), with an explicit kernel and the notebooks folder as working directory; the
 # book comes last
 figures: $(EXECUTED) figures/ENVIRONMENT.md $(BOOK)
+
+# did this run reproduce the committed figures? Every deterministic file byte for byte
+# (the timing outputs, fpdtw.paper.provenance.TIMING_OUTPUTS, may differ)
+check-figures:
+	$(PY) -m fpdtw.paper.provenance --compare-figures
 
 # what made the figures: package versions, Python, commit, CPU (fpdtw.paper.provenance)
 figures/ENVIRONMENT.md: $(EXECUTED)

@@ -78,3 +78,38 @@ def test_dirty_means_source_changed_not_the_outputs(tmp_path):
     assert provenance.git_commit(tmp_path)["dirty"] is False
     (tmp_path / "fpdtw" / "m.py").write_text("x = 2\n")  # the code changed
     assert provenance.git_commit(tmp_path)["dirty"] is True
+
+
+def test_compare_figures_tells_deterministic_from_timing_outputs(tmp_path):
+    def git(*args):
+        subprocess.run(["git", "-C", str(tmp_path), *args], check=True, capture_output=True)
+
+    fig = tmp_path / "figures"
+    fig.mkdir()
+    for name in ("fig5_similarity.png", "fig6_deviation.csv", "table2_time_per_frame.csv"):
+        (fig / name).write_bytes(name.encode())
+    git("init", "-q")
+    git("add", ".")
+    git("-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "init")
+    same = provenance.compare_figures(tmp_path)
+    assert same["same"] == [
+        "fig5_similarity.png",
+        "fig6_deviation.csv",
+        "table2_time_per_frame.csv",
+    ]
+    assert same["differ"] == same["timing"] == same["missing"] == []
+    (fig / "table2_time_per_frame.csv").write_bytes(b"other times")
+    (fig / "fig6_deviation.csv").write_bytes(b"other numbers")
+    (fig / "fig5_similarity.png").unlink()
+    res = provenance.compare_figures(tmp_path)
+    assert res == {
+        "same": [],
+        "differ": ["fig6_deviation.csv"],
+        "timing": ["table2_time_per_frame.csv"],
+        "missing": ["fig5_similarity.png"],
+    }
+
+
+def test_timing_outputs_are_committed_outputs():
+    for name in provenance.TIMING_OUTPUTS:
+        assert (REPO_ROOT / "figures" / name).is_file(), name

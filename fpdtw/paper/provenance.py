@@ -187,10 +187,78 @@ def write_json(path: Path, env: dict | None = None) -> Path:
     return path
 
 
+#: Outputs of ``figures/`` that hold timings (or name the commit and machine), so they
+#: change from run to run: Table 2's times, the live replay's latency, the claims table
+#: (its claims 4 and 4b are about time per frame) and this page. Every other file of
+#: ``figures/`` is deterministic: byte-identical for the same lock, code and data.
+TIMING_OUTPUTS = (
+    "table2_time_per_frame.csv", "table2_time_per_frame.md", "table2_time_vs_w.pdf",
+    "table2_time_vs_w.png", "live_latency.pdf", "live_latency.png", "claims.csv",
+    "claims.md", "ENVIRONMENT.md",
+)  # fmt: skip
+
+
+def compare_figures(root: Path = REPO_ROOT, ref: str = "HEAD") -> dict:
+    """Compare ``figures/`` in the working tree with the committed ones, byte for byte.
+
+    After ``make figures`` in a clone, this says whether the run reproduced the committed
+    outputs: every deterministic file must be byte-identical; the files of
+    :data:`TIMING_OUTPUTS` may differ.
+
+    Parameters
+    ----------
+    root : Path
+        The git checkout.
+    ref : str
+        The commit to compare with.
+
+    Returns
+    -------
+    dict
+        ``same``, ``differ`` (deterministic files that differ: a failed reproduction),
+        ``timing`` (timing outputs that differ, expected), ``missing`` (committed but
+        not written), each a sorted list of file names.
+    """
+
+    def git(*args):
+        return subprocess.run(
+            ["git", "-C", str(root), *args], capture_output=True, check=True, timeout=60
+        ).stdout
+
+    names = git("ls-tree", "--name-only", f"{ref}:figures").decode().split()
+    out = {"same": [], "differ": [], "timing": [], "missing": []}
+    for name in names:
+        path = root / "figures" / name
+        if not path.is_file():
+            out["missing"].append(name)
+        elif path.read_bytes() == git("show", f"{ref}:figures/{name}"):
+            out["same"].append(name)
+        else:
+            out["timing" if name in TIMING_OUTPUTS else "differ"].append(name)
+    return {k: sorted(v) for k, v in out.items()}
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m fpdtw.paper.provenance", description=__doc__)
     ap.add_argument("--markdown", metavar="OUT", help="write the Markdown page to OUT")
+    ap.add_argument(
+        "--compare-figures",
+        action="store_true",
+        help="compare figures/ with the committed ones (after make figures); exit 1 if a "
+        "deterministic file differs",
+    )
     args = ap.parse_args(argv)
+    if args.compare_figures:
+        res = compare_figures()
+        print(
+            f"figures/: {len(res['same'])} files byte-identical to the commit; "
+            f"{len(res['timing'])} timing outputs differ (expected): "
+            f"{', '.join(res['timing']) or 'none'}"
+        )
+        for key, what in (("differ", "DIFFERS (deterministic)"), ("missing", "MISSING")):
+            for name in res[key]:
+                print(f"  {what}: figures/{name}")
+        return 1 if res["differ"] or res["missing"] else 0
     if args.markdown:
         from fpdtw.paper.paths import results_dir
 
