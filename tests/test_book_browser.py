@@ -144,3 +144,32 @@ def test_the_check_finds_what_is_broken(tmp_path, chromium):
     assert "example.org" not in problems  # outside links are not followed
     assert report.pages["good.html"].images == 1
     assert len(report.problems) == 6, problems
+
+
+def test_the_profile_is_removed_while_a_straggler_still_writes_into_it(tmp_path):
+    """Chromium's helper processes may outlive it and write into the profile for a
+    moment: the removal retries until the folder is gone (CI once failed on this)."""
+    import threading
+
+    profile = tmp_path / "profile"
+    (profile / "Default").mkdir(parents=True)
+    stop = time.monotonic() + 0.6
+
+    def straggler():
+        k = 0
+        while time.monotonic() < stop:
+            try:
+                (profile / "Default").mkdir(parents=True, exist_ok=True)
+                (profile / "Default" / f"f{k}").write_text("x")
+            except OSError:
+                pass
+            k += 1
+            time.sleep(0.01)
+
+    t = threading.Thread(target=straggler)
+    t.start()
+    time.sleep(0.05)
+    browser._remove_tree(profile, tries=40, pause=0.05)
+    t.join()
+    browser._remove_tree(profile)  # whatever the straggler wrote after the first pass
+    assert not profile.exists()

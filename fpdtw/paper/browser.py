@@ -28,6 +28,7 @@ import http.server
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -88,6 +89,21 @@ def find_chromium() -> str | None:
 
 class BrowserError(RuntimeError):
     """The browser did not start, did not answer in time, or reported a protocol error."""
+
+
+def _remove_tree(path: Path, tries: int = 40, pause: float = 0.25) -> None:
+    """Remove a folder a process that just ended may still be writing into: retry while
+    files keep appearing (about 10 s), then raise the last error."""
+    for attempt in range(tries):
+        try:
+            shutil.rmtree(path)
+            return
+        except FileNotFoundError:
+            return
+        except OSError:
+            if attempt == tries - 1:
+                raise
+            time.sleep(pause)
 
 
 class Chromium:
@@ -189,11 +205,17 @@ class Chromium:
                 except subprocess.TimeoutExpired:
                     self._proc.kill()
                     self._proc.wait(timeout=10)
+            # Chromium's helpers (renderer, crashpad, ...) share its session and may
+            # outlive it, still writing into the profile: end the whole process group
+            if hasattr(os, "killpg"):
+                with contextlib.suppress(OSError):
+                    os.killpg(self._proc.pid, signal.SIGKILL)
             if self._proc.stderr is not None:
                 self._proc.stderr.close()
             self._proc = None
         if self._profile is not None:
-            self._profile.cleanup()
+            _remove_tree(Path(self._profile.name))
+            self._profile.cleanup()  # already gone: only marks the folder as removed
             self._profile = None
 
     def _wait_for_port(self, path: Path) -> int:
