@@ -23,40 +23,11 @@ import numba
 import numpy as np
 
 from fpdtw import limits
-from fpdtw.costs import _TWO_OVER_PI, _acos01, _geo_block
+from fpdtw.costs import _geo_block, _geo_line
 from fpdtw.dtw import _backtrack, diagonal_weight
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.online.base import OnlineAligner
-
-
-@numba.njit(cache=True)
-def _cost_column(Isoa, t, c):
-    """c[i] = geoDistance(I_i, t) (eq. 1) for every input frame i.
-
-    Isoa : float64 (k, 4, m+1), the input quaternions joint-major (structure of
-    arrays) so that the loop over input frames vectorises; t : float64 (k, 4). The
-    joint sum and the (w, x, y, z) dot product run in the same order as
-    :func:`fpdtw.costs._geo_frame`, so the values are bit-identical to it.
-    """
-    m1 = c.shape[0]
-    for i in range(m1):
-        c[i] = 0.0
-    for j in range(Isoa.shape[0]):
-        t0 = t[j, 0]
-        t1 = t[j, 1]
-        t2 = t[j, 2]
-        t3 = t[j, 3]
-        a0 = Isoa[j, 0]
-        a1 = Isoa[j, 1]
-        a2 = Isoa[j, 2]
-        a3 = Isoa[j, 3]
-        for i in range(m1):
-            d = abs(a0[i] * t0 + a1[i] * t1 + a2[i] * t2 + a3[i] * t3)
-            d = min(d, 1.0)
-            c[i] += _acos01(d)
-    for i in range(m1):
-        c[i] *= _TWO_OVER_PI
 
 
 @numba.njit(cache=True)
@@ -71,7 +42,7 @@ def _oe_column(Isoa, t, prev, cur, first, wd, norm_offset, c):
     normalisation with ``norm_offset = q + 2``).
     """
     m1 = cur.shape[0]
-    _cost_column(Isoa, t, c)
+    _geo_line(t, Isoa, 0, m1, c, c)  # c[i] = geoDistance(I_i, t) (eq. 1)
     if first:
         x = c[0]
     else:

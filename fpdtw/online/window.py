@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from fpdtw.costs import _acos01, _geo_frame
+from fpdtw.costs import _geo_frame, _geo_line
 from fpdtw.errors import AlignmentError
 from fpdtw.forecast import _euler_to_quat, order_codes
 from fpdtw.motion.features import Frame, MotionFeatures
@@ -91,42 +91,11 @@ def _forecast_window(Tq, Te, q, w, with_prev, codes, F, shift=0, hold=False):
 
 
 @numba.njit(cache=True)
-def _cost_row(Iq, r, F, first, last, row, acc):
-    """row[col] = geoDistance(I[r], F[:, :, col]) (eq. 1) for col = first..last-1.
-
-    The joint sum runs in joint order and the dot product in (w, x, y, z) order, as in
-    :func:`fpdtw.costs.geodesic_cost_matrix`: each cell's value does not depend on
-    which other cells are computed with it. ``acc`` (length >= last - first) is scratch:
-    summing there rather than in ``row`` lets LLVM vectorise the loop (``row`` might
-    alias ``F``; a scratch buffer of the caller's does not).
-    """
-    k = Iq.shape[1]
-    n = last - first
-    for c in range(n):
-        acc[c] = 0.0
-    for j in range(k):
-        a0 = Iq[r, j, 0]
-        a1 = Iq[r, j, 1]
-        a2 = Iq[r, j, 2]
-        a3 = Iq[r, j, 3]
-        f0 = F[j, 0, first:last]
-        f1 = F[j, 1, first:last]
-        f2 = F[j, 2, first:last]
-        f3 = F[j, 3, first:last]
-        for c in range(n):
-            d = abs(a0 * f0[c] + a1 * f1[c] + a2 * f2[c] + a3 * f3[c])
-            d = min(d, 1.0)
-            acc[c] += _acos01(d)
-    for c in range(n):
-        row[first + c] = acc[c] * _TWO_OVER_PI
-
-
-@numba.njit(cache=True)
 def _cost_window(Iq, start, nrows, F, ncols, C):
     """C[r, col] = geoDistance(I[start + r], F[:, :, col]) (eq. 1), r < nrows, col < ncols."""
     acc = np.empty(ncols)
     for r in range(nrows):
-        _cost_row(Iq, start + r, F, 0, ncols, C[r], acc)
+        _geo_line(Iq[start + r], F, 0, ncols, acc, C[r])
 
 
 @numba.njit(cache=True)
@@ -165,7 +134,7 @@ def _fill_shared(Iq, Tq, Te, q, codes, start, nrows, w, c0, C, cF, cG, cN, cMeta
     for r in range(nrows):
         row = start + r
         if cN[row] < w:
-            _cost_row(Iq, row, cF, cN[row], w, cG[row], acc)
+            _geo_line(Iq[row], cF, cN[row], w, acc, cG[row, cN[row] : w])
             cN[row] = w
         for col in range(w):
             C[r, c0 + col] = cG[row, col]
@@ -180,7 +149,7 @@ def _fill_prev_column(Iq, Tq, q, start, nrows, F1, C):
     tmp = np.empty(1)
     acc = np.empty(1)
     for r in range(nrows):
-        _cost_row(Iq, start + r, F1, 0, 1, tmp, acc)
+        _geo_line(Iq[start + r], F1, 0, 1, acc, tmp)
         C[r, 0] = tmp[0]
 
 
