@@ -35,6 +35,7 @@ import time
 import numpy as np
 
 from fpdtw.paper import bench_limit, provenance
+from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.numbers import TABLE2_US
 
 #: A step above this many times its limit gets its gap explained in the report.
@@ -706,10 +707,7 @@ def run_benchmark(pairs=None, out=None, single_core=True, limits=True, peers=Tru
         "paper_over_ours": paper_ratios(online),
     }
     out = results_dir() / "bench.json" if out is None else out
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_suffix(".json.part")
-    tmp.write_text(json.dumps(report, indent=1) + "\n")
-    os.replace(tmp, out)
+    write_atomic(out, (json.dumps(report, indent=1) + "\n").encode())
     return report
 
 

@@ -31,13 +31,13 @@ measurements that change between runs); all other rows are deterministic.
 from __future__ import annotations
 
 import json
-import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from fpdtw.paper import numbers as N
+from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES, TYPE_V, WINDOWS
 
 #: Name of the Fig. 8 notebook's JSON under ``results/<mode>/figs/``.
@@ -894,12 +894,8 @@ def save_claims(rows, mode="full"):
         "figures: ENVIRONMENT.md."
     )
     out = list(save_table(rows, "claims", columns=COLUMNS, note=note))
-    path = results_dir() / mode / "claims.json"
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_suffix(".json.part")
-    tmp.write_text(json.dumps({"mode": mode, "claims": rows}, indent=1) + "\n")
-    os.replace(tmp, path)
-    out.append(path)
+    text = json.dumps({"mode": mode, "claims": rows}, indent=1) + "\n"
+    out.append(write_atomic(results_dir() / mode / "claims.json", text.encode()))
     return out
 
 

@@ -22,6 +22,7 @@ import sys
 from importlib import metadata
 from pathlib import Path
 
+from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.paths import REPO_ROOT
 
 #: The distributions whose versions can change a number we report (those that compute:
@@ -177,16 +178,6 @@ def environment_markdown(env: dict | None = None, results: dict | None = None) -
     return "\n".join(lines)
 
 
-def write_json(path: Path, env: dict | None = None) -> Path:
-    """Write :func:`environment` to ``path`` as JSON (atomically)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(json.dumps(env or environment(), indent=1, sort_keys=True) + "\n")
-    os.replace(tmp, path)
-    return path
-
-
 #: Outputs of ``figures/`` that hold timings (or name the commit and machine), so they
 #: change from run to run: Table 2's times, the live replay's latency, the claims table
 #: (its claims 4 and 4b are about time per frame) and this page. Every other file of
@@ -268,10 +259,7 @@ def main(argv=None) -> int:
             env = json.loads(f.read_text()).get("environment") if f.is_file() else None
             if env:
                 runs[f"results/{mode}"] = env
-        out = Path(args.markdown)
-        tmp = out.with_name(out.name + ".tmp")
-        tmp.write_text(environment_markdown(results=runs))
-        os.replace(tmp, out)
+        out = write_atomic(args.markdown, environment_markdown(results=runs).encode())
         print(f"wrote {out}")
     else:
         print(json.dumps(environment(), indent=1, sort_keys=True))

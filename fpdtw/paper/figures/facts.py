@@ -13,11 +13,11 @@ from __future__ import annotations
 
 import json
 import math
-import os
 from pathlib import Path
 
 import numpy as np
 
+from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.paths import results_dir
 
 
@@ -81,13 +81,8 @@ def save_facts(notebook: str, facts: dict, smoke: bool) -> Path:
     from fpdtw.paper.provenance import environment
 
     path = facts_path(notebook, smoke)
-    path.parent.mkdir(parents=True, exist_ok=True)
     record = {**_plain(facts), "environment": environment()}
-    text = json.dumps(record, indent=1, sort_keys=True) + "\n"
-    tmp = path.with_suffix(".json.part")
-    tmp.write_text(text)
-    os.replace(tmp, path)
-    return path
+    return write_atomic(path, (json.dumps(record, indent=1, sort_keys=True) + "\n").encode())
 
 
 def load_facts(notebook: str, smoke: bool) -> dict:

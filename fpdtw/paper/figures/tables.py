@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import csv
 import io
-import os
 from pathlib import Path
 
+from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.paths import figures_dir
 
 
@@ -59,9 +59,5 @@ def save_table(
     out = []
     md = to_markdown(rows, columns, floatfmt) + (f"\n{note}\n" if note else "")
     for ext, text in (("csv", buf.getvalue()), ("md", md)):
-        path = folder / f"{name}.{ext}"
-        tmp = path.with_suffix(f".{ext}.part")
-        tmp.write_text(text)
-        os.replace(tmp, path)
-        out.append(path)
+        out.append(write_atomic(folder / f"{name}.{ext}", text.encode()))
     return out

@@ -26,56 +26,19 @@ from __future__ import annotations
 
 import io
 import json
-import os
 import re
 import zipfile
 from pathlib import Path
 
 import numpy as np
 
+from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.paths import results_dir
 
 #: Date of every zip entry (the earliest a zip file can hold).
 ZIP_DATE = (1980, 1, 1, 0, 0, 0)
 #: Unix permissions of every zip entry (rw-r--r--).
 _ZIP_MODE = 0o100644 << 16
-
-#: Prefix and suffix of temporary files (a killed run may leave these; they are ignored).
-TMP_PREFIX, TMP_SUFFIX = ".", ".part"
-
-
-def _tmp_path(path: Path) -> Path:
-    return path.with_name(f"{TMP_PREFIX}{path.name}.{os.getpid()}{TMP_SUFFIX}")
-
-
-def write_atomic(path, data: bytes) -> Path:
-    """Write ``data`` to ``path`` through a temporary file and :func:`os.replace`.
-
-    Parameters
-    ----------
-    path : path-like
-        Destination; its folder is created if needed.
-    data : bytes
-
-    Returns
-    -------
-    path : Path
-
-    Notebook: 05_run_experiments.ipynb
-    """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = _tmp_path(path)
-    try:
-        with open(tmp, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-    return path
 
 
 def npz_bytes(arrays: dict) -> bytes:

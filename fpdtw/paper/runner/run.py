@@ -93,6 +93,7 @@ from fpdtw.motion.features import MotionFeatures
 from fpdtw.motion.joints import OPW_JOINTS
 from fpdtw.online.window import WindowCache, run_group
 from fpdtw.paper import catalog, numbers, provenance
+from fpdtw.paper.atomic import TMP_SUFFIX
 from fpdtw.paper.paths import results_dir
 from fpdtw.paper.runner.grid import (
     DEFAULT_ALGORITHMS,
@@ -110,7 +111,6 @@ from fpdtw.paper.runner.parallel import (
 from fpdtw.paper.runner.results import (
     BASE_FPS,
     LOW_FPS,
-    TMP_SUFFIX,
     Results,
     load_json,
     load_npz,
