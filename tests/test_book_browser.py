@@ -1,11 +1,11 @@
-"""The smoke book in a real browser (headless Chromium over the DevTools protocol,
-fpdtw.paper.browser), and the check itself on a site broken on purpose.
+"""The smoke book in a real browser (headless Chromium driven by Selenium through Debian's
+chromedriver, fpdtw.paper.browser), and the check itself on a site broken on purpose.
 
-``make test`` builds the smoke book (``build/smoke/book``) before pytest runs. Without a
-browser the tests skip, saying which Debian package to install; under ``CI=true`` they fail
-instead, so that CI cannot pass without having looked. The front page's screenshot is kept in
-``build/book/screenshots/smoke-front.png`` (and ``smoke-front-full.png``, the whole page)
-for a person to look at.
+``make test`` builds the smoke book (``build/smoke/book``) before pytest runs. Without the
+browser or its driver the tests skip, saying which Debian packages to install; under
+``CI=true`` they fail instead, so that CI cannot pass without having looked. A screenshot of
+every page is kept for a person to look at: ``build/book/screenshots/smoke-front.png`` (and
+``smoke-front-full.png``, the whole front page), ``smoke-pages/<page>.png`` for the others.
 """
 
 from __future__ import annotations
@@ -38,13 +38,9 @@ def _skip_or_fail(msg: str) -> None:
 
 @pytest.fixture(scope="module")
 def chromium():
-    exe = browser.find_chromium()
-    if exe is None:
-        _skip_or_fail(
-            f"no Chromium found for the browser tests: install Debian's {browser.APT_PACKAGES} "
-            f"package (apt-get install {browser.APT_PACKAGES}) or set FPDTW_CHROMIUM"
-        )
-    return exe
+    why = browser.missing_browser()
+    if why:
+        _skip_or_fail(f"browser tests: {why}")
 
 
 @pytest.fixture(scope="module")
@@ -52,11 +48,15 @@ def smoke_report(chromium):
     if not (SMOKE_BOOK / "index.html").is_file():
         _skip_or_fail(f"no smoke book in {SMOKE_BOOK}: `make test` or `make smoke-book` builds it")
     t0 = time.perf_counter()
-    report = browser.check_site(
-        SMOKE_BOOK, screenshots=SCREENSHOTS, shot_name="smoke-front.png", executable=chromium
-    )
+    report = browser.check_site(SMOKE_BOOK, screenshots=SCREENSHOTS, prefix="smoke-")
     print(f"\nsmoke book in Chromium: {report.summary()} ({time.perf_counter() - t0:.1f} s)")
     return report
+
+
+def _png_size(path) -> tuple[int, int]:
+    head = path.read_bytes()[:24]
+    assert head[:8] == b"\x89PNG\r\n\x1a\n", path
+    return struct.unpack(">II", head[16:24])
 
 
 def _image_outputs(path) -> int:
@@ -96,80 +96,122 @@ def test_the_claims_table_has_every_claim_linked_to_its_notebook(smoke_report):
         assert all("/notebooks/" in u and u.endswith(".html") for u in row["links"]), row
 
 
-def test_a_screenshot_of_the_front_page_is_kept(smoke_report):
-    shot = SCREENSHOTS / "smoke-front.png"
-    assert shot in smoke_report.screenshots and shot.is_file()
-    head = shot.read_bytes()[:24]
-    assert head[:8] == b"\x89PNG\r\n\x1a\n"
-    width, height = struct.unpack(">II", head[16:24])
-    assert (width, height) == browser.WINDOW
-    assert shot.stat().st_size > 20_000  # a page with text, not a blank one
+def test_a_screenshot_of_every_page_is_kept(smoke_report):
+    front = SCREENSHOTS / "smoke-front.png"
+    assert smoke_report.pages["index.html"].screenshot == front
+    assert smoke_report.screenshots[:2] == [front, SCREENSHOTS / "smoke-front-full.png"]
+    assert front.stat().st_size > 20_000  # a page with text, not a blank one
+    width, height = _png_size(SCREENSHOTS / "smoke-front-full.png")
+    assert width == browser.WINDOW[0] and height > browser.WINDOW[1]  # the whole long page
+    for path, page in smoke_report.pages.items():
+        if path != "index.html":
+            assert page.screenshot == SCREENSHOTS / "smoke-pages" / path.replace(".html", ".png")
+        assert page.screenshot in smoke_report.screenshots and page.screenshot.is_file(), path
+        assert _png_size(page.screenshot) == browser.WINDOW, path
+    assert len(smoke_report.screenshots) == len(smoke_report.pages) + 1
 
 
-def test_the_check_finds_what_is_broken(tmp_path, chromium):
-    """A site with every kind of fault the check looks for, and one good page."""
+def _forbid_selenium_manager(monkeypatch):
+    """Selenium Manager (which may download drivers and browsers) must never be asked."""
+    from selenium.webdriver.common.selenium_manager import SeleniumManager
+
+    def called(*args, **kwargs):
+        raise AssertionError(f"Selenium Manager was asked: {args}")
+
+    monkeypatch.setattr(SeleniumManager, "binary_paths", called)
+    monkeypatch.delenv("SE_OFFLINE", raising=False)
+
+
+def test_the_check_finds_what_is_broken(tmp_path, chromium, monkeypatch):
+    """A site with every kind of fault the check looks for, and one good page; the browser
+    found through its named driver, never through Selenium Manager."""
     import io
 
     import matplotlib.pyplot as plt
 
+    _forbid_selenium_manager(monkeypatch)
+    site = tmp_path / "site"
+    site.mkdir()
     buf = io.BytesIO()
     plt.imsave(buf, [[0.0, 1.0], [1.0, 0.0]], format="png")
-    (tmp_path / "ok.png").write_bytes(buf.getvalue())
+    (site / "ok.png").write_bytes(buf.getvalue())
     icon = '<link rel="icon" href="data:,">'
-    (tmp_path / "index.html").write_text(
+    (site / "index.html").write_text(
         f"<html><head>{icon}<title>front</title></head><body>"
         '<img src="ok.png"><img src="missing.png">'
         '<a href="good.html#here">good</a> <a href="nowhere.html">gone</a> '
         '<a href="good.html#nope">no anchor</a> <a href="https://example.org/">outside</a>'
         "<script>console.error('something broke')</script></body></html>"
     )
-    (tmp_path / "good.html").write_text(
+    (site / "good.html").write_text(
         f"<html><head>{icon}<title>good</title></head><body>"
         '<p id="here">fine</p><img src="ok.png"><a href="index.html">back</a></body></html>'
     )
-    (tmp_path / "throws.html").write_text(
+    (site / "throws.html").write_text(
         f"<html><head>{icon}<title>throws</title></head><body>"
         "<script>null.boom()</script></body></html>"
     )
-    report = browser.check_site(tmp_path, executable=chromium)
+    report = browser.check_site(site, screenshots=tmp_path / "shots")
     problems = "\n".join(report.problems)
     assert "index.html: console.error: something broke" in problems
     assert "index.html: image did not load: " in problems and "missing.png" in problems
-    assert "missing.png" in problems and "404" in problems  # the failed request, logged
+    assert "index.html: network: " in problems and "missing.png - " in problems  # logged
+    assert "status of 404" in problems
     assert "index.html -> nowhere.html: HTTP 404" in problems
     assert "index.html -> good.html#nope: no element with id 'nope'" in problems
-    assert "throws.html: exception: TypeError" in problems  # reached although unlinked
+    assert "throws.html: exception: Uncaught TypeError" in problems  # reached although unlinked
     assert report.orphans == ["throws.html"]
     assert not [p for p in report.problems if p.startswith("good.html")]
     assert "example.org" not in problems  # outside links are not followed
     assert report.pages["good.html"].images == 1
     assert len(report.problems) == 6, problems
+    shots = sorted(p.relative_to(tmp_path / "shots").as_posix() for p in report.screenshots)
+    assert shots == ["front-full.png", "front.png", "pages/good.png", "pages/throws.png"]
+    assert "SE_OFFLINE" not in os.environ  # set only while the driver starts
 
 
-def test_the_profile_is_removed_while_a_straggler_still_writes_into_it(tmp_path):
-    """Chromium's helper processes may outlive it and write into the profile for a
-    moment: the removal retries until the folder is gone (CI once failed on this)."""
-    import threading
+def test_console_errors_of_hand_written_log_entries():
+    """The browser's log (``driver.get_log("browser")``) as chromedriver words it."""
+    entries = [
+        {"level": "SEVERE", "source": "console-api",
+         "message": 'http://127.0.0.1:8000/index.html 3:14 "something broke"'},
+        {"level": "SEVERE", "source": "console-api",
+         "message": "http://127.0.0.1:8000/a.html 1:2 Object"},
+        {"level": "SEVERE", "source": "javascript",
+         "message": "http://127.0.0.1:8000/t.html 0:28 Uncaught TypeError: null"},
+        {"level": "SEVERE", "source": "network",
+         "message": "http://127.0.0.1:8000/x.png - Failed to load resource: the server "
+                    "responded with a status of 404 (File not found)"},
+        {"level": "WARNING", "source": "console-api",
+         "message": 'http://127.0.0.1:8000/index.html 4:1 "only a warning"'},
+        {"level": "INFO", "source": "console-api", "message": "http://h/p 1:1 \"log\""},
+        {"level": "SEVERE", "source": "security", "message": "blocked something"},
+    ]  # fmt: skip
+    assert browser.console_errors(entries) == [
+        "console.error: something broke",
+        "console.error: Object",
+        "exception: Uncaught TypeError: null",
+        "network: http://127.0.0.1:8000/x.png - Failed to load resource: the server responded "
+        "with a status of 404 (File not found)",
+        "security: blocked something",
+    ]
 
-    profile = tmp_path / "profile"
-    (profile / "Default").mkdir(parents=True)
-    stop = time.monotonic() + 0.6
 
-    def straggler():
-        k = 0
-        while time.monotonic() < stop:
-            try:
-                (profile / "Default").mkdir(parents=True, exist_ok=True)
-                (profile / "Default" / f"f{k}").write_text("x")
-            except OSError:
-                pass
-            k += 1
-            time.sleep(0.01)
+def test_without_a_driver_the_check_says_what_to_install(monkeypatch, tmp_path):
+    monkeypatch.setenv("FPDTW_CHROMEDRIVER", str(tmp_path / "no-such-driver"))
+    why = browser.missing_browser()
+    assert (
+        why.startswith("no chromedriver found")
+        and "apt-get install chromium chromium-driver" in why
+    )
+    with pytest.raises(browser.BrowserError, match="no chromedriver found"):
+        browser.check_site(tmp_path)
+    assert browser.main([str(tmp_path)]) == 2
 
-    t = threading.Thread(target=straggler)
-    t.start()
-    time.sleep(0.05)
-    browser._remove_tree(profile, tries=40, pause=0.05)
-    t.join()
-    browser._remove_tree(profile)  # whatever the straggler wrote after the first pass
-    assert not profile.exists()
+
+@pytest.mark.parametrize("ci, outcome", [("true", "failed"), ("", "skipped")])
+def test_a_missing_browser_fails_under_ci_and_skips_otherwise(monkeypatch, ci, outcome):
+    monkeypatch.setenv("CI", ci)
+    with pytest.raises((pytest.fail.Exception, pytest.skip.Exception)) as info:
+        _skip_or_fail("no browser")
+    assert {"failed": pytest.fail.Exception, "skipped": pytest.skip.Exception}[outcome] is info.type

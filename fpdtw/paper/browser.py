@@ -1,19 +1,19 @@
-"""Check the book in a real browser: headless Chromium, driven over the DevTools protocol.
+"""Check the book in a real browser: headless Chromium driven by Selenium.
 
 :func:`check_site` serves a built site (``build/book``, ``build/smoke/book``) from a
 loopback HTTP server (127.0.0.1, a free port, this process only), opens its front page in
 headless Chromium and follows every link inside the site. On every page it records the
-console errors (uncaught exceptions, ``console.error``, resources that failed to load:
-the DevTools ``Runtime`` and ``Log`` events), the images that did not load (natural width
-0) and the element ids; then every link inside the site is checked (the file is served;
-a ``#fragment`` names an element of that page), and a screenshot of the front page is
-written for a person to look at.
+browser's log entries of level error (uncaught exceptions, ``console.error``, resources
+that failed to load), the images that did not load (natural width 0), the element ids and
+the rows of the book's claims table, and keeps a screenshot; then every link inside the
+site is checked (the file is served; a ``#fragment`` names an element of that page).
 
-The browser is Debian's ``chromium`` package (``apt-get install chromium``; ``.ci/run``
-installs it), found on ``PATH`` or given by ``FPDTW_CHROMIUM``; nothing is downloaded (no
-driver, no browser build). The protocol goes over a WebSocket to 127.0.0.1 with
-``websocket-client``. Every wait has a time limit; the browser and the server are stopped
-however the check ends.
+The browser is Debian's ``chromium`` and its WebDriver is Debian's ``chromium-driver``
+(``apt-get install chromium chromium-driver``; ``.ci/run`` installs both), found on
+``PATH`` or given by ``FPDTW_CHROMIUM`` and ``FPDTW_CHROMEDRIVER``. Selenium 4 drives
+them through that driver, named explicitly, so Selenium Manager never runs and nothing is
+downloaded (``SE_OFFLINE=true`` as well, should anything ask it). Every wait has a time
+limit; the browser and the server are stopped however the check ends.
 
 Run ``python -m fpdtw.paper.browser build/book [--screenshots DIR]`` (``make book-check``).
 """
@@ -21,17 +21,15 @@ Run ``python -m fpdtw.paper.browser build/book [--screenshots DIR]`` (``make boo
 from __future__ import annotations
 
 import argparse
-import base64
 import contextlib
 import functools
 import http.server
 import json
 import os
+import re
 import shutil
-import signal
 import subprocess
 import sys
-import tempfile
 import threading
 import time
 import urllib.error
@@ -41,12 +39,13 @@ from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
 
-#: Names tried on ``PATH`` (Debian's package installs ``/usr/bin/chromium``).
+#: Names tried on ``PATH`` (Debian's packages install ``/usr/bin/chromium`` and
+#: ``/usr/bin/chromedriver``).
 CHROMIUM_NAMES = ("chromium", "chromium-browser")
-#: The Debian packages that provide it.
-APT_PACKAGES = "chromium"
-#: Seconds allowed for the browser to start, and for one page to load.
-START_TIMEOUT = 60.0
+CHROMEDRIVER_NAMES = ("chromedriver",)
+#: The Debian packages that provide them.
+APT_PACKAGES = "chromium chromium-driver"
+#: Seconds allowed for one page to load (and for a script in it to finish).
 PAGE_TIMEOUT = 30.0
 #: The window (CSS pixels) of the screenshots.
 WINDOW = (1280, 1000)
@@ -55,7 +54,7 @@ WINDOW = (1280, 1000)
 # reported; every <a href> resolved against the page; every element id; the rows of the
 # book's claims table (first cell, first verdict, links of the last cell)
 _PAGE_FACTS_JS = """
-(async () => {
+return (async () => {
   const imgs = Array.from(document.images);
   imgs.forEach(i => { i.loading = 'eager'; });
   await Promise.all(imgs.map(i => i.decode().catch(() => null)));
@@ -71,303 +70,156 @@ _PAGE_FACTS_JS = """
       links: Array.from(tr.cells[tr.cells.length - 1].querySelectorAll('a')).map(a => a.href),
     })),
   };
-})()
+})();
 """
+# the number of resources the page has requested: the network is quiet once it stops growing
+_RESOURCES_JS = "return performance.getEntriesByType('resource').length;"
 
 
-def find_chromium() -> str | None:
-    """The Chromium executable: ``FPDTW_CHROMIUM`` if set, else the first on ``PATH``."""
-    env = os.environ.get("FPDTW_CHROMIUM")
-    if env:
-        return env if Path(env).is_file() else shutil.which(env)
-    for name in CHROMIUM_NAMES:
+def _find(env: str, names) -> str | None:
+    value = os.environ.get(env)
+    if value:
+        return value if Path(value).is_file() else shutil.which(value)
+    for name in names:
         path = shutil.which(name)
         if path:
             return path
     return None
 
 
+def find_chromium() -> str | None:
+    """The Chromium executable: ``FPDTW_CHROMIUM`` if set, else the first on ``PATH``."""
+    return _find("FPDTW_CHROMIUM", CHROMIUM_NAMES)
+
+
+def find_chromedriver() -> str | None:
+    """Chromium's WebDriver: ``FPDTW_CHROMEDRIVER`` if set, else ``chromedriver`` on ``PATH``."""
+    return _find("FPDTW_CHROMEDRIVER", CHROMEDRIVER_NAMES)
+
+
+def missing_browser() -> str | None:
+    """Why the check cannot run here (no browser or no driver), or None."""
+    found = {"Chromium": find_chromium(), "chromedriver": find_chromedriver()}
+    missing = [what for what, path in found.items() if not path]
+    if not missing:
+        return None
+    return (
+        f"no {' and no '.join(missing)} found: install Debian's {APT_PACKAGES} packages "
+        f"(apt-get install {APT_PACKAGES}) or set FPDTW_CHROMIUM and FPDTW_CHROMEDRIVER"
+    )
+
+
 class BrowserError(RuntimeError):
-    """The browser did not start, did not answer in time, or reported a protocol error."""
+    """The browser or its driver is missing, did not start, or did not answer in time."""
 
 
-def _remove_tree(path: Path, tries: int = 40, pause: float = 0.25) -> None:
-    """Remove a folder a process that just ended may still be writing into: retry while
-    files keep appearing (about 10 s), then raise the last error."""
-    for attempt in range(tries):
-        try:
-            shutil.rmtree(path)
-            return
-        except FileNotFoundError:
-            return
-        except OSError:
-            if attempt == tries - 1:
-                raise
-            time.sleep(pause)
+@contextlib.contextmanager
+def _environment(**values):
+    """Environment variables set while the block runs (put back afterwards)."""
+    old = {k: os.environ.get(k) for k in values}
+    os.environ.update(values)
+    try:
+        yield
+    finally:
+        for k, v in old.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
 
 
-class Chromium:
-    """Headless Chromium with one page, driven over the DevTools protocol.
-
-    Use as a context manager: the browser runs in a fresh profile folder on
-    ``--remote-debugging-port=0`` bound to 127.0.0.1 (the port it picked is read from the
-    profile's ``DevToolsActivePort``); leaving the block ends the browser and removes the
-    profile.
+@contextlib.contextmanager
+def chromium(executable: str | None = None, driver: str | None = None, window=WINDOW):
+    """Headless Chromium under Selenium, through the given chromedriver, while the block runs.
 
     Parameters
     ----------
-    executable : str, optional
-        Default :func:`find_chromium`.
+    executable, driver : str, optional
+        The browser and its driver (default :func:`find_chromium`, :func:`find_chromedriver`).
     window : tuple of int
         Width and height of the page's viewport (CSS pixels).
+
+    Yields
+    ------
+    selenium.webdriver.Chrome
+        With the browser's log kept (``goog:loggingPrefs``) and the page and script time
+        limits set to :data:`PAGE_TIMEOUT`.
     """
+    from selenium import webdriver
+    from selenium.common.exceptions import WebDriverException
+    from selenium.webdriver.chrome.service import Service
 
-    def __init__(self, executable: str | None = None, window=WINDOW):
-        self.executable = executable or find_chromium()
-        if self.executable is None:
-            raise BrowserError(
-                f"no Chromium found: install Debian's {APT_PACKAGES} package "
-                f"(apt-get install {APT_PACKAGES}) or set FPDTW_CHROMIUM"
-            )
-        self.window = window
-        self._proc = None
-        self._ws = None
-        self._profile = None
-        self._next_id = 0
-        self._events = deque()
-
-    # -- life cycle ------------------------------------------------------------------------
-
-    def __enter__(self) -> Chromium:
-        import websocket
-
-        self._profile = tempfile.TemporaryDirectory(prefix="fpdtw-chromium-")
-        profile = Path(self._profile.name)
-        args = [
-            self.executable,
-            "--headless",
-            "--disable-gpu",
-            "--no-first-run",
-            "--no-default-browser-check",
-            "--disable-extensions",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--disable-default-apps",
-            "--mute-audio",
-            "--hide-scrollbars",
-            f"--window-size={self.window[0]},{self.window[1]}",
-            "--remote-debugging-address=127.0.0.1",
-            "--remote-debugging-port=0",
-            f"--user-data-dir={profile}",
-            "about:blank",
-        ]
-        if hasattr(os, "geteuid") and os.geteuid() == 0:
-            args.insert(1, "--no-sandbox")  # Chromium refuses its sandbox to root
-        self._proc = subprocess.Popen(
-            args,
-            stdin=subprocess.DEVNULL,
-            stdout=subprocess.DEVNULL,
-            stderr=subprocess.PIPE,
-            start_new_session=True,
-        )
+    executable = executable or find_chromium()
+    driver = driver or find_chromedriver()
+    if not executable or not driver:
+        raise BrowserError(missing_browser() or "no Chromium or chromedriver given")
+    options = webdriver.ChromeOptions()
+    options.binary_location = executable
+    for arg in (
+        "--headless",
+        "--disable-gpu",
+        "--no-first-run",
+        "--no-default-browser-check",
+        "--disable-extensions",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        "--disable-default-apps",
+        "--mute-audio",
+        "--hide-scrollbars",
+        f"--window-size={window[0]},{window[1]}",
+        # no name resolves (no DNS query leaves the machine) but localhost's: the
+        # site is on 127.0.0.1, and Chromium's own calls home (accounts, updates,
+        # link prefetching) fail at once
+        "--host-resolver-rules=MAP * ~NOTFOUND , EXCLUDE localhost , EXCLUDE 127.0.0.1",
+    ):
+        options.add_argument(arg)
+    if hasattr(os, "geteuid") and os.geteuid() == 0:
+        options.add_argument("--no-sandbox")  # Chromium refuses its sandbox to root
+    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    service = Service(executable_path=driver, log_output=subprocess.DEVNULL)
+    # Selenium Manager offline (it is not run: the driver is named); the driver, on
+    # localhost, spoken to directly even when a proxy is configured
+    no_proxy = ",".join(filter(None, [os.environ.get("no_proxy"), "localhost,127.0.0.1"]))
+    with _environment(SE_OFFLINE="true", no_proxy=no_proxy):
         try:
-            port = self._wait_for_port(profile / "DevToolsActivePort")
-            target = self._page_target(port)
-            self._ws = websocket.create_connection(
-                target, timeout=PAGE_TIMEOUT, suppress_origin=True
-            )
-            for method in ("Page.enable", "Runtime.enable", "Log.enable"):
-                self.send(method)
-            self.send("Page.setLifecycleEventsEnabled", enabled=True)
-            self.send(
-                "Emulation.setDeviceMetricsOverride",
-                width=self.window[0],
-                height=self.window[1],
-                deviceScaleFactor=1,
-                mobile=False,
-            )
-        except BaseException:
-            self.__exit__(None, None, None)
-            raise
-        return self
-
-    def __exit__(self, *exc) -> None:
-        if self._ws is not None:
-            with contextlib.suppress(Exception):
-                self._ws.close()
-            self._ws = None
-        if self._proc is not None:
-            if self._proc.poll() is None:
-                self._proc.terminate()
-                try:
-                    self._proc.wait(timeout=10)
-                except subprocess.TimeoutExpired:
-                    self._proc.kill()
-                    self._proc.wait(timeout=10)
-            # Chromium's helpers (renderer, crashpad, ...) share its session and may
-            # outlive it, still writing into the profile: end the whole process group
-            if hasattr(os, "killpg"):
-                with contextlib.suppress(OSError):
-                    os.killpg(self._proc.pid, signal.SIGKILL)
-            if self._proc.stderr is not None:
-                self._proc.stderr.close()
-            self._proc = None
-        if self._profile is not None:
-            _remove_tree(Path(self._profile.name))
-            self._profile.cleanup()  # already gone: only marks the folder as removed
-            self._profile = None
-
-    def _wait_for_port(self, path: Path) -> int:
-        deadline = time.monotonic() + START_TIMEOUT
-        while time.monotonic() < deadline:
-            if self._proc.poll() is not None:
-                err = self._proc.stderr.read().decode(errors="replace")[-2000:]
-                raise BrowserError(f"{self.executable} exited at start:\n{err}")
-            if path.is_file():
-                first = path.read_text().split("\n", 1)[0].strip()
-                if first.isdigit():
-                    return int(first)
-            time.sleep(0.05)
-        raise BrowserError(f"{self.executable} did not open its DevTools port in {START_TIMEOUT} s")
-
-    def _page_target(self, port: int) -> str:
-        url = f"http://127.0.0.1:{port}/json/list"
-        deadline = time.monotonic() + START_TIMEOUT
-        while time.monotonic() < deadline:
-            with contextlib.suppress(OSError, ValueError):
-                with urllib.request.urlopen(url, timeout=5) as r:
-                    for t in json.load(r):
-                        if t.get("type") == "page" and t.get("webSocketDebuggerUrl"):
-                            return t["webSocketDebuggerUrl"]
-            time.sleep(0.1)
-        raise BrowserError(f"no page target at {url} in {START_TIMEOUT} s")
-
-    # -- the protocol ------------------------------------------------------------------------
-
-    def send(self, method: str, timeout: float = PAGE_TIMEOUT, **params) -> dict:
-        """Call a DevTools method and return its result (events meanwhile are queued)."""
-        self._next_id += 1
-        msg_id = self._next_id
-        self._ws.send(json.dumps({"id": msg_id, "method": method, "params": params}))
-        deadline = time.monotonic() + timeout
-        while True:
-            msg = self._recv(deadline, f"the answer to {method}")
-            if msg.get("id") == msg_id:
-                if "error" in msg:
-                    raise BrowserError(f"{method}: {msg['error']}")
-                return msg.get("result", {})
-            if "method" in msg:
-                self._events.append(msg)
-
-    def _recv(self, deadline: float, what: str) -> dict:
-        import websocket
-
-        left = deadline - time.monotonic()
-        if left <= 0:
-            raise BrowserError(f"timed out waiting for {what}")
-        self._ws.settimeout(left)
-        try:
-            return json.loads(self._ws.recv())
-        except websocket.WebSocketTimeoutException:
-            raise BrowserError(f"timed out waiting for {what}") from None
-
-    def wait_for(self, predicate, timeout: float = PAGE_TIMEOUT, what: str = "an event") -> dict:
-        """Wait for the first event (queued or new) with ``predicate(event)`` true."""
-        deadline = time.monotonic() + timeout
-        while True:
-            for ev in list(self._events):
-                if predicate(ev):
-                    self._events.remove(ev)
-                    return ev
-            msg = self._recv(deadline, what)
-            if "method" in msg:
-                self._events.append(msg)
-
-    def drain(self) -> list:
-        """The queued events (removed from the queue), after reading what has arrived."""
-        import websocket
-
-        self._ws.settimeout(0.05)
-        with contextlib.suppress(websocket.WebSocketTimeoutException):
-            while True:
-                msg = json.loads(self._ws.recv())
-                if "method" in msg:
-                    self._events.append(msg)
-        out = list(self._events)
-        self._events.clear()
-        return out
-
-    # -- pages --------------------------------------------------------------------------------
-
-    def open(self, url: str, timeout: float = PAGE_TIMEOUT) -> None:
-        """Load a page and wait until its load event and its network are quiet."""
-        self.drain()
-        result = self.send("Page.navigate", url=url)
-        if result.get("errorText"):
-            raise BrowserError(f"{url}: {result['errorText']}")
-        frame = result.get("frameId")
-        self.wait_for(lambda e: e["method"] == "Page.loadEventFired", timeout, f"{url} to load")
-        with contextlib.suppress(BrowserError):  # quiet network: best effort, 5 s at most
-            self.wait_for(
-                lambda e: (
-                    e["method"] == "Page.lifecycleEvent"
-                    and e["params"].get("name") == "networkIdle"
-                    and e["params"].get("frameId") == frame
-                ),
-                min(timeout, 5.0),
-                "network idle",
-            )
-
-    def evaluate(self, expression: str, timeout: float = PAGE_TIMEOUT):
-        """The value of a JavaScript expression in the page (promises are awaited)."""
-        r = self.send(
-            "Runtime.evaluate",
-            timeout=timeout,
-            expression=expression,
-            awaitPromise=True,
-            returnByValue=True,
+            browser = webdriver.Chrome(options=options, service=service)
+        except WebDriverException as e:
+            raise BrowserError(f"{driver} did not start {executable}: {e.msg}") from e
+    try:
+        browser.set_page_load_timeout(PAGE_TIMEOUT)
+        browser.set_script_timeout(PAGE_TIMEOUT)
+        browser.execute_cdp_cmd(
+            "Emulation.setDeviceMetricsOverride",
+            {"width": window[0], "height": window[1], "deviceScaleFactor": 1, "mobile": False},
         )
-        if "exceptionDetails" in r:
-            raise BrowserError(f"script failed: {r['exceptionDetails'].get('text')}")
-        return r["result"].get("value")
-
-    def screenshot(self, path, full_page: bool = False) -> Path:
-        """Write a PNG of the viewport (or of the whole page) to ``path``."""
-        params = {"format": "png"}
-        if full_page:
-            size = self.send("Page.getLayoutMetrics")["cssContentSize"]
-            params["clip"] = {
-                "x": 0, "y": 0, "width": size["width"], "height": size["height"], "scale": 1,
-            }  # fmt: skip
-            params["captureBeyondViewport"] = True
-        data = self.send("Page.captureScreenshot", **params)["data"]
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_bytes(base64.b64decode(data))
-        return path
+        yield browser
+    finally:
+        browser.quit()
 
 
-def console_errors(events: list) -> list[str]:
-    """The errors among DevTools events, one line each.
+# the browser's log: "<url> <line>:<column> <text>" (console messages, exceptions) or
+# "<url> - <text>" (network); console.error's text is the JSON of its first argument
+_LOG_PREFIX = re.compile(r"^\S+ (?:\d+:\d+|-) ")
+_LOG_SOURCES = {"console-api": "console.error", "javascript": "exception"}
 
-    Uncaught exceptions (``Runtime.exceptionThrown``), ``console.error`` and
-    ``console.assert`` (``Runtime.consoleAPICalled``), and browser log entries of level
-    error (``Log.entryAdded``: resources that failed to load, blocked content, ...).
-    """
+
+def console_errors(entries: list) -> list[str]:
+    """The errors among the browser's log entries (``driver.get_log("browser")``), one line
+    each: ``console.error: ...`` (also failed ``console.assert``), ``exception: ...``
+    (uncaught), ``network: <url> - ...`` (a resource that failed to load) and the like."""
     out = []
-    for ev in events:
-        method, p = ev.get("method"), ev.get("params", {})
-        if method == "Runtime.exceptionThrown":
-            d = p.get("exceptionDetails", {})
-            text = d.get("exception", {}).get("description") or d.get("text", "")
-            out.append(f"exception: {text} ({d.get('url', '')}:{d.get('lineNumber', '')})")
-        elif method == "Runtime.consoleAPICalled" and p.get("type") in ("error", "assert"):
-            args = [str(a.get("value", a.get("description", ""))) for a in p.get("args", [])]
-            out.append(f"console.{p['type']}: {' '.join(args)}")
-        elif method == "Log.entryAdded" and p.get("entry", {}).get("level") == "error":
-            e = p["entry"]
-            out.append(f"{e.get('source', 'log')}: {e.get('text', '')} {e.get('url', '')}".strip())
+    for e in entries:
+        if e.get("level") != "SEVERE":
+            continue
+        source, text = e.get("source", "log"), e.get("message", "")
+        if source == "network":
+            out.append(f"network: {text}")
+            continue
+        text = _LOG_PREFIX.sub("", text, count=1)
+        with contextlib.suppress(ValueError):
+            text = str(json.loads(text)) if text.startswith('"') else text
+        out.append(f"{_LOG_SOURCES.get(source, source)}: {text}")
     return out
 
 
@@ -432,6 +284,8 @@ class PageReport:
     claims : list of dict
         The rows of a claims table on the page (``table.claims``, the book's front page):
         ``id``, ``holds`` (the first verdict), ``links`` (URLs of its last cell).
+    screenshot : Path or None
+        The PNG of its viewport, when screenshots were asked for.
     """
 
     path: str
@@ -441,6 +295,7 @@ class PageReport:
     broken_images: list = field(default_factory=list)
     ids: set = field(default_factory=set)
     claims: list = field(default_factory=list)
+    screenshot: Path | None = None
 
 
 @dataclass
@@ -459,6 +314,7 @@ class SiteReport:
         Pages of the site (HTML files outside ``_*`` folders) that no link from the front
         page reaches; they are checked too.
     screenshots : list of Path
+        One per page (the front page's first), and the whole front page.
     seconds : float
     """
 
@@ -482,7 +338,8 @@ class SiteReport:
         imgs = sum(p.images for p in self.pages.values())
         return (
             f"{len(self.pages)} pages, {imgs} images, {self.links} internal links, "
-            f"{len(self.problems)} problems, {self.seconds:.1f} s"
+            f"{len(self.problems)} problems, {len(self.screenshots)} screenshots, "
+            f"{self.seconds:.1f} s"
         )
 
 
@@ -499,8 +356,9 @@ def _split(url: str, base: str):
 
 def _status(url: str) -> str | None:
     """None if the URL serves a file (HTTP 200), else why not."""
+    opener = urllib.request.build_opener(urllib.request.ProxyHandler({}))  # loopback: no proxy
     try:
-        with urllib.request.urlopen(url, timeout=PAGE_TIMEOUT) as r:
+        with opener.open(url, timeout=PAGE_TIMEOUT) as r:
             return None if r.status == 200 else f"HTTP {r.status}"
     except urllib.error.HTTPError as e:
         return f"HTTP {e.code}"
@@ -508,13 +366,51 @@ def _status(url: str) -> str | None:
         return str(e)
 
 
+def _quiet(browser, timeout: float = 5.0, still: float = 0.3) -> None:
+    """Wait (at most ``timeout`` s) until the page has requested nothing new for ``still`` s."""
+    deadline = time.monotonic() + timeout
+    seen, since = -1, time.monotonic()
+    while time.monotonic() < deadline:
+        n = browser.execute_script(_RESOURCES_JS)
+        if n != seen:
+            seen, since = n, time.monotonic()
+        elif time.monotonic() - since >= still:
+            return
+        time.sleep(0.05)
+
+
+def _screenshot(browser, path: Path, full_page: bool = False) -> Path:
+    """A PNG of the viewport (or of the whole page, through the DevTools protocol)."""
+    import base64
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if not full_page:
+        path.write_bytes(browser.get_screenshot_as_png())
+        return path
+    size = browser.execute_cdp_cmd("Page.getLayoutMetrics", {})["cssContentSize"]
+    clip = {"x": 0, "y": 0, "width": size["width"], "height": size["height"], "scale": 1}
+    shot = browser.execute_cdp_cmd(
+        "Page.captureScreenshot", {"format": "png", "clip": clip, "captureBeyondViewport": True}
+    )
+    path.write_bytes(base64.b64decode(shot["data"]))
+    return path
+
+
+def _shot_path(folder: Path, prefix: str, page: str, start: str) -> Path:
+    """``<prefix>front.png`` for the front page, ``<prefix>pages/<page>.png`` for the others."""
+    if page == start:
+        return folder / f"{prefix}front.png"
+    return folder / f"{prefix}pages" / Path(page).with_suffix(".png")
+
+
 def check_site(
     root,
     start: str = "index.html",
     screenshots=None,
-    shot_name: str = "front.png",
+    prefix: str = "",
     max_pages: int = 500,
     executable: str | None = None,
+    driver: str | None = None,
 ) -> SiteReport:
     """Open a static site in headless Chromium, follow its links, report what is wrong.
 
@@ -525,13 +421,14 @@ def check_site(
     start : str
         The front page, relative to ``root``.
     screenshots : str or Path, optional
-        Where to write the screenshot of the front page (none if None).
-    shot_name : str
-        Its file name; a second file ``<stem>-full.png`` holds the whole page.
+        Where to write a screenshot of every page (none if None): ``<prefix>front.png``
+        and ``<prefix>front-full.png`` (the whole front page), ``<prefix>pages/<page>.png``.
+    prefix : str
+        Put before the screenshots' names (``"smoke-"``).
     max_pages : int
         Stop following links after this many pages.
-    executable : str, optional
-        The browser (default :func:`find_chromium`).
+    executable, driver : str, optional
+        The browser and its driver (default :func:`find_chromium`, :func:`find_chromedriver`).
 
     Returns
     -------
@@ -542,8 +439,10 @@ def check_site(
     Raises
     ------
     BrowserError
-        No browser, or it did not start or answer in time.
+        No browser or driver, or they did not start.
     """
+    from selenium.common.exceptions import WebDriverException
+
     t0 = time.perf_counter()
     root = Path(root)
     report = SiteReport()
@@ -553,7 +452,7 @@ def check_site(
         for p in root.rglob("*.html")
         if not p.relative_to(root).parts[0].startswith("_")
     )
-    with serve(root) as base, Chromium(executable) as browser:
+    with serve(root) as base, chromium(executable, driver) as browser:
         todo, seen = deque([start]), {start}
         while len(report.pages) < max_pages:
             if not todo:  # pages no link reaches (genindex.html, search.html): visit them too
@@ -566,18 +465,22 @@ def check_site(
             path = todo.popleft()
             page = PageReport(path)
             report.pages[path] = page
+            browser.get_log("browser")  # what an earlier page logged late is not this one's
             try:
-                browser.open(base + urllib.parse.quote(path))
-                facts = browser.evaluate(_PAGE_FACTS_JS)
-            except BrowserError as e:
-                page.errors.append(str(e))
+                browser.get(base + urllib.parse.quote(path))
+                facts = browser.execute_script(_PAGE_FACTS_JS)
+                _quiet(browser)
+            except WebDriverException as e:
+                page.errors.append(f"did not load: {e.msg}")
                 continue
-            if path == start and screenshots is not None:
-                shots = Path(screenshots)
-                report.screenshots.append(browser.screenshot(shots / shot_name))
-                full = shots / (Path(shot_name).stem + "-full.png")
-                report.screenshots.append(browser.screenshot(full, full_page=True))
-            page.errors = console_errors(browser.drain())
+            if screenshots is not None:
+                shot = _shot_path(Path(screenshots), prefix, path, start)
+                page.screenshot = _screenshot(browser, shot)
+                report.screenshots.append(page.screenshot)
+                if path == start:
+                    full = shot.with_name(f"{shot.stem}-full.png")
+                    report.screenshots.append(_screenshot(browser, full, full_page=True))
+            page.errors = console_errors(browser.get_log("browser"))
             page.title = facts["title"]
             page.ids = set(facts["ids"])
             page.claims = facts["claims"]
@@ -611,26 +514,24 @@ def check_site(
 
 
 def main(argv=None) -> int:
-    """``python -m fpdtw.paper.browser SITE [--screenshots DIR] [--name FILE]``: exit 1 on
-    any problem, 2 without a browser."""
+    """``python -m fpdtw.paper.browser SITE [--screenshots DIR] [--prefix P]``: exit 1 on
+    any problem, 2 without a browser or its driver."""
     ap = argparse.ArgumentParser(
         prog="python -m fpdtw.paper.browser", description=__doc__.split("\n")[0]
     )
     ap.add_argument("site", type=Path, help="the built site (e.g. build/book)")
-    ap.add_argument("--screenshots", type=Path, help="folder for the front page's screenshot")
-    ap.add_argument("--name", default="front.png", help="its file name (default front.png)")
+    ap.add_argument("--screenshots", type=Path, help="folder for a screenshot of every page")
+    ap.add_argument("--prefix", default="", help="before each screenshot's name (default none)")
     a = ap.parse_args(argv)
-    if find_chromium() is None:
-        print(
-            f"no Chromium found: apt-get install {APT_PACKAGES} (or set FPDTW_CHROMIUM)",
-            file=sys.stderr,
-        )
+    why = missing_browser()
+    if why:
+        print(why, file=sys.stderr)
         return 2
-    report = check_site(a.site, screenshots=a.screenshots, shot_name=a.name)
+    report = check_site(a.site, screenshots=a.screenshots, prefix=a.prefix)
     for line in report.problems:
         print(line)
-    for p in report.screenshots:
-        print(f"screenshot: {p}")
+    if report.screenshots:
+        print(f"screenshots: {len(report.screenshots)} in {a.screenshots}")
     print(f"{a.site}: {report.summary()}")
     return 1 if report.problems else 0
 
