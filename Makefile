@@ -1,7 +1,8 @@
 # fpdtw: two commands do everything on a machine with python3 and make:
 #   make figures   environment, data, every notebook, figures/ and tables, the book
 #   make test      environment, data, lint, the test suite (incl. smoke notebooks and the
-#                  smoke book in a headless browser)
+#                  smoke book in a headless browser); make test-all adds the one-hour
+#                  long-input check and the fuzz tests' larger budget (before a release)
 # Offline? Point FPDTW_MIRROR at a folder or base URL holding a copy of the data.
 
 PYTHON ?= python3
@@ -55,21 +56,28 @@ BOOK       := build/book/index.html
 # and ends and how long it took
 EXECUTE := $(PY) -m fpdtw.paper.execute --kernel fpdtw --cwd notebooks
 
-.PHONY: env lock data test fuzz lint format figures check-figures book book-check smoke-book bench \
-	bench-peers clean distclean help
+.PHONY: env lock data test test-all fuzz lint format figures check-figures book book-check \
+	smoke-book bench bench-peers dist clean distclean help
 
 help:
 	@echo "make figures  - build env, fetch data, run every notebook, write figures/, the book"
 	@echo "make check-figures - after make figures: figures/ byte-identical to the commit?"
 	@echo "make book     - the book (build/book/index.html) from the executed notebooks"
 	@echo "make book-check - open the book in headless Chromium: console errors, images, links"
-	@echo "make test     - build env, fetch data, lint and run the test suite"
+	@echo "make smoke-book - the book of the smoke notebooks (build/smoke/book), as make test builds it"
+	@echo "make test     - build env, fetch data, lint, the test suite, the smoke notebooks and book"
+	@echo "make test-all - make test, the one-hour long-input check and make fuzz: before a release"
 	@echo "make fuzz     - the fuzz tests with a 15x budget (FUZZ_SEED=0 by default)"
+	@echo "make lint     - ruff check and ruff format --check;  make format - apply them"
 	@echo "make data     - fetch and verify the data listed in data_manifest/"
 	@echo "make bench    - per-frame latency benchmark (results/bench.json)"
 	@echo "make bench-peers - OLTW against pymatchmaker, own venv (results/bench_peers.json)"
 	@echo "make env      - .venv from requirements.lock (LOCKED=0: pyproject's version ranges)"
 	@echo "make lock     - refresh requirements.lock with uv (UPGRADE=1: newest versions)"
+	@echo "make dist     - sdist and wheel in dist/ (python -m build), checked with twine"
+	@echo "make figures/<name>.pdf - one figure or table and what it needs (figures/ lists them)"
+	@echo "make clean    - remove build/;  make distclean - also .venv, data_cache, results"
+	@echo "make help     - this list"
 	@echo "Set FPDTW_MIRROR=/path/or/url to fetch from a mirror instead of upstream."
 
 env: $(STAMP)
@@ -133,12 +141,37 @@ format: $(STAMP)
 	$(VENV)/bin/ruff format fpdtw tests tools
 	$(VENV)/bin/ruff check --fix fpdtw tests tools
 
-# the test suite (with the browser test of the smoke book: tests/test_book_browser.py),
-# then the smoke notebooks re-executed under nbval (lax: only cells marked
-# NBVAL_CHECK_OUTPUT are compared with the papermill run's outputs)
-test: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) lint $(SMOKE_NBS) $(SMOKE_BOOK)
-	$(VENV)/bin/pytest -q
-	$(SMOKE_ENV) $(VENV)/bin/pytest -q -p no:cacheprovider --nbval-lax $(SMOKE_NBS)
+# make test on 2 cores: two jobs at a time (make -j2). First the test suite, except the
+# tests that read the smoke run's outputs, beside the smoke notebooks, the smoke book and
+# then those tests (its results, tests/test_results_smoke.py; the book in a browser,
+# tests/test_book_browser.py); then the smoke notebooks re-executed under nbval, in two
+# halves side by side (lax: only cells marked NBVAL_CHECK_OUTPUT are compared with the
+# papermill run's outputs). Tests marked `long` (the one-hour input of
+# tests/test_long_input.py) are left to make test-all.
+SMOKE_TESTS := tests/test_results_smoke.py tests/test_book_browser.py
+PYTEST      := $(VENV)/bin/pytest -q -p no:cacheprovider -m "not long"
+NBVAL       := $(SMOKE_ENV) $(VENV)/bin/pytest -q -p no:cacheprovider --nbval-lax
+TEST_JOBS   ?= 2
+test: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) lint
+	$(MAKE) --no-print-directory -j$(TEST_JOBS) -Oline test-suite test-smoke
+	$(MAKE) --no-print-directory -j$(TEST_JOBS) -Oline test-nbval-1 test-nbval-2
+
+# the parts of make test (not meant to be run alone)
+.PHONY: test-suite test-smoke test-nbval-1 test-nbval-2
+test-suite:
+	$(PYTEST) $(addprefix --ignore=,$(SMOKE_TESTS))
+test-smoke: $(SMOKE_NBS) $(SMOKE_BOOK)
+	$(PYTEST) $(SMOKE_TESTS)
+test-nbval-1:
+	$(NBVAL) $(wordlist 1,8,$(SMOKE_NBS))
+test-nbval-2:
+	$(NBVAL) $(wordlist 9,99,$(SMOKE_NBS))
+
+# before a release: everything make test runs, then the tests marked long (the one-hour
+# input through Method C w40 and OLTW) and the fuzz tests with make fuzz's budget
+test-all: test
+	$(VENV)/bin/pytest -q -p no:cacheprovider -m long
+	$(MAKE) fuzz
 
 # the fuzz tests of make test (mutated BVH, ASF/AMC, FBX files through the readers and
 # fpdtw align) with the larger budget of the hypothesis profile "fuzz" (tests/conftest.py),
@@ -225,8 +258,9 @@ book: $(BOOK)
 $(BOOK): $(EXECUTED) figures/ENVIRONMENT.md fpdtw/paper/book.py
 	$(PY) -m fpdtw.paper.book --mode full --notebooks build/notebooks --out $(@D)
 
-# the book in headless Chromium (Debian's chromium package): every page without a console
-# error, every image loaded, every internal link resolving; screenshots in build/book/screenshots
+# the book in headless Chromium (Debian's chromium and chromium-driver, through Selenium):
+# every page without a console error, every image loaded, every internal link resolving; a
+# screenshot of every page in build/book/screenshots
 book-check: $(BOOK)
 	$(PY) -m fpdtw.paper.browser build/book --screenshots build/book/screenshots
 
@@ -240,6 +274,14 @@ build/figure_map.mk: fpdtw/paper/figure_map.py
 	mkdir -p $(dir $@)
 	$(PYTHON) fpdtw/paper/figure_map.py makefile > $@.part && mv $@.part $@
 -include build/figure_map.mk
+
+# a release's files: the sdist (every file of the repository: MANIFEST.in) and the wheel
+# (the package), built by python -m build in a fresh isolated environment (setuptools from
+# PyPI), then checked by twine (metadata, README rendering)
+dist: $(STAMP)
+	rm -rf dist
+	$(PY) -m build --outdir dist .
+	$(VENV)/bin/twine check --strict dist/*
 
 clean:
 	rm -rf build .pytest_cache

@@ -51,6 +51,15 @@ def _hypothesis_profiles():
 
 _hypothesis_profiles()
 
+
+def pytest_configure(config):
+    config.addinivalue_line(
+        "markers",
+        "long: minutes-long checks (the one-hour input) that make test leaves out "
+        "(pytest -m 'not long') and make test-all runs",
+    )
+
+
 _PROBE = "cmu/18_01.bvh"
 
 
