@@ -149,3 +149,76 @@ def test_readme_points_at_the_citation_and_the_lock():
     env = readme.split("## Reproducible environment", 1)[1].split("\n## ", 1)[0]
     for needle in ("requirements.lock", "make lock", "LOCKED=0", "--require-hashes"):
         assert needle in env, needle
+
+
+# ------------------------------------------------------------------------- .zenodo.json
+#: Zenodo's upload types and relations (its deposit metadata, the subset used here).
+ZENODO_RELATIONS = {"references", "isSupplementTo", "isDerivedFrom", "cites", "requires"}
+
+
+def _zenodo():
+    return json.loads((REPO_ROOT / ".zenodo.json").read_text(encoding="utf-8"))
+
+
+def _cff_identifiers(doc) -> set[str]:
+    """Every DOI, URL and repository CITATION.cff names (the package's and its references')."""
+    out = set()
+    for entry in [doc, doc["preferred-citation"], *doc["references"]]:
+        for key in ("doi", "url", "repository", "repository-code"):
+            if key in entry:
+                out.add(str(entry[key]))
+    return out
+
+
+def _zenodo_errors(z, cff) -> list[str]:
+    """Where .zenodo.json disagrees with CITATION.cff (empty: they agree)."""
+    errors = []
+    for zkey, ckey in (("title", "title"), ("description", "abstract"), ("version", "version"),
+                       ("license", "license"), ("keywords", "keywords")):  # fmt: skip
+        if str(z.get(zkey)) != str(cff.get(ckey)):
+            errors.append(f"{zkey}: {z.get(zkey)!r} != CITATION.cff {ckey} {cff.get(ckey)!r}")
+    names = [a.get("name") or f"{a['family-names']}, {a['given-names']}" for a in cff["authors"]]
+    if [c.get("name") for c in z.get("creators", [])] != names:
+        errors.append(f"creators {z.get('creators')} != CITATION.cff authors {names}")
+    related = {r["identifier"] for r in z.get("related_identifiers", [])}
+    if related != _cff_identifiers(cff):
+        errors.append(f"related identifiers {sorted(related)} != {sorted(_cff_identifiers(cff))}")
+    for r in z.get("related_identifiers", []):
+        scheme = "doi" if r["identifier"].startswith("10.") else "url"
+        if r.get("scheme") != scheme or r.get("relation") not in ZENODO_RELATIONS:
+            errors.append(f"related identifier {r}: scheme {scheme} and a Zenodo relation")
+    if z.get("upload_type") != "software" or z.get("access_right") != "open":
+        errors.append("upload_type must be software, access_right open")
+    return errors
+
+
+def test_zenodo_json_agrees_with_citation_cff():
+    z, cff = _zenodo(), _cff()
+    assert not _zenodo_errors(z, cff), _zenodo_errors(z, cff)
+    assert z["version"] == _project()["version"]
+
+
+@pytest.mark.parametrize(
+    "key, value",
+    [
+        ("version", "0.2.0"),
+        ("license", "Apache-2.0"),
+        ("keywords", ["dynamic time warping"]),
+        ("creators", [{"name": "someone else"}]),
+        ("related_identifiers", []),
+        ("upload_type", "dataset"),
+    ],
+)
+def test_zenodo_check_catches(key, value):
+    z = copy.deepcopy(_zenodo())
+    z[key] = value
+    assert _zenodo_errors(z, _cff())
+
+
+def test_zenodo_references_hold_the_papers_and_every_dataset_citation():
+    refs = _zenodo()["references"]
+    pc = _cff()["preferred-citation"]
+    assert any(pc["title"] in r and pc["doi"] in r for r in refs)
+    assert any("A Predictive Approach to On-line Time Warping of Motion" in r for r in refs)
+    for name, citation in _printed_citations().items():
+        assert citation in refs, f"{name}: {citation!r} is not among .zenodo.json's references"
