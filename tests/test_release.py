@@ -3,6 +3,7 @@ sdist holds the whole reproduction (every file git tracks), as MANIFEST.in says.
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
 import subprocess
@@ -29,8 +30,9 @@ def _phony_targets() -> list[str]:
 
 
 def test_make_help_lists_every_target():
+    env = {k: v for k, v in os.environ.items() if k not in ("MAKEFLAGS", "MFLAGS", "MAKELEVEL")}
     out = subprocess.run(
-        ["make", "-s", "help"], cwd=REPO_ROOT, capture_output=True, text=True, check=True
+        ["make", "-s", "help"], cwd=REPO_ROOT, capture_output=True, text=True, check=True, env=env
     ).stdout
     listed = set(re.findall(r"make ([a-z][\w-]*)", out))
     targets = _phony_targets()
@@ -57,19 +59,25 @@ def _tracked() -> set[str]:
 
 
 def test_the_sdist_holds_every_tracked_file(tmp_path):
-    """The sdist, built offline from this checkout (setuptools of .venv, no isolation), holds
-    every file git tracks (the notebooks, tests, manifests, figures and the lock included)."""
+    """The sdist of the tracked files (as they are in the working tree), built offline
+    (setuptools of .venv, no isolation) in a copy, holds every one of them: the notebooks,
+    tests, manifests, figures and the lock included."""
     if shutil.which("git") is None or not (REPO_ROOT / ".git").exists():
         pytest.skip("not a git checkout (an unpacked sdist): nothing to compare with")
+    tracked = _tracked()
+    src = tmp_path / "src"
+    for rel in tracked:
+        (src / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(REPO_ROOT / rel, src / rel)
     subprocess.run(
         [sys.executable, "-m", "build", "--sdist", "--no-isolation", "--outdir", str(tmp_path),
-         str(REPO_ROOT)],
+         str(src)],
         check=True, capture_output=True, text=True,
     )  # fmt: skip
     (sdist,) = tmp_path.glob("fpdtw-*.tar.gz")
     with tarfile.open(sdist) as tar:
         names = {n.split("/", 1)[1] for n in tar.getnames() if "/" in n}
-    missing = sorted(_tracked() - names)
+    missing = sorted(tracked - names)
     assert not missing, f"the sdist lacks {len(missing)} tracked files: {missing[:20]}"
     for needed in ("Makefile", "requirements.lock", "MANIFEST.in", "CHANGELOG.md",
                    "ARTIFACT.md", ".zenodo.json", "data_manifest/hdm05.toml",
