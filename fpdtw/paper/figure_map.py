@@ -77,9 +77,9 @@ NOTEBOOKS = (
               "selection_paper_shaped"),
              "Algorithm 3's window read five ways, side by side; every other silent choice; "
              "a paper-shaped data selection", _RUN),
-    Notebook("12_claims", ("claims",),
-             "every claim of both papers: the paper's number, ours (default and literal "
-             "Method C window), whether it holds",
+    Notebook("12_claims", ("claims", "claims_intervals"),
+             "every claim of both papers split into parts: verdict and reason, 95 % intervals, "
+             "per dataset and selection, robustness to the paper's open readings",
              ("02_fig1_oedtw", "06_fig5_fig6_scores", "07_table1_60hz", "08_fig7_fig10_heatmaps",
               "09_table2_timing", "10_fig8_walk_pair", "13_opw_fig4", "14_opw_fig5_fig6",
               "15_readings_of_algorithm_3")),
