@@ -56,6 +56,7 @@ BOOK       := build/book/index.html
 EXECUTE := $(PY) -m fpdtw.paper.execute --kernel fpdtw --cwd notebooks
 
 .PHONY: env lock data test fuzz lint format figures check-figures book book-check smoke-book bench \
+	readme-results \
 	bench-peers clean distclean help
 
 help:
@@ -186,7 +187,11 @@ build/notebooks/09_table2_timing.ipynb: results/bench.json
 # every notebook is executed by papermill into build/notebooks (sources never edited
 # in place), with an explicit kernel and the notebooks folder as working directory; the
 # book comes last
-figures: $(EXECUTED) figures/ENVIRONMENT.md $(BOOK)
+figures: $(EXECUTED) figures/ENVIRONMENT.md readme-results $(BOOK)
+
+# the README's result blocks, from figures/ (fpdtw.paper.readme; a test keeps them in step)
+readme-results: $(EXECUTED)
+	$(PY) -m fpdtw.paper.readme README.md --update
 
 # did this run reproduce the committed figures? Every deterministic file byte for byte
 # (the timing outputs, fpdtw.paper.provenance.TIMING_OUTPUTS, may differ)

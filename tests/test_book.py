@@ -52,7 +52,7 @@ def _claim_rows():
         {"id": "1", "claim": "Mc w40 | passes", "paper": "Mc w40", "ours": "Mc w20, Mc w40",
          "holds": "partly", "ours_literal": "none", "holds_literal": "no",
          "reason": "no other passes one: contradicted (Mc w20 deviation 13.5 [12.1, 14.9] < 18)",
-         "interval": "1a: +0.048 [+0.031, +0.066] vs 0", "holds_authors_fbx": "yes",
+         "interval": "1(a): +0.048 [+0.031, +0.066] vs 0", "holds_authors_fbx": "yes",
          "holds_hdm05": "partly", "holds_paper_shaped": "inconclusive",
          "holds_same_movements": "partly", "robustness": "stands under 9 of 12 readings",
          "evidence": "Figs. 5, 6; fig5_similarity_summary", "stable": True},
@@ -141,7 +141,7 @@ def test_front_page_holds_every_claim_the_data_and_how_to_rerun(tmp_path):
     assert '<span class="holds holds-na">n/a</span>' in rows[2]
     # verdict, reason with its interval, per dataset (coloured), robustness
     assert "contradicted (Mc w20 deviation 13.5 [12.1, 14.9] < 18)" in rows[0]
-    assert "95 %: 1a: +0.048 [+0.031, +0.066] vs 0" in rows[0]
+    assert "95 %: 1(a): +0.048 [+0.031, +0.066] vs 0" in rows[0]
     assert 'paper-shaped: <span class="holds holds-inconclusive">inconclusive</span>' in rows[0]
     assert "stands under 9 of 12 readings" in rows[0]
     assert "How a verdict is decided" in text

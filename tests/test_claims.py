@@ -112,8 +112,8 @@ def test_every_claim_holds_on_a_paper_like_run(paper_like):
     assert rows["8"]["reason"].startswith("The paper's text names Mb w80 and Mc w40")
     assert "not comparable (the paper's pair is HDM05 sample 3239" in rows["8"]["reason"]
     labels = [p["part"] for p in parts if p["claim"] == "1"]
-    assert labels == ["1a", "1b"]
-    one_a = next(p for p in parts if p["part"] == "1a")
+    assert labels == ["1(a)", "1(b)"]
+    one_a = next(p for p in parts if p["part"] == "1(a)")
     assert one_a["verdict"] == "holds" and one_a["ci_low"] > 0 and one_a["threshold"] == 0.0
     assert one_a["quantity"] == "Mc w40 median similarity minus UTW's"
 
@@ -122,7 +122,7 @@ def test_claim1_gives_each_verdict():
     run = paper_like_run({"Mc w20": (0.2, 12.0)})  # Mc w20 passes the deviation test too
     rows, _ = table(context(run), ["1"])
     assert rows["1"]["holds"] == "partly"
-    assert rows["1"]["reason"].startswith("no other unconstrained FP-DTW algorithm passes one: "
+    assert rows["1"]["reason"].startswith("No other unconstrained FP-DTW algorithm passes one: "
                                           "contradicted (Mc w20 median deviation")  # fmt: skip
     assert rows["1"]["ours"] == "pass either (by medians): Mc w20, Mc w40"
     # Mc w40 fails both clearly, Mc w20 passes: every part contradicted
@@ -141,7 +141,7 @@ def test_a_straddling_interval_is_never_a_pass():
     pass, although the medians alone would say it passes."""
     run = paper_like_run({"Mc w40": (0.245, 30.0)}, spread={"Mc w40": 0.03})
     rows, parts = table(context(run), ["1"])
-    one_a = next(p for p in parts if p["part"] == "1a")
+    one_a = next(p for p in parts if p["part"] == "1(a)")
     assert one_a["ci_low"] < 0 < one_a["ci_high"] and one_a["verdict"] == "inconclusive"
     assert rows["1"]["holds"] == "partly"  # 1b holds, 1a inconclusive
     assert "Mc w40 passes a benchmark: inconclusive" in rows["1"]["reason"]
@@ -151,7 +151,7 @@ def test_claim2_and_its_implied_only():
     run = paper_like_run({"Mb w80 + Type V": (0.3, 10.0)})  # a fourth passes both
     rows, _ = table(context(run), ["2"])
     assert rows["2"]["holds"] == "partly"
-    assert "no other FP-DTW algorithm passes both" in rows["2"]["reason"]
+    assert "No other FP-DTW algorithm passes both" in rows["2"]["reason"]
     assert "Mb w80 + Type V" in rows["2"]["reason"]
 
 
@@ -254,7 +254,7 @@ def test_per_dataset_verdicts_show_when_a_verdict_rests_on_one_dataset():
     rows, parts = table(context(run), ["1"])
     r = rows["1"]
     assert (r["holds_authors_fbx"], r["holds_hdm05"]) == ("yes", "partly")
-    one_b = next(p for p in parts if p["part"] == "1b")
+    one_b = next(p for p in parts if p["part"] == "1(b)")
     assert (one_b["verdict_authors_fbx"], one_b["verdict_hdm05"]) == ("holds", "contradicted")
 
 
@@ -266,7 +266,7 @@ def test_resampling_the_movements_too_can_leave_open_what_the_takes_decide():
     sim = 0.26 + np.array([-0.05, -0.03, 0.0, 0.03, 0.05])[mv]  # whole movements differ
     run.add("Mc w40", sim + run.scores(0.0, noise_sd=0.001), run.get("Mc w40")["deviation"] + 30)
     rows, parts = table(context(run), ["1"])
-    one_a = next(p for p in parts if p["part"] == "1a")
+    one_a = next(p for p in parts if p["part"] == "1(a)")
     assert one_a["verdict"] == "inconclusive" and one_a["verdict_same_movements"] == "holds"
 
 
@@ -348,7 +348,7 @@ def test_format_claims_prints_every_body_of_evidence(paper_like):
     assert lines[0].startswith("[1] Without a constraint, Mc w40")
     assert "    paper: Mc w40" in lines
     assert any(x.startswith("    holds? yes: All 2 parts hold (") for x in lines)
-    assert any(x.startswith("    95 %:  1a: +0.") for x in lines)
+    assert any(x.startswith("    95 %:  1(a): +0.") for x in lines)
     assert any(x.startswith("    also:  same movements yes; authors fbx yes; hdm05 yes")
                for x in lines)  # fmt: skip
     assert sum("literal window" in x for x in lines) == 1

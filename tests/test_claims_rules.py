@@ -135,7 +135,7 @@ def test_a_reason_names_the_parts_that_fail_and_why():
     bad = Part("no other passes one", Not(Check("Mc w20 dev", 13.5, 12.0, 15.0, 18.0, above=False,
                                                 digits=1)))  # fmt: skip
     text = R.claim_reason([ok, bad])
-    assert text.startswith("no other passes one: contradicted (Mc w20 dev 13.5 [12.0, 15.0] < 18)")
+    assert text.startswith("No other passes one: contradicted (Mc w20 dev 13.5 [12.0, 15.0] < 18)")
     assert text.endswith("Holds: Mc w40 passes a benchmark")
     assert R.claim_reason([ok]).startswith("Mc w40 passes a benchmark: holds (x 0.150")
     both = R.claim_reason([ok, ok], contradiction="The text says otherwise.")

@@ -314,20 +314,20 @@ def mechanism_profile(pairs, w: int = 40, readings=("literal", "square")) -> dic
 
 
 def choice_values(results, name: str, variant: str, features=None) -> dict:
-    """Per-pair scores of ``name`` under a metric-side silent choice (120 Hz).
+    """Per-pair scores of ``name`` under a metric-side silent choice.
 
     Parameters
     ----------
     results : fpdtw.paper.runner.run.Results
     name : str
-        An algorithm at 120 Hz.
+        An algorithm (its deviation is measured from DTW at its own rate).
     variant : {"deviation_frames", "flat_axis", "after_input"}
         The choice (:data:`fpdtw.paper.runner.grid.SILENT_CHOICES`): eq. 3 over the frames
         ``q = 1..n``; eq. 2 leaving out an axis flat in one motion; both scores only up to
         the first target frame mapped to the last input frame.
     features : callable, optional
-        ``features(k) -> (I, T)`` (:func:`fpdtw.paper.runner.run.pair_features`); needed by
-        the choices of eq. 2.
+        ``features(k) -> (I, T)`` at the algorithm's rate
+        (:func:`fpdtw.paper.runner.run.pair_features`); needed by the choices of eq. 2.
 
     Returns
     -------
@@ -338,7 +338,7 @@ def choice_values(results, name: str, variant: str, features=None) -> dict:
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
     arr = results.get(name)
-    dtw = results.get("DTW")
+    dtw = results.get("DTW" + ("@60Hz" if name.endswith("@60Hz") else ""))
     offsets, maps = np.asarray(arr["offsets"]), np.asarray(arr["maps"], dtype=np.int64)
     d_off, d_maps = np.asarray(dtw["offsets"]), np.asarray(dtw["maps"], dtype=np.int64)
     m_all, _ = results.frames(name)

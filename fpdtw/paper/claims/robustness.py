@@ -19,6 +19,7 @@ Notebook: 12_claims.ipynb
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 
 from fpdtw.paper.claims.evidence import Evidence
@@ -67,26 +68,39 @@ def alternatives() -> list[Alternative]:
             alias = {n: choice_variant(n, choice) for n in targets}
             alias.update({n + "@60Hz": alias[n] + "@60Hz" for n in targets})
             out.append(Alternative(key, choice.alternative, alias))
-        else:  # the metrics: the same maps scored another way; 60 Hz runs are not rescored
-            alias = {n + "@60Hz": n + "@60Hz (not rescored)" for n in targets}
-            out.append(Alternative(key, choice.alternative, alias, metric=key))
+        else:  # the metrics: the same maps, scored another way
+            out.append(Alternative(key, choice.alternative, metric=key))
     return out
 
 
 def _metric_values(results, key, features):
-    """``values(name, metric)`` of :class:`Evidence` for a metric-side choice (cached)."""
+    """``values(name, metric)`` of :class:`Evidence` for a metric-side choice (cached).
+
+    ``features``: rate (120 or 60) -> ``features(k)``.
+    """
     from fpdtw.paper.readings import choice_values
 
     cache = {}
 
     def values(name, metric):
-        if name.endswith("@60Hz"):
-            return None
         if name not in cache:
-            cache[name] = choice_values(results, name, key, features)
+            rate = 60 if name.endswith("@60Hz") else 120
+            cache[name] = choice_values(results, name, key, features(rate))
         return cache[name].get(metric)
 
     return values
+
+
+def _study_features(study):
+    """``rate -> features(k)``, each pair read once (every algorithm is rescored on the same
+    pairs)."""
+    from fpdtw.paper.runner.run import pair_features
+
+    @functools.cache
+    def at(rate):
+        return functools.cache(pair_features(study, fps=float(rate)))
+
+    return at
 
 
 def robustness(claims, mode: str = "full", study=None, features=None, progress=False) -> dict:
@@ -100,7 +114,8 @@ def robustness(claims, mode: str = "full", study=None, features=None, progress=F
         is given.
     study : fpdtw.paper.runner.run.Results, optional
     features : callable, optional
-        ``features(k) -> (I, T)`` of the study's pairs (default: from its feature cache).
+        ``features(rate) -> (k -> (I, T))``: the study's pairs at 120 or 60 Hz (default:
+        from its feature cache).
     progress : bool
         Show a progress bar over the alternatives.
 
@@ -134,10 +149,8 @@ def robustness(claims, mode: str = "full", study=None, features=None, progress=F
     for alt in tqdm(alts, desc="readings", disable=not progress):
         values = None
         if alt.metric is not None:
-            if features is None and alt.metric != "deviation_frames":
-                from fpdtw.paper.runner.run import pair_features
-
-                features = pair_features(study)
+            if features is None:
+                features = _study_features(study)
             values = _metric_values(study, alt.metric, features)
         ctx = ctx0.with_evidence(base.reading(alias=alt.alias, values=values, label=alt.key))
         for c in todo:

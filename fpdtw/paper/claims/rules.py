@@ -299,20 +299,24 @@ def claim_reason(parts, contradiction: str = "") -> str:
     vs = [p.verdict for p in parts]
     if vs and all(v == HOLDS for v in vs):
         if len(parts) == 1:
-            return head + parts[0].explain()
+            return head + _sentence(parts[0].explain())
         weakest = "; ".join(p.decisive().describe() for p in parts if p.decisive() is not None)
         return head + f"All {len(parts)} parts hold ({weakest})"
     held = [p.text for p in parts if p.verdict == HOLDS]
     failing = [p.explain() for p in parts if p.verdict != HOLDS]
-    out = head + "; ".join(failing)
+    out = head + _sentence("; ".join(failing))
     if held:
         out += ". Holds: " + "; ".join(held)
     return out
 
 
+def _sentence(text: str) -> str:
+    return text[:1].upper() + text[1:]
+
+
 def part_label(claim_id: str, k: int) -> str:
-    """``part_label("1", 0)`` -> ``"1a"``."""
-    return f"{claim_id}{chr(ord('a') + k)}"
+    """``part_label("1", 0)`` -> ``"1(a)"``; ``part_label("5b", 1)`` -> ``"5b(b)"``."""
+    return f"{claim_id}({chr(ord('a') + k)})"
 
 
 @dataclass

@@ -51,7 +51,7 @@ def _study_algorithms() -> tuple:
       with and without Type V, at 120 and 60 Hz;
     * Methods A and B as in the paper (the headline medians on this selection);
     * the paper's silent choices (:data:`SILENT_CHOICES`), each on the algorithms it
-      touches among the headline ones (:data:`CHOICE_TARGETS`).
+      touches (:data:`CHOICE_TARGETS`), and on Method C at 60 Hz (Table 1).
     """
     names = ["DTW", "UTW", "DTW@60Hz", "UTW@60Hz"]
     for rate in ("", "@60Hz"):
@@ -62,6 +62,10 @@ def _study_algorithms() -> tuple:
     for choice in SILENT_CHOICES.values():
         if choice.option is not None:
             names += [choice_variant(n, choice) for n in choice_targets(choice)]
+    # Table 1's Method C at 60 Hz under each choice (claim 3's robustness)
+    for choice in SILENT_CHOICES.values():
+        if choice.option is not None and "C" in choice.methods:
+            names += [choice_variant(f"Mc w{w}", choice) + "@60Hz" for w in WINDOWS]
     out = []
     for n in names:  # keep the first of any duplicate
         if n not in out:
