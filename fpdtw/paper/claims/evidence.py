@@ -21,6 +21,9 @@ Notebook: 12_claims.ipynb
 
 from __future__ import annotations
 
+import hashlib
+import io
+
 import numpy as np
 
 from fpdtw.paper import numbers as N
@@ -28,6 +31,37 @@ from fpdtw.paper.claims import bootstrap as bs
 from fpdtw.paper.claims.rules import Check
 
 METRICS = ("similarity", "deviation")
+#: Bump when what a cached bootstrap replicate holds changes.
+_CACHE_VERSION = 1
+
+
+def _digest(*parts: bytes) -> str:
+    h = hashlib.sha256()
+    for p in parts:
+        h.update(len(p).to_bytes(8, "little") + p)
+    return h.hexdigest()[:32]
+
+
+def _cached(folder, key: str, compute) -> np.ndarray:
+    """``compute()`` once per key: read from ``folder/<key>.npy`` when there, else computed
+    and written (atomically). ``folder`` None: no disk cache."""
+    if folder is None:
+        return compute()
+    path = folder / f"{key}.npy"
+    try:
+        return np.load(path, allow_pickle=False)
+    except (FileNotFoundError, ValueError, OSError):
+        pass
+    out = compute()
+    from fpdtw.paper.atomic import write_atomic
+
+    buf = io.BytesIO()
+    np.save(buf, out, allow_pickle=False)
+    folder.mkdir(parents=True, exist_ok=True)
+    write_atomic(path, buf.getvalue())
+    return out
+
+
 _UNIT = {"similarity": "", "deviation": " frames"}
 
 
@@ -91,7 +125,9 @@ class Evidence:
         self.label = label
         self._design = None
         self._W = None
-        self._cols = None  # columns of _W holding these pairs (None: all, in order)
+        self._owner = None  # the evidence whose weights these pairs use (None: its own)
+        self._cols = None  # columns of the owner's weights holding these pairs (None: all)
+        self._key = None
         self._cache = {}
         ids = np.array([int(p["id"]) for p in results.pairs], dtype=np.int64)
         self._pair_ids = ids[self.rows]
@@ -103,17 +139,16 @@ class Evidence:
         keep = np.asarray(keep)
         idx = np.flatnonzero(keep) if keep.dtype == bool else keep.astype(np.int64)
         out = self._derived(rows=self.rows[idx], label=label)
-        out._W = self.weights
+        out._owner = self._owner or self
         base = np.arange(self.n_pairs) if self._cols is None else self._cols
         out._cols = base[idx]
+        out._key = _digest(self.weights_key.encode(), out._cols.tobytes())
         return out
 
     def reading(self, alias=None, values=None, label=None) -> Evidence:
         """The same pairs and weights under another reading of the names or the metrics."""
         out = self._derived(rows=self.rows, label=label or self.label, alias=alias, values=values)
-        out._design, out._W, out._cols = self._design, self._W, self._cols
-        if self._W is None:  # share the weights once they exist
-            out._parent = self
+        out._owner, out._cols, out._key = self._owner or self, self._cols, self.weights_key
         return out
 
     def _derived(self, rows, label, alias=None, values=None) -> Evidence:
@@ -137,22 +172,32 @@ class Evidence:
         return self._design
 
     @property
+    def weights_key(self) -> str:
+        """What decides the bootstrap weights of these pairs (design, scheme, resamples,
+        seed), as a hex digest: the key of the on-disk cache of replicates."""
+        if self._key is None:
+            d = self.design
+            parts = [a.tobytes() for a in (d.dataset, d.movement, d.input, d.target)]
+            spec = f"{_CACHE_VERSION}:{self.scheme}:{self.n_resamples}:{self.seed}"
+            self._key = _digest(spec.encode(), *parts)
+        return self._key
+
+    @property
     def weights(self) -> np.ndarray:
-        """Bootstrap weights, shape (n_resamples, P_all) (computed once; :attr:`cols` are
-        this evidence's columns)."""
+        """Bootstrap weights, shape (n_resamples, P_all) (computed once, on first need;
+        :attr:`cols` are this evidence's columns)."""
+        if self._owner is not None:
+            return self._owner.weights
         if self._W is None:
-            parent = getattr(self, "_parent", None)
-            if parent is not None:
-                self._W, self._cols = parent.weights, parent._cols
-            else:
-                self._W = bs.resample_weights(self.design, self.scheme, self.n_resamples, self.seed)
+            self._W = bs.resample_weights(self.design, self.scheme, self.n_resamples, self.seed)
         return self._W
 
     @property
     def cols(self) -> np.ndarray:
         """Columns of :attr:`weights` that hold this evidence's pairs, in order."""
-        W = self.weights
-        return np.arange(W.shape[1]) if self._cols is None else self._cols
+        if self._cols is not None:
+            return self._cols
+        return np.arange((self._owner or self).n_pairs)
 
     @property
     def n_pairs(self) -> int:
@@ -192,13 +237,34 @@ class Evidence:
         return float(np.median(v)) if v.size else float("nan")
 
     def replicates(self, name: str, metric: str) -> np.ndarray:
-        """The median on every bootstrap resample, shape (n_resamples,)."""
+        """The median on every bootstrap resample, shape (n_resamples,).
+
+        Kept on disk beside the results (``<results folder>/bootstrap/``), keyed by the
+        weights and the values, so that every notebook reading the same run reuses them.
+        """
         key = ("reps", name, metric)
         if key not in self._cache:
-            self._cache[key] = bs.weighted_medians(
-                self.values(name, metric), self.weights, self.cols
+            v = self.values(name, metric)
+            self._cache[key] = _cached(
+                self._cache_dir(),
+                _digest(self.weights_key.encode(), v.tobytes()),
+                lambda: bs.weighted_medians(v, self.weights, self.cols),
             )
         return self._cache[key]
+
+    def ratio_replicates(self, numerator, denominator) -> np.ndarray:
+        """``sum(w * numerator) / sum(w * denominator)`` on every resample (cached on disk as
+        :meth:`replicates`)."""
+        num = np.asarray(numerator, dtype=np.float64)
+        den = np.asarray(denominator, dtype=np.float64)
+        key = _digest(self.weights_key.encode(), b"ratio", num.tobytes(), den.tobytes())
+        return _cached(
+            self._cache_dir(), key, lambda: bs.weighted_ratios(num, den, self.weights, self.cols)
+        )
+
+    def _cache_dir(self):
+        folder = getattr(self.results, "folder", None)
+        return None if folder is None else folder / "bootstrap"
 
     def interval(self, name: str, metric: str) -> tuple[float, float]:
         """95 % interval of the median of ``name``."""
@@ -297,7 +363,7 @@ class Evidence:
         num = np.asarray(numerator, dtype=np.float64)
         den = np.asarray(denominator, dtype=np.float64)
         est = float(num.sum() / den.sum()) if den.sum() > 0 else float("nan")
-        lo, hi = bs.interval(bs.weighted_ratios(num, den, self.weights, self.cols))
+        lo, hi = bs.interval(self.ratio_replicates(num, den))
         return Check(quantity, est, lo, hi, threshold, above=above)
 
     def share_difference(self, quantity: str, a, b, threshold: float = 0.0) -> Check:
@@ -305,8 +371,7 @@ class Evidence:
         ``(numerator, denominator)`` per pair; paired resamples."""
         (na, da), (nb, db) = ((np.asarray(x, dtype=np.float64) for x in y) for y in (a, b))
         est = float(na.sum() / da.sum() - nb.sum() / db.sum())
-        W, c = self.weights, self.cols
-        reps = bs.weighted_ratios(na, da, W, c) - bs.weighted_ratios(nb, db, W, c)
+        reps = self.ratio_replicates(na, da) - self.ratio_replicates(nb, db)
         lo, hi = bs.interval(reps)
         return Check(quantity, est, lo, hi, threshold, above=True, signed=True)
 
