@@ -4,7 +4,7 @@ share with the file reader.
 
 Everything runs on 127.0.0.1. A server runs in a thread of this process (an asyncio loop)
 or, for the command line and its signals, as a subprocess. Every hostile client is bounded
-in count and time (the server's idle timeout here is 0.5 s). No timing is asserted.
+in count and time (the server's idle timeout here is 2 s). No timing is asserted.
 """
 
 from __future__ import annotations
@@ -50,7 +50,7 @@ from fpdtw.registry import align, resolve
 WALK1 = "mocap_single_person_actions/MoCapData/Walk_01.fbx"
 WALK2 = "mocap_single_person_actions/MoCapData/Walk_02.fbx"
 CMU = "cmu/18_01.bvh"
-IDLE = 0.5  # the test servers' idle timeout (s)
+IDLE = 2.0  # the hostile server's idle timeout (s): a stall of the shared machine is not one
 
 
 # ------------------------------------------------------------------------------ fixtures
@@ -175,7 +175,7 @@ def test_one_frame_kernels_equal_their_numpy_twins(data_path, rel):
     """Per frame, bit for bit: the compiled forward kinematics against
     Motion.forward_kinematics (FBX pre/post rotations, BVH, ASF axes), the streaming unwrap
     against unwrap_degrees, joint_quats of one frame and a subset against the motion's."""
-    from fpdtw.motion.kinematics import frame_positions
+    from fpdtw.motion.kinematics import frame_positions, frame_quats, order_codes
     from fpdtw.motion.motion import joint_quats
     from fpdtw.motion.rotations import UnwrapDegrees, unwrap_degrees
 
@@ -187,8 +187,10 @@ def test_one_frame_kernels_equal_their_numpy_twins(data_path, rel):
     E = m.eulers()
     cost = m.joint_indices()
     orders = [m.skeleton.rotation_orders[j] for j in cost]
+    codes = order_codes(m.skeleton.rotation_orders)
     for k in range(m.n_frames):
         q, r = m.quats[k], m.root_translation[k]
+        assert np.array_equal(frame_quats(m.euler[k], codes), q)
         assert np.array_equal(frame_positions(m.skeleton, q, r, root_relative=False), pos[k])
         assert np.array_equal(frame_positions(m.skeleton, q, r, idx), P[k])
         assert np.array_equal(joint_quats(m.euler[k : k + 1, cost], orders)[0], m.quats[k, cost])
@@ -203,6 +205,25 @@ def _push_all(T, rate, *, pj=None, skip=(), gap="slerp"):
         if k not in skip:
             out += lt.push(T.euler[k], T.root_translation[k], k / T.fps)
     return lt, out
+
+
+def test_compiled_euler_to_quaternion_is_scipys_bit_for_bit():
+    """Random angles (and whole, zero and gimbal-lock ones) in all six orders."""
+    from fpdtw.motion.kinematics import frame_quats, order_codes
+    from fpdtw.motion.motion import joint_quats
+    from fpdtw.motion.rotations import ORDERS
+
+    rng = np.random.default_rng(7)
+    E = rng.uniform(-720.0, 720.0, (20_000, 6, 3))
+    E[:100] = np.round(E[:100])
+    E[100:200] = 0.0
+    E[200:300, :, 1] = 90.0
+    ref = joint_quats(E, ORDERS)
+    codes = order_codes(ORDERS)
+    got = np.stack([frame_quats(e, codes) for e in E[:2000]])
+    np.testing.assert_array_equal(got, ref[:2000])
+    big = frame_quats(E.reshape(-1, 3), np.tile(codes, E.shape[0]))  # every angle, one call
+    np.testing.assert_array_equal(big.reshape(ref.shape), ref)
 
 
 @pytest.mark.parametrize("rate", [None, 120.0, 25.0])
@@ -402,7 +423,7 @@ def test_udp_text_lines(walk, walk_input):
 # ------------------------------------------------------------------------ hostile clients
 @pytest.fixture(scope="module")
 def hostile_server(walk_input):
-    """A server with small bounds: 8 KiB lines, 64 KiB headers, 0.5 s idle timeout."""
+    """A server with small bounds: 8 KiB lines, 64 KiB headers, 2 s idle timeout."""
     with limits.override(max_line_bytes=8192, max_header_bytes=65536):
         srv = running(walk_input, "Mc w40", idle_timeout=IDLE, max_clients=4)
         yield srv
@@ -462,7 +483,7 @@ def _hostile_cases(walk):
         "stops mid-line and disconnects": (
             H + first + half, hang_up, rf"^error: line {n + 2}: the connection ended in the"),
         "stops mid-line and waits": (H + first + half, None,
-                                     rf"^error: line {n + 2}: nothing received for 0.5 s"),
+                                     rf"^error: line {n + 2}: nothing received for {IDLE:g} s"),
         "time goes backwards": (H + st(1.0, 0) + st(0.5, 1), None,
                                 L2 + "time t=0.5 s is not after"),
         "two clocks": (H + st(0.0, 0) + first, None, L2 + ".*one clock"),
@@ -628,6 +649,24 @@ def test_serve_and_stream_commands_and_a_clean_stop(walk, tmp_path, sig):
 def test_usage_errors(capsys, args, needle):
     assert cli.main(args) == 2
     assert needle in capsys.readouterr().err
+
+
+def test_help_of_serve_and_stream(capsys):
+    assert cli.main(["serve", "--help"]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith("usage: fpdtw serve")
+    needles = [
+        "t=<capture time s>", "<frame index> <input frame> <input time s> <latency us>",
+        "error: line <n>, frame <k>", "1.5 frame periods", "--send", "--gap", "--listen",
+        "--max-clients", "--idle-timeout", "FPDTW_MAX_LINE_BYTES", "oltw", "SIGTERM",
+    ]  # fmt: skip
+    for text in needles:
+        assert text in out, text
+    assert cli.main(["stream", "--help"]) == 0
+    out = capsys.readouterr().out
+    for text in ("--to", "--rate", "--drop", "--jitter-ms", "--seed", "--streams", "--fast",
+                 "--no-timestamps", "--out"):  # fmt: skip
+        assert text in out, text
 
 
 def test_busy_port_and_missing_server(walk, capsys):

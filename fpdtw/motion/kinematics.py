@@ -1,18 +1,88 @@
-"""Forward kinematics of one frame, compiled: the joint positions of a streamed frame.
+"""One frame at a time, compiled: the rotations and joint positions of a streamed frame.
 
-:meth:`fpdtw.motion.Motion.forward_kinematics` computes every frame of a motion at once
-with NumPy, one joint after another; on a single frame its per-call overhead (tens of
-microseconds per joint) would make a frame of a 33-joint skeleton take milliseconds.
-:func:`frame_positions` computes the same positions for one frame in a compiled loop,
-operation for operation as the NumPy code (the same products and sums in the same order,
-no fused multiply-add), so that it returns the same numbers bit for bit; its NumPy twin,
-which the tests hold it equal to, is :meth:`~fpdtw.motion.Motion.forward_kinematics`.
+A :class:`~fpdtw.motion.Motion` computes its rotations (from Euler angles, through scipy)
+and its joint positions (forward kinematics, one joint after another in NumPy) for all its
+frames at once; on a single frame the per-call overhead of either (tens of microseconds per
+call) would cost a streamed frame milliseconds. The kernels here do the same for one frame
+in compiled loops, operation for operation as their twins (the same products, sums, sines
+and cosines in the same order, no fused multiply-add), so that they return the same numbers
+bit for bit. The twins, which the tests hold them equal to on real motions and random
+angles: :func:`fpdtw.motion.motion.joint_quats` (scipy's ``Rotation.from_euler``) for
+:func:`frame_quats`, :meth:`~fpdtw.motion.Motion.forward_kinematics` for
+:func:`frame_positions`.
 """
 
 from __future__ import annotations
 
+import math
+
 import numba
 import numpy as np
+
+from fpdtw.motion.rotations import ORDERS, check_order
+
+#: ``_AXES[code]``: the axes (0 = X, 1 = Y, 2 = Z) of rotation order ``ORDERS[code]``, in
+#: the order they are applied.
+_AXES = np.array([["XYZ".index(a) for a in o] for o in ORDERS], dtype=np.int64)
+_RAD_PER_DEG = math.pi / 180.0
+
+
+@numba.njit(cache=True, fastmath=False)
+def _frame_quats(E, codes, axes, out):
+    """out[j] = unit quaternion (w, x, y, z), w >= 0, of E[j] (degrees) in order codes[j]:
+    the product of the elementary rotations, each composed on the left as scipy does."""
+    for j in range(E.shape[0]):
+        rw, rx, ry, rz = 1.0, 0.0, 0.0, 0.0
+        for k in range(3):
+            a = axes[codes[j], k]
+            h = E[j, a] * _RAD_PER_DEG / 2.0
+            s, c = math.sin(h), math.cos(h)
+            px = s if a == 0 else 0.0
+            py = s if a == 1 else 0.0
+            pz = s if a == 2 else 0.0
+            if k == 0:
+                rw, rx, ry, rz = c, px, py, pz
+                continue
+            cx = py * rz - pz * ry
+            cy = pz * rx - px * rz
+            cz = px * ry - py * rx
+            rw, rx, ry, rz = (
+                c * rw - px * rx - py * ry - pz * rz,
+                c * rx + rw * px + cx,
+                c * ry + rw * py + cy,
+                c * rz + rw * pz + cz,
+            )
+        sign = -1.0 if rw < 0 else 1.0
+        out[j, 0], out[j, 1], out[j, 2], out[j, 3] = rw * sign, rx * sign, ry * sign, rz * sign
+
+
+def order_codes(orders) -> np.ndarray:
+    """Codes (indices into :data:`fpdtw.motion.rotations.ORDERS`) of rotation orders."""
+    return np.array([ORDERS.index(check_order(o)) for o in orders], dtype=np.int64)
+
+
+def frame_quats(euler, codes) -> np.ndarray:
+    """Local rotations of one frame from its Euler angles, each joint in its own order.
+
+    The same numbers, bit for bit, as :func:`fpdtw.motion.motion.joint_quats` gives for
+    that frame.
+
+    Parameters
+    ----------
+    euler : ndarray of float64, shape (J, 3)
+        Degrees, (x, y, z) columns.
+    codes : ndarray of int64, shape (J,)
+        :func:`order_codes` of the joints' rotation orders.
+
+    Returns
+    -------
+    quats : ndarray of float64, shape (J, 4)
+        Unit quaternions ``(w, x, y, z)`` with ``w >= 0``.
+    """
+    E = np.ascontiguousarray(euler, dtype=np.float64)
+    out = np.empty((E.shape[0], 4))
+    _frame_quats(E, codes, _AXES, out)
+    return out
 
 
 @numba.njit(cache=True, fastmath=False, inline="always")
@@ -97,4 +167,4 @@ def frame_positions(skeleton, quats, root_translation, joints=None, root_relativ
     return out - pos[0] if root_relative else out
 
 
-__all__ = ["frame_positions"]
+__all__ = ["frame_positions", "frame_quats", "order_codes"]

@@ -63,8 +63,8 @@ from fpdtw import limits
 from fpdtw.errors import MotionFormatError
 from fpdtw.motion.features import Frame
 from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
-from fpdtw.motion.kinematics import frame_positions
-from fpdtw.motion.motion import EXACT_FRAMES, blend_poses, joint_quats, sample_points
+from fpdtw.motion.kinematics import frame_positions, frame_quats, order_codes
+from fpdtw.motion.motion import EXACT_FRAMES, blend_poses, sample_points
 from fpdtw.motion.rotations import UnwrapDegrees
 
 #: A frame more than this many frame periods after the previous one ends a gap.
@@ -139,6 +139,7 @@ class LiveTarget:
         else:
             self._need, self._cost = np.arange(skeleton.n_joints), cost
         self._orders = tuple(skeleton.rotation_orders[j] for j in self._need)
+        self._codes = order_codes(self._orders)
         #: Rotation order of each cost joint (the streamed skeleton's).
         self.orders = tuple(skeleton.rotation_orders[j] for j in cost)
         self._big = float(limits.get("max_abs_value"))
@@ -249,7 +250,7 @@ class LiveTarget:
         self._check_values(r, "translation value", line, frame)
         slot = self._slot(t, line, frame)
         e = euler[self._need]
-        q = joint_quats(e[None], self._orders)[0]
+        q = frame_quats(e, self._codes)
         self._prev, self._cur = self._cur, (slot, q, e, r)
         if self._prev is not None:
             self.n_lost += slot - self._prev[0] - 1
