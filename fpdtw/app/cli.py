@@ -224,7 +224,8 @@ def _command_group(sub, name: str, help: str, description: str, add_commands: st
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of the ``fpdtw`` command (align, live, data, experiments)."""
+    """The argument parser of the ``fpdtw`` command (align, live, serve, stream, data,
+    experiments)."""
     fmt = argparse.RawDescriptionHelpFormatter
     ap = _Parser(
         prog=PROG,
@@ -236,6 +237,8 @@ def build_parser() -> argparse.ArgumentParser:
               fpdtw align Walk_01.fbx Walk_02.fbx --method c --window 40 --out map.csv
               fpdtw align a.amc b.amc --method dtw --out map.csv --export-bvh a_aligned.bvh
               fpdtw live Walk_01.fbx Walk_02.fbx --method c --window 40 --animate walk.gif
+              fpdtw serve Walk_01.fbx --method c --window 40 --send osc.udp://127.0.0.1:9000
+              fpdtw stream Walk_02.bvh --to 127.0.0.1:7447 --drop 0.05
               fpdtw data cite
               fpdtw experiments run --smoke
 

@@ -136,6 +136,7 @@ class Session:
         self.answers = []
         self._lines = []
         self._header_bytes = 0
+        self._started = False
         self._stamped = None
         self._first = None
         self._last = None
@@ -205,7 +206,8 @@ class Session:
             )
         self._lines.append(text)
         words = text.split()
-        if words and not any(s.strip() for s in self._lines[:-1]):
+        if words and not self._started:
+            self._started = True
             check_start(words[0], None, self.line)  # garbage fails now, not at 1 MiB
         if is_header_end(text):
             self.header = parse_bvh_header(self._lines, None, stream=True)
@@ -434,7 +436,8 @@ class Server:
         while True:
             where = f"line {session.line + 1}"
             try:
-                raw = await asyncio.wait_for(reader.readuntil(b"\n"), timeout)
+                async with asyncio.timeout(timeout):  # no task per line, unlike wait_for
+                    raw = await reader.readuntil(b"\n")
             except asyncio.IncompleteReadError as e:
                 if not e.partial.strip():
                     return "ended"
@@ -459,9 +462,11 @@ class Server:
             except (FpdtwError, ValueError) as exc:
                 return await self._fail(writer, str(exc))
             if answer is None:
+                await asyncio.sleep(0)  # a burst of buffered lines never starves the others
                 continue
             try:
                 await self._answer(take, session, answer, writer)
+                await asyncio.sleep(0)
             except TimeoutError:
                 return await self._fail(
                     writer, f"{where}: the answers were not read for {timeout:g} s"
@@ -471,7 +476,8 @@ class Server:
 
     async def _answer(self, take, session, answer, writer):
         writer.write(answer.encode())
-        await asyncio.wait_for(writer.drain(), self.idle_timeout)
+        async with asyncio.timeout(self.idle_timeout):
+            await writer.drain()
         if self.senders:
             index, m, latency = session.answers[-1]
             for s in self.senders:

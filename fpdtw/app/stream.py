@@ -362,7 +362,7 @@ def play(take, to: str, *, rate=None, skeleton=None, **kwargs) -> StreamReport:
 
     host, port = parse_address(to)
     lines = take if isinstance(take, TakeLines) else take_lines(take, rate, skeleton=skeleton)
-    return asyncio.run(stream_take(lines, host, port, **kwargs))
+    return _run(stream_take(lines, host, port, **kwargs))
 
 
 def play_many(take, to: str, streams: int, *, rate=None, **kwargs) -> list:
@@ -381,7 +381,20 @@ def play_many(take, to: str, streams: int, *, rate=None, **kwargs) -> list:
         jobs = [stream_take(lines, host, port, seed=seed + i, **kwargs) for i in range(streams)]
         return await asyncio.gather(*jobs)
 
-    return list(asyncio.run(main()))
+    return list(_run(main()))
+
+
+def _run(coro):
+    """Run a coroutine to its end: here, or, where an event loop already runs (a Jupyter
+    kernel), on a loop of its own in a worker thread."""
+    try:
+        asyncio.get_running_loop()
+    except RuntimeError:
+        return asyncio.run(coro)
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(1) as pool:
+        return pool.submit(asyncio.run, coro).result()
 
 
 def simulate(
@@ -639,7 +652,11 @@ def drop_rate_rows(
 
 
 def _progress(items, what):
-    if len(items) < 2:
+    """``items`` with a tqdm progress bar on a terminal (plain otherwise: a notebook's
+    checked output stays the same)."""
+    import sys
+
+    if len(items) < 2 or not sys.stderr.isatty():
         return items
     from tqdm.auto import tqdm
 
