@@ -619,6 +619,7 @@ def test_serve_and_stream_commands_and_a_clean_stop(walk, tmp_path, sig):
         host, port = parse_address(address)
         lines = take_lines(take)
         with socket.create_connection((host, port), timeout=20) as s:
+            # three lines in one packet, without t=: they arrived together, no gap
             s.sendall(("\n".join(lines.header) + "\n" + "\n".join(lines.lines[:3]) + "\n").encode())
             f = s.makefile("rb")
             assert [f.readline().split()[0] for _ in range(3)] == [b"0", b"1", b"2"]

@@ -741,6 +741,7 @@ def _cmd_serve(args, log) -> int:
         send=args.send,
         log=log,
     )
+    server.warm_up(I)  # and the live target's kernels, on the input's own first frames
     sends = "".join(f"; answers also to {u}" for u in args.send)
     log(f"serving {name} against input {_describe(I)}; up to {args.max_clients} takes at "
         f"once; dropped frames: {args.gap}{sends}")  # fmt: skip

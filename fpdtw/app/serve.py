@@ -20,8 +20,9 @@ Protocol (text lines, ``\\n`` or ``\\r\\n``, as Axis Neuron's BVH broadcasting s
    ``frame index``: the target frame the answer is for, on the INPUT's frame rate (the
    row of ``fpdtw align INPUT TAKE``'s map; at equal rates the captured frame's number).
    ``input frame``: the frame of the recording the online method shows for it;
-   ``input time s`` = input frame / input rate. ``latency us``: the server's time from
-   reading the line to writing the answer (microseconds). A line that completes no new
+   ``input time s`` = input frame / input rate. ``latency us``: the server's time from the
+   line's arrival (when its last byte was received) to writing its answer, microseconds
+   (waiting behind other takes' lines included). A line that completes no new
    target frame (a target faster than the input) repeats the previous answer's index.
 4. Anything wrong (a malformed header or line, a line or header over its limit, a wrong
    channel count, NaN, a time that goes backwards, a client silent for ``idle_timeout``
@@ -47,7 +48,9 @@ Notebook: 20_align_a_live_performance.ipynb
 
 from __future__ import annotations
 
+import array
 import asyncio
+import collections
 import contextlib
 import signal
 import socket
@@ -112,18 +115,27 @@ class Session:
         Joints whose positions the target frames carry (OPW).
     gap : str
         :data:`fpdtw.motion.stream.GAP_RULES` (default ``"slerp"``).
+    record : bool
+        Keep every target frame's and every answer's record (``ticks``, ``answers``; a
+        simulation). The server does not: it keeps the latencies only (8 bytes a line, at
+        most :data:`fpdtw.limits.MAX_FRAMES` of them).
 
     Attributes
     ----------
     ticks : list of (int, int, bool)
-        Every target frame the aligner stepped on: index, input frame, filled (in a gap).
+        With ``record``: every target frame the aligner stepped on: index, input frame,
+        filled (in a gap).
     answers : list of (int, int, float)
-        Every answer: index, input frame, server latency (seconds).
+        With ``record``: every answer: index, input frame, server latency (seconds).
+    latencies : array.array of float
+        The server latency of every answer (seconds).
 
     Notebook: 20_align_a_live_performance.ipynb
     """
 
-    def __init__(self, I: MotionFeatures, make_aligner, *, position_joints=None, gap="slerp"):
+    def __init__(
+        self, I: MotionFeatures, make_aligner, *, position_joints=None, gap="slerp", record=False
+    ):
         if gap not in GAP_RULES:
             raise ValueError(f"gap must be one of {GAP_RULES}, got {gap!r}")
         self.I, self.gap, self.position_joints = I, gap, position_joints
@@ -132,8 +144,10 @@ class Session:
         self.target = None
         self.line = 0
         self.n_frames = 0
+        self.record = bool(record)
         self.ticks = []
         self.answers = []
+        self.latencies = array.array("d")
         self._lines = []
         self._header_bytes = 0
         self._started = False
@@ -149,7 +163,8 @@ class Session:
         raw : bytes
             The line as received (with or without its newline).
         arrival : float
-            When it arrived (``time.perf_counter()`` seconds): the latency counts from it.
+            When it arrived (``time.perf_counter()`` seconds, its last byte received): the
+            latency counts from it, and so does a line without ``t=``.
         when : float, optional
             The time a line without ``t=`` counts at (default ``arrival``; a simulation
             passes its simulated arrival).
@@ -183,16 +198,26 @@ class Session:
         else:
             h.check_positions(row[None], self._first, lines=[self.line], frame0=k)
         euler, trans = h.split(row[None])
-        ticks = self.target.push(euler[0], trans[0], t, line=self.line, frame=k)
+        ticks = self.target.push(
+            euler[0], trans[0], t, arrival=not self._stamped, line=self.line, frame=k
+        )
         self.n_frames += 1
         for index, frame, filled in ticks:
             m = self.aligner.step(frame)
-            self.ticks.append((index, m, filled))
+            if self.record:
+                self.ticks.append((index, m, filled))
             self._last = (index, m)
         index, m = self._last
         latency = time.perf_counter() - arrival
-        self.answers.append((index, m, latency))
+        self.latencies.append(latency)
+        if self.record:
+            self.answers.append((index, m, latency))
         return f"{index} {m} {m / self.I.fps:.6f} {round(latency * 1e6)}\n"
+
+    @property
+    def last(self) -> tuple | None:
+        """(frame index, input frame) of the latest answer (None before the first)."""
+        return self._last
 
     def _header_line(self, raw, text):
         self._header_bytes += len(raw)
@@ -244,7 +269,7 @@ class Session:
             )
         if not stamped:
             return arrival, s
-        head, _, rest = s.partition(" ")
+        head, rest = (s.split(None, 1) + [""])[:2]
         try:
             t = float(head[2:])
         except ValueError:
@@ -259,13 +284,14 @@ class Session:
 
     def summary(self) -> dict:
         """Frames received, target frames stepped, filled, lost; latency percentiles (us)."""
-        lat = np.array([a[2] for a in self.answers]) * 1e6
+        lat = np.frombuffer(self.latencies, dtype=np.float64) * 1e6
+        lt = self.target
         out = dict(
             lines=self.line,
             frames=self.n_frames,
-            ticks=len(self.ticks),
-            filled=sum(1 for t in self.ticks if t[2]),
-            lost=0 if self.target is None else self.target.n_lost,
+            ticks=0 if lt is None else lt.n_ticks,
+            filled=0 if lt is None else lt.n_filled,
+            lost=0 if lt is None else lt.n_lost,
         )
         for p in (50, 99):
             out[f"p{p}_us"] = float(np.percentile(lat, p)) if lat.size else None
@@ -314,6 +340,31 @@ class _Sender:
 
 
 # -- the server -------------------------------------------------------------------------------
+
+
+class _TimedReader(asyncio.StreamReader):
+    """A stream reader that notes when each chunk of bytes arrived, so that a line's
+    arrival time is when its last byte was received, not when the server got round to it
+    (lines that arrived together while the server was busy arrived together)."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._fed = 0
+        self._consumed = 0
+        self._chunks = collections.deque()  # (offset after the chunk, perf_counter time)
+
+    def feed_data(self, data):
+        self._fed += len(data)
+        self._chunks.append((self._fed, time.perf_counter()))
+        super().feed_data(data)
+
+    async def timed_line(self):
+        """``(line, arrival)``: the next line (with its newline) and when it arrived."""
+        raw = await self.readuntil(b"\n")
+        self._consumed += len(raw)
+        while self._chunks[0][0] < self._consumed:
+            self._chunks.popleft()
+        return raw, self._chunks[0][1]
 
 
 class Server:
@@ -368,14 +419,31 @@ class Server:
         self._tasks = set()
         self._server = None
 
+    def warm_up(self, motion, frames: int = 8) -> None:
+        """Stream the first ``frames`` frames of ``motion`` through a session, unanswered:
+        every compiled kernel of a take (parsing, rotations, positions, the aligner's step)
+        is loaded before the first client, not during its first frame."""
+        from fpdtw.io.bvh import bvh_lines
+
+        header, lines = bvh_lines(motion)
+        s = Session(self.I, self.make_aligner, position_joints=self.position_joints, gap=self.gap)
+        for line in header:
+            s.feed(f"{line}\n".encode(), 0.0)
+        for k, line in enumerate(lines[:frames]):
+            s.feed(f"{line}\n".encode(), time.perf_counter(), when=k / motion.fps)
+
     async def start(self, host: str, port: int):
         """Listen on ``host:port`` (port 0: any free one); return the (host, port) bound.
 
         The line limit (:data:`fpdtw.limits.MAX_LINE_BYTES`) is read here, once."""
         self.max_line_bytes = int(limits.get("max_line_bytes"))
-        self._server = await asyncio.start_server(
-            self._client, host, port, limit=self.max_line_bytes
-        )
+        loop = asyncio.get_running_loop()
+
+        def protocol():
+            reader = _TimedReader(limit=self.max_line_bytes, loop=loop)
+            return asyncio.StreamReaderProtocol(reader, self._client, loop=loop)
+
+        self._server = await loop.create_server(protocol, host, port)
         sock = self._server.sockets[0].getsockname()
         return sock[0], sock[1]
 
@@ -437,7 +505,7 @@ class Server:
             where = f"line {session.line + 1}"
             try:
                 async with asyncio.timeout(timeout):  # no task per line, unlike wait_for
-                    raw = await reader.readuntil(b"\n")
+                    raw, arrival = await reader.timed_line()
             except asyncio.IncompleteReadError as e:
                 if not e.partial.strip():
                     return "ended"
@@ -456,7 +524,6 @@ class Server:
                 )
             except ConnectionError as e:
                 return f"ended: the client disconnected ({type(e).__name__})"
-            arrival = time.perf_counter()
             try:
                 answer = session.feed(raw, arrival)
             except (FpdtwError, ValueError) as exc:
@@ -479,7 +546,7 @@ class Server:
         async with asyncio.timeout(self.idle_timeout):
             await writer.drain()
         if self.senders:
-            index, m, latency = session.answers[-1]
+            (index, m), latency = session.last, session.latencies[-1]
             for s in self.senders:
                 s.send(take, index, m, m / self.I.fps, round(latency * 1e6))
 

@@ -432,7 +432,7 @@ def simulate(
     pj = OPW_JOINTS if a.family == "OPW" else None
     if not isinstance(I, MotionFeatures):
         I = MotionFeatures.from_motion(I, position_joints=pj)
-    session = Session(I, a.make, position_joints=pj, gap=gap)
+    session = Session(I, a.make, position_joints=pj, gap=gap, record=True)
     for line in take.header:
         session.feed(line.encode("latin-1"), 0.0)
     sent, capture, send_at = plan(take.n_frames, take.fps, drop, jitter_ms, seed)

@@ -111,6 +111,10 @@ class UnwrapDegrees:
             period = self._PERIOD
             high = period / 2
             dd = p - self._p
+            if np.abs(dd).max() < high:  # no correction anywhere (numpy.unwrap's adds 0)
+                self._p = p
+                up = p if self._acc is None else p + self._acc
+                return np.rad2deg(up)
             ddmod = np.mod(dd - (-high), period) + (-high)
             np.copyto(ddmod, high, where=(ddmod == -high) & (dd > 0))
             corr = ddmod - dd

@@ -142,7 +142,10 @@ class LiveTarget:
         self._codes = order_codes(self._orders)
         #: Rotation order of each cost joint (the streamed skeleton's).
         self.orders = tuple(skeleton.rotation_orders[j] for j in cost)
+        # the limits of a take are those in force when it starts
         self._big = float(limits.get("max_abs_value"))
+        self._max_gap = float(limits.get("max_gap_s"))
+        self._max_ticks = int(limits.get("max_frames"))
         self._check_values(skeleton.offsets, "joint offset", None, None)
         self._unwrap = UnwrapDegrees()
         self._prev = None  # (slot, q, e, r) of the previous frame received
@@ -184,10 +187,12 @@ class LiveTarget:
         """Slot of the latest frame received (None before the first)."""
         return None if self._cur is None else self._cur[0]
 
-    def _slot(self, t, line, frame) -> int:
+    def _slot(self, t, line, frame, arrival) -> int:
         if self._cur is None:
             return 0
         dt = t - self._last_t
+        if arrival and dt <= 0:  # arrived together (or a clock step back): consecutive
+            return self._cur[0] + 1
         if not dt > 0:
             raise MotionFormatError(
                 self.where,
@@ -195,7 +200,7 @@ class LiveTarget:
                 line=line,
                 frame=frame,
             )
-        max_gap = float(limits.get("max_gap_s"))
+        max_gap = self._max_gap
         if dt > max_gap:
             raise MotionFormatError(
                 self.where,
@@ -213,7 +218,9 @@ class LiveTarget:
         return float(k) if self.same_rate else (k / self.rate) * self.fps
 
     # -- frames -----------------------------------------------------------------------
-    def push(self, euler, root_translation, t: float, *, line=None, frame=None) -> list:
+    def push(
+        self, euler, root_translation, t: float, *, arrival=False, line=None, frame=None
+    ) -> list:
         """Receive the next frame; return the ticks it completes, with their features.
 
         Parameters
@@ -225,6 +232,9 @@ class LiveTarget:
         t : float
             Its time in seconds (capture time, or arrival time), on any clock that the
             frames of this take share.
+        arrival : bool
+            ``t`` is an arrival time: frames that arrived at the same time are consecutive
+            (a capture time must increase from frame to frame).
         line, frame : int, optional
             Its line and frame number in a stream, named by errors.
 
@@ -246,9 +256,10 @@ class LiveTarget:
         t = float(t)
         if not math.isfinite(t):
             raise MotionFormatError(self.where, f"time {t!r} is not finite", line=line, frame=frame)
-        self._check_values(euler, "rotation value", line, frame)
-        self._check_values(r, "translation value", line, frame)
-        slot = self._slot(t, line, frame)
+        if not (np.abs(euler).max() <= self._big and np.abs(r).max() <= self._big):
+            self._check_values(euler, "rotation value", line, frame)
+            self._check_values(r, "translation value", line, frame)
+        slot = self._slot(t, line, frame, arrival)
         e = euler[self._need]
         q = frame_quats(e, self._codes)
         self._prev, self._cur = self._cur, (slot, q, e, r)
@@ -257,7 +268,7 @@ class LiveTarget:
         self._last_t = t
         self.n_received += 1
         due = self._due(slot)
-        limit = int(limits.get("max_frames"))
+        limit = self._max_ticks
         if self.n_ticks + len(due) > limit:
             raise MotionFormatError(
                 self.where,
