@@ -78,8 +78,6 @@ _BOM = b"\xef\xbb\xbf"
 def parse_address(text: str, default_host: str = "127.0.0.1") -> tuple[str, int]:
     """``"HOST:PORT"`` (``"[::1]:PORT"`` for IPv6, ``":PORT"`` for the default host) ->
     (host, port); ValueError naming what is wrong.
-
-    Notebook: 20_align_a_live_performance.ipynb
     """
     host, sep, port = str(text).rpartition(":")
     if not sep:
@@ -129,8 +127,6 @@ class Session:
         With ``record``: every answer: index, input frame, server latency (seconds).
     latencies : array.array of float
         The server latency of every answer (seconds).
-
-    Notebook: 20_align_a_live_performance.ipynb
     """
 
     def __init__(
@@ -390,8 +386,6 @@ class Server:
         ``osc.udp://HOST:PORT`` or ``udp://HOST:PORT`` destinations of every answer.
     log : callable
         ``log(message)`` (default: print to stderr).
-
-    Notebook: 20_align_a_live_performance.ipynb
     """
 
     def __init__(
@@ -579,8 +573,6 @@ def run_server(server: Server, host: str, port: int, *, out=None) -> int:
 
     Prints ``listening on HOST:PORT`` (the port bound, also when 0 was asked) to ``out``
     (default stdout) once it accepts connections.
-
-    Notebook: 20_align_a_live_performance.ipynb
     """
     out = sys.stdout if out is None else out
 

@@ -129,8 +129,6 @@ def plan(n: int, fps: float, drop: float = 0.0, jitter_ms: float = 0.0, seed: in
         Capture time of each frame, ``q / fps``.
     send_s : ndarray of float64, shape (n,)
         When each line leaves (seconds after the start; non-decreasing).
-
-    Notebook: 20_align_a_live_performance.ipynb
     """
     if not 0.0 <= drop < 1.0:
         raise ValueError(f"drop must be a probability in [0, 1), got {drop!r}")
@@ -174,8 +172,6 @@ class StreamReport:
         The server's error line, if any.
     fast : bool
         Sent without pacing.
-
-    Notebook: 20_align_a_live_performance.ipynb
     """
 
     name: str
@@ -275,8 +271,6 @@ async def stream_take(
     ------
     OSError
         No server at ``host:port``.
-
-    Notebook: 20_align_a_live_performance.ipynb
     """
     if fast and jitter_ms:
         raise ValueError("jitter needs real-time pacing (not fast)")
@@ -355,8 +349,6 @@ def play(take, to: str, *, rate=None, skeleton=None, **kwargs) -> StreamReport:
     """Stream a take to ``to`` (``"HOST:PORT"``) and return the report (blocking).
 
     ``kwargs`` as :func:`stream_take`.
-
-    Notebook: 20_align_a_live_performance.ipynb
     """
     from fpdtw.app.serve import parse_address
 
@@ -368,8 +360,6 @@ def play(take, to: str, *, rate=None, skeleton=None, **kwargs) -> StreamReport:
 def play_many(take, to: str, streams: int, *, rate=None, **kwargs) -> list:
     """Stream the same take ``streams`` times at once (one connection each, seeds
     ``seed, seed + 1, ...``); return their reports.
-
-    Notebook: 20_align_a_live_performance.ipynb
     """
     from fpdtw.app.serve import parse_address
 
@@ -453,8 +443,6 @@ def write_answers_csv(path, reports) -> Path:
     """The answers of one or more reports as CSV, one row per answer, columns
     :data:`ANSWER_COLUMNS` (``stream`` numbers the reports from 1); written whole or not
     at all.
-
-    Notebook: 20_align_a_live_performance.ipynb
     """
     import io
 
@@ -544,6 +532,8 @@ def round_trip_rows(addresses: dict, take: TakeLines, streams=(1, 8), *, fast=Fa
 
     Notebook: 20_align_a_live_performance.ipynb
     """
+    from fpdtw.paper.bench import round_trip_stats
+
     warm = TakeLines(take.name, take.fps, take.header, take.lines[:60])
     rows = []
     for label, address in addresses.items():
@@ -559,12 +549,7 @@ def round_trip_rows(addresses: dict, take: TakeLines, streams=(1, 8), *, fast=Fa
                 dict(
                     method=label,
                     streams=int(n),
-                    answers=int(rt.size),
-                    round_trip_p50_ms=float(np.percentile(rt, 50)),
-                    round_trip_p99_ms=float(np.percentile(rt, 99)),
-                    round_trip_max_ms=float(rt.max()),
-                    server_p50_ms=float(np.percentile(sv, 50)),
-                    server_p99_ms=float(np.percentile(sv, 99)),
+                    **round_trip_stats(rt, sv),
                     budget_ms=1e3 / take.fps,
                     mode="as fast as answered" if fast else "real time",
                 )
@@ -651,6 +636,27 @@ def drop_rate_rows(
     return rows
 
 
+def drop_rate_pivot(rows) -> list:
+    """:func:`drop_rate_rows` as one row per method and gap rule, one column per condition
+    (mean deviation, frames); the conditions without gaps (no loss, another rate) repeat
+    under both rules.
+
+    Notebook: 20_align_a_live_performance.ipynb
+    """
+    conds = list(dict.fromkeys(r["condition"] for r in rows))
+    rules = list(dict.fromkeys(r["gap"] for r in rows if r["gap"] != "-")) or ["-"]
+    out = []
+    for method in dict.fromkeys(r["method"] for r in rows):
+        for rule in rules:
+            row = {"method": method, "gap": rule}
+            for c in conds:
+                hit = [r for r in rows if r["method"] == method and r["condition"] == c
+                       and r["gap"] in (rule, "-")]  # fmt: skip
+                row[c] = hit[0]["deviation_frames"] if hit else None
+            out.append(row)
+    return out
+
+
 def _progress(items, what):
     """``items`` with a tqdm progress bar on a terminal (plain otherwise: a notebook's
     checked output stays the same)."""
@@ -668,6 +674,7 @@ __all__ = [
     "StreamReport",
     "TakeLines",
     "play",
+    "drop_rate_pivot",
     "drop_rate_rows",
     "lines_motion",
     "play_many",

@@ -105,8 +105,6 @@ class LiveTarget:
     MotionFormatError
         The skeleton lacks a joint of ``joints`` or ``position_joints``, or has an offset
         beyond :data:`fpdtw.limits.MAX_ABS_VALUE`.
-
-    Notebook: 20_align_a_live_performance.ipynb
     """
 
     def __init__(

@@ -645,6 +645,21 @@ SERVER_OPTIONS = ("-m", "c", "-w", "40")
 SERVER_STREAMS = (1, 8)
 
 
+def round_trip_stats(round_trip_ms, server_ms) -> dict:
+    """``answers``, ``round_trip_p50_ms``, ``round_trip_p99_ms``, ``round_trip_max_ms``,
+    ``server_p50_ms``, ``server_p99_ms`` of the answers' round trips and server latencies
+    (milliseconds, arrays of the same length)."""
+    rt, sv = np.asarray(round_trip_ms, dtype=float), np.asarray(server_ms, dtype=float)
+    return dict(
+        answers=int(rt.size),
+        round_trip_p50_ms=float(np.percentile(rt, 50)),
+        round_trip_p99_ms=float(np.percentile(rt, 99)),
+        round_trip_max_ms=float(rt.max()),
+        server_p50_ms=float(np.percentile(sv, 50)),
+        server_p99_ms=float(np.percentile(sv, 99)),
+    )
+
+
 def bench_server(pair=BENCH_PAIRS[0], streams=SERVER_STREAMS, timeout=300.0) -> dict:
     """Loopback round trip of ``fpdtw serve`` (:data:`SERVER_OPTIONS`) against the pair's
     input, the pair's target played in real time by ``fpdtw stream --streams N``.
@@ -693,14 +708,7 @@ def bench_server(pair=BENCH_PAIRS[0], streams=SERVER_STREAMS, timeout=300.0) -> 
                 run("--streams", str(n), "--out", str(csv))
                 rows = np.loadtxt(csv, delimiter=",", skiprows=1, ndmin=2)
                 rt, sv = rows[:, 6] / 1e3, rows[:, 5] / 1e3  # round_trip_us, server_us
-                out["streams"][int(n)] = dict(
-                    answers=int(rt.size),
-                    round_trip_p50_ms=float(np.percentile(rt, 50)),
-                    round_trip_p99_ms=float(np.percentile(rt, 99)),
-                    round_trip_max_ms=float(rt.max()),
-                    server_p50_ms=float(np.percentile(sv, 50)),
-                    server_p99_ms=float(np.percentile(sv, 99)),
-                )
+                out["streams"][int(n)] = round_trip_stats(rt, sv)
     finally:
         server.send_signal(signal.SIGTERM)
         try:
@@ -899,6 +907,7 @@ __all__ = [
     "peer_ratios",
     "peers_table",
     "step_s",
+    "round_trip_stats",
     "run_benchmark",
     "server_table",
 ]
