@@ -577,6 +577,11 @@ def test_frames_per_take_are_bounded(walk, walk_input):
             for raw in [*header, *lines]:
                 s.feed((raw + "\n").encode(), time.perf_counter())
     assert s.n_frames == 10
+    with limits.override(max_frames=10):  # blank lines count too
+        s = Session(MotionFeatures.from_motion(walk_input), resolve("Mc w40").make)
+        with pytest.raises(MotionFormatError, match=r"more than 10 blank lines"):
+            for raw in [*header, *[""] * 11]:
+                s.feed((raw + "\n").encode(), 0.0)
 
 
 # --------------------------------------------------------- the command line, as a subprocess

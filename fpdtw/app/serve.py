@@ -146,6 +146,8 @@ class Session:
         self.latencies = array.array("d")
         self._lines = []
         self._header_bytes = 0
+        self._blank = 0
+        self._max_blank = int(limits.get("max_frames"))
         self._started = False
         self._stamped = None
         self._first = None
@@ -183,7 +185,14 @@ class Session:
         if self.header is None:
             return self._header_line(raw, text)
         s = text.strip()
-        if not s:
+        if not s:  # ignored, but counted: a take of blank lines ends too
+            self._blank += 1
+            if self._blank > self._max_blank:
+                raise MotionFormatError(
+                    None,
+                    f"more than {self._max_blank} blank lines ({limits.env_name('max_frames')})",
+                    line=self.line,
+                )
             return None
         t, values = self._time(s, arrival if when is None else when)
         h, k = self.header, self.n_frames
