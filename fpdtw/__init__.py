@@ -3,7 +3,8 @@
 The public API, by what it holds:
 
 * motions: :class:`Motion`, :class:`Skeleton`, :func:`load_motion`, the joint sets
-  :data:`PAPER_JOINTS` (8) and :data:`OPW_JOINTS` (16), :class:`MotionFeatures`;
+  :data:`PAPER_JOINTS` (8) and :data:`OPW_JOINTS` (16), :class:`MotionFeatures`,
+  :class:`LiveTarget` (a motion arriving frame by frame: lost frames, other rates);
 * costs and offline alignment: :func:`geo_distance`, :func:`geodesic_cost_matrix`,
   :func:`position_cost_matrix`, :func:`dtw`, :func:`dtw_pair`, :func:`utw_map`;
 * online aligners (one streaming interface, :meth:`OnlineAligner.step`):
@@ -30,6 +31,7 @@ from fpdtw.metrics import deviation, similarity
 from fpdtw.motion.features import Frame, MotionFeatures
 from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
 from fpdtw.motion.motion import Motion, Skeleton
+from fpdtw.motion.stream import LiveTarget
 from fpdtw.online import (
     OEDTW,
     OLTW,
@@ -56,6 +58,7 @@ __all__ = [
     "DataFetchError",
     "FpdtwError",
     "Frame",
+    "LiveTarget",
     "ManifestError",
     "MethodA",
     "MethodB",

@@ -157,6 +157,19 @@ def test_report_has_every_method_and_w_with_limit_paper_and_peer_ratios():
     assert "run make bench-peers" in text
 
 
+def test_report_shows_the_server_round_trip():
+    stats = bench.round_trip_stats([1.0, 2.0, 3.0, 4.0], [0.5, 0.5, 0.5, 1.5])
+    assert stats["answers"] == 4 and stats["round_trip_max_ms"] == 4.0
+    assert stats["round_trip_p50_ms"] == 2.5 and stats["server_p50_ms"] == 0.5
+    server = {"method": "-m c -w 40", "pair": "Walk_01 -> Walk_02", "streams": {"1": stats}}
+    text = bench.format_report(dict(_fake_report({}), server=server))
+    lines = text.splitlines()
+    at = next(i for i, x in enumerate(lines) if x.startswith("Server round trip (fpdtw serve -m c"))
+    assert lines[at + 1].split()[:3] == ["takes", "at", "once"]
+    assert lines[at + 2].split() == ["1", "4", "2.500", "3.970", "4.000", "0.500", "1.470"]
+    assert "Server round trip" not in bench.format_report(_fake_report({}))
+
+
 # ------------------------------------------------------------------------------- peers
 class _FakeTracker:
     """pymatchmaker's interface; runs out of reference after ``stop`` calls."""

@@ -84,8 +84,10 @@ NOTEBOOKS = (
               "09_table2_timing", "10_fig8_walk_pair", "13_opw_fig4", "14_opw_fig5_fig6",
               "15_readings_of_algorithm_3")),
     Notebook("20_align_a_live_performance",
-             ("live_latency", "live_maps", "live_walk_Mc_w40", "live_walk_OLTW"),
-             "for people: align a recorded take to a live one"),
+             ("live_latency", "live_maps", "live_walk_Mc_w40", "live_walk_OLTW",
+              "live_network_latency", "live_drop_rate"),
+             "for people: align a recorded take to a live one, also over the network "
+             "(`fpdtw serve`)"),
 )  # fmt: skip
 
 
