@@ -64,12 +64,13 @@ def alternatives() -> list[Alternative]:
     ]
     for key, choice in SILENT_CHOICES.items():
         targets = choice_targets(choice)
+        label = f"{key.replace('_', ' ')}: {choice.alternative}"
         if choice.option is not None:
             alias = {n: choice_variant(n, choice) for n in targets}
             alias.update({n + "@60Hz": alias[n] + "@60Hz" for n in targets})
-            out.append(Alternative(key, choice.alternative, alias))
+            out.append(Alternative(key, label, alias))
         else:  # the metrics: the same maps, scored another way
-            out.append(Alternative(key, choice.alternative, metric=key))
+            out.append(Alternative(key, label, metric=key))
     return out
 
 
