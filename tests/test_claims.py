@@ -346,10 +346,10 @@ def test_format_claims_prints_every_body_of_evidence(paper_like):
     text = claims.format_claims(claims.claim_rows(["1", "5b"], rows=rows))
     lines = text.splitlines()
     assert lines[0].startswith("[1] Without a constraint, Mc w40")
-    assert "    paper: Mc w40" in lines
-    assert any(x.startswith("    holds? yes: All 2 parts hold (") for x in lines)
-    assert any(x.startswith("    95 %:  1(a): +0.") for x in lines)
-    assert any(x.startswith("    also:  same movements yes; authors fbx yes; hdm05 yes")
+    assert "    paper:  Mc w40" in lines
+    assert any(x.startswith("    holds?  yes: All 2 parts hold (") for x in lines)
+    assert any(x.startswith("    95 %:   1(a): +0.") for x in lines)
+    assert any(x.startswith("    also:   same movements yes; authors fbx yes; hdm05 yes")
                for x in lines)  # fmt: skip
     assert sum("literal window" in x for x in lines) == 1
     assert max(len(x) for x in lines) <= 96

@@ -129,8 +129,6 @@ def robustness(claims, mode: str = "full", study=None, features=None, progress=F
 
     Notebook: 12_claims.ipynb
     """
-    from tqdm.auto import tqdm
-
     from fpdtw.paper.claims.table import ClaimContext
 
     if study is None:
@@ -147,7 +145,11 @@ def robustness(claims, mode: str = "full", study=None, features=None, progress=F
     ours = {c.id: c.evaluate(ctx0)["holds"] for c in todo}
     alts = alternatives()
     verdicts = {c.id: [] for c in todo}
-    for alt in tqdm(alts, desc="readings", disable=not progress):
+    if progress:
+        from tqdm.auto import tqdm
+
+        alts = tqdm(alts, desc="readings")
+    for alt in alts:
         values = None
         if alt.metric is not None:
             if features is None:

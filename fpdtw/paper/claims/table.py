@@ -1188,7 +1188,7 @@ def format_claims(rows, stable=None, width: int = 96) -> str:
 
     def fill(text, label):
         return textwrap.fill(
-            str(text), width, initial_indent="    " + label, subsequent_indent=" " * 11
+            str(text), width, initial_indent="    " + label, subsequent_indent=" " * 12
         )
 
     out = []
@@ -1196,20 +1196,20 @@ def format_claims(rows, stable=None, width: int = 96) -> str:
         if stable is not None and bool(r.get("stable", True)) != stable:
             continue
         lines = [textwrap.fill(f"[{r['id']}] {r['claim']}", width, subsequent_indent="    ")]
-        lines.append(fill(r["paper"], "paper: "))
-        lines.append(fill(r["ours"], "ours:  "))
-        lines.append(fill(f"{r['holds']}: {r['reason']}", "holds? "))
+        lines.append(fill(r["paper"], "paper:  "))
+        lines.append(fill(r["ours"], "ours:   "))
+        lines.append(fill(f"{r['holds']}: {r['reason']}", "holds?  "))
         if r.get("interval"):
-            lines.append(fill(r["interval"], "95 %:  "))
+            lines.append(fill(r["interval"], "95 %:   "))
         bodies = [
             f"{k.replace('_', ' ')} {r[f'holds_{k}']}"
             for k in OTHER_EVIDENCE
             if r.get(f"holds_{k}", R.NA) != R.NA
         ]
         if bodies:
-            lines.append(fill("; ".join(bodies), "also:  "))
+            lines.append(fill("; ".join(bodies), "also:   "))
         if r.get("robustness") and not str(r["robustness"]).startswith(("n/a", "not computed")):
-            lines.append(fill(r["robustness"], "robust:"))
+            lines.append(fill(r["robustness"], "robust: "))
         if "ours_literal" in r and (r["ours_literal"], r["holds_literal"]) != (
             r["ours"],
             r["holds"],

@@ -298,7 +298,7 @@ def plot_score_boxes(
             bar.set_gid("median_ci")
         if metric == "similarity":
             lo, hi = ev.interval("UTW", metric)
-            band = ax.axhspan(lo, hi, color="red", alpha=0.12, lw=0, zorder=4)
+            band = ax.axhspan(lo, hi, color="red", alpha=0.10, lw=0, zorder=0.5)
             band.set_gid("benchmark_ci")
     if metric == "similarity":
         label = f"UTW median (benchmark) = {bench:.3f}"
@@ -329,6 +329,8 @@ def plot_score_boxes(
     handles.append(Line2D([], [], color=line_colour, lw=1.2, label=label))
     if intervals:
         handles.append(Line2D([], [], color="k", lw=2.2, label="95 % interval of the median"))
+        if metric == "similarity":
+            handles.append(Patch(facecolor="red", alpha=0.10, label="95 % interval of UTW's median"))
     ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.005, 1.0))
     ax.grid(axis="y", alpha=0.3)
     return fig, ax
