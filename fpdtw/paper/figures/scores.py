@@ -330,7 +330,8 @@ def plot_score_boxes(
     if intervals:
         handles.append(Line2D([], [], color="k", lw=2.2, label="95 % interval of the median"))
         if metric == "similarity":
-            handles.append(Patch(facecolor="red", alpha=0.10, label="95 % interval of UTW's median"))
+            band_label = "95 % interval of UTW's median"
+            handles.append(Patch(facecolor="red", alpha=0.10, label=band_label))
     ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.005, 1.0))
     ax.grid(axis="y", alpha=0.3)
     return fig, ax
