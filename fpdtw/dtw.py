@@ -92,7 +92,9 @@ def _accumulate(C, wd, D):
     Each cell is ``min(D[i-1, j-1] + wd*c, D[i-1, j] + c, D[i, j-1] + c)``, the
     same floating-point operations as dtw-python, so ``D`` agrees bit for bit.
     The running value of the current row stays in a register; rows are
-    contiguous.
+    contiguous. Methods B's window accumulation is this kernel on its window.
+
+    Plain version: fpdtw.plain.accumulate.
     """
     m1, n1 = C.shape
     x = C[0, 0]
@@ -119,6 +121,8 @@ def _backtrack(D, C, wd, use_c):
     With ``use_c`` the candidates are compared as ``D[prev] + w * C[i, j]``
     (dtw-python's exact rule); without, as ``D[prev]`` (symmetric1 only, where
     the two orders agree except on rounding ties).
+
+    Plain version: fpdtw.plain.backtrack.
     """
     i = D.shape[0] - 1
     j = D.shape[1] - 1
@@ -185,6 +189,7 @@ def accumulate(C, step_pattern: str = "symmetric1") -> np.ndarray:
     AlignmentError
         ``C`` not 2-D, empty or not finite; unknown step pattern.
 
+    Plain version: fpdtw.plain.accumulate (symmetric1).
     Paper: FP-DTW Section 2 / Algorithm 2 ("accumulate in the same manner as DTW"),
     Sakoe & Chiba 1978.
     Notebook: 10_fig8_walk_pair.ipynb
@@ -218,6 +223,7 @@ def backtrack(D, C=None, step_pattern: str = "symmetric1") -> np.ndarray:
         Cells ``(i, j)`` = (input frame, target frame) in FORWARD order, from
         ``(0, 0)`` to ``(m, n)``; each step moves by (1, 1), (0, 1) or (1, 0).
 
+    Plain version: fpdtw.plain.backtrack (symmetric1).
     Paper: FP-DTW Section 3.2 (DTW path plotting, before the Method B overwrite rule).
     Notebook: 10_fig8_walk_pair.ipynb
     """
@@ -255,6 +261,8 @@ def path_to_map(path, n: int) -> np.ndarray:
     ------
     AlignmentError
         A target frame in ``0..n`` is not on the path, or a cell is negative.
+
+    Plain version: fpdtw.plain.path_to_map.
 
     Notebook: 05_run_experiments.ipynb
     """

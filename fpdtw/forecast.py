@@ -10,7 +10,9 @@ latest frames ``T_n`` and ``T_{n+1}`` (unwrapped, degrees) the velocity is
 (its first element is the known incoming frame). The forecast Euler angles are turned
 back into quaternions per joint in the joint's own rotation order, for the geodesic
 cost (eq. 1). :func:`euler_to_quat_fast` does that conversion in numba (the window
-methods inline its kernel), :func:`forecast_joints` is the plain numpy forecast.
+methods inline its kernel); the plain NumPy forecast and conversion are
+:func:`fpdtw.plain.forecast_joints` (also importable from here) and
+:func:`fpdtw.plain.euler_to_quat`.
 
 For the paper's Fig. 3 ("performance of different smoothing levels s at predicting i
 frames ahead") there are three forecasters over unwrapped Euler angles, each
@@ -40,6 +42,7 @@ import numba
 import numpy as np
 
 from fpdtw.motion.rotations import ORDERS, check_order
+from fpdtw.plain import forecast_joints
 
 #: ``ORDER_AXES[code]`` = axes (0=X, 1=Y, 2=Z) of rotation order ``ORDERS[code]`` in the
 #: order they are applied to a vector (``"XYZ"``: X first, so R = Rz Ry Rx).
@@ -129,6 +132,7 @@ def euler_to_quat_fast(E, orders) -> np.ndarray:
         Unit quaternions (w, x, y, z); equal to :func:`fpdtw.motion.rotations.euler_to_quat` up
         to sign (the sign is not normalised).
 
+    Plain version: fpdtw.plain.euler_to_quat.
     Paper: FP-DTW Algorithms 2 and 3 (forecastJoints output turned into quaternions).
     Notebook: 04_fig3_forecast.ipynb
     """
@@ -144,31 +148,6 @@ def euler_to_quat_fast(E, orders) -> np.ndarray:
     out = np.empty((flat.shape[0], k, 4))
     _euler_to_quat_block(flat, codes, out)
     return out.reshape(lead + (k, 4))
-
-
-def forecast_joints(E_n, E_n1, w: int) -> np.ndarray:
-    """Dead-reckoning forecast from the two latest frames (``forecastJoints``).
-
-    Parameters
-    ----------
-    E_n, E_n1 : ndarray of float, shape (k, 3)
-        Unwrapped Euler angles (degrees) of ``T_n`` and ``T_{n+1}``.
-    w : int
-        Forecast length.
-
-    Returns
-    -------
-    F : ndarray of float64, shape (w, k, 3)
-        ``F[i] = T_{n+1} + i * (T_{n+1} - T_n)``, ``i = 0..w-1`` (``F[0] = T_{n+1}``).
-
-    Paper: FP-DTW Algorithms 2 and 3, forecastJoints.
-    Notebook: 03_fig2_fig4_windows.ipynb
-    """
-    E_n = np.asarray(E_n, dtype=np.float64)
-    E_n1 = np.asarray(E_n1, dtype=np.float64)
-    delta = E_n1 - E_n
-    i = np.arange(int(w), dtype=np.float64).reshape((-1,) + (1,) * E_n1.ndim)
-    return E_n1 + i * delta
 
 
 # --- forecasters for Fig. 3 ------------------------------------------------------------

@@ -96,6 +96,7 @@ def deviation(P_a, P_b) -> float:
     AlignmentError
         Maps of different lengths, empty or not 1-D integer arrays.
 
+    Plain version: fpdtw.plain.deviation.
     Paper: FP-DTW eq. 3.
     Notebook: 06_fig5_fig6_scores.ipynb
     """
@@ -291,6 +292,7 @@ def kendall_tau_b(x, y) -> float:
         In ``[-1, 1]``; NaN when ``N < 2`` or either vector is constant (as
         ``scipy.stats.kendalltau``).
 
+    Plain version: fpdtw.plain.kendall_tau_b.
     Paper: FP-DTW eq. 2 (Kendall tau per joint axis).
     Notebook: 06_fig5_fig6_scores.ipynb
     """
@@ -341,6 +343,7 @@ def joint_trajectories(quats) -> np.ndarray:
     X : ndarray of float64, shape (F, k, 3)
         Unit vectors; ``X[f, j]`` is the direction of joint j's bone axis.
 
+    Plain version: fpdtw.plain.joint_trajectories.
     Paper: FP-DTW eq. 2 ("the R^3 translation of a one unit length vector along
     the joint's orientation").
     Notebook: 06_fig5_fig6_scores.ipynb
@@ -443,6 +446,7 @@ def similarity(I_quats, T_quats, M) -> float:
     r : float
         In ``[-1, 1]``: 1 for a perfect ordinal match, negative for reversed motion.
 
+    Plain version: fpdtw.plain.similarity.
     Paper: FP-DTW eq. 2.
     Notebook: 06_fig5_fig6_scores.ipynb
     """

@@ -101,6 +101,7 @@ class OEDTW(OnlineAligner):
         ``open_end=True`` does for ``"symmetric2"`` (Tormene et al.); only
         allowed with ``"symmetric2"`` (``"symmetric1"`` is not normalisable).
 
+    Plain version: fpdtw.plain.oe_dtw_end_points (symmetric1, not normalised).
     Paper: FP-DTW Section 2 and Fig. 1 (Tormene et al. 2009).
     Notebook: 02_fig1_oedtw.ipynb
     """

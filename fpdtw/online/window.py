@@ -171,7 +171,10 @@ def _fill_prev_column(Iq, Tq, q, start, nrows, F1, C):
 
 @numba.njit(cache=True, inline="always")
 def _is_allowed(r, limit, allow):
-    """Offset r allowed? ``limit`` = largest allowed offset; allow[0..3] per offset."""
+    """Offset r allowed? ``limit`` = largest allowed offset; allow[0..3] per offset.
+
+    Plain version: fpdtw.plain.allowed_rows.
+    """
     if r > limit:
         return False
     if r <= 3:
