@@ -171,7 +171,6 @@ def geo_distance(qa, qb) -> float:
 
     Plain version: fpdtw.plain.geo_distance.
     Paper: FP-DTW eq. 1.
-    Notebook: 02_fig1_oedtw.ipynb
     """
     qa = np.ascontiguousarray(qa, dtype=np.float64)
     qb = np.ascontiguousarray(qb, dtype=np.float64)
@@ -193,7 +192,6 @@ def geodesic_cost_matrix(QA, QB) -> np.ndarray:
 
     Plain version: fpdtw.plain.cost_matrix.
     Paper: FP-DTW eq. 1.
-    Notebook: 10_fig8_walk_pair.ipynb
     """
     QA = np.ascontiguousarray(QA, dtype=np.float64)
     QB = np.ascontiguousarray(QB, dtype=np.float64)

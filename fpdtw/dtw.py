@@ -192,7 +192,6 @@ def accumulate(C, step_pattern: str = "symmetric1") -> np.ndarray:
     Plain version: fpdtw.plain.accumulate (symmetric1).
     Paper: FP-DTW Section 2 / Algorithm 2 ("accumulate in the same manner as DTW"),
     Sakoe & Chiba 1978.
-    Notebook: 10_fig8_walk_pair.ipynb
     """
     wd = diagonal_weight(step_pattern)
     C = _check_cost(C)
@@ -225,7 +224,6 @@ def backtrack(D, C=None, step_pattern: str = "symmetric1") -> np.ndarray:
 
     Plain version: fpdtw.plain.backtrack (symmetric1).
     Paper: FP-DTW Section 3.2 (DTW path plotting, before the Method B overwrite rule).
-    Notebook: 10_fig8_walk_pair.ipynb
     """
     wd = diagonal_weight(step_pattern)
     # no full finiteness scan: the back-track reads only O(m + n) cells
@@ -263,8 +261,6 @@ def path_to_map(path, n: int) -> np.ndarray:
         A target frame in ``0..n`` is not on the path, or a cell is negative.
 
     Plain version: fpdtw.plain.path_to_map.
-
-    Notebook: 05_run_experiments.ipynb
     """
     path = np.asarray(path)
     if path.ndim != 2 or path.shape[1] != 2 or path.shape[0] == 0:
@@ -317,7 +313,6 @@ def dtw(C, step_pattern: str = "symmetric1") -> DTWResult:
     DTWResult
 
     Paper: FP-DTW Sections 2 and 4 (DTW baseline for eq. 3).
-    Notebook: 05_run_experiments.ipynb
     """
     wd = diagonal_weight(step_pattern)
     C = _check_cost(C)
@@ -351,7 +346,7 @@ def dtw_pair(I, T, step_pattern: str = "symmetric1") -> DTWResult:
         :data:`fpdtw.limits.MAX_MATRIX_BYTES` (checked before allocating).
 
     Paper: FP-DTW eq. 1 and Section 4.
-    Notebook: 05_run_experiments.ipynb
+    Notebook: 10_fig8_walk_pair.ipynb
     """
     if I.quats.shape[1:] != T.quats.shape[1:]:
         raise AlignmentError(
@@ -407,7 +402,6 @@ def utw_map(m: int, n: int) -> np.ndarray:
         ``M[0] = 0``, ``M[n] = m`` (for n > 0), non-decreasing.
 
     Paper: FP-DTW Section 4 (UTW benchmark, Fu et al. 2008).
-    Notebook: 05_run_experiments.ipynb
     """
     m = int(m)
     n = int(n)

@@ -134,7 +134,6 @@ def euler_to_quat_fast(E, orders) -> np.ndarray:
 
     Plain version: fpdtw.plain.euler_to_quat.
     Paper: FP-DTW Algorithms 2 and 3 (forecastJoints output turned into quaternions).
-    Notebook: 04_fig3_forecast.ipynb
     """
     E = np.asarray(E, dtype=np.float64)
     if E.ndim < 2 or E.shape[-1] != 3:
@@ -202,7 +201,6 @@ def dead_reckoning(E_hist, s: int, H: int) -> np.ndarray:
         ``F[i - 1] = E[-1] + i * v`` for ``i = 1..H``.
 
     Paper: FP-DTW Section 3.2 and Fig. 3 (s = 2 is the paper's choice).
-    Notebook: 04_fig3_forecast.ipynb
     """
     s = int(s)
     if s < 2:
@@ -267,7 +265,6 @@ def exponential_smoothing(E_hist, alpha: float, H: int) -> np.ndarray:
     F : ndarray of float64, shape (H, ...)
 
     Paper: FP-DTW Fig. 3 (alternative smoothing function, ref. 7).
-    Notebook: 04_fig3_forecast.ipynb
     """
     alpha = _check_factor(alpha, "alpha")
     H = _check_H(H)
@@ -298,7 +295,6 @@ def holt(E_hist, alpha: float, beta: float, H: int) -> np.ndarray:
         ``F[i - 1]``: the forecast ``i`` frames ahead.
 
     Paper: FP-DTW Fig. 3 (alternative smoothing function, ref. 7).
-    Notebook: 04_fig3_forecast.ipynb
     """
     alpha = _check_factor(alpha, "alpha")
     beta = _check_factor(beta, "beta")
@@ -353,7 +349,6 @@ def forecast_error_curve(motions_features, method: str, levels, H: int) -> np.nd
         Unknown method, bad level, or no motion long enough for one start frame.
 
     Paper: FP-DTW Fig. 3.
-    Notebook: 04_fig3_forecast.ipynb
     """
     if method not in FORECASTERS:
         raise ValueError(f"unknown forecaster {method!r}; expected one of {FORECASTERS}")

@@ -215,7 +215,6 @@ def reverse_accumulate(C, open_end=False, normalised=False) -> np.ndarray:
     D : ndarray of float64, shape (rows, cols)
 
     Paper: FP-DTW Algorithm 3, getReverseTotalCostMatrix.
-    Notebook: 03_fig2_fig4_windows.ipynb
     """
     C = np.asarray(C, dtype=float)
     D = np.empty_like(C)
@@ -564,7 +563,6 @@ def joint_trajectories(Q) -> np.ndarray:
     X : ndarray of float64, shape (F, k, 3)
 
     Paper: FP-DTW eq. 2 ("a one unit length vector along the joint's orientation").
-    Notebook: 06_fig5_fig6_scores.ipynb
     """
     Q = np.asarray(Q, dtype=float)
     v = np.array([0.0, 1.0, 0.0])
@@ -586,7 +584,6 @@ def kendall_tau_b(x, y) -> float:
         NaN when either is constant.
 
     Paper: FP-DTW eq. 2.
-    Notebook: 06_fig5_fig6_scores.ipynb
     """
     sx = np.sign(np.subtract.outer(x, x)).astype(np.int8)
     sy = np.sign(np.subtract.outer(y, y)).astype(np.int8)
@@ -667,7 +664,6 @@ def interpolate_positions(P, fps: float, t: float, last: int | None = None) -> n
     pos : ndarray of float64, shape (p, 3)
 
     Paper: OPW poster Section 3 (A and B between their samples).
-    Notebook: 13_opw_fig4.ipynb
     """
     eps = 1e-9
     last = P.shape[0] - 1 if last is None else last

@@ -77,8 +77,6 @@ def compiled_frame(frame, i: int, capacity: int, Tp):
     Returns
     -------
     (quats, euler) : tuple of ndarray, or None
-
-    Notebook: 20_align_a_live_performance.ipynb
     """
     fq, fe, p = frame.quats, frame.euler, frame.positions
     if not (
@@ -277,8 +275,6 @@ def run_together(aligners, T: MotionFeatures, *, reset=True) -> list:
     -------
     maps : list of ndarray of int64, shape (n,)
         One per aligner, in order.
-
-    Notebook: 05_run_experiments.ipynb
     """
     aligners = list(aligners)
     if reset:

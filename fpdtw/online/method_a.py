@@ -46,7 +46,7 @@ class MethodA(WindowAligner):
 
     Plain version: fpdtw.plain.method_a_step.
     Paper: FP-DTW Algorithm 1.
-    Notebook: 05_run_experiments.ipynb
+    Notebook: 03_fig2_fig4_windows.ipynb
     """
 
     label = "Ma"

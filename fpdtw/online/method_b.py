@@ -77,7 +77,7 @@ class MethodB(ForecastAligner):
 
     Plain version: fpdtw.plain.method_b_step.
     Paper: FP-DTW Algorithm 2, Fig. 4.
-    Notebook: 05_run_experiments.ipynb
+    Notebook: 03_fig2_fig4_windows.ipynb
     """
 
     label = "Mb"

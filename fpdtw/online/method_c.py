@@ -111,7 +111,7 @@ class MethodC(ForecastAligner):
 
     Plain version: fpdtw.plain.method_c_step.
     Paper: FP-DTW Algorithm 3, Section 3.3.
-    Notebook: 15_readings_of_algorithm_3.ipynb
+    Notebook: 03_fig2_fig4_windows.ipynb
     """
 
     label = "Mc"

@@ -117,7 +117,6 @@ class OPW(OnlineAligner):
 
     Plain version: fpdtw.plain.opw_step.
     Paper: OPW poster Section 3, eqs. 1, 2, 4, 5, Algorithm 1.
-    Notebook: 13_opw_fig4.ipynb
     """
 
     name = "OPW"

@@ -103,7 +103,6 @@ class TypeV:
 
     Plain version: fpdtw.plain.type_v_allowed, fpdtw.plain.type_v_next.
     Paper: FP-DTW Section 6, Fig. 9 iv.
-    Notebook: 11_fig9_typev.ipynb
     """
 
     name = "Type V"

@@ -592,8 +592,6 @@ class WindowCache:
     key : ndarray of float64, shape (3, k, 4)
         The frames the cached step was computed from (Euler angles of T_n, T_{n+1}; the
         quaternion of T_{n+1}).
-
-    Notebook: 05_run_experiments.ipynb
     """
 
     def __init__(self, I: MotionFeatures, w_max: int):
@@ -655,7 +653,6 @@ class WindowSnapshot:
         divided by the paths' weight).
 
     Paper: FP-DTW Fig. 2 (window), Fig. 4 (Method B's path and choice).
-    Notebook: 03_fig2_fig4_windows.ipynb
     """
 
     q: int
@@ -988,8 +985,6 @@ def run_group(aligners, T: MotionFeatures) -> list:
     Returns
     -------
     maps : list of ndarray of int64, shape (n,)
-
-    Notebook: 05_run_experiments.ipynb
     """
     aligners = list(aligners)
     if not aligners:

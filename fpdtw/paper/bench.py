@@ -62,8 +62,6 @@ OE_INPUT_FRAMES = 1000
 def bench_names() -> list:
     """The online aligners ``make bench`` times, by name: Method A, Methods B and C (the
     default square window and the literal one) at every w, each with and without Type V.
-
-    Notebook: 09_table2_timing.ipynb
     """
     from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES
     from fpdtw.paper.runner.grid import MC_LITERAL_NAMES
@@ -106,7 +104,6 @@ def bench_online(pairs, names=None, make=None, limits=False):
         those of :func:`limit_stats`.
 
     Paper: FP-DTW Table 2.
-    Notebook: 09_table2_timing.ipynb
     """
     from fpdtw.online.base import run_online
     from fpdtw.registry import make_online
@@ -180,7 +177,6 @@ def limit_stats(dt, rec) -> dict:
         checked).
 
     Paper: FP-DTW Table 2.
-    Notebook: 09_table2_timing.ipynb
     """
     out = dict.fromkeys(LIMIT_KEYS)
     if rec is None:
@@ -281,7 +277,6 @@ def format_bench(rows, peers=None) -> str:
     text : str
 
     Paper: FP-DTW Table 2.
-    Notebook: 09_table2_timing.ipynb
     """
     head = (
         f"{'aligner':<34}{'step us':>9}{'p95 us':>9}{'limit us':>10}{'step/lim':>9}"
@@ -422,8 +417,6 @@ def peer_dtw(C, repeats=5, ours_median_s=None) -> dict:
         ``peer`` (name and version), ``cells``, ``ours_median_s``, ``peer_median_s``,
         ``peer_over_ours`` (how many times longer the peer takes), ``same_distance``.
         Empty dict when dtw-python is not installed.
-
-    Notebook: 09_table2_timing.ipynb
     """
     try:
         import dtw as dtwpy
@@ -466,8 +459,6 @@ def peer_open_end(I, T, ours_median_s, frames=OE_PEER_FRAMES) -> dict:
     row : dict
         ``peer``, ``frames``, ``ours_median_s``, ``peer_median_s``, ``peer_over_ours``,
         ``same_end_points``; empty when dtw-python is not installed.
-
-    Notebook: 09_table2_timing.ipynb
     """
     try:
         import dtw as dtwpy

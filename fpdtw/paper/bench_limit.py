@@ -34,7 +34,6 @@ The cycle counter exists on x86-64 only; elsewhere :data:`HAVE_CYCLES` is False 
 bench prints step times without limits.
 
 Paper: FP-DTW Table 2 (per-frame time), eq. 1 (the geodesic distance).
-Notebook: 09_table2_timing.ipynb
 """
 
 from __future__ import annotations
@@ -460,8 +459,6 @@ def replay(aligner, T, M) -> np.ndarray | None:
     ------
     RuntimeError
         The replay did not reproduce ``M`` (it runs the aligner's own compiled step).
-
-    Notebook: 09_table2_timing.ipynb
     """
     from fpdtw.online.oedtw import OEDTW
     from fpdtw.online.oltw import OLTW

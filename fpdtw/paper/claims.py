@@ -113,8 +113,6 @@ class ClaimContext:
         name (``"Mc w40"``, ``"Mc w80 + Type V"``, ``"Mc w20@60Hz"``) stands for the
         results of that reading (``"Mc w40 (literal window)"``, ...), so the same claims
         are checked under it; Mc names without such results are left out.
-
-        Notebook: 12_claims.ipynb
         """
         from fpdtw.paper.figures.scores import scores, table1_rows, utw_median
         from fpdtw.paper.figures.timing import (
@@ -197,7 +195,6 @@ class ClaimContext:
             C's other readings too: each reading's rows stand for the paper's names).
 
         Paper: FP-DTW Sections 5-7; OPW poster Section 5.
-        Notebook: 10_fig8_walk_pair.ipynb, 13_opw_fig4.ipynb, 14_opw_fig5_fig6.ipynb
         """
         allowed = {"fig8", "opw_fig4", "opw_fig56", "counts", "oedtw_backward", "timing"}
         unknown = set(facts) - allowed
@@ -216,8 +213,6 @@ def reading_alias(reading: str) -> dict:
 
     ``reading_alias("literal")["Mc w40 + Type V@60Hz"]`` is
     ``"Mc w40 (literal window) + Type V@60Hz"``.
-
-    Notebook: 12_claims.ipynb
     """
     from fpdtw.registry import method_c_name
 
@@ -269,7 +264,6 @@ def oedtw_backward_jumps(results, name="OE-DTW") -> dict:
         ``jumps`` (total number of backward jumps).
 
     Paper: FP-DTW Section 2, Fig. 1.
-    Notebook: 12_claims.ipynb
     """
     arr = results.get(name)
     offsets = np.asarray(arr["offsets"], dtype=np.int64)
@@ -285,10 +279,7 @@ def oedtw_backward_jumps(results, name="OE-DTW") -> dict:
 
 
 def data_counts(pairs) -> dict:
-    """Motions, movements and pairs in a pair list (``Results.pairs``), total and per dataset.
-
-    Notebook: 12_claims.ipynb
-    """
+    """Motions, movements and pairs in a pair list (``Results.pairs``), total and per dataset."""
     out = {}
     for ds in sorted({p["dataset"] for p in pairs}) + [None]:
         pp = [p for p in pairs if ds is None or p["dataset"] == ds]
