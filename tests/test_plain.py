@@ -372,3 +372,25 @@ def test_plain_maps_equal_the_whole_smoke_grid(smoke):
     results, _ = smoke
     n = check_smoke_pairs(smoke, range(len(results.pairs)), max_w=80)
     assert n == len(results.pairs) * (len(results.algorithms) - 2)
+
+
+def test_every_plain_version_line_names_a_plain_function():
+    """The kernels' "Plain version: fpdtw.plain.xxx" lines name functions of fpdtw.plain,
+    and every module of the fast kernels names at least one."""
+    import re
+
+    named = {}
+    for path in sorted((REPO_ROOT / "fpdtw").rglob("*.py")):
+        if path.name == "plain.py":  # its docstring describes the convention
+            continue
+        for line in path.read_text().splitlines():
+            if "Plain version:" in line:
+                names = re.findall(r"fpdtw\.plain\.(\w+)", line)
+                assert names, f"{path.name}: {line.strip()}"
+                named.setdefault(path.relative_to(REPO_ROOT).as_posix(), set()).update(names)
+    for path, names in named.items():
+        assert names <= set(plain.__all__), f"{path}: {sorted(names - set(plain.__all__))}"
+    kernels = ["costs.py", "dtw.py", "metrics.py", "forecast.py", "online/window.py",
+               "online/method_a.py", "online/method_b.py", "online/method_c.py",
+               "online/typev.py", "online/opw.py", "online/oedtw.py"]  # fmt: skip
+    assert sorted(f"fpdtw/{k}" for k in kernels) == sorted(named)
