@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 from reference.synthetic import (
     features_from_euler,
+    method_pairs,
     one_joint_motion,
     random_walk_features,
     synthetic_pair,
@@ -452,12 +453,7 @@ def make(method, I, w, typev, record=False):
 
 @pytest.fixture(scope="module")
 def pairs():
-    """Synthetic pairs; in the third the input is the first 60 frames of a 150-frame
-    target, so every method reaches the end of the input and must hold there."""
-    I0, T0, _ = synthetic_pair(160, seed=11)
-    I1, T1, _ = synthetic_pair(220, seed=12, warp=0.6)
-    T2 = random_walk_features(150, seed=14)
-    return [(I0, T0), (I1, T1), (T2.slice(0, 60), T2)]
+    return method_pairs()
 
 
 @pytest.mark.parametrize("typev", [False, True])

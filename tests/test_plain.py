@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 import pytest
-from reference.synthetic import one_joint_motion, random_walk_features, synthetic_pair
+from reference.synthetic import method_pairs, one_joint_motion, random_walk_features, synthetic_pair
 
 from fpdtw import plain
 from fpdtw.costs import geo_distance, geodesic_cost_matrix
@@ -107,12 +107,7 @@ def make(method, I, w, typev, **options):
 
 @pytest.fixture(scope="module")
 def pairs():
-    """Synthetic pairs; in the third the input is the first 60 frames of a 150-frame
-    target, so every method reaches the end of the input and must hold there."""
-    I0, T0, _ = synthetic_pair(160, seed=11)
-    I1, T1, _ = synthetic_pair(220, seed=12, warp=0.6)
-    T2 = random_walk_features(150, seed=14)
-    return [(I0, T0), (I1, T1), (T2.slice(0, 60), T2)]
+    return method_pairs()
 
 
 @pytest.mark.parametrize("typev", [False, True])
