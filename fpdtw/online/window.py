@@ -302,8 +302,8 @@ def _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high):
 
 
 @numba.njit(cache=True)
-def _choose_a(Iq, t, start, nrows, limit, allow, C, ties_high):
-    """Method A's window: ``C[r, 0] = geoDistance(I[start + r], t)`` (eq. 1) for
+def _choose_a(Iq, t, start, nrows, limit, allow, c, ties_high):
+    """Method A's window: ``c[r] = geoDistance(I[start + r], t)`` (eq. 1) for
     ``r < nrows``, and the argmin over the allowed rows (ties: the lowest row, or the
     highest with ``ties_high``). Returns the chosen offset.
 
@@ -311,10 +311,10 @@ def _choose_a(Iq, t, start, nrows, limit, allow, C, ties_high):
     """
     best = -1
     for r in range(nrows):
-        c = _geo_frame(Iq[start + r], t)
-        C[r, 0] = c
+        cost = _geo_frame(Iq[start + r], t)
+        c[r] = cost
         if _is_allowed(r, limit, allow):
-            if best < 0 or c < C[best, 0] or (ties_high and c == C[best, 0]):
+            if best < 0 or cost < c[best] or (ties_high and cost == c[best]):
                 best = r
     return max(best, 0)
 
@@ -349,6 +349,57 @@ def _first_frame(Iq, Tq, w, m, start_best):
 
 
 @numba.njit(cache=True)
+def _allowed_offsets(state, prm, table):
+    """``(limit, allow)`` of :func:`_is_allowed` in Type V state ``state[0]`` (every
+    offset without the constraint)."""
+    allow = np.ones(4, dtype=np.int64)
+    if prm[P_TYPEV] == 0:
+        return np.iinfo(np.int64).max, allow
+    for a in range(4):
+        allow[a] = 1 if table[state[0], a] >= 0 else 0
+    return MAX_ADVANCE, allow
+
+
+@numba.njit(cache=True)
+def _advance_state(state, prm, table, advance):
+    """Type V: the state after an advance (an illegal move is only ever a forced hold at m,
+    which leaves the state as it is)."""
+    if prm[P_TYPEV] != 0 and 0 <= advance <= MAX_ADVANCE and table[state[0], advance] >= 0:
+        state[0] = table[state[0], advance]
+
+
+@numba.njit(cache=True)
+def _a_step(Iq, Tq, q, M, state, prm, table, c, out):
+    """``M_q`` of a Method A aligner at target frame q: :func:`_window_step` for Method A,
+    with only the arrays it needs (``c`` : float64 (>= w + 1,), the window's costs).
+
+    Plain version: fpdtw.plain.method_a_step.
+    """
+    m = Iq.shape[0] - 1
+    w = prm[P_W]
+    out[1] = 0
+    out[2] = 0
+    out[3] = 0
+    if q == 0:
+        out[0] = STEP_FIRST
+        return _first_frame(Iq, Tq, w, m, prm[P_START_BEST] != 0)
+    start = M[q - 1]
+    if start >= m:
+        out[0] = STEP_END
+        m_next = m
+    else:
+        out[0] = STEP_WINDOW
+        limit, allow = _allowed_offsets(state, prm, table)
+        nrows = min(w, m - start) + 1
+        off = _choose_a(Iq, Tq[q], start, nrows, limit, allow, c, prm[P_TIES_HIGH] != 0)
+        out[1] = nrows
+        out[2] = 1
+        m_next = start + off
+    _advance_state(state, prm, table, m_next - start)
+    return m_next
+
+
+@numba.njit(cache=True)
 def _window_step(
     Iq, Tq, Te, q, M, state, prm, table, codes, F, C, D, Pcol, path, score,
     cF, cG, cN, cMeta, cKey, out,
@@ -364,6 +415,9 @@ def _window_step(
     Plain version: fpdtw.plain.method_a_step, fpdtw.plain.method_b_step and
     fpdtw.plain.method_c_step (one step each; fpdtw.plain.run steps through a target).
     """
+    method = prm[P_METHOD]
+    if method == METHOD_A:
+        return _a_step(Iq, Tq, q, M, state, prm, table, C[:, 0], out)
     m = Iq.shape[0] - 1
     w = prm[P_W]
     out[1] = 0
@@ -373,9 +427,7 @@ def _window_step(
         out[0] = STEP_FIRST
         return _first_frame(Iq, Tq, w, m, prm[P_START_BEST] != 0)
     start = M[q - 1]
-    typev = prm[P_TYPEV] != 0
-    method = prm[P_METHOD]
-    if q - 1 < SMOOTHING and method != METHOD_A:
+    if q - 1 < SMOOTHING:
         out[0] = STEP_WARMUP
         m_next = min(start + 1, m)
     elif start >= m:
@@ -383,17 +435,9 @@ def _window_step(
         m_next = m
     else:
         out[0] = STEP_WINDOW
-        limit = MAX_ADVANCE if typev else np.iinfo(np.int64).max
-        allow = np.ones(4, dtype=np.int64)
-        if typev:
-            for a in range(4):
-                allow[a] = 1 if table[state[0], a] >= 0 else 0
+        limit, allow = _allowed_offsets(state, prm, table)
         shared = prm[P_SHARED] != 0
-        if method == METHOD_A:
-            nrows = min(w, m - start) + 1
-            ncols = 1
-            off = _choose_a(Iq, Tq[q], start, nrows, limit, allow, C, prm[P_TIES_HIGH] != 0)
-        elif method == METHOD_B:
+        if method == METHOD_B:
             nrows = min(w, m - start) + 1
             ncols = w + 1
             if shared:
@@ -425,10 +469,7 @@ def _window_step(
         out[1] = nrows
         out[2] = ncols
         m_next = start + off
-    if typev:
-        adv = m_next - start
-        if 0 <= adv <= MAX_ADVANCE and table[state[0], adv] >= 0:
-            state[0] = table[state[0], adv]  # an illegal move is only ever a forced hold at m
+    _advance_state(state, prm, table, m_next - start)
     return m_next
 
 
@@ -464,30 +505,49 @@ _HEADER = 3
 
 def _work_sizes(k: int, W: int, ns: int) -> tuple:
     """Lengths of the float64 and int64 work buffers of :func:`_work_views`."""
-    floats = k * 4 * W + 2 * W * W + W + 4 * k + 1 + 12 * k
-    ints = _HEADER + N_PARAMS + 4 * ns + k + 1 + W + 4 * W + 4 + 1 + 2
+    floats = W * W + k * 4 * W + W * W + W + 4 * k + 1 + 12 * k
+    ints = _HEADER + N_PARAMS + 4 * ns + 1 + 4 + k + W + 4 * W + 1 + 2
     return floats, ints
+
+
+@numba.njit(cache=True)
+def _head_views(work, iwork):
+    """The views every method uses, at the start of the two buffers: ``prm``, ``table``,
+    ``tv``, ``out`` and column 0 of ``C`` (all Method A's step needs: one reshape, where
+    each of :func:`_work_views`' reshapes costs about 0.1 us)."""
+    W = iwork[_H_W]
+    ns = iwork[_H_NS]
+    i = _HEADER
+    prm = iwork[i : i + N_PARAMS]
+    i += N_PARAMS
+    table = iwork[i : i + 4 * ns].reshape((ns, 4))
+    i += 4 * ns
+    tv = iwork[i : i + 1]
+    i += 1
+    out = iwork[i : i + 4]
+    return prm, table, tv, out, work[0 : W * W : W]
 
 
 @numba.njit(cache=True)
 def _work_views(work, iwork):
     """An aligner's scratch, parameters and state as views of two flat buffers.
 
-    ``work`` (float64) holds ``F (k, 4, W), C (W, W), D (W, W), score (W)`` and the
+    ``work`` (float64) holds ``C (W, W), F (k, 4, W), D (W, W), score (W)`` and the
     placeholder cache arrays ``cF (k, 4, 1), cG (1, 1), cKey (3, k, 4)``; ``iwork``
-    (int64) the header ``k, W, ns``, then ``prm (N_PARAMS), table (ns, 4), codes (k),
-    tv (1), Pcol (W), path (2W, 2), out (4), cN (1), cMeta (2)``. Two buffers instead of
-    nineteen arrays: a compiled function costs about 0.1 us per array argument to call,
-    and :func:`_stream_step` is called once per frame.
+    (int64) the header ``k, W, ns``, then ``prm (N_PARAMS), table (ns, 4), tv (1),
+    out (4)`` (:func:`_head_views`), ``codes (k), Pcol (W), path (2W, 2), cN (1),
+    cMeta (2)``. Two buffers instead of nineteen arrays: a compiled function costs about
+    0.1 us per array argument to call, and :func:`_stream_step` is called once per frame.
     """
     k = iwork[_H_K]
     W = iwork[_H_W]
     ns = iwork[_H_NS]
+    prm, table, tv, out, _ = _head_views(work, iwork)
     o = 0
-    F = work[o : o + k * 4 * W].reshape((k, 4, W))
-    o += k * 4 * W
     C = work[o : o + W * W].reshape((W, W))
     o += W * W
+    F = work[o : o + k * 4 * W].reshape((k, 4, W))
+    o += k * 4 * W
     D = work[o : o + W * W].reshape((W, W))
     o += W * W
     score = work[o : o + W]
@@ -497,21 +557,13 @@ def _work_views(work, iwork):
     cG = work[o : o + 1].reshape((1, 1))
     o += 1
     cKey = work[o : o + 12 * k].reshape((3, k, 4))
-    i = _HEADER
-    prm = iwork[i : i + N_PARAMS]
-    i += N_PARAMS
-    table = iwork[i : i + 4 * ns].reshape((ns, 4))
-    i += 4 * ns
+    i = _HEADER + N_PARAMS + 4 * ns + 1 + 4
     codes = iwork[i : i + k]
     i += k
-    tv = iwork[i : i + 1]
-    i += 1
     Pcol = iwork[i : i + W]
     i += W
     path = iwork[i : i + 4 * W].reshape((2 * W, 2))
     i += 4 * W
-    out = iwork[i : i + 4]
-    i += 4
     cN = iwork[i : i + 1]
     i += 1
     cMeta = iwork[i : i + 2]
@@ -542,12 +594,16 @@ def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
     """
     if not _store_frame(Iq.shape[1], Tq, Te, q, fq, fe):
         return -1
-    views = _work_views(work, iwork)
-    F, C, D, score, cF, cG, cKey, prm, table, codes, tv, Pcol, path, out, cN, cMeta = views
-    m = _window_step(
-        Iq, Tq, Te, q, M, tv, prm, table, codes, F, C, D, Pcol, path, score,
-        cF, cG, cN, cMeta, cKey, out,
-    )  # fmt: skip
+    if iwork[_HEADER + P_METHOD] == METHOD_A:
+        prm, table, tv, out, c = _head_views(work, iwork)
+        m = _a_step(Iq, Tq, q, M, tv, prm, table, c, out)
+    else:
+        views = _work_views(work, iwork)
+        F, C, D, score, cF, cG, cKey, prm, table, codes, tv, Pcol, path, out, cN, cMeta = views
+        m = _window_step(
+            Iq, Tq, Te, q, M, tv, prm, table, codes, F, C, D, Pcol, path, score,
+            cF, cG, cN, cMeta, cKey, out,
+        )  # fmt: skip
     M[q] = m
     return m
 
