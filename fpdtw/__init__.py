@@ -13,10 +13,13 @@ The public API, by what it holds:
   :func:`make_online` / :func:`align` by the paper's names ("Mc w40 + Type V");
 * metrics: :func:`similarity` (eq. 2), :func:`deviation` (eq. 3);
 * the OPW warp curve: :class:`WarpCurve`;
+* the papers' equations and algorithms in plain NumPy, line by line: :mod:`fpdtw.plain`
+  (what the notebooks step through; the compiled aligners are tested equal to it);
 * errors: :class:`MotionFormatError`, :class:`DataFetchError`, :class:`ManifestError`,
   :class:`AlignmentError` (all :class:`FpdtwError`).
 """
 
+from fpdtw import plain
 from fpdtw.costs import geo_distance, geodesic_cost_matrix, position_cost_matrix
 from fpdtw.dtw import dtw, dtw_pair, utw_map
 from fpdtw.errors import (
@@ -78,6 +81,7 @@ __all__ = [
     "geodesic_cost_matrix",
     "load_motion",
     "make_online",
+    "plain",
     "position_cost_matrix",
     "run_online",
     "similarity",

@@ -1,4 +1,4 @@
-"""The README's loading example runs and prints what it promises."""
+"""The README's examples run and print what they promise; its measured numbers still hold."""
 
 from __future__ import annotations
 
@@ -88,3 +88,50 @@ def test_readme_blocks_are_replaced_between_their_markers(tmp_path):
                  robustness="yes on the selection; stands under 9 of 12 readings")]  # fmt: skip
     block = readme.claims_block(rows)
     assert "| 1 | c \\| d | partly | 1b: contradicted (x) | yes / partly / n/a | 9 of 12 |" in block
+
+
+def _layer_sizes():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("layer_sizes", REPO_ROOT / "tools/layer_sizes.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_readme_layer_sizes_are_measured():
+    """The "Size of each layer" table is what tools/layer_sizes.py counts, within 10 %."""
+    L = _layer_sizes()
+    section = (REPO_ROOT / "README.md").read_text().split("## Size of each layer")[1]
+    rows = [ln for ln in section.split("\n## ", 1)[0].splitlines() if ln.startswith("| ")][1:]
+    stated = {}
+    for row in rows:
+        cells = [c.strip() for c in row.strip("|").split("|")]
+        stated[cells[0].split(":")[0]] = [int(c) for c in cells[1:]]
+    measured = L.sizes()
+    assert list(stated) == list(measured)
+    for layer, (files, code, lines) in stated.items():
+        m = measured[layer]
+        for what, have, now in (("files", files, m["files"]), ("code", code, m["code"]),
+                                ("lines", lines, m["lines"])):  # fmt: skip
+            assert abs(now - have) <= 0.1 * have, (
+                f"README: {layer} has {have} {what}, now {now}: run tools/layer_sizes.py and "
+                "update the table"
+            )
+
+
+def test_layer_sizes_count_code_not_docstrings_or_comments():
+    L = _layer_sizes()
+    source = '''"""Module docstring,
+two lines."""
+
+# a comment
+x = 1  # code
+
+
+def f(a):
+    """One line."""
+    return (a +
+            1)
+'''
+    assert L.code_lines(source) == 4  # x = 1, def f, return over two lines

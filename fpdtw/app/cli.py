@@ -19,8 +19,6 @@ compares, a motion too short or too long for the limits of :mod:`fpdtw.limits`, 
 file that cannot be written, unavailable output format). Every error is one line,
 ``fpdtw: error: <file>: <what>``, naming the file(s) it is about; ``--debug`` shows the
 full traceback instead.
-
-Notebook: 20_align_a_live_performance.ipynb
 """
 
 from __future__ import annotations
@@ -804,7 +802,6 @@ def main(argv=None) -> int:
     code : int
 
     Paper: FP-DTW Sections 3-6 (the methods), OPW poster Algorithm 1, Dixon 2005.
-    Notebook: 20_align_a_live_performance.ipynb
     """
     ap = build_parser()
     try:

@@ -27,8 +27,6 @@ rotations.
 * ``End Site`` blocks are not joints; their offsets are checked and dropped.
 * The frame rate is ``1 / Frame Time``, snapped to the nearest integer when the
   printed frame time is that integer rate rounded (``0.033333`` -> 30 Hz).
-
-Notebook: 01_data_and_motions.ipynb, 10_fig8_walk_pair.ipynb
 """
 
 from __future__ import annotations
@@ -686,8 +684,6 @@ def write_bvh(motion: Motion, path, *, precision: int = 6) -> Path:
     ------
     MotionFormatError
         A joint name BVH cannot hold (empty, whitespace, braces).
-
-    Notebook: 10_fig8_walk_pair.ipynb
     """
     path = Path(path)
     try:

@@ -423,7 +423,6 @@ def run_pair(I: MotionFeatures, T: MotionFeatures, pair_info=None, *, c: int = 1
         Per-frame step times.
 
     Paper: FP-DTW reference 3 (Dixon 2005); the evaluation of Section 4.
-    Notebook: 20_align_a_live_performance.ipynb
     """
     return run_online(OLTW(I, c), T)
 

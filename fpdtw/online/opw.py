@@ -58,6 +58,7 @@ import numpy as np
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.online.base import OnlineAligner, check_input
+from fpdtw.plain import interpolate_positions, opw_step
 from fpdtw.warpcurve import WarpCurve
 
 #: Tolerance when comparing a step time with a frame time (seconds).
@@ -89,35 +90,6 @@ class OPWDecision:
     x_last: float
 
 
-def interpolate_positions(P: np.ndarray, fps: float, t: float, last: int | None = None):
-    """Positions at time ``t`` by linear interpolation between frames.
-
-    Parameters
-    ----------
-    P : ndarray of float, shape (F, p, 3)
-        Positions of frames ``0..F-1`` at ``fps``.
-    fps : float
-    t : float
-        Time in seconds; clamped to ``[0, last / fps]``.
-    last : int, optional
-        Index of the last usable frame (default ``F - 1``).
-
-    Returns
-    -------
-    pos : ndarray of float64, shape (p, 3)
-
-    Paper: OPW poster Section 3 (values of A and B at warped / unwarped sample times).
-    Notebook: 13_opw_fig4.ipynb
-    """
-    last = P.shape[0] - 1 if last is None else last
-    x = min(max(t * fps, 0.0), float(last))
-    i0 = min(int(np.floor(x + _EPS)), last)
-    a = x - i0
-    if a <= _EPS or i0 >= last:
-        return P[i0]
-    return (1.0 - a) * P[i0] + a * P[i0 + 1]
-
-
 class OPW(OnlineAligner):
     """On-line Predictive Warping (poster Algorithm 1) behind the online interface.
 
@@ -140,8 +112,11 @@ class OPW(OnlineAligner):
     decisions : list of OPWDecision
         One per OPW step performed.
 
+    Each step is :func:`fpdtw.plain.opw_step` itself (plain Python and NumPy: a step
+    every 40 ms needs no compiled kernel).
+
+    Plain version: fpdtw.plain.opw_step.
     Paper: OPW poster Section 3, eqs. 1, 2, 4, 5, Algorithm 1.
-    Notebook: 13_opw_fig4.ipynb
     """
 
     name = "OPW"
@@ -177,32 +152,13 @@ class OPW(OnlineAligner):
         self._k = 1  # index of the next OPW step (live time k * omega)
 
     # -- one OPW step ---------------------------------------------------------------------
-    def _A(self, t: float) -> np.ndarray:
-        return interpolate_positions(self._PA, self.fps_A, t)
-
-    def _B(self, t: float, last: int) -> np.ndarray:
-        return interpolate_positions(self._Tp, self.fps, t, last)
-
     def _opw_step(self, t: float, last: int) -> None:
-        curve = self.curve
-        w = self.omega
-        b_now = self._B(t, last)
-        b_hat = b_now + (b_now - self._B(t - w, last))  # dead reckoning, one step ahead
-        tw = curve.value(t)
-        costs = tuple(
-            float(np.sqrt(((b_hat - self._A(tw + i * w)) ** 2).sum(axis=1)).sum()) for i in range(3)
-        )
-        p0, p1, p2 = costs
-        s = 1
-        if p0 < p1 and p0 < p2:
-            s = 0
-        elif p2 < p1 and p2 < p0:
-            s = 2
-        if s != 1:
-            x_last = curve._x[-1]
-            curve.add_key(t, tw)
-            curve.move_key(-1, x=x_last - (x_last - t) * self.gamma * (s - 1))
-        self.decisions.append(OPWDecision(t, tw, costs, s, curve._x[-1]))
+        tw = self.curve.value(t)
+        s, costs = opw_step(
+            self.curve, t, self._PA, self._Tp[: last + 1], self.omega, self.gamma, self.fps_A,
+            self.fps,
+        )  # fmt: skip
+        self.decisions.append(OPWDecision(t, tw, tuple(costs), s, self.curve._x[-1]))
 
     def _step(self, q: int) -> int:
         if self._Tp is None:

@@ -12,7 +12,7 @@ puts each median next to:
 * the LIMIT: the unavoidable work of the same steps on the same data, timed in the same
   run (:mod:`fpdtw.paper.bench_limit`: the window's geodesic evaluations and its
   accumulation), with the gap split into the forecast, the rest of the compiled step and
-  the Python call overhead; and the float32 measurement of the same limit;
+  the Python call overhead;
 * the PEERS, side by side: offline DTW against dtw-python on the same cost matrix; OE-DTW
   per frame against recomputing dtw-python's ``open_end`` per frame (what a dtw-python
   user would do); OLTW per frame against pymatchmaker's OLTW-Dixon on the same features
@@ -67,8 +67,6 @@ OE_INPUT_FRAMES = 1000
 def bench_names() -> list:
     """The online aligners ``make bench`` times, by name: Method A, Methods B and C (the
     default square window and the literal one) at every w, each with and without Type V.
-
-    Notebook: 09_table2_timing.ipynb
     """
     from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES
     from fpdtw.paper.runner.grid import MC_LITERAL_NAMES
@@ -111,7 +109,6 @@ def bench_online(pairs, names=None, make=None, limits=False):
         those of :func:`limit_stats`.
 
     Paper: FP-DTW Table 2.
-    Notebook: 09_table2_timing.ipynb
     """
     from fpdtw.online.base import run_online
     from fpdtw.registry import make_online
@@ -158,8 +155,7 @@ def bench_online(pairs, names=None, make=None, limits=False):
 LIMIT_KEYS = (
     "window_frames", "step_median_s", "limit_median_s", "limit_p95_s", "step_over_limit",
     "compiled_median_s", "forecast_median_s", "other_median_s", "python_median_s",
-    "evals_median", "ns_per_eval", "same_costs", "limit32_median_s", "float32_speedup",
-    "float32_changed_choices",
+    "evals_median", "ns_per_eval", "same_costs",
 )  # fmt: skip
 
 
@@ -183,12 +179,9 @@ def limit_stats(dt, rec) -> dict:
         each the median of per-frame values; ``step_over_limit`` (median step / median
         limit); ``evals_median`` (geodesic evaluations per step) and ``ns_per_eval``;
         ``same_costs`` (the limit computed the step's own costs, bit for bit; None: not
-        checked); ``limit32_median_s``, ``float32_speedup`` (float64 limit / float32
-        limit) and ``float32_changed_choices`` (frames whose choice the float32 window
-        would change; None: not checked).
+        checked).
 
     Paper: FP-DTW Table 2.
-    Notebook: 09_table2_timing.ipynb
     """
     out = dict.fromkeys(LIMIT_KEYS)
     if rec is None:
@@ -214,15 +207,11 @@ def limit_stats(dt, rec) -> dict:
         other_median_s=med(compiled - forecast - limit),
         python_median_s=med(step - compiled),
         evals_median=int(np.median(r[:, B.R_EVALS])),
-        limit32_median_s=med(r[:, B.R_LIMIT32] / tps),
     )
     out["step_over_limit"] = out["step_median_s"] / out["limit_median_s"]
     out["ns_per_eval"] = out["limit_median_s"] / max(out["evals_median"], 1) * 1e9
-    out["float32_speedup"] = out["limit_median_s"] / out["limit32_median_s"]
     same = r[:, B.R_SAME]
     out["same_costs"] = None if (same < 0).all() else bool((same[same >= 0] == 1).all())
-    flip = r[:, B.R_FLIP]
-    out["float32_changed_choices"] = None if (flip < 0).all() else int((flip > 0).sum())
     return out
 
 
@@ -293,11 +282,10 @@ def format_bench(rows, peers=None) -> str:
     text : str
 
     Paper: FP-DTW Table 2.
-    Notebook: 09_table2_timing.ipynb
     """
     head = (
         f"{'aligner':<34}{'step us':>9}{'p95 us':>9}{'limit us':>10}{'step/lim':>9}"
-        f"{'fcast':>7}{'python':>7}{'other':>7}{'ns/eval':>8}{'f32 x':>7}"
+        f"{'fcast':>7}{'python':>7}{'other':>7}{'ns/eval':>8}"
         f"{'paper/ours':>11}{'peer/ours':>10}"
     )
     paper = paper_ratios(rows)
@@ -310,7 +298,6 @@ def format_bench(rows, peers=None) -> str:
             f"{_us(r.get('forecast_median_s')):>7}{_us(r.get('python_median_s')):>7}"
             f"{_us(r.get('other_median_s')):>7}"
             f"{'-' if r.get('ns_per_eval') is None else format(r['ns_per_eval'], '.2f'):>8}"
-            f"{_ratio(r.get('float32_speedup')):>7}"
             f"{_times(paper.get(r['name'])):>11}{_times(peer.get(r['name'])):>10}"
         )
     notes = [
@@ -435,8 +422,6 @@ def peer_dtw(C, repeats=5, ours_median_s=None) -> dict:
         ``peer`` (name and version), ``cells``, ``ours_median_s``, ``peer_median_s``,
         ``peer_over_ours`` (how many times longer the peer takes), ``same_distance``.
         Empty dict when dtw-python is not installed.
-
-    Notebook: 09_table2_timing.ipynb
     """
     try:
         import dtw as dtwpy
@@ -479,8 +464,6 @@ def peer_open_end(I, T, ours_median_s, frames=OE_PEER_FRAMES) -> dict:
     row : dict
         ``peer``, ``frames``, ``ours_median_s``, ``peer_median_s``, ``peer_over_ours``,
         ``same_end_points``; empty when dtw-python is not installed.
-
-    Notebook: 09_table2_timing.ipynb
     """
     try:
         import dtw as dtwpy
@@ -843,7 +826,7 @@ def format_report(report) -> str:
         "",
         "Against the hardware limit (medians over the frames with a window; limit: the "
         "window's geodesic evaluations + accumulation, same data, same run; fcast/python/"
-        "other: the gap, us; f32 x: float32 limit speed-up)",
+        "other: the gap, us)",
         format_bench(rows, report.get("peers")),
         "",
         peers_table(report),
@@ -855,16 +838,6 @@ def format_report(report) -> str:
     ]
     if report.get("server"):
         parts += ["", server_table(report["server"])]
-    f32 = [r for r in rows if r.get("float32_speedup") is not None]
-    if f32:
-        changed = sum(r["float32_changed_choices"] or 0 for r in f32)
-        big = max(f32, key=lambda r: r["evals_median"] or 0)
-        parts.append(
-            f"float32 cost window: limit {min(r['float32_speedup'] for r in f32):.2f}-"
-            f"{max(r['float32_speedup'] for r in f32):.2f}x as fast ({big['name']}: "
-            f"{big['float32_speedup']:.2f}x), and it changes {changed} choices over these "
-            "runs: kept float64 (float32 is not exact)"
-        )
     return "\n".join(parts)
 
 

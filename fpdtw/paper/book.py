@@ -171,8 +171,6 @@ def claim_notebooks(evidence: str, notebooks=figure_map.NOTEBOOKS) -> tuple:
     -------
     stems : tuple of str
         In order of first mention, without repeats; empty when nothing is named.
-
-    Notebook: 12_claims.ipynb
     """
     stems = {nb.stem for nb in notebooks}
     owner = {m: nb.stem for nb in notebooks for m in nb.makes}
@@ -222,8 +220,6 @@ def claims_section(claims: list[dict] | None, pages: list[Page]) -> str:
         Rows of ``results/<mode>/claims.json`` (:data:`fpdtw.paper.claims.COLUMNS`); None
         when notebook 12 has not written them.
     pages : list of Page
-
-    Notebook: 12_claims.ipynb
     """
     out = ["## The claims, checked", ""]
     if not claims:
@@ -313,8 +309,6 @@ def unlisted_missing(manifests=None) -> dict:
     -------
     dict of str to str
         ``{dataset: sentences}``, only datasets whose notes say so.
-
-    Notebook: 01_data_and_motions.ipynb
     """
     if manifests is None:
         from fpdtw.paper import datasets
@@ -341,8 +335,6 @@ def data_section(figures_dir) -> str:
     Parameters
     ----------
     figures_dir : str or Path
-
-    Notebook: 01_data_and_motions.ipynb
     """
     from fpdtw.paper import numbers
 
@@ -462,8 +454,6 @@ def front_page(
         ``"smoke"`` says at the top that the numbers come from the short smoke runs.
     built_from : str, optional
         A line on what made it (versions, commit).
-
-    Notebook: 12_claims.ipynb
     """
     title = "FP-DTW and OPW, reproduced" + (" (smoke run)" if mode == "smoke" else "")
     # no right-hand contents column on the front page: the claims table needs the width
@@ -504,8 +494,6 @@ def figures_page(pages: list[Page], figures_dir) -> str:
     ----------
     pages : list of Page
     figures_dir : str or Path
-
-    Notebook: 12_claims.ipynb
     """
     figures_dir = Path(figures_dir)
     out = [

@@ -345,7 +345,6 @@ def paper_passes(name: str, metric: str):
         None where the paper does not say.
 
     Paper: FP-DTW Sections 5 and 7.
-    Notebook: 06_fig5_fig6_scores.ipynb
     """
     if metric not in ("similarity", "deviation"):
         raise ValueError(f"metric must be 'similarity' or 'deviation', got {metric!r}")

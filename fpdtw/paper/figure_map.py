@@ -7,8 +7,6 @@ against it by the tests. Standard library only, so that make can run it before t
 environment exists.
 
 Adding a figure: one notebook, one module in :mod:`fpdtw.paper.figures`, one row here.
-
-Notebook: 12_claims.ipynb
 """
 
 from __future__ import annotations

@@ -264,7 +264,6 @@ def dtw_curve(A, B, omega: float = OMEGA, max_run: int | None = 2) -> WarpCurve:
         Live time -> recording time.
 
     Paper: OPW poster Section 4, Fig. 3, eq. 5.
-    Notebook: 13_opw_fig4.ipynb
     """
     rate = 1.0 / omega
     PA = A.resample(rate).positions(OPW_JOINTS, root_relative=True)
@@ -301,7 +300,6 @@ def sample_times(duration: float, rate: float = SAMPLE_RATE) -> np.ndarray:
     t : ndarray of float64, shape (floor(duration * rate) + 1,)
 
     Paper: OPW poster Section 4 ("the curves were sampled at 50Hz").
-    Notebook: 13_opw_fig4.ipynb
     """
     n = int(np.floor(duration * rate + 1e-9)) + 1
     return np.arange(n) / rate
@@ -316,7 +314,6 @@ def deviation_ms(curve: WarpCurve, example: WarpCurve, rate: float = SAMPLE_RATE
         ``t`` (N,) sample times (s), ``ms`` (N,) deviations, ``mean`` and ``max`` (ms).
 
     Paper: OPW poster Fig. 4 (middle row), Figs. 5 and 6.
-    Notebook: 13_opw_fig4.ipynb
     """
     t = sample_times(example.x[-1], rate)
     ms = 1000.0 * np.abs(curve(t) - example(t))
@@ -338,7 +335,6 @@ def slope_change_percent(curve: WarpCurve, rate: float = SAMPLE_RATE, duration=N
         ``t`` (N - 2,) the interior sample times, ``pct`` (N - 2,), ``mean``, ``max``.
 
     Paper: OPW poster Fig. 4 (bottom row).
-    Notebook: 13_opw_fig4.ipynb
     """
     duration = curve.x[-1] if duration is None else duration
     t = sample_times(duration, rate)
@@ -364,7 +360,6 @@ def temporal_difference_removed(
     approximately 70 %". NaN when the example is the identity (nothing to remove).
 
     Paper: OPW poster Section 5.
-    Notebook: 14_opw_fig5_fig6.ipynb
     """
     t = sample_times(example.x[-1], rate)
     g = example(t)
@@ -391,7 +386,6 @@ def run_opw(A, B, omega: float = OMEGA, gamma: float = GAMMA) -> OPW:
         After the last frame of B: ``curve``, ``decisions``, ``M``.
 
     Paper: OPW poster Algorithm 1.
-    Notebook: 13_opw_fig4.ipynb
     """
     I, T = opw_features(A), opw_features(B)
     aligner = OPW(I, omega=omega, gamma=gamma, fps=B.fps)
@@ -523,7 +517,6 @@ def pooled(rows: list, method: str, **match) -> dict:
 
     Paper: OPW poster Figs. 5 and 6 ("each offset value was applied to all three motions
     and the results combined").
-    Notebook: 14_opw_fig5_fig6.ipynb
     """
     sel = [
         r
@@ -569,8 +562,6 @@ def opw_pair(I: MotionFeatures, T: MotionFeatures, pair_info=None):
 
     The experiment runner's hook (:func:`fpdtw.paper.runner.run.register_algorithm`):
     ``(M, seconds)`` as :func:`opw_align`.
-
-    Notebook: 05_run_experiments.ipynb
     """
     return opw_align(I, T)
 

@@ -7,8 +7,6 @@ which versions computed them. Figures and the claims table themselves stay byte-
 they carry no commit and no machine.
 
 Run ``python -m fpdtw.paper.provenance [--markdown OUT]`` to print the record.
-
-Notebook: 12_claims.ipynb
 """
 
 from __future__ import annotations
@@ -109,8 +107,6 @@ def environment(machine: bool = True) -> dict:
     """The whole record: ``python``, ``platform``, ``fpdtw`` (version, commit, dirty),
     ``packages`` (:func:`package_versions`) and, with ``machine``, ``cpu``
     (:func:`cpu_info`).
-
-    Notebook: 12_claims.ipynb
     """
     from fpdtw import __version__
 

@@ -75,8 +75,6 @@ def map_shape(results, name: str, dataset=None) -> dict:
         taken while input remained, pooled: :func:`fpdtw.metrics.hold_share`),
         ``stick_skip`` (median over pairs of :func:`fpdtw.metrics.stick_skip_index`:
         < 0 sticks, > 0 skips), ``pairs``.
-
-    Notebook: 15_readings_of_algorithm_3.ipynb
     """
     arr = results.get(name)
     m_all, _ = results.frames(name)

@@ -32,7 +32,6 @@ def plot_warp_curves(result: dict, ax=None, *, keys=True):
     fig, ax
 
     Paper: OPW poster Fig. 4 (top row).
-    Notebook: 13_opw_fig4.ipynb
     """
     fig, ax = new_axes(ax)
     D = result["duration"]
@@ -61,7 +60,6 @@ def plot_deviation(result: dict, ax=None, *, threshold_ms: float = HOYET_MS):
     fig, ax
 
     Paper: OPW poster Fig. 4 (middle row).
-    Notebook: 13_opw_fig4.ipynb
     """
     fig, ax = new_axes(ax)
     for name in ("DTW", "OPW"):
@@ -83,7 +81,6 @@ def plot_slope_change(result: dict, ax=None, *, example=True):
     fig, ax
 
     Paper: OPW poster Fig. 4 (bottom row).
-    Notebook: 13_opw_fig4.ipynb
     """
     fig, ax = new_axes(ax)
     names = (("example",) if example else ()) + ("DTW", "OPW")

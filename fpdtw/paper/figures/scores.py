@@ -81,7 +81,6 @@ def scores(results, name: str, metric: str, dataset=None) -> np.ndarray:
         One value per pair (pairs with a non-finite score left out).
 
     Paper: FP-DTW eq. 2 (similarity), eq. 3 (deviation).
-    Notebook: 06_fig5_fig6_scores.ipynb
     """
     v = _raw(results, name, metric, dataset)
     return v[np.isfinite(v)]
@@ -99,7 +98,6 @@ def utw_median(results, rate_hz: int = 120, dataset=None) -> float:
         Over this dataset's pairs only.
 
     Paper: FP-DTW Section 4 (benchmark (i)), Fig. 5 red line, Table 1 last column.
-    Notebook: 06_fig5_fig6_scores.ipynb
     """
     return float(np.median(scores(results, "UTW" + _rate_suffix(rate_hz), "similarity", dataset)))
 
@@ -130,8 +128,6 @@ def figure_names(names=BASE_NAMES, typev=True) -> list[tuple[str, str | None]]:
         Unconstrained names, in plotting order.
     typev : bool
         Include the Type V variants.
-
-    Notebook: 06_fig5_fig6_scores.ipynb
     """
     out = []
     for n in names:

@@ -7,8 +7,6 @@
   Algorithm 3 and the paper's silent choices (:data:`SILENT_CHOICES`).
 
 A name ending in ``"@60Hz"`` runs the named algorithm on the motions resampled to 60 Hz.
-
-Notebook: 05_run_experiments.ipynb
 """
 
 from __future__ import annotations
@@ -141,18 +139,12 @@ CHOICE_TARGETS = {
 
 
 def choice_targets(choice: SilentChoice) -> list:
-    """The algorithms of :data:`CHOICE_TARGETS` a silent choice touches.
-
-    Notebook: 15_readings_of_algorithm_3.ipynb
-    """
+    """The algorithms of :data:`CHOICE_TARGETS` a silent choice touches."""
     return [n for method in choice.methods for n in CHOICE_TARGETS[method]]
 
 
 def choice_variant(name: str, choice: SilentChoice) -> str:
-    """``name`` with the choice's alternative option: ``"Mc w40"`` -> ``"Mc w40 (ties high)"``.
-
-    Notebook: 15_readings_of_algorithm_3.ipynb
-    """
+    """``name`` with the choice's alternative option: ``"Mc w40"`` -> ``"Mc w40 (ties high)"``."""
     a = registry.resolve(name)
     key, value = choice.option
     return registry.name(a.entry.key, a.value, a.typev, **{**a.options, key: value})
