@@ -529,8 +529,6 @@ def read_bvh(path, *, name=None) -> Motion:
         Time`` <= 0, position channels on a non-root joint that vary over time,
         a frame rate (``1 / Frame Time``), ``Frames:`` or channel count outside
         :mod:`fpdtw.limits`. The message names the file, line and (0-based) frame.
-
-    Notebook: 01_data_and_motions.ipynb
     """
     path = Path(path)
     lines = read_lines(path)

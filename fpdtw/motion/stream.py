@@ -49,8 +49,6 @@ exception is a tick that falls within ``EXACT_FRAMES`` AFTER a received frame at
 rate, whose root translation offline interpolation moves by at most ``1e-6`` of a frame
 towards the next frame: here it is the received frame's (its rotations are the frame's in
 both).
-
-Notebook: 20_align_a_live_performance.ipynb
 """
 
 from __future__ import annotations

@@ -332,8 +332,6 @@ def choice_values(results, name: str, variant: str, features=None) -> dict:
     values : dict
         Metric -> ndarray of float64, shape (P,) in ``results.pairs`` order, for the
         metrics the choice changes.
-
-    Notebook: 15_readings_of_algorithm_3.ipynb
     """
     arr = results.get(name)
     dtw = results.get("DTW" + ("@60Hz" if name.endswith("@60Hz") else ""))

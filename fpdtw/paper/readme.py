@@ -11,8 +11,6 @@ markers and are generated::
 into the README text; ``python -m fpdtw.paper.readme --update README.md`` rewrites the file
 (``make figures`` does) and ``--check`` exits 1 when the README differs from what the
 figures give (the test suite runs the same comparison).
-
-Notebook: 12_claims.ipynb
 """
 
 from __future__ import annotations
@@ -48,8 +46,6 @@ def claims_block(rows) -> str:
     -------
     text : str
         Markdown: a legend, then one row per claim.
-
-    Notebook: 12_claims.ipynb
     """
     from fpdtw.paper.claims.bootstrap import N_RESAMPLES, SEED
     from fpdtw.paper.claims.rules import LEGEND
@@ -86,8 +82,6 @@ def blocks(figures_dir) -> dict:
     -------
     blocks : dict of str to str
         Block name -> Markdown.
-
-    Notebook: 12_claims.ipynb
     """
     figures_dir = Path(figures_dir)
     return {"claims": claims_block(_read_csv(figures_dir / "claims.csv"))}

@@ -5,8 +5,6 @@
 * :mod:`~fpdtw.paper.claims.evidence`: per-pair values, medians and checks of a run;
 * :mod:`~fpdtw.paper.claims.table`: the claims, split into parts, and the table;
 * :mod:`~fpdtw.paper.claims.robustness`: each verdict under the documented readings.
-
-Notebook: 12_claims.ipynb
 """
 
 from fpdtw.paper.claims.rules import LEGEND

@@ -87,8 +87,6 @@ class PairDesign:
     def from_pairs(cls, pairs) -> PairDesign:
         """The design of a list of pairs (``Results.pairs`` rows: ``dataset``, ``movement``,
         ``input``, ``target``), codes in sorted order of the labels.
-
-        Notebook: 12_claims.ipynb
         """
         ds = [p["dataset"] for p in pairs]
         mv = [(p["dataset"], p["movement"]) for p in pairs]
@@ -137,8 +135,6 @@ def resample_weights(
     -------
     W : ndarray of int32, shape (n, P)
         ``W[b, p]``: the weight of pair ``p`` in resample ``b`` (0 where it is not drawn).
-
-    Notebook: 12_claims.ipynb
     """
     if scheme not in SCHEMES:
         raise ValueError(f"scheme must be one of {sorted(SCHEMES)}, got {scheme!r}")
@@ -203,8 +199,6 @@ def weighted_medians(values, W, cols=None) -> np.ndarray:
     Returns
     -------
     medians : ndarray of float64, shape (B,)
-
-    Notebook: 12_claims.ipynb
     """
     values = np.asarray(values, dtype=np.float64)
     W = np.atleast_2d(W)
@@ -293,8 +287,6 @@ def interval(replicates, level: float = LEVEL) -> tuple[float, float]:
     -------
     low, high : float
         NaN when no replicate is finite.
-
-    Notebook: 12_claims.ipynb
     """
     r = np.asarray(replicates, dtype=np.float64)
     r = r[np.isfinite(r)]

@@ -427,8 +427,6 @@ def shared_evidence(results, dataset=None, scheme: str = "movements") -> Evidenc
     dataset : str, optional
         Only this dataset's pairs (a stratum of the resampling: the weights are shared).
     scheme : {"movements", "motions"}
-
-    Notebook: 06_fig5_fig6_scores.ipynb
     """
     key = (id(results), scheme)
     hit = _SHARED.get(key)

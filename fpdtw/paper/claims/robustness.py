@@ -14,7 +14,6 @@ choices at 60 Hz for Table 1, or OE-DTW, which the study does not run) is listed
 run, not counted.
 
 Paper: FP-DTW Algorithms 1-3, Sections 4-6 (the choices they leave open).
-Notebook: 12_claims.ipynb
 """
 
 from __future__ import annotations
@@ -49,10 +48,7 @@ class Alternative:
 
 
 def alternatives() -> list[Alternative]:
-    """Every reading and silent choice of notebook 15, as alternatives to ours.
-
-    Notebook: 12_claims.ipynb
-    """
+    """Every reading and silent choice of notebook 15, as alternatives to ours."""
     from fpdtw.paper.claims.table import reading_alias
     from fpdtw.paper.runner.grid import SILENT_CHOICES, choice_targets, choice_variant
     from fpdtw.registry import C_READINGS
@@ -126,8 +122,6 @@ def robustness(claims, mode: str = "full", study=None, features=None, progress=F
         Claim id -> text, e.g. ``"yes under ours; stands under 10 of 11 readings (not under:
         forecast hold -> partly); not run: ..."``. Claims not decided on the pairs are
         absent; {} when there is no study run.
-
-    Notebook: 12_claims.ipynb
     """
     from fpdtw.paper.claims.table import ClaimContext
 

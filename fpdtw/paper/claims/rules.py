@@ -23,7 +23,6 @@ against one threshold. The rules, fixed before any result was looked at:
   make them fail (:func:`claim_reason`).
 
 Paper: FP-DTW Section 5 (the pass rule of the two benchmarks).
-Notebook: 12_claims.ipynb
 """
 
 from __future__ import annotations
@@ -170,10 +169,7 @@ class Not:
 
 
 def evaluate(node) -> str:
-    """The verdict of a check or a formula of checks (holds / contradicted / inconclusive).
-
-    Notebook: 12_claims.ipynb
-    """
+    """The verdict of a check or a formula of checks (holds / contradicted / inconclusive)."""
     if isinstance(node, Check):
         return node.verdict
     if isinstance(node, Not):
@@ -268,10 +264,7 @@ class Part:
 
 
 def claim_verdict(verdicts) -> str:
-    """A claim's verdict from its parts' (rule in the module docstring).
-
-    Notebook: 12_claims.ipynb
-    """
+    """A claim's verdict from its parts' (rule in the module docstring)."""
     vs = list(verdicts)
     if not vs:
         return NA
@@ -292,8 +285,6 @@ def claim_reason(parts, contradiction: str = "") -> str:
     parts : list of Part
     contradiction : str
         Where the paper's own text contradicts itself: said first.
-
-    Notebook: 12_claims.ipynb
     """
     head = f"{contradiction.rstrip('.')}. " if contradiction else ""
     vs = [p.verdict for p in parts]

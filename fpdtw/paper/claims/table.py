@@ -125,8 +125,6 @@ class ClaimContext:
         ``reading`` chooses Method C's reading of Algorithm 3: with ``"literal"`` every Mc
         name (``"Mc w40"``, ``"Mc w80 + Type V"``, ``"Mc w20@60Hz"``) stands for the
         results of that reading (``"Mc w40 (literal window)"``, ...).
-
-        Notebook: 12_claims.ipynb
         """
         from fpdtw.paper.figures.timing import TIMED_NAMES, load_bench, time_per_frame_rows
         from fpdtw.paper.paths import results_dir
@@ -160,7 +158,6 @@ class ClaimContext:
         other readings too). Claims that need the pairs come out "not computed".
 
         Paper: FP-DTW Sections 5-7; OPW poster Section 5.
-        Notebook: 10_fig8_walk_pair.ipynb, 13_opw_fig4.ipynb, 14_opw_fig5_fig6.ipynb
         """
         allowed = {"fig8", "opw_fig4", "opw_fig56", "counts", "timing"}
         unknown = set(facts) - allowed
@@ -174,8 +171,6 @@ def reading_alias(reading: str) -> dict:
 
     ``reading_alias("literal")["Mc w40 + Type V@60Hz"]`` is
     ``"Mc w40 (literal window) + Type V@60Hz"``.
-
-    Notebook: 12_claims.ipynb
     """
     from fpdtw.registry import method_c_name
 
@@ -227,7 +222,6 @@ def oedtw_backward_jumps(results, name="OE-DTW") -> dict:
         ``jumps`` (total number of backward jumps).
 
     Paper: FP-DTW Section 2, Fig. 1.
-    Notebook: 02_fig1_oedtw.ipynb
     """
     arr = results.get(name)
     offsets = np.asarray(arr["offsets"], dtype=np.int64)
@@ -243,10 +237,7 @@ def oedtw_backward_jumps(results, name="OE-DTW") -> dict:
 
 
 def data_counts(pairs) -> dict:
-    """Motions, movements and pairs in a pair list (``Results.pairs``), total and per dataset.
-
-    Notebook: 12_claims.ipynb
-    """
+    """Motions, movements and pairs in a pair list (``Results.pairs``), total and per dataset."""
     out = {}
     for ds in sorted({p["dataset"] for p in pairs}) + [None]:
         pp = [p for p in pairs if ds is None or p["dataset"] == ds]
@@ -344,8 +335,6 @@ def _claim2(ctx):
 def best_window_test(ev, rate):
     """The paper's best window of Method C at ``rate`` beats every other window: its median
     similarity minus each other's, on the same pairs, above 0 (Table 1).
-
-    Notebook: 07_table1_60hz.ipynb
     """
     best = N.BEST_WINDOW[rate]
     sfx = "" if rate == 120 else "@60Hz"
@@ -911,8 +900,6 @@ def paper_shaped_rows(results, mode: str = "full"):
     The selection is the study run's (``results/study/pairs.json``, ``smoke-study`` for
     SMOKE): at most 8 takes per movement, drawn with a fixed seed. Returns None when that
     run does not exist.
-
-    Notebook: 12_claims.ipynb
     """
     from fpdtw.paper.paths import results_dir
     from fpdtw.paper.readings import study_mode
@@ -937,8 +924,6 @@ def claim_contexts(ctx, results=None, mode="full") -> dict:
 
     Keys: ``""`` (all pairs), ``"same_movements"``, ``"authors_fbx"``, ``"hdm05"``,
     ``"paper_shaped"``, ``"literal"``.
-
-    Notebook: 12_claims.ipynb
     """
     out = {
         "": ctx,
@@ -1017,8 +1002,6 @@ def evaluate_claims(claims, contexts, robustness=None) -> tuple[list[dict], list
         Keys :data:`COLUMNS`.
     parts : list of dict
         Keys :data:`PART_COLUMNS`, one per part.
-
-    Notebook: 12_claims.ipynb
     """
     rows, part_out = [], []
     for claim in claims:
