@@ -644,6 +644,53 @@ def deviation(P_a, P_b) -> float:
     return float(np.mean(np.abs(np.asarray(P_a, np.int64) - np.asarray(P_b, np.int64))))
 
 
+# --- the evaluation's intervals: medians of resampled pairs ------------------------------
+
+
+def pair_weights(c, i_in, i_tg) -> np.ndarray:
+    """How often each pair counts when its movement's motions were drawn ``c`` times.
+
+    A pair (input ``a``, target ``b``) of two distinct motions counts ``c_a * c_b`` times in
+    a resample in which motion ``a`` was drawn ``c_a`` times and ``b`` ``c_b`` times (pairs of
+    a motion with itself do not exist).
+
+    Parameters
+    ----------
+    c : ndarray of int, shape (k,)
+        Draws of each motion of one movement.
+    i_in, i_tg : ndarray of int, shape (P,)
+        Each pair's input and target motion (indices into ``c``).
+
+    Returns
+    -------
+    w : ndarray of int, shape (P,)
+    """
+    c = np.asarray(c)
+    return c[np.asarray(i_in)] * c[np.asarray(i_tg)]
+
+
+def weighted_median(values, weights) -> float:
+    """The median of ``values`` with each value repeated ``weights`` times.
+
+    Parameters
+    ----------
+    values : ndarray of float, shape (P,)
+        One value per pair (a non-finite value counts as absent).
+    weights : ndarray of int, shape (P,)
+        How often each pair was drawn.
+
+    Returns
+    -------
+    median : float
+        ``np.median`` of the repeated values; NaN when no weight is left.
+    """
+    values, weights = np.asarray(values, dtype=float), np.asarray(weights)
+    keep = np.isfinite(values) & (weights > 0)
+    if not keep.any():
+        return float("nan")
+    return float(np.median(np.repeat(values[keep], weights[keep])))
+
+
 # --- OPW: one step of the poster's Algorithm 1 ------------------------------------------
 
 
@@ -742,6 +789,7 @@ __all__ = [
     "method_c_step",
     "oe_dtw_end_points",
     "opw_step",
+    "pair_weights",
     "path_to_map",
     "quat_multiply",
     "reverse_accumulate",
@@ -749,4 +797,5 @@ __all__ = [
     "similarity",
     "type_v_allowed",
     "type_v_next",
+    "weighted_median",
 ]
