@@ -722,11 +722,21 @@ def interpolate_positions(P, fps: float, t: float, last: int | None = None) -> n
     return (1.0 - a) * P[i0] + a * P[i0 + 1]
 
 
-def opw_step(f, t: float, A, B, omega: float, gamma: float, fps_A: float, fps_B: float):
+def opw_step(
+    f,
+    t: float,
+    A,
+    B,
+    omega: float,
+    gamma: float,
+    fps_A: float,
+    fps_B: float,
+    reference: str = "curve",
+    direction: str = "code",
+):
     """One OPW step at live time ``t``: forecast the live motion ``B`` one step ahead,
-    compare it with the recording ``A`` at ``t' = f(t)``, ``t' + omega``, ``t' + 2 omega``
-    (eq. 5), and slow ``A`` down (``s = 0``) or speed it up (``s = 2``) by moving the
-    curve's last key (eq. 2).
+    compare it with the recording ``A`` at three nearby times (eq. 5), and slow ``A`` down
+    (``s = 0``) or speed it up (``s = 2``) by moving the curve's last key (eq. 2).
 
     Parameters
     ----------
@@ -741,6 +751,16 @@ def opw_step(f, t: float, A, B, omega: float, gamma: float, fps_A: float, fps_B:
     omega, gamma : float
         Sample period (s) and warp parameter.
     fps_A, fps_B : float
+    reference : {"curve", "ratio"}
+        Where ``A`` is read. ``"curve"`` (the poster, eq. 4): at ``t' + i omega``,
+        ``t' = f(t)``. ``"ratio"`` (the authors' MotionBuilder plugin): at
+        ``(t + i omega) r`` with the global ratio ``r = D_A / x_last`` (the recording's
+        duration, which is the last key's value, over the last key's live time), not read
+        through the curve.
+    direction : {"code", "readme"}
+        ``"code"`` (eq. 1's bullets and the plugin's code): ``s = 0`` slows ``A`` down
+        (the last key moves later). ``"readme"`` (the plugin's readme): ``s = 0`` speeds
+        it up, ``s = 2`` slows it down.
 
     Returns
     -------
@@ -752,10 +772,20 @@ def opw_step(f, t: float, A, B, omega: float, gamma: float, fps_A: float, fps_B:
     Paper: OPW poster Algorithm 1, eqs. 1, 2, 4, 5.
     Notebook: 13_opw_fig4.ipynb
     """
+    sign = {"code": 1.0, "readme": -1.0}.get(direction)
+    if sign is None:
+        raise ValueError(f"direction must be 'code' or 'readme', got {direction!r}")
     t_w = f.value(t)  # t' = f(t) (lines 2-3: the sample times)
     x_t = interpolate_positions(B, fps_B, t)
     x_hat = x_t + (x_t - interpolate_positions(B, fps_B, t - omega))  # line 7: dead reckoning
-    A_t = [interpolate_positions(A, fps_A, t_w + i * omega) for i in range(3)]  # line 8
+    if reference == "curve":
+        times = [t_w + i * omega for i in range(3)]  # line 8, eq. 4
+    elif reference == "ratio":
+        r = f.y[-1] / f.x[-1]  # the plugin: D_A / (live time of the last key)
+        times = [(t + i * omega) * r for i in range(3)]
+    else:
+        raise ValueError(f"reference must be 'curve' or 'ratio', got {reference!r}")
+    A_t = [interpolate_positions(A, fps_A, tau) for tau in times]
     p = [float(np.sqrt(((x_hat - a) ** 2).sum(axis=1)).sum()) for a in A_t]  # lines 9-10, eq. 5
     s = 1  # eq. 1: argmin p_i; ties keep the alignment
     if p[0] < p[1] and p[0] < p[2]:  # line 12 (the listing writes ">": inverted)
@@ -765,7 +795,7 @@ def opw_step(f, t: float, A, B, omega: float, gamma: float, fps_A: float, fps_B:
     if s != 1:
         x_k = f.x[-1]  # the last key's live time
         f.add_key(t, t_w)  # lines 13 / 16: pin a key at the current time
-        f.move_key(-1, x=x_k - (x_k - t) * gamma * (s - 1))  # lines 14 / 17, as eq. 2
+        f.move_key(-1, x=x_k - (x_k - t) * gamma * (s - 1) * sign)  # lines 14 / 17, as eq. 2
     return s, p
 
 
