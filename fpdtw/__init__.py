@@ -3,7 +3,8 @@
 The public API, by what it holds:
 
 * motions: :class:`Motion`, :class:`Skeleton`, :func:`load_motion`, the joint sets
-  :data:`PAPER_JOINTS` (8) and :data:`OPW_JOINTS` (16), :class:`MotionFeatures`;
+  :data:`PAPER_JOINTS` (8) and :data:`OPW_JOINTS` (16), :class:`MotionFeatures`,
+  :class:`LiveTarget` (a motion arriving frame by frame: lost frames, other rates);
 * costs and offline alignment: :func:`geo_distance`, :func:`geodesic_cost_matrix`,
   :func:`position_cost_matrix`, :func:`dtw`, :func:`dtw_pair`, :func:`utw_map`;
 * online aligners (one streaming interface, :meth:`OnlineAligner.step`):
@@ -12,10 +13,13 @@ The public API, by what it holds:
   :func:`make_online` / :func:`align` by the paper's names ("Mc w40 + Type V");
 * metrics: :func:`similarity` (eq. 2), :func:`deviation` (eq. 3);
 * the OPW warp curve: :class:`WarpCurve`;
+* the papers' equations and algorithms in plain NumPy, line by line: :mod:`fpdtw.plain`
+  (what the notebooks step through; the compiled aligners are tested equal to it);
 * errors: :class:`MotionFormatError`, :class:`DataFetchError`, :class:`ManifestError`,
   :class:`AlignmentError` (all :class:`FpdtwError`).
 """
 
+from fpdtw import plain
 from fpdtw.costs import geo_distance, geodesic_cost_matrix, position_cost_matrix
 from fpdtw.dtw import dtw, dtw_pair, utw_map
 from fpdtw.errors import (
@@ -30,6 +34,7 @@ from fpdtw.metrics import deviation, similarity
 from fpdtw.motion.features import Frame, MotionFeatures
 from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
 from fpdtw.motion.motion import Motion, Skeleton
+from fpdtw.motion.stream import LiveTarget
 from fpdtw.online import (
     OEDTW,
     OLTW,
@@ -56,6 +61,7 @@ __all__ = [
     "DataFetchError",
     "FpdtwError",
     "Frame",
+    "LiveTarget",
     "ManifestError",
     "MethodA",
     "MethodB",
@@ -75,6 +81,7 @@ __all__ = [
     "geodesic_cost_matrix",
     "load_motion",
     "make_online",
+    "plain",
     "position_cost_matrix",
     "run_online",
     "similarity",

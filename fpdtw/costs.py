@@ -97,7 +97,10 @@ def fast_acos(x) -> np.ndarray:
 
 @numba.njit(cache=True, fastmath=False, inline="always")
 def _geo_frame(qa, qb):
-    """eq. 1 between two frames; qa, qb : float64 (k, 4)."""
+    """eq. 1 between two frames; qa, qb : float64 (k, 4).
+
+    Plain version: fpdtw.plain.geo_distance.
+    """
     total = 0.0
     for j in range(qa.shape[0]):
         d = abs(
@@ -119,6 +122,8 @@ def _geo_line(a, B, lo, hi, acc, out):
     in order, the dot product in (w, x, y, z) order and ``a``'s factor first, as in
     :func:`_geo_frame` (a product's operands commute exactly): every value is
     bit-identical to ``_geo_frame(a, B[:, :, lo + c])``.
+
+    Plain version: fpdtw.plain.geo_distance.
     """
     n = hi - lo
     for c in range(n):
@@ -141,7 +146,10 @@ def _geo_line(a, B, lo, hi, acc, out):
 
 @numba.njit(cache=True)
 def _geo_block(A, B, out):
-    """Fill ``out[i, j] = geoDistance(A[i], B[j])``; A (m, k, 4), B (n, k, 4)."""
+    """Fill ``out[i, j] = geoDistance(A[i], B[j])``; A (m, k, 4), B (n, k, 4).
+
+    Plain version: fpdtw.plain.cost_matrix.
+    """
     for i in range(A.shape[0]):
         for j in range(B.shape[0]):
             out[i, j] = _geo_frame(A[i], B[j])
@@ -161,8 +169,8 @@ def geo_distance(qa, qb) -> float:
     d : float
         In ``[0, k]``: 0 for identical poses, 1 per joint rotated by pi.
 
+    Plain version: fpdtw.plain.geo_distance.
     Paper: FP-DTW eq. 1.
-    Notebook: 02_fig1_oedtw.ipynb
     """
     qa = np.ascontiguousarray(qa, dtype=np.float64)
     qb = np.ascontiguousarray(qb, dtype=np.float64)
@@ -182,8 +190,8 @@ def geodesic_cost_matrix(QA, QB) -> np.ndarray:
     C : ndarray of float64, shape (m, n)
         ``C[i, j] = geoDistance(A_i, B_j)``.
 
+    Plain version: fpdtw.plain.cost_matrix.
     Paper: FP-DTW eq. 1.
-    Notebook: 10_fig8_walk_pair.ipynb
     """
     QA = np.ascontiguousarray(QA, dtype=np.float64)
     QB = np.ascontiguousarray(QB, dtype=np.float64)

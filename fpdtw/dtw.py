@@ -92,7 +92,9 @@ def _accumulate(C, wd, D):
     Each cell is ``min(D[i-1, j-1] + wd*c, D[i-1, j] + c, D[i, j-1] + c)``, the
     same floating-point operations as dtw-python, so ``D`` agrees bit for bit.
     The running value of the current row stays in a register; rows are
-    contiguous.
+    contiguous. Methods B's window accumulation is this kernel on its window.
+
+    Plain version: fpdtw.plain.accumulate.
     """
     m1, n1 = C.shape
     x = C[0, 0]
@@ -119,6 +121,8 @@ def _backtrack(D, C, wd, use_c):
     With ``use_c`` the candidates are compared as ``D[prev] + w * C[i, j]``
     (dtw-python's exact rule); without, as ``D[prev]`` (symmetric1 only, where
     the two orders agree except on rounding ties).
+
+    Plain version: fpdtw.plain.backtrack.
     """
     i = D.shape[0] - 1
     j = D.shape[1] - 1
@@ -185,9 +189,9 @@ def accumulate(C, step_pattern: str = "symmetric1") -> np.ndarray:
     AlignmentError
         ``C`` not 2-D, empty or not finite; unknown step pattern.
 
+    Plain version: fpdtw.plain.accumulate (symmetric1).
     Paper: FP-DTW Section 2 / Algorithm 2 ("accumulate in the same manner as DTW"),
     Sakoe & Chiba 1978.
-    Notebook: 10_fig8_walk_pair.ipynb
     """
     wd = diagonal_weight(step_pattern)
     C = _check_cost(C)
@@ -218,8 +222,8 @@ def backtrack(D, C=None, step_pattern: str = "symmetric1") -> np.ndarray:
         Cells ``(i, j)`` = (input frame, target frame) in FORWARD order, from
         ``(0, 0)`` to ``(m, n)``; each step moves by (1, 1), (0, 1) or (1, 0).
 
+    Plain version: fpdtw.plain.backtrack (symmetric1).
     Paper: FP-DTW Section 3.2 (DTW path plotting, before the Method B overwrite rule).
-    Notebook: 10_fig8_walk_pair.ipynb
     """
     wd = diagonal_weight(step_pattern)
     # no full finiteness scan: the back-track reads only O(m + n) cells
@@ -256,7 +260,7 @@ def path_to_map(path, n: int) -> np.ndarray:
     AlignmentError
         A target frame in ``0..n`` is not on the path, or a cell is negative.
 
-    Notebook: 05_run_experiments.ipynb
+    Plain version: fpdtw.plain.path_to_map.
     """
     path = np.asarray(path)
     if path.ndim != 2 or path.shape[1] != 2 or path.shape[0] == 0:
@@ -309,7 +313,6 @@ def dtw(C, step_pattern: str = "symmetric1") -> DTWResult:
     DTWResult
 
     Paper: FP-DTW Sections 2 and 4 (DTW baseline for eq. 3).
-    Notebook: 05_run_experiments.ipynb
     """
     wd = diagonal_weight(step_pattern)
     C = _check_cost(C)
@@ -343,7 +346,7 @@ def dtw_pair(I, T, step_pattern: str = "symmetric1") -> DTWResult:
         :data:`fpdtw.limits.MAX_MATRIX_BYTES` (checked before allocating).
 
     Paper: FP-DTW eq. 1 and Section 4.
-    Notebook: 05_run_experiments.ipynb
+    Notebook: 10_fig8_walk_pair.ipynb
     """
     if I.quats.shape[1:] != T.quats.shape[1:]:
         raise AlignmentError(
@@ -399,7 +402,6 @@ def utw_map(m: int, n: int) -> np.ndarray:
         ``M[0] = 0``, ``M[n] = m`` (for n > 0), non-decreasing.
 
     Paper: FP-DTW Section 4 (UTW benchmark, Fu et al. 2008).
-    Notebook: 05_run_experiments.ipynb
     """
     m = int(m)
     n = int(n)

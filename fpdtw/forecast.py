@@ -10,7 +10,9 @@ latest frames ``T_n`` and ``T_{n+1}`` (unwrapped, degrees) the velocity is
 (its first element is the known incoming frame). The forecast Euler angles are turned
 back into quaternions per joint in the joint's own rotation order, for the geodesic
 cost (eq. 1). :func:`euler_to_quat_fast` does that conversion in numba (the window
-methods inline its kernel), :func:`forecast_joints` is the plain numpy forecast.
+methods inline its kernel); the plain NumPy forecast and conversion are
+:func:`fpdtw.plain.forecast_joints` (also importable from here) and
+:func:`fpdtw.plain.euler_to_quat`.
 
 For the paper's Fig. 3 ("performance of different smoothing levels s at predicting i
 frames ahead") there are three forecasters over unwrapped Euler angles, each
@@ -40,6 +42,7 @@ import numba
 import numpy as np
 
 from fpdtw.motion.rotations import ORDERS, check_order
+from fpdtw.plain import forecast_joints
 
 #: ``ORDER_AXES[code]`` = axes (0=X, 1=Y, 2=Z) of rotation order ``ORDERS[code]`` in the
 #: order they are applied to a vector (``"XYZ"``: X first, so R = Rz Ry Rx).
@@ -129,8 +132,8 @@ def euler_to_quat_fast(E, orders) -> np.ndarray:
         Unit quaternions (w, x, y, z); equal to :func:`fpdtw.motion.rotations.euler_to_quat` up
         to sign (the sign is not normalised).
 
+    Plain version: fpdtw.plain.euler_to_quat.
     Paper: FP-DTW Algorithms 2 and 3 (forecastJoints output turned into quaternions).
-    Notebook: 04_fig3_forecast.ipynb
     """
     E = np.asarray(E, dtype=np.float64)
     if E.ndim < 2 or E.shape[-1] != 3:
@@ -144,31 +147,6 @@ def euler_to_quat_fast(E, orders) -> np.ndarray:
     out = np.empty((flat.shape[0], k, 4))
     _euler_to_quat_block(flat, codes, out)
     return out.reshape(lead + (k, 4))
-
-
-def forecast_joints(E_n, E_n1, w: int) -> np.ndarray:
-    """Dead-reckoning forecast from the two latest frames (``forecastJoints``).
-
-    Parameters
-    ----------
-    E_n, E_n1 : ndarray of float, shape (k, 3)
-        Unwrapped Euler angles (degrees) of ``T_n`` and ``T_{n+1}``.
-    w : int
-        Forecast length.
-
-    Returns
-    -------
-    F : ndarray of float64, shape (w, k, 3)
-        ``F[i] = T_{n+1} + i * (T_{n+1} - T_n)``, ``i = 0..w-1`` (``F[0] = T_{n+1}``).
-
-    Paper: FP-DTW Algorithms 2 and 3, forecastJoints.
-    Notebook: 03_fig2_fig4_windows.ipynb
-    """
-    E_n = np.asarray(E_n, dtype=np.float64)
-    E_n1 = np.asarray(E_n1, dtype=np.float64)
-    delta = E_n1 - E_n
-    i = np.arange(int(w), dtype=np.float64).reshape((-1,) + (1,) * E_n1.ndim)
-    return E_n1 + i * delta
 
 
 # --- forecasters for Fig. 3 ------------------------------------------------------------
@@ -223,7 +201,6 @@ def dead_reckoning(E_hist, s: int, H: int) -> np.ndarray:
         ``F[i - 1] = E[-1] + i * v`` for ``i = 1..H``.
 
     Paper: FP-DTW Section 3.2 and Fig. 3 (s = 2 is the paper's choice).
-    Notebook: 04_fig3_forecast.ipynb
     """
     s = int(s)
     if s < 2:
@@ -288,7 +265,6 @@ def exponential_smoothing(E_hist, alpha: float, H: int) -> np.ndarray:
     F : ndarray of float64, shape (H, ...)
 
     Paper: FP-DTW Fig. 3 (alternative smoothing function, ref. 7).
-    Notebook: 04_fig3_forecast.ipynb
     """
     alpha = _check_factor(alpha, "alpha")
     H = _check_H(H)
@@ -319,7 +295,6 @@ def holt(E_hist, alpha: float, beta: float, H: int) -> np.ndarray:
         ``F[i - 1]``: the forecast ``i`` frames ahead.
 
     Paper: FP-DTW Fig. 3 (alternative smoothing function, ref. 7).
-    Notebook: 04_fig3_forecast.ipynb
     """
     alpha = _check_factor(alpha, "alpha")
     beta = _check_factor(beta, "beta")
@@ -374,7 +349,6 @@ def forecast_error_curve(motions_features, method: str, levels, H: int) -> np.nd
         Unknown method, bad level, or no motion long enough for one start frame.
 
     Paper: FP-DTW Fig. 3.
-    Notebook: 04_fig3_forecast.ipynb
     """
     if method not in FORECASTERS:
         raise ValueError(f"unknown forecaster {method!r}; expected one of {FORECASTERS}")

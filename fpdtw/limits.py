@@ -23,6 +23,10 @@ limit                  default          environment variable          checked by
                                                                       windows of A, B, C
 :data:`HISTORY_FRAMES` 4096             ``FPDTW_HISTORY_FRAMES``      online aligners (not a
                                                                       limit: a buffer size)
+:data:`MAX_CHANNELS`   10,000           ``FPDTW_MAX_CHANNELS``        BVH header (file, stream)
+:data:`MAX_LINE_BYTES` 256 KiB          ``FPDTW_MAX_LINE_BYTES``      ``fpdtw serve``: a line
+:data:`MAX_HEADER_BYTES` 1 MiB          ``FPDTW_MAX_HEADER_BYTES``    ``fpdtw serve``: a header
+:data:`MAX_GAP_S`      10 s             ``FPDTW_MAX_GAP_S``           ``fpdtw serve``: a gap
 =====================  ===============  ============================  =======================
 
 Why these numbers:
@@ -47,6 +51,17 @@ Why these numbers:
   windows at most (so ``w`` and ``c`` up to about 11,500 and 16,000 frames). Online
   methods need memory proportional to the window, not to ``n x m``: they are the way
   out for long takes.
+* 10,000 BVH channels: a full body with hands and face is about 300 joints, at most six
+  channels each (1,800); every channel costs memory per frame and time per streamed line.
+* 256 KiB per streamed line, 1 MiB per streamed header: a motion line of 10,000 channels
+  printed with 6 decimals is about 120 KB; a header is about 150 bytes per joint. A client of
+  ``fpdtw serve`` that sends a longer line or header gets an error line and is closed,
+  before the server holds more than that in memory.
+* 10 s of gap between two streamed frames: the gap is filled with one target frame per
+  input-rate tick (:mod:`fpdtw.motion.stream`), and the server does that work before it
+  answers anyone else; 10 s at 120 Hz is 1,200 aligner steps (a few tens of milliseconds).
+  A capture that loses the actor for longer is a new take, not a dropped frame. A stream
+  also stops at :data:`MAX_FRAMES` frames.
 * 4096 target frames of history: online aligners whose steps read only the last few
   target frames (Methods A, B, C, OLTW) keep every frame received until the history
   reaches this size, then only the latest (see :class:`fpdtw.online.base.OnlineAligner`).
@@ -83,6 +98,14 @@ MAX_ABS_VALUE = 1e12
 MAX_MATRIX_BYTES = 2 * 2**30
 #: Target frames an online aligner keeps before it keeps only the latest it needs.
 HISTORY_FRAMES = 4096
+#: Most channels a BVH hierarchy may declare (a file or a stream).
+MAX_CHANNELS = 10_000
+#: Longest line a client of ``fpdtw serve`` may send (bytes, newline included).
+MAX_LINE_BYTES = 256 * 2**10
+#: Longest BVH header (HIERARCHY through ``Frame Time:``) a client may send (bytes).
+MAX_HEADER_BYTES = 2**20
+#: Longest gap between two frames of a stream that is filled (seconds).
+MAX_GAP_S = 10.0
 
 #: keyword of :func:`override` -> (environment variable, default, type)
 _LIMITS = {
@@ -93,6 +116,10 @@ _LIMITS = {
     "max_abs_value": ("FPDTW_MAX_ABS_VALUE", MAX_ABS_VALUE, float),
     "max_matrix_bytes": ("FPDTW_MAX_MATRIX_BYTES", MAX_MATRIX_BYTES, int),
     "history_frames": ("FPDTW_HISTORY_FRAMES", HISTORY_FRAMES, int),
+    "max_channels": ("FPDTW_MAX_CHANNELS", MAX_CHANNELS, int),
+    "max_line_bytes": ("FPDTW_MAX_LINE_BYTES", MAX_LINE_BYTES, int),
+    "max_header_bytes": ("FPDTW_MAX_HEADER_BYTES", MAX_HEADER_BYTES, int),
+    "max_gap_s": ("FPDTW_MAX_GAP_S", MAX_GAP_S, float),
 }
 _overrides: dict[str, float] = {}
 
@@ -116,7 +143,8 @@ def get(name: str) -> float | int:
     ----------
     name : str
         ``"min_fps"``, ``"max_fps"``, ``"max_frames"``, ``"max_file_bytes"``,
-        ``"max_abs_value"``, ``"max_matrix_bytes"`` or ``"history_frames"``.
+        ``"max_abs_value"``, ``"max_matrix_bytes"``, ``"history_frames"``,
+        ``"max_channels"``, ``"max_line_bytes"``, ``"max_header_bytes"`` or ``"max_gap_s"``.
 
     Raises
     ------
@@ -266,6 +294,15 @@ def check_min_frames(n: int, path, role: str = "motion") -> None:
         )
 
 
+def check_channels(n: int, path, *, line: int | None = None) -> int:
+    """The channel count a BVH hierarchy declares; MotionFormatError naming the file (or
+    stream) past :data:`MAX_CHANNELS`."""
+    why = _beyond("max_channels", n, lambda v: f"{int(v)} channels")
+    if why:
+        raise MotionFormatError(path, f"the hierarchy declares {n} channels, {why}", line=line)
+    return int(n)
+
+
 # -- files -----------------------------------------------------------------------------------
 
 
@@ -321,14 +358,19 @@ __all__ = [
     "HINT_LONG",
     "HISTORY_FRAMES",
     "MAX_ABS_VALUE",
+    "MAX_CHANNELS",
     "MAX_FILE_BYTES",
     "MAX_FPS",
     "MAX_FRAMES",
+    "MAX_GAP_S",
+    "MAX_HEADER_BYTES",
+    "MAX_LINE_BYTES",
     "MAX_MATRIX_BYTES",
     "MIN_FPS",
     "MIN_FRAMES",
     "band_bytes",
     "check_bytes",
+    "check_channels",
     "check_file_fps",
     "check_file_frames",
     "check_file_size",

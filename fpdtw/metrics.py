@@ -50,8 +50,6 @@ def is_monotonic(M) -> bool:
     Parameters
     ----------
     M : ndarray of int, shape (n + 1,)
-
-    Notebook: 05_run_experiments.ipynb
     """
     M = _as_map(M)
     return bool(np.all(np.diff(M) >= 0))
@@ -66,8 +64,6 @@ def in_range(M, m: int) -> bool:
         A map: ``M[q]`` is the input frame matched to target frame ``q``.
     m : int
         Index of the last input frame (the input holds frames ``0..m``).
-
-    Notebook: 05_run_experiments.ipynb
     """
     M = _as_map(M)
     return bool(M.min() >= 0 and M.max() <= m)
@@ -96,6 +92,7 @@ def deviation(P_a, P_b) -> float:
     AlignmentError
         Maps of different lengths, empty or not 1-D integer arrays.
 
+    Plain version: fpdtw.plain.deviation.
     Paper: FP-DTW eq. 3.
     Notebook: 06_fig5_fig6_scores.ipynb
     """
@@ -123,8 +120,6 @@ def step_counts(M, m: int) -> dict:
         ``steps`` (n), ``exhausted`` (taken after the input ran out, ``M_{q-1} >= m``),
         ``live`` (taken while input remained), ``holds`` (live steps with
         ``M_q = M_{q-1}``).
-
-    Notebook: 15_readings_of_algorithm_3.ipynb
     """
     M = _as_map(M)
     live = M[:-1] < m
@@ -143,8 +138,6 @@ def hold_share(M, m: int) -> float:
     out (``M_{q-1} = m``, where a hold is the only choice) are not counted. ``M`` and
     ``m`` as in :func:`step_counts`; the share is in [0, 1], 0.0 when no step was taken
     with input remaining.
-
-    Notebook: 15_readings_of_algorithm_3.ipynb
     """
     c = step_counts(M, m)
     return c["holds"] / c["live"] if c["live"] else 0.0
@@ -156,7 +149,6 @@ def exhausted_share(M, m: int) -> float:
     ``M`` and ``m`` as in :func:`step_counts`; the share is in [0, 1].
 
     Paper: FP-DTW Section 5 ("running out of input frames, early in the alignment").
-    Notebook: 15_readings_of_algorithm_3.ipynb
     """
     c = step_counts(M, m)
     return c["exhausted"] / c["steps"] if c["steps"] else 0.0
@@ -181,7 +173,6 @@ def stick_skip_index(M, m: int) -> float:
 
     Paper: FP-DTW Section 5 (reading of Fig. 7: "hot areas under the diagonal indicate
     ... sticking ... above the diagonal ... skipping").
-    Notebook: 15_readings_of_algorithm_3.ipynb
     """
     M = _as_map(M).astype(np.float64)
     n = max(M.size - 1, 1)
@@ -291,8 +282,8 @@ def kendall_tau_b(x, y) -> float:
         In ``[-1, 1]``; NaN when ``N < 2`` or either vector is constant (as
         ``scipy.stats.kendalltau``).
 
+    Plain version: fpdtw.plain.kendall_tau_b.
     Paper: FP-DTW eq. 2 (Kendall tau per joint axis).
-    Notebook: 06_fig5_fig6_scores.ipynb
     """
     x = np.ascontiguousarray(x, dtype=np.float64)
     y = np.ascontiguousarray(y, dtype=np.float64)
@@ -341,9 +332,9 @@ def joint_trajectories(quats) -> np.ndarray:
     X : ndarray of float64, shape (F, k, 3)
         Unit vectors; ``X[f, j]`` is the direction of joint j's bone axis.
 
+    Plain version: fpdtw.plain.joint_trajectories.
     Paper: FP-DTW eq. 2 ("the R^3 translation of a one unit length vector along
     the joint's orientation").
-    Notebook: 06_fig5_fig6_scores.ipynb
     """
     quats = np.asarray(quats, dtype=np.float64)
     if quats.ndim != 3 or quats.shape[2] != 4:
@@ -385,7 +376,6 @@ def similarity_per_axis(I_quats, T_quats, M, one_flat: float = ONE_FLAT_SCORE) -
         ``0..m``, or mismatched joints.
 
     Paper: FP-DTW eq. 2.
-    Notebook: 06_fig5_fig6_scores.ipynb
     """
     I_quats = np.asarray(I_quats, dtype=np.float64)
     T_quats = np.asarray(T_quats, dtype=np.float64)
@@ -423,7 +413,6 @@ def trajectory_scores(XA, XT, one_flat: float = ONE_FLAT_SCORE) -> np.ndarray:
     r : ndarray of float64, shape (k, 3)
 
     Paper: FP-DTW eq. 2.
-    Notebook: 05_run_experiments.ipynb
     """
     XA = np.ascontiguousarray(XA, dtype=np.float64)
     XT = np.ascontiguousarray(XT, dtype=np.float64)
@@ -443,6 +432,7 @@ def similarity(I_quats, T_quats, M) -> float:
     r : float
         In ``[-1, 1]``: 1 for a perfect ordinal match, negative for reversed motion.
 
+    Plain version: fpdtw.plain.similarity.
     Paper: FP-DTW eq. 2.
     Notebook: 06_fig5_fig6_scores.ipynb
     """

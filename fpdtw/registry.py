@@ -17,7 +17,7 @@ module) and add one :class:`Entry` line to :data:`ENTRIES` naming it, e.g.
 the runner, the command line (``--method oltw``), the benchmark and the figures then
 know it by name.
 
-Notebook: 05_run_experiments.ipynb
+Notebook: 11_fig9_typev.ipynb
 """
 
 from __future__ import annotations
@@ -276,8 +276,6 @@ def name(key: str, value=None, typev: bool = False, **options) -> str:
 
     ``name("Mc", 40, window="literal")`` -> ``"Mc w40 (literal window)"``;
     ``name("Ma")`` -> ``"Ma"``; ``name("OLTW", 60)`` -> ``"OLTW c60"``.
-
-    Notebook: 15_readings_of_algorithm_3.ipynb
     """
     entry = _BY_KEY.get(key)
     if entry is None:
@@ -293,10 +291,7 @@ def name(key: str, value=None, typev: bool = False, **options) -> str:
 
 
 def method_c_name(w: int, window: str = "square", typev: bool = False, **options) -> str:
-    """``method_c_name(40, "literal")`` -> ``"Mc w40 (literal window)"``.
-
-    Notebook: 15_readings_of_algorithm_3.ipynb
-    """
+    """``method_c_name(40, "literal")`` -> ``"Mc w40 (literal window)"``."""
     return name("Mc", w, typev, window=window, **options)
 
 
@@ -317,8 +312,6 @@ def make_online(name: str, I: MotionFeatures, *, record=False, cache=None):
     Returns
     -------
     aligner : OnlineAligner
-
-    Notebook: 05_run_experiments.ipynb
     """
     return resolve(name).make(I, cache=cache, record=record)
 
@@ -334,7 +327,7 @@ def align(name: str, I: MotionFeatures, T: MotionFeatures):
         Per-frame processing time (online algorithms only).
 
     Paper: FP-DTW Sections 3-6.
-    Notebook: 05_run_experiments.ipynb
+    Notebook: 11_fig9_typev.ipynb
     """
     return resolve(name).run(I, T)
 

@@ -103,3 +103,19 @@ def data_path():
         pytest.fail(f"no local copy of {rel} (looked in {[str(r) for r in roots]}); run make data")
 
     return get
+
+
+def pytest_configure(config):
+    config.addinivalue_line(
+        "markers", "slow: long checks left out of make test (run them with pytest -m slow)"
+    )
+
+
+def pytest_collection_modifyitems(config, items):
+    """Leave the tests marked ``slow`` out unless a marker expression (``-m``) is given."""
+    if config.getoption("markexpr"):
+        return
+    slow = [item for item in items if item.get_closest_marker("slow")]
+    if slow:
+        config.hook.pytest_deselected(items=slow)
+        items[:] = [item for item in items if not item.get_closest_marker("slow")]

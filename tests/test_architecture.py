@@ -53,10 +53,20 @@ def test_the_check_would_catch_an_upward_import(tmp_path):
     assert "fpdtw.paper.numbers" in _imports(f)
 
 
-def test_the_library_has_no_test_only_code():
+def test_the_plain_algorithms_live_in_the_package():
+    """fpdtw.plain holds the plain versions of the algorithms, the ones the tests compare
+    the fast kernels with; tests/reference holds test data only (synthetic motions, edited
+    files), no second implementation; the library holds no test data."""
+    from fpdtw import plain
+
+    names = set(plain.__all__)
+    for f in sorted((REPO_ROOT / "tests" / "reference").glob("*.py")):
+        tree = ast.parse(f.read_text())
+        defs = {n.name for n in ast.walk(tree) if isinstance(n, ast.FunctionDef | ast.ClassDef)}
+        assert not defs & names, f"{f.name} re-implements {sorted(defs & names)}"
+        assert not [d for d in defs if d.endswith("_step") or d.startswith("reference")], f
     for f in PKG.rglob("*.py"):
-        text = f.read_text()
-        assert "def reference_step" not in text and "synthetic" not in f.name, f
+        assert "synthetic" not in f.name, f
 
 
 def test_the_registry_names_every_method_of_the_command_line():

@@ -78,10 +78,8 @@ def test_limit_stats_from_a_known_record(monkeypatch):
     rec[1:, B.R_COMPILED] = [8000, 10000]
     rec[1:, B.R_FORECAST] = [2000, 2000]
     rec[1:, B.R_LIMIT] = [4000, 4000]
-    rec[1:, B.R_LIMIT32] = [2000, 2000]
     rec[1:, B.R_EVALS] = [1000, 1000]
     rec[1:, B.R_SAME] = 1
-    rec[1:, B.R_FLIP] = [0, 1]
     s = bench.limit_stats(np.array([1.0, 12e-6, 14e-6]), rec)
     assert s["window_frames"] == 2
     assert s["step_median_s"] == pytest.approx(13e-6)
@@ -91,8 +89,7 @@ def test_limit_stats_from_a_known_record(monkeypatch):
     assert s["other_median_s"] == pytest.approx(3e-6)  # compiled - forecast - limit
     assert s["python_median_s"] == pytest.approx(4e-6)  # step - compiled
     assert s["ns_per_eval"] == pytest.approx(4.0)
-    assert s["float32_speedup"] == pytest.approx(2.0)
-    assert s["same_costs"] is True and s["float32_changed_choices"] == 1
+    assert s["same_costs"] is True
     gap = bench.explain_gap(s)
     assert gap.startswith("Python call 4.0 us") and "other compiled 3.0 us" in gap
     assert bench.explain_gap(dict(s, step_over_limit=1.4)) == ""
@@ -110,7 +107,7 @@ def _fake_report(peers):
                 median_s=step, p95_s=2 * step, mean_s=step, step_median_s=step,
                 limit_median_s=step / 2, step_over_limit=2.0, forecast_median_s=1e-6,
                 python_median_s=1.5e-6, other_median_s=0.2e-6, ns_per_eval=2.0,
-                float32_speedup=1.5, float32_changed_choices=2, evals_median=100,
+                evals_median=100,
             )
         )  # fmt: skip
     env = {
@@ -155,6 +152,19 @@ def test_report_has_every_method_and_w_with_limit_paper_and_peer_ratios():
     # without make bench-peers, the report says how to get the OLTW peer
     text = bench.format_report(_fake_report({"open_end": oe}))
     assert "run make bench-peers" in text
+
+
+def test_report_shows_the_server_round_trip():
+    stats = bench.round_trip_stats([1.0, 2.0, 3.0, 4.0], [0.5, 0.5, 0.5, 1.5])
+    assert stats["answers"] == 4 and stats["round_trip_max_ms"] == 4.0
+    assert stats["round_trip_p50_ms"] == 2.5 and stats["server_p50_ms"] == 0.5
+    server = {"method": "-m c -w 40", "pair": "Walk_01 -> Walk_02", "streams": {"1": stats}}
+    text = bench.format_report(dict(_fake_report({}), server=server))
+    lines = text.splitlines()
+    at = next(i for i, x in enumerate(lines) if x.startswith("Server round trip (fpdtw serve -m c"))
+    assert lines[at + 1].split()[:3] == ["takes", "at", "once"]
+    assert lines[at + 2].split() == ["1", "4", "2.500", "3.970", "4.000", "0.500", "1.470"]
+    assert "Server round trip" not in bench.format_report(_fake_report({}))
 
 
 # ------------------------------------------------------------------------------- peers

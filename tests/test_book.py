@@ -51,6 +51,10 @@ def _claim_rows():
     return [
         {"id": "1", "claim": "Mc w40 | passes", "paper": "Mc w40", "ours": "Mc w20, Mc w40",
          "holds": "partly", "ours_literal": "none", "holds_literal": "no",
+         "reason": "no other passes one: contradicted (Mc w20 deviation 13.5 [12.1, 14.9] < 18)",
+         "interval": "1(a): +0.048 [+0.031, +0.066] vs 0", "holds_authors_fbx": "yes",
+         "holds_hdm05": "partly", "holds_paper_shaped": "inconclusive",
+         "holds_same_movements": "partly", "robustness": "stands under 9 of 12 readings",
          "evidence": "Figs. 5, 6; fig5_similarity_summary", "stable": True},
         {"id": "7", "claim": "OE-DTW jumps back", "paper": "yes", "ours": "88%",
          "holds": "yes", "ours_literal": "88%", "holds_literal": "yes",
@@ -112,6 +116,21 @@ def _write_csv(path, rows):
         w.writerows(rows)
 
 
+def test_claims_section_shows_the_opw_plugin_reading(tmp_path):
+    rows = _claim_rows() + [
+        {"id": "P1", "claim": "OPW 69-79 ms", "paper": "69-79 ms", "ours": "22-36 ms",
+         "holds": "partly", "ours_plugin": "60-64 ms", "holds_plugin": "no",
+         "evidence": "poster Fig. 4 (13_opw_fig4)", "stable": True},
+    ]  # fmt: skip
+    text = book.claims_section(rows, book.book_pages(tmp_path))
+    assert "| OPW plugin | notebook |" in text
+    rows = {ln.split("|")[1].strip(): ln.split("|") for ln in text.splitlines()
+            if ln.startswith("| ") and "holds-" in ln}  # fmt: skip
+    assert rows["P1"][-3].strip() == '60-64 ms<br><span class="holds holds-no">no</span>'
+    assert rows["7"][-3].strip() == ""  # n/a: an empty cell
+    assert len(rows["P1"]) == len(rows["7"])
+
+
 def test_front_page_holds_every_claim_the_data_and_how_to_rerun(tmp_path):
     nbs, figs = tmp_path / "nbs", tmp_path / "figs"
     figs.mkdir()
@@ -135,6 +154,12 @@ def test_front_page_holds_every_claim_the_data_and_how_to_rerun(tmp_path):
     assert "nothing we know" in rows[2]  # no notebook named: the evidence in words
     assert '<span class="holds holds-partly">partly</span>' in rows[0]
     assert '<span class="holds holds-na">n/a</span>' in rows[2]
+    # verdict, reason with its interval, per dataset (coloured), robustness
+    assert "contradicted (Mc w20 deviation 13.5 [12.1, 14.9] < 18)" in rows[0]
+    assert "95 %: 1(a): +0.048 [+0.031, +0.066] vs 0" in rows[0]
+    assert 'paper-shaped: <span class="holds holds-inconclusive">inconclusive</span>' in rows[0]
+    assert "stands under 9 of 12 readings" in rows[0]
+    assert "How a verdict is decided" in text
     assert "{.claims}" in text
     # the data: here / listed, what is missing, what the experiments ran on
     assert "| `authors_fbx` | 1 / 2 | 3 / 6 | Walk (3) |  |" in text

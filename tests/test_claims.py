@@ -1,4 +1,9 @@
-"""Each claim of fpdtw.paper.claims says yes / no / partly correctly on made-up summaries."""
+"""Each claim of fpdtw.paper.claims, split into parts, decided on invented runs.
+
+The runs are made up (tests/reference/fake_run.py): pairs of takes that share motions, with
+per-pair scores centred where a scenario needs them. Each scenario shows a claim's rules
+giving a verdict: yes, partly, no, inconclusive or not comparable.
+"""
 
 from __future__ import annotations
 
@@ -6,321 +11,47 @@ import json
 
 import numpy as np
 import pytest
+from reference.fake_run import FakeRun
 from test_plots_results import paper_like_algos, paper_like_medians, write_fake_results
 
 from fpdtw.paper import claims
 from fpdtw.paper.claims import ClaimContext
-from fpdtw.paper.numbers import FIG8_DEVIATIONS, FPDTW_NAMES
+from fpdtw.paper.claims import bootstrap as bs
+from fpdtw.paper.claims.evidence import Evidence
+from fpdtw.paper.numbers import FIG8_DEVIATIONS
+
+N_FRAMES = 40
 
 
-def ctx_paper_like(**kw):
-    """A context whose medians mirror the paper: every score claim holds."""
+def paper_like_run(centres=None, spread=None, seed=0, movements=None):
+    """A run whose medians mirror the paper (every FP-DTW score claim holds), with tight
+    per-pair noise; ``centres`` overrides ``name -> (similarity, deviation)``, ``spread``
+    gives ``name -> motion effect sd`` (wide intervals) for some names."""
     sim, dev = paper_like_medians()
-    base = dict(
-        mode="smoke",
-        similarity=sim,
-        deviation=dev,
-        utw_median=sim["UTW"],
-        table1=[
-            dict(rate_hz=60, source="ours", best_w=20),
-            dict(rate_hz=120, source="ours", best_w=40),
-        ],
-        timing=[
-            dict(
-                method=m,
-                w=w,
-                type_v=False,
-                mean_us=t * (1 if m == "B" else 0.8),
-                median_us=t * (0.9 if m == "B" else 0.7),
-            )
-            for m in ("B", "C")
-            for w, t in ((10, 1000.0), (20, 2000.0), (40, 5000.0), (80, 17000.0))
-        ],
-        exhausted={"Mb w80": 0.01, "Mc w40": 0.05, "Mc w80": 0.3, "Mc w10": 0.0},
-        oedtw_backward=dict(pairs=10, pairs_backward=7, fraction=0.7, jumps=30),
-        fig8={"deviation": {"Mb w80": 8.0, "Mc w20": 177.0, "Mc w40": 62.0, "Mc w80": 6.0}},
-        counts={"total": {"motions": 333, "movements": 44, "pairs": 3248}},
-    )
-    base.update(kw)
-    return ClaimContext(**base)
+    centres = {n: (sim[n], dev[n]) for n in sim} | dict(centres or {})
+    run = FakeRun(movements or {"authors_fbx": 4, "hdm05": 4}, takes=4, seed=seed,
+                  n_frames=N_FRAMES)  # fmt: skip
+    m = N_FRAMES - 1
+    for name, (s, d) in centres.items():
+        sd = (spread or {}).get(name, 0.0)
+        maps = None
+        if name == "Mc w80":  # runs out of input halfway
+            maps = [np.minimum(2 * np.arange(N_FRAMES), m).astype(np.int32)] * run.n_pairs
+        elif name == "OE-DTW":  # jumps back once in every pair
+            M = np.arange(N_FRAMES, dtype=np.int32)
+            M[6] = 4
+            maps = [M] * run.n_pairs
+        run.add(name, run.scores(s, motion_sd=sd, noise_sd=0.002),
+                np.abs(run.scores(d, motion_sd=100 * sd, noise_sd=0.2)), maps=maps)  # fmt: skip
+    return run
 
 
-def claim_row(cid, ctx):
-    """The row of one claim of the table."""
-    return next(c for c in claims.CLAIMS if c.id == cid).row(ctx)
-
-
-def holds(ctx):
-    return {r["id"]: r["holds"] for r in claims.build_claims(context=ctx)}
-
-
-def test_every_claim_holds_on_paper_like_numbers():
-    rows = claims.build_claims(context=ctx_paper_like())
-    assert [r["id"] for r in rows] == [
-        "1",
-        "2",
-        "3",
-        "4",
-        "4b",
-        "4c",
-        "5",
-        "5b",
-        "6",
-        "7",
-        "8",
-        "9",
-        "P1",
-        "P2",
-        "P3",
-        "P4",
-        "B1",
-    ]
-    # the FP-DTW paper's claims hold on paper-like numbers; the OPW rows have no facts here
-    expected = {r["id"]: ("n/a" if r["id"][0] in "PB" else "yes") for r in rows}
-    assert {r["id"]: r["holds"] for r in rows} == expected
-    for r in rows:
-        assert set(r) == set(claims.COLUMNS)
-        assert r["stable"] == (r["id"] not in ("4", "4b"))
-    by = {r["id"]: r for r in rows}
-    assert by["1"]["ours"] == "pass either: Mc w40"
-    assert by["2"]["ours"] == "pass both: Mc w40, Ma + Type V, Mc w80 + Type V"
-
-
-def test_claim1_only_mc_w40():
-    sim, dev = paper_like_medians()
-    assert holds(ctx_paper_like())["1"] == "yes"
-    dev2 = dict(dev, **{"Mb w80": 17.0})  # Mb w80 now passes the deviation benchmark too
-    assert holds(ctx_paper_like(deviation=dev2))["1"] == "partly"
-    sim3 = dict(sim, **{"Mc w40": 0.2})
-    dev3 = dict(dev, **{"Mc w40": 30.0, "Mb w80": 17.0})  # Mc w40 fails, Mb w80 passes
-    assert holds(ctx_paper_like(similarity=sim3, deviation=dev3))["1"] == "no"
-    dev4 = dict(dev, **{"Mc w40": 30.0})
-    row = claim_row("1", ctx_paper_like(similarity=sim3, deviation=dev4))
-    assert row["holds"] == "no" and row["ours"] == "pass either: none"
-
-
-def test_claim2_pass_both():
-    sim, dev = paper_like_medians()
-    dev2 = dict(dev, **{"Ma + Type V": 18.0})  # 18 is not BELOW 18
-    row = claim_row("2", ctx_paper_like(deviation=dev2))
-    assert row["holds"] == "partly" and "Ma + Type V" not in row["ours"]
-    sim3 = {n: (0.0 if n not in ("DTW", "UTW") else v) for n, v in sim.items()}
-    assert holds(ctx_paper_like(similarity=sim3))["2"] == "no"
-
-
-@pytest.mark.parametrize(("b60", "b120", "want"), [(20, 40, "yes"), (20, 20, "partly"),
-                         (10, 20, "partly"), (40, 40, "partly"), (80, 10, "no")])  # fmt: skip
-def test_claim3_best_window(b60, b120, want):
-    t1 = [
-        dict(rate_hz=60, source="ours", best_w=b60),
-        dict(rate_hz=120, source="ours", best_w=b120),
-        dict(rate_hz=60, source="paper", best_w=20),
-    ]
-    assert holds(ctx_paper_like(table1=t1))["3"] == want
-    assert holds(ctx_paper_like(table1=None))["3"] == "n/a"
-
-
-def test_claim4_cost_growth():
-    def rows(tb, tc):
-        return [
-            dict(method=m, w=w, type_v=False, median_us=t, mean_us=2 * t)
-            for m, ts in (("B", tb), ("C", tc))
-            for w, t in zip((10, 20, 40, 80), ts)
-        ]
-
-    steep = (10.0, 20.0, 40.0, 100.0)
-    linear_ish = (10.0, 12.0, 15.0, 30.0)  # increasing, ratio 3
-    flat_c = (10.0, 12.0, 11.0, 9.0)  # not monotonic, ratio 0.9
-    assert holds(ctx_paper_like(timing=rows(steep, steep)))["4"] == "yes"
-    assert holds(ctx_paper_like(timing=rows(steep, linear_ish)))["4"] == "partly"
-    assert holds(ctx_paper_like(timing=rows(flat_c, flat_c)))["4"] == "no"
-    row = claim_row("4", ctx_paper_like(timing=rows(steep, flat_c)))
-    assert row["holds"] == "partly" and "not monotonic" in row["ours"]
-    assert row["ours"] == (
-        "w80/w10: Mb 10.0x, Mc 0.9x (not monotonic) (medians); means: Mb 10.0x, Mc 0.9x"
-    )
-    # the verdict reads the medians, not the means
-    mean_steep = [dict(r, mean_us=100.0 * r["w"] ** 2) for r in rows(flat_c, flat_c)]
-    assert holds(ctx_paper_like(timing=mean_steep))["4"] == "no"
-    assert holds(ctx_paper_like(timing=None))["4"] == "n/a"
-
-
-def test_claim4b_realtime_budget():
-    def rows(b80, c80):
-        return [dict(method="B", w=80, type_v=False, mean_us=b80, median_us=1.0),
-                dict(method="C", w=80, type_v=False, mean_us=c80, median_us=1.0)]  # fmt: skip
-
-    assert holds(ctx_paper_like(timing=rows(9000.0, 8400.0)))["4b"] == "yes"
-    assert holds(ctx_paper_like(timing=rows(9000.0, 100.0)))["4b"] == "partly"
-    assert holds(ctx_paper_like(timing=rows(80.0, 30.0)))["4b"] == "no"
-
-
-def test_claim4c_mc_w80_runs_out():
-    assert holds(ctx_paper_like())["4c"] == "yes"
-    ex = {"Mb w80": 0.5, "Mc w40": 0.05, "Mc w80": 0.3}
-    assert holds(ctx_paper_like(exhausted=ex))["4c"] == "no"
-    assert holds(ctx_paper_like(exhausted={}))["4c"] == "n/a"
-
-
-def test_claim5_ma_among_worst():
-    sim, dev = paper_like_medians()
-    row = claim_row("5", ctx_paper_like())
-    assert row["holds"] == "yes" and "ranks 9 of 9 (similarity), 9 of 9" in row["ours"]
-    # unconstrained similarity medians: Mc w40 0.3, Mc w20 0.2, Mc w80 0.14, Mb w80 0.12,
-    # Mb w40 0.1, Mb w20 0.08, Mb w10 0.05, Mc w10 0.04 (and Ma)
-    for ma, rank, want in ((0.045, 8, "yes"), (0.06, 7, "yes"), (0.09, 6, "partly"),
-                           (0.11, 5, "partly")):  # fmt: skip
-        row = claim_row("5", ctx_paper_like(similarity=dict(sim, Ma=ma)))
-        assert f"ranks {rank} of 9 (similarity), 9 of 9 (deviation)" in row["ours"]
-        assert row["holds"] == want
-    # good in both tests
-    both = ctx_paper_like(similarity=dict(sim, Ma=0.11), deviation=dict(dev, Ma=5.0))
-    assert holds(both)["5"] == "no"
-
-
-def test_claim5b_method_b_improves_with_w():
-    sim, dev = paper_like_medians()
-    assert holds(ctx_paper_like())["5b"] == "yes"
-    assert holds(ctx_paper_like(similarity=dict(sim, **{"Mb w80": 0.09})))["5b"] == "partly"
-    sim2 = dict(sim, **{"Mb w80": 0.09})
-    dev2 = dict(dev, **{"Mb w20": 85.0})
-    assert holds(ctx_paper_like(similarity=sim2, deviation=dev2))["5b"] == "no"
-
-
-def test_claim6_type_v_improvements():
-    sim, dev = paper_like_medians()
-    assert holds(ctx_paper_like())["6"] == "yes"
-    # Mc w10 + Type V also better in both tests: one algorithm too many -> partly
-    sim2 = dict(sim, **{"Mc w10 + Type V": 0.3})
-    dev2 = dict(dev, **{"Mc w10 + Type V": 1.0})
-    row = claim_row("6", ctx_paper_like(similarity=sim2, deviation=dev2))
-    assert row["holds"] == "partly" and "Mc w10" in row["ours"].split(";")[0]
-    # better similarity only does not count as improved
-    sim3 = {n: v for n, v in sim.items()}
-    dev3 = {n: v for n, v in dev.items()}
-    for n in FPDTW_NAMES:
-        sim3[n + " + Type V"] = sim[n] - 0.01
-        dev3[n + " + Type V"] = dev[n] - 1.0
-    row = claim_row("6", ctx_paper_like(similarity=sim3, deviation=dev3))
-    assert row["holds"] == "no" and row["ours"].startswith("improved: none; in one test only: Ma")
-
-
-def test_claim7_oedtw_backward():
-    assert holds(ctx_paper_like())["7"] == "yes"
-    oe = dict(pairs=10, pairs_backward=0, fraction=0.0, jumps=0)
-    assert holds(ctx_paper_like(oedtw_backward=oe))["7"] == "no"
-    assert holds(ctx_paper_like(oedtw_backward=None))["7"] == "n/a"
-
-
-def test_claim8_fig8_json_formats():
-    assert holds(ctx_paper_like())["8"] == "yes"
-    devs = {"Mb w80": 8.0, "Mc w20": 30.0, "Mc w40": 10.0, "Mc w80": 40.0}
-    nested = {"algorithms": {n: {"deviation": v} for n, v in devs.items()}}
-    assert holds(ctx_paper_like(fig8=nested))["8"] == "partly"  # below 18: Mb w80, Mc w40
-    bad = {"deviations": {"Mb w80": 30.0, "Mc w20": 30.0, "Mc w40": 10.0, "Mc w80": 40.0}}
-    assert holds(ctx_paper_like(fig8=bad))["8"] == "no"
-    row = claim_row("8", ctx_paper_like(fig8=None))
-    assert row["holds"] == "n/a" and "not computed" in row["ours"]
-    assert holds(ctx_paper_like(fig8={"other": 1}))["8"] == "n/a"
-
-
-def test_claim9_data():
-    assert holds(ctx_paper_like())["9"] == "yes"
-    counts = {
-        "authors_fbx": {"motions": 48, "movements": 16, "pairs": 96},
-        "total": {"motions": 335, "movements": 27, "pairs": 8610},
-    }
-    row = claim_row("9", ctx_paper_like(counts=counts))
-    assert row["holds"] == "no" and "335 motions, 27 movements, 8610 pairs" in row["ours"]
-    assert "authors_fbx: 48/16/96" in row["ours"]
-
-
-def test_the_claims_table_is_data():
-    """Each claim is a row: unique id, the paper's value from fpdtw.paper.numbers, an
-    extractor and a rule; a context without data gives "n/a" with the reason."""
-    ids = [c.id for c in claims.CLAIMS]
-    assert len(ids) == len(set(ids)) == 17
-    assert (
-        next(c for c in claims.CLAIMS if c.id == "4b").paper == "Mb w80 16945 us, Mc w80 10106 us"
-    )
-    empty = claims.ClaimContext()
-    for c in claims.CLAIMS:
-        row = c.row(empty)
-        assert row["holds"] in ("n/a", "no", "yes", "partly")
-        if row["holds"] == "n/a" and c.id != "B1":
-            assert row["ours"].startswith("not computed (")
-    rows = claims.build_claims(context=ctx_paper_like(), claims=claims.CLAIMS[:2])
-    assert [r["id"] for r in rows] == ["1", "2"] and list(rows[0]) == list(claims.COLUMNS)
-
-
-def test_build_claims_from_a_fake_results_folder(tmp_path, monkeypatch):
-    """End to end: fake folder -> load_results -> context -> rows -> claims.json."""
-    monkeypatch.setenv("FPDTW_RESULTS_DIR", str(tmp_path / "results"))
-    monkeypatch.setenv("FPDTW_FIGURES_DIR", str(tmp_path / "figs"))
-    sim, dev = paper_like_medians()
-    algos = paper_like_algos(sim, dev)
-    # OE-DTW: pair 0 jumps back once (5 -> 4), the others are monotonic
-    oe = [np.round(np.arange(20) * 19 / 19).astype(np.int32) for _ in range(5)]
-    oe[0] = oe[0].copy()
-    oe[0][6] = 4
-    algos["OE-DTW"]["maps"] = oe
-    # Mc w80 runs out: reaches m = 19 at q = 10 in every pair
-    algos["Mc w80"]["maps"] = [np.minimum(2 * np.arange(20), 19).astype(np.int32)] * 5
-    # Method C's literal window: every Mc result of the paper-like run, except that Mc w40
-    # (and Mc w40 at 60 Hz, i.e. Table 1's w20 best) fails everything
-    for name in [n for n in algos if n.startswith("Mc w")]:
-        lit = dict(algos[name])
-        if name.startswith(("Mc w40", "Mc w20@")):
-            lit["similarity"] = lit["similarity"] - 0.5
-            lit["deviation"] = lit["deviation"] + 100.0
-        base, rate = (name.split("@") + [""])[:2]
-        w, _, tv = base[4:].partition(" + ")
-        algos[
-            f"Mc w{w} (literal window)" + (" + Type V" if tv else "") + (f"@{rate}" if rate else "")
-        ] = lit
-    write_fake_results(tmp_path / "results" / "smoke", algos)
-    figs = tmp_path / "results" / "smoke" / "figs"
-    figs.mkdir()
-    devs = dict(FIG8_DEVIATIONS)
-    devs.update(
-        {k.replace("Mc w", "Mc w") + " (literal window)": 300.0 for k in devs if k.startswith("Mc")}
-    )
-    (figs / claims.FIG8_JSON).write_text(json.dumps({"deviation": devs}))
-    bench = {
-        "online": [
-            dict(name=n, median_s=t * 1e-6, mean_s=t * 1e-6, p95_s=t * 1e-6, frames=9)
-            for n, t in [(f"M{m} w{w}", 2.0 * w) for m in "bc" for w in (10, 20, 40, 80)]
-            + [(f"Mc w{w} (literal window)", 1.0 * w) for w in (10, 20, 40, 80)]
-        ]
-    }
-    (tmp_path / "results" / "bench.json").write_text(json.dumps(bench))
-    rows = claims.build_claims("smoke")
-    by = {r["id"]: r for r in rows}
-    for cid in ("1", "2", "3", "5", "5b", "6", "7", "8"):
-        assert by[cid]["holds"] == "yes", by[cid]
-    # under the literal window the Mc w40 claims fail; the others are unchanged
-    assert by["1"]["holds_literal"] == "no" and by["1"]["ours_literal"] == "pass either: none"
-    assert by["2"]["holds_literal"] == "partly" and "Mc w40" not in by["2"]["ours_literal"]
-    assert by["3"]["holds_literal"] == "partly"  # best w 40 at 120 Hz no more, still 20 at 60
-    assert by["8"]["holds_literal"] == "partly"  # below 18: Mb w80 only
-    assert "Mc w40 300.0" in by["8"]["ours_literal"]
-    for cid in ("5b", "7", "9", "4b"):
-        assert (by[cid]["ours"], by[cid]["holds"]) == (
-            by[cid]["ours_literal"],
-            by[cid]["holds_literal"],
-        ) or cid == "4b"
-    assert "Mc w80 80 us" in by["4b"]["ours_literal"] and "Mc w80 160 us" in by["4b"]["ours"]
-    assert by["7"]["ours"].startswith("1 of 5 pairs (20%)")
-    assert by["4c"]["holds"] == "yes" and "Mc w80 0.47" in by["4c"]["ours"]  # q = 11..19 of 19
-    assert by["9"]["holds"] == "no"  # 5 fake pairs, not the paper's 3248
-    assert by["4b"]["holds"] == "no"  # fake bench timings are microseconds
-    paths = claims.save_claims(rows, "smoke")
-    assert {p.name for p in paths} == {"claims.csv", "claims.md", "claims.json"}
-    saved = json.loads((tmp_path / "results" / "smoke" / "claims.json").read_text())
-    assert saved["mode"] == "smoke" and saved["claims"] == rows
-    assert (tmp_path / "figs" / "claims.md").read_text().startswith("| id | claim |")
-
-
+TIMING = [
+    dict(algorithm=f"M{m.lower()} w{w}", method=m, w=w, type_v=False,
+         mean_us=t * (1 if m == "B" else 0.8), median_us=t * (0.9 if m == "B" else 0.7))
+    for m in ("B", "C")
+    for w, t in ((10, 1000.0), (20, 2000.0), (40, 5000.0), (80, 17000.0))
+]  # fmt: skip
 POSTER_LIKE_FIG4 = {
     "opw_mean_ms_range": [69.0, 79.0],
     "opw_max_ms": 121.0,
@@ -337,42 +68,285 @@ POSTER_LIKE_FIG56 = {
 }
 
 
-def _opw_rows(fig4, fig56):
-    ctx = claims.ClaimContext(opw_fig4=fig4, opw_fig56=fig56)
-    fns = [c for c in claims.CLAIMS if c.id.startswith("P")]
-    return {r["id"]: r["holds"] for r in claims.build_claims(context=ctx, claims=fns)}
+def context(run=None, **facts):
+    base = dict(timing=TIMING, fig8={"deviation": dict(FIG8_DEVIATIONS)},
+                counts={"total": {"motions": 333, "movements": 44, "pairs": 3248}},
+                opw_fig4=POSTER_LIKE_FIG4, opw_fig56=POSTER_LIKE_FIG56)  # fmt: skip
+    base.update(facts)
+    ev = Evidence(run, n_resamples=300) if run is not None else None
+    return ClaimContext(mode="smoke", ev=ev, **base)
 
 
-def test_opw_claims_hold_on_the_posters_numbers():
-    assert _opw_rows(POSTER_LIKE_FIG4, POSTER_LIKE_FIG56) == dict.fromkeys(
-        ["P1", "P2", "P3", "P4"], "yes"
+def table(ctx, ids=None):
+    subset = claims.CLAIMS if ids is None else claims.claims_by_id(ids)
+    rows, parts = claims.evaluate_claims(subset, claims.claim_contexts(ctx))
+    return {r["id"]: r for r in rows}, parts
+
+
+def verdicts(ctx, ids=None):
+    return {k: r["holds"] for k, r in table(ctx, ids)[0].items()}
+
+
+@pytest.fixture(scope="module")
+def paper_like():
+    return table(context(paper_like_run()))
+
+
+def test_every_claim_holds_on_a_paper_like_run(paper_like):
+    rows, parts = paper_like
+    assert list(rows) == ["1", "2", "3", "4", "4b", "4c", "5", "5b", "6", "7", "8", "9",
+                          "P1", "P2", "P3", "P4", "B1"]  # fmt: skip
+    want = dict.fromkeys(["1", "2", "3", "4", "4b", "4c", "5", "5b", "6", "7"], "yes")
+    want |= {"8": "not comparable", "9": "not comparable", "P1": "partly", "B1": "n/a"}
+    want |= dict.fromkeys(["P2", "P3", "P4"], "yes")
+    assert {k: r["holds"] for k, r in rows.items()} == want
+    for r in rows.values():
+        assert list(r) == list(claims.COLUMNS)
+        assert len(r["reason"]) >= 25
+    # the datasets agree here (the same centres in both)
+    for k in ("1", "2", "5b", "6"):
+        assert rows[k]["holds_authors_fbx"] == rows[k]["holds_hdm05"] == "yes"
+        assert rows[k]["holds_same_movements"] == "yes"
+    assert rows["4"]["holds_hdm05"] == "n/a"  # timings are not per dataset
+    assert rows["9"]["reason"].startswith("The paper's sources add up to 57 + 267 = 324")
+    assert rows["8"]["reason"].startswith("The paper's text names Mb w80 and Mc w40")
+    assert "not comparable (the paper's pair is HDM05 sample 3239" in rows["8"]["reason"]
+    labels = [p["part"] for p in parts if p["claim"] == "1"]
+    assert labels == ["1(a)", "1(b)"]
+    one_a = next(p for p in parts if p["part"] == "1(a)")
+    assert one_a["verdict"] == "holds" and one_a["ci_low"] > 0 and one_a["threshold"] == 0.0
+    assert one_a["quantity"] == "Mc w40 median similarity minus UTW's"
+
+
+def test_claim1_gives_each_verdict():
+    run = paper_like_run({"Mc w20": (0.2, 12.0)})  # Mc w20 passes the deviation test too
+    rows, _ = table(context(run), ["1"])
+    assert rows["1"]["holds"] == "partly"
+    assert rows["1"]["reason"].startswith("No other unconstrained FP-DTW algorithm passes one: "
+                                          "contradicted (Mc w20 median deviation")  # fmt: skip
+    assert rows["1"]["ours"] == "pass either (by medians): Mc w20, Mc w40"
+    # Mc w40 fails both clearly, Mc w20 passes: every part contradicted
+    run = paper_like_run({"Mc w20": (0.2, 12.0), "Mc w40": (0.1, 40.0)})
+    assert verdicts(context(run), ["1"]) == {"1": "no"}
+    # Mc w40 and Mc w20 sit on the benchmarks with wide intervals: nothing decided
+    run = paper_like_run({"Mc w40": (0.24, 18.0), "Mc w20": (0.24, 18.0)},
+                         spread={"Mc w40": 0.05, "Mc w20": 0.05})  # fmt: skip
+    rows, parts = table(context(run), ["1"])
+    assert rows["1"]["holds"] == "inconclusive"
+    assert {p["verdict"] for p in parts} == {"inconclusive"}
+
+
+def test_a_straddling_interval_is_never_a_pass():
+    """A median just above UTW's with an interval across it: the part is inconclusive, not a
+    pass, although the medians alone would say it passes."""
+    run = paper_like_run({"Mc w40": (0.245, 30.0)}, spread={"Mc w40": 0.03})
+    rows, parts = table(context(run), ["1"])
+    one_a = next(p for p in parts if p["part"] == "1(a)")
+    assert one_a["ci_low"] < 0 < one_a["ci_high"] and one_a["verdict"] == "inconclusive"
+    assert rows["1"]["holds"] == "partly"  # 1b holds, 1a inconclusive
+    assert "Mc w40 passes a benchmark: inconclusive" in rows["1"]["reason"]
+
+
+def test_claim2_and_its_implied_only():
+    run = paper_like_run({"Mb w80 + Type V": (0.3, 10.0)})  # a fourth passes both
+    rows, _ = table(context(run), ["2"])
+    assert rows["2"]["holds"] == "partly"
+    assert "No other FP-DTW algorithm passes both" in rows["2"]["reason"]
+    assert "Mb w80 + Type V" in rows["2"]["reason"]
+
+
+@pytest.mark.parametrize(
+    ("centres", "want"),
+    [
+        ({}, "yes"),
+        ({"Mc w10@60Hz": (0.5, 20.0)}, "partly"),  # 60 Hz: w10 best, not w20
+        ({"Mc w10@60Hz": (0.5, 20.0), "Mc w10": (0.5, 10.0)}, "no"),
+    ],
+)
+def test_claim3_best_window(centres, want):
+    assert verdicts(context(paper_like_run(centres)), ["3"]) == {"3": want}
+
+
+def test_claim3_is_inconclusive_when_two_windows_are_tied_within_their_intervals():
+    run = paper_like_run({"Mc w20": (0.3, 40.0), "Mc w40@60Hz": (0.3, 20.0)},
+                         spread={"Mc w20": 0.03, "Mc w40@60Hz": 0.03})  # fmt: skip
+    assert verdicts(context(run), ["3"]) == {"3": "inconclusive"}
+
+
+def test_claim5_ranks_with_intervals():
+    assert verdicts(context(paper_like_run()), ["5"]) == {"5": "yes"}
+    run = paper_like_run({"Ma": (0.5, 1.0)})  # the best in both
+    assert verdicts(context(run), ["5"]) == {"5": "no"}
+    run = paper_like_run({"Ma": (0.5, 90.0)})  # best by similarity, worst by deviation
+    rows, _ = table(context(run), ["5"])
+    assert rows["5"]["holds"] == "partly" and rows["5"]["ours"].startswith("Ma ranks 1 of 9")
+
+
+def test_claim5b_steps():
+    run = paper_like_run({"Mb w40": (0.11, 45.0)})  # similarity rises; deviation up w40 -> w80
+    rows, _ = table(context(run), ["5b"])
+    assert rows["5b"]["holds"] == "partly"
+    assert "median deviation falls at every step w10 -> w80: contradicted" in rows["5b"]["reason"]
+
+
+def test_claim6_type_v_improvements():
+    # Type V also improves Mc w40: the "does not improve" part is contradicted
+    run = paper_like_run({"Mc w40 + Type V": (0.35, 5.0)})
+    rows, _ = table(context(run), ["6"])
+    assert rows["6"]["holds"] == "partly"
+    assert "Type V does not improve Mc w10, Mc w20, Mc w40: contradicted" in rows["6"]["reason"]
+    # Type V worsens everything: A/B and Mc w80 contradicted, "not Mc w10/20/40" holds
+    sim, dev = paper_like_medians()
+    worse = {n + " + Type V": (sim[n] - 0.01, dev[n] + 1.0) for n in claims.table.FPDTW_NAMES}
+    assert verdicts(context(paper_like_run(worse)), ["6"]) == {"6": "partly"}
+    rows, parts = table(context(paper_like_run(worse)), ["6"])
+    assert [p["verdict"] for p in parts] == ["contradicted", "contradicted", "holds"]
+
+
+def test_claim4c_and_7_from_the_maps():
+    rows, _ = table(context(paper_like_run()), ["4c", "7"])
+    assert rows["4c"]["holds"] == "yes" and rows["4c"]["ours"].startswith("Mc w80 0.49 of frames")
+    assert rows["7"]["holds"] == "yes" and rows["7"]["ours"].startswith("96 of 96 pairs (100%)")
+    run = paper_like_run()
+    run.add("OE-DTW", run.get("OE-DTW")["similarity"])  # monotonic maps now
+    assert verdicts(context(run), ["7"]) == {"7": "no"}
+
+
+def test_claims_without_data_are_not_computed():
+    rows, parts = table(ClaimContext(mode="smoke"))
+    for r in rows.values():
+        assert r["holds"] == "n/a" and r["ours"].startswith("not computed (")
+    assert parts == []
+
+
+def test_timing_claims_are_point_checks():
+    rows, _ = table(context(None), ["4", "4b"])
+    assert rows["4"]["holds"] == "yes" and rows["4b"]["holds"] == "yes"
+    assert "(no resampling)" in rows["4"]["interval"]
+    fast = [dict(r, mean_us=r["mean_us"] / 100, median_us=r["median_us"] / 100) for r in TIMING]
+    rows, _ = table(context(None, timing=fast), ["4b"])
+    assert rows["4b"]["holds"] == "no"
+    assert "the paper's: 16945 us on its machine" in rows["4b"]["reason"]
+    flat = [dict(r, median_us=1000.0) for r in TIMING]
+    assert verdicts(context(None, timing=flat), ["4"]) == {"4": "no"}
+
+
+def test_opw_claims():
+    assert verdicts(context(None), ["P1", "P2", "P3", "P4"]) == {
+        "P1": "partly", "P2": "yes", "P3": "yes", "P4": "yes"
+    }  # fmt: skip
+    fig4 = {**POSTER_LIKE_FIG4, "opw_max_ms": 300.0}
+    fig56 = {**POSTER_LIKE_FIG56, "removed_gamma5_mean_over_offsets": 0.4, "best_gamma": 0.3,
+             "largest_offset_max_below_150ms_s": 0.1}  # fmt: skip
+    got = verdicts(context(None, opw_fig4=fig4, opw_fig56=fig56), ["P1", "P2", "P3", "P4"])
+    assert got == {"P1": "no", "P2": "no", "P3": "partly", "P4": "partly"}
+    rows, _ = table(context(None), ["P1"])
+    assert "not comparable (ours is 69-79 ms on stand-in clips" in rows["P1"]["reason"]
+
+
+def test_opw_claims_under_the_plugin_reading():
+    """The OPW notebooks' facts hold the plugin reading under ``readings``; the P claims are
+    decided on it too (``ours_plugin``, ``holds_plugin``), every other claim is n/a."""
+    plug4 = {**POSTER_LIKE_FIG4, "opw_mean_ms_range": [60.0, 64.0], "opw_max_ms": 134.0,
+             "baseline": "best match"}  # fmt: skip
+    plug56 = {**POSTER_LIKE_FIG56, "removed_gamma5_mean_over_offsets": 0.52,
+              "largest_offset_max_below_150ms_s": 0.25}  # fmt: skip
+    ctx = context(None, opw_fig4={**POSTER_LIKE_FIG4, "readings": {"plugin": plug4}},
+                  opw_fig56={**POSTER_LIKE_FIG56, "readings": {"plugin": plug56}})  # fmt: skip
+    rows, parts = table(ctx, ["7", "P1", "P2", "P3", "P4"])
+    got = {k: (r["holds"], r["holds_plugin"]) for k, r in rows.items()}
+    assert got == {"7": ("n/a", "n/a"), "P1": ("partly", "partly"), "P2": ("yes", "no"),
+                   "P3": ("yes", "yes"), "P4": ("yes", "partly")}  # fmt: skip
+    assert rows["7"]["ours_plugin"] == "n/a"
+    assert rows["P1"]["ours_plugin"] == "mean 60-64 ms, max 134 ms (best match mean 20-30 ms)"
+    assert rows["P1"]["ours"].endswith("(DTW mean 20-30 ms)")
+    p2 = next(p for p in parts if p["claim"] == "P2")
+    assert (p2["verdict"], p2["verdict_plugin"]) == ("holds", "contradicted")
+    text = claims.format_claims([rows["P2"], rows["7"]])
+    assert sum("with OPW read as the authors' plugin does it" in x for x in text.splitlines()) == 1
+    assert claims.claims_summary(list(rows.values())).splitlines()[-1] == (
+        "OPW plugin reading: yes 1, partly 2, no 1, inconclusive 0, not comparable 0 "
+        "(of 4 OPW claims)"
     )
+    # facts without the plugin reading: not computed, and no line in the summary
+    rows, _ = table(context(None), ["P1", "1"])
+    assert rows["P1"]["ours_plugin"].startswith("not computed")
+    assert rows["P1"]["holds_plugin"] == rows["1"]["holds_plugin"] == "n/a"
+    assert "OPW plugin" not in claims.claims_summary(list(rows.values()))
+    # a notebook's own facts, as notebook 13 passes them
+    (row,) = claims.claim_rows(["P1"], facts={"opw_fig4": ctx.opw_fig4})
+    assert row["holds_plugin"] == "partly" and "134 ms" in row["ours_plugin"]
 
 
-def test_opw_claims_fail_when_the_numbers_differ():
-    fig4 = {**POSTER_LIKE_FIG4, "opw_mean_ms_range": [120.0, 160.0], "opw_max_ms": 300.0}
-    fig56 = {
-        **POSTER_LIKE_FIG56,
-        "removed_gamma5_mean_over_offsets": 0.4,
-        "best_gamma": 0.3,
-        "removed_best_gamma": 0.5,
-        "largest_offset_max_below_150ms_s": 0.1,
-        "largest_offset_mean_below_150ms_s": 0.2,
-    }
-    assert _opw_rows(fig4, fig56) == dict.fromkeys(["P1", "P2", "P3", "P4"], "no")
-    # below 150 ms but not the poster's numbers: partly
-    fig4 = {**POSTER_LIKE_FIG4, "opw_mean_ms_range": [22.0, 36.0], "opw_max_ms": 84.0}
-    assert _opw_rows(fig4, POSTER_LIKE_FIG56)["P1"] == "partly"
+def test_per_dataset_verdicts_show_when_a_verdict_rests_on_one_dataset():
+    run = paper_like_run()
+    # on HDM05's pairs alone Mc w20 passes the deviation benchmark too
+    dev = run.get("Mc w20")["deviation"].copy()
+    hdm = np.array([p["dataset"] == "hdm05" for p in run.pairs])
+    dev[hdm] = 10.0
+    run.add("Mc w20", run.get("Mc w20")["similarity"], dev)
+    rows, parts = table(context(run), ["1"])
+    r = rows["1"]
+    assert (r["holds_authors_fbx"], r["holds_hdm05"]) == ("yes", "partly")
+    one_b = next(p for p in parts if p["part"] == "1(b)")
+    assert (one_b["verdict_authors_fbx"], one_b["verdict_hdm05"]) == ("holds", "contradicted")
+
+
+def test_resampling_the_movements_too_can_leave_open_what_the_takes_decide():
+    """Between-movement spread: the motions-only interval clears the benchmark, the
+    movements-too interval does not (which of the two questions is asked matters)."""
+    run = paper_like_run(movements={"hdm05": 5})
+    mv = np.array([int(p["movement"][2:]) for p in run.pairs])
+    sim = 0.26 + np.array([-0.05, -0.03, 0.0, 0.03, 0.05])[mv]  # whole movements differ
+    run.add("Mc w40", sim + run.scores(0.0, noise_sd=0.001), run.get("Mc w40")["deviation"] + 30)
+    rows, parts = table(context(run), ["1"])
+    one_a = next(p for p in parts if p["part"] == "1(a)")
+    assert one_a["verdict"] == "inconclusive" and one_a["verdict_same_movements"] == "holds"
+
+
+def test_build_claims_from_a_fake_results_folder(tmp_path, monkeypatch):
+    """End to end: fake folder -> load_results -> contexts -> rows -> files."""
+    monkeypatch.setenv("FPDTW_RESULTS_DIR", str(tmp_path / "results"))
+    monkeypatch.setenv("FPDTW_FIGURES_DIR", str(tmp_path / "figs"))
+    sim, dev = paper_like_medians()
+    algos = paper_like_algos(sim, dev)
+    for name in [n for n in algos if n.startswith("Mc w")]:  # the literal window: Mc w40 fails
+        lit = dict(algos[name])
+        if name.startswith("Mc w40"):
+            lit["similarity"] = lit["similarity"] - 0.5
+            lit["deviation"] = lit["deviation"] + 100.0
+        base, rate = (name.split("@") + [""])[:2]
+        w, _, tv = base[4:].partition(" + ")
+        lit_name = f"Mc w{w} (literal window)" + (" + Type V" if tv else "")
+        algos[lit_name + (f"@{rate}" if rate else "")] = lit
+    write_fake_results(tmp_path / "results" / "smoke", algos)
+    rows, parts = claims.build_claims("smoke", with_parts=True)
+    by = {r["id"]: r for r in rows}
+    assert by["1"]["holds_literal"] == "partly"  # Mc w40 no longer passes; the others do not
+    assert by["1"]["robustness"] == "not computed here (notebook 12)"  # no study run
+    assert by["4"]["holds"] == "n/a"  # no bench report
+    paths = claims.save_claims(rows, "smoke", parts=parts)
+    assert {p.name for p in paths} == {"claims.csv", "claims.md", "claims_intervals.csv",
+                                       "claims_intervals.md", "claims.json"}  # fmt: skip
+    saved = json.loads((tmp_path / "results" / "smoke" / "claims.json").read_text())
+    assert saved["mode"] == "smoke" and saved["claims"] == rows and saved["parts"] == parts
+    assert saved["bootstrap"]["seed"] == bs.SEED
+    md = (tmp_path / "figs" / "claims.md").read_text()
+    assert md.startswith("| id | claim |") and "How a verdict is decided" in md
+    csv_head = (tmp_path / "figs" / "claims_intervals.csv").read_text().splitlines()[0]
+    assert csv_head.split(",") == list(claims.PART_COLUMNS)
+    # byte-identical when built again
+    again, parts2 = claims.build_claims("smoke", with_parts=True)
+    assert again == rows and parts2 == parts
 
 
 # -- the rows a notebook prints after its figure ---------------------------------------------
 
 
-def test_claim_rows_picks_rows_in_the_order_asked():
-    rows = claims.build_claims(context=ctx_paper_like())
+def test_claim_rows_picks_rows_in_the_order_asked(paper_like):
+    rows = list(paper_like[0].values())
     got = claims.claim_rows(["5b", "1"], rows=rows)
     assert [r["id"] for r in got] == ["5b", "1"]
-    assert got[1] is next(r for r in rows if r["id"] == "1")
     with pytest.raises(KeyError, match="99"):
         claims.claim_rows(["99"], rows=rows)
     with pytest.raises(KeyError, match="99"):
@@ -382,75 +356,51 @@ def test_claim_rows_picks_rows_in_the_order_asked():
 
 
 def test_claim_rows_from_a_notebooks_own_facts():
-    """Notebook 10 checks claim 8 from its JSON alone, under both readings of Method C."""
-    fig8 = {
-        "deviation": {
-            **FIG8_DEVIATIONS,
-            "Mc w20 (literal window)": 150.0,
-            "Mc w40 (literal window)": 3.0,
-            "Mc w80 (literal window)": 300.0,
-        }
-    }
+    lit = {"Mc w20 (literal window)": 150.0, "Mc w40 (literal window)": 3.0,
+           "Mc w80 (literal window)": 300.0}  # fmt: skip
+    fig8 = {"deviation": {**FIG8_DEVIATIONS, **lit}}
     (row,) = claims.claim_rows(["8"], "smoke", facts={"fig8": fig8})
-    assert row["holds"] == "yes"  # the paper's numbers: below 18 are Mb w80 and Mc w80
-    assert row["holds_literal"] == "partly"  # literal: Mb w80 and Mc w40 below 18
+    assert row["holds"] == "not comparable" and "Mc w40 62.0" in row["ours"]
     assert "Mc w40 3.0" in row["ours_literal"]
-    assert fig8["deviation"]["Mc w40"] == FIG8_DEVIATIONS["Mc w40"]  # facts not changed
-    # a claim that needs the experiment results is not computed from facts
     (row,) = claims.claim_rows(["1"], "smoke", facts={"fig8": fig8})
     assert row["holds"] == "n/a" and row["ours"].startswith("not computed")
     (row,) = claims.claim_rows(["P1"], facts={"opw_fig4": POSTER_LIKE_FIG4})
-    assert row["holds"] == "yes"
+    assert row["holds"] == "partly"
+    rows = [dict(r, algorithm=r["algorithm"] + " (literal window)", mean_us=1.0, median_us=1.0)
+            for r in TIMING if r["method"] == "C"] + TIMING  # fmt: skip
+    got = {r["id"]: r for r in claims.claim_rows(["4", "4b"], facts={"timing": rows})}
+    assert got["4b"]["holds"] == "yes" and got["4b"]["holds_literal"] == "partly"
     with pytest.raises(TypeError, match="unknown facts"):
         claims.ClaimContext.from_facts(similarity={"Ma": 0.1})
 
 
-def test_format_claims_prints_paper_ours_holds_and_the_literal_window_where_it_differs():
-    rows = claims.build_claims(context=ctx_paper_like())
-    for r in rows:  # make one row differ under the literal window
-        if r["id"] == "1":
-            r["ours_literal"], r["holds_literal"] = "pass either: none", "no"
+def test_format_claims_prints_every_body_of_evidence(paper_like):
+    rows = [dict(r) for r in paper_like[0].values()]
+    rows[0]["ours_literal"], rows[0]["holds_literal"] = "pass either: none", "no"
     text = claims.format_claims(claims.claim_rows(["1", "5b"], rows=rows))
     lines = text.splitlines()
     assert lines[0].startswith("[1] Without a constraint, Mc w40")
-    assert "    paper: Mc w40" in lines
-    assert "    ours:  pass either: Mc w40" in lines
-    assert "    holds? yes" in lines
-    assert sum("literal window" in x for x in lines) == 1  # only for claim 1
-    assert "pass either: none; holds? no" in text
+    assert "    paper:  Mc w40" in lines
+    assert any(x.startswith("    holds?  yes: All 2 parts hold (") for x in lines)
+    assert any(x.startswith("    95 %:   1(a): +0.") for x in lines)
+    assert any(x.startswith("    also:   same movements yes; authors fbx yes; hdm05 yes")
+               for x in lines)  # fmt: skip
+    assert sum("literal window" in x for x in lines) == 1
     assert max(len(x) for x in lines) <= 96
     assert claims.format_claims(rows, stable=False).startswith("[4]")
     assert "[4]" not in claims.format_claims(rows, stable=True)
     assert claims.format_claims([]) == "(no claims)"
-    assert claims.format_claims(rows) == claims.format_claims(rows)  # deterministic
 
 
 def test_claims_summary_counts_each_verdict_per_reading():
     rows = [
         dict(holds="yes", holds_literal="no"),
-        dict(holds="yes", holds_literal="partly"),
+        dict(holds="inconclusive", holds_literal="partly"),
         dict(holds="n/a", holds_literal="n/a"),
     ]
     assert claims.claims_summary(rows).splitlines() == [
-        "square window: yes 2, partly 0, no 0, n/a 1 (of 3 claims)",
-        "literal window: yes 0, partly 1, no 1, n/a 1 (of 3 claims)",
+        "square window: yes 1, partly 0, no 0, inconclusive 1, not comparable 0, n/a 1 "
+        "(of 3 claims)",
+        "literal window: yes 0, partly 1, no 1, inconclusive 0, not comparable 0, n/a 1 "
+        "(of 3 claims)",
     ]
-
-
-def test_timing_claims_from_a_notebooks_own_rows():
-    """Notebook 09 checks claims 4 and 4b from its bench rows; the literal window's rows stand
-    for Method C under that reading."""
-    rows = [
-        dict(algorithm=f"M{m.lower()} w{w}{sfx}", method=m, w=w, type_v=False,
-             mean_us=t * k, median_us=t * k)
-        for m in ("B", "C")
-        for w, t in ((10, 1000.0), (20, 2000.0), (40, 5000.0), (80, 17000.0))
-        for sfx, k in (("", 1.0), (" (literal window)", 0.1 if w == 80 else 1.0))
-        if not (m == "B" and sfx)
-    ]  # fmt: skip
-    got = {r["id"]: r for r in claims.claim_rows(["4", "4b"], facts={"timing": rows})}
-    assert got["4"]["holds"] == "yes" and got["4b"]["holds"] == "yes"
-    assert "Mc w80 17000 us" in got["4b"]["ours"]
-    assert "Mc w80 1700 us" in got["4b"]["ours_literal"]  # the literal rows, as Mc's
-    assert got["4b"]["holds_literal"] == "partly"  # only Mb w80 over the budget
-    assert got["4"]["holds_literal"] == "partly"  # Mc: 1700 / 1000, not 8-fold

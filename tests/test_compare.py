@@ -124,10 +124,18 @@ def test_paper_passes_reads_sections_5_and_7():
         C.paper_passes("Ma", "speed")
 
 
-def _summary(medians, metric, bench):
+def _summary(medians, metric, bench, spread=0.01):
+    """Summary rows as score_summary gives them, the verdict from a made-up interval."""
+    from fpdtw.paper.claims.rules import Check
+
+    def verdict(v):
+        thr = bench if metric == "similarity" else 18.0
+        return Check("x", v, v - spread, v + spread, thr, above=metric == "similarity").verdict
+
     return [
-        dict(algorithm=n, median=v, benchmark=bench,
-             passes_benchmark=(v > bench) if metric == "similarity" else (v < 18))
+        dict(algorithm=n, median=v, ci_low=v - spread, ci_high=v + spread, benchmark=bench,
+             passes_benchmark=(v > bench) if metric == "similarity" else (v < 18),
+             verdict=verdict(v))
         for n, v in medians.items()
     ]  # fmt: skip
 
@@ -143,8 +151,12 @@ def test_benchmark_comparison():
     assert got["Mb w80 + Type V: median above UTW?"] == "-"  # the paper does not say
     assert "UTW: median above UTW?" not in got  # offline baselines are left out
     rows = C.benchmark_comparison(_summary({"Mc w80": 30.0}, "deviation", 18), "deviation")
-    assert rows[0]["paper"] == "18 frames" and rows[1]["ours"] == "no (30.0)"
+    assert rows[0]["paper"] == "18 frames" and rows[1]["ours"] == "no (30.0 [30.0, 30.0])"
     assert rows[1]["holds"] == "yes"
+    # an interval across the benchmark: the comparison is inconclusive, never a pass
+    rows = C.benchmark_comparison(_summary({"Mc w40": 17.0}, "deviation", 18, 2.0), "deviation")
+    assert rows[1]["ours"] == "inconclusive (17.0 [15.0, 19.0])"
+    assert rows[1]["holds"] == "inconclusive"
 
 
 def _table1(values):
@@ -167,6 +179,12 @@ def test_table1_comparison():
     assert got["120 Hz Mc w10"] == "no" and got["120 Hz Mc w40"] == "yes"
     assert got["120 Hz best window"] == "no" and got["60 Hz best window"] == "yes"
     assert C.table1_comparison(_table1(N.TABLE1), source="ours (literal window)") == []
+    # with the claims' verdicts (table1_rows gives them): an inconclusive best window
+    rows = _table1(N.TABLE1)
+    rows[0].update({f"verdict_w{w}": "holds" for w in N.WINDOWS}, best_verdict="inconclusive")
+    got = holds(C.table1_comparison(rows))
+    assert got["60 Hz best window"] == "inconclusive"
+    assert got["60 Hz Mc w80"] == "no"  # ours holds above UTW, the paper's is below
 
 
 def _bal(diag, below, above):

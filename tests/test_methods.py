@@ -1,4 +1,5 @@
-"""FP-DTW Methods A, B and C (Algorithms 1-3): hand-worked cases, invariants, references.
+"""FP-DTW Methods A, B and C (Algorithms 1-3): hand-worked cases, invariants, real motions
+(the plain versions, fpdtw.plain, against the same cases: tests/test_plain.py).
 
 Hand-worked cases use one-joint motions rotating about X by 18 degrees per "unit": the
 geodesic cost (eq. 1) between u and v units is ``(2/pi) arccos|cos(9 (u - v) deg)| =
@@ -12,14 +13,15 @@ import math
 
 import numpy as np
 import pytest
-from reference.steps import backtrack_lowest, reference_run
 from reference.synthetic import (
     features_from_euler,
+    method_pairs,
     one_joint_motion,
     random_walk_features,
     synthetic_pair,
 )
 
+from fpdtw import plain
 from fpdtw.costs import fast_acos, geo_distance
 from fpdtw.errors import AlignmentError
 from fpdtw.io import load_motion
@@ -187,16 +189,6 @@ def test_method_b_typev_hand_worked():
     assert (s.offset, s.M) == (1, 3)
 
 
-def test_backtrack_prefers_diagonal_then_target_step():
-    D = np.array([[B_CORNER, 1.0], [1.0, 5.0]])  # (1,1): (0,1) and (1,0) tie
-    path, P = backtrack_lowest(D)
-    np.testing.assert_array_equal(path, [[0, 0], [1, 0], [1, 1]])
-    np.testing.assert_array_equal(P, [0, 1])
-    D = np.array([[0.0, 1.0, 9.0], [1.0, 2.0, 9.0], [9.0, 2.0, 3.0]])  # (2,2): all tie
-    path, _ = backtrack_lowest(D)
-    assert [tuple(c) for c in path][-2:] == [(1, 1), (2, 2)]
-
-
 # --- Method C ---------------------------------------------------------------------------
 
 
@@ -275,9 +267,9 @@ def test_method_c_square_window_hand_worked():
     I = units(range(10))
     T = units([0, 1, 2, 2, 2, 3, 4, 6])  # the target pauses at 2, then speeds up
     M, snaps = run_recording(MethodC(I, 3, record=True), T)
-    # q=3: M_n = 2, w_i = min(3, 9 - 2 + 1) = 3 rows I2..I4 = [2, 3, 4]; d = 0, F = [2, 2, 2].
+    # q=3: M_n = 2, w_i = min(3 - 1, 9 - 2) = 2: 3 rows I2..I4 = [2, 3, 4]; d = 0, F = [2, 2, 2].
     s = snaps[3]
-    assert (s.start, s.w_i) == (2, 3)
+    assert (s.start, s.w_i) == (2, 2)
     np.testing.assert_allclose(s.C, tenths([[0, 0, 0], [1, 1, 1], [2, 2, 2]]), atol=1e-9)
     # reverse: row 2: 2+2+2=6, 2+2=4, 2; row 1: 1+min(4,6,3)=4, 1+min(2,4,3)=3, 1+2=3;
     # row 0: 0+min(3,4,3)=3, 0+min(3,3,3)=3, 0+3=3. D[:, 0] = [.3, .4, .6]: hold.
@@ -296,15 +288,15 @@ def test_method_c_square_window_hand_worked():
 
 
 def test_method_c_square_window_reaches_the_end_of_the_input():
-    # m = 3, w = 3. q=3: M_n = 2, w_i = min(3, 3 - 2 + 1) = 2 rows I2..I3 = [2, 3] (the
-    # last row is I_m: read as written, w_i = m - M_n = 1 row, the map would stop at
+    # m = 3, w = 3. q=3: M_n = 2, w_i = min(3 - 1, 3 - 2) = 1: 2 rows I2..I3 = [2, 3] (the
+    # last row is I_m: read as written, m - M_n = 1 row, the map would stop at
     # m - 1); F = [3, 4, 5]: C = [[1,2,3],[0,1,2]]; row 1: 3, 3, 2; row 0: 1+min(3,3,4)=4,
     # 2+min(2,3,5)=4, 3+2=5 -> D[:, 0] = [.4, .3]: +1 = m. Then the input is exhausted.
     I = units([0, 1, 2, 3])
     T = units([0, 1, 2, 3, 4, 5])
     M, snaps = run_recording(MethodC(I, 3, record=True), T)
     s = snaps[3]
-    assert (s.start, s.w_i, s.C.shape) == (2, 2, (2, 3))
+    assert (s.start, s.w_i, s.C.shape) == (2, 1, (2, 3))
     np.testing.assert_allclose(s.D, tenths([[4, 4, 5], [3, 3, 2]]), atol=1e-9)
     np.testing.assert_array_equal(M, [0, 1, 2, 3, 3, 3])
     assert [x.kind for x in snaps[4:]] == ["end", "end"]
@@ -461,12 +453,7 @@ def make(method, I, w, typev, record=False):
 
 @pytest.fixture(scope="module")
 def pairs():
-    """Synthetic pairs; in the third the input is the first 60 frames of a 150-frame
-    target, so every method reaches the end of the input and must hold there."""
-    I0, T0, _ = synthetic_pair(160, seed=11)
-    I1, T1, _ = synthetic_pair(220, seed=12, warp=0.6)
-    T2 = random_walk_features(150, seed=14)
-    return [(I0, T0), (I1, T1), (T2.slice(0, 60), T2)]
+    return method_pairs()
 
 
 @pytest.mark.parametrize("typev", [False, True])
@@ -528,56 +515,6 @@ def test_input_aligned_to_itself_is_the_identity(method, w, typev):
         np.testing.assert_array_equal(M, np.arange(X.n_frames))
 
 
-# --- fast kernels vs plain-numpy references --------------------------------------------
-
-
-def _assert_snap_equal(f, r):
-    for name in ("q", "kind", "start", "w_i", "offset", "M"):
-        assert getattr(f, name) == getattr(r, name), name
-    for name in ("C", "D"):
-        a, b = getattr(f, name), getattr(r, name)
-        assert (a is None) == (b is None), name
-        if a is not None:
-            assert a.shape == b.shape, name
-            np.testing.assert_array_equal(np.isinf(a), np.isinf(b))
-            fin = np.isfinite(b)
-            np.testing.assert_allclose(a[fin], b[fin], rtol=0, atol=1e-9, err_msg=name)
-    for name in ("path", "P"):
-        a, b = getattr(f, name), getattr(r, name)
-        assert (a is None) == (b is None), name
-        if a is not None:
-            np.testing.assert_array_equal(a, b, err_msg=name)
-
-
-@pytest.mark.parametrize("typev", [False, True])
-@pytest.mark.parametrize("method,w", ALL)
-def test_fast_equals_reference(pairs, method, w, typev):
-    for I, T in pairs[::2]:
-        M, snaps = run_recording(make(method, I, w, typev, record=True), T)
-        Mr, rsnaps = reference_run(make(method, I, w, typev), T)
-        np.testing.assert_array_equal(M, Mr)
-        for f, r in zip(snaps, rsnaps):
-            _assert_snap_equal(f, r)
-            if typev:
-                assert f.state == r.state
-                np.testing.assert_array_equal(f.allowed, r.allowed)
-
-
-@pytest.mark.parametrize("typev", [False, True])
-@pytest.mark.parametrize("window", ["literal", "square-tn", "open-end", "normalised"])
-def test_method_c_readings_fast_equal_reference(pairs, window, typev):
-    for I, T in pairs:
-        for w, ties in ((10, "low"), (40, "high")):
-            a = MethodC(I, w, constraint="typeV" if typev else None, window=window, ties=ties)
-            M, snaps = run_recording(
-                MethodC(I, w, constraint=a.constraint, window=window, ties=ties, record=True), T
-            )
-            Mr, rsnaps = reference_run(a, T)
-            np.testing.assert_array_equal(M, Mr)
-            for f, r in zip(snaps, rsnaps):
-                _assert_snap_equal(f, r)
-
-
 def test_fast_acos_matches_libm():
     x = np.concatenate(
         [
@@ -612,8 +549,8 @@ def test_real_squat_pair(squat_pair, method, w):
     for typev in (False, True):
         a = make(method, I, w, typev)
         M, _ = run_online(a, T)
-        Mr, _ = reference_run(a, T)
-        np.testing.assert_array_equal(M, Mr)
+        step = {"A": plain.method_a_step, "B": plain.method_b_step, "C": plain.method_c_step}
+        np.testing.assert_array_equal(M, plain.run(step[method], I, T, w, typev))
         assert M[0] == 0 and np.diff(M).min() >= 0 and M.max() <= a.m
         if typev:
             assert is_legal_typev(M, a.m)
@@ -687,8 +624,8 @@ def test_shared_window_cache_gives_the_same_maps(squat_pair, walk):
         assert grouped == []
         cache = WindowCache(I, 80)
         grouped = run_group([_with_cache(n, I, cache) for n in SHARED_NAMES], T)
-        plain = run_group([make_online(n, I) for n in SHARED_NAMES], T)
-        for name, M0, M1, M2, M3 in zip(SHARED_NAMES, alone, shared, grouped, plain):
+        separate = run_group([make_online(n, I) for n in SHARED_NAMES], T)
+        for name, M0, M1, M2, M3 in zip(SHARED_NAMES, alone, shared, grouped, separate):
             for M in (M1, M2, M3):
                 np.testing.assert_array_equal(M, M0, err_msg=name)
 

@@ -189,8 +189,17 @@ def test_score_summary_leaves_out_and_counts_nan(tmp_path, monkeypatch):
                                                       ("deviation", 18.0, "blue")])  # fmt: skip
 def test_box_plot_has_one_box_per_algorithm_and_the_benchmark_line(fake, metric, y, colour):
     fig, ax = scores.plot_score_boxes(fake, metric)
-    boxes = [p for p in ax.patches]
+    boxes = [p for p in ax.patches if p.get_gid() != "benchmark_ci"]
     assert len(boxes) == 3 + 2 * 9
+    # every median with its 95 % interval beside its box; UTW's interval around the red line
+    bars = [c for c in ax.collections if c.get_gid() == "median_ci"]
+    assert len(bars) == len(boxes)
+    row = scores.score_summary(fake, metric, names=["Mc w40"])[0]
+    ends = [tuple(np.ravel(c.get_segments()[0])[[1, 3]]) for c in bars]
+    assert (row["ci_low"], row["ci_high"]) in ends
+    assert row["ci_low"] <= row["median"] <= row["ci_high"]
+    band = [p for p in ax.patches if p.get_gid() == "benchmark_ci"]
+    assert len(band) == (1 if metric == "similarity" else 0)
     pink = matplotlib.colors.to_rgba(scores.COLOURS["typev"])
     assert sum(np.allclose(b.get_facecolor(), pink) for b in boxes) == 9
     lines = [ln for ln in ax.lines if ln.get_gid() == "benchmark"]
@@ -237,9 +246,10 @@ def test_deviation_box_plot_is_symlog_by_default(fake):
 
 def test_box_plot_without_type_v(fake):
     fig, ax = scores.plot_score_boxes(
-        fake, "similarity", names=("UTW", "Ma", "Mc w40"), typev=False
+        fake, "similarity", names=("UTW", "Ma", "Mc w40"), typev=False, intervals=False
     )
     assert len(ax.patches) == 3
+    assert not [c for c in ax.collections if c.get_gid() == "median_ci"]
     plt.close(fig)
 
 

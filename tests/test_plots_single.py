@@ -236,7 +236,7 @@ def test_plot_method_c_window_artists():
     _, snaps = pwin.record_steps(MethodC(I, 10, record=True), T)
     s = next(x for x in snaps if x.kind == "window")
     fig, ax = pwin.plot_method_c_window(s)
-    assert ax.images[0].get_array().shape == s.D.shape == (s.w_i, 10)  # the square window
+    assert ax.images[0].get_array().shape == s.D.shape == (s.w_i + 1, 10) == (10, 10)  # square
     x = ax.lines[0]
     assert (x.get_xdata()[0], x.get_ydata()[0]) == (0, s.offset)
     assert s.offset == int(np.argmin(s.D[:, 0]))

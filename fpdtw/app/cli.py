@@ -4,6 +4,8 @@
 
     fpdtw align INPUT TARGET --method c --window 40 --out map.csv [--export-bvh aligned.bvh]
     fpdtw live  INPUT TARGET --method c --window 40 [--fast] [--animate side_by_side.gif]
+    fpdtw serve INPUT --method c --window 40 --listen 127.0.0.1:7447 [--send osc.udp://...]
+    fpdtw stream TAKE --to 127.0.0.1:7447 [--rate HZ] [--drop P] [--jitter-ms J] [--seed S]
     fpdtw data  fetch|verify|cite
     fpdtw experiments run [--smoke] [--results DIR] [--jobs N] [--scheduler ADDRESS]
 
@@ -17,8 +19,6 @@ compares, a motion too short or too long for the limits of :mod:`fpdtw.limits`, 
 file that cannot be written, unavailable output format). Every error is one line,
 ``fpdtw: error: <file>: <what>``, naming the file(s) it is about; ``--debug`` shows the
 full traceback instead.
-
-Notebook: 20_align_a_live_performance.ipynb
 """
 
 from __future__ import annotations
@@ -78,6 +78,30 @@ map CSV (--out), one row per target frame, columns:
   step_us        microseconds the online method took for this frame (empty for dtw, utw;
                  measured after an untimed warm-up over the first frames)"""
 
+#: ``fpdtw serve --listen`` by default: this machine only.
+DEFAULT_LISTEN = "127.0.0.1:7447"
+
+_SERVE_HELP = """\
+protocol (one TCP connection = one take, text lines):
+  client -> server  the take's BVH header, HIERARCHY through 'Frame Time:' (a 'Frames:'
+                    count is ignored), then one BVH motion line per captured frame,
+                    optionally 't=<capture time s> ' first (else the arrival time counts)
+  server -> client  one answer per motion line, before the next is read:
+                      <frame index> <input frame> <input time s> <latency us>
+                    frame index: the target frame on the INPUT's frame rate (the row of
+                    'fpdtw align INPUT TAKE's map); input frame: the INPUT frame to show
+                    error: line <n>, frame <k>: <what>  (then the connection is closed)
+
+dropped frames and rates: a gap of more than 1.5 frame periods between two frames is a
+drop; its frames are filled (--gap: slerp between the frames around it, or the frame before
+held) and keep their own indices. A target at another frame rate is resampled online to
+the INPUT's rate (slerp between the two latest frames; at most one target period of delay).
+
+limits (fpdtw.limits, each changed by its environment variable): a line 256 KiB
+(FPDTW_MAX_LINE_BYTES), a header 1 MiB (FPDTW_MAX_HEADER_BYTES), 10,000 channels
+(FPDTW_MAX_CHANNELS), a gap 10 s (FPDTW_MAX_GAP_S), 1,000,000 frames per take
+(FPDTW_MAX_FRAMES); SIGINT or SIGTERM stop the server cleanly."""
+
 _METHODS_HELP = "methods:\n" + "\n".join(f"  {k:<7} {v}" for k, v in METHODS.items())
 
 
@@ -111,6 +135,28 @@ def _frame_rate(text):
     return v
 
 
+def _number(text, what, lo, hi, lo_open=False):
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be {what}, got {text!r}") from None
+    if not (lo < v if lo_open else lo <= v) or not v < hi:
+        raise argparse.ArgumentTypeError(f"must be {what}, got {text!r}")
+    return v
+
+
+def _seconds(text):
+    return _number(text, "a number of seconds > 0 (below 1e6)", 0.0, 1e6, lo_open=True)
+
+
+def _probability(text):
+    return _number(text, "a probability in [0, 1)", 0.0, 1.0)
+
+
+def _milliseconds(text):
+    return _number(text, "a number of milliseconds >= 0 (below 1e6)", 0.0, 1e6)
+
+
 def _add_pair_arguments(p, *, live: bool):
     p.add_argument("input", metavar="INPUT", help="the recorded motion to retime (.fbx/.amc/.bvh)")
     p.add_argument(
@@ -118,6 +164,20 @@ def _add_pair_arguments(p, *, live: bool):
         metavar="TARGET",
         help="the performance to follow" + (", replayed as if captured live" if live else ""),
     )
+    _add_method_arguments(p, live=live)
+    p.add_argument(
+        "--fps",
+        type=_frame_rate,
+        metavar="F",
+        help="resample both motions to F Hz first (1-10000 Hz, see limits below)",
+    )
+    p.add_argument("--skeleton", metavar="ASF", help="skeleton (.asf) of an .amc INPUT")
+    p.add_argument("--target-skeleton", metavar="ASF", help="skeleton (.asf) of an .amc TARGET")
+    p.add_argument("--debug", action="store_true", help="show the traceback of an error")
+
+
+def _add_method_arguments(p, *, live: bool = True):
+    """--method, --window, --constraint (online methods default to c)."""
     p.add_argument(
         "--method",
         "-m",
@@ -140,15 +200,6 @@ def _add_pair_arguments(p, *, live: bool):
         choices=["typeV"],
         help="restrict methods a, b, c to the paper's Type V local constraint",
     )
-    p.add_argument(
-        "--fps",
-        type=_frame_rate,
-        metavar="F",
-        help="resample both motions to F Hz first (1-10000 Hz, see limits below)",
-    )
-    p.add_argument("--skeleton", metavar="ASF", help="skeleton (.asf) of an .amc INPUT")
-    p.add_argument("--target-skeleton", metavar="ASF", help="skeleton (.asf) of an .amc TARGET")
-    p.add_argument("--debug", action="store_true", help="show the traceback of an error")
 
 
 def _command_group(sub, name: str, help: str, description: str, add_commands: str):
@@ -171,7 +222,8 @@ def _command_group(sub, name: str, help: str, description: str, add_commands: st
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of the ``fpdtw`` command (align, live, data, experiments)."""
+    """The argument parser of the ``fpdtw`` command (align, live, serve, stream, data,
+    experiments)."""
     fmt = argparse.RawDescriptionHelpFormatter
     ap = _Parser(
         prog=PROG,
@@ -183,6 +235,8 @@ def build_parser() -> argparse.ArgumentParser:
               fpdtw align Walk_01.fbx Walk_02.fbx --method c --window 40 --out map.csv
               fpdtw align a.amc b.amc --method dtw --out map.csv --export-bvh a_aligned.bvh
               fpdtw live Walk_01.fbx Walk_02.fbx --method c --window 40 --animate walk.gif
+              fpdtw serve Walk_01.fbx --method c --window 40 --send osc.udp://127.0.0.1:9000
+              fpdtw stream Walk_02.bvh --to 127.0.0.1:7447 --drop 0.05
               fpdtw data cite
               fpdtw experiments run --smoke
 
@@ -250,6 +304,120 @@ def build_parser() -> argparse.ArgumentParser:
         help="animation: draw every K-th target frame (default: about 20 per second)",
     )
 
+    sv = sub.add_parser(
+        "serve",
+        help="align takes streamed over TCP (BVH header, then one motion line per frame) "
+        "to INPUT, answering each frame at once",
+        description=_fill(
+            "Listen for live takes over TCP and align each, frame by frame, to the recorded "
+            "INPUT with an online method. A client sends a BVH header (HIERARCHY through "
+            "'Frame Time:') and then one BVH motion line per captured frame, optionally "
+            "beginning with t=<capture time in s>; the server answers each line at once."
+        ),
+        formatter_class=fmt,
+        epilog=f"{_SERVE_HELP}\n\n{_METHODS_HELP}\n\nexample:\n  fpdtw serve Walk_01.fbx -m c "
+        "-w 40 --listen 127.0.0.1:7447 --send osc.udp://127.0.0.1:9000",
+    )
+    sv.add_argument("input", metavar="INPUT", help="the recorded motion (.fbx/.amc/.bvh)")
+    _add_method_arguments(sv)
+    sv.add_argument("--skeleton", metavar="ASF", help="skeleton (.asf) of an .amc INPUT")
+    sv.add_argument(
+        "--listen",
+        default=DEFAULT_LISTEN,
+        metavar="HOST:PORT",
+        help=f"address to listen on (default {DEFAULT_LISTEN}: this machine only; "
+        "0.0.0.0:PORT for every interface; port 0: any free port)",
+    )
+    sv.add_argument(
+        "--max-clients",
+        type=positive_int,
+        default=8,
+        metavar="N",
+        help="takes aligned at once (default 8); one more gets an error line and is closed",
+    )
+    sv.add_argument(
+        "--idle-timeout",
+        type=_seconds,
+        default=10.0,
+        metavar="S",
+        help="close a client silent for S seconds, with an error line (default 10)",
+    )
+    sv.add_argument(
+        "--gap",
+        choices=["slerp", "hold"],
+        default="slerp",
+        help="frames lost in a gap: interpolated by slerp between the frames around it "
+        "(default) or the frame before it held",
+    )
+    sv.add_argument(
+        "--send",
+        action="append",
+        default=[],
+        metavar="URL",
+        help="also send every answer to osc.udp://HOST:PORT (OSC message /fpdtw/frame) or "
+        "udp://HOST:PORT (a text line); may be given several times",
+    )
+    sv.add_argument("--debug", action="store_true", help="show the traceback of an error")
+
+    st = sub.add_parser(
+        "stream",
+        help="play TAKE to a server as if it were being captured; print the latency",
+        description=_fill(
+            "Play TAKE to an 'fpdtw serve' server as a live capture: its BVH header, then one "
+            "motion line per frame at its frame rate (or --rate), each with its capture time "
+            "(t=), with simulated dropped frames and jitter; print the round-trip latency "
+            "percentiles of the answers."
+        ),
+        formatter_class=fmt,
+        epilog="example:\n  fpdtw stream Walk_02.bvh --to 127.0.0.1:7447 --drop 0.05 --seed 1",
+    )
+    st.add_argument("take", metavar="TAKE", help="the take to play (.bvh sent verbatim; "
+                    ".fbx/.amc sent as BVH)")  # fmt: skip
+    st.add_argument("--to", required=True, metavar="HOST:PORT", help="the server")
+    st.add_argument(
+        "--rate",
+        type=_frame_rate,
+        metavar="HZ",
+        help="capture rate: send TAKE resampled to HZ (default: its own rate)",
+    )
+    st.add_argument(
+        "--drop",
+        type=_probability,
+        default=0.0,
+        metavar="P",
+        help="drop each frame but the first with probability P (seeded)",
+    )
+    st.add_argument(
+        "--jitter-ms",
+        type=_milliseconds,
+        default=0.0,
+        metavar="J",
+        help="send each line up to J ms late (uniform, seeded; t= stays the capture time)",
+    )
+    st.add_argument("--seed", type=int, default=0, metavar="S", help="seed of --drop and "
+                    "--jitter-ms (default 0)")  # fmt: skip
+    st.add_argument(
+        "--streams",
+        type=positive_int,
+        default=1,
+        metavar="N",
+        help="play TAKE N times at once, one connection each (seeds S, S+1, ...); the "
+        "latency is pooled",
+    )
+    st.add_argument(
+        "--fast",
+        action="store_true",
+        help="send each line as soon as the previous answer is back (no pacing)",
+    )
+    st.add_argument(
+        "--no-timestamps",
+        action="store_true",
+        help="send no t= (the server then times frames by their arrival)",
+    )
+    st.add_argument("--skeleton", metavar="ASF", help="skeleton (.asf) of an .amc TAKE")
+    st.add_argument("--out", "-o", metavar="ANSWERS.csv", help="also write every answer as CSV")
+    st.add_argument("--debug", action="store_true", help="show the traceback of an error")
+
     d = _command_group(
         sub,
         "data",
@@ -269,7 +437,9 @@ def build_parser() -> argparse.ArgumentParser:
         "on a Dask cluster (--scheduler). The notebook 05_run_experiments runs the same.",
         "fpdtw.paper.runner.run:add_experiments_commands",
     )
-    ap.commands = {"align": a, "live": lv, "data": d, "experiments": e}
+    ap.commands = {
+        "align": a, "live": lv, "serve": sv, "stream": st, "data": d, "experiments": e
+    }  # fmt: skip
     return ap
 
 
@@ -278,6 +448,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 def _check_options(args):
     """Checks argparse cannot express; raise UsageError."""
+    if args.command == "stream":
+        return _check_stream_options(args)
     m = args.method
     if args.window is not None and m not in WINDOW_DEFAULTS:
         raise UsageError(f"--window does not apply to method {m!r} (only to a, b, c, oltw)")
@@ -286,16 +458,41 @@ def _check_options(args):
     if args.constraint and m not in CONSTRAINED:
         raise UsageError(f"--constraint applies to methods a, b, c, not {m!r}")
     _check_window_size(m, args.window)
-    for opt, path in (("--skeleton", args.input), ("--target-skeleton", args.target)):
-        given = args.skeleton if opt == "--skeleton" else args.target_skeleton
+    pairs = [("--skeleton", args.input, args.skeleton)]
+    if args.command != "serve":
+        pairs.append(("--target-skeleton", args.target, args.target_skeleton))
+    for opt, path, given in pairs:
         if given and Path(path).suffix.lower() != ".amc":
             raise UsageError(f"{opt} applies to an .amc motion, not {path}")
-    if args.command == "live":
-        if m in OFFLINE:
-            raise UsageError(f"{m!r} is offline (it needs the whole target); live needs an "
-                             "online method: oe-dtw, a, b, c, opw, oltw")  # fmt: skip
-        if args.stride is not None and not args.animate:
-            raise UsageError("--stride applies only with --animate")
+    if args.command in ("live", "serve") and m in OFFLINE:
+        raise UsageError(f"{m!r} is offline (it needs the whole target); {args.command} needs "
+                         "an online method: oe-dtw, a, b, c, opw, oltw")  # fmt: skip
+    if args.command == "live" and args.stride is not None and not args.animate:
+        raise UsageError("--stride applies only with --animate")
+    if args.command == "serve":
+        from fpdtw.app.serve import _Sender, parse_address
+
+        try:
+            parse_address(args.listen)
+            for url in args.send:
+                _Sender(url).close()
+        except (ValueError, OSError) as e:
+            raise UsageError(f"{e}") from None
+
+
+def _check_stream_options(args):
+    from fpdtw.app.serve import parse_address
+
+    try:
+        host, port = parse_address(args.to)
+    except ValueError as e:
+        raise UsageError(f"--to: {e}") from None
+    if port == 0:
+        raise UsageError("--to: port 0 is not a server's port")
+    if args.fast and args.jitter_ms:
+        raise UsageError("--jitter-ms needs real-time pacing: leave out --fast")
+    if args.skeleton and Path(args.take).suffix.lower() != ".amc":
+        raise UsageError(f"--skeleton applies to an .amc motion, not {args.take}")
 
 
 def _check_window_size(method, window):
@@ -353,8 +550,6 @@ def _resample(args, motion, path, fps, log, role, to):
 def _prepare(args, log):
     """Load both motions, bring them to one frame rate, check lengths and joints."""
     from fpdtw import limits
-    from fpdtw.errors import MotionFormatError
-    from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
 
     I = _load(args, args.input, args.skeleton)
     T = _load(args, args.target, args.target_skeleton)
@@ -366,20 +561,28 @@ def _prepare(args, log):
     for mo, path, role in ((I, args.input, "input"), (T, args.target, "target")):
         _stage(args, path)
         limits.check_min_frames(mo.n_frames, path, role)
-    joints = OPW_JOINTS if args.method == "opw" else PAPER_JOINTS
-    what = "the 16 OPW joints" if args.method == "opw" else "the 8 joints FP-DTW compares"
     for mo, path in ((I, args.input), (T, args.target)):
-        for name in joints:
-            own = mo.joint_map.get(name, name)
-            if own not in mo.skeleton.joint_names:
-                raise MotionFormatError(
-                    path,
-                    f"skeleton has no joint for {name!r} (one of {what}); the two motions "
-                    "must share these joints",
-                )
+        _check_joints(args, mo, path)
     _check_sizes(args, I.n_frames, T.n_frames)
     _stage(args, args.input, args.target)
     return I, T
+
+
+def _check_joints(args, mo, path):
+    """The motion has the joints the method compares (MotionFormatError naming ``path``)."""
+    from fpdtw.errors import MotionFormatError
+    from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
+
+    joints = OPW_JOINTS if args.method == "opw" else PAPER_JOINTS
+    what = "the 16 OPW joints" if args.method == "opw" else "the 8 joints FP-DTW compares"
+    for name in joints:
+        own = mo.joint_map.get(name, name)
+        if own not in mo.skeleton.joint_names:
+            raise MotionFormatError(
+                path,
+                f"skeleton has no joint for {name!r} (one of {what}); the two motions "
+                "must share these joints",
+            )
 
 
 def _check_sizes(args, input_frames, target_frames):
@@ -510,6 +713,70 @@ def _cmd_live(args, log) -> int:
     return 0
 
 
+def _cmd_serve(args, log) -> int:
+    from fpdtw import limits
+    from fpdtw.app.live import warm_up
+    from fpdtw.app.serve import Server, parse_address, run_server
+    from fpdtw.motion.joints import OPW_JOINTS
+
+    I = _load(args, args.input, args.skeleton)
+    _stage(args, args.input)
+    limits.check_min_frames(I.n_frames, args.input, "input")
+    _check_joints(args, I, args.input)
+    FI = _features(I, args.method)
+    name = _algorithm_name(args)
+    factory = _factory(args)
+    warm_up(factory(FI), FI)  # compile / load the numba kernels before the first take
+    host, port = parse_address(args.listen)
+    server = Server(
+        FI,
+        factory,
+        name,
+        position_joints=OPW_JOINTS if args.method == "opw" else None,
+        gap=args.gap,
+        max_clients=args.max_clients,
+        idle_timeout=args.idle_timeout,
+        send=args.send,
+        log=log,
+    )
+    server.warm_up(I)  # and the live target's kernels, on the input's own first frames
+    sends = "".join(f"; answers also to {u}" for u in args.send)
+    log(f"serving {name} against input {_describe(I)}; up to {args.max_clients} takes at "
+        f"once; dropped frames: {args.gap}{sends}")  # fmt: skip
+    _stage(args, args.listen)
+    return run_server(server, host, port)
+
+
+def _cmd_stream(args, log) -> int:
+    from fpdtw.app.stream import play_many, pooled_table, take_lines, write_answers_csv
+
+    if args.out:
+        _check_output(args.out, "--out")
+    _stage(args, args.take)
+    lines = take_lines(args.take, args.rate, skeleton=args.skeleton)
+    _stage(args, args.to)
+    reports = play_many(
+        lines,
+        args.to,
+        args.streams,
+        drop=args.drop,
+        jitter_ms=args.jitter_ms,
+        seed=args.seed,
+        fast=args.fast,
+        timestamps=not args.no_timestamps,
+    )
+    print(pooled_table(reports))
+    if args.out:
+        _stage(args, args.out)
+        write_answers_csv(args.out, reports)
+        print(f"answers: {args.out} ({sum(r.index.size for r in reports)} rows)")
+    errors = [r.error for r in reports if r.error]
+    if errors:
+        print(f"{PROG}: error: {args.to}: the server answered {errors[0]!r}", file=sys.stderr)
+        return 1
+    return 0
+
+
 def _cmd_data(args) -> int:
     from fpdtw.paper.datasets import run_data_command
 
@@ -535,7 +802,6 @@ def main(argv=None) -> int:
     code : int
 
     Paper: FP-DTW Sections 3-6 (the methods), OPW poster Algorithm 1, Dixon 2005.
-    Notebook: 20_align_a_live_performance.ipynb
     """
     ap = build_parser()
     try:
@@ -558,8 +824,10 @@ def main(argv=None) -> int:
         print(f"{PROG} {args.command}: error: {e}", file=sys.stderr)
         return 2
     args.about = ()
+    commands = {"align": _cmd_align, "live": _cmd_live, "serve": _cmd_serve,
+                "stream": _cmd_stream}  # fmt: skip
     try:
-        return _cmd_align(args, log) if args.command == "align" else _cmd_live(args, log)
+        return commands[args.command](args, log)
     except KeyboardInterrupt:
         print(f"{PROG}: interrupted", file=sys.stderr)
         return 130

@@ -6,8 +6,6 @@ motion: it has the target's frame count and frame rate and its frame ``q`` IS in
 ``M[q]`` (rotations, Euler angles and root translation copied, not interpolated), so it
 plays in step with the target. :func:`export_bvh` writes it as a BVH file that Blender
 (or any BVH reader) opens; :func:`write_map_csv` writes the map with frame times.
-
-Notebook: 20_align_a_live_performance.ipynb
 """
 
 from __future__ import annotations
@@ -69,7 +67,6 @@ def retime_by_map(input_motion: Motion, M, target_fps: float, name: str | None =
         A map that is not 1-D, holds non-integers or frames outside the input.
 
     Paper: FP-DTW Section 1 (the purpose: time a recorded character to a live actor).
-    Notebook: 20_align_a_live_performance.ipynb
     """
     M = _check_map(M, input_motion.n_frames)
     fps = float(target_fps)
@@ -109,7 +106,6 @@ def export_bvh(input_motion: Motion, M, target_fps: float, path, *, precision: i
     path : Path
 
     Paper: FP-DTW Section 1 (the aligned character); BVH as in Fig. 8's poses.
-    Notebook: 20_align_a_live_performance.ipynb
     """
     from fpdtw.io.bvh import write_bvh
 
@@ -143,7 +139,6 @@ def write_map_csv(path, M, target_fps: float, input_fps: float, step_seconds=Non
         The file cannot be written; ``filename`` is ``path`` (never the temporary name).
 
     Paper: FP-DTW Section 3 (the map M, one input frame per target frame).
-    Notebook: 20_align_a_live_performance.ipynb
     """
     path = Path(path)
     M = np.asarray(M, dtype=np.int64).reshape(-1)
@@ -180,7 +175,6 @@ def read_map_csv(path) -> dict:
         (float64), ``step_us`` (float64, NaN where empty).
 
     Paper: FP-DTW Section 3 (the map M).
-    Notebook: 20_align_a_live_performance.ipynb
     """
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))

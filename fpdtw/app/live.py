@@ -60,7 +60,6 @@ class LiveReport:
         Aligner name.
 
     Paper: FP-DTW Table 2 (time per frame) and Section 1 (real-time use).
-    Notebook: 20_align_a_live_performance.ipynb
     """
 
     M: np.ndarray
@@ -169,7 +168,6 @@ def warm_up(aligner, T: MotionFeatures, frames: int = 8) -> None:
     frames : int
 
     Paper: FP-DTW Table 2 (per-frame times exclude start-up).
-    Notebook: 20_align_a_live_performance.ipynb
     """
     aligner.reset()
     for q in range(min(frames, T.n_frames)):

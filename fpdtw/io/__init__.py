@@ -34,8 +34,6 @@ def load_motion(path, **kwargs):
         Unknown extension, no such file, a directory or other non-regular file, a file
         larger than :data:`fpdtw.limits.MAX_FILE_BYTES`, or a file the reader rejects
         (including a frame rate or frame count outside :mod:`fpdtw.limits`).
-
-    Notebook: 01_data_and_motions.ipynb
     """
     p = Path(path)
     kind = READERS.get(p.suffix.lower())

@@ -40,8 +40,6 @@ and CMU use ``s = 0.45``, where 1 unit = 1/0.45 inch = 0.05644 m by the CMU
 convention; see :attr:`AsfSkeleton.meters_per_unit`). Angles are converted to
 degrees: ASF angles follow ``:units angle deg|rad``; AMC values follow the AMC
 ``:DEGREES`` / ``:RADIANS`` header (the ASF angle unit if it has neither).
-
-Notebook: 01_data_and_motions.ipynb
 """
 
 from __future__ import annotations
@@ -184,8 +182,6 @@ def read_asf(path) -> AsfSkeleton:
         Missing sections or fields, bad numbers, unknown or duplicate bones,
         translation/length dofs (unsupported), a hierarchy that does not reach
         every bone exactly once. The message names the file and line.
-
-    Notebook: 01_data_and_motions.ipynb
     """
     path = Path(path)
     lines = read_lines(path)
@@ -657,8 +653,6 @@ def read_amc(path, skeleton_or_asf_path=None, *, fps=None, name=None) -> Motion:
         :mod:`fpdtw.limits`. The message names the file, line and frame number.
         Every frame must list every bone that has dofs, whether or not the file says
         ``:FULLY-SPECIFIED`` (partial frames are not supported).
-
-    Notebook: 01_data_and_motions.ipynb
     """
     path = Path(path)
     if fps is None:

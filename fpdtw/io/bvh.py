@@ -27,12 +27,11 @@ rotations.
 * ``End Site`` blocks are not joints; their offsets are checked and dropped.
 * The frame rate is ``1 / Frame Time``, snapped to the nearest integer when the
   printed frame time is that integer rate rounded (``0.033333`` -> 30 Hz).
-
-Notebook: 01_data_and_motions.ipynb, 10_fig8_walk_pair.ipynb
 """
 
 from __future__ import annotations
 
+import dataclasses
 import io
 import math
 from pathlib import Path
@@ -78,6 +77,13 @@ class _Joint:
         self.chan_line = None
 
 
+def check_start(token: str, path, line: int) -> None:
+    """The first word of a BVH file must be HIERARCHY (MotionFormatError otherwise); a
+    stream reader checks it on the first line, before the rest of the header arrives."""
+    if token.upper() != "HIERARCHY":
+        raise MotionFormatError(path, f"file must start with HIERARCHY, got {token!r}", line=line)
+
+
 def _parse_hierarchy(path, lines):
     """Joints (parents first) from the HIERARCHY lines."""
     toks = [(t, ln) for ln, raw in enumerate(lines, 1) for t in raw.split()]
@@ -99,8 +105,7 @@ def _parse_hierarchy(path, lines):
             raise MotionFormatError(path, f"expected {word!r} after {after}, got {t!r}", line=ln)
 
     t, ln = take("HIERARCHY")
-    if t.upper() != "HIERARCHY":
-        raise MotionFormatError(path, f"file must start with HIERARCHY, got {t!r}", line=ln)
+    check_start(t, path, ln)
     t, ln = take("ROOT")
     if t.upper() != "ROOT":
         raise MotionFormatError(path, f"expected ROOT, got {t!r}", line=ln)
@@ -215,17 +220,284 @@ def _parse_hierarchy(path, lines):
     return joints
 
 
-def _bad_value_error(path, data_lines):
-    """Locate the first non-numeric token (slow path)."""
-    for k, (ln, s) in enumerate(data_lines):
-        for t in s.split():
-            try:
-                float(t)
-            except ValueError:
-                raise MotionFormatError(
-                    path, f"non-numeric value {t!r}", line=ln, frame=k
-                ) from None
-    raise MotionFormatError(path, "unreadable MOTION data")  # pragma: no cover
+def _is_key(text: str, key: str) -> bool:
+    """``text`` is the line ``<key>: ...`` (any case and spacing, e.g. ``Frame  time:``)."""
+    head, sep, _ = text.partition(":")
+    return bool(sep) and " ".join(head.split()).lower() == key
+
+
+def is_header_end(text: str) -> bool:
+    """True for the ``Frame Time:`` line, the last line of a BVH header (a stream reader
+    reads lines until this one)."""
+    return _is_key(text.strip(), "frame time")
+
+
+class BVHHeader:
+    """What a BVH file says before its first motion line, and how to read a motion line.
+
+    The one parser of BVH headers and motion lines: :func:`read_bvh` reads a file through
+    it, and ``fpdtw serve`` (:mod:`fpdtw.app.serve`) a streamed take line by line, so that
+    a take sent over the network and the same file read from disk give identical frames,
+    errors and limits.
+
+    Attributes
+    ----------
+    path : str or None
+        The file (or None for a stream) named in errors.
+    joints : list of _Joint
+        Joints, parents first, with their OFFSET, CHANNELS and line numbers.
+    skeleton : Skeleton
+        Hierarchy, OFFSETs as listed (non-root position channels replace them: see
+        :meth:`skeleton_for`), rotation orders from the channel order.
+    joint_map : dict of str to str
+        Canonical joint name -> joint name (the ASF naming, or the FBX naming if that
+        resolves more joints).
+    n_channels : int
+        Values per motion line.
+    frames : int or None
+        ``Frames:`` as declared (None in a stream, where it is ignored).
+    fps : float
+        ``1 / Frame Time`` (snapped to an integer rate when the frame time is that rate
+        rounded).
+    end_line : int
+        Line number (1-based) of the ``Frame Time:`` line; motion lines follow it.
+    """
+
+    def __init__(self, path, joints, frames, fps, end_line):
+        self.path = path
+        self.joints = joints
+        self.frames = frames
+        self.fps = fps
+        self.end_line = end_line
+        self.n_channels = sum(len(j.channels) for j in joints)
+        orders, rot, trans, pos = [], [], [], []
+        col = 0
+        for j, jt in enumerate(joints):
+            applied = ""
+            for ch in jt.channels:
+                kind, axis = _CHANNELS[ch]
+                if kind == "rotation":
+                    rot.append((col, j, axis))
+                    applied = _AXIS_NAME[axis] + applied  # listed outermost first
+                elif j == 0:
+                    trans.append((col, axis))
+                else:
+                    pos.append((col, j, axis))
+                col += 1
+            orders.append(_complete_order(applied))
+        self._rot = np.array(rot, dtype=np.int64).reshape(-1, 3)
+        self._trans = np.array(trans, dtype=np.int64).reshape(-1, 2)
+        self._pos = np.array(pos, dtype=np.int64).reshape(-1, 3)
+        self.skeleton = Skeleton(
+            joint_names=tuple(jt.name for jt in joints),
+            parents=np.array([jt.parent for jt in joints]),
+            offsets=np.array([jt.offset for jt in joints], dtype=float),
+            rotation_orders=tuple(orders),
+        )
+        maps = [resolve_joint_map(self.skeleton.joint_names, NAMINGS[k]) for k in ("bvh", "fbx")]
+        self.joint_map = maps[1] if len(maps[1]) > len(maps[0]) else maps[0]
+
+    # -- one motion line -----------------------------------------------------------------
+    def parse_line(self, text: str, line: int, frame: int) -> np.ndarray:
+        """The values of one motion line.
+
+        Parameters
+        ----------
+        text : str
+            The line (surrounding white space ignored).
+        line : int
+            Its line number (1-based), for errors.
+        frame : int
+            Its frame number (0-based: the first motion line is frame 0), for errors.
+
+        Returns
+        -------
+        values : ndarray of float64, shape (n_channels,)
+
+        Raises
+        ------
+        MotionFormatError
+            A missing or extra value, a non-numeric or non-finite value (naming the
+            line and frame).
+        """
+        toks = text.split()
+        if len(toks) != self.n_channels:
+            kind = "missing" if len(toks) < self.n_channels else "extra"
+            raise MotionFormatError(
+                self.path,
+                f"{kind} value(s): expected {self.n_channels} values (the CHANNELS of the "
+                f"hierarchy), got {len(toks)}",
+                line=line,
+                frame=frame,
+            )
+        try:
+            values = np.array(toks, dtype=float)
+        except ValueError:
+            bad = next(t for t in toks if not _is_number(t))
+            raise MotionFormatError(
+                self.path, f"non-numeric value {bad!r}", line=line, frame=frame
+            ) from None
+        if not np.isfinite(values).all():
+            raise MotionFormatError(
+                self.path, "non-finite value (NaN or inf)", line=line, frame=frame
+            )
+        return values
+
+    # -- channels -> Euler angles, translation, offsets -----------------------------------
+    def split(self, data: np.ndarray):
+        """Euler angles and root translation of motion lines.
+
+        Parameters
+        ----------
+        data : ndarray of float, shape (F, n_channels)
+
+        Returns
+        -------
+        euler : ndarray of float64, shape (F, J, 3)
+            Degrees, (x, y, z) columns (missing rotation channels: zero).
+        trans : ndarray of float64, shape (F, 3)
+            Root position channels (missing: zero).
+        """
+        F = data.shape[0]
+        euler = np.zeros((F, len(self.joints), 3))
+        trans = np.zeros((F, 3))
+        euler[:, self._rot[:, 1], self._rot[:, 2]] = data[:, self._rot[:, 0]]
+        trans[:, self._trans[:, 1]] = data[:, self._trans[:, 0]]
+        return euler, trans
+
+    def skeleton_for(self, first: np.ndarray) -> Skeleton:
+        """The skeleton with each non-root position channel's value in the first motion
+        line ``first`` (n_channels,) as its joint's offset (see the module docstring)."""
+        if not len(self._pos):
+            return self.skeleton
+        offsets = self.skeleton.offsets.copy()
+        offsets[self._pos[:, 1], self._pos[:, 2]] = first[self._pos[:, 0]]
+        return dataclasses.replace(self.skeleton, offsets=offsets)
+
+    def check_positions(self, data: np.ndarray, first: np.ndarray, lines=None, frame0=0):
+        """Non-root position channels of ``data`` (F, n_channels) must equal those of the
+        first motion line ``first``; MotionFormatError otherwise.
+
+        ``lines`` (F,) are the line numbers of ``data`` in a stream: the error names the
+        first line that differs; without them (a file) it names the CHANNELS line.
+        """
+        if not len(self._pos):
+            return
+        cols = self._pos[:, 0]
+        same = data[:, cols] == first[cols]
+        if same.all():
+            return
+        c = int(np.flatnonzero(~same.all(axis=0))[0])  # the first channel that varies
+        k = int(np.flatnonzero(~same[:, c])[0])
+        _, j, axis = (int(x) for x in self._pos[c])
+        jt = self.joints[j]
+        what = (
+            f"joint {jt.name!r} has a {_AXIS_NAME[axis]}position channel that varies "
+            "over time (animated non-root translation is not supported)"
+        )
+        if lines is None:
+            raise MotionFormatError(self.path, what, line=jt.chan_line)
+        raise MotionFormatError(
+            self.path,
+            f"{what}; its CHANNELS are on line {jt.chan_line}",
+            line=int(lines[k]),
+            frame=frame0 + k,
+        )
+
+    def motion(self, data: np.ndarray, name: str, path: str = "") -> Motion:
+        """The motion of all motion lines ``data`` (F, n_channels)."""
+        self.check_positions(data, data[0])
+        euler, trans = self.split(data)
+        return Motion(
+            name=name,
+            fps=self.fps,
+            skeleton=self.skeleton_for(data[0]),
+            euler=euler,
+            root_translation=trans,
+            source="bvh",
+            path=path,
+            joint_map=self.joint_map,
+        )
+
+
+def _is_number(token: str) -> bool:
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+
+
+def parse_bvh_header(lines, path=None, *, stream: bool = False) -> BVHHeader:
+    """Parse a BVH header: HIERARCHY, MOTION, ``Frames:`` and ``Frame Time:``.
+
+    Parameters
+    ----------
+    lines : sequence of str
+        The file's lines (at least through ``Frame Time:``; the motion lines after it are
+        not read).
+    path : str or os.PathLike, optional
+        The file, named in errors (None: a stream; errors name lines only).
+    stream : bool
+        A streamed take: the ``Frames:`` line may be missing and its value is ignored.
+
+    Returns
+    -------
+    header : BVHHeader
+
+    Raises
+    ------
+    MotionFormatError
+        No MOTION section, bad or unbalanced braces, a CHANNELS count that does not match
+        the names listed, unknown or repeated channels, more channels than
+        :data:`fpdtw.limits.MAX_CHANNELS`, a missing or malformed ``Frames:`` (files) or
+        ``Frame Time:``, ``Frame Time`` <= 0, a frame rate or ``Frames:`` outside
+        :mod:`fpdtw.limits`. The message names the file and line.
+    """
+    motion_at = next(
+        (i for i, s in enumerate(lines) if s.split()[:1] and s.split()[0].upper() == "MOTION"),
+        None,
+    )
+    if motion_at is None:
+        raise MotionFormatError(path, "no MOTION section", line=len(lines) if stream else None)
+    joints = _parse_hierarchy(path, lines[:motion_at])
+    n_ch = sum(len(j.channels) for j in joints)
+    limits.check_channels(n_ch, path, line=motion_at)
+
+    rest = ((i + 1, s.strip()) for i, s in enumerate(lines) if i > motion_at and s.strip())
+    header = {}
+    for key, label in (("frames", "Frames:"), ("frame time", "Frame Time:")):
+        ln, s = next(rest, (None, None))
+        if stream and key == "frames" and s is not None and not _is_key(s, key):
+            header[key] = None  # no Frames: line in a stream; this is the next line
+            rest = iter([(ln, s)])
+            continue
+        if s is None:
+            raise MotionFormatError(path, f"MOTION section has no {label!r} line", line=len(lines))
+        if not _is_key(s, key):
+            raise MotionFormatError(path, f"expected {label!r}, got {s!r}", line=ln)
+        header[key] = (s.partition(":")[2].strip(), ln)
+    n_frames = None
+    if not stream:
+        value, ln = header["frames"]
+        try:
+            n_frames = int(value)
+        except ValueError:
+            raise MotionFormatError(path, f"Frames: {value!r} is not an integer", line=ln) from None
+        if n_frames < 1:
+            raise MotionFormatError(path, f"Frames: {n_frames} (need at least one frame)", line=ln)
+        limits.check_file_frames(n_frames, path, line=ln)
+    value, ln = header["frame time"]
+    try:
+        frame_time = float(value)
+    except ValueError:
+        raise MotionFormatError(path, f"Frame Time: {value!r} is not a number", line=ln) from None
+    if not math.isfinite(frame_time) or frame_time <= 0:
+        raise MotionFormatError(path, f"Frame Time must be > 0, got {value}", line=ln)
+    raw = 1.0 / frame_time  # inf for a frame time below about 1e-308
+    fps = _fps_from_frame_time(frame_time) if math.isfinite(raw) else raw
+    fps = limits.check_file_fps(fps, path, line=ln, source=f"Frame Time {value} s")
+    return BVHHeader(path, joints, n_frames, fps, ln)
 
 
 def read_bvh(path, *, name=None) -> Motion:
@@ -255,133 +527,32 @@ def read_bvh(path, *, name=None) -> Motion:
         ``Frames:`` not matching the number of data lines, a data line with a
         missing or extra value, a non-numeric or non-finite value, ``Frame
         Time`` <= 0, position channels on a non-root joint that vary over time,
-        a frame rate (``1 / Frame Time``) or ``Frames:`` outside :mod:`fpdtw.limits`.
-        The message names the file, line and (0-based) frame.
-
-    Notebook: 01_data_and_motions.ipynb
+        a frame rate (``1 / Frame Time``), ``Frames:`` or channel count outside
+        :mod:`fpdtw.limits`. The message names the file, line and (0-based) frame.
     """
     path = Path(path)
     lines = read_lines(path)
     if not any(s.strip() for s in lines):
         raise MotionFormatError(path, "empty file")
-    motion_at = next(
-        (i for i, s in enumerate(lines) if s.split()[:1] and s.split()[0].upper() == "MOTION"),
-        None,
-    )
-    if motion_at is None:
-        raise MotionFormatError(path, "no MOTION section")
-    joints = _parse_hierarchy(path, lines[:motion_at])
-
-    # ---- MOTION header
-    rest = [(i + 1, s.strip()) for i, s in enumerate(lines) if i > motion_at and s.strip()]
-    header = {}
-    for key, label in (("frames", "Frames:"), ("frame time", "Frame Time:")):
-        if not rest:
-            raise MotionFormatError(path, f"MOTION section has no {label!r} line", line=len(lines))
-        ln, s = rest.pop(0)
-        head, sep, value = s.partition(":")
-        if not sep or " ".join(head.split()).lower() != key:
-            raise MotionFormatError(path, f"expected {label!r}, got {s!r}", line=ln)
-        header[key] = (value.strip(), ln)
-    value, ln = header["frames"]
-    try:
-        n_frames = int(value)
-    except ValueError:
-        raise MotionFormatError(path, f"Frames: {value!r} is not an integer", line=ln) from None
-    if n_frames < 1:
-        raise MotionFormatError(path, f"Frames: {n_frames} (need at least one frame)", line=ln)
-    limits.check_file_frames(n_frames, path, line=ln)
-    value, ln = header["frame time"]
-    try:
-        frame_time = float(value)
-    except ValueError:
-        raise MotionFormatError(path, f"Frame Time: {value!r} is not a number", line=ln) from None
-    if not math.isfinite(frame_time) or frame_time <= 0:
-        raise MotionFormatError(path, f"Frame Time must be > 0, got {value}", line=ln)
-    raw = 1.0 / frame_time  # inf for a frame time below about 1e-308
-    fps = _fps_from_frame_time(frame_time) if math.isfinite(raw) else raw
-    fps = limits.check_file_fps(fps, path, line=ln, source=f"Frame Time {value} s")
-
-    # ---- data
-    n_ch = sum(len(j.channels) for j in joints)
-    for k, (ln, s) in enumerate(rest):
-        got = len(s.split())
-        if got != n_ch:
-            kind = "missing" if got < n_ch else "extra"
-            raise MotionFormatError(
-                path,
-                f"{kind} value(s): expected {n_ch} values (the CHANNELS of the hierarchy), "
-                f"got {got}",
-                line=ln,
-                frame=k,
-            )
-    if len(rest) != n_frames:
-        if len(rest) < n_frames:
-            msg = f"Frames: {n_frames} but the file has only {len(rest)} data line(s)"
-            ln = rest[-1][0] if rest else header["frame time"][1]
-            raise MotionFormatError(path, msg, line=ln, frame=len(rest))
+    header = parse_bvh_header(lines, path)
+    rest = [(i + 1, s) for i, s in enumerate(lines) if i >= header.end_line and s.strip()]
+    n_frames = header.frames
+    if len(rest) < n_frames:
+        for k, (ln, s) in enumerate(rest):
+            header.parse_line(s, ln, k)
+        msg = f"Frames: {n_frames} but the file has only {len(rest)} data line(s)"
+        ln = rest[-1][0] if rest else header.end_line
+        raise MotionFormatError(path, msg, line=ln, frame=len(rest))
+    rows = [header.parse_line(s, ln, k) for k, (ln, s) in enumerate(rest[:n_frames])]
+    if len(rest) > n_frames:
+        header.parse_line(rest[n_frames][1], rest[n_frames][0], n_frames)
         raise MotionFormatError(
             path,
             f"Frames: {n_frames} but the file has {len(rest)} data lines",
             line=rest[n_frames][0],
             frame=n_frames,
         )
-    try:
-        data = np.array(" ".join(s for _, s in rest).split(), dtype=float).reshape(n_frames, n_ch)
-    except ValueError:
-        _bad_value_error(path, rest)
-    finite = np.isfinite(data)
-    if not finite.all():
-        k = int(np.flatnonzero(~finite.all(axis=1))[0])
-        raise MotionFormatError(path, "non-finite value (NaN or inf)", line=rest[k][0], frame=k)
-
-    # ---- channels -> Euler, translation, offsets
-    J = len(joints)
-    euler = np.zeros((n_frames, J, 3))
-    trans = np.zeros((n_frames, 3))
-    offsets = np.array([jt.offset for jt in joints], dtype=float)
-    orders = []
-    col = 0
-    for j, jt in enumerate(joints):
-        applied = ""
-        for ch in jt.channels:
-            kind, axis = _CHANNELS[ch]
-            x = data[:, col]
-            if kind == "rotation":
-                euler[:, j, axis] = x
-                applied = _AXIS_NAME[axis] + applied  # listed outermost first
-            elif j == 0:
-                trans[:, axis] = x
-            elif np.all(x == x[0]):
-                offsets[j, axis] = x[0]
-            else:
-                raise MotionFormatError(
-                    path,
-                    f"joint {jt.name!r} has a {ch[0].upper()}position channel that varies "
-                    "over time (animated non-root translation is not supported)",
-                    line=jt.chan_line,
-                )
-            col += 1
-        orders.append(_complete_order(applied))
-
-    skeleton = Skeleton(
-        joint_names=tuple(jt.name for jt in joints),
-        parents=np.array([jt.parent for jt in joints]),
-        offsets=offsets,
-        rotation_orders=tuple(orders),
-    )
-    maps = [resolve_joint_map(skeleton.joint_names, NAMINGS[k]) for k in ("bvh", "fbx")]
-    joint_map = maps[1] if len(maps[1]) > len(maps[0]) else maps[0]
-    return Motion(
-        name=name or path.stem,
-        fps=fps,
-        skeleton=skeleton,
-        euler=euler,
-        root_translation=trans,
-        source="bvh",
-        path=str(path),
-        joint_map=joint_map,
-    )
+    return header.motion(np.stack(rows), name or path.stem, str(path))
 
 
 def bvh_euler(motion: Motion) -> np.ndarray:
@@ -417,42 +588,36 @@ def bvh_euler(motion: Motion) -> np.ndarray:
     return euler
 
 
-def write_bvh(motion: Motion, path, *, precision: int = 6) -> Path:
-    """Write a motion as a BVH file.
+def bvh_lines(motion: Motion, *, precision: int = 6) -> tuple[list[str], list[str]]:
+    """A motion as the lines of a BVH file: the header and one motion line per frame.
 
-    Every joint gets three rotation channels in its rotation order (listed
-    outermost first, so order ``"XYZ"`` is written ``Zrotation Yrotation
-    Xrotation``); the root also gets ``Xposition Yposition Zposition`` (its
-    translation; the root OFFSET is the skeleton's root offset). Leaf joints get
-    a zero-length ``End Site``. Pre/post rotations (ASF, FBX skeletons) are baked
-    into the local rotations (see :func:`bvh_euler`), so forward kinematics of
-    the written file equals that of ``motion``. Joints are written depth first,
-    which may reorder joints of a skeleton listed otherwise.
+    What :func:`write_bvh` writes (it joins these lines), and what ``fpdtw stream`` sends
+    for a take that is not a BVH file (or at another frame rate).
 
     Parameters
     ----------
     motion : Motion
-    path : str or os.PathLike
-        Output ``.bvh`` file (overwritten).
     precision : int
         Decimals of the motion values.
 
     Returns
     -------
-    path : Path
+    header : list of str
+        ``HIERARCHY`` through ``Frame Time:`` (no newlines).
+    lines : list of str
+        One motion line per frame.
 
     Raises
     ------
     MotionFormatError
         A joint name BVH cannot hold (empty, whitespace, braces).
-
-    Notebook: 10_fig8_walk_pair.ipynb
     """
-    path = Path(path)
     sk = motion.skeleton
     for n in sk.joint_names:
         if not n or any(c.isspace() for c in n) or "{" in n or "}" in n:
-            raise MotionFormatError(path, f"joint name {n!r} cannot be written to BVH")
+            raise MotionFormatError(
+                motion.path or motion.name or None, f"joint name {n!r} cannot be written to BVH"
+            )
     euler = bvh_euler(motion)
     kids = [[] for _ in range(sk.n_joints)]
     for j in range(1, sk.n_joints):
@@ -483,9 +648,57 @@ def write_bvh(motion: Motion, path, *, precision: int = 6) -> Path:
         cols.append(euler[:, j, ["XYZ".index(a) for a in reversed(sk.rotation_orders[j])]])
     data = np.concatenate(cols, axis=1)
     out.write(f"MOTION\nFrames: {motion.n_frames}\nFrame Time: {1.0 / motion.fps:.10g}\n")
-    np.savetxt(out, data, fmt=f"%.{int(precision)}f", delimiter=" ")
-    path.write_text(out.getvalue())
+    header = out.getvalue().splitlines()
+    body = io.StringIO()
+    np.savetxt(body, data, fmt=f"%.{int(precision)}f", delimiter=" ")
+    return header, body.getvalue().splitlines()
+
+
+def write_bvh(motion: Motion, path, *, precision: int = 6) -> Path:
+    """Write a motion as a BVH file.
+
+    Every joint gets three rotation channels in its rotation order (listed
+    outermost first, so order ``"XYZ"`` is written ``Zrotation Yrotation
+    Xrotation``); the root also gets ``Xposition Yposition Zposition`` (its
+    translation; the root OFFSET is the skeleton's root offset). Leaf joints get
+    a zero-length ``End Site``. Pre/post rotations (ASF, FBX skeletons) are baked
+    into the local rotations (see :func:`bvh_euler`), so forward kinematics of
+    the written file equals that of ``motion``. Joints are written depth first,
+    which may reorder joints of a skeleton listed otherwise.
+
+    Parameters
+    ----------
+    motion : Motion
+    path : str or os.PathLike
+        Output ``.bvh`` file (overwritten).
+    precision : int
+        Decimals of the motion values.
+
+    Returns
+    -------
+    path : Path
+
+    Raises
+    ------
+    MotionFormatError
+        A joint name BVH cannot hold (empty, whitespace, braces).
+    """
+    path = Path(path)
+    try:
+        header, lines = bvh_lines(motion, precision=precision)
+    except MotionFormatError as e:
+        raise MotionFormatError(path, e.reason) from None
+    path.write_text("\n".join(header + lines) + "\n")
     return path
 
 
-__all__ = ["bvh_euler", "read_bvh", "write_bvh"]
+__all__ = [
+    "BVHHeader",
+    "bvh_euler",
+    "bvh_lines",
+    "check_start",
+    "is_header_end",
+    "parse_bvh_header",
+    "read_bvh",
+    "write_bvh",
+]

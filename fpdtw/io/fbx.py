@@ -129,8 +129,6 @@ def read_fbx(path, *, fps=None, name=None) -> Motion:
         Missing, empty, truncated or non-FBX file; no animation; no skeleton; or a
         feature listed as unsupported in the module docstring. The message names the
         file and what is wrong.
-
-    Notebook: 01_data_and_motions.ipynb
     """
     p = Path(path)
     if check_input_file(p) == 0:

@@ -62,6 +62,102 @@ def _euler_near(q, order, ref):
     return best
 
 
+def joint_quats(euler, orders) -> np.ndarray:
+    """Local rotations from Euler angles, each joint in its own rotation order.
+
+    Parameters
+    ----------
+    euler : ndarray of float, shape (F, J, 3)
+        Degrees, (x, y, z) columns.
+    orders : sequence of str, length J
+        Rotation order of each joint.
+
+    Returns
+    -------
+    quats : ndarray of float64, shape (F, J, 4)
+        Unit quaternions ``(w, x, y, z)`` with ``w >= 0``, the same for any number of
+        frames ``F`` (every :class:`Motion` and every streamed frame computes them here).
+    """
+    euler = np.asarray(euler, dtype=float)
+    q = np.empty(euler.shape[:2] + (4,))
+    by_order = np.array(orders)
+    for order in set(orders):
+        cols = np.flatnonzero(by_order == order)
+        q[:, cols] = euler_to_quat(euler[:, cols], order)
+    return q
+
+
+def blend_poses(q0, q1, e0, e1, r0, r1, a, orders, joints=None):
+    """Poses a fraction ``a`` of the way from one pose to another, as :meth:`Motion.retime`
+    makes them (and the live target, :mod:`fpdtw.motion.stream`, between two frames).
+
+    Rotations by slerp (shortest arc), root translation linearly, Euler angles recomputed
+    from the slerped quaternions in each joint's order, on the branch nearest the linear
+    interpolation of the two poses' own angles (so that they stay continuous). Every row
+    is computed on its own: the result does not depend on which rows are computed together.
+
+    Parameters
+    ----------
+    q0, q1 : ndarray of float, shape (N, J, 4)
+    e0, e1 : ndarray of float, shape (N, J, 3)
+        Euler angles (degrees) of the same poses.
+    r0, r1 : ndarray of float, shape (N, 3)
+        Root translations.
+    a : ndarray of float, shape (N,)
+        Fractions in [0, 1].
+    orders : sequence of str, length J
+    joints : ndarray of int, optional
+        The joints whose Euler angles to compute (default: all).
+
+    Returns
+    -------
+    q : ndarray of float64, shape (N, J, 4)
+    euler : ndarray of float64, shape (N, len(joints), 3)
+    r : ndarray of float64, shape (N, 3)
+    """
+    q = quat_slerp(q0, q1, a[:, None] * np.ones(q0.shape[1]))
+    r = (1 - a)[:, None] * r0 + a[:, None] * r1
+    a3 = a[:, None, None]
+    joints = np.arange(q0.shape[1]) if joints is None else np.asarray(joints)
+    ref = (1 - a3) * e0[:, joints] + a3 * e1[:, joints]
+    qj = q[:, joints]
+    euler = np.empty(qj.shape[:2] + (3,))
+    by_order = np.array([orders[j] for j in joints])
+    for order in set(by_order.tolist()):
+        cols = np.flatnonzero(by_order == order)
+        near = _euler_near(qj[:, cols].reshape(-1, 4), order, ref[:, cols].reshape(-1, 3))
+        euler[:, cols] = near.reshape(len(a), len(cols), 3)
+    return q, euler, r
+
+
+def sample_points(x, n: int):
+    """Where frame positions ``x`` fall between the frames of an ``n``-frame motion.
+
+    Parameters
+    ----------
+    x : ndarray of float, shape (N,)
+        Positions in frames (time times frame rate), within ``[0, n - 1]``.
+    n : int
+
+    Returns
+    -------
+    i0, i1 : ndarray of int64, shape (N,)
+        The frames on either side (``i1 = i0 + 1`` except at the last frame); a position
+        within 1e-9 below a frame counts as that frame.
+    a : ndarray of float64, shape (N,)
+        The fraction of the way from ``i0`` to ``i1``, in [0, 1].
+    """
+    i0 = np.minimum(np.floor(x + 1e-9).astype(np.int64), n - 1)
+    i1 = np.minimum(i0 + 1, n - 1)
+    a = np.clip(x - i0, 0.0, 1.0)
+    return i0, i1, a
+
+
+#: A resampled frame within this many frames of a source frame IS that source frame
+#: (its rotations and Euler angles copied exactly; :meth:`Motion.retime`).
+EXACT_FRAMES = 1e-6
+
+
 @dataclass(frozen=True, eq=False)
 class Skeleton:
     """Joint hierarchy with rest offsets.
@@ -204,12 +300,7 @@ class Motion:
             self._check_magnitude(arr.reshape(F, -1), big, f"{what} value", where)
         self._check_magnitude(self.skeleton.offsets, big, "joint offset", where, frames=False)
         if self.quats is None:
-            q = np.empty((F, J, 4))
-            orders = np.array(self.skeleton.rotation_orders)
-            for order in set(self.skeleton.rotation_orders):
-                cols = np.flatnonzero(orders == order)
-                q[:, cols] = euler_to_quat(self.euler[:, cols], order)
-            self.quats = q
+            self.quats = joint_quats(self.euler, self.skeleton.rotation_orders)
         else:
             self.quats = np.asarray(self.quats, dtype=float)
             norms = np.linalg.norm(self.quats, axis=-1)
@@ -385,10 +476,7 @@ class Motion:
             Linear interpolation.
         """
         t = np.clip(np.asarray(t, dtype=float), 0.0, self.duration)
-        x = t * self.fps
-        i0 = np.minimum(np.floor(x + 1e-9).astype(np.int64), self.n_frames - 1)
-        i1 = np.minimum(i0 + 1, self.n_frames - 1)
-        a = np.clip(x - i0, 0.0, 1.0)
+        i0, i1, a = sample_points(t * self.fps, self.n_frames)
         q = quat_slerp(self.quats[i0], self.quats[i1], a[:, None] * np.ones(self.quats.shape[1]))
         r = (1 - a)[:, None] * self.root_translation[i0] + a[:, None] * self.root_translation[i1]
         return q, r
@@ -409,17 +497,13 @@ class Motion:
             Frame rate of the result (default: this motion's).
         """
         t = np.asarray(t, dtype=float)
-        q, r = self.sample(t)
-        # reference angles: linear interpolation of the input's own Euler angles
         x = np.clip(t, 0.0, self.duration) * self.fps
-        i0 = np.minimum(np.floor(x + 1e-9).astype(np.int64), self.n_frames - 1)
-        i1 = np.minimum(i0 + 1, self.n_frames - 1)
-        a = np.clip(x - i0, 0.0, 1.0)[:, None, None]
-        ref = (1 - a) * self.euler[i0] + a * self.euler[i1]
-        euler = np.empty(q.shape[:2] + (3,))
-        for j, order in enumerate(self.skeleton.rotation_orders):
-            euler[:, j] = _euler_near(q[:, j], order, ref[:, j])
-        exact = np.abs(x - np.rint(x)) < 1e-6
+        i0, i1, a = sample_points(x, self.n_frames)
+        Q, E, R = self.quats, self.euler, self.root_translation
+        q, euler, r = blend_poses(
+            Q[i0], Q[i1], E[i0], E[i1], R[i0], R[i1], a, self.skeleton.rotation_orders
+        )
+        exact = np.abs(x - np.rint(x)) < EXACT_FRAMES
         if exact.any():
             # frames that fall on an input frame keep its angles and rotation exactly
             near = np.rint(x[exact]).astype(np.int64)

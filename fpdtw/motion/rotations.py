@@ -87,6 +87,44 @@ def unwrap_degrees(angles, axis=0):
     return np.rad2deg(np.unwrap(np.deg2rad(np.asarray(angles, dtype=float)), axis=axis))
 
 
+class UnwrapDegrees:
+    """:func:`unwrap_degrees` along time, one frame at a time.
+
+    Calling it with frames ``a[0], a[1], ...`` in order returns ``unwrap_degrees(a,
+    axis=0)[k]`` for each, bit for bit: the same operations as ``numpy.unwrap`` (its
+    running sum of corrections is a sequential sum), for a motion whose frames arrive one
+    by one.
+    """
+
+    _PERIOD = 2 * np.pi
+
+    def __init__(self):
+        self._p = None
+        self._acc = None
+
+    def __call__(self, angles) -> np.ndarray:
+        """The unwrapped angles (degrees) of the next frame, same shape as ``angles``."""
+        p = np.deg2rad(np.asarray(angles, dtype=float))
+        if self._p is None:
+            up = p.copy()
+        else:
+            period = self._PERIOD
+            high = period / 2
+            dd = p - self._p
+            if np.abs(dd).max() < high:  # no correction anywhere (numpy.unwrap's adds 0)
+                self._p = p
+                up = p if self._acc is None else p + self._acc
+                return np.rad2deg(up)
+            ddmod = np.mod(dd - (-high), period) + (-high)
+            np.copyto(ddmod, high, where=(ddmod == -high) & (dd > 0))
+            corr = ddmod - dd
+            np.copyto(corr, 0, where=np.abs(dd) < high)
+            self._acc = corr if self._acc is None else self._acc + corr
+            up = p + self._acc
+        self._p = p
+        return np.rad2deg(up)
+
+
 def quat_normalize(q):
     """Normalise quaternions to unit length; shape (..., 4) in, same out."""
     q = np.asarray(q, dtype=float)

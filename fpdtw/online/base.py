@@ -68,14 +68,15 @@ def compiled_frame(frame, i: int, capacity: int, Tp):
     A frame takes the compiled path when its quaternions and Euler angles are plain 2-D
     ndarrays and the map has room for target frame ``i`` (``i < capacity``); its
     positions, if any, are stored in ``Tp[i]`` (None: positions not kept, and a frame
-    with positions goes the general way). Anything else goes through
-    :meth:`OnlineAligner.step`'s checks.
+    with positions goes the general way). Anything else goes the general way: the
+    caller's own checks of the frame (e.g. the shape check of
+    :meth:`fpdtw.online.window.WindowAligner.step`), then :meth:`OnlineAligner.step`,
+    which stores the frame without checking it. The compiled step itself refuses a
+    frame of another shape (it returns -1 and the caller takes the general way).
 
     Returns
     -------
     (quats, euler) : tuple of ndarray, or None
-
-    Notebook: 20_align_a_live_performance.ipynb
     """
     fq, fe, p = frame.quats, frame.euler, frame.positions
     if not (
@@ -274,8 +275,6 @@ def run_together(aligners, T: MotionFeatures, *, reset=True) -> list:
     -------
     maps : list of ndarray of int64, shape (n,)
         One per aligner, in order.
-
-    Notebook: 05_run_experiments.ipynb
     """
     aligners = list(aligners)
     if reset:

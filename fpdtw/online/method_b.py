@@ -75,8 +75,9 @@ class MethodB(ForecastAligner):
         Shared with other B/C aligners stepping over the same target together (speed
         only; see :class:`~fpdtw.online.window.WindowCache`).
 
+    Plain version: fpdtw.plain.method_b_step.
     Paper: FP-DTW Algorithm 2, Fig. 4.
-    Notebook: 05_run_experiments.ipynb
+    Notebook: 03_fig2_fig4_windows.ipynb
     """
 
     label = "Mb"
@@ -92,14 +93,13 @@ class MethodB(ForecastAligner):
         p[P_INPUT_FIRST] = self.settings["backtrack"] == "input-first"
         return p
 
-    def _window_record(self, nrows: int, ncols: int, npath: int) -> tuple:
-        arrays = dict(
+    def _window_record(self, nrows: int, ncols: int, npath: int) -> dict:
+        return dict(
             C=self._C[:nrows, :ncols].copy(),
             D=self._D[:nrows, :ncols].copy(),
             path=self._path[:npath][::-1].copy(),
             P=self._P[:ncols].copy(),
         )
-        return nrows - 1, arrays
 
 
 __all__ = ["MethodB"]

@@ -65,15 +65,16 @@ class MethodC(ForecastAligner):
       row ``r`` (offset) the state does not allow (all ``r > 3``), and the argmin runs
       over the allowed rows.
 
-    Window shape, by reading (``window=``; rows are input frames from ``I_{M_n}``):
+    Window shape, by reading (``window=``; rows are input frames from ``I_{M_n}``; in
+    fpdtw ``w_i`` is always the offset of the last row, ``I_{M_n}..I_{M_n+w_i}``):
 
     ``"square"`` (default)
-        Algorithm 3's declared size ``w_i x w``: ``w_i`` rows ``I_{M_n}..I_{M_n+w_i-1}``
-        by ``w`` columns. The end test ``if M_n + w_i > m`` is read as keeping the LAST
-        ROW inside the input, ``w_i = min(w, m - M_n + 1)`` (*): taken as written
-        (``w_i = m - M_n`` rows) the last row would be ``I_{m-1}`` and the map could
-        never reach ``m``. Every row's path to the corner has ``w`` cells: holding costs
-        no more than advancing.
+        Algorithm 3's declared size ``w_i x w``, where the paper's ``w_i`` counts rows:
+        ``w`` rows ``I_{M_n}..I_{M_n+w-1}`` by ``w`` columns, so ``w_i = min(w - 1,
+        m - M_n)``. The end test ``if M_n + w_i > m`` is read as keeping the LAST ROW
+        inside the input (*): taken as written (``m - M_n`` rows) the last row would be
+        ``I_{m-1}`` and the map could never reach ``m``. Every row's path to the corner
+        has ``w`` cells: holding costs no more than advancing.
     ``"literal"``
         The range as written, ``{I_{M_n}..I_{M_n+w_i}}``: ``w_i + 1`` rows,
         ``w_i = min(w, m - M_n)``, by ``w`` columns. A hold (row 0) pays one extra cell.
@@ -108,8 +109,9 @@ class MethodC(ForecastAligner):
         Keep a :class:`~fpdtw.online.window.WindowSnapshot` of the last step (C, D and
         the per-row ``score``).
 
+    Plain version: fpdtw.plain.method_c_step.
     Paper: FP-DTW Algorithm 3, Section 3.3.
-    Notebook: 15_readings_of_algorithm_3.ipynb
+    Notebook: 03_fig2_fig4_windows.ipynb
     """
 
     label = "Mc"
@@ -154,14 +156,12 @@ class MethodC(ForecastAligner):
             return min(self.w, self.m - start + 1)
         return min(self.w, self.m - start) + 1
 
-    def _window_record(self, nrows: int, ncols: int, npath: int) -> tuple:
-        w_i = nrows if self.settings["window"] == "square" else nrows - 1
-        arrays = dict(
+    def _window_record(self, nrows: int, ncols: int, npath: int) -> dict:
+        return dict(
             C=self._C[:nrows, :ncols].copy(),
             D=self._D[:nrows, :ncols].copy(),
             score=self._score[:nrows].copy(),
         )
-        return w_i, arrays
 
 
 __all__ = ["READINGS", "MethodC"]

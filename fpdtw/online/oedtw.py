@@ -101,8 +101,8 @@ class OEDTW(OnlineAligner):
         ``open_end=True`` does for ``"symmetric2"`` (Tormene et al.); only
         allowed with ``"symmetric2"`` (``"symmetric1"`` is not normalisable).
 
+    Plain version: fpdtw.plain.oe_dtw_end_points (symmetric1, not normalised).
     Paper: FP-DTW Section 2 and Fig. 1 (Tormene et al. 2009).
-    Notebook: 02_fig1_oedtw.ipynb
     """
 
     name = "OE-DTW"
@@ -193,7 +193,6 @@ class OEDTW(OnlineAligner):
             Cells (input frame, target frame) from ``(0, 0)`` to ``(e_q, q)``.
 
         Paper: FP-DTW Fig. 1 (paths for consecutive target frames).
-        Notebook: 02_fig1_oedtw.ipynb
         """
         n1 = self.n_received
         if n1 == 0:

@@ -101,8 +101,8 @@ class TypeV:
     name : str
         Suffix used in aligner names ("Type V").
 
+    Plain version: fpdtw.plain.type_v_allowed, fpdtw.plain.type_v_next.
     Paper: FP-DTW Section 6, Fig. 9 iv.
-    Notebook: 11_fig9_typev.ipynb
     """
 
     name = "Type V"

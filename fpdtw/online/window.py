@@ -1,14 +1,24 @@
-"""Shared machinery of the FP-DTW window methods A, B and C (Algorithms 1-3).
+"""Shared machinery of the FP-DTW window methods A, B and C (Algorithms 1-3), compiled.
+
+The optimised version of :func:`fpdtw.plain.method_a_step`, :func:`~fpdtw.plain.method_b_step`
+and :func:`~fpdtw.plain.method_c_step` (read those first: the same steps, line by line in
+the paper's notation; ``tests/test_plain.py`` holds the maps equal):
 
 * numba kernels for one step: dead-reckoning forecast -> quaternions -> geodesic cost
-  window -> accumulation (forward for B, reverse for C) -> back-tracking (B), all into
-  scratch buffers the aligner preallocates once;
+  window -> accumulation (forward for B, reverse for C) -> back-tracking (B) or argmin
+  (A, C), all into scratch buffers the aligner preallocates once; :func:`_window_step`
+  is the whole step of any of the three methods;
 * :class:`WindowSnapshot`, the debug record of the last step (``record=True``), used to
   draw the paper's Fig. 2 and Fig. 4 from a real run;
-* :class:`WindowAligner`, the common base class: argument checks, the warm-up and
-  end-of-input rules, the Type V state, the snapshot;
-* :func:`reference_run`, which runs the plain-numpy reference step of a method
-  (``reference_step_a/b/c``) over a whole target, for the tests.
+* :class:`WindowAligner`, the common base class: argument checks, the work buffers, the
+  end-of-input rule, the Type V state, the snapshot; :class:`ForecastAligner` adds the
+  warm-up and the shared :class:`WindowCache` of Methods B and C.
+
+Window sizes: the input window is always ``{I_{M_n}..I_{M_n+w_i}}``, ``w_i + 1`` rows
+(``w_i``, everywhere in fpdtw, the offset of the window's last row); Method C's readings
+differ in how far it reaches (the default square window: ``w_i = min(w - 1, m - M_n)``,
+``w`` rows; the literal one: ``w_i = min(w, m - M_n)``; see
+:class:`~fpdtw.online.method_c.MethodC`).
 
 Speed. The ``(w_i + 1) x w`` geodesic cost window, recomputed every frame, dominates.
 Its inner loop runs over the forecast frames, stored joint-major as ``F[j, c, col]``
@@ -27,6 +37,7 @@ import numba
 import numpy as np
 
 from fpdtw.costs import _geo_frame, _geo_line
+from fpdtw.dtw import _accumulate
 from fpdtw.errors import AlignmentError
 from fpdtw.forecast import _euler_to_quat, order_codes
 from fpdtw.motion.features import Frame, MotionFeatures
@@ -49,6 +60,8 @@ def _forecast_columns(Tq, Te, q, first, last, codes, F, c0=0, shift=0, hold=Fals
     A frame 0 ahead is T_{n+1} itself (its received quaternion); a frame ``i >= 1`` ahead
     is T_{n+1} + i * (T_{n+1} - T_n) in Euler angles (dead reckoning), as quaternions, or
     T_{n+1} itself when ``hold`` (zero-order hold).
+
+    Plain version: fpdtw.plain.forecast_joints, then fpdtw.plain.euler_to_quat.
     """
     k = Tq.shape[1]
     for i in range(first, last):
@@ -92,7 +105,10 @@ def _forecast_window(Tq, Te, q, w, with_prev, codes, F, shift=0, hold=False):
 
 @numba.njit(cache=True)
 def _cost_window(Iq, start, nrows, F, ncols, C):
-    """C[r, col] = geoDistance(I[start + r], F[:, :, col]) (eq. 1), r < nrows, col < ncols."""
+    """C[r, col] = geoDistance(I[start + r], F[:, :, col]) (eq. 1), r < nrows, col < ncols.
+
+    Plain version: fpdtw.plain.cost_matrix.
+    """
     acc = np.empty(ncols)
     for r in range(nrows):
         _geo_line(Iq[start + r], F, 0, ncols, acc, C[r])
@@ -155,24 +171,15 @@ def _fill_prev_column(Iq, Tq, q, start, nrows, F1, C):
 
 @numba.njit(cache=True, inline="always")
 def _is_allowed(r, limit, allow):
-    """Offset r allowed? ``limit`` = largest allowed offset; allow[0..3] per offset."""
+    """Offset r allowed? ``limit`` = largest allowed offset; allow[0..3] per offset.
+
+    Plain version: fpdtw.plain.allowed_rows.
+    """
     if r > limit:
         return False
     if r <= 3:
         return allow[r] != 0
     return True
-
-
-@numba.njit(cache=True)
-def _accumulate(C, nrows, ncols, D):
-    """Forward DTW accumulation (symmetric1) from (0, 0)."""
-    D[0, 0] = C[0, 0]
-    for col in range(1, ncols):
-        D[0, col] = C[0, col] + D[0, col - 1]
-    for r in range(1, nrows):
-        D[r, 0] = C[r, 0] + D[r - 1, 0]
-        for col in range(1, ncols):
-            D[r, col] = C[r, col] + min(D[r - 1, col - 1], min(D[r - 1, col], D[r, col - 1]))
 
 
 @numba.njit(cache=True)
@@ -186,6 +193,8 @@ def _accumulate_reverse(C, nrows, ncols, D, open_end=False, wd=1.0):
     (dtw-python's normalizable ``symmetric2``). ``open_end``: the path may end in ANY row
     of the last column, ``D[r, ncols-1] = C[r, ncols-1]`` (Tormene et al.'s open-end DTW
     with the time axis reversed).
+
+    Plain version: fpdtw.plain.reverse_accumulate.
     """
     lr = nrows - 1
     lc = ncols - 1
@@ -200,8 +209,9 @@ def _accumulate_reverse(C, nrows, ncols, D, open_end=False, wd=1.0):
 
 
 @numba.njit(cache=True)
-def _backtrack(D, nrows, ncols, P, path, input_first=False):
-    """Method B's back-track from (nrows-1, ncols-1) to (0, 0) with the overwrite rule.
+def _backtrack_lowest(D, nrows, ncols, P, path, input_first=False):
+    """Method B's back-track (plotPath) from (nrows-1, ncols-1) to (0, 0) with the
+    overwrite rule.
 
     Steps: diagonal (r-1, c-1), target (r, c-1), input (r-1, c); ties prefer the
     diagonal, then the target step (which keeps the higher input frame), or with
@@ -209,6 +219,8 @@ def _backtrack(D, nrows, ncols, P, path, input_first=False):
     steps. ``P[c]`` ends as the lowest row the path visits in column c (a step back one
     input frame on the same column overwrites it). ``path`` gets the cells from the far
     corner back to (0, 0); returns their number.
+
+    Plain version: fpdtw.plain.backtrack, then fpdtw.plain.path_to_map (the lowest rows).
     """
     r = nrows - 1
     c = ncols - 1
@@ -244,17 +256,19 @@ def _choose_b(C, nrows, ncols, limit, allow, D, P, path, input_first):
     """Method B on a filled window: Type V mask, accumulate, D[0, 0] = 10000, back-track.
 
     Returns (P_1, path length).
+
+    Plain version: fpdtw.plain.method_b_step (lines 13-16).
     """
     for r in range(nrows):
         if not _is_allowed(r, limit, allow):
             C[r, 1] = np.inf
-    _accumulate(C, nrows, ncols, D)
+    _accumulate(C[:nrows, :ncols], 1.0, D[:nrows, :ncols])
     D[0, 0] = B_CORNER
-    n = _backtrack(D, nrows, ncols, P, path, input_first)
+    n = _backtrack_lowest(D, nrows, ncols, P, path, input_first)
     return P[1], n
 
 
-#: Method C's window readings (``P_READING`` codes of :func:`_forecast_step`; see MethodC).
+#: Method C's window readings (``P_READING`` codes of :func:`_window_step`; see MethodC).
 C_SQUARE, C_LITERAL, C_SQUARE_TN, C_OPEN_END, C_NORMALISED = 0, 1, 2, 3, 4
 
 
@@ -266,6 +280,8 @@ def _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high):
     (:data:`C_OPEN_END`) or symmetric2 (:data:`C_NORMALISED`); ``score[r] = D[r, 0]``, or
     ``D[r, 0] / ((nrows - r) + ncols)`` for :data:`C_NORMALISED`. Ties: the lowest row,
     or the highest with ``ties_high``. Returns the chosen offset.
+
+    Plain version: fpdtw.plain.method_c_step (lines 12-13).
     """
     for r in range(nrows):
         if not _is_allowed(r, limit, allow):
@@ -285,15 +301,33 @@ def _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high):
     return max(best, 0)
 
 
-# --- one whole step of Method B or C -----------------------------------------------------
+@numba.njit(cache=True)
+def _choose_a(Iq, t, start, nrows, limit, allow, c, ties_high):
+    """Method A's window: ``c[r] = geoDistance(I[start + r], t)`` (eq. 1) for
+    ``r < nrows``, and the argmin over the allowed rows (ties: the lowest row, or the
+    highest with ``ties_high``). Returns the chosen offset.
 
-#: Entries of an aligner's parameter vector (int64) for :func:`_forecast_step`.
+    Plain version: fpdtw.plain.method_a_step (lines 7-10).
+    """
+    best = -1
+    for r in range(nrows):
+        cost = _geo_frame(Iq[start + r], t)
+        c[r] = cost
+        if _is_allowed(r, limit, allow):
+            if best < 0 or cost < c[best] or (ties_high and cost == c[best]):
+                best = r
+    return max(best, 0)
+
+
+# --- one whole step of Method A, B or C --------------------------------------------------
+
+#: Entries of an aligner's parameter vector (int64) for :func:`_window_step`.
 P_METHOD, P_W, P_READING, P_SHIFT, P_HOLD, P_TIES_HIGH, P_INPUT_FIRST, P_START_BEST = range(8)
 P_TYPEV, P_SHARED = 8, 9
 N_PARAMS = 10
 #: Method codes of ``P_METHOD``.
-METHOD_B, METHOD_C = 1, 2
-#: Kinds of step (``out[0]`` of :func:`_forecast_step`).
+METHOD_A, METHOD_B, METHOD_C = 0, 1, 2
+#: Kinds of step (``out[0]`` of :func:`_window_step`).
 STEP_FIRST, STEP_WARMUP, STEP_END, STEP_WINDOW = 0, 1, 2, 3
 #: Frames needed before forecasting (dead reckoning on two frames).
 SMOOTHING = 2
@@ -315,17 +349,31 @@ def _first_frame(Iq, Tq, w, m, start_best):
 
 
 @numba.njit(cache=True)
-def _forecast_step(
-    Iq, Tq, Te, q, M, state, prm, table, codes, F, C, D, Pcol, path, score,
-    cF, cG, cN, cMeta, cKey, out,
-):  # fmt: skip
-    """``M_q`` of one Method B or C aligner at target frame q (frames 0..q received).
+def _allowed_offsets(state, prm, table):
+    """``(limit, allow)`` of :func:`_is_allowed` in Type V state ``state[0]`` (every
+    offset without the constraint)."""
+    allow = np.ones(4, dtype=np.int64)
+    if prm[P_TYPEV] == 0:
+        return np.iinfo(np.int64).max, allow
+    for a in range(4):
+        allow[a] = 1 if table[state[0], a] >= 0 else 0
+    return MAX_ADVANCE, allow
 
-    ``M[:q]`` is the map so far; ``state[0]`` the Type V state (advanced in place);
-    ``prm`` the aligner's parameter vector (``P_*``); ``table`` the Type V state table;
-    ``F, C, D, Pcol, path, score`` scratch; ``cF..cKey`` a :class:`WindowCache`'s
-    arrays (used when ``prm[P_SHARED]``). ``out`` gets the kind of step, the window's
-    rows and columns and (B) the path length, for the debug record.
+
+@numba.njit(cache=True)
+def _advance_state(state, prm, table, advance):
+    """Type V: the state after an advance (an illegal move is only ever a forced hold at m,
+    which leaves the state as it is)."""
+    if prm[P_TYPEV] != 0 and 0 <= advance <= MAX_ADVANCE and table[state[0], advance] >= 0:
+        state[0] = table[state[0], advance]
+
+
+@numba.njit(cache=True)
+def _a_step(Iq, Tq, q, M, state, prm, table, c, out):
+    """``M_q`` of a Method A aligner at target frame q: :func:`_window_step` for Method A,
+    with only the arrays it needs (``c`` : float64 (>= w + 1,), the window's costs).
+
+    Plain version: fpdtw.plain.method_a_step.
     """
     m = Iq.shape[0] - 1
     w = prm[P_W]
@@ -336,7 +384,49 @@ def _forecast_step(
         out[0] = STEP_FIRST
         return _first_frame(Iq, Tq, w, m, prm[P_START_BEST] != 0)
     start = M[q - 1]
-    typev = prm[P_TYPEV] != 0
+    if start >= m:
+        out[0] = STEP_END
+        m_next = m
+    else:
+        out[0] = STEP_WINDOW
+        limit, allow = _allowed_offsets(state, prm, table)
+        nrows = min(w, m - start) + 1
+        off = _choose_a(Iq, Tq[q], start, nrows, limit, allow, c, prm[P_TIES_HIGH] != 0)
+        out[1] = nrows
+        out[2] = 1
+        m_next = start + off
+    _advance_state(state, prm, table, m_next - start)
+    return m_next
+
+
+@numba.njit(cache=True)
+def _window_step(
+    Iq, Tq, Te, q, M, state, prm, table, codes, F, C, D, Pcol, path, score,
+    cF, cG, cN, cMeta, cKey, out,
+):  # fmt: skip
+    """``M_q`` of one Method A, B or C aligner at target frame q (frames 0..q received).
+
+    ``M[:q]`` is the map so far; ``state[0]`` the Type V state (advanced in place);
+    ``prm`` the aligner's parameter vector (``P_*``); ``table`` the Type V state table;
+    ``F, C, D, Pcol, path, score`` scratch; ``cF..cKey`` a :class:`WindowCache`'s
+    arrays (used when ``prm[P_SHARED]``). ``out`` gets the kind of step, the window's
+    rows and columns and (B) the path length, for the debug record.
+
+    Plain version: fpdtw.plain.method_a_step, fpdtw.plain.method_b_step and
+    fpdtw.plain.method_c_step (one step each; fpdtw.plain.run steps through a target).
+    """
+    method = prm[P_METHOD]
+    if method == METHOD_A:
+        return _a_step(Iq, Tq, q, M, state, prm, table, C[:, 0], out)
+    m = Iq.shape[0] - 1
+    w = prm[P_W]
+    out[1] = 0
+    out[2] = 0
+    out[3] = 0
+    if q == 0:
+        out[0] = STEP_FIRST
+        return _first_frame(Iq, Tq, w, m, prm[P_START_BEST] != 0)
+    start = M[q - 1]
     if q - 1 < SMOOTHING:
         out[0] = STEP_WARMUP
         m_next = min(start + 1, m)
@@ -345,15 +435,10 @@ def _forecast_step(
         m_next = m
     else:
         out[0] = STEP_WINDOW
-        limit = MAX_ADVANCE if typev else np.iinfo(np.int64).max
-        allow = np.ones(4, dtype=np.int64)
-        if typev:
-            for a in range(4):
-                allow[a] = 1 if table[state[0], a] >= 0 else 0
+        limit, allow = _allowed_offsets(state, prm, table)
         shared = prm[P_SHARED] != 0
-        if prm[P_METHOD] == METHOD_B:
-            w_i = min(w, m - start)
-            nrows = w_i + 1
+        if method == METHOD_B:
+            nrows = min(w, m - start) + 1
             ncols = w + 1
             if shared:
                 _fill_prev_column(Iq, Tq, q, start, nrows, F, C)
@@ -367,10 +452,8 @@ def _forecast_step(
             out[3] = npath
         else:
             reading = prm[P_READING]
-            if reading == C_SQUARE:
-                nrows = min(w, m - start + 1)
-            else:
-                nrows = min(w, m - start) + 1
+            # w_i = min(w - 1, m - M_n) for the square window (w rows), else min(w, m - M_n)
+            nrows = min(w - 1 if reading == C_SQUARE else w, m - start) + 1
             with_prev = reading == C_SQUARE_TN
             ncols = w + 1 if with_prev else w
             if shared:
@@ -386,10 +469,7 @@ def _forecast_step(
         out[1] = nrows
         out[2] = ncols
         m_next = start + off
-    if typev:
-        adv = m_next - start
-        if 0 <= adv <= MAX_ADVANCE and table[state[0], adv] >= 0:
-            state[0] = table[state[0], adv]  # an illegal move is only ever a forced hold at m
+    _advance_state(state, prm, table, m_next - start)
     return m_next
 
 
@@ -409,7 +489,7 @@ def _run_group(
     out = np.zeros(4, dtype=np.int64)
     for q in range(n):
         for a in range(A):
-            M[a, q] = _forecast_step(
+            M[a, q] = _window_step(
                 Iq, Tq, Te, q, M[a], state[a], params[a], table, codes, F, C, D, Pcol, path,
                 score, cF, cG, cN, cMeta, cKey, out,
             )  # fmt: skip
@@ -425,30 +505,49 @@ _HEADER = 3
 
 def _work_sizes(k: int, W: int, ns: int) -> tuple:
     """Lengths of the float64 and int64 work buffers of :func:`_work_views`."""
-    floats = k * 4 * W + 2 * W * W + W + 4 * k + 1 + 12 * k
-    ints = _HEADER + N_PARAMS + 4 * ns + k + 1 + W + 4 * W + 4 + 1 + 2
+    floats = W * W + k * 4 * W + W * W + W + 4 * k + 1 + 12 * k
+    ints = _HEADER + N_PARAMS + 4 * ns + 1 + 4 + k + W + 4 * W + 1 + 2
     return floats, ints
+
+
+@numba.njit(cache=True)
+def _head_views(work, iwork):
+    """The views every method uses, at the start of the two buffers: ``prm``, ``table``,
+    ``tv``, ``out`` and column 0 of ``C`` (all Method A's step needs: one reshape, where
+    each of :func:`_work_views`' reshapes costs about 0.1 us)."""
+    W = iwork[_H_W]
+    ns = iwork[_H_NS]
+    i = _HEADER
+    prm = iwork[i : i + N_PARAMS]
+    i += N_PARAMS
+    table = iwork[i : i + 4 * ns].reshape((ns, 4))
+    i += 4 * ns
+    tv = iwork[i : i + 1]
+    i += 1
+    out = iwork[i : i + 4]
+    return prm, table, tv, out, work[0 : W * W : W]
 
 
 @numba.njit(cache=True)
 def _work_views(work, iwork):
     """An aligner's scratch, parameters and state as views of two flat buffers.
 
-    ``work`` (float64) holds ``F (k, 4, W), C (W, W), D (W, W), score (W)`` and the
+    ``work`` (float64) holds ``C (W, W), F (k, 4, W), D (W, W), score (W)`` and the
     placeholder cache arrays ``cF (k, 4, 1), cG (1, 1), cKey (3, k, 4)``; ``iwork``
-    (int64) the header ``k, W, ns``, then ``prm (N_PARAMS), table (ns, 4), codes (k),
-    tv (1), Pcol (W), path (2W, 2), out (4), cN (1), cMeta (2)``. Two buffers instead of
-    nineteen arrays: a compiled function costs about 0.1 us per array argument to call,
-    and :func:`_stream_step` is called once per frame.
+    (int64) the header ``k, W, ns``, then ``prm (N_PARAMS), table (ns, 4), tv (1),
+    out (4)`` (:func:`_head_views`), ``codes (k), Pcol (W), path (2W, 2), cN (1),
+    cMeta (2)``. Two buffers instead of nineteen arrays: a compiled function costs about
+    0.1 us per array argument to call, and :func:`_stream_step` is called once per frame.
     """
     k = iwork[_H_K]
     W = iwork[_H_W]
     ns = iwork[_H_NS]
+    prm, table, tv, out, _ = _head_views(work, iwork)
     o = 0
-    F = work[o : o + k * 4 * W].reshape((k, 4, W))
-    o += k * 4 * W
     C = work[o : o + W * W].reshape((W, W))
     o += W * W
+    F = work[o : o + k * 4 * W].reshape((k, 4, W))
+    o += k * 4 * W
     D = work[o : o + W * W].reshape((W, W))
     o += W * W
     score = work[o : o + W]
@@ -458,21 +557,13 @@ def _work_views(work, iwork):
     cG = work[o : o + 1].reshape((1, 1))
     o += 1
     cKey = work[o : o + 12 * k].reshape((3, k, 4))
-    i = _HEADER
-    prm = iwork[i : i + N_PARAMS]
-    i += N_PARAMS
-    table = iwork[i : i + 4 * ns].reshape((ns, 4))
-    i += 4 * ns
+    i = _HEADER + N_PARAMS + 4 * ns + 1 + 4
     codes = iwork[i : i + k]
     i += k
-    tv = iwork[i : i + 1]
-    i += 1
     Pcol = iwork[i : i + W]
     i += W
     path = iwork[i : i + 4 * W].reshape((2 * W, 2))
     i += 4 * W
-    out = iwork[i : i + 4]
-    i += 4
     cN = iwork[i : i + 1]
     i += 1
     cMeta = iwork[i : i + 2]
@@ -496,19 +587,23 @@ def _store_frame(k, Tq, Te, q, fq, fe):
 @numba.njit(cache=True)
 def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
     """Receive one streamed frame: store it in row ``q`` of ``Tq, Te``, run
-    :func:`_forecast_step`, store ``M[q]``; the whole ``step`` of a B/C aligner in one call.
+    :func:`_window_step`, store ``M[q]``; the whole ``step`` of a B/C aligner in one call.
 
     ``fq`` (k, 4) and ``fe`` (k, 3) are the frame's quaternions and Euler angles; a frame
     of another shape changes nothing and returns -1 (the caller then raises).
     """
     if not _store_frame(Iq.shape[1], Tq, Te, q, fq, fe):
         return -1
-    views = _work_views(work, iwork)
-    F, C, D, score, cF, cG, cKey, prm, table, codes, tv, Pcol, path, out, cN, cMeta = views
-    m = _forecast_step(
-        Iq, Tq, Te, q, M, tv, prm, table, codes, F, C, D, Pcol, path, score,
-        cF, cG, cN, cMeta, cKey, out,
-    )  # fmt: skip
+    if iwork[_HEADER + P_METHOD] == METHOD_A:
+        prm, table, tv, out, c = _head_views(work, iwork)
+        m = _a_step(Iq, Tq, q, M, tv, prm, table, c, out)
+    else:
+        views = _work_views(work, iwork)
+        F, C, D, score, cF, cG, cKey, prm, table, codes, tv, Pcol, path, out, cN, cMeta = views
+        m = _window_step(
+            Iq, Tq, Te, q, M, tv, prm, table, codes, F, C, D, Pcol, path, score,
+            cF, cG, cN, cMeta, cKey, out,
+        )  # fmt: skip
     M[q] = m
     return m
 
@@ -553,8 +648,6 @@ class WindowCache:
     key : ndarray of float64, shape (3, k, 4)
         The frames the cached step was computed from (Euler angles of T_n, T_{n+1}; the
         quaternion of T_{n+1}).
-
-    Notebook: 05_run_experiments.ipynb
     """
 
     def __init__(self, I: MotionFeatures, w_max: int):
@@ -585,21 +678,21 @@ class WindowSnapshot:
         Target frame mapped by this step (the paper's ``n + 1``).
     kind : str
         ``"first"`` (q = 0, M_0 = 0), ``"warmup"`` (B/C: ``n < s``), ``"end"`` (input
-        exhausted: ``w_i = 0`` / ``M_n >= m``, hold at m) or ``"window"``.
+        exhausted: ``M_n = m``, hold at m) or ``"window"``.
     start : int
         Window start ``M_n`` (-1 for q = 0).
     w_i : int
-        The paper's input window size ``w_i``: rows ``I_{M_n}..I_{M_n + w_i}``
-        (``w_i + 1`` rows), except for Method C's square window (``w_i`` rows).
+        The window's input rows are ``I_{M_n}..I_{M_n + w_i}`` (``w_i + 1`` rows, for
+        every method and reading; 0 without a window).
     offset : int
         Chosen offset, ``M_{n+1} - M_n``.
     M : int
         ``M_{n+1}``.
-    C : ndarray of float64, shape (rows, ncols) or None
+    C : ndarray of float64, shape (w_i + 1, ncols) or None
         Cost window (eq. 1); rows = input frames ``M_n + r``, columns = target window:
         A: ``[T_{n+1}]``; B: ``[T_n, T_{n+1}, forecasts]`` (w + 1); C: ``[T_{n+1},
         forecasts]`` (w; w + 1 with ``T_n`` first for the "square-tn" reading). Cells
-        masked by Type V are +inf.
+        masked by Type V are +inf (B and C; Method A records its costs unmasked).
     D : ndarray of float64, same shape, or None
         B: forward accumulation with ``D[0, 0]`` then set to 10000 (it was ``C[0, 0]``);
         C: reverse accumulation.
@@ -611,12 +704,11 @@ class WindowSnapshot:
         Type V: offsets 0..3 allowed in this step's state (offsets > 3 never are).
     state : str or None
         Type V state before the step.
-    score : ndarray of float64, shape (rows,) or None
+    score : ndarray of float64, shape (w_i + 1,) or None
         C: what the argmin compares per row, ``D[r, 0]`` (normalised reading:
         divided by the paths' weight).
 
     Paper: FP-DTW Fig. 2 (window), Fig. 4 (Method B's path and choice).
-    Notebook: 03_fig2_fig4_windows.ipynb
     """
 
     q: int
@@ -646,8 +738,8 @@ class WindowAligner(OnlineAligner):
     * First target frame: ``M_0 = 0`` (both motions start aligned, DTW's boundary
       condition); ``start="best"`` instead maps ``T_0`` to its best match (eq. 1) among
       ``I_0..I_w`` (a silent choice of the paper, kept switchable for notebook 15).
-    * Window sizes are in frames; ``w_i``, the paper's input window size, shrinks at the
-      end of the input.
+    * Window sizes are in frames; the input window ``I_{M_n}..I_{M_n+w_i}`` shrinks at
+      the end of the input.
     * ``constraint="typeV"``: before choosing, offsets the Type V state table
       (:mod:`fpdtw.online.typev`) does not allow are masked; the state advances with
       every step (warm-up included). When the input is exhausted the only choice is a
@@ -658,6 +750,12 @@ class WindowAligner(OnlineAligner):
       ``last_window`` (off by default: it copies the window every frame).
     * ``state`` holds the current Type V state (index into ``constraint.states``), None
       without a constraint; ``reset()`` puts it back to the start state.
+
+    The whole step runs in one compiled function, :func:`_window_step`; its scratch
+    arrays, the parameter vector (:meth:`params`) and the Type V state live in two flat
+    buffers (:func:`_work_views`), so that one streamed frame is one compiled call with
+    few arguments (:func:`_stream_step`). Subclasses give their :meth:`params` and
+    :meth:`_window_record`.
 
     Parameters
     ----------
@@ -675,6 +773,8 @@ class WindowAligner(OnlineAligner):
     label = "M?"
     #: ``{option: (default, {other value: label in names})}``, in the order of names.
     options = {"start": ("zero", {"best": "M_0 best match"})}
+    #: A :class:`WindowCache` shared with other aligners (Methods B and C only).
+    cache = None
 
     def __init__(self, I: MotionFeatures, w: int, *, constraint=None, record=False, **options):
         check_count(w, "window w", type(self).__name__)
@@ -699,14 +799,52 @@ class WindowAligner(OnlineAligner):
                 f"euler {I.euler.shape}, {len(I.orders)} rotation orders"
             )
         try:
-            self._codes = order_codes(I.orders)
+            codes = order_codes(I.orders)
         except ValueError as e:
             raise AlignmentError(f"input motion {I.name!r}: {e}") from None
         self._Iq = np.ascontiguousarray(I.quats, dtype=np.float64)
         if self.constraint is not None:
             self._allow_by_state = (self.constraint.table >= 0).astype(np.int64)
+
+        k = self._Iq.shape[1]
+        W = self.w + 1
+        table = (
+            np.zeros((3, 4), dtype=np.int64)
+            if self.constraint is None
+            else np.ascontiguousarray(self.constraint.table, dtype=np.int64)
+        )
+        nf, ni = _work_sizes(k, W, table.shape[0])
+        self._work = np.zeros(nf)
+        self._iwork = np.zeros(ni, dtype=np.int64)
+        self._iwork[[_H_K, _H_W, _H_NS]] = k, W, table.shape[0]
+        (
+            self._F, self._C, self._D, self._score, cF, cG, cKey, self._params, self._table,
+            self._codes, self._tv, self._P, self._path, self._out, cN, cMeta,
+        ) = _work_views(self._work, self._iwork)  # fmt: skip
+        self._table[:] = table
+        self._codes[:] = codes
+        cMeta[:] = (-1, 0)
+        self._placeholder = (cF, cG, cN, cMeta, cKey)
         super().__init__(I)
+        self._configure()
         self.name = self._make_name()
+
+    def _configure(self) -> None:
+        """Fill the parameter vector and choose the cache arrays and the one-call path
+        from the aligner's settings (again after a subclass sets :attr:`cache`)."""
+        self._params[:] = self.params()
+        self._cache_arrays = self._placeholder if self.cache is None else self.cache.arrays()
+        # the one-call path: no debug record, no shared cache
+        self._lean = not self.record and self.cache is None
+
+    def params(self) -> np.ndarray:
+        """This aligner's parameter vector for :func:`_window_step` (int64, ``N_PARAMS``)."""
+        p = np.zeros(N_PARAMS, dtype=np.int64)
+        p[P_W] = self.w
+        p[P_START_BEST] = self.settings["start"] == "best"
+        p[P_TYPEV] = self.constraint is not None
+        p[P_SHARED] = self.cache is not None
+        return p
 
     @classmethod
     def _resolve_options(cls, given: dict) -> dict:
@@ -764,13 +902,34 @@ class WindowAligner(OnlineAligner):
         super().reset()
         self.state = None if self.constraint is None else self.constraint.start
         self.last_window = None
+        tv = getattr(self, "_tv", None)
+        if tv is not None:
+            tv[0] = 0 if self.constraint is None else self.constraint.start
 
     def window_snapshot(self) -> WindowSnapshot | None:
         """The :class:`WindowSnapshot` of the last step (needs ``record=True``)."""
         return self.last_window
 
     def step(self, frame: Frame) -> int:
-        """Receive target frame ``T_{n+1}`` and return ``M_{n+1}``."""
+        """Receive target frame ``T_{n+1}`` and return ``M_{n+1}``.
+
+        The common case (numpy arrays, room in the buffers, no debug record, no shared
+        cache) is one compiled call, :func:`_stream_step`; anything else takes the
+        general path of :meth:`OnlineAligner.step` (same result), after checking the
+        frame's shape.
+        """
+        i = self.n_received - self._start
+        arrays = compiled_frame(frame, i, self._M.shape[0], self._Tp) if self._lean else None
+        if arrays is not None:
+            fq, fe = arrays
+            m = _stream_step(
+                self._Iq, self._Tq, self._Te, self._M, i, fq, fe, self._work, self._iwork
+            )
+            if m >= 0:
+                self.n_received += 1
+                if self.constraint is not None:
+                    self.state = int(self._tv[0])
+                return m
         k = self._Iq.shape[1]
         if np.shape(frame.quats) != (k, 4) or np.shape(frame.euler) != (k, 3):
             raise AlignmentError(
@@ -779,6 +938,32 @@ class WindowAligner(OnlineAligner):
                 f"{np.shape(frame.euler)}"
             )
         return super().step(frame)
+
+    def _step(self, q: int) -> int:
+        state = self.state
+        m_next = int(
+            _window_step(
+                self._Iq, self._Tq, self._Te, q, self._M, self._tv, self._params, self._table,
+                self._codes, self._F, self._C, self._D, self._P, self._path, self._score,
+                *self._cache_arrays, self._out,
+            )
+        )  # fmt: skip
+        if self.constraint is not None:
+            self.state = int(self._tv[0])
+        if self.record:
+            kind = ("first", "warmup", "end", "window")[int(self._out[0])]
+            start = -1 if q == 0 else int(self._M[q - 1])
+            arrays = {}
+            w_i = 0
+            if kind == "window":
+                nr, nc = int(self._out[1]), int(self._out[2])
+                w_i, arrays = nr - 1, self._window_record(nr, nc, int(self._out[3]))
+            self._snap(q, kind, start, w_i, m_next, state=state, **arrays)
+        return m_next
+
+    @abstractmethod
+    def _window_record(self, nrows: int, ncols: int, npath: int) -> dict:
+        """The arrays of the debug record of a window step (``record=True``)."""
 
     # -- helpers for subclasses ----------------------------------------------------------
     def _snap(self, q, kind, start, w_i, m_next, state=None, **arrays):
@@ -806,10 +991,8 @@ class ForecastAligner(WindowAligner):
     * ``cache``: a :class:`WindowCache` shared with other aligners stepping over the same
       target together (speed only: the maps are the same).
 
-    The whole step runs in one compiled function, :func:`_forecast_step`, which
-    :func:`run_group` also loops over for several aligners at once: streaming and batch
-    runs share one implementation. Subclasses give their :meth:`params` and
-    :meth:`_window_record`.
+    :func:`run_group` loops the same compiled step, :func:`_window_step`, over several
+    aligners at once: streaming and batch runs share one implementation.
     """
 
     #: Smoothing window: frames needed before forecasting (dead reckoning: 2).
@@ -832,98 +1015,12 @@ class ForecastAligner(WindowAligner):
             ):
                 cache = None  # its forecast is not the shared one
         self.cache = cache
-
-        k = self._Iq.shape[1]
-        W = self.w + 1
-        table = (
-            np.zeros((3, 4), dtype=np.int64)
-            if self.constraint is None
-            else np.ascontiguousarray(self.constraint.table, dtype=np.int64)
-        )
-        # every scratch array, the parameters and the Type V state live in two flat
-        # buffers (views below), so that one streamed frame is one compiled call with
-        # few arguments (:func:`_stream_step`)
-        nf, ni = _work_sizes(k, W, table.shape[0])
-        self._work = np.zeros(nf)
-        self._iwork = np.zeros(ni, dtype=np.int64)
-        self._iwork[[_H_K, _H_W, _H_NS]] = k, W, table.shape[0]
-        (
-            self._F, self._C, self._D, self._score, cF, cG, cKey, self._params, self._table,
-            codes, self._tv, self._P, self._path, self._out, cN, cMeta,
-        ) = _work_views(self._work, self._iwork)  # fmt: skip
-        self._params[:] = self.params()
-        self._table[:] = table
-        codes[:] = self._codes
-        self._codes = codes
-        cMeta[:] = (-1, 0)
-        self._tv[0] = 0 if self.constraint is None else self.constraint.start
-        placeholder = (cF, cG, cN, cMeta, cKey)
-        self._cache_arrays = placeholder if self.cache is None else self.cache.arrays()
-        # the one-call path: no debug record, no shared cache
-        self._lean = not self.record and self.cache is None
+        self._configure()
 
     def params(self) -> np.ndarray:
-        """This aligner's parameter vector for :func:`_forecast_step` (int64, ``N_PARAMS``)."""
-        p = np.zeros(N_PARAMS, dtype=np.int64)
-        p[P_W] = self.w
-        p[P_START_BEST] = self.settings["start"] == "best"
-        p[P_TYPEV] = self.constraint is not None
-        p[P_SHARED] = self.cache is not None
+        p = super().params()
         p[P_HOLD] = self.settings.get("forecast", "dead-reckoning") == "hold"
         return p
-
-    def reset(self) -> None:
-        super().reset()
-        tv = getattr(self, "_tv", None)  # None while the base class's __init__ resets
-        if tv is not None:
-            tv[0] = 0 if self.constraint is None else self.constraint.start
-
-    def step(self, frame: Frame) -> int:
-        """Receive target frame ``T_{n+1}`` and return ``M_{n+1}``.
-
-        The common case (numpy arrays, room in the buffers, no debug record, no shared
-        cache) is one compiled call, :func:`_stream_step`; anything else takes the
-        general path of :meth:`WindowAligner.step` (same result).
-        """
-        i = self.n_received - self._start
-        arrays = compiled_frame(frame, i, self._M.shape[0], self._Tp) if self._lean else None
-        if arrays is not None:
-            fq, fe = arrays
-            m = _stream_step(
-                self._Iq, self._Tq, self._Te, self._M, i, fq, fe, self._work, self._iwork
-            )
-            if m >= 0:
-                self.n_received += 1
-                if self.constraint is not None:
-                    self.state = int(self._tv[0])
-                return m
-        return super().step(frame)
-
-    def _step(self, q: int) -> int:
-        state = self.state
-        m_next = int(
-            _forecast_step(
-                self._Iq, self._Tq, self._Te, q, self._M, self._tv, self._params, self._table,
-                self._codes, self._F, self._C, self._D, self._P, self._path, self._score,
-                *self._cache_arrays, self._out,
-            )
-        )  # fmt: skip
-        if self.constraint is not None:
-            self.state = int(self._tv[0])
-        if self.record:
-            kind = ("first", "warmup", "end", "window")[int(self._out[0])]
-            start = -1 if q == 0 else int(self._M[q - 1])
-            arrays = {}
-            w_i = 0
-            if kind == "window":
-                nr, nc = int(self._out[1]), int(self._out[2])
-                w_i, arrays = self._window_record(nr, nc, int(self._out[3]))
-            self._snap(q, kind, start, w_i, m_next, state=state, **arrays)
-        return m_next
-
-    @abstractmethod
-    def _window_record(self, nrows: int, ncols: int, npath: int) -> tuple:
-        """``(w_i, arrays)`` of the debug record of a window step (``record=True``)."""
 
 
 def run_group(aligners, T: MotionFeatures) -> list:
@@ -944,8 +1041,6 @@ def run_group(aligners, T: MotionFeatures) -> list:
     Returns
     -------
     maps : list of ndarray of int64, shape (n,)
-
-    Notebook: 05_run_experiments.ipynb
     """
     aligners = list(aligners)
     if not aligners:

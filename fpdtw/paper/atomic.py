@@ -30,8 +30,6 @@ def write_atomic(path, data: bytes) -> Path:
     Returns
     -------
     path : Path
-
-    Notebook: 05_run_experiments.ipynb
     """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

@@ -12,13 +12,18 @@ puts each median next to:
 * the LIMIT: the unavoidable work of the same steps on the same data, timed in the same
   run (:mod:`fpdtw.paper.bench_limit`: the window's geodesic evaluations and its
   accumulation), with the gap split into the forecast, the rest of the compiled step and
-  the Python call overhead; and the float32 measurement of the same limit;
+  the Python call overhead;
 * the PEERS, side by side: offline DTW against dtw-python on the same cost matrix; OE-DTW
   per frame against recomputing dtw-python's ``open_end`` per frame (what a dtw-python
   user would do); OLTW per frame against pymatchmaker's OLTW-Dixon on the same features
   (``make bench-peers``, a separate environment: :mod:`fpdtw.paper.bench_peers`);
 * the PAPER: our median over Table 2's mean, a cross-machine comparison (3.58-3.95 GHz,
   C#/Unity-era implementation).
+
+and the SERVER: the loopback round trip per frame of ``fpdtw serve`` (Method C, w 40) for
+the first pair's target played in real time by ``fpdtw stream``, alone and as eight takes at
+once (:func:`bench_server`; the two commands run as subprocesses on every core, before the
+benchmark pins itself to one).
 
 Everything is written to ``results/bench.json`` with the machine (CPU model, SIMD flags,
 clock, LLVM's target CPU, Python, numba and llvmlite versions) and the load average before
@@ -62,8 +67,6 @@ OE_INPUT_FRAMES = 1000
 def bench_names() -> list:
     """The online aligners ``make bench`` times, by name: Method A, Methods B and C (the
     default square window and the literal one) at every w, each with and without Type V.
-
-    Notebook: 09_table2_timing.ipynb
     """
     from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES
     from fpdtw.paper.runner.grid import MC_LITERAL_NAMES
@@ -106,7 +109,6 @@ def bench_online(pairs, names=None, make=None, limits=False):
         those of :func:`limit_stats`.
 
     Paper: FP-DTW Table 2.
-    Notebook: 09_table2_timing.ipynb
     """
     from fpdtw.online.base import run_online
     from fpdtw.registry import make_online
@@ -153,8 +155,7 @@ def bench_online(pairs, names=None, make=None, limits=False):
 LIMIT_KEYS = (
     "window_frames", "step_median_s", "limit_median_s", "limit_p95_s", "step_over_limit",
     "compiled_median_s", "forecast_median_s", "other_median_s", "python_median_s",
-    "evals_median", "ns_per_eval", "same_costs", "limit32_median_s", "float32_speedup",
-    "float32_changed_choices",
+    "evals_median", "ns_per_eval", "same_costs",
 )  # fmt: skip
 
 
@@ -178,12 +179,9 @@ def limit_stats(dt, rec) -> dict:
         each the median of per-frame values; ``step_over_limit`` (median step / median
         limit); ``evals_median`` (geodesic evaluations per step) and ``ns_per_eval``;
         ``same_costs`` (the limit computed the step's own costs, bit for bit; None: not
-        checked); ``limit32_median_s``, ``float32_speedup`` (float64 limit / float32
-        limit) and ``float32_changed_choices`` (frames whose choice the float32 window
-        would change; None: not checked).
+        checked).
 
     Paper: FP-DTW Table 2.
-    Notebook: 09_table2_timing.ipynb
     """
     out = dict.fromkeys(LIMIT_KEYS)
     if rec is None:
@@ -209,15 +207,11 @@ def limit_stats(dt, rec) -> dict:
         other_median_s=med(compiled - forecast - limit),
         python_median_s=med(step - compiled),
         evals_median=int(np.median(r[:, B.R_EVALS])),
-        limit32_median_s=med(r[:, B.R_LIMIT32] / tps),
     )
     out["step_over_limit"] = out["step_median_s"] / out["limit_median_s"]
     out["ns_per_eval"] = out["limit_median_s"] / max(out["evals_median"], 1) * 1e9
-    out["float32_speedup"] = out["limit_median_s"] / out["limit32_median_s"]
     same = r[:, B.R_SAME]
     out["same_costs"] = None if (same < 0).all() else bool((same[same >= 0] == 1).all())
-    flip = r[:, B.R_FLIP]
-    out["float32_changed_choices"] = None if (flip < 0).all() else int((flip > 0).sum())
     return out
 
 
@@ -288,11 +282,10 @@ def format_bench(rows, peers=None) -> str:
     text : str
 
     Paper: FP-DTW Table 2.
-    Notebook: 09_table2_timing.ipynb
     """
     head = (
         f"{'aligner':<34}{'step us':>9}{'p95 us':>9}{'limit us':>10}{'step/lim':>9}"
-        f"{'fcast':>7}{'python':>7}{'other':>7}{'ns/eval':>8}{'f32 x':>7}"
+        f"{'fcast':>7}{'python':>7}{'other':>7}{'ns/eval':>8}"
         f"{'paper/ours':>11}{'peer/ours':>10}"
     )
     paper = paper_ratios(rows)
@@ -305,7 +298,6 @@ def format_bench(rows, peers=None) -> str:
             f"{_us(r.get('forecast_median_s')):>7}{_us(r.get('python_median_s')):>7}"
             f"{_us(r.get('other_median_s')):>7}"
             f"{'-' if r.get('ns_per_eval') is None else format(r['ns_per_eval'], '.2f'):>8}"
-            f"{_ratio(r.get('float32_speedup')):>7}"
             f"{_times(paper.get(r['name'])):>11}{_times(peer.get(r['name'])):>10}"
         )
     notes = [
@@ -430,8 +422,6 @@ def peer_dtw(C, repeats=5, ours_median_s=None) -> dict:
         ``peer`` (name and version), ``cells``, ``ours_median_s``, ``peer_median_s``,
         ``peer_over_ours`` (how many times longer the peer takes), ``same_distance``.
         Empty dict when dtw-python is not installed.
-
-    Notebook: 09_table2_timing.ipynb
     """
     try:
         import dtw as dtwpy
@@ -474,8 +464,6 @@ def peer_open_end(I, T, ours_median_s, frames=OE_PEER_FRAMES) -> dict:
     row : dict
         ``peer``, ``frames``, ``ours_median_s``, ``peer_median_s``, ``peer_over_ours``,
         ``same_end_points``; empty when dtw-python is not installed.
-
-    Notebook: 09_table2_timing.ipynb
     """
     try:
         import dtw as dtwpy
@@ -634,7 +622,106 @@ def oe_pair(pairs):
     return I_oe.slice(0, OE_INPUT_FRAMES), T_long
 
 
-def run_benchmark(pairs=None, out=None, single_core=True, limits=True, peers=True):
+#: ``make bench``'s server round trip: the method's ``fpdtw serve`` options and the numbers
+#: of takes played at once.
+SERVER_OPTIONS = ("-m", "c", "-w", "40")
+SERVER_STREAMS = (1, 8)
+
+
+def round_trip_stats(round_trip_ms, server_ms) -> dict:
+    """``answers``, ``round_trip_p50_ms``, ``round_trip_p99_ms``, ``round_trip_max_ms``,
+    ``server_p50_ms``, ``server_p99_ms`` of the answers' round trips and server latencies
+    (milliseconds, arrays of the same length)."""
+    rt, sv = np.asarray(round_trip_ms, dtype=float), np.asarray(server_ms, dtype=float)
+    return dict(
+        answers=int(rt.size),
+        round_trip_p50_ms=float(np.percentile(rt, 50)),
+        round_trip_p99_ms=float(np.percentile(rt, 99)),
+        round_trip_max_ms=float(rt.max()),
+        server_p50_ms=float(np.percentile(sv, 50)),
+        server_p99_ms=float(np.percentile(sv, 99)),
+    )
+
+
+def bench_server(pair=BENCH_PAIRS[0], streams=SERVER_STREAMS, timeout=300.0) -> dict:
+    """Loopback round trip of ``fpdtw serve`` (:data:`SERVER_OPTIONS`) against the pair's
+    input, the pair's target played in real time by ``fpdtw stream --streams N``.
+
+    Both run as commands in subprocesses (the paper layer imports no app); the server gets
+    an untimed warm-up take (as fast as answered) first. Bounded: every command has
+    ``timeout`` seconds, the server is stopped with SIGTERM at the end.
+
+    Returns
+    -------
+    result : dict
+        ``method`` (the options), ``pair``, ``fps`` and, per number of takes at once,
+        ``streams[n]`` = ``answers``, ``round_trip_p50_ms``, ``round_trip_p99_ms``,
+        ``round_trip_max_ms``, ``server_p50_ms``, ``server_p99_ms``.
+    """
+    import signal
+    import subprocess
+    import sys
+    import tempfile
+    from pathlib import Path
+
+    from fpdtw.paper.datasets import fetch
+
+    ds, a, b = pair
+    inp, take = fetch(ds, a, progress=False), fetch(ds, b, progress=False)
+    cli = [sys.executable, "-m", "fpdtw.app.cli"]
+    server = subprocess.Popen(
+        [*cli, "serve", str(inp), *SERVER_OPTIONS, "--listen", "127.0.0.1:0"],
+        stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
+    )  # fmt: skip
+    out = {"method": " ".join(SERVER_OPTIONS), "pair": f"{Path(a).stem} -> {Path(b).stem}"}
+    try:
+        line = server.stdout.readline().split()
+        if line[:2] != ["listening", "on"]:
+            raise RuntimeError(f"fpdtw serve did not start: {line}")
+        to = ["--to", line[2]]
+        with tempfile.TemporaryDirectory() as tmp:
+            run = lambda *args: subprocess.run(  # noqa: E731
+                [*cli, "stream", str(take), *to, *args], check=True, timeout=timeout,
+                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+            )  # fmt: skip
+            run("--fast")  # warm-up
+            out["streams"] = {}
+            for n in streams:
+                csv = Path(tmp) / f"answers_{n}.csv"
+                run("--streams", str(n), "--out", str(csv))
+                rows = np.loadtxt(csv, delimiter=",", skiprows=1, ndmin=2)
+                rt, sv = rows[:, 6] / 1e3, rows[:, 5] / 1e3  # round_trip_us, server_us
+                out["streams"][int(n)] = round_trip_stats(rt, sv)
+    finally:
+        server.send_signal(signal.SIGTERM)
+        try:
+            server.wait(30)
+        except subprocess.TimeoutExpired:
+            server.kill()
+            server.wait()
+        server.stdout.close()
+    return out
+
+
+def server_table(result) -> str:
+    """:func:`bench_server`'s result as text lines (ms)."""
+    if not result:
+        return "server round trip: not measured"
+    lines = [
+        f"Server round trip (fpdtw serve {result['method']}, {result['pair']}, loopback, real "
+        "time; line written -> answer read, ms; server: its own time per line)",
+        f"{'takes at once':<16}{'answers':>9}{'p50':>9}{'p99':>9}{'max':>9}"
+        f"{'server p50':>12}{'server p99':>12}",
+    ]
+    for n, r in result["streams"].items():
+        lines.append(
+            f"{n:<16}{r['answers']:>9}{r['round_trip_p50_ms']:>9.3f}{r['round_trip_p99_ms']:>9.3f}"
+            f"{r['round_trip_max_ms']:>9.3f}{r['server_p50_ms']:>12.3f}{r['server_p99_ms']:>12.3f}"
+        )
+    return "\n".join(lines)
+
+
+def run_benchmark(pairs=None, out=None, single_core=True, limits=True, peers=True, server=False):
     """Time everything ``make bench`` reports and write ``results/bench.json``.
 
     Parameters
@@ -650,6 +737,8 @@ def run_benchmark(pairs=None, out=None, single_core=True, limits=True, peers=Tru
     peers : bool
         Time dtw-python side by side (:func:`peer_dtw`, :func:`peer_open_end`); the OLTW
         peer is read from ``results/bench_peers.json`` when ``make bench-peers`` wrote it.
+    server : bool
+        Measure ``fpdtw serve``'s round trip first (:func:`bench_server`, on every core).
 
     Returns
     -------
@@ -667,6 +756,7 @@ def run_benchmark(pairs=None, out=None, single_core=True, limits=True, peers=Tru
     from fpdtw.paper.paths import results_dir
 
     load_before = list(os.getloadavg()) if hasattr(os, "getloadavg") else None
+    served = bench_server() if server else None
     if single_core and hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
     pairs = load_bench_pairs() if pairs is None else pairs
@@ -705,6 +795,7 @@ def run_benchmark(pairs=None, out=None, single_core=True, limits=True, peers=Tru
         "peers": peer,
         "paper_table2_us": {f"{m} w{w}": v for (m, w), v in TABLE2_US.items()},
         "paper_over_ours": paper_ratios(online),
+        "server": served,
     }
     out = results_dir() / "bench.json" if out is None else out
     write_atomic(out, (json.dumps(report, indent=1) + "\n").encode())
@@ -735,7 +826,7 @@ def format_report(report) -> str:
         "",
         "Against the hardware limit (medians over the frames with a window; limit: the "
         "window's geodesic evaluations + accumulation, same data, same run; fcast/python/"
-        "other: the gap, us; f32 x: float32 limit speed-up)",
+        "other: the gap, us)",
         format_bench(rows, report.get("peers")),
         "",
         peers_table(report),
@@ -745,16 +836,8 @@ def format_report(report) -> str:
         f"offline DTW (accumulate + path) on {d['cells']} cells: {d['median_s'] * 1e3:.1f} ms, "
         f"{d['cells_per_s'] / 1e6:.0f} million cells/s",
     ]
-    f32 = [r for r in rows if r.get("float32_speedup") is not None]
-    if f32:
-        changed = sum(r["float32_changed_choices"] or 0 for r in f32)
-        big = max(f32, key=lambda r: r["evals_median"] or 0)
-        parts.append(
-            f"float32 cost window: limit {min(r['float32_speedup'] for r in f32):.2f}-"
-            f"{max(r['float32_speedup'] for r in f32):.2f}x as fast ({big['name']}: "
-            f"{big['float32_speedup']:.2f}x), and it changes {changed} choices over these "
-            "runs: kept float64 (float32 is not exact)"
-        )
+    if report.get("server"):
+        parts += ["", server_table(report["server"])]
     return "\n".join(parts)
 
 
@@ -767,9 +850,13 @@ def main(argv=None) -> None:
     ap.add_argument("--all-cores", action="store_true", help="do not pin to one core")
     ap.add_argument("--no-limits", action="store_true", help="skip the limit replays")
     ap.add_argument("--no-peers", action="store_true", help="skip dtw-python")
+    ap.add_argument("--no-server", action="store_true", help="skip fpdtw serve's round trip")
     args = ap.parse_args(argv)
     report = run_benchmark(
-        single_core=not args.all_cores, limits=not args.no_limits, peers=not args.no_peers
+        single_core=not args.all_cores,
+        limits=not args.no_limits,
+        peers=not args.no_peers,
+        server=not args.no_server,
     )
     print(format_report(report))
 
@@ -780,6 +867,7 @@ if __name__ == "__main__":
 
 __all__ = [
     "bench_online",
+    "bench_server",
     "dtw_throughput",
     "explain_gap",
     "format_bench",
@@ -792,5 +880,7 @@ __all__ = [
     "peer_ratios",
     "peers_table",
     "step_s",
+    "round_trip_stats",
     "run_benchmark",
+    "server_table",
 ]

@@ -24,7 +24,6 @@ gives their median difference in frames. The ratio ``peer / ours`` is over the t
 frames both timed (pymatchmaker stops when it runs out of reference).
 
 Paper: Dixon (2005), OLTW; FP-DTW Table 2 (per-frame time).
-Notebook: 09_table2_timing.ipynb
 """
 
 from __future__ import annotations
@@ -64,8 +63,6 @@ def check_separate_environment(own_prefix, project_prefix) -> None:
     SameEnvironmentError
         Both are the same environment (pymatchmaker's numpy < 2 would replace the
         project's numpy).
-
-    Notebook: 09_table2_timing.ipynb
     """
     a, b = Path(own_prefix).resolve(), Path(project_prefix).resolve()
     if a == b:
@@ -103,8 +100,6 @@ def export(path, pairs=None, c=None, max_run_count=3) -> dict:
     meta : dict
         What was written besides the arrays (``c``, ``max_run_count``, ``names``,
         ``project_prefix``, ``out``: where the peers' report goes).
-
-    Notebook: 09_table2_timing.ipynb
     """
     import inspect
 
@@ -253,8 +248,6 @@ def write_report(report, path) -> Path:
 def run_peer(path, out=None) -> dict:
     """Time pymatchmaker's OLTW-Dixon on an :func:`export` file, in the peers' environment,
     and write ``results/bench_peers.json`` (or ``out``).
-
-    Notebook: 09_table2_timing.ipynb
     """
     meta, pairs = read_export(path)
     check_separate_environment(sys.prefix, meta["project_prefix"])

@@ -17,9 +17,9 @@ figure map (:mod:`fpdtw.paper.figure_map`), the claims JSON of notebook 12
 
 ``index.md``
     The front page (:func:`front_page`): the claims table (id, claim, paper, ours,
-    holds, holds with Method C's literal window, each claim linked to the notebook pages
-    that show it: :func:`claim_notebooks`), the data used and what is missing, how to
-    rerun, and every notebook page with what it reproduces.
+    holds, holds with Method C's literal window and with OPW's plugin reading, each claim
+    linked to the notebook pages that show it: :func:`claim_notebooks`), the data used and
+    what is missing, how to rerun, and every notebook page with what it reproduces.
 ``figures.md``
     Every figure (PNG, GIF) by notebook, with its PDF and the tables (CSV, Markdown) as
     downloads (:func:`figures_page`).
@@ -49,7 +49,7 @@ from fpdtw.paper import figure_map
 from fpdtw.paper.paths import REPO_ROOT
 
 #: Words for the verdicts of the claims table (the ``holds`` column).
-HOLDS = ("yes", "partly", "no", "n/a")
+HOLDS = ("yes", "partly", "no", "inconclusive", "not comparable", "n/a")
 #: Figure files shown as images, and files offered as downloads, by extension.
 IMAGE_SUFFIXES = (".png", ".gif")
 DOWNLOAD_SUFFIXES = (".pdf", ".csv", ".md")
@@ -66,6 +66,12 @@ table.claims td, table.claims th { vertical-align: top; }
 .holds-partly { background: #fbeccc; color: #7a4b00; }
 .holds-no { background: #f7d4d4; color: #8a1414; }
 .holds-na { background: #e6e6e6; color: #444; }
+.holds-inconclusive { background: #dde6f5; color: #1f3f73; }
+.holds-not-comparable { background: #ece0f3; color: #56306b; }
+.holds-holds { background: #d5f0d5; color: #135c13; }
+.holds-contradicted { background: #f7d4d4; color: #8a1414; }
+.claims td { vertical-align: top; }
+.claims .reason { font-size: 0.85em; }
 .smoke-banner { border-left: 0.3em solid #c77d00; padding: 0.4em 0.8em; background: #fff6e5; }
 math[display="block"] { margin: 0.5em 0; }
 /* the front page (no right-hand contents column): the claims table may use the width */
@@ -165,8 +171,6 @@ def claim_notebooks(evidence: str, notebooks=figure_map.NOTEBOOKS) -> tuple:
     -------
     stems : tuple of str
         In order of first mention, without repeats; empty when nothing is named.
-
-    Notebook: 12_claims.ipynb
     """
     stems = {nb.stem for nb in notebooks}
     owner = {m: nb.stem for nb in notebooks for m in nb.makes}
@@ -194,8 +198,17 @@ def _cell(text) -> str:
 
 def _holds(verdict: str) -> str:
     v = str(verdict)
-    cls = {"n/a": "na"}.get(v, v if v in HOLDS else "na")
+    known = HOLDS + ("holds", "contradicted")
+    cls = {"n/a": "na"}.get(v, v.replace(" ", "-") if v in known else "na")
     return f'<span class="holds holds-{cls}">{html.escape(v)}</span>'
+
+
+def _plugin_cell(row: dict) -> str:
+    """The OPW plugin reading's value and verdict of a claims row ("" where n/a)."""
+    verdict = row.get("holds_plugin")
+    if verdict in (None, "", "n/a"):
+        return ""
+    return f"{_cell(row.get('ours_plugin', ''))}<br>{_holds(verdict)}"
 
 
 def _read_csv(path) -> list[dict] | None:
@@ -215,29 +228,38 @@ def claims_section(claims: list[dict] | None, pages: list[Page]) -> str:
         Rows of ``results/<mode>/claims.json`` (:data:`fpdtw.paper.claims.COLUMNS`); None
         when notebook 12 has not written them.
     pages : list of Page
-
-    Notebook: 12_claims.ipynb
     """
     out = ["## The claims, checked", ""]
     if not claims:
         out += ["No claims table yet: notebook `12_claims` writes it (`make figures`).", ""]
         return "\n".join(out)
+    from fpdtw.paper.claims.rules import LEGEND
+
     counts = {v: sum(1 for r in claims if r.get("holds") == v) for v in HOLDS}
     extra = sum(1 for r in claims if r.get("holds") not in HOLDS)
-    summary = ", ".join(f"{_holds(v)} {counts[v]}" for v in HOLDS)
+    summary = ", ".join(f"{_holds(v)} {counts[v]}" for v in HOLDS if counts[v])
     out += [
-        f"{len(claims)} claims of the FP-DTW paper and the OPW poster: the paper's number, "
-        "ours, and whether the claim holds on the data here (rules fixed in "
-        "`fpdtw.paper.claims`, never tuned to the results). Holds: "
+        f"{len(claims)} claims of the FP-DTW paper and the OPW poster, each split into parts "
+        "and decided by rules fixed in `fpdtw.paper.claims` (never tuned to the results): "
         + summary
         + (f", other {extra}" if extra else "")
-        + ". *Literal window*: the verdict with Method C's literal `(w_i + 1) x w` window "
-        "(notebook 15 explains the two readings). *Notebook*: the pages that show the "
-        "evidence.",
+        + ".",
+        "",
+        f"*{LEGEND}*",
+        "",
+        "*Why*: the parts that do not hold and the numbers that make them fail, with their 95 % "
+        "intervals. *Per dataset*: the verdict on the authors' takes alone, on HDM05 alone and "
+        "on the paper-shaped selection (at most 8 takes per movement); *these movements*: only "
+        "the motions resampled. *Robust*: under how many of the paper's open readings and "
+        "silent choices (notebook 15) the verdict stands. *Literal window*: with Method C's "
+        "literal `(w_i + 1) x w` window. *OPW plugin*: the OPW poster's claims with OPW read "
+        "as the authors' MotionBuilder plugin does it (notebooks 13, 14). *Notebook*: the "
+        "pages that show the evidence.",
         "",
         "{.claims}",
-        "| # | claim | paper | ours | holds | literal window | notebook |",
-        "|---|---|---|---|---|---|---|",
+        "| # | claim | paper | ours | verdict | why | per dataset | robust | literal window "
+        "| OPW plugin | notebook |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     executed = {p.stem for p in pages if p.executed}
     for r in claims:
@@ -249,6 +271,16 @@ def claims_section(claims: list[dict] | None, pages: list[Page]) -> str:
                 links.append(f"{stem[:2]} (not run)")
         shown = ", ".join(links) or _cell(r.get("evidence", ""))
         literal = r.get("holds_literal")
+        per = "<br>".join(
+            f"{label}: {_holds(r[key])}"
+            for label, key in (("authors", "holds_authors_fbx"), ("HDM05", "holds_hdm05"),
+                               ("paper-shaped", "holds_paper_shaped"),
+                               ("these movements", "holds_same_movements"))
+            if r.get(key) not in (None, "n/a")
+        )  # fmt: skip
+        why = _cell(r.get("reason", ""))
+        if r.get("interval"):
+            why += f" <br>95 %: {_cell(r['interval'])}"
         out.append(
             "| "
             + " | ".join(
@@ -258,7 +290,11 @@ def claims_section(claims: list[dict] | None, pages: list[Page]) -> str:
                     _cell(r.get("paper", "")),
                     _cell(r.get("ours", "")),
                     _holds(r.get("holds", "n/a")),
+                    f'<span class="reason">{why}</span>',
+                    per or "-",
+                    _cell(r.get("robustness", "")),
                     _holds(literal) if literal is not None else "",
+                    _plugin_cell(r),
                     shown,
                 ]
             )
@@ -284,8 +320,6 @@ def unlisted_missing(manifests=None) -> dict:
     -------
     dict of str to str
         ``{dataset: sentences}``, only datasets whose notes say so.
-
-    Notebook: 01_data_and_motions.ipynb
     """
     if manifests is None:
         from fpdtw.paper import datasets
@@ -312,8 +346,6 @@ def data_section(figures_dir) -> str:
     Parameters
     ----------
     figures_dir : str or Path
-
-    Notebook: 01_data_and_motions.ipynb
     """
     from fpdtw.paper import numbers
 
@@ -433,8 +465,6 @@ def front_page(
         ``"smoke"`` says at the top that the numbers come from the short smoke runs.
     built_from : str, optional
         A line on what made it (versions, commit).
-
-    Notebook: 12_claims.ipynb
     """
     title = "FP-DTW and OPW, reproduced" + (" (smoke run)" if mode == "smoke" else "")
     # no right-hand contents column on the front page: the claims table needs the width
@@ -475,8 +505,6 @@ def figures_page(pages: list[Page], figures_dir) -> str:
     ----------
     pages : list of Page
     figures_dir : str or Path
-
-    Notebook: 12_claims.ipynb
     """
     figures_dir = Path(figures_dir)
     out = [

@@ -54,7 +54,7 @@ def motion_records(datasets=("authors_fbx", "hdm05", "cmu"), available_only=Fals
     -------
     records : list of MotionRecord
 
-    Notebook: 01_data_and_motions.ipynb
+    Notebook: 04_fig3_forecast.ipynb
     """
     out = []
     for ds in datasets:

@@ -345,7 +345,6 @@ def paper_passes(name: str, metric: str):
         None where the paper does not say.
 
     Paper: FP-DTW Sections 5 and 7.
-    Notebook: 06_fig5_fig6_scores.ipynb
     """
     if metric not in ("similarity", "deviation"):
         raise ValueError(f"metric must be 'similarity' or 'deviation', got {metric!r}")
@@ -359,8 +358,12 @@ def paper_passes(name: str, metric: str):
 def benchmark_comparison(summary_rows, metric: str) -> list[dict]:
     """Figs. 5 / 6: per FP-DTW algorithm, does its median pass the benchmark, ours vs paper?
 
-    Rule: "yes" when our verdict (the median above UTW's median similarity, or below 18
-    frames) is the paper's (:func:`paper_passes`); "-" where the paper does not say. The
+    Our side is the verdict of the claims' rule (:mod:`fpdtw.paper.claims.rules`), the same
+    check the claims table uses: the pass "holds" when the median's 95 % interval clears
+    the benchmark (for similarity: the interval of its difference from UTW's median), is
+    "contradicted" when it fails it, "inconclusive" when it straddles it. The row holds
+    ("yes") when that verdict agrees with the paper (:func:`paper_passes`), "no" when it
+    contradicts it, "inconclusive" when ours is; "-" where the paper does not say. The
     first row shows the benchmark itself.
 
     Parameters
@@ -376,6 +379,8 @@ def benchmark_comparison(summary_rows, metric: str) -> list[dict]:
     Paper: FP-DTW Figs. 5 and 6, Sections 5-7.
     Notebook: 06_fig5_fig6_scores.ipynb
     """
+    from fpdtw.paper.claims.rules import HOLDS, INCONCLUSIVE
+
     rows = []
     if metric == "similarity":
         bench = summary_rows[0]["benchmark"]
@@ -401,13 +406,21 @@ def benchmark_comparison(summary_rows, metric: str) -> list[dict]:
         if name not in N.FPDTW_NAMES and name not in N.FPDTW_TYPEV_NAMES:
             continue
         paper = paper_passes(name, metric)
-        ours = r["passes_benchmark"]
+        v = r["verdict"]
+        ours = {HOLDS: "yes", INCONCLUSIVE: "inconclusive"}.get(v, "no")
+        iv = f"{r['median']:{fmt}} [{r['ci_low']:{fmt}}, {r['ci_high']:{fmt}}]"
+        if paper is None:
+            holds = None
+        elif v == INCONCLUSIVE:
+            holds = INCONCLUSIVE
+        else:
+            holds = paper == (v == HOLDS)
         rows.append(
             comparison_row(
                 f"{name}: median {word}?",
                 "not stated (not both)" if paper is None else _yes_no(paper),
-                f"{_yes_no(ours)} ({r['median']:{fmt}})",
-                None if paper is None else paper == ours,
+                f"{ours} ({iv})",
+                holds,
             )
         )
     return rows
@@ -416,12 +429,27 @@ def benchmark_comparison(summary_rows, metric: str) -> list[dict]:
 # -- 07: Table 1 ---------------------------------------------------------------------------
 
 
+def _verdict_holds(paper: bool, verdict: str | None, point: bool):
+    """A comparison row's holds from the claims' verdict of "ours is above" (or, without a
+    verdict, from the point comparison ``point``)."""
+    from fpdtw.paper.claims.rules import HOLDS, INCONCLUSIVE
+
+    if verdict is None:
+        return paper == point
+    if verdict == INCONCLUSIVE:
+        return INCONCLUSIVE
+    return paper == (verdict == HOLDS)
+
+
 def table1_comparison(rows, source: str = "ours") -> list[dict]:
     """Table 1 cell by cell: the paper's median similarity of Method C next to ours.
 
-    Rule: a cell "holds" when it falls on the same side of its own UTW median as the
-    paper's (above or not); the best-window rows hold when the windows are equal. The UTW
-    rows only show the two values.
+    Rule: a cell holds when our window is on the same side of UTW's median as the paper's,
+    decided as the claims decide it (:mod:`fpdtw.paper.claims.rules`): with the interval
+    of the difference from UTW's median ("inconclusive" when it straddles 0); the
+    best-window rows hold when the paper's best window beats every other one by the same
+    rule (claim 3). Rows without verdicts (made up in tests) fall back to the medians. The
+    UTW rows only show the two values.
 
     Parameters
     ----------
@@ -448,20 +476,24 @@ def table1_comparison(rows, source: str = "ours") -> list[dict]:
         for w in N.WINDOWS:
             p_above = paper[w] > paper["UTW"]
             o_above = ours[f"w{w}"] > ours["UTW"]
+            v = ours.get(f"verdict_w{w}")
+            side = "above" if o_above else "below"
             out.append(
                 comparison_row(
                     f"{rate} Hz Mc w{w}",
                     f"{paper[w]:.3f} ({'above' if p_above else 'below'} UTW)",
-                    f"{ours[f'w{w}']:.3f} ({'above' if o_above else 'below'} UTW)",
-                    p_above == o_above,
+                    f"{ours[f'w{w}']:.3f} ({side} UTW{'' if v is None else ': ' + v})",
+                    _verdict_holds(p_above, v, o_above),
                 )
             )
+        v = ours.get("best_verdict")
         out.append(
             comparison_row(
                 f"{rate} Hz best window",
                 f"w{N.BEST_WINDOW[rate]}",
-                f"w{ours['best_w']}",
-                ours["best_w"] == N.BEST_WINDOW[rate],
+                f"w{ours['best_w']}"
+                + ("" if v is None else f" (w{N.BEST_WINDOW[rate]} best: {v})"),
+                _verdict_holds(True, v, ours["best_w"] == N.BEST_WINDOW[rate]),
             )
         )
     return out
@@ -686,7 +718,8 @@ def opw_fig4_comparison(facts: dict) -> list[dict]:
 
     Rules: the mean deviations lie within the poster's range; the maximum is below 150 ms
     (the poster's claim about its 121 ms); DTW's mean deviation is below OPW's on every
-    motion; OPW's largest slope change is below DTW's on every motion.
+    motion; OPW's largest slope change is below DTW's on every motion. Under the plugin
+    reading the poster's DTW is the plugin's baseline (``facts["baseline"]``).
 
     Parameters
     ----------
@@ -703,6 +736,7 @@ def opw_fig4_comparison(facts: dict) -> list[dict]:
     plo, phi = N.OPW_MEAN_DEVIATION_MS
     lo, hi = facts["opw_mean_ms_range"]
     dlo, dhi = facts["dtw_mean_ms_range"]
+    base = facts.get("baseline", "DTW")
     thr = N.PERCEPTUAL_THRESHOLD_MS
     return [
         comparison_row(
@@ -718,13 +752,13 @@ def opw_fig4_comparison(facts: dict) -> list[dict]:
             facts["opw_max_ms"] < thr,
         ),
         comparison_row(
-            "DTW deviates less than OPW on every motion",
+            f"{base} deviates less than OPW on every motion",
             _yes_no(N.OPW_DTW_BETTER),
-            f"{_yes_no(facts['dtw_better_everywhere'])} (DTW {dlo:.0f}-{dhi:.0f} ms)",
+            f"{_yes_no(facts['dtw_better_everywhere'])} ({base} {dlo:.0f}-{dhi:.0f} ms)",
             facts["dtw_better_everywhere"] == N.OPW_DTW_BETTER,
         ),
         comparison_row(
-            "OPW smoother than DTW on every motion",
+            f"OPW smoother than {base} on every motion",
             _yes_no(N.OPW_SMOOTHER),
             _yes_no(facts["opw_smoother_everywhere"]),
             facts["opw_smoother_everywhere"] == N.OPW_SMOOTHER,

@@ -306,10 +306,7 @@ def _parse_manifest(file: Path) -> Manifest:
 
 
 def dataset_names() -> list[str]:
-    """Names of the datasets that have a manifest (sorted).
-
-    Notebook: 01_data_and_motions.
-    """
+    """Names of the datasets that have a manifest (sorted)."""
     return sorted(p.stem for p in paths.manifest_dir().glob("*.toml"))
 
 
@@ -330,8 +327,6 @@ def load_manifest(name: str) -> Manifest:
     ------
     ManifestError
         No such manifest, or it is malformed (the message names the file and key).
-
-    Notebook: 01_data_and_motions.
     """
     if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z0-9_.-]+", name):
         raise ManifestError(f"{name!r} is not a dataset name")
@@ -344,10 +339,7 @@ def load_manifest(name: str) -> Manifest:
 
 
 def manifests() -> list[Manifest]:
-    """Every dataset's manifest, sorted by name.
-
-    Notebook: 01_data_and_motions.
-    """
+    """Every dataset's manifest, sorted by name."""
     return [load_manifest(n) for n in dataset_names()]
 
 
@@ -371,8 +363,6 @@ def dataset_file_list(dataset: str | Manifest, *, available_only: bool = False) 
     dataset : str or Manifest
     available_only : bool
         Leave out the files the manifest marks as not in the local mirror.
-
-    Notebook: 01_data_and_motions.
     """
     m = _as_manifest(dataset)
     return [e.path for e in m.files if e.available_here or not available_only]
@@ -395,17 +385,13 @@ def motion_files(dataset: str | Manifest, *, available_only: bool = False) -> li
     list of FileEntry
 
     Paper: Section 4 (the authors' 21 movements x 3 takes; whole HDM05 classes).
-    Notebook: 05_run_experiments.
     """
     m = _as_manifest(dataset)
     return [e for e in m.files if e.kind == "motion" and (e.available_here or not available_only)]
 
 
 def skeleton_file(dataset: str | Manifest, entry: FileEntry | str) -> FileEntry | None:
-    """The skeleton entry a motion file needs (HDM05: the actor's ASF), or None.
-
-    Notebook: 05_run_experiments.
-    """
+    """The skeleton entry a motion file needs (HDM05: the actor's ASF), or None."""
     m = _as_manifest(dataset)
     e = m.entry(entry)
     if e.actor is None:
@@ -672,8 +658,6 @@ def fetch(
         The file is not in the manifest, not available from the source tried
         (the message says how to set ``FPDTW_MIRROR``), or its content does not
         match the manifest (the message names both hashes; nothing is kept).
-
-    Notebook: 01_data_and_motions.
     """
     m = _as_manifest(dataset)
     if path is None:
@@ -753,8 +737,6 @@ def fetch_all(
     Returns
     -------
     FetchReport
-
-    Notebook: 01_data_and_motions.
     """
     ms = _as_manifests(datasets)
     if available_only is None:
@@ -876,8 +858,6 @@ def verify(
     Returns
     -------
     VerifyReport
-
-    Notebook: 01_data_and_motions.
     """
     cache = paths.data_dir()
     if available_only is None:
@@ -916,8 +896,6 @@ def cite(dataset: str | Manifest | Iterable[str | Manifest] | None = None) -> st
     ----------
     dataset : str, Manifest or iterable of them, optional
         Default: every manifest.
-
-    Notebook: 01_data_and_motions.
     """
     blocks = []
     for m in _as_manifests(dataset):

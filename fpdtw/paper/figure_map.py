@@ -7,8 +7,6 @@ against it by the tests. Standard library only, so that make can run it before t
 environment exists.
 
 Adding a figure: one notebook, one module in :mod:`fpdtw.paper.figures`, one row here.
-
-Notebook: 12_claims.ipynb
 """
 
 from __future__ import annotations
@@ -67,25 +65,30 @@ NOTEBOOKS = (
              ("fig8_paths", "fig8_right_hip", "fig8_poses", "fig8_walk_pair_scores"), "Fig. 8"),
     Notebook("11_fig9_typev", ("fig9_typev", "fig9_typev_table"),
              "Fig. 9: the Type V state table as used"),
-    Notebook("13_opw_fig4", ("opw_fig4_curves", "opw_fig4_summary", "opw_curve_keys"),
-             "OPW poster Fig. 4"),
-    Notebook("14_opw_fig5_fig6", ("opw_fig5_offset", "opw_fig6_gamma"),
-             "OPW poster Figs. 5 and 6"),
+    Notebook("13_opw_fig4",
+             ("opw_fig4_curves", "opw_fig4_curves_plugin", "opw_fig4_summary", "opw_curve_keys"),
+             "OPW poster Fig. 4, as the poster reads and as the authors' plugin runs it"),
+    Notebook("14_opw_fig5_fig6",
+             ("opw_fig5_offset", "opw_fig6_gamma", "opw_fig5_offset_plugin", "opw_readings"),
+             "OPW poster Figs. 5 and 6; OPW read as the poster and as the authors' plugin, "
+             "mechanism by mechanism"),
     Notebook("15_readings_of_algorithm_3",
              ("readings_table", "readings_signature", "readings_overview", "readings_mechanism",
               "readings_heatmaps", "silent_choices", "silent_choices_detail",
               "selection_paper_shaped"),
              "Algorithm 3's window read five ways, side by side; every other silent choice; "
              "a paper-shaped data selection", _RUN),
-    Notebook("12_claims", ("claims",),
-             "every claim of both papers: the paper's number, ours (default and literal "
-             "Method C window), whether it holds",
+    Notebook("12_claims", ("claims", "claims_intervals"),
+             "every claim of both papers split into parts: verdict and reason, 95 % intervals, "
+             "per dataset and selection, robustness to the paper's open readings",
              ("02_fig1_oedtw", "06_fig5_fig6_scores", "07_table1_60hz", "08_fig7_fig10_heatmaps",
               "09_table2_timing", "10_fig8_walk_pair", "13_opw_fig4", "14_opw_fig5_fig6",
               "15_readings_of_algorithm_3")),
     Notebook("20_align_a_live_performance",
-             ("live_latency", "live_maps", "live_walk_Mc_w40", "live_walk_OLTW"),
-             "for people: align a recorded take to a live one"),
+             ("live_latency", "live_maps", "live_walk_Mc_w40", "live_walk_OLTW",
+              "live_network_latency", "live_drop_rate"),
+             "for people: align a recorded take to a live one, also over the network "
+             "(`fpdtw serve`)"),
 )  # fmt: skip
 
 

@@ -8,7 +8,7 @@ plotting-dynamic time warping", Computer Animation and Virtual Worlds 34(3) e216
 OPW: Randall, Harvey, Williams, "A Predictive Approach to On-line Time Warping of Motion"
 (poster).
 
-Notebook: 12_claims.ipynb
+Notebook: 05_run_experiments.ipynb
 """
 
 from __future__ import annotations

@@ -7,8 +7,6 @@ which versions computed them. Figures and the claims table themselves stay byte-
 they carry no commit and no machine.
 
 Run ``python -m fpdtw.paper.provenance [--markdown OUT]`` to print the record.
-
-Notebook: 12_claims.ipynb
 """
 
 from __future__ import annotations
@@ -109,8 +107,6 @@ def environment(machine: bool = True) -> dict:
     """The whole record: ``python``, ``platform``, ``fpdtw`` (version, commit, dirty),
     ``packages`` (:func:`package_versions`) and, with ``machine``, ``cpu``
     (:func:`cpu_info`).
-
-    Notebook: 12_claims.ipynb
     """
     from fpdtw import __version__
 
@@ -184,8 +180,8 @@ def environment_markdown(env: dict | None = None, results: dict | None = None) -
 #: ``figures/`` is deterministic: byte-identical for the same lock, code and data.
 TIMING_OUTPUTS = (
     "table2_time_per_frame.csv", "table2_time_per_frame.md", "table2_time_vs_w.pdf",
-    "table2_time_vs_w.png", "live_latency.pdf", "live_latency.png", "claims.csv",
-    "claims.md", "ENVIRONMENT.md",
+    "table2_time_vs_w.png", "live_latency.pdf", "live_latency.png", "live_network_latency.csv",
+    "live_network_latency.md", "claims.csv", "claims.md", "ENVIRONMENT.md",
 )  # fmt: skip
 
 

@@ -75,8 +75,6 @@ def map_shape(results, name: str, dataset=None) -> dict:
         taken while input remained, pooled: :func:`fpdtw.metrics.hold_share`),
         ``stick_skip`` (median over pairs of :func:`fpdtw.metrics.stick_skip_index`:
         < 0 sticks, > 0 skips), ``pairs``.
-
-    Notebook: 15_readings_of_algorithm_3.ipynb
     """
     arr = results.get(name)
     m_all, _ = results.frames(name)
@@ -313,33 +311,68 @@ def mechanism_profile(pairs, w: int = 40, readings=("literal", "square")) -> dic
 # -- silent choices ---------------------------------------------------------------------------
 
 
-def _choice_medians(results, name, features, variant):
-    """Median similarity and deviation of ``name`` (120 Hz) under a metric-side variant."""
+def choice_values(results, name: str, variant: str, features=None) -> dict:
+    """Per-pair scores of ``name`` under a metric-side silent choice.
+
+    Parameters
+    ----------
+    results : fpdtw.paper.runner.run.Results
+    name : str
+        An algorithm (its deviation is measured from DTW at its own rate).
+    variant : {"deviation_frames", "flat_axis", "after_input"}
+        The choice (:data:`fpdtw.paper.runner.grid.SILENT_CHOICES`): eq. 3 over the frames
+        ``q = 1..n``; eq. 2 leaving out an axis flat in one motion; both scores only up to
+        the first target frame mapped to the last input frame.
+    features : callable, optional
+        ``features(k) -> (I, T)`` at the algorithm's rate
+        (:func:`fpdtw.paper.runner.run.pair_features`); needed by the choices of eq. 2.
+
+    Returns
+    -------
+    values : dict
+        Metric -> ndarray of float64, shape (P,) in ``results.pairs`` order, for the
+        metrics the choice changes.
+    """
     arr = results.get(name)
-    dtw = results.get("DTW")
+    dtw = results.get("DTW" + ("@60Hz" if name.endswith("@60Hz") else ""))
     offsets, maps = np.asarray(arr["offsets"]), np.asarray(arr["maps"], dtype=np.int64)
     d_off, d_maps = np.asarray(dtw["offsets"]), np.asarray(dtw["maps"], dtype=np.int64)
     m_all, _ = results.frames(name)
-    sims, devs = [], []
-    for k in range(offsets.size - 1):
+    P = offsets.size - 1
+    sims, devs = np.full(P, np.nan), np.full(P, np.nan)
+    for k in range(P):
         M = maps[offsets[k] : offsets[k + 1]]
-        P = d_maps[d_off[k] : d_off[k + 1]]
+        D = d_maps[d_off[k] : d_off[k + 1]]
         if variant == "deviation_frames":
-            devs.append(float(np.abs(M - P)[1:].sum() / max(M.size - 1, 1)))
+            devs[k] = float(np.abs(M - D)[1:].sum() / max(M.size - 1, 1))
             continue
+        if features is None:
+            raise ValueError(f"the choice {variant!r} of eq. 2 needs the pairs' features")
         I, T = features(k)
         if variant == "flat_axis":
             r = similarity_per_axis(I.quats, T.quats, M, one_flat=np.nan)
-            sims.append(float(np.nanmean(r)) if np.isfinite(r).any() else np.nan)
+            sims[k] = float(np.nanmean(r)) if np.isfinite(r).any() else np.nan
         elif variant == "after_input":
             end = int(np.argmax(M >= m_all[k])) + 1 if np.any(M >= m_all[k]) else M.size
             end = max(end, 2)
-            r = similarity_per_axis(I.quats, T.quats[:end], M[:end])
-            sims.append(float(np.mean(r)))
-            devs.append(float(np.mean(np.abs(M[:end] - P[:end]))))
+            sims[k] = float(np.mean(similarity_per_axis(I.quats, T.quats[:end], M[:end])))
+            devs[k] = float(np.mean(np.abs(M[:end] - D[:end])))
+        else:
+            raise ValueError(f"not a metric-side choice: {variant!r}")
+    out = {}
+    if variant != "deviation_frames":
+        out["similarity"] = sims
+    if variant != "flat_axis":
+        out["deviation"] = devs
+    return out
+
+
+def _choice_medians(results, name, features, variant):
+    """Median similarity and deviation of ``name`` (120 Hz) under a metric-side variant."""
+    vals = choice_values(results, name, variant, features)
     sim0, dev0 = _medians(results, name)  # where the variant leaves a metric as it is
-    sim = float(np.nanmedian(sims)) if sims else sim0
-    dev = float(np.median(devs)) if devs else dev0
+    sim = float(np.nanmedian(vals["similarity"])) if "similarity" in vals else sim0
+    dev = float(np.nanmedian(vals["deviation"])) if "deviation" in vals else dev0
     return sim, dev
 
 
@@ -478,6 +511,7 @@ __all__ = [
     "HEADLINE_NAMES",
     "PAPER_SIGNATURE",
     "benchmarks",
+    "choice_values",
     "map_shape",
     "mechanism_profile",
     "reading_name",

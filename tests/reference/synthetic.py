@@ -140,3 +140,13 @@ __all__ = [
     "random_walk_features",
     "synthetic_pair",
 ]
+
+
+def method_pairs() -> list:
+    """The synthetic (input, target) pairs the FP-DTW method tests run on; in the third the
+    input is the first 60 frames of a 150-frame target, so every method reaches the end of
+    the input and must hold there."""
+    I0, T0, _ = synthetic_pair(160, seed=11)
+    I1, T1, _ = synthetic_pair(220, seed=12, warp=0.6)
+    T2 = random_walk_features(150, seed=14)
+    return [(I0, T0), (I1, T1), (T2.slice(0, 60), T2)]

@@ -90,7 +90,6 @@ def plot_forecast_error(err, levels, ax=None, title=None, logy=False):
         ``len(levels)`` lines.
 
     Paper: FP-DTW Fig. 3.
-    Notebook: 04_fig3_forecast.ipynb
     """
     import matplotlib as mpl
 

@@ -141,7 +141,6 @@ def plot_heatmap(H, ax=None, *, norm=None, log=True, title=None, cmap="magma", d
         ``ax.images[0]`` is the heat map.
 
     Paper: FP-DTW Figs. 7 and 10.
-    Notebook: 08_fig7_fig10_heatmaps.ipynb
     """
     from fpdtw.paper.figures.plotting import new_axes
 

@@ -30,7 +30,6 @@ def backward_jumps(E) -> np.ndarray:
         Increasing; empty if the end points never move backwards.
 
     Paper: FP-DTW Fig. 1.
-    Notebook: 02_fig1_oedtw.ipynb
     """
     E = np.asarray(E, dtype=np.int64)
     if E.ndim != 1:
@@ -42,7 +41,6 @@ def first_backward_jump(E):
     """The first backward jump ``(q, e_q, e_{q+1})``, or None if there is none.
 
     Paper: FP-DTW Fig. 1 (the paper's example is q = 15 -> 16).
-    Notebook: 02_fig1_oedtw.ipynb
     """
     E = np.asarray(E, dtype=np.int64)
     jumps = backward_jumps(E)
@@ -119,7 +117,6 @@ def plot_oedtw_paths(oe: OEDTW, q: int, ax=None, rows=None):
         One image; lines: the two paths, then the end points.
 
     Paper: FP-DTW Fig. 1 (paths of frames 15 and 16).
-    Notebook: 02_fig1_oedtw.ipynb
     """
     fig, ax = new_axes(ax, figsize=(5, 5))
     q = int(q)
@@ -198,7 +195,6 @@ def plot_end_points(E, ax=None, zoom=6):
         ``zoom > 0`` an inset axes (``ax.child_axes[0]``) repeats them around the first.
 
     Paper: FP-DTW Fig. 1 (lack of continuity between consecutive frames).
-    Notebook: 02_fig1_oedtw.ipynb
     """
     fig, ax = new_axes(ax, figsize=(5, 4))
     E = np.asarray(E, dtype=np.int64)

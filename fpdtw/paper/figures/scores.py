@@ -6,14 +6,18 @@ per algorithm, one similarity (eq. 2) and one deviation from DTW (eq. 3) per pai
 * :func:`plot_score_boxes` draws Fig. 5 (similarity) or Fig. 6 (deviation): one box per
   algorithm, each FP-DTW algorithm without and with the Type V constraint side by side,
   and the benchmark line (UTW's median similarity, red; 18 frames, blue).
-* :func:`score_summary` gives the table next to each figure: median, quartiles, number of
-  pairs, and whether the median passes the benchmark.
+* :func:`score_summary` gives the table next to each figure: median with its 95 % interval,
+  quartiles, number of pairs, whether the median passes the benchmark, and the verdict of
+  that pass once the interval is taken into account (the claims' rule,
+  :mod:`fpdtw.paper.claims.rules`: holds, contradicted or inconclusive).
 * :func:`table1_rows` gives Table 1 (Method C's median similarity at 60 and 120 Hz), ours
   next to the paper's.
 
 The paper's rule (Section 5): an algorithm passes a benchmark when its MEDIAN is above the
 UTW median similarity, or below 18 frames deviation. Quartiles are numpy's default
-(linear interpolation); pairs whose score is not finite are left out and counted.
+(linear interpolation); pairs whose score is not finite are left out and counted. The
+intervals are those of the claims table (:func:`fpdtw.paper.claims.evidence.shared_evidence`:
+a cluster bootstrap of movements and motions), so a figure and a claim cannot disagree.
 """
 
 from __future__ import annotations
@@ -77,7 +81,6 @@ def scores(results, name: str, metric: str, dataset=None) -> np.ndarray:
         One value per pair (pairs with a non-finite score left out).
 
     Paper: FP-DTW eq. 2 (similarity), eq. 3 (deviation).
-    Notebook: 06_fig5_fig6_scores.ipynb
     """
     v = _raw(results, name, metric, dataset)
     return v[np.isfinite(v)]
@@ -95,7 +98,6 @@ def utw_median(results, rate_hz: int = 120, dataset=None) -> float:
         Over this dataset's pairs only.
 
     Paper: FP-DTW Section 4 (benchmark (i)), Fig. 5 red line, Table 1 last column.
-    Notebook: 06_fig5_fig6_scores.ipynb
     """
     return float(np.median(scores(results, "UTW" + _rate_suffix(rate_hz), "similarity", dataset)))
 
@@ -126,8 +128,6 @@ def figure_names(names=BASE_NAMES, typev=True) -> list[tuple[str, str | None]]:
         Unconstrained names, in plotting order.
     typev : bool
         Include the Type V variants.
-
-    Notebook: 06_fig5_fig6_scores.ipynb
     """
     out = []
     for n in names:
@@ -153,16 +153,23 @@ def score_summary(results, metric: str, names=None, dataset=None) -> list[dict]:
     Returns
     -------
     rows : list of dict
-        Keys ``algorithm``, ``type_v`` (bool), ``median``, ``q1``, ``q3``, ``n`` (pairs
-        with a finite score), ``n_missing``, ``benchmark``, ``passes_benchmark`` (bool).
+        Keys ``algorithm``, ``type_v`` (bool), ``median``, ``ci_low``, ``ci_high`` (its
+        95 % interval), ``q1``, ``q3``, ``n`` (pairs with a finite score), ``n_missing``,
+        ``benchmark``, ``passes_benchmark`` (bool: the median passes, the paper's rule on
+        the medians alone), ``verdict`` (``"holds"`` / ``"contradicted"`` /
+        ``"inconclusive"``: the pass once the interval is taken into account; ``"-"`` for
+        the offline baselines).
 
     Paper: FP-DTW Figs. 5 and 6, Section 5 (the median must pass the benchmark).
     Notebook: 06_fig5_fig6_scores.ipynb
     """
+    from fpdtw.paper.claims.evidence import shared_evidence
+
     if names is None:
         have = set(results.algorithms)
         names = [n for pair in figure_names() for n in pair if n is not None and n in have]
     bench = benchmark(results, metric, dataset)
+    ev = shared_evidence(results, dataset)
     rows = []
     for name in names:
         raw = _raw(results, name, metric, dataset)
@@ -170,17 +177,22 @@ def score_summary(results, metric: str, names=None, dataset=None) -> list[dict]:
         if v.size == 0:
             raise ValueError(f"{name}: no finite {metric} values")
         q1, med, q3 = (float(x) for x in np.percentile(v, [25, 50, 75]))
+        lo, hi = ev.interval(name, metric)
+        online = name not in ("DTW", "UTW")
         rows.append(
             dict(
                 algorithm=name,
                 type_v=name.endswith(TYPE_V_SUFFIX),
                 median=med,
+                ci_low=lo,
+                ci_high=hi,
                 q1=q1,
                 q3=q3,
                 n=int(v.size),
                 n_missing=int(raw.size - v.size),
                 benchmark=float(bench),
                 passes_benchmark=passes(med, metric, bench),
+                verdict=ev.passes(name, metric).verdict if online else "-",
             )
         )
     return rows
@@ -203,8 +215,9 @@ def passing(rows, online_only=False) -> list[str]:
 
 
 def plot_score_boxes(
-    results, metric="similarity", names=BASE_NAMES, typev=True, ax=None, yscale=None
-):
+    results, metric="similarity", names=BASE_NAMES, typev=True, ax=None, yscale=None,
+    intervals=True,
+):  # fmt: skip
     """Fig. 5 / Fig. 6: box plot of a score per algorithm, with the benchmark line.
 
     Each FP-DTW algorithm gets two boxes side by side: without constraint (blue) and
@@ -225,6 +238,11 @@ def plot_score_boxes(
         Default linear for similarity, symlog for deviation (linear below 1 frame,
         logarithmic above: the boxes sit within 100 frames while single pairs deviate by
         hundreds).
+    intervals : bool
+        Draw each median's 95 % interval (a black bar beside its box, ``gid``
+        ``"median_ci"``) and, on Fig. 5, the interval of UTW's median around the
+        benchmark line (a band, ``gid`` ``"benchmark_ci"``): the cluster bootstrap of the
+        claims table.
 
     Returns
     -------
@@ -265,6 +283,19 @@ def plot_score_boxes(
         box.set_edgecolor("0.25")
         med.set_gid("median")
     bench = benchmark(results, metric)
+    if intervals:
+        from fpdtw.paper.claims.evidence import shared_evidence
+
+        ev = shared_evidence(results)
+        drawn = [n for pair in figure_names(names, typev) for n in pair if n is not None]
+        for name, x, w in zip(drawn, pos, widths):
+            lo, hi = ev.interval(name, metric)
+            bar = ax.vlines(x + 0.5 * w + 0.04, lo, hi, color="k", lw=2.2, zorder=6)
+            bar.set_gid("median_ci")
+        if metric == "similarity":
+            lo, hi = ev.interval("UTW", metric)
+            band = ax.axhspan(lo, hi, color="red", alpha=0.10, lw=0, zorder=0.5)
+            band.set_gid("benchmark_ci")
     if metric == "similarity":
         label = f"UTW median (benchmark) = {bench:.3f}"
         line_colour = "red"
@@ -292,6 +323,11 @@ def plot_score_boxes(
     if typev:
         handles.append(Patch(facecolor=COLOURS["typev"], edgecolor="0.25", label="+ Type V"))
     handles.append(Line2D([], [], color=line_colour, lw=1.2, label=label))
+    if intervals:
+        handles.append(Line2D([], [], color="k", lw=2.2, label="95 % interval of the median"))
+        if metric == "similarity":
+            band_label = "95 % interval of UTW's median"
+            handles.append(Patch(facecolor="red", alpha=0.10, label=band_label))
     ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.005, 1.0))
     ax.grid(axis="y", alpha=0.3)
     return fig, ax
@@ -327,11 +363,21 @@ def table1_rows(
     rows : list of dict
         Per rate two rows (``source`` "paper" then "ours"), keys ``rate_hz``, ``source``,
         ``w10`` .. ``w80``, ``UTW``, ``best_w``, ``above_utw`` (windows whose median is
-        above UTW's, e.g. ``"20 40"``).
+        above UTW's, e.g. ``"20 40"``). Our rows also carry the claims' verdicts, with
+        intervals (:mod:`fpdtw.paper.claims.rules`): ``verdict_w10`` .. ``verdict_w80``
+        (the window's median above UTW's: holds, contradicted or inconclusive) and
+        ``best_verdict`` (the paper's best window beats every other one).
 
     Paper: FP-DTW Table 1.
     Notebook: 07_table1_60hz.ipynb
     """
+    from fpdtw.paper.claims.evidence import shared_evidence
+    from fpdtw.paper.claims.rules import evaluate
+    from fpdtw.paper.claims.table import best_window_test, reading_alias
+
+    ev = shared_evidence(results)
+    if reading != "square":
+        ev = ev.reading(alias=reading_alias(reading))
     rows = []
     for rate in rates:
         ours = {
@@ -355,6 +401,12 @@ def table1_rows(
             row["above_utw"] = " ".join(
                 str(w) for w in windows if med.get(w) is not None and med[w] > med["UTW"]
             )
+            if source != "paper":
+                sfx = _rate_suffix(rate)
+                for w in windows:
+                    row[f"verdict_w{w}"] = ev.passes(f"Mc w{w}{sfx}", "similarity").verdict
+                if rate in numbers.BEST_WINDOW and tuple(windows) == tuple(WINDOWS):
+                    row["best_verdict"] = evaluate(best_window_test(ev, rate))
             rows.append(row)
     return rows
 

@@ -41,10 +41,7 @@ def _key(name: str):
 
 
 def last_input_frame(results, name: str) -> dict:
-    """Pair id -> index ``m`` of the last input frame at the algorithm's frame rate.
-
-    Notebook: 09_table2_timing.ipynb
-    """
+    """Pair id -> index ``m`` of the last input frame at the algorithm's frame rate."""
     m, _ = results.frames(name)
     return {int(p["id"]): int(m[i]) for i, p in enumerate(results.pairs)}
 
@@ -68,7 +65,6 @@ def exhausted_fraction(results, name: str) -> dict:
         (pairs with at least one such frame).
 
     Paper: FP-DTW Section 5 (Table 2: "Mc w80 ... running out of input frames").
-    Notebook: 09_table2_timing.ipynb
     """
     arr = results.get(name)
     m_of = last_input_frame(results, name)

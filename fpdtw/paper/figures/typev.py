@@ -169,7 +169,6 @@ def plot_backward_steps(steps=None, ax=None):
         One line per local path.
 
     Paper: FP-DTW Fig. 9 i.
-    Notebook: 11_fig9_typev.ipynb
     """
     fig, ax = new_axes(ax, figsize=(4, 4))
     steps = [np.asarray(S) for S in (backward_steps() if steps is None else steps)]
@@ -190,7 +189,6 @@ def plot_forward_steps(advances=None, ax=None):
     Returns the figure and axes: one line per local path, its advances in the legend.
 
     Paper: FP-DTW Fig. 9 ii.
-    Notebook: 11_fig9_typev.ipynb
     """
     fig, ax = new_axes(ax, figsize=(4, 4))
     advances = forward_advances(backward_steps()) if advances is None else advances
@@ -215,7 +213,6 @@ def plot_state_table(tv: TypeV = TYPE_V, ax=None):
         ``ax.tables[0]`` holds the table (``len(states) + 1`` rows x 5 columns).
 
     Paper: FP-DTW Fig. 9 iv.
-    Notebook: 11_fig9_typev.ipynb
     """
     fig, ax = new_axes(ax, figsize=(4, 2))
     header, *body = tv.as_table()
@@ -258,7 +255,6 @@ def plot_constrained_path(M, ax=None, M_free=None, label="Ma + Type V", free_lab
         Lines: the constrained map (and the free one if given).
 
     Paper: FP-DTW Fig. 9 (the constraint applied to forward plotting).
-    Notebook: 11_fig9_typev.ipynb
     """
     fig, ax = new_axes(ax, figsize=(7, 4.5))
     M = np.asarray(M, dtype=np.int64)

@@ -60,8 +60,7 @@ def load_walk_pair(smoke: bool = False, seconds: float = SMOKE_SECONDS):
         Input ``Walk_01`` and target ``Walk_02`` (120 Hz).
 
     Paper: FP-DTW Fig. 8 (a walk pair; ours is the authors' Walk_01 -> Walk_02).
-    Notebook: 02_fig1_oedtw.ipynb, 03_fig2_fig4_windows.ipynb, 10_fig8_walk_pair.ipynb,
-    11_fig9_typev.ipynb
+    Notebook: 02_fig1_oedtw.ipynb, 10_fig8_walk_pair.ipynb
     """
     motions = [load(ds, path) for ds, path in WALK_PAIR]
     if smoke:

@@ -359,7 +359,7 @@ def plot_method_c_window(s: WindowSnapshot, ax=None, annotate=True):
     Returns
     -------
     fig, ax
-        One image of the window's shape (the default square window: ``(w_i, w)``); one
+        One image of the window's shape (``(w_i + 1, w)``; the default square window: w x w); one
         line (X).
 
     Paper: FP-DTW Algorithm 3 (getReverseTotalCostMatrix, argmin of column 0).

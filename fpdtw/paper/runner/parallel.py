@@ -24,8 +24,6 @@ On a cluster
   fails the same way); it stops the run, as with joblib.
 * This process killed: the scheduler forgets its tasks (tasks already running finish and
   write their chunks); the next run computes the chunks still missing.
-
-Notebook: 05_run_experiments.ipynb
 """
 
 from __future__ import annotations
@@ -77,8 +75,6 @@ def scheduler_address(text) -> str | None:
     ------
     ClusterError
         A malformed address: the message names it and what is wrong.
-
-    Notebook: 05_run_experiments.ipynb
     """
     if text is None:
         return None
@@ -167,8 +163,6 @@ class Executor:
     The connection to a scheduler is made when there is first something to compute
     (a re-run with nothing to do never connects) and closed by :meth:`close` (or at the
     end of a ``with`` block).
-
-    Notebook: 05_run_experiments.ipynb
     """
 
     def __init__(

@@ -85,8 +85,6 @@ def save_npz(path, **arrays) -> Path:
     Returns
     -------
     path : Path
-
-    Notebook: 05_run_experiments.ipynb
     """
     return write_atomic(path, npz_bytes(arrays))
 
@@ -104,8 +102,6 @@ def load_npz(path, keys=None) -> dict:
     -------
     arrays : dict of str -> ndarray
         In the file's entry order (or the order of ``keys``).
-
-    Notebook: 05_run_experiments.ipynb
     """
     with np.load(path, allow_pickle=False) as z:
         names = list(z.files) if keys is None else list(keys)
@@ -134,10 +130,7 @@ def _nan_to_none(obj):
 
 
 def save_json(path, obj) -> Path:
-    """Write ``obj`` as indented JSON, atomically (see :func:`json_bytes`).
-
-    Notebook: 05_run_experiments.ipynb
-    """
+    """Write ``obj`` as indented JSON, atomically (see :func:`json_bytes`)."""
     return write_atomic(path, json_bytes(obj))
 
 
@@ -160,8 +153,6 @@ def slug(name: str) -> str:
     ``" + Type V"`` -> ``"_TypeV"``, ``"@60Hz"`` -> ``"_60Hz"``, spaces -> ``"_"``; the
     brackets and commas of options are dropped: ``"Mc w40 (literal window)"`` ->
     ``"Mc_w40_literal_window"``.
-
-    Notebook: 05_run_experiments.ipynb
     """
     s = name.replace(" + Type V", "_TypeV").replace(RATE_SUFFIX, "_60Hz").replace(" ", "_")
     return re.sub(r"_+", "_", re.sub(r"[(),]", "", s))
@@ -313,7 +304,6 @@ def aggregate_heatmap(results: Results, name: str, bins: int = 100) -> np.ndarra
         fraction bin (x); draw with ``imshow(H, origin="lower")``.
 
     Paper: FP-DTW Figs. 7 and 10.
-    Notebook: 08_fig7_fig10_heatmaps.ipynb
     """
     r = results.get(name)
     m, n = results.frames(name)

@@ -194,10 +194,7 @@ def _hash(obj) -> str:
 
 
 def source_hash(files=None) -> str:
-    """sha256 of fpdtw source files: all of them, or the ones given (relative paths).
-
-    Notebook: 05_run_experiments.ipynb
-    """
+    """sha256 of fpdtw source files: all of them, or the ones given (relative paths)."""
     if files is None:
         files = sorted(str(p.relative_to(_PKG_ROOT)) for p in _PKG_ROOT.rglob("*.py"))
     h = hashlib.sha256()
@@ -277,8 +274,6 @@ def load_features(path, fps: float = BASE_FPS) -> MotionFeatures:
     MotionFeatures
         Quaternions (F, 8, 4), unwrapped Euler angles (F, 8, 3), positions (F, 16, 3)
         of the OPW joints where the skeleton has them.
-
-    Notebook: 05_run_experiments.ipynb
     """
     a = _load_features_file(str(path))
     tag = "120" if fps == BASE_FPS else "60"
@@ -384,8 +379,6 @@ def build_features(
     -------
     paths : list of Path
         One per motion of ``plan.motions``.
-
-    Notebook: 05_run_experiments.ipynb
     """
     folder.mkdir(parents=True, exist_ok=True)
     crop = plan.selection.crop_seconds
@@ -615,7 +608,6 @@ def summarize(results: Results) -> dict:
         time per frame is measured by ``make bench``, :mod:`fpdtw.paper.bench`).
 
     Paper: FP-DTW Section 5 (benchmarks), Figs. 5-6, Tables 1-2.
-    Notebook: 05_run_experiments.ipynb
     """
     utw = {}
     for name in results.algorithms:
@@ -995,8 +987,6 @@ def add_run_arguments(ap: argparse.ArgumentParser) -> None:
 
     ``--mode``, ``--smoke``, ``--jobs``, ``--algorithms``, ``--results``, ``--scheduler``,
     ``--connect-timeout``, ``--quiet``: see :func:`run_command`.
-
-    Notebook: 05_run_experiments.ipynb
     """
     ap.add_argument(
         "--mode",
@@ -1045,10 +1035,7 @@ def add_run_arguments(ap: argparse.ArgumentParser) -> None:
 
 
 def add_experiments_commands(sub) -> None:
-    """Add the action ``run`` to an argparse subparsers object (``fpdtw experiments run``).
-
-    Notebook: 05_run_experiments.ipynb
-    """
+    """Add the action ``run`` to an argparse subparsers object (``fpdtw experiments run``)."""
     r = sub.add_parser(
         "run",
         help="run the experiment grid (resumable; on this machine or a Dask cluster)",
@@ -1071,8 +1058,6 @@ def run_command(args, prog: str) -> int:
     algorithm); 1 when the run cannot go on (the scheduler cannot be reached, a worker
     fails, the data are missing); 130 when interrupted (run again to resume). Errors are
     one line on stderr starting with ``prog``.
-
-    Notebook: 05_run_experiments.ipynb
     """
     mode = "smoke" if args.smoke else args.mode
     scheduler = args.scheduler
@@ -1114,8 +1099,6 @@ def run_command(args, prog: str) -> int:
 def main(argv=None) -> int:
     """``python -m fpdtw.paper.runner.run [--mode MODE | --smoke] [--jobs N] [--algorithms NAME
     ...] [--results DIR] [--scheduler ADDRESS] [--quiet]``: the same as ``fpdtw experiments run``.
-
-    Notebook: 05_run_experiments.ipynb
     """
     ap = argparse.ArgumentParser(
         prog="python -m fpdtw.paper.runner.run",

@@ -43,8 +43,6 @@ class Selection:
     crop_seconds : float or None
         Crop every motion to its first seconds (``Motion.crop(0, s)``) before
         features are built; None keeps whole motions.
-
-    Notebook: 05_run_experiments.ipynb
     """
 
     datasets: tuple = DATASETS

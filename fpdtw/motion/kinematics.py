@@ -1,0 +1,179 @@
+"""One frame at a time, compiled: the rotations and joint positions of a streamed frame.
+
+A :class:`~fpdtw.motion.Motion` computes its rotations (from Euler angles, through scipy)
+and its joint positions (forward kinematics, one joint after another in NumPy) for all its
+frames at once; on a single frame the per-call overhead of either (tens of microseconds per
+call) would cost a streamed frame milliseconds. The kernels here do the same for one frame
+in compiled loops, operation for operation as their twins (the same products, sums, sines
+and cosines in the same order, no fused multiply-add), so that they return the same numbers
+bit for bit. The twins, which the tests hold them equal to on real motions and random
+angles: :func:`fpdtw.motion.motion.joint_quats` (scipy's ``Rotation.from_euler``) for
+:func:`frame_quats`, :meth:`~fpdtw.motion.Motion.forward_kinematics` for
+:func:`frame_positions`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from fpdtw.motion.rotations import ORDERS, check_order
+
+#: ``_AXES[code]``: the axes (0 = X, 1 = Y, 2 = Z) of rotation order ``ORDERS[code]``, in
+#: the order they are applied.
+_AXES = np.array([["XYZ".index(a) for a in o] for o in ORDERS], dtype=np.int64)
+_RAD_PER_DEG = math.pi / 180.0
+
+
+@numba.njit(cache=True, fastmath=False)
+def _frame_quats(E, codes, axes, out):
+    """out[j] = unit quaternion (w, x, y, z), w >= 0, of E[j] (degrees) in order codes[j]:
+    the product of the elementary rotations, each composed on the left as scipy does.
+
+    Plain version: fpdtw.plain.euler_to_quat (which leaves the sign as it comes).
+    """
+    for j in range(E.shape[0]):
+        rw, rx, ry, rz = 1.0, 0.0, 0.0, 0.0
+        for k in range(3):
+            a = axes[codes[j], k]
+            h = E[j, a] * _RAD_PER_DEG / 2.0
+            s, c = math.sin(h), math.cos(h)
+            px = s if a == 0 else 0.0
+            py = s if a == 1 else 0.0
+            pz = s if a == 2 else 0.0
+            if k == 0:
+                rw, rx, ry, rz = c, px, py, pz
+                continue
+            cx = py * rz - pz * ry
+            cy = pz * rx - px * rz
+            cz = px * ry - py * rx
+            rw, rx, ry, rz = (
+                c * rw - px * rx - py * ry - pz * rz,
+                c * rx + rw * px + cx,
+                c * ry + rw * py + cy,
+                c * rz + rw * pz + cz,
+            )
+        sign = -1.0 if rw < 0 else 1.0
+        out[j, 0], out[j, 1], out[j, 2], out[j, 3] = rw * sign, rx * sign, ry * sign, rz * sign
+
+
+def order_codes(orders) -> np.ndarray:
+    """Codes (indices into :data:`fpdtw.motion.rotations.ORDERS`) of rotation orders."""
+    return np.array([ORDERS.index(check_order(o)) for o in orders], dtype=np.int64)
+
+
+def frame_quats(euler, codes) -> np.ndarray:
+    """Local rotations of one frame from its Euler angles, each joint in its own order.
+
+    The same numbers, bit for bit, as :func:`fpdtw.motion.motion.joint_quats` gives for
+    that frame.
+
+    Parameters
+    ----------
+    euler : ndarray of float64, shape (J, 3)
+        Degrees, (x, y, z) columns.
+    codes : ndarray of int64, shape (J,)
+        :func:`order_codes` of the joints' rotation orders.
+
+    Returns
+    -------
+    quats : ndarray of float64, shape (J, 4)
+        Unit quaternions ``(w, x, y, z)`` with ``w >= 0``.
+    """
+    E = np.ascontiguousarray(euler, dtype=np.float64)
+    out = np.empty((E.shape[0], 4))
+    _frame_quats(E, codes, _AXES, out)
+    return out
+
+
+@numba.njit(cache=True, fastmath=False, inline="always")
+def _mul(aw, ax, ay, az, bw, bx, by, bz):
+    """Hamilton product, term for term as :func:`fpdtw.motion.rotations.quat_mul`.
+
+    Plain version: fpdtw.plain.quat_multiply.
+    """
+    return (
+        aw * bw - ax * bx - ay * by - az * bz,
+        aw * bx + ax * bw + ay * bz - az * by,
+        aw * by - ax * bz + ay * bw + az * bx,
+        aw * bz + ax * by - ay * bx + az * bw,
+    )
+
+
+@numba.njit(cache=True, fastmath=False, inline="always")
+def _cross(a0, a1, a2, b0, b1, b2):
+    """Cross product, term for term as ``numpy.cross``."""
+    return a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+
+
+@numba.njit(cache=True, fastmath=False)
+def _frame_positions(quats, pre, post, offsets, parents, root, pos, rot):
+    """Global positions ``pos`` (J, 3) of one frame; ``rot`` (J, 4) scratch.
+
+    Plain version: fpdtw.plain.forward_kinematics.
+    """
+    for j in range(quats.shape[0]):
+        q = quats[j]
+        a = _mul(pre[j, 0], pre[j, 1], pre[j, 2], pre[j, 3], q[0], q[1], q[2], q[3])
+        w, x, y, z = _mul(a[0], a[1], a[2], a[3], post[j, 0], post[j, 1], post[j, 2], post[j, 3])
+        p = parents[j]
+        if p < 0:
+            for c in range(3):
+                pos[j, c] = offsets[j, c] + root[c]
+            rot[j, 0], rot[j, 1], rot[j, 2], rot[j, 3] = w, x, y, z
+            continue
+        rw, rx, ry, rz = rot[p, 0], rot[p, 1], rot[p, 2], rot[p, 3]
+        v0, v1, v2 = offsets[j, 0], offsets[j, 1], offsets[j, 2]
+        c0, c1, c2 = _cross(rx, ry, rz, v0, v1, v2)
+        t0, t1, t2 = 2.0 * c0, 2.0 * c1, 2.0 * c2
+        d0, d1, d2 = _cross(rx, ry, rz, t0, t1, t2)
+        pos[j, 0] = pos[p, 0] + (v0 + rw * t0 + d0)
+        pos[j, 1] = pos[p, 1] + (v1 + rw * t1 + d1)
+        pos[j, 2] = pos[p, 2] + (v2 + rw * t2 + d2)
+        rot[j, 0], rot[j, 1], rot[j, 2], rot[j, 3] = _mul(rw, rx, ry, rz, w, x, y, z)
+
+
+def frame_positions(skeleton, quats, root_translation, joints=None, root_relative=True):
+    """Joint positions of one frame by forward kinematics.
+
+    The same numbers, bit for bit, as
+    ``Motion.positions(joints, root_relative)`` gives for that frame of a motion.
+
+    Parameters
+    ----------
+    skeleton : Skeleton
+    quats : ndarray of float64, shape (J, 4)
+        Local rotations of the frame, unit quaternions ``(w, x, y, z)``.
+    root_translation : ndarray of float64, shape (3,)
+    joints : ndarray of int, optional
+        Skeleton indices of the joints to return (default: all).
+    root_relative : bool
+        Subtract the root's position.
+
+    Returns
+    -------
+    positions : ndarray of float64, shape (len(joints), 3)
+
+    Paper: OPW poster eq. 5 (poses compared by root-relative joint positions).
+    """
+    sk = skeleton
+    J = sk.n_joints
+    pos = np.empty((J, 3))
+    rot = np.empty((J, 4))
+    _frame_positions(
+        np.ascontiguousarray(quats, dtype=np.float64),
+        sk.pre_rotations,
+        sk.post_rotations,
+        sk.offsets,
+        sk.parents,
+        np.ascontiguousarray(root_translation, dtype=np.float64),
+        pos,
+        rot,
+    )
+    out = pos if joints is None else pos[np.asarray(joints)]
+    return out - pos[0] if root_relative else out
+
+
+__all__ = ["frame_positions", "frame_quats", "order_codes"]

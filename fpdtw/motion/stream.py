@@ -1,0 +1,342 @@
+"""A motion that arrives one frame at a time: the live target of an online alignment.
+
+An online aligner takes one target frame per frame of the INPUT (the recording): that is
+how ``fpdtw align`` compares two takes, the target resampled to the input's frame rate
+first. A capture system sends frames at its own rate, on its own clock, and sometimes
+loses some. :class:`LiveTarget` turns the frames as they arrive into exactly those
+input-rate frames ("ticks"), causally, and cuts the aligners' features out of each.
+
+Slots (which frame of the capture a received frame is). The first frame is slot 0.
+Each later frame comes ``dt`` seconds after the previous one received, by its capture time
+when the sender gives one, else by its arrival time. With the target's frame period
+``P = 1 / fps``:
+
+* ``dt <= 1.5 P``: the next slot. Jitter, late and bunched frames never lose or merge a
+  frame.
+* ``dt > 1.5 P`` (a GAP): ``round(dt / P) - 1`` frames were lost and the frame takes slot
+  ``previous + round(dt / P)``: the frame numbers after a gap stay those of the capture,
+  so the map is never shifted by the frames missing.
+
+Ticks (the input-rate frames the aligner steps on). Tick ``k`` is the target at time
+``k / rate`` after the first frame, ``x_k = (k / rate) * fps`` in slots, exactly where
+:meth:`Motion.resample` puts frame ``k`` of the resampled target (at equal rates, tick
+``k`` is slot ``k``). A tick that falls on a received frame (within
+:data:`~fpdtw.motion.motion.EXACT_FRAMES`) is that frame; one between two received
+consecutive slots is interpolated between them by :func:`~fpdtw.motion.motion.blend_poses`
+(rotations by slerp, root translation linearly), as :meth:`Motion.resample` does. A tick
+is computed as soon as the frame that closes its interval has arrived, never later: the
+resampling adds at most one TARGET period of delay to a tick (33 ms at 30 Hz; 0 at equal
+rates), and the tick answered for a frame is at most one INPUT period before that frame.
+
+Dropped frames (the ticks inside a gap, "filled"). The aligners need one frame per tick,
+so every tick inside a gap is filled when the frame that ends the gap arrives, by the
+rule ``gap``:
+
+* ``"slerp"`` (default): interpolated between the frames on both sides of the gap, at
+  its fraction of the way through the gap (rotations by slerp, root translation
+  linearly). A short gap in a human motion is closer to the straight path between its
+  ends than to a pause; it is what a capture system's own gap filling does, and the
+  aligner sees no frozen pose followed by a jump, which the forecasts of Methods B and C
+  and OPW's prediction would extrapolate as a stop.
+* ``"hold"``: the frame before the gap, repeated (a frozen pose until the next frame),
+  kept for comparison.
+
+A filled tick keeps its own index (the tick it fills), so after a gap of ``g`` lost frames
+the next answered index jumps by ``g + 1`` and every index still names the same moment
+(and row) as in the offline map of the complete take. A take streamed without loss gives
+the frames, features and map of ``fpdtw align INPUT TAKE`` bit for bit; the one
+exception is a tick that falls within ``EXACT_FRAMES`` AFTER a received frame at another
+rate, whose root translation offline interpolation moves by at most ``1e-6`` of a frame
+towards the next frame: here it is the received frame's (its rotations are the frame's in
+both).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from fpdtw import limits
+from fpdtw.errors import MotionFormatError
+from fpdtw.motion.features import Frame
+from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
+from fpdtw.motion.kinematics import frame_positions, frame_quats, order_codes
+from fpdtw.motion.motion import EXACT_FRAMES, blend_poses, sample_points
+from fpdtw.motion.rotations import UnwrapDegrees
+
+#: A frame more than this many frame periods after the previous one ends a gap.
+GAP_PERIODS = 1.5
+#: Rules for the ticks inside a gap; the first is the default.
+GAP_RULES = ("slerp", "hold")
+
+
+def _same_rate(a: float, b: float) -> bool:
+    return abs(a - b) <= 1e-9 * max(a, b)
+
+
+class LiveTarget:
+    """The target motion of a live alignment, built from frames as they arrive.
+
+    Parameters
+    ----------
+    skeleton : Skeleton
+        The streamed skeleton (its own joints, offsets and rotation orders: the features
+        come from it, never from the input's).
+    fps : float
+        The target's own frame rate (BVH ``1 / Frame Time``).
+    rate : float
+        Ticks per second: the input's frame rate.
+    joint_map : dict of str to str, optional
+        Canonical joint name -> the skeleton's joint name (default: names as given).
+    joints : sequence of str
+        Cost joints (default the paper's 8).
+    position_joints : sequence of str, optional
+        Joints whose root-relative positions the frames carry (OPW: ``OPW_JOINTS``).
+    gap : str
+        Rule for the ticks inside a gap: ``"slerp"`` or ``"hold"`` (module docstring).
+    where : str, optional
+        What errors name (a file, or None: a stream, whose errors name lines).
+
+    Raises
+    ------
+    MotionFormatError
+        The skeleton lacks a joint of ``joints`` or ``position_joints``, or has an offset
+        beyond :data:`fpdtw.limits.MAX_ABS_VALUE`.
+    """
+
+    def __init__(
+        self,
+        skeleton,
+        fps: float,
+        rate: float,
+        *,
+        joint_map=None,
+        joints=PAPER_JOINTS,
+        position_joints=None,
+        gap: str = "slerp",
+        where=None,
+    ):
+        if gap not in GAP_RULES:
+            raise ValueError(f"gap must be one of {GAP_RULES}, got {gap!r}")
+        self.skeleton, self.fps, self.rate = skeleton, float(fps), float(rate)
+        self.gap, self.where = gap, where
+        self.same_rate = _same_rate(self.fps, self.rate)
+        jm = joint_map or {}
+        cost = self._indices(joints, jm, "the 8 joints FP-DTW compares")
+        self._pos_joints = None
+        if position_joints is not None:
+            what = "the 16 OPW joints" if tuple(position_joints) == OPW_JOINTS else "joints"
+            self._pos_joints = self._indices(position_joints, jm, what)
+        # the joints whose rotations a frame keeps (all of them for forward kinematics),
+        # and the rows of the cost joints among them
+        if self._pos_joints is None:
+            self._need, self._cost = cost, np.arange(len(cost))
+        else:
+            self._need, self._cost = np.arange(skeleton.n_joints), cost
+        self._orders = tuple(skeleton.rotation_orders[j] for j in self._need)
+        self._codes = order_codes(self._orders)
+        #: Rotation order of each cost joint (the streamed skeleton's).
+        self.orders = tuple(skeleton.rotation_orders[j] for j in cost)
+        # the limits of a take are those in force when it starts
+        self._big = float(limits.get("max_abs_value"))
+        self._max_gap = float(limits.get("max_gap_s"))
+        self._max_ticks = int(limits.get("max_frames"))
+        self._check_values(skeleton.offsets, "joint offset", None, None)
+        self._unwrap = UnwrapDegrees()
+        self._prev = None  # (slot, q, e, r) of the previous frame received
+        self._cur = None
+        self._last_t = None
+        self.n_received = 0
+        self.n_ticks = 0
+        self.n_filled = 0
+        self.n_lost = 0
+
+    def _indices(self, names, joint_map, what):
+        idx = []
+        for name in names:
+            own = joint_map.get(name, name)
+            if own not in self.skeleton.joint_names:
+                raise MotionFormatError(
+                    self.where,
+                    f"the skeleton has no joint for {name!r} (one of {what}); the input and "
+                    "the streamed take must share these joints",
+                )
+            idx.append(self.skeleton.joint_names.index(own))
+        return np.asarray(idx, dtype=np.int64)
+
+    def _check_values(self, values, what, line, frame):
+        over = np.abs(values) > self._big
+        if over.any():
+            v = np.asarray(values)[over][0]
+            raise MotionFormatError(
+                self.where,
+                f"implausible {what} {v:g} (larger in magnitude than {self._big:g}, "
+                f"{limits.env_name('max_abs_value')})",
+                line=line,
+                frame=frame,
+            )
+
+    # -- time -------------------------------------------------------------------------
+    @property
+    def last_slot(self) -> int | None:
+        """Slot of the latest frame received (None before the first)."""
+        return None if self._cur is None else self._cur[0]
+
+    def _slot(self, t, line, frame, arrival) -> int:
+        if self._cur is None:
+            return 0
+        dt = t - self._last_t
+        if arrival and dt <= 0:  # arrived together (or a clock step back): consecutive
+            return self._cur[0] + 1
+        if not dt > 0:
+            raise MotionFormatError(
+                self.where,
+                f"time t={t!r} s is not after the previous frame's t={self._last_t!r} s",
+                line=line,
+                frame=frame,
+            )
+        max_gap = self._max_gap
+        if dt > max_gap:
+            raise MotionFormatError(
+                self.where,
+                f"{dt:.3f} s since the previous frame, more than the limit of {max_gap:g} s "
+                f"({limits.env_name('max_gap_s')}): a new take, not a dropped frame",
+                line=line,
+                frame=frame,
+            )
+        periods = dt * self.fps
+        step = round(periods) if periods > GAP_PERIODS else 1
+        return self._cur[0] + max(step, 1)
+
+    def _x(self, k: int) -> float:
+        """Where tick ``k`` falls, in slots (as ``Motion.resample`` puts it)."""
+        return float(k) if self.same_rate else (k / self.rate) * self.fps
+
+    # -- frames -----------------------------------------------------------------------
+    def push(
+        self, euler, root_translation, t: float, *, arrival=False, line=None, frame=None
+    ) -> list:
+        """Receive the next frame; return the ticks it completes, with their features.
+
+        Parameters
+        ----------
+        euler : ndarray of float, shape (J, 3)
+            Local Euler angles of the frame (degrees, (x, y, z) columns, each joint in the
+            skeleton's rotation order).
+        root_translation : ndarray of float, shape (3,)
+        t : float
+            Its time in seconds (capture time, or arrival time), on any clock that the
+            frames of this take share.
+        arrival : bool
+            ``t`` is an arrival time: frames that arrived at the same time are consecutive
+            (a capture time must increase from frame to frame).
+        line, frame : int, optional
+            Its line and frame number in a stream, named by errors.
+
+        Returns
+        -------
+        ticks : list of (int, Frame, bool)
+            Tick index, its frame as an aligner receives it, and whether it was filled
+            (inside a gap); in order, possibly empty (a target faster than the rate).
+
+        Raises
+        ------
+        MotionFormatError
+            A value beyond :data:`fpdtw.limits.MAX_ABS_VALUE`, a time not after the
+            previous frame's, a gap longer than :data:`fpdtw.limits.MAX_GAP_S`, or more
+            ticks than :data:`fpdtw.limits.MAX_FRAMES`.
+        """
+        euler = np.asarray(euler, dtype=float).reshape(self.skeleton.n_joints, 3)
+        r = np.asarray(root_translation, dtype=float).reshape(3)
+        t = float(t)
+        if not math.isfinite(t):
+            raise MotionFormatError(self.where, f"time {t!r} is not finite", line=line, frame=frame)
+        if not (np.abs(euler).max() <= self._big and np.abs(r).max() <= self._big):
+            self._check_values(euler, "rotation value", line, frame)
+            self._check_values(r, "translation value", line, frame)
+        slot = self._slot(t, line, frame, arrival)
+        e = euler[self._need]
+        q = frame_quats(e, self._codes)
+        self._prev, self._cur = self._cur, (slot, q, e, r)
+        if self._prev is not None:
+            self.n_lost += slot - self._prev[0] - 1
+        self._last_t = t
+        self.n_received += 1
+        due = self._due(slot)
+        limit = self._max_ticks
+        if self.n_ticks + len(due) > limit:
+            raise MotionFormatError(
+                self.where,
+                f"the take reaches {self.n_ticks + len(due)} frames, more than the limit of "
+                f"{limit} frames ({limits.env_name('max_frames')})",
+                line=line,
+                frame=frame,
+            )
+        out = [self._tick(k, x) for k, x in due]
+        self.n_ticks += len(out)
+        return out
+
+    def _due(self, slot: int) -> list:
+        """(tick, x) of the ticks complete once slot ``slot`` has arrived, in order."""
+        out = []
+        k = self.n_ticks
+        while True:
+            x = self._x(k)
+            if self.same_rate:
+                ok = k <= slot
+            else:
+                i0, _, a = (float(v[0]) for v in sample_points(np.array([x]), 2**62))
+                exact = abs(x - round(x)) < EXACT_FRAMES
+                ok = (exact and round(x) <= slot) or i0 + 1 <= slot or (a == 0 and i0 <= slot)
+            if not ok:
+                return out
+            out.append((k, x))
+            k += 1
+
+    def _frame_at(self, s):
+        for f in (self._cur, self._prev):
+            if f is not None and f[0] == s:
+                return f
+        return None
+
+    def _tick(self, k: int, x: float):
+        """Tick ``k`` at ``x`` slots: (k, Frame, filled)."""
+        prev, cur = self._prev, self._cur
+        near = round(x)
+        src = self._frame_at(near) if abs(x - near) < EXACT_FRAMES else None
+        filled = False
+        if src is not None:  # on a received frame: that frame
+            _, q, e, r = src
+            e = e[self._cost]
+            if not self.same_rate:  # the root translation as Motion.resample blends it
+                i0, i1, a = sample_points(np.array([x]), 2**62)
+                f0, f1 = self._frame_at(int(i0[0])), self._frame_at(int(i1[0]))
+                if a[0] > 0 and f0 is not None and f1 is not None:
+                    r = (1 - a[0]) * f0[3] + a[0] * f1[3]
+        else:
+            s0, s1 = prev[0], cur[0]
+            if s1 - s0 == 1:  # between two consecutive frames: as Motion.resample
+                _, _, a = sample_points(np.array([x]), 2**62)
+            else:  # inside a gap
+                filled = True
+                a = np.array([(x - s0) / (s1 - s0)])
+            if filled and self.gap == "hold":
+                _, q, e, r = prev
+                e = e[self._cost]
+            else:
+                qb, eb, rb = blend_poses(
+                    prev[1][None], cur[1][None], prev[2][None], cur[2][None],
+                    prev[3][None], cur[3][None], a, self._orders, joints=self._cost,
+                )  # fmt: skip
+                q, e, r = qb[0], eb[0], rb[0]
+        if filled:
+            self.n_filled += 1
+        pos = None
+        if self._pos_joints is not None:
+            pos = frame_positions(self.skeleton, q, r, self._pos_joints)
+        frame = Frame(np.ascontiguousarray(q[self._cost]), self._unwrap(e), pos)
+        return k, frame, filled
+
+
+__all__ = ["GAP_PERIODS", "GAP_RULES", "LiveTarget"]
