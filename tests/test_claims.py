@@ -374,6 +374,21 @@ def test_claim_rows_from_a_notebooks_own_facts():
         claims.ClaimContext.from_facts(similarity={"Ma": 0.1})
 
 
+def test_claim_rows_with_parts_gives_the_parts_of_the_claims_asked():
+    """A notebook ends with its claims' parts: the same parts, in order, as the full table."""
+    rows, parts = claims.claim_rows(["8"], "smoke", facts={"fig8": {"deviation": FIG8_DEVIATIONS}},
+                                    with_parts=True)  # fmt: skip
+    assert [r["id"] for r in rows] == ["8"]
+    assert parts and {p["claim"] for p in parts} == {"8"}
+    assert [p["part"] for p in parts] == [f"8({c})" for c in "abcdefgh"[: len(parts)]]
+    assert all(p["verdict"] == "not comparable" for p in parts)
+    assert list(parts[0]) == list(claims.PART_COLUMNS)
+    text = claims.format_parts(parts)
+    assert all(p["part"] in text for p in parts)
+    with pytest.raises(ValueError, match="with_parts"):
+        claims.claim_rows(["8"], rows=rows, with_parts=True)
+
+
 def test_format_claims_prints_every_body_of_evidence(paper_like):
     rows = [dict(r) for r in paper_like[0].values()]
     rows[0]["ours_literal"], rows[0]["holds_literal"] = "pass either: none", "no"

@@ -1144,7 +1144,7 @@ def build_claims(
     return (rows, parts) if with_parts else rows
 
 
-def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None) -> list[dict]:
+def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None, with_parts=False):
     """The rows of the claims table that a notebook is evidence for, in the order of ``ids``.
 
     The companion notebooks print these right after their figure (:func:`format_claims`),
@@ -1163,11 +1163,17 @@ def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None) -> list
         A claims table already built (:func:`build_claims`): its rows are picked.
     facts : dict, optional
         A notebook's own facts instead of results (:meth:`ClaimContext.from_facts`).
+    with_parts : bool
+        Return the claims' parts too (not with ``rows``: a table given has no parts), so
+        that a notebook ends with the same parts as ``figures/claims_intervals.csv``.
 
     Returns
     -------
     rows : list of dict
         Keys :data:`COLUMNS`, one row per id.
+    parts : list of dict
+        Keys :data:`PART_COLUMNS`, the parts of these claims in order (only with
+        ``with_parts``; print them with :func:`format_parts`).
 
     Paper: FP-DTW Sections 5-7; OPW poster Section 5.
     Notebook: 06_fig5_fig6_scores.ipynb
@@ -1176,6 +1182,8 @@ def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None) -> list
     if sum(x is not None for x in (results, rows, facts)) > 1:
         raise ValueError("give at most one of results, rows and facts")
     if rows is not None:
+        if with_parts:
+            raise ValueError("with_parts needs results or facts, not a table of rows")
         by = {r["id"]: r for r in rows}
         missing = [i for i in ids if i not in by]
         if missing:
@@ -1184,8 +1192,10 @@ def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None) -> list
     subset = claims_by_id(ids)
     if facts is not None:
         ctx = ClaimContext.from_facts(mode, "square", **dict(facts))
-        return evaluate_claims(subset, claim_contexts(ctx))[0]
-    return build_claims(mode, results, claims=subset, robustness=False)
+        out, parts = evaluate_claims(subset, claim_contexts(ctx))
+    else:
+        out, parts = build_claims(mode, results, claims=subset, robustness=False, with_parts=True)
+    return (out, parts) if with_parts else out
 
 
 def format_claims(rows, stable=None, width: int = 96) -> str:
