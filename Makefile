@@ -75,6 +75,7 @@ help:
 	@echo "make env      - .venv from requirements.lock (LOCKED=0: pyproject's version ranges)"
 	@echo "make lock     - refresh requirements.lock with uv (UPGRADE=1: newest versions)"
 	@echo "make dist     - sdist and wheel in dist/ (python -m build), checked with twine"
+	@echo "make readme-results - the generated blocks of README.md and ARTIFACT.md from figures/"
 	@echo "make figures/<name>.pdf - one figure or table and what it needs (figures/ lists them)"
 	@echo "make clean    - remove build/;  make distclean - also .venv, data_cache, results"
 	@echo "make help     - this list"
@@ -141,20 +142,20 @@ format: $(STAMP)
 	$(VENV)/bin/ruff format fpdtw tests tools
 	$(VENV)/bin/ruff check --fix fpdtw tests tools
 
-# make test on 2 cores: two jobs at a time (make -j2). First the test suite, except the
-# tests that read the smoke run's outputs, beside the smoke notebooks, the smoke book and
-# then those tests (its results, tests/test_results_smoke.py; the book in a browser,
-# tests/test_book_browser.py); then the smoke notebooks re-executed under nbval, in two
-# halves side by side (lax: only cells marked NBVAL_CHECK_OUTPUT are compared with the
-# papermill run's outputs). Tests marked `long` (the one-hour input of
-# tests/test_long_input.py) are left to make test-all.
+# make test on 2 cores, two jobs at a time (make -j2): the test suite, except the tests
+# that read the smoke run's outputs, runs beside the smoke notebooks, the smoke book and
+# then those tests (its results: tests/test_results_smoke.py; the book in a browser:
+# tests/test_book_browser.py); after them the smoke notebooks are re-executed under nbval,
+# in two halves that take whichever job is free (lax: only cells marked
+# NBVAL_CHECK_OUTPUT are compared with the papermill run's outputs). Tests marked `long`
+# (the one-hour input of tests/test_long_input.py) are left to make test-all; tests marked
+# `slow` (the whole-grid plain check, half an hour) run only when asked (pytest -m slow).
 SMOKE_TESTS := tests/test_results_smoke.py tests/test_book_browser.py
-PYTEST      := $(VENV)/bin/pytest -q -p no:cacheprovider -m "not long"
+PYTEST      := $(VENV)/bin/pytest -q -p no:cacheprovider -m "not long and not slow"
 NBVAL       := $(SMOKE_ENV) $(VENV)/bin/pytest -q -p no:cacheprovider --nbval-lax
 TEST_JOBS   ?= 2
 test: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) lint
-	$(MAKE) --no-print-directory -j$(TEST_JOBS) -Oline test-suite test-smoke
-	$(MAKE) --no-print-directory -j$(TEST_JOBS) -Oline test-nbval-1 test-nbval-2
+	$(MAKE) --no-print-directory -j$(TEST_JOBS) -Oline test-suite test-nbval-1 test-nbval-2
 
 # the parts of make test (not meant to be run alone)
 .PHONY: test-suite test-smoke test-nbval-1 test-nbval-2
@@ -162,9 +163,9 @@ test-suite:
 	$(PYTEST) $(addprefix --ignore=,$(SMOKE_TESTS))
 test-smoke: $(SMOKE_NBS) $(SMOKE_BOOK)
 	$(PYTEST) $(SMOKE_TESTS)
-test-nbval-1:
+test-nbval-1: test-smoke
 	$(NBVAL) $(wordlist 1,8,$(SMOKE_NBS))
-test-nbval-2:
+test-nbval-2: test-smoke
 	$(NBVAL) $(wordlist 9,99,$(SMOKE_NBS))
 
 # before a release: everything make test runs, then the tests marked long (the one-hour
@@ -221,9 +222,10 @@ build/notebooks/09_table2_timing.ipynb: results/bench.json
 # book comes last
 figures: $(EXECUTED) figures/ENVIRONMENT.md readme-results $(BOOK)
 
-# the README's result blocks, from figures/ (fpdtw.paper.readme; a test keeps them in step)
+# the generated blocks of README.md and ARTIFACT.md, from figures/ (fpdtw.paper.readme; tests
+# keep them in step); ARTIFACT.md's times and memory come from tools/measure_steps.py
 readme-results: $(EXECUTED)
-	$(PY) -m fpdtw.paper.readme README.md --update
+	$(PY) -m fpdtw.paper.readme README.md ARTIFACT.md --update
 
 # did this run reproduce the committed figures? Every deterministic file byte for byte
 # (the timing outputs, fpdtw.paper.provenance.TIMING_OUTPUTS, may differ)

@@ -58,6 +58,9 @@ def pytest_configure(config):
         "long: minutes-long checks (the one-hour input) that make test leaves out "
         "(pytest -m 'not long') and make test-all runs",
     )
+    config.addinivalue_line(
+        "markers", "slow: long checks left out of make test (run them with pytest -m slow)"
+    )
 
 
 _PROBE = "cmu/18_01.bvh"
@@ -103,12 +106,6 @@ def data_path():
         pytest.fail(f"no local copy of {rel} (looked in {[str(r) for r in roots]}); run make data")
 
     return get
-
-
-def pytest_configure(config):
-    config.addinivalue_line(
-        "markers", "slow: long checks left out of make test (run them with pytest -m slow)"
-    )
 
 
 def pytest_collection_modifyitems(config, items):

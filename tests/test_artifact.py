@@ -2,10 +2,10 @@
 
 The claim ids come from two places, and both must be covered: the committed claims table
 (``figures/claims.csv``, what ``make figures`` last wrote) and the claims the code checks
-(:data:`fpdtw.paper.claims.CLAIMS`). Each row's verdict is the committed table's, and so
-is its quoted value for the deterministic claims (``stable``); each command is a make
-target that make can resolve (``make -n``) or an ``fpdtw`` command line the real parser
-accepts.
+(:data:`fpdtw.paper.claims.CLAIMS`). The claims and steps tables are generated
+(:func:`fpdtw.paper.readme.artifact_blocks`) and must be what the committed files give; each
+row's verdict and value are the committed table's; each command is a make target that make
+can resolve (``make -n``) or an ``fpdtw`` command line the real parser accepts.
 """
 
 from __future__ import annotations
@@ -19,7 +19,8 @@ import subprocess
 import pytest
 
 from fpdtw.app.cli import build_parser
-from fpdtw.paper import claims
+from fpdtw.paper import claims, readme
+from fpdtw.paper.claims.rules import CLAIM_VERDICTS
 from fpdtw.paper.paths import REPO_ROOT
 
 ARTIFACT = REPO_ROOT / "ARTIFACT.md"
@@ -62,9 +63,17 @@ def committed_claims() -> dict[str, dict]:
 
 
 def _commands(text: str) -> list[str]:
-    """The commands in a cell or block: its code spans that start with make or fpdtw."""
-    spans = re.findall(r"`([^`]+)`", text)
-    return [s for s in spans if re.match(r"(\.venv/bin/)?(make|fpdtw)( |$)", s)]
+    """The commands in a text: the lines of its code blocks and its code spans that start
+    with make or fpdtw."""
+    blocks = re.findall(r"^```\w*\n(.*?)^```", text, re.S | re.M)
+    lines = [ln.split("#")[0].strip() for b in blocks for ln in b.splitlines()]
+    spans = re.findall(r"`([^`\n]+)`", re.sub(r"^```.*?^```", "", text, flags=re.S | re.M))
+    return [s for s in lines + spans if re.match(r"(\.venv/bin/)?(make|fpdtw) \S", s)]
+
+
+def _prose(text: str) -> str:
+    """The text without its code blocks and code spans."""
+    return re.sub(r"`[^`\n]*`", "", re.sub(r"^```.*?^```", "", text, flags=re.S | re.M))
 
 
 def check_command(command: str) -> str | None:
@@ -106,27 +115,106 @@ def test_every_claim_has_a_row():
     assert not [i for i in rows if i not in set(in_code) | set(committed)], "rows of no claim"
 
 
+def test_the_generated_blocks_are_what_the_committed_figures_give():
+    """The steps and claims tables are generated (fpdtw.paper.readme.artifact_blocks) from
+    figures/ and the measurements kept in the steps block: nothing in them is typed."""
+    text = _text()
+    assert readme.render(text, readme.artifact_blocks(REPO_ROOT / "figures", text)) == text, (
+        "ARTIFACT.md's generated blocks differ from figures/: run "
+        "`python -m fpdtw.paper.readme ARTIFACT.md --update` (make figures does)"
+    )
+
+
+def test_no_placeholder_is_left():
+    left = re.findall(r"\b[A-Z]{3,}_[A-Z_]{3,}\b", _prose(_text()))
+    assert not left, f"placeholders left in ARTIFACT.md: {left}"
+
+
 def test_each_row_gives_the_committed_verdict_and_value():
     committed = committed_claims()
+    verdicts = "|".join(re.escape(v) for v in CLAIM_VERDICTS)
     for cid, row in artifact_rows().items():
-        if cid not in committed:
-            continue
         c = committed[cid]
-        verdict = re.match(r"\*\*(yes|no|partly|n/a)\*\*", row["expected result"])
+        verdict = re.match(rf"\*\*({verdicts})\*\*", row["expected result"])
         assert verdict, f"claim {cid}: the expected result starts with its verdict in bold"
         assert verdict.group(1) == c["holds"], f"claim {cid}: claims.csv says {c['holds']}"
-        if c["stable"] == "True":
-            quoted = re.search(r'ours "([^"]*)"', row["expected result"])
-            assert quoted and quoted.group(1) == c["ours"], (
-                f'claim {cid}: quote ours as claims.csv has it: ours "{c["ours"]}"'
-            )
+        quoted = re.search(r'ours "([^"]*)"', row["expected result"])
+        assert quoted and quoted.group(1) == c["ours"].replace("|", "\\|"), cid
 
 
-def test_each_row_has_a_command_a_time_and_a_peak_memory():
+def test_time_and_memory_are_measured():
+    """Every claim's time is the sum of the measured steps its command runs and its memory
+    the largest of their peaks; with nothing measured, this fails once figures/claims.csv
+    is the claims package's (the lead measures after make figures), and says so before."""
+    record = readme.steps_record(_text())
+    steps = {s["name"]: s for s in record.get("steps") or []}
+    if not steps:
+        rows = list(committed_claims().values())
+        msg = "ARTIFACT.md has no measured steps: run tools/measure_steps.py"
+        if readme.claims_regenerated(rows):
+            pytest.fail(msg)
+        pytest.skip(f"{msg} (after make figures: figures/claims.csv predates the claims package)")
     for cid, row in artifact_rows().items():
-        assert _commands(row["command"]), f"claim {cid}: no make or fpdtw command"
-        assert re.search(r"\d+(\.\d+)? min", row["time, 2 cores"]), (cid, row["time, 2 cores"])
-        assert re.search(r"\d+(\.\d+)? GiB|\d+ MiB", row["peak memory"]), (cid, row["peak memory"])
+        m = re.fullmatch(r"([\d.]+) min: (.+)", row["time, 2 cores"])
+        assert m, f"claim {cid}: time as '<minutes> min: <step>, <step>'"
+        chain = [x.strip() for x in m.group(2).split(",")]
+        assert set(chain) <= set(steps), (cid, chain)
+        assert abs(float(m.group(1)) * 60 - sum(steps[x]["seconds"] for x in chain)) <= 3, cid
+        peak = max(steps[x]["peak_rss_mib"] for x in chain)
+        assert row["peak memory"] == readme.memory(peak), cid
+
+
+def _fake_record():
+    """Every step of tools/measure_steps.py, step k taking k minutes and k x 100 MiB."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(
+        "measure_steps", REPO_ROOT / "tools" / "measure_steps.py"
+    )
+    M = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(M)
+    steps = [dict(name=n, command=c, target=c.split()[-1], seconds=60.0 * k,
+                  peak_rss_mib=100 * k, load_before=1.0, load_after=2.0)
+             for k, (n, c) in enumerate(M.STEPS, 1)]  # fmt: skip
+    return {"date": "2026-01-01", "commit": "abc1234", "cpus": 2, "steps": steps,
+            "disk": {"results": 2048}}  # fmt: skip
+
+
+def test_claim_times_follow_the_makefile(tmp_path):
+    """Hand-checked chains: the walk pair's table (notebook 10) runs both grids (it prints a
+    claim: the Makefile's CLAIM_NBS) but neither notebook 05 nor the benchmark; Table 2
+    runs the benchmark and notebooks 05 and 09; a claim whose evidence names no figure is
+    checked by notebook 12, which needs every step but the data."""
+    record = _fake_record()
+    rows = [dict(id="8", claim="c", paper="p", ours="o", holds="partly",
+                 evidence="Fig. 8; fig8_walk_pair_scores", stable="True"),
+            dict(id="4", claim="c", paper="p", ours="o", holds="yes",
+                 evidence="Table 2; table2_time_per_frame", stable="False"),
+            dict(id="6", claim="c", paper="p", ours="o", holds="no",
+                 evidence="fig5/fig6 summaries", stable="True")]  # fmt: skip
+    parts = [dict(claim="8", part="8(a)", text="x below 18", verdict="holds",
+                  quantity="deviation of x, frames", threshold="18")]  # fmt: skip
+    block = readme.artifact_claims_block(rows, parts, record, REPO_ROOT / "figures", REPO_ROOT)
+    lines = {ln.split(" | ")[0][2:]: ln for ln in block.splitlines() if ln.startswith("| ")}
+    assert "`make figures/fig8_walk_pair_scores.csv`" in lines["8"]
+    assert "8(a) x below 18 (deviation of x, frames vs 18)" in lines["8"]
+    minutes = {s["name"]: s["seconds"] / 60 for s in record["steps"]}
+    want = ["full grid", "study grid", "nb 10"]
+    assert f"{sum(minutes[n] for n in want):.1f} min: {', '.join(want)} |" in lines["8"]
+    assert lines["8"].endswith(f"| {readme.memory(100 * 11)} |")  # nb 10, the 11th step
+    want = ["full grid", "study grid", "nb 05", "bench", "nb 09"]
+    assert f"{sum(minutes[n] for n in want):.1f} min: {', '.join(want)} |" in lines["4"]
+    assert "a timing" in lines["4"]
+    assert "`make figures/claims.csv`" in lines["6"]
+    want = [n for n in minutes if n != "data"]
+    assert f"{sum(minutes[n] for n in want):.1f} min: {', '.join(want)} |" in lines["6"]
+    steps = readme.steps_block(record)
+    assert readme.steps_record(f"{readme.BEGIN.format(name='steps')}\n{steps}\n"
+                               f"{readme.END.format(name='steps')}") == record  # fmt: skip
+    assert "All steps: 120.0 min; the largest peak, 1.5 GiB, is that of nb 12." in steps
+    assert "`results` 2.0 GiB" in steps
+    empty = readme.artifact_claims_block(rows, [], {}, REPO_ROOT / "figures", REPO_ROOT)
+    assert empty.count(readme.NOT_MEASURED) == 3
 
 
 def test_every_command_in_the_appendix_runs_here():

@@ -61,8 +61,19 @@ def test_readme_cluster_commands_parse():
 
 def test_readme_result_blocks_are_what_the_committed_figures_give():
     """The README's generated blocks (fpdtw.paper.readme) match figures/: no stale numbers."""
+    import csv
+
+    import pytest
+
     from fpdtw.paper import readme
 
+    with open(REPO_ROOT / "figures" / "claims.csv", newline="", encoding="utf-8") as f:
+        if not readme.claims_regenerated(list(csv.DictReader(f))):
+            pytest.fail(
+                "figures/claims.csv predates the claims package (it lacks columns of "
+                "fpdtw.paper.claims.COLUMNS): run make figures, which writes it and the README's "
+                "block (ARTIFACT.md's time and memory then need tools/measure_steps.py)"
+            )
     text = (REPO_ROOT / "README.md").read_text()
     assert readme.render(text, readme.blocks(REPO_ROOT / "figures")) == text, (
         "README.md's generated blocks differ from figures/: run "
