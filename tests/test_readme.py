@@ -81,6 +81,37 @@ def test_readme_result_blocks_are_what_the_committed_figures_give():
     )
 
 
+def test_readme_findings_are_what_the_committed_figures_give():
+    """The numbers of "What we find" are generated from figures/ (and none is typed around
+    them: the paragraph before the block holds no decimal or percentage)."""
+    from fpdtw.paper import readme
+
+    text = (REPO_ROOT / "README.md").read_text()
+    new = readme.render(text, {"findings": readme.findings_block(REPO_ROOT / "figures")})
+    assert new == text, "README.md's findings differ from figures/: run make readme-results"
+    prose = text.split("**What we find**")[1].split(readme.BEGIN.format(name="findings"))[0]
+    prose = re.sub(r"`[^`]*`", "", prose)
+    assert not re.findall(r"\d+\.\d+|\d+ ?%", prose)
+
+
+def test_findings_name_their_files_and_the_papers_numbers(tmp_path):
+    """A hand-made figures folder: each bullet carries its file's number."""
+    import shutil
+
+    from fpdtw.paper import readme
+
+    for name in ("experiment_pairs", "fig5_similarity_summary", "fig6_deviation_summary",
+                 "fig7_path_balance", "table1_method_c_60_120hz", "table2_time_per_frame",
+                 "claims", "opw_fig4_summary"):  # fmt: skip
+        shutil.copy(REPO_ROOT / "figures" / f"{name}.csv", tmp_path)
+    summary = tmp_path / "fig5_similarity_summary.csv"
+    summary.write_text(summary.read_text().replace("Mc w40,False,0.478467", "Mc w40,False,0.5"))
+    block = readme.findings_block(tmp_path)
+    assert "median similarity 0.500, median deviation" in block
+    assert "(the paper: 3248)" in block and "(the paper: 0.24)" in block
+    assert block.count("\n- ") == 8
+
+
 def test_readme_blocks_are_replaced_between_their_markers(tmp_path):
     from fpdtw.paper import readme
 

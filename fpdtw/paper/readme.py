@@ -84,6 +84,85 @@ def claims_block(rows) -> str:
     return "\n".join(out)
 
 
+def _rows_by(rows, key="algorithm") -> dict:
+    return {r[key]: r for r in rows}
+
+
+def _range(values, fmt="{:.0f}") -> str:
+    lo, hi = fmt.format(min(values)), fmt.format(max(values))
+    return lo if lo == hi else f"{lo}-{hi}"
+
+
+def findings_block(figures_dir) -> str:
+    """The README's "What we find" numbers, each read from a file of ``figures/``.
+
+    Returns
+    -------
+    text : str
+        Markdown: one bullet per finding, each naming the file it comes from.
+    """
+    from fpdtw.paper import numbers as N
+
+    d = Path(figures_dir)
+    pairs = _read_csv(d / "experiment_pairs.csv")
+    per = {ds: sum(int(r["pairs"]) for r in pairs if r["dataset"] == ds)
+           for ds in ("authors_fbx", "hdm05")}  # fmt: skip
+    sim = _rows_by(_read_csv(d / "fig5_similarity_summary.csv"))
+    dev = _rows_by(_read_csv(d / "fig6_deviation_summary.csv"))
+    bal = _rows_by(_read_csv(d / "fig7_path_balance.csv"))
+    t1 = {(r["rate_hz"], r["source"]): r for r in _read_csv(d / "table1_method_c_60_120hz.csv")}
+    t2 = _rows_by(_read_csv(d / "table2_time_per_frame.csv"))
+    claims = _rows_by(_read_csv(d / "claims.csv"), "id")
+    opw = _read_csv(d / "opw_fig4_summary.csv")
+
+    def f(x, digits):
+        return f"{float(x):.{digits}f}"
+
+    out = [
+        f"- Data (`experiment_pairs.csv`): {sum(per.values())} ordered pairs, "
+        f"{per['authors_fbx']} from the authors' takes and {per['hdm05']} from HDM05 "
+        f"(the paper: {N.DATA['pairs']}).",
+        f"- UTW's median similarity, the benchmark (`fig5_similarity_summary.csv`): "
+        f"{f(sim['UTW']['median'], 2)} (the paper: {N.TABLE1[120]['UTW']:.2f}).",
+        f"- Mc w40 without a constraint (`fig5_similarity_summary.csv`, "
+        f"`fig6_deviation_summary.csv`): median similarity {f(sim['Mc w40']['median'], 3)}, "
+        f"median deviation {f(dev['Mc w40']['median'], 1)} frames.",
+        f"- Path balance (`fig7_path_balance.csv`, share of path frames below / above the "
+        f"diagonal band): Mc w10 {f(bal['Mc w10']['below'], 2)} / "
+        f"{f(bal['Mc w10']['above'], 2)}, Mc w80 {f(bal['Mc w80']['below'], 2)} / "
+        f"{f(bal['Mc w80']['above'], 2)}.",
+        "- Method C's best window (`table1_method_c_60_120hz.csv`): "
+        f"{t1[('120', 'ours')]['best_w']} at 120 Hz and {t1[('60', 'ours')]['best_w']} at 60 Hz "
+        "(the paper: "
+        f"{N.BEST_WINDOW[120]} and {N.BEST_WINDOW[60]}).",
+        f"- OE-DTW's end points (`claims.csv`, claim 7): {claims['7']['ours']}.",
+    ]
+    ratios = [
+        float(r["paper_mean_us"]) / float(r["mean_us"])
+        for r in t2.values()
+        if r["paper_mean_us"] and r["type_v"] == "False" and "(" not in r["algorithm"]
+    ]
+    if ratios:
+        mc = t2["Mc w40"]
+        out.append(
+            f"- Per-frame time (`table2_time_per_frame.csv`, `make bench`, one core; a timing "
+            f"of the committed run): {_range(ratios)}x below the paper's Table 2 means "
+            f"(Mc w40 {f(mc['mean_us'], 0)} us against {f(mc['paper_mean_us'], 0)} us)."
+        )
+    for reading, words in (("poster", "on the poster's protocol"),
+                           ("plugin", "read as the authors' plugin runs it")):  # fmt: skip
+        rr = [r for r in opw if r["reading"] == reading and r["method"] == "OPW"]
+        if rr:
+            out.append(
+                f"- OPW {words} (`opw_fig4_summary.csv`, our stand-in clips): mean deviation "
+                f"{_range([float(r['mean_ms']) for r in rr])} ms, maximum "
+                f"{_range([float(r['max_ms']) for r in rr])} ms (the poster: "
+                f"{N.OPW_MEAN_DEVIATION_MS[0]:.0f}-{N.OPW_MEAN_DEVIATION_MS[1]:.0f} ms, "
+                f"{N.OPW_MAX_DEVIATION_MS:.0f} ms)."
+            )
+    return "\n".join(out)
+
+
 def blocks(figures_dir) -> dict:
     """Every generated block of the README, from the files of ``figures_dir``.
 
@@ -93,7 +172,10 @@ def blocks(figures_dir) -> dict:
         Block name -> Markdown.
     """
     figures_dir = Path(figures_dir)
-    return {"claims": claims_block(_read_csv(figures_dir / "claims.csv"))}
+    return {
+        "findings": findings_block(figures_dir),
+        "claims": claims_block(_read_csv(figures_dir / "claims.csv")),
+    }
 
 
 def claims_regenerated(rows) -> bool:
@@ -382,6 +464,7 @@ __all__ = [
     "claim_targets",
     "claims_block",
     "claims_regenerated",
+    "findings_block",
     "render",
     "steps_block",
     "steps_record",
