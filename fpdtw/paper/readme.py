@@ -151,7 +151,7 @@ def findings_block(figures_dir) -> str:
         )
     for reading, words in (("poster", "on the poster's protocol"),
                            ("plugin", "read as the authors' plugin runs it")):  # fmt: skip
-        rr = [r for r in opw if r["reading"] == reading and r["method"] == "OPW"]
+        rr = [r for r in opw if r.get("reading", "poster") == reading and r["method"] == "OPW"]
         if rr:
             out.append(
                 f"- OPW {words} (`opw_fig4_summary.csv`, our stand-in clips): mean deviation "
