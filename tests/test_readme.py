@@ -112,6 +112,28 @@ def test_findings_name_their_files_and_the_papers_numbers(tmp_path):
     assert block.count("\n- ") == 8
 
 
+def test_readme_live_drop_block_is_what_the_committed_figures_give(tmp_path):
+    """The lost-frames table and its sentence come from figures/live_drop_rate.csv; a
+    hand-made file gives hand-checked numbers."""
+    from fpdtw.paper import readme
+
+    text = (REPO_ROOT / "README.md").read_text()
+    new = readme.render(text, {"live-drop": readme.live_drop_block(REPO_ROOT / "figures")})
+    assert new == text, "README.md's live-drop block differs from figures/: make readme-results"
+    (tmp_path / "live_drop_rate.csv").write_text(
+        "method,condition,gap,runs,lost_per_run,deviation_frames,deviation_max_frames\n"
+        "A,drop 0 %,-,6,0,1.0,2\nA,drop 5 %,slerp,18,3,1.1,2\nA,drop 5 %,hold,18,3,2.5,3\n"
+        "A,30 Hz target,-,6,0,0.8,2\nB,drop 0 %,-,6,0,2.0,2\nB,drop 5 %,slerp,18,3,1.97,2\n"
+        "B,drop 5 %,hold,18,3,2.2,3\nB,30 Hz target,-,6,0,2.05,2\n"
+    )
+    block = readme.live_drop_block(tmp_path)
+    assert "| A | hold | 1.00 | 2.50 | 0.80 |" in block
+    assert "| method | gap rule | no loss | 5 % lost | 30 Hz take |" in block
+    assert "up to 5 % of the frames at random moves no method by more than 0.10 frames" in block
+    assert "costs A and B up to 1.5 and 0.2 frames" in block
+    assert "(within 0.20 frames)" in block
+
+
 def test_readme_blocks_are_replaced_between_their_markers(tmp_path):
     from fpdtw.paper import readme
 

@@ -163,6 +163,56 @@ def findings_block(figures_dir) -> str:
     return "\n".join(out)
 
 
+def _condition_label(condition: str) -> str:
+    """``"drop 0 %"`` -> ``"no loss"``, ``"drop 5 %"`` -> ``"5 % lost"``, ``"30 Hz target"``
+    -> ``"30 Hz take"``."""
+    m = re.fullmatch(r"drop (\d+) %", condition)
+    if m:
+        return "no loss" if m.group(1) == "0" else f"{m.group(1)} % lost"
+    return condition.replace("target", "take")
+
+
+def live_drop_block(figures_dir) -> str:
+    """The README's table of lost live frames (``figures/live_drop_rate.csv``, notebook 20)
+    and what it shows, in numbers read from it."""
+    rows = _read_csv(Path(figures_dir) / "live_drop_rate.csv")
+    conds = list(dict.fromkeys(r["condition"] for r in rows))
+    methods = list(dict.fromkeys(r["method"] for r in rows))
+    dev = {}
+    for r in rows:
+        for gap in ("slerp", "hold") if r["gap"] == "-" else (r["gap"],):
+            dev[(r["method"], gap, r["condition"])] = float(r["deviation_frames"])
+    base, slow = conds[0], [c for c in conds if not c.startswith("drop")]
+    out = [
+        "| method | gap rule | " + " | ".join(_condition_label(c) for c in conds) + " |",
+        "|---|---|" + "---|" * len(conds),
+    ]
+    for m in methods:
+        for gap in ("slerp", "hold"):
+            cells = [f"{dev[(m, gap, c)]:.2f}" for c in conds]
+            out.append(f"| {m} | {gap} | " + " | ".join(cells) + " |")
+    drops = [c for c in conds[1:] if c.startswith("drop")]
+    slerp = max(abs(dev[(m, "slerp", c)] - dev[(m, "slerp", base)]) for m in methods for c in drops)
+    hold = {m: max(dev[(m, "hold", c)] - dev[(m, "hold", base)] for c in drops) for m in methods}
+    worst = sorted(hold, key=hold.get, reverse=True)[:2]
+    out += [
+        "",
+        f"With slerp filling, losing up to {drops[-1].split()[1]} % of the frames at random "
+        f"moves no method by more than {slerp:.2f} frames; holding the last frame instead costs "
+        + " and ".join(worst)
+        + " up to "
+        + " and ".join(f"{hold[m]:.1f}" for m in worst)
+        + " frames.",
+    ]
+    if slow:
+        diff = max(abs(dev[(m, "slerp", slow[0])] - dev[(m, "slerp", base)]) for m in methods)
+        out[-1] += (
+            f" A {_condition_label(slow[0])} resampled online is as close to DTW as the full-rate "
+            f"one (within {diff:.2f} frames)."
+        )
+    return "\n".join(out)
+
+
 def blocks(figures_dir) -> dict:
     """Every generated block of the README, from the files of ``figures_dir``.
 
@@ -174,6 +224,7 @@ def blocks(figures_dir) -> dict:
     figures_dir = Path(figures_dir)
     return {
         "findings": findings_block(figures_dir),
+        "live-drop": live_drop_block(figures_dir),
         "claims": claims_block(_read_csv(figures_dir / "claims.csv")),
     }
 
@@ -465,6 +516,7 @@ __all__ = [
     "claims_block",
     "claims_regenerated",
     "findings_block",
+    "live_drop_block",
     "render",
     "steps_block",
     "steps_record",
