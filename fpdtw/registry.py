@@ -5,7 +5,8 @@ Names follow the FP-DTW paper's figures. Fixed names: ``"DTW"``, ``"UTW"`` (offl
 The FP-DTW methods: ``"Ma"`` (window 2; ``"Ma w3"``), ``"Mb w40"``, ``"Mc w40"``, the
 constrained variants with the suffix ``" + Type V"``, and any option other than the
 default in brackets before it, by its label in the method's ``options`` table:
-``"Mc w40 (literal window) + Type V"``, ``"Mb w40 (hold forecast)"``.
+``"Mc w40 (literal window) + Type V"``, ``"Mb w40 (hold forecast)"``. Beyond the papers:
+``"Mc auto"`` (Method C with w from the input's period, :mod:`fpdtw.period`).
 
 The experiment runner, the command line, the benchmark and the figures all ask this
 module: :func:`resolve` a name into an :class:`Algorithm`, :func:`make_online` its
@@ -146,6 +147,8 @@ ENTRIES = (
           "FP-DTW Method B: forecast window, forward DTW path (online; --window)"),
     Entry("Mc", "C", "c", True, window_method("fpdtw.online.method_c:MethodC"), "w", None, True,
           "FP-DTW Method C: forecast window, reverse accumulation (online; --window)"),
+    Entry("Mc auto", "Cauto", "c-auto", True, online("fpdtw.online.method_c_auto:MethodCAuto"),
+          about="Method C with w from the input's dominant period (beyond the papers; online)"),
     Entry("OPW", "OPW", "opw", True, online("fpdtw.online.opw:OPW"),
           about="On-line Predictive Warping (the OPW poster; online, joint positions)"),
     Entry("OLTW", "OLTW", "oltw", True, online("fpdtw.online.oltw:OLTW"), "c", 120,
@@ -154,7 +157,7 @@ ENTRIES = (
 
 _BY_KEY = {e.key: e for e in ENTRIES}
 _PATTERN = re.compile(
-    r"^(?P<key>[A-Za-z][A-Za-z-]*)(?: (?P<p>[a-z])(?P<n>\d+))?(?: \((?P<opts>[^()]+)\))?"
+    r"^(?P<key>[A-Za-z][A-Za-z-]*(?: auto)?)(?: (?P<p>[a-z])(?P<n>\d+))?(?: \((?P<opts>[^()]+)\))?"
     r"(?P<tv> \+ Type V)?$"
 )
 
