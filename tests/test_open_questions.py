@@ -19,7 +19,7 @@ from fpdtw.paper.runner.grid import OPEN_ALGORITHMS, PAUSE_METHODS, PAUSE_SUFFIX
 from fpdtw.paper.runner.run import resolve_algorithm, transform_target
 from fpdtw.paper.runner.selection import SELECTIONS, pair_selection
 from fpdtw.pause import insert_pause, pause_plan, pause_seed
-from fpdtw.period import autocorrelation, auto_window, dominant_period, window_from_period
+from fpdtw.period import auto_window, autocorrelation, dominant_period, window_from_period
 
 
 def sine_motion(period_frames, n_frames=1200, fps=120.0, amp=30.0):
