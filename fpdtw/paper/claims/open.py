@@ -78,8 +78,6 @@ def per_movement_windows(ev, rate: int = 120) -> list[dict]:
     rows : list of dict
         ``movement, pairs, auto, w10..w80, best_w, best, beats`` (similarity medians;
         ``beats``: Mc auto's median above the best fixed w's, strictly).
-
-    Notebook: 16_open_questions.ipynb
     """
     sfx = _SFX[rate]
     mv = movements_of(ev)
