@@ -216,6 +216,73 @@ def test_q6_verdicts():
 
 def test_q_claims_without_the_open_run_are_not_computed():
     ctx = ClaimContext(mode="smoke")
-    rows, _ = claims.evaluate_claims(claims.claims_by_id(["Q1", "Q6"]), claims.claim_contexts(ctx))
-    assert [r["holds"] for r in rows] == ["n/a", "n/a"]
+    rows, _ = claims.evaluate_claims(
+        claims.claims_by_id(["Q1", "Q3", "Q6"]), claims.claim_contexts(ctx)
+    )
+    assert [r["holds"] for r in rows] == ["n/a", "n/a", "n/a"]
     assert all(r["ours"].startswith("not computed (no results of the open run") for r in rows)
+
+
+# -- Q3: the global band ----------------------------------------------------------------------
+
+
+def behind_pair():
+    """A target that holds its first pose for 300 frames before the input's motion: an
+    unconstrained Method C holds at the start and falls far behind the diagonal."""
+    I = random_walk_features(500, seed=5)
+    E = np.concatenate([np.repeat(I.euler[:1], 300, axis=0), I.euler])
+    T = features_from_euler(E, orders=I.orders, name="still+I")
+    return I, T
+
+
+@pytest.mark.parametrize("name", ["Mc w40", "Mb w40", "Mc w80"])
+def test_the_band_keeps_the_map_within_one_second_of_the_diagonal(name):
+    I, T = behind_pair()
+    free, _ = registry.align(name, I, T)
+    band, _ = registry.align(f"{name} (band 1 s)", I, T)
+    q = np.arange(T.n_frames)
+    assert np.min(free - q) < -120  # without the band the map leaves it
+    inside = band < I.n_frames - 1  # before the input is exhausted (then it holds at m)
+    assert np.all(np.abs(band - q)[inside] <= 120)
+    assert np.min((band - q)[inside]) == -120  # kept on its edge
+    # streamed one frame at a time (bounded history off) gives the same map
+    M, _ = run_online(registry.make_online(f"{name} (band 1 s)", I), T)
+    np.testing.assert_array_equal(M, band)
+
+
+def test_the_band_changes_nothing_where_the_map_stays_inside_it():
+    I = random_walk_features(300, seed=7)
+    T = random_walk_features(300, seed=7)
+    free, _ = registry.align("Mc w40", I, T)
+    assert np.max(np.abs(free - np.arange(300))) <= 120
+    np.testing.assert_array_equal(registry.align("Mc w40 (band 1 s)", I, T)[0], free)
+
+
+def test_band_rows_masks_a_known_candidate_and_the_band_refuses_type_v():
+    from fpdtw import plain
+
+    np.testing.assert_array_equal(
+        plain.band_rows(100, 5, 221, 120), [False, True, True, True, True]
+    )
+    np.testing.assert_array_equal(plain.band_rows(0, 3, 0, 1), [True, True, False])
+    with pytest.raises(AlignmentError, match="Type V"):
+        registry.make_online("Mc w40 (band 1 s) + Type V", random_walk_features(50))
+    assert registry.resolve("Mb w40 (band 1 s)").options == {"band": "1s"}
+
+
+def band_centres(sim, dev):
+    from fpdtw.paper.runner.grid import BAND_BASES
+
+    c = {"UTW": (0.25, 60.0)} | {n: (0.3, 20.0) for n in BAND_BASES}
+    return c | {f"{n} (band 1 s)": (sim, dev) for n in BAND_BASES}
+
+
+def test_q3_verdicts():
+    rows, parts = q_table(open_run(band_centres(0.4, 10.0)), ["Q3"])
+    assert rows["Q3"]["holds"] == "yes" and len(parts) == 6
+    rows, _ = q_table(open_run(band_centres(0.1, 40.0)), ["Q3"])
+    assert rows["Q3"]["holds"] == "no"
+    rows, parts = q_table(open_run(band_centres(0.35, 19.0)), ["Q3"])
+    by = {p["part"]: p["verdict"] for p in parts}
+    assert by["Q3(a)"] == "contradicted" and by["Q3(b)"] == "holds"  # better, yet not both
+    assert rows["Q3"]["holds"] == "partly"

@@ -1,4 +1,4 @@
-"""Claims beyond the papers: the questions they leave open (Q1, Q6), decided on the open run.
+"""Claims beyond the papers: the questions they leave open (Q1, Q3, Q6), decided on the open run.
 
 Each question is a :class:`~fpdtw.paper.claims.table.Claim` with ``question=True``: it is not
 a claim of the papers but a statement about a variant they suggest, decided by the SAME rules
@@ -18,6 +18,11 @@ Q1 (Method C's window from the input's period, ``"Mc auto"``, :mod:`fpdtw.period
     movement's winner fixed);
     (d), (f) its median similarity is above the overall best fixed window's (Mc w40 at
     120 Hz, Mc w20 at 60 Hz, the paper's Table 1), paired on the same pairs.
+Q3 (a global band of 1 s around the diagonal ``M_q = q``, Methods B and C,
+:class:`fpdtw.online.window.ForecastAligner`)
+    for Mb w40, Mc w40 and Mc w80: the band variant passes both benchmarks; and the band
+    improves the method (median similarity higher AND median deviation lower than without
+    it, paired). Its per-frame cost is measured by ``make bench``, not here.
 Q6 (standing still, targets with a pause inserted, :mod:`fpdtw.pause`)
     for every online method of the papers (:data:`fpdtw.paper.runner.grid.PAUSE_METHODS`):
     its median deviation on the paused targets (from DTW of the same modified pairs) below
@@ -177,6 +182,31 @@ def assess_q6(ctx):
                       parts)  # fmt: skip
 
 
+def assess_q3(ctx):
+    """Our value and the parts of Q3 (see the module), or why not computed."""
+    from fpdtw.paper.claims.rules import AllOf
+    from fpdtw.paper.claims.table import Assessment
+    from fpdtw.paper.runner.grid import BAND_BASES
+
+    ev = ctx.open_ev
+    if why := _need(ev, ["UTW", *BAND_BASES, *(f"{n} (band 1 s)" for n in BAND_BASES)]):
+        return why
+    parts, words = [], []
+    for n in BAND_BASES:
+        b = f"{n} (band 1 s)"
+        parts.append(Part(f"{b} passes both benchmarks", ev.passes_both(b)))
+        parts.append(Part(
+            f"the band improves {n} (median similarity higher and median deviation lower, paired)",
+            AllOf(ev.better(b, n, "similarity"), ev.better(b, n, "deviation")),
+        ))  # fmt: skip
+        words.append(
+            f"{n}: similarity {ev.median(n, 'similarity'):.3f} -> "
+            f"{ev.median(b, 'similarity'):.3f}, deviation {ev.median(n, 'deviation'):.1f} -> "
+            f"{ev.median(b, 'deviation'):.1f}"
+        )
+    return Assessment("without -> with the band: " + "; ".join(words), parts)
+
+
 def open_claim_rows(ids, mode: str = "full"):
     """The rows and parts of the Q claims ``ids`` on the open run alone (no other run read).
 
@@ -197,6 +227,7 @@ __all__ = [
     "BEST_FIXED",
     "OPEN_MODES",
     "assess_q1",
+    "assess_q3",
     "assess_q6",
     "beats_share_check",
     "movements_of",

@@ -921,6 +921,11 @@ CLAIMS = [
           "passes both benchmarks at 120 and 60 Hz and beats a fixed window",
           "an open question (not tested in the papers)", _open.assess_q1,
           "notebook 16; open_q1_windows, open_q1_movements", question=True),
+    Claim("Q3", "Beyond the papers (FP-DTW conclusion: a global constraint): a band of 1 s around "
+          "the uniform-time diagonal lets Mb w40, Mc w40 and Mc w80 pass both benchmarks and "
+          "improves each (per-frame cost: make bench)",
+          "an open question (not tested in the papers)", _open.assess_q3,
+          "notebook 16; open_q3_band", question=True),
     Claim("Q6", "Beyond the papers (OPW conclusion: 'may not work consistently if there are "
           "periods of standing still'): with a pause of 0.5-2 s inserted in the target, every "
           "online method's median deviation stays below 18 frames and the pause does not raise it",

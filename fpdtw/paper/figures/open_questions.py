@@ -1,4 +1,4 @@
-"""Figures and tables of notebook 16: the questions the papers leave open (Q1, Q6).
+"""Figures and tables of notebook 16: the questions the papers leave open (Q1, Q3, Q6).
 
 Every number comes from the open run (mode ``"open"``) through the claims' evidence
 (:func:`fpdtw.paper.claims.open.open_evidence`), so the figures, the tables and the Q rows of
@@ -139,6 +139,70 @@ def movement_rows(ev) -> list[dict]:
     return out
 
 
+def band_rows(ev) -> list[dict]:
+    """Q3: Methods B and C without and with the band of 1 s: medians with 95 % intervals,
+    the benchmark verdicts of the band variant and the paired changes.
+
+    Notebook: 16_open_questions.ipynb
+    """
+    from fpdtw.paper.runner.grid import BAND_BASES
+
+    rows = []
+    for n in BAND_BASES:
+        b = f"{n} (band 1 s)"
+        for who in (n, b):
+            s, d = ev.passes(who, "similarity"), ev.passes(who, "deviation")
+            lo, hi = ev.interval(who, "similarity")
+            ds = ev.better(b, n, "similarity") if who == b else None
+            dd = ev.better(b, n, "deviation") if who == b else None
+            rows.append(
+                dict(algorithm=who, similarity=ev.median(who, "similarity"), sim_low=lo,
+                     sim_high=hi, passes_similarity=s.verdict, deviation=d.estimate,
+                     dev_low=d.low, dev_high=d.high, passes_deviation=d.verdict,
+                     sim_change=ds.estimate if ds else None,
+                     sim_change_low=ds.low if ds else None,
+                     sim_change_high=ds.high if ds else None,
+                     dev_change=dd.estimate if dd else None,
+                     dev_change_low=dd.low if dd else None,
+                     dev_change_high=dd.high if dd else None)
+            )  # fmt: skip
+    return rows
+
+
+def plot_band(ev, rows=None, axes=None):
+    """Q3: median similarity and deviation (95 % intervals) without and with the band.
+
+    Returns
+    -------
+    fig, axes
+
+    Notebook: 16_open_questions.ipynb
+    """
+    import matplotlib.pyplot as plt
+
+    rows = band_rows(ev) if rows is None else rows
+    if axes is None:
+        fig, axes = plt.subplots(1, 2, figsize=(9, 3.2))
+    else:
+        fig = axes[0].figure
+    x = np.arange(len(rows))
+    cols = ["0.4" if "band" not in r["algorithm"] else "C2" for r in rows]
+    for ax, key, lo, hi in ((axes[0], "similarity", "sim_low", "sim_high"),
+                            (axes[1], "deviation", "dev_low", "dev_high")):  # fmt: skip
+        for i, r in enumerate(rows):
+            ax.errorbar(x[i], r[key], yerr=[[r[key] - r[lo]], [r[hi] - r[key]]], fmt="o",
+                        color=cols[i], ms=4, capsize=2)  # fmt: skip
+        ax.set_xticks(x, [r["algorithm"] for r in rows], rotation=30, fontsize=7)
+    axes[0].axhline(ev.median("UTW", "similarity"), color="k", lw=0.8, ls=":", label="UTW median")
+    axes[1].axhline(18, color="k", lw=0.8, ls=":", label="18 frames (150 ms)")
+    axes[0].set_ylabel("median similarity (eq. 2)")
+    axes[1].set_ylabel("median deviation (frames)")
+    for ax in axes:
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    return fig, axes
+
+
 def pause_rows(ev, methods=None) -> list[dict]:
     """Q6: each online method's median deviation without and with a pause (95 % intervals),
     and the paired difference of medians.
@@ -223,8 +287,10 @@ def plot_pause_example(I, T, name: str = "Mc w40", ax=None):
 
 
 __all__ = [
+    "band_rows",
     "movement_rows",
     "pause_rows",
+    "plot_band",
     "plot_pause",
     "plot_pause_example",
     "plot_period",

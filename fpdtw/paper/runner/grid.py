@@ -171,11 +171,18 @@ PAUSE_METHODS = (
 OPEN_Q6 = ("DTW" + PAUSE_SUFFIX, *PAUSE_METHODS, *(n + PAUSE_SUFFIX for n in PAUSE_METHODS))
 
 
+#: Q3 (a global band around the diagonal): Methods B and C with the band of 1 s.
+BAND_BASES = ("Mb w40", "Mc w40", "Mc w80")
+BAND_NAMES = tuple(f"{n} (band 1 s)" for n in BAND_BASES)
+OPEN_Q3 = BAND_BASES + BAND_NAMES
+
+
 def _open_algorithms() -> tuple:
     """The algorithms of notebook 16 (modes "open" and "smoke-open"): DTW and UTW at 120
-    and 60 Hz, then :data:`OPEN_Q1`, :data:`OPEN_Q6` (first of any duplicate kept)."""
+    and 60 Hz, then :data:`OPEN_Q1`, :data:`OPEN_Q6`, :data:`OPEN_Q3` (first of any
+    duplicate kept)."""
     out = []
-    for n in ("DTW", "UTW", "DTW@60Hz", "UTW@60Hz", *OPEN_Q1, *OPEN_Q6):
+    for n in ("DTW", "UTW", "DTW@60Hz", "UTW@60Hz", *OPEN_Q1, *OPEN_Q6, *OPEN_Q3):
         if n not in out:
             out.append(n)
     return tuple(out)
@@ -215,7 +222,10 @@ __all__ = [
     "LITERAL_NAMES",
     "MC_LITERAL_NAMES",
     "MODE_ALGORITHMS",
+    "BAND_BASES",
+    "BAND_NAMES",
     "OPEN_ALGORITHMS",
+    "OPEN_Q3",
     "OPEN_Q1",
     "OPEN_Q6",
     "PAUSE_METHODS",
