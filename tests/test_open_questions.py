@@ -217,9 +217,9 @@ def test_q6_verdicts():
 def test_q_claims_without_the_open_run_are_not_computed():
     ctx = ClaimContext(mode="smoke")
     rows, _ = claims.evaluate_claims(
-        claims.claims_by_id(["Q1", "Q3", "Q6"]), claims.claim_contexts(ctx)
+        claims.claims_by_id(["Q1", "Q3", "Q4", "Q6"]), claims.claim_contexts(ctx)
     )
-    assert [r["holds"] for r in rows] == ["n/a", "n/a", "n/a"]
+    assert [r["holds"] for r in rows] == ["n/a"] * 4
     assert all(r["ours"].startswith("not computed (no results of the open run") for r in rows)
 
 
@@ -286,3 +286,52 @@ def test_q3_verdicts():
     by = {p["part"]: p["verdict"] for p in parts}
     assert by["Q3(a)"] == "contradicted" and by["Q3(b)"] == "holds"  # better, yet not both
     assert rows["Q3"]["holds"] == "partly"
+
+
+# -- Q4: adaptive gamma -------------------------------------------------------------------------
+
+
+def test_the_gamma_feedback_follows_a_scripted_decision_list():
+    from fpdtw.online.opw_adaptive import next_gamma
+
+    g = 0.05
+    seen = []
+    decisions = []
+    # speed up x3 (grow), keep (nothing), speed up again (run of 3 non-keep? no: the keep
+    # breaks the run), slow down (opposite sign: shrink), slow x2 (run incomplete, last two
+    # non-zero agree: nothing), slow (run of 3: grow)
+    for s in (2, 2, 2, 1, 2, 0, 0, 0):
+        decisions.append(s)
+        g = next_gamma(g, decisions)
+        seen.append(round(g, 6))
+    assert seen == [0.05, 0.05, 0.075, 0.075, 0.075, 0.05, 0.05, 0.075]
+    assert next_gamma(0.29, [2, 2, 2]) == 0.30 and next_gamma(0.011, [2, 0]) == 0.01
+    assert next_gamma(0.05, []) == 0.05
+
+
+def test_opw_adaptive_changes_gamma_as_its_decisions_go():
+    from fpdtw.online.opw_adaptive import GAMMA_START, AdaptiveOPW, next_gamma
+
+    rng = np.random.default_rng(0)
+    P = np.cumsum(rng.normal(0, 0.01, (400, 16, 3)), axis=0)
+    I = random_walk_features(400, seed=2)
+    I = type(I)(I.quats, I.euler, I.orders, I.fps, P, "rw")
+    T = type(I)(I.quats[::2].copy(), I.euler[::2].copy(), I.orders, I.fps, P[::2].copy(), "fast")
+    a = AdaptiveOPW(I)
+    run_online(a, T)
+    assert a.gammas[0] == GAMMA_START and len(a.gammas) == len(a.decisions)
+    g = GAMMA_START
+    for k in range(len(a.decisions)):
+        assert a.gammas[k] == pytest.approx(g)
+        g = next_gamma(g, [d.s for d in a.decisions[: k + 1]][-8:])
+    assert max(a.gammas) > GAMMA_START  # a target twice as fast: it keeps speeding up
+    assert registry.resolve("OPW adaptive").family == "OPWa"
+
+
+def q4_centres(sim, dev):
+    return {"UTW": (0.25, 60.0), "OPW": (0.3, 20.0), "OPW adaptive": (sim, dev)}
+
+
+def test_q4_verdicts():
+    assert q_table(open_run(q4_centres(0.4, 10.0)), ["Q4"])[0]["Q4"]["holds"] == "yes"
+    assert q_table(open_run(q4_centres(0.1, 40.0)), ["Q4"])[0]["Q4"]["holds"] == "no"

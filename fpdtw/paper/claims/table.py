@@ -926,6 +926,11 @@ CLAIMS = [
           "improves each (per-frame cost: make bench)",
           "an open question (not tested in the papers)", _open.assess_q3,
           "notebook 16; open_q3_band", question=True),
+    Claim("Q4", "Beyond the papers (OPW conclusion: adjust gamma by a feedback loop): OPW with "
+          "gamma adapted from its own recent decisions passes both benchmarks on the FP-DTW "
+          "pairs and improves on OPW at gamma 5 %",
+          "an open question (not tested in the papers)", _open.assess_q4,
+          "notebook 16; open_q4_gamma", question=True),
     Claim("Q6", "Beyond the papers (OPW conclusion: 'may not work consistently if there are "
           "periods of standing still'): with a pause of 0.5-2 s inserted in the target, every "
           "online method's median deviation stays below 18 frames and the pause does not raise it",

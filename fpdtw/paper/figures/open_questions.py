@@ -1,4 +1,4 @@
-"""Figures and tables of notebook 16: the questions the papers leave open (Q1, Q3, Q6).
+"""Figures and tables of notebook 16: the questions the papers leave open (Q1, Q3, Q4, Q6).
 
 Every number comes from the open run (mode ``"open"``) through the claims' evidence
 (:func:`fpdtw.paper.claims.open.open_evidence`), so the figures, the tables and the Q rows of
@@ -203,6 +203,49 @@ def plot_band(ev, rows=None, axes=None):
     return fig, axes
 
 
+def poster_gamma_rows(motions=None) -> list[dict]:
+    """Q4 on the OPW poster's protocol (:mod:`fpdtw.paper.opw_eval`: each motion cropped to
+    2.5 s, warped by the example curve, OPW run from the recording to the warped copy):
+    OPW at gamma 5 % and OPW adaptive, their mean and maximum deviation from the example
+    curve (ms) and the share of the temporal difference removed. Deterministic (no interval).
+
+    Parameters
+    ----------
+    motions : sequence of OPWMotion, optional
+        Default :data:`fpdtw.paper.opw_eval.FIG4_MOTIONS`.
+
+    Returns
+    -------
+    rows : list of dict
+        ``motion, method, mean_ms, max_ms, removed, final_gamma``.
+
+    Notebook: 16_open_questions.ipynb
+    """
+    from fpdtw.online.base import run_online
+    from fpdtw.online.opw import OPW
+    from fpdtw.online.opw_adaptive import AdaptiveOPW
+    from fpdtw.paper import opw_eval as oe
+
+    rows = []
+    for mo in motions or oe.FIG4_MOTIONS:
+        A = oe.load_cropped(mo.dataset, mo.path)
+        g = oe.example_curve(A.duration, oe.OFFSET)
+        B = oe.warp_motion(A, g)
+        I, T = oe.opw_features(A), oe.opw_features(B)
+        for label, aligner in (
+            (f"OPW (gamma {100 * oe.GAMMA:.0f} %)", OPW(I, oe.OMEGA, oe.GAMMA, fps=B.fps)),
+            ("OPW adaptive", AdaptiveOPW(I, oe.OMEGA, fps=B.fps)),
+        ):
+            run_online(aligner, T)
+            d = oe.deviation_ms(aligner.curve, g)
+            rows.append(
+                dict(motion=mo.label, method=label, mean_ms=d["mean"], max_ms=d["max"],
+                     removed=oe.temporal_difference_removed(aligner.curve, g),
+                     final_gamma=aligner.gamma)
+            )  # fmt: skip
+    return rows
+
+
 def pause_rows(ev, methods=None) -> list[dict]:
     """Q6: each online method's median deviation without and with a pause (95 % intervals),
     and the paired difference of medians.
@@ -295,5 +338,6 @@ __all__ = [
     "plot_pause_example",
     "plot_period",
     "plot_windows",
+    "poster_gamma_rows",
     "window_rows",
 ]

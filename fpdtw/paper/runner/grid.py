@@ -177,12 +177,16 @@ BAND_NAMES = tuple(f"{n} (band 1 s)" for n in BAND_BASES)
 OPEN_Q3 = BAND_BASES + BAND_NAMES
 
 
+#: Q4 (OPW's gamma from a feedback loop): OPW adaptive beside OPW at gamma 5 %.
+OPEN_Q4 = ("OPW", "OPW adaptive")
+
+
 def _open_algorithms() -> tuple:
     """The algorithms of notebook 16 (modes "open" and "smoke-open"): DTW and UTW at 120
-    and 60 Hz, then :data:`OPEN_Q1`, :data:`OPEN_Q6`, :data:`OPEN_Q3` (first of any
-    duplicate kept)."""
+    and 60 Hz, then :data:`OPEN_Q1`, :data:`OPEN_Q6`, :data:`OPEN_Q3`, :data:`OPEN_Q4`
+    (first of any duplicate kept)."""
     out = []
-    for n in ("DTW", "UTW", "DTW@60Hz", "UTW@60Hz", *OPEN_Q1, *OPEN_Q6, *OPEN_Q3):
+    for n in ("DTW", "UTW", "DTW@60Hz", "UTW@60Hz", *OPEN_Q1, *OPEN_Q6, *OPEN_Q3, *OPEN_Q4):
         if n not in out:
             out.append(n)
     return tuple(out)
@@ -226,6 +230,7 @@ __all__ = [
     "BAND_NAMES",
     "OPEN_ALGORITHMS",
     "OPEN_Q3",
+    "OPEN_Q4",
     "OPEN_Q1",
     "OPEN_Q6",
     "PAUSE_METHODS",
