@@ -81,6 +81,15 @@ def window_rows(ev) -> list[dict]:
     return rows
 
 
+def _two_axes(axes=None):
+    """``(fig, axes)``: the given pair of axes' figure, or a new figure of two panels."""
+    if axes is not None:
+        return axes[0].figure, axes
+    import matplotlib.pyplot as plt
+
+    return plt.subplots(1, 2, figsize=(9, 3.2))
+
+
 def plot_windows(ev, rows=None, axes=None):
     """Q1: median similarity and deviation (95 % intervals) of Mc auto beside each fixed w.
 
@@ -90,13 +99,8 @@ def plot_windows(ev, rows=None, axes=None):
 
     Notebook: 16_open_questions.ipynb
     """
-    import matplotlib.pyplot as plt
-
     rows = window_rows(ev) if rows is None else rows
-    if axes is None:
-        fig, axes = plt.subplots(1, 2, figsize=(9, 3.2))
-    else:
-        fig = axes[0].figure
+    fig, axes = _two_axes(axes)
     for rate, dx, col in ((120, -0.12, "C0"), (60, 0.12, "C1")):
         rr = [r for r in rows if r["rate"] == rate]
         x = np.arange(len(rr)) + dx
@@ -178,13 +182,8 @@ def plot_band(ev, rows=None, axes=None):
 
     Notebook: 16_open_questions.ipynb
     """
-    import matplotlib.pyplot as plt
-
     rows = band_rows(ev) if rows is None else rows
-    if axes is None:
-        fig, axes = plt.subplots(1, 2, figsize=(9, 3.2))
-    else:
-        fig = axes[0].figure
+    fig, axes = _two_axes(axes)
     x = np.arange(len(rows))
     cols = ["0.4" if "band" not in r["algorithm"] else "C2" for r in rows]
     for ax, key, lo, hi in ((axes[0], "similarity", "sim_low", "sim_high"),
