@@ -383,6 +383,31 @@ def type_v_next(state: str, advance: int):
     return TYPE_V_TABLE[state][advance] if 0 <= advance <= 3 else None
 
 
+def band_rows(start: int, rows: int, q: int, band: int) -> np.ndarray:
+    """Which rows (offsets from ``M_n``) of a window lie inside the global band.
+
+    Beyond the papers (their conclusion's global constraint; notebook 16): row ``r`` (input
+    frame ``M_n + r``) is inside when ``|M_n + r - q| <= band``, the diagonal ``M_q = q``.
+
+    Parameters
+    ----------
+    start : int
+        ``M_n``.
+    rows : int
+    q : int
+        The target frame being mapped, ``n + 1``.
+    band : int
+        Half-width in frames (> 0).
+
+    Returns
+    -------
+    inside : ndarray of bool, shape (rows,)
+
+    Paper: FP-DTW Section 7 (conclusion: a global constraint).
+    """
+    return np.abs(start + np.arange(rows) - q) <= band
+
+
 def allowed_rows(allowed, rows: int) -> np.ndarray:
     """Which rows (offsets from ``M_n``) of a window a Type V state allows.
 
@@ -1074,6 +1099,7 @@ __all__ = [
     "Step",
     "accumulate",
     "allowed_rows",
+    "band_rows",
     "backtrack",
     "cost_matrix",
     "deviation",

@@ -5,7 +5,9 @@ Names follow the FP-DTW paper's figures. Fixed names: ``"DTW"``, ``"UTW"`` (offl
 The FP-DTW methods: ``"Ma"`` (window 2; ``"Ma w3"``), ``"Mb w40"``, ``"Mc w40"``, the
 constrained variants with the suffix ``" + Type V"``, and any option other than the
 default in brackets before it, by its label in the method's ``options`` table:
-``"Mc w40 (literal window) + Type V"``, ``"Mb w40 (hold forecast)"``.
+``"Mc w40 (literal window) + Type V"``, ``"Mb w40 (hold forecast)"``. Beyond the papers:
+``"Mc auto"`` (Method C with w from the input's period, :mod:`fpdtw.period`) and
+``"OPW adaptive"`` (OPW with gamma from its decisions, :mod:`fpdtw.online.opw_adaptive`).
 
 The experiment runner, the command line, the benchmark and the figures all ask this
 module: :func:`resolve` a name into an :class:`Algorithm`, :func:`make_online` its
@@ -146,15 +148,21 @@ ENTRIES = (
           "FP-DTW Method B: forecast window, forward DTW path (online; --window)"),
     Entry("Mc", "C", "c", True, window_method("fpdtw.online.method_c:MethodC"), "w", None, True,
           "FP-DTW Method C: forecast window, reverse accumulation (online; --window)"),
+    Entry("Mc auto", "Cauto", "c-auto", True, online("fpdtw.online.method_c_auto:MethodCAuto"),
+          about="Method C with w from the input's dominant period (beyond the papers; online)"),
     Entry("OPW", "OPW", "opw", True, online("fpdtw.online.opw:OPW"),
           about="On-line Predictive Warping (the OPW poster; online, joint positions)"),
+    Entry("OPW adaptive", "OPWa", "opw-adaptive", True,
+          online("fpdtw.online.opw_adaptive:AdaptiveOPW"),
+          about="OPW with gamma adapted from its own decisions (beyond the papers; online)"),
     Entry("OLTW", "OLTW", "oltw", True, online("fpdtw.online.oltw:OLTW"), "c", 120,
           about="Dixon's on-line time warping (DAFx 2005; online; --window = search width c)"),
 )  # fmt: skip
 
 _BY_KEY = {e.key: e for e in ENTRIES}
 _PATTERN = re.compile(
-    r"^(?P<key>[A-Za-z][A-Za-z-]*)(?: (?P<p>[a-z])(?P<n>\d+))?(?: \((?P<opts>[^()]+)\))?"
+    r"^(?P<key>[A-Za-z][A-Za-z-]*(?: auto| adaptive)?)(?: (?P<p>[a-z])(?P<n>\d+))?"
+    r"(?: \((?P<opts>[^()]+)\))?"
     r"(?P<tv> \+ Type V)?$"
 )
 

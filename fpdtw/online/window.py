@@ -324,13 +324,41 @@ def _choose_a(Iq, t, start, nrows, limit, allow, c, ties_high):
 #: Entries of an aligner's parameter vector (int64) for :func:`_window_step`.
 P_METHOD, P_W, P_READING, P_SHIFT, P_HOLD, P_TIES_HIGH, P_INPUT_FIRST, P_START_BEST = range(8)
 P_TYPEV, P_SHARED = 8, 9
-N_PARAMS = 10
+#: Half-width in frames of the global band around the diagonal ``M = q`` (0: no band;
+#: beyond the papers, see :class:`ForecastAligner`).
+P_BAND = 10
+N_PARAMS = 11
 #: Method codes of ``P_METHOD``.
 METHOD_A, METHOD_B, METHOD_C = 0, 1, 2
 #: Kinds of step (``out[0]`` of :func:`_window_step`).
 STEP_FIRST, STEP_WARMUP, STEP_END, STEP_WINDOW = 0, 1, 2, 3
 #: Frames needed before forecasting (dead reckoning on two frames).
 SMOOTHING = 2
+
+
+@numba.njit(cache=True)
+def _mask_band(C, nrows, col, q, start, band):
+    """Global band (``band > 0``): ``C[r, col] = +inf`` for every row whose input frame
+    ``start + r`` lies more than ``band`` frames from the diagonal ``q``.
+
+    Plain version: fpdtw.plain.band_rows.
+    """
+    if band <= 0:
+        return
+    for r in range(nrows):
+        if abs(start + r - q) > band:
+            C[r, col] = np.inf
+
+
+@numba.njit(cache=True)
+def _check_band(off, q, start, band):
+    """Never a masked candidate: raise when the chosen row lies outside the band (only when
+    no row of the window was inside it).
+
+    Plain version: fpdtw.plain.band_rows.
+    """
+    if band > 0 and abs(start + off - q) > band:
+        raise ValueError("global band: no input frame of the window lies inside the band")
 
 
 @numba.njit(cache=True)
@@ -446,9 +474,11 @@ def _window_step(
             else:
                 _forecast_window(Tq, Te, q, w, True, codes, F, 0, prm[P_HOLD] != 0)
                 _cost_window(Iq, start, nrows, F, ncols, C)
+            _mask_band(C, nrows, 1, q, start, prm[P_BAND])
             off, npath = _choose_b(
                 C, nrows, ncols, limit, allow, D, Pcol, path, prm[P_INPUT_FIRST] != 0
             )
+            _check_band(off, q, start, prm[P_BAND])
             out[3] = npath
         else:
             reading = prm[P_READING]
@@ -465,7 +495,9 @@ def _window_step(
             else:
                 _forecast_window(Tq, Te, q, w, with_prev, codes, F, prm[P_SHIFT], prm[P_HOLD] != 0)
                 _cost_window(Iq, start, nrows, F, ncols, C)
+            _mask_band(C, nrows, 0, q, start, prm[P_BAND])
             off = _choose_c(C, nrows, ncols, limit, allow, D, score, reading, prm[P_TIES_HIGH] != 0)
+            _check_band(off, q, start, prm[P_BAND])
         out[1] = nrows
         out[2] = ncols
         m_next = start + off
@@ -997,11 +1029,33 @@ class ForecastAligner(WindowAligner):
 
     #: Smoothing window: frames needed before forecasting (dead reckoning: 2).
     s = SMOOTHING
+    #: Options of Methods B and C (beyond :attr:`WindowAligner.options`): ``band="1s"``,
+    #: the global band of the FP-DTW paper's conclusion (an open question, notebook 16).
+    options = {**WindowAligner.options, "band": ("none", {"1s": "band 1 s"})}
+    #: Half-width of ``band="1s"``, seconds (120 frames at 120 Hz).
+    BAND_SECONDS = 1.0
 
     def __init__(
         self, I: MotionFeatures, w: int, *, constraint=None, record=False, cache=None, **options
     ):
+        """Global band (``band="1s"``, beyond the papers): the live take is assumed to last
+        as long as the recording, so the uniform-time diagonal is ``M_q = q`` (input rate /
+        target rate = 1: every run of this package has both motions at one rate). At every
+        window step, candidates whose input frame lies more than ``B`` = round(1 s x the
+        input's rate) frames from ``q`` are masked (cost +inf in the column that decides the
+        step, as Type V masks: column ``T_{n+1}`` of Method B's path, column 0 of Method C),
+        so the map picks the best candidate inside the band: a map that would leave it is
+        kept at most on its edge. A masked candidate is never picked: if no row of the
+        window were inside the band the step raises ValueError; that cannot happen without
+        Type V (``M_n`` within the band at ``q - 1`` leaves row 0 or row 1 within it at
+        ``q``), and a band with Type V is refused. Warm-up and the forced hold at ``m``
+        once the input is exhausted are as without the band. A band aligner keeps every
+        target frame (its step reads the frame number ``q``)."""
         super().__init__(I, w, constraint=constraint, record=record, **options)
+        if self.settings.get("band", "none") != "none":
+            if self.constraint is not None:
+                raise AlignmentError(f"{self.name}: the global band is not combined with Type V")
+            self.history = None
         if cache is not None:
             if not isinstance(cache, WindowCache):
                 raise AlignmentError(f"cache must be a WindowCache, got {type(cache).__name__}")
@@ -1020,6 +1074,8 @@ class ForecastAligner(WindowAligner):
     def params(self) -> np.ndarray:
         p = super().params()
         p[P_HOLD] = self.settings.get("forecast", "dead-reckoning") == "hold"
+        if self.settings.get("band", "none") == "1s":
+            p[P_BAND] = max(1, int(round(self.BAND_SECONDS * self.I.fps)))
         return p
 
 

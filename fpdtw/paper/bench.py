@@ -66,12 +66,13 @@ OE_INPUT_FRAMES = 1000
 
 def bench_names() -> list:
     """The online aligners ``make bench`` times, by name: Method A, Methods B and C (the
-    default square window and the literal one) at every w, each with and without Type V.
+    default square window and the literal one) at every w, each with and without Type V,
+    and the global band variants of notebook 16 (Q3, :data:`fpdtw.paper.runner.grid.OPEN_Q3`).
     """
     from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES
-    from fpdtw.paper.runner.grid import MC_LITERAL_NAMES
+    from fpdtw.paper.runner.grid import BAND_NAMES, MC_LITERAL_NAMES
 
-    return list(FPDTW_NAMES) + list(FPDTW_TYPEV_NAMES) + list(MC_LITERAL_NAMES)
+    return list(FPDTW_NAMES) + list(FPDTW_TYPEV_NAMES) + list(MC_LITERAL_NAMES) + list(BAND_NAMES)
 
 
 def _name_key(name: str) -> tuple:

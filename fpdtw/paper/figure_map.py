@@ -83,7 +83,12 @@ NOTEBOOKS = (
              "per dataset and selection, robustness to the paper's open readings",
              ("02_fig1_oedtw", "06_fig5_fig6_scores", "07_table1_60hz", "08_fig7_fig10_heatmaps",
               "09_table2_timing", "10_fig8_walk_pair", "13_opw_fig4", "14_opw_fig5_fig6",
-              "15_readings_of_algorithm_3")),
+              "15_readings_of_algorithm_3", "16_open_questions")),
+    Notebook("16_open_questions",
+             ("open_q1_period", "open_q1_windows", "open_q1_movements", "open_q3_band",
+              "open_q4_gamma", "open_q6_pause_example", "open_q6_pause"),
+             "beyond the papers: the questions they leave open, answered on the same pairs "
+             "(the window from the period; a global band; adaptive gamma; standing still)"),
     Notebook("20_align_a_live_performance",
              ("live_latency", "live_maps", "live_walk_Mc_w40", "live_walk_OLTW",
               "live_network_latency", "live_drop_rate"),

@@ -135,7 +135,7 @@ def robustness(claims, mode: str = "full", study=None, features=None, progress=F
             return {}
     base = Evidence(study, label="paper-shaped selection")
     ctx0 = ClaimContext(mode=mode, ev=base)
-    todo = [c for c in claims if c.pairs and not c.beyond]
+    todo = [c for c in claims if c.pairs and not c.beyond and not c.question]
     ours = {c.id: c.evaluate(ctx0)["holds"] for c in todo}
     alts = alternatives()
     verdicts = {c.id: [] for c in todo}

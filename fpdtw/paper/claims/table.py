@@ -42,6 +42,7 @@ import numpy as np
 
 from fpdtw.paper import numbers as N
 from fpdtw.paper.atomic import write_atomic
+from fpdtw.paper.claims import open as _open
 from fpdtw.paper.claims import rules as R
 from fpdtw.paper.claims.evidence import Evidence
 from fpdtw.paper.claims.rules import AllOf, Check, Not, Part
@@ -100,6 +101,9 @@ class ClaimContext:
     alias : dict
         Method C's reading (:func:`reading_alias`): the timing rows and Fig. 8 deviations of
         that reading stand for the paper's names (:meth:`timing_rows`, :meth:`fig8_devs`).
+    open_ev : Evidence or None
+        The open run's evidence (:func:`fpdtw.paper.claims.open.open_evidence`), read by the
+        questions beyond the papers (Q rows); None: they are "not computed".
     """
 
     mode: str = "full"
@@ -110,6 +114,7 @@ class ClaimContext:
     opw_fig56: dict | None = None
     counts: dict | None = None
     alias: dict = field(default_factory=dict)
+    open_ev: Evidence | None = None
 
     def with_evidence(self, ev) -> ClaimContext:
         return replace(self, ev=ev)
@@ -132,6 +137,7 @@ class ClaimContext:
         name (``"Mc w40"``, ``"Mc w80 + Type V"``, ``"Mc w20@60Hz"``) stands for the
         results of that reading (``"Mc w40 (literal window)"``, ...).
         """
+        from fpdtw.paper.claims.open import open_evidence
         from fpdtw.paper.figures.timing import TIMED_NAMES, load_bench, time_per_frame_rows
         from fpdtw.paper.paths import results_dir
 
@@ -151,6 +157,7 @@ class ClaimContext:
             opw_fig4=_read_json(figs / OPW_FIG4_JSON),
             opw_fig56=_read_json(figs / OPW_FIG56_JSON),
             counts=getattr(results, "counts", None) or data_counts(results.pairs),
+            open_ev=open_evidence(mode),
         )
 
     @classmethod
@@ -794,6 +801,10 @@ class Claim:
         Where the paper's own text contradicts itself, said first in the reason.
     beyond : bool
         Not a claim of the papers (runs beyond them): verdict "n/a".
+    question : bool
+        Beyond the papers, but with a real verdict: a question the papers leave open,
+        answered on the open run (``ctx.open_ev``, :mod:`fpdtw.paper.claims.open`) by the
+        same rules; shown on all of the open run's pairs only (no other body of evidence).
     opw : bool
         A claim of the OPW poster, decided from the OPW notebooks' facts (so under the
         plugin reading of OPW too).
@@ -809,6 +820,7 @@ class Claim:
     contradiction: str = ""
     beyond: bool = False
     opw: bool = False
+    question: bool = False
 
     def evaluate(self, ctx) -> dict:
         """``ours``, ``holds``, ``reason`` and the evaluated parts on one context."""
@@ -904,6 +916,26 @@ CLAIMS = [
     Claim("B1", "Beyond the papers: the OPW poster's method and Dixon's OLTW (the FP-DTW paper's "
           "ref. 3) run on the FP-DTW pairs, against the same two benchmarks",
           "not in the papers", _claim_b1, "Figs. 5, 6, 7; " + _SCORES[12:], beyond=True),
+    Claim("Q1", "Beyond the papers (FP-DTW conclusion: the forecast window below half the period "
+          "of the movement cycle): Method C with w from the input's dominant period (Mc auto) "
+          "passes both benchmarks at 120 and 60 Hz and beats a fixed window",
+          "an open question (not tested in the papers)", _open.assess_q1,
+          "notebook 16; open_q1_windows, open_q1_movements", question=True),
+    Claim("Q3", "Beyond the papers (FP-DTW conclusion: a global constraint): a band of 1 s around "
+          "the uniform-time diagonal lets Mb w40, Mc w40 and Mc w80 pass both benchmarks and "
+          "improves each (per-frame cost: make bench)",
+          "an open question (not tested in the papers)", _open.assess_q3,
+          "notebook 16; open_q3_band", question=True),
+    Claim("Q4", "Beyond the papers (OPW conclusion: adjust gamma by a feedback loop): OPW with "
+          "gamma adapted from its own recent decisions passes both benchmarks on the FP-DTW "
+          "pairs and improves on OPW at gamma 5 %",
+          "an open question (not tested in the papers)", _open.assess_q4,
+          "notebook 16; open_q4_gamma", question=True),
+    Claim("Q6", "Beyond the papers (OPW conclusion: 'may not work consistently if there are "
+          "periods of standing still'): with a pause of 0.5-2 s inserted in the target, every "
+          "online method's median deviation stays below 18 frames and the pause does not raise it",
+          "an open question (not tested in the papers)", _open.assess_q6,
+          "notebook 16; open_q6_pause", question=True),
 ]  # fmt: skip
 
 
@@ -1044,7 +1076,7 @@ def evaluate_claims(claims, contexts, robustness=None) -> tuple[list[dict], list
         others = {}
         for key in (*OTHER_EVIDENCE, "literal", OPW_PLUGIN):
             c = contexts.get(key)
-            if c is None or (key in OTHER_EVIDENCE and not claim.pairs):
+            if c is None or (key in OTHER_EVIDENCE and not claim.pairs) or claim.question:
                 others[key] = None
             elif key == OPW_PLUGIN and not claim.opw:
                 others[key] = None
@@ -1075,6 +1107,8 @@ def evaluate_claims(claims, contexts, robustness=None) -> tuple[list[dict], list
         rob = (robustness or {}).get(claim.id)
         if not claim.pairs or claim.beyond:
             rob = "n/a (not decided on the pairs)"
+        if claim.question:
+            rob = "n/a (a question beyond the papers, decided on the open run)"
         row["robustness"] = rob or "not computed here (notebook 12)"
         rows.append({c: row[c] for c in COLUMNS})
         for k, (label, p) in enumerate(zip(labels, main["parts"])):

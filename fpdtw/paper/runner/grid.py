@@ -6,7 +6,12 @@
 * mode ``"study"`` / ``"smoke-study"``: :data:`STUDY_ALGORITHMS`, notebook 15's readings of
   Algorithm 3 and the paper's silent choices (:data:`SILENT_CHOICES`).
 
-A name ending in ``"@60Hz"`` runs the named algorithm on the motions resampled to 60 Hz.
+* mode ``"open"`` / ``"smoke-open"``: :data:`OPEN_ALGORITHMS`, notebook 16's answers to
+  the questions the papers leave open, with the baselines they are compared with.
+
+A name ending in ``"@60Hz"`` runs the named algorithm on the motions resampled to 60 Hz; a
+name ending in ``"@pause"`` runs it at 120 Hz on the targets with a held pose inserted
+(:func:`fpdtw.pause.insert_pause`; its deviation is from DTW of the same modified pair).
 """
 
 from __future__ import annotations
@@ -152,12 +157,51 @@ def choice_variant(name: str, choice: SilentChoice) -> str:
 
 #: What notebook 15 computes by default (modes "study" and "smoke-study").
 STUDY_ALGORITHMS = _study_algorithms()
+
+#: Suffix of a name run on the targets with a pause inserted (:func:`fpdtw.pause.insert_pause`).
+PAUSE_SUFFIX = "@pause"
+#: Q1 (the window from the input's period): Mc auto beside every fixed window, 120 and 60 Hz.
+OPEN_Q1 = tuple(
+    n + rate for rate in ("", RATE_SUFFIX) for n in ("Mc auto", *(f"Mc w{w}" for w in WINDOWS))
+)
+#: Q6 (standing still): every online method of the papers, with and without a pause.
+PAUSE_METHODS = (
+    "Ma", "Ma + Type V", "Mb w40", "Mc w40", "Mc w80", "Mc w80 + Type V", "OE-DTW", "OLTW", "OPW",
+)  # fmt: skip
+OPEN_Q6 = ("DTW" + PAUSE_SUFFIX, *PAUSE_METHODS, *(n + PAUSE_SUFFIX for n in PAUSE_METHODS))
+
+
+#: Q3 (a global band around the diagonal): Methods B and C with the band of 1 s.
+BAND_BASES = ("Mb w40", "Mc w40", "Mc w80")
+BAND_NAMES = tuple(f"{n} (band 1 s)" for n in BAND_BASES)
+OPEN_Q3 = BAND_BASES + BAND_NAMES
+
+
+#: Q4 (OPW's gamma from a feedback loop): OPW adaptive beside OPW at gamma 5 %.
+OPEN_Q4 = ("OPW", "OPW adaptive")
+
+
+def _open_algorithms() -> tuple:
+    """The algorithms of notebook 16 (modes "open" and "smoke-open"): DTW and UTW at 120
+    and 60 Hz, then :data:`OPEN_Q1`, :data:`OPEN_Q6`, :data:`OPEN_Q3`, :data:`OPEN_Q4`
+    (first of any duplicate kept)."""
+    out = []
+    for n in ("DTW", "UTW", "DTW@60Hz", "UTW@60Hz", *OPEN_Q1, *OPEN_Q6, *OPEN_Q3, *OPEN_Q4):
+        if n not in out:
+            out.append(n)
+    return tuple(out)
+
+
+#: What notebook 16 computes by default (modes "open" and "smoke-open").
+OPEN_ALGORITHMS = _open_algorithms()
 #: The default algorithm list of each mode.
 MODE_ALGORITHMS = {
     "full": DEFAULT_ALGORITHMS,
     "smoke": DEFAULT_ALGORITHMS,
     "study": STUDY_ALGORITHMS,
     "smoke-study": STUDY_ALGORITHMS,
+    "open": OPEN_ALGORITHMS,
+    "smoke-open": OPEN_ALGORITHMS,
 }
 
 
@@ -168,6 +212,13 @@ def split_rate(name: str) -> tuple:
     return name, BASE_FPS
 
 
+def split_transform(name: str) -> tuple:
+    """``"Mc w40@pause"`` -> ``("Mc w40", "pause")``; other names -> ``(name, None)``."""
+    if name.endswith(PAUSE_SUFFIX):
+        return name[: -len(PAUSE_SUFFIX)], PAUSE_SUFFIX[1:]
+    return name, None
+
+
 __all__ = [
     "CHOICE_TARGETS",
     "DEFAULT_ALGORITHMS",
@@ -175,6 +226,15 @@ __all__ = [
     "LITERAL_NAMES",
     "MC_LITERAL_NAMES",
     "MODE_ALGORITHMS",
+    "BAND_BASES",
+    "BAND_NAMES",
+    "OPEN_ALGORITHMS",
+    "OPEN_Q3",
+    "OPEN_Q4",
+    "OPEN_Q1",
+    "OPEN_Q6",
+    "PAUSE_METHODS",
+    "PAUSE_SUFFIX",
     "SILENT_CHOICES",
     "SilentChoice",
     "STUDY_ALGORITHMS",
@@ -182,4 +242,5 @@ __all__ = [
     "choice_targets",
     "choice_variant",
     "split_rate",
+    "split_transform",
 ]

@@ -99,6 +99,7 @@ from fpdtw.paper.runner.grid import (
     DEFAULT_ALGORITHMS,
     MODE_ALGORITHMS,
     split_rate,
+    split_transform,
 )
 from fpdtw.paper.runner.parallel import (
     CONNECT_TIMEOUT,
@@ -149,11 +150,15 @@ class AlgorithmSpec:
         The registry's algorithm of the name without its rate suffix.
     fps : float
         Frame rate of the features it gets (120 or 60).
+    transform : str or None
+        ``"pause"``: it runs on the targets with a held pose inserted
+        (:func:`fpdtw.pause.insert_pause`), its deviation from DTW of the modified pair.
     """
 
     name: str
     algorithm: registry.Algorithm
     fps: float
+    transform: str | None = None
 
     @property
     def slug(self) -> str:
@@ -161,15 +166,28 @@ class AlgorithmSpec:
 
 
 def resolve_algorithm(name: str) -> AlgorithmSpec:
-    """The :class:`AlgorithmSpec` of a name (any registry name, ``"@60Hz"`` for 60 Hz).
+    """The :class:`AlgorithmSpec` of a name (any registry name, ``"@60Hz"`` for 60 Hz,
+    ``"@pause"`` for the targets with a pause inserted).
 
     Raises
     ------
     AlignmentError
         Unknown name.
     """
-    base, fps = split_rate(name)
-    return AlgorithmSpec(name, registry.resolve(base), fps)
+    base, transform = split_transform(name)
+    base, fps = split_rate(base)
+    return AlgorithmSpec(name, registry.resolve(base), fps, transform)
+
+
+def transform_target(transform, T: MotionFeatures) -> MotionFeatures:
+    """The target an algorithm of ``transform`` runs on (None: ``T`` itself)."""
+    if transform is None:
+        return T
+    if transform == "pause":
+        from fpdtw.pause import insert_pause
+
+        return insert_pause(T)
+    raise AlignmentError(f"unknown target transform {transform!r}")
 
 
 def _check_map(spec: AlgorithmSpec, M, I: MotionFeatures, T: MotionFeatures, info: dict):
@@ -494,10 +512,13 @@ def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: s
     runs = 0
     for p in pairs:
         info = {key: v for key, v in p.items() if key not in ("input_index", "target_index")}
-        for fps in sorted({s.fps for s in specs}, reverse=True):
-            group = [s for s in specs if s.fps == fps]
+        for fps, transform in sorted(
+            {(s.fps, s.transform) for s in specs}, key=lambda g: (-g[0], g[1] or "")
+        ):
+            group = [s for s in specs if s.fps == fps and s.transform == transform]
             I = load_features(feature_files[p["input_index"]], fps)
             T = load_features(feature_files[p["target_index"]], fps)
+            T = transform_target(transform, T)
             maps = _pair_maps(group, I, T, {**info, "fps": fps})
             dtw_spec = next((s for s in group if s.algorithm.family == "DTW"), None)
             if dtw_spec is None:
@@ -1127,6 +1148,7 @@ __all__ = [
     "run_experiments",
     "source_hash",
     "summarize",
+    "transform_target",
 ]
 
 

@@ -40,6 +40,11 @@ class Selection:
         (without replacement, then in manifest order) with a generator seeded by this
         number, the dataset and the movement, so a movement's draw does not depend on
         the others.
+    subsample_takes : int or None
+        After the draw above, keep at most this many of each movement's drawn takes, drawn
+        again (without replacement, then in manifest order) with the generator seeded by
+        ``sample_seed + 1``, the dataset and the movement: a seeded subsample of the
+        selection without it. None: no second draw.
     crop_seconds : float or None
         Crop every motion to its first seconds (``Motion.crop(0, s)``) before
         features are built; None keeps whole motions.
@@ -50,9 +55,12 @@ class Selection:
     takes_per_movement: int | None = None
     crop_seconds: float | None = None
     sample_seed: int | None = None
+    subsample_takes: int | None = None
 
     def as_dict(self) -> dict:
         d = asdict(self)
+        if d["subsample_takes"] is None:  # the selections made before it keep their keys
+            del d["subsample_takes"]
         d["datasets"] = list(self.datasets)
         d["movements"] = None if self.movements is None else list(self.movements)
         return d
@@ -64,16 +72,28 @@ PAPER_SHAPED_TAKES = 8
 #: Seed of the paper-shaped draw (fixed: the draw is part of the documented selection).
 PAPER_SHAPED_SEED = 2023
 
+#: Takes per movement of the "open" mode (notebook 16): a seeded subsample of the
+#: paper-shaped selection small enough for its grid to stay within the time budget.
+OPEN_TAKES = 2
+
 #: The selection of each mode: ``"full"`` every take (whole classes); ``"smoke"`` the
 #: first two takes of every movement, both directions (2 pairs per movement), cropped to
 #: 2 s; ``"study"`` (notebook 15) the paper-shaped selection, at most 8 takes per movement
 #: drawn with a fixed seed (the authors' movements have 3 takes, so all of them stay);
-#: ``"smoke-study"`` the smoke selection.
+#: ``"smoke-study"`` the smoke selection; ``"open"`` (notebook 16) a subsample of the
+#: paper-shaped selection: of its takes of each movement, :data:`OPEN_TAKES` drawn with
+#: seed ``PAPER_SHAPED_SEED + 1``; ``"smoke-open"`` the smoke selection.
 SELECTIONS = {
     "full": Selection(),
     "smoke": Selection(takes_per_movement=2, crop_seconds=2.0),
     "study": Selection(takes_per_movement=PAPER_SHAPED_TAKES, sample_seed=PAPER_SHAPED_SEED),
     "smoke-study": Selection(takes_per_movement=2, crop_seconds=2.0),
+    "open": Selection(
+        takes_per_movement=PAPER_SHAPED_TAKES,
+        sample_seed=PAPER_SHAPED_SEED,
+        subsample_takes=OPEN_TAKES,
+    ),
+    "smoke-open": Selection(takes_per_movement=2, crop_seconds=2.0),
 }
 
 
@@ -130,6 +150,18 @@ def _take_subset(recs: list, sel: Selection, dataset: str, movement: str) -> lis
     return [recs[i] for i in sorted(keep)]
 
 
+def _subsample(recs: list, sel: Selection, dataset: str, movement: str) -> list:
+    """At most ``sel.subsample_takes`` of the takes drawn (see :class:`Selection`)."""
+    k = sel.subsample_takes
+    if k is None or len(recs) <= k:
+        return recs
+    seed = int.from_bytes(
+        hashlib.sha256(f"{(sel.sample_seed or 0) + 1}/{dataset}/{movement}".encode()).digest()[:8]
+    )
+    keep = np.random.default_rng(seed).choice(len(recs), size=k, replace=False)
+    return [recs[i] for i in sorted(keep)]
+
+
 def pair_selection(selection: Selection | None = None) -> PairSelection:
     """Every ordered pair of distinct takes of the same movement.
 
@@ -162,6 +194,7 @@ def pair_selection(selection: Selection | None = None) -> PairSelection:
         for movement, recs in groups.items():
             if sel.takes_per_movement is not None:
                 recs = _take_subset(recs, sel, ds, movement)
+            recs = _subsample(recs, sel, ds, movement)
             if len(recs) < 2:
                 dropped.append(f"{ds}/{movement}")
                 continue
@@ -223,6 +256,7 @@ def format_counts(counts: dict) -> str:
 
 __all__ = [
     "DATASETS",
+    "OPEN_TAKES",
     "PAPER_SHAPED_SEED",
     "PAPER_SHAPED_TAKES",
     "SELECTIONS",

@@ -1,0 +1,268 @@
+"""Claims beyond the papers: the questions they leave open (Q1, Q3, Q4, Q6), on the open run.
+
+Each question is a :class:`~fpdtw.paper.claims.table.Claim` with ``question=True``: it is not
+a claim of the papers but a statement about a variant they suggest, decided by the SAME rules
+(:mod:`fpdtw.paper.claims.rules`: a variant holds when its 95 % interval clears the
+benchmark it is asked to clear) on the results of the runner's mode ``"open"``
+(``"smoke-open"`` for SMOKE), a seeded subsample of the paper-shaped selection
+(:data:`fpdtw.paper.runner.selection.SELECTIONS`). The parts, fixed before any result was
+looked at:
+
+Q1 (Method C's window from the input's period, ``"Mc auto"``, :mod:`fpdtw.period`)
+    (a), (b) at 120 and at 60 Hz Mc auto passes both benchmarks
+    (:meth:`~fpdtw.paper.claims.evidence.Evidence.passes_both`);
+    (c), (e) at each rate it beats the best fixed window CHOSEN PER MOVEMENT (the highest
+    median similarity of Mc w10..w80 in that movement) in more than half of the movements:
+    an optimistic bar, since the best fixed w is chosen on the same data; the share of
+    movements has its interval from the same cluster bootstrap (movements resampled, each
+    movement's winner fixed);
+    (d), (f) its median similarity is above the overall best fixed window's (Mc w40 at
+    120 Hz, Mc w20 at 60 Hz, the paper's Table 1), paired on the same pairs.
+Q3 (a global band of 1 s around the diagonal ``M_q = q``, Methods B and C,
+:class:`fpdtw.online.window.ForecastAligner`)
+    for Mb w40, Mc w40 and Mc w80: the band variant passes both benchmarks; and the band
+    improves the method (median similarity higher AND median deviation lower than without
+    it, paired). Its per-frame cost is measured by ``make bench``, not here.
+Q4 (OPW's gamma adapted from its own decisions, :mod:`fpdtw.online.opw_adaptive`)
+    on the FP-DTW pairs: OPW adaptive passes both benchmarks; and it improves on OPW at
+    gamma 5 % (median similarity higher AND median deviation lower, paired). On the poster's
+    protocol the numbers are deterministic (one run per motion) and shown in notebook 16's
+    table only, not as a part.
+Q6 (standing still, targets with a pause inserted, :mod:`fpdtw.pause`)
+    for every online method of the papers (:data:`fpdtw.paper.runner.grid.PAUSE_METHODS`):
+    its median deviation on the paused targets (from DTW of the same modified pairs) below
+    18 frames; and the pause does not raise it: the paired difference of medians, with the
+    pause minus without, below 0 (holds: the interval lies below 0; contradicted: at or
+    above 0, i.e. the pause raises it; inconclusive: the interval straddles 0).
+
+Paper: FP-DTW Section 7 (conclusion); OPW poster Section 6 (conclusion).
+Notebook: 16_open_questions.ipynb
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from fpdtw.paper.claims.rules import Part
+from fpdtw.paper.numbers import WINDOWS
+
+#: The open run of each claims mode.
+OPEN_MODES = {"full": "open", "smoke": "smoke-open"}
+#: The overall best fixed window of Method C at each rate (the paper's Table 1).
+BEST_FIXED = {120: 40, 60: 20}
+_SFX = {120: "", 60: "@60Hz"}
+
+
+def open_mode(mode: str) -> str:
+    """``"open"``, or ``"smoke-open"`` for the smoke claims.
+
+    Notebook: 16_open_questions.ipynb
+    """
+    return OPEN_MODES.get(mode, "smoke-open" if "smoke" in mode else "open")
+
+
+def open_evidence(mode: str = "full"):
+    """The :class:`~fpdtw.paper.claims.evidence.Evidence` of the open run of ``mode``, or
+    None when that run does not exist (the Q claims are then "not computed")."""
+    from fpdtw.paper.claims.evidence import shared_evidence
+    from fpdtw.paper.paths import results_dir
+    from fpdtw.paper.runner import load_results
+
+    if not (results_dir() / open_mode(mode) / "summary.json").is_file():
+        return None
+    return shared_evidence(load_results(open_mode(mode)))
+
+
+def movements_of(ev) -> np.ndarray:
+    """``"dataset/movement"`` of every pair of the evidence, in its order."""
+    return np.array([f"{ev.results.pairs[r]['dataset']}/{ev.results.pairs[r]['movement']}"
+                     for r in ev.rows])  # fmt: skip
+
+
+def per_movement_windows(ev, rate: int = 120) -> list[dict]:
+    """Per movement: the median similarity of Mc auto and of every fixed w at ``rate``,
+    the best fixed w chosen on that movement's pairs, and whether Mc auto beats it.
+
+    Returns
+    -------
+    rows : list of dict
+        ``movement, pairs, auto, w10..w80, best_w, best, beats`` (similarity medians;
+        ``beats``: Mc auto's median above the best fixed w's, strictly).
+    """
+    sfx = _SFX[rate]
+    mv = movements_of(ev)
+    auto = ev.values("Mc auto" + sfx, "similarity")
+    fixed = {w: ev.values(f"Mc w{w}{sfx}", "similarity") for w in WINDOWS}
+    rows = []
+    for m in dict.fromkeys(mv):
+        k = mv == m
+        meds = {w: float(np.median(fixed[w][k])) for w in WINDOWS}
+        best_w = max(WINDOWS, key=lambda w: (meds[w], -w))
+        a = float(np.median(auto[k]))
+        rows.append(
+            dict(movement=m, pairs=int(k.sum()), auto=a, **{f"w{w}": meds[w] for w in WINDOWS},
+                 best_w=best_w, best=meds[best_w], beats=bool(a > meds[best_w]))
+        )  # fmt: skip
+    return rows
+
+
+def beats_share_check(ev, rate: int):
+    """Part (c)/(e) of Q1: the share of movements where Mc auto beats the best fixed w
+    chosen per movement, above 0.5 (each pair weighs 1 / its movement's pairs)."""
+    mv = movements_of(ev)
+    beats = {r["movement"]: r["beats"] for r in per_movement_windows(ev, rate)}
+    size = {m: np.count_nonzero(mv == m) for m in beats}
+    den = np.array([1.0 / size[m] for m in mv])
+    num = np.array([float(beats[m]) / size[m] for m in mv])
+    return ev.share(
+        f"share of movements where Mc auto{_SFX[rate]} beats the best fixed w of the movement",
+        num, den, 0.5,
+    )  # fmt: skip
+
+
+def _need(ev, names):
+    if ev is None:
+        return (
+            "no results of the open run (notebook 16: python -m fpdtw.paper.runner.run --mode open)"
+        )
+    missing = [n for n in names if not ev.has(n)]
+    return f"no results for {', '.join(missing)}" if missing else None
+
+
+def assess_q1(ctx):
+    """Our value and the parts of Q1 (see the module), or why not computed."""
+    from fpdtw.paper.claims.table import Assessment
+
+    ev = ctx.open_ev
+    names = [
+        n + _SFX[r] for r in (120, 60) for n in ("Mc auto", "UTW", *(f"Mc w{w}" for w in WINDOWS))
+    ]
+    if why := _need(ev, names):
+        return why
+    parts, words = [], []
+    for rate in (120, 60):
+        parts.append(Part(f"at {rate} Hz Mc auto passes both benchmarks",
+                          ev.passes_both("Mc auto" + _SFX[rate])))  # fmt: skip
+    for rate in (120, 60):
+        auto, best = "Mc auto" + _SFX[rate], f"Mc w{BEST_FIXED[rate]}{_SFX[rate]}"
+        rows = per_movement_windows(ev, rate)
+        parts.append(Part(
+            f"at {rate} Hz Mc auto beats the best fixed w chosen per movement in more than half "
+            "the movements",
+            beats_share_check(ev, rate),
+            note="an optimistic bar: the best fixed w is chosen on the same data",
+        ))  # fmt: skip
+        parts.append(Part(f"at {rate} Hz Mc auto's median similarity is above {best}'s",
+                          ev.better(auto, best, "similarity")))  # fmt: skip
+        words.append(
+            f"{rate} Hz: similarity {ev.median(auto, 'similarity'):.3f} (UTW "
+            f"{ev.median('UTW' + _SFX[rate], 'similarity'):.3f}, {best} "
+            f"{ev.median(best, 'similarity'):.3f}), deviation {ev.median(auto, 'deviation'):.1f} "
+            f"frames; beats the per-movement best w in {sum(r['beats'] for r in rows)} of "
+            f"{len(rows)} movements"
+        )
+    return Assessment("; ".join(words), parts)
+
+
+def assess_q6(ctx):
+    """Our value and the parts of Q6 (see the module), or why not computed."""
+    from fpdtw.paper.claims.table import Assessment
+    from fpdtw.paper.runner.grid import PAUSE_METHODS, PAUSE_SUFFIX
+
+    ev = ctx.open_ev
+    if why := _need(ev, [n + s for n in PAUSE_METHODS for s in ("", PAUSE_SUFFIX)]):
+        return why
+    parts, words = [], []
+    for n in PAUSE_METHODS:
+        parts.append(Part(f"{n}: median deviation on the paused targets below 18 frames",
+                          ev.passes(n + PAUSE_SUFFIX, "deviation")))  # fmt: skip
+    for n in PAUSE_METHODS:
+        parts.append(Part(f"{n}: the pause does not raise its median deviation (with minus "
+                          "without, paired, below 0)",
+                          ev.better(n + PAUSE_SUFFIX, n, "deviation")))  # fmt: skip
+        words.append(
+            f"{n} {ev.median(n, 'deviation'):.1f} -> {ev.median(n + PAUSE_SUFFIX, 'deviation'):.1f}"
+        )
+    return Assessment("median deviation without -> with a pause (frames): " + ", ".join(words),
+                      parts)  # fmt: skip
+
+
+def assess_q3(ctx):
+    """Our value and the parts of Q3 (see the module), or why not computed."""
+    from fpdtw.paper.claims.rules import AllOf
+    from fpdtw.paper.claims.table import Assessment
+    from fpdtw.paper.runner.grid import BAND_BASES
+
+    ev = ctx.open_ev
+    if why := _need(ev, ["UTW", *BAND_BASES, *(f"{n} (band 1 s)" for n in BAND_BASES)]):
+        return why
+    parts, words = [], []
+    for n in BAND_BASES:
+        b = f"{n} (band 1 s)"
+        parts.append(Part(f"{b} passes both benchmarks", ev.passes_both(b)))
+        parts.append(Part(
+            f"the band improves {n} (median similarity higher and median deviation lower, paired)",
+            AllOf(ev.better(b, n, "similarity"), ev.better(b, n, "deviation")),
+        ))  # fmt: skip
+        words.append(
+            f"{n}: similarity {ev.median(n, 'similarity'):.3f} -> "
+            f"{ev.median(b, 'similarity'):.3f}, deviation {ev.median(n, 'deviation'):.1f} -> "
+            f"{ev.median(b, 'deviation'):.1f}"
+        )
+    return Assessment("without -> with the band: " + "; ".join(words), parts)
+
+
+def assess_q4(ctx):
+    """Our value and the parts of Q4 (see the module), or why not computed."""
+    from fpdtw.paper.claims.rules import AllOf
+    from fpdtw.paper.claims.table import Assessment
+
+    ev = ctx.open_ev
+    if why := _need(ev, ["UTW", "OPW", "OPW adaptive"]):
+        return why
+    a = "OPW adaptive"
+    parts = [
+        Part(f"{a} passes both benchmarks", ev.passes_both(a)),
+        Part(f"{a} improves on OPW at gamma 5 % (median similarity higher and median deviation "
+             "lower, paired)",
+             AllOf(ev.better(a, "OPW", "similarity"), ev.better(a, "OPW", "deviation"))),
+    ]  # fmt: skip
+    ours = (
+        f"OPW -> OPW adaptive: similarity {ev.median('OPW', 'similarity'):.3f} -> "
+        f"{ev.median(a, 'similarity'):.3f}, deviation {ev.median('OPW', 'deviation'):.1f} -> "
+        f"{ev.median(a, 'deviation'):.1f} frames (FP-DTW pairs; the poster's protocol: "
+        "notebook 16's table, no interval)"
+    )
+    return Assessment(ours, parts)
+
+
+def open_claim_rows(ids, mode: str = "full"):
+    """The rows and parts of the Q claims ``ids`` on the open run alone (no other run read).
+
+    Returns
+    -------
+    rows, parts : list of dict
+        As :func:`fpdtw.paper.claims.table.claim_rows` with ``with_parts=True``.
+
+    Notebook: 16_open_questions.ipynb
+    """
+    from fpdtw.paper.claims.table import ClaimContext, claim_contexts, claims_by_id, evaluate_claims
+
+    ctx = ClaimContext(mode=mode, open_ev=open_evidence(mode))
+    return evaluate_claims(claims_by_id([str(i) for i in ids]), claim_contexts(ctx))
+
+
+__all__ = [
+    "BEST_FIXED",
+    "OPEN_MODES",
+    "assess_q1",
+    "assess_q3",
+    "assess_q4",
+    "assess_q6",
+    "beats_share_check",
+    "movements_of",
+    "open_claim_rows",
+    "open_evidence",
+    "open_mode",
+    "per_movement_windows",
+]

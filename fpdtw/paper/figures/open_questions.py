@@ -1,0 +1,342 @@
+"""Figures and tables of notebook 16: the questions the papers leave open (Q1, Q3, Q4, Q6).
+
+Every number comes from the open run (mode ``"open"``) through the claims' evidence
+(:func:`fpdtw.paper.claims.open.open_evidence`), so the figures, the tables and the Q rows of
+the claims table read the same medians and the same bootstrap intervals.
+
+Paper: FP-DTW Section 7; OPW poster Section 6.
+Notebook: 16_open_questions.ipynb
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from fpdtw.paper.claims.open import BEST_FIXED, per_movement_windows
+from fpdtw.paper.figures.plotting import new_axes
+from fpdtw.paper.numbers import WINDOWS
+from fpdtw.period import MAX_PERIOD_S, MIN_PEAK, autocorrelation, dominant_period
+
+_SFX = {120: "", 60: "@60Hz"}
+
+
+def plot_period(I, ax=None):
+    """The mean autocorrelation of a motion's joint trajectories and its period (Q1's rule).
+
+    Parameters
+    ----------
+    I : MotionFeatures
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    fig, ax
+
+    Paper: FP-DTW Section 7.
+    Notebook: 16_open_questions.ipynb
+    """
+    fig, ax = new_axes(ax, figsize=(7, 3))
+    r = autocorrelation(I.quats)
+    k = min(r.size, int(MAX_PERIOD_S * I.fps) + 1)
+    t = np.arange(k) / I.fps
+    ax.plot(t, r[:k], color="k", lw=1.2, label="autocorrelation (24 axes, variance-weighted)")
+    ax.axhline(0.0, color="0.6", lw=0.8)
+    ax.axhline(MIN_PEAK, color="0.6", lw=0.8, ls=":", label=f"cyclic if peak >= {MIN_PEAK}")
+    P = dominant_period(I.quats, I.fps)
+    if P is not None:
+        ax.axvline(P / I.fps, color="C3", lw=1.2, label=f"period {P} frames ({P / I.fps:.2f} s)")
+        ax.axvline(P / (2 * I.fps), color="C0", lw=1.0, ls="--", label="half the period")
+    ax.set_xlabel("lag (s)")
+    ax.set_ylabel("autocorrelation")
+    ax.set_title(f"{I.name}: {'acyclic' if P is None else 'cyclic'}")
+    ax.legend(fontsize=7, loc="upper right")
+    return fig, ax
+
+
+def window_rows(ev) -> list[dict]:
+    """Q1: Mc auto and every fixed window at 120 and 60 Hz: medians with 95 % intervals and
+    whether each passes each benchmark (interval clear of it).
+
+    Returns
+    -------
+    rows : list of dict
+        ``algorithm, rate, similarity, sim_low, sim_high, sim_minus_utw_low,
+        sim_minus_utw_high, passes_similarity, deviation, dev_low, dev_high,
+        passes_deviation``.
+
+    Notebook: 16_open_questions.ipynb
+    """
+    rows = []
+    for rate in (120, 60):
+        for base in ("Mc auto", *(f"Mc w{w}" for w in WINDOWS)):
+            n = base + _SFX[rate]
+            s, d = ev.passes(n, "similarity"), ev.passes(n, "deviation")
+            lo, hi = ev.interval(n, "similarity")
+            rows.append(
+                dict(algorithm=base, rate=rate, similarity=ev.median(n, "similarity"),
+                     sim_low=lo, sim_high=hi, sim_minus_utw_low=s.low, sim_minus_utw_high=s.high,
+                     passes_similarity=s.verdict, deviation=d.estimate, dev_low=d.low,
+                     dev_high=d.high, passes_deviation=d.verdict)
+            )  # fmt: skip
+    return rows
+
+
+def _two_axes(axes=None):
+    """``(fig, axes)``: the given pair of axes' figure, or a new figure of two panels."""
+    if axes is not None:
+        return axes[0].figure, axes
+    import matplotlib.pyplot as plt
+
+    return plt.subplots(1, 2, figsize=(9, 3.2))
+
+
+def plot_windows(ev, rows=None, axes=None):
+    """Q1: median similarity and deviation (95 % intervals) of Mc auto beside each fixed w.
+
+    Returns
+    -------
+    fig, axes
+
+    Notebook: 16_open_questions.ipynb
+    """
+    rows = window_rows(ev) if rows is None else rows
+    fig, axes = _two_axes(axes)
+    for rate, dx, col in ((120, -0.12, "C0"), (60, 0.12, "C1")):
+        rr = [r for r in rows if r["rate"] == rate]
+        x = np.arange(len(rr)) + dx
+        for ax, key, lo, hi in ((axes[0], "similarity", "sim_low", "sim_high"),
+                                (axes[1], "deviation", "dev_low", "dev_high")):  # fmt: skip
+            y = np.array([r[key] for r in rr])
+            err = np.array([[r[key] - r[lo] for r in rr], [r[hi] - r[key] for r in rr]])
+            ax.errorbar(x, y, yerr=err, fmt="o", color=col, ms=4, capsize=2, label=f"{rate} Hz")
+        u = ev.median("UTW" + _SFX[rate], "similarity")
+        axes[0].axhline(u, color=col, lw=0.8, ls=":", label=f"UTW median {rate} Hz")
+        axes[1].axhline(18 * rate / 120, color=col, lw=0.8, ls=":", label=f"150 ms at {rate} Hz")
+    labels = [r["algorithm"] for r in rows if r["rate"] == 120]
+    for ax, t in ((axes[0], "median similarity (eq. 2)"), (axes[1], "median deviation (frames)")):
+        ax.set_xticks(range(len(labels)), labels, rotation=30, fontsize=8)
+        ax.set_ylabel(t)
+        ax.legend(fontsize=6)
+    fig.tight_layout()
+    return fig, axes
+
+
+def movement_rows(ev) -> list[dict]:
+    """Q1 per movement at 120 and 60 Hz: Mc auto's median similarity, the best fixed w chosen
+    on that movement (an optimistic bar), the overall best fixed w, the window Mc auto used.
+
+    Returns
+    -------
+    rows : list of dict
+
+    Notebook: 16_open_questions.ipynb
+    """
+    out = []
+    for rate in (120, 60):
+        for r in per_movement_windows(ev, rate):
+            out.append(
+                dict(rate=rate, movement=r["movement"], pairs=r["pairs"], auto=r["auto"],
+                     best_w=r["best_w"], best=r["best"],
+                     overall=r[f"w{BEST_FIXED[rate]}"], beats_best=r["beats"],
+                     beats_overall=bool(r["auto"] > r[f"w{BEST_FIXED[rate]}"]))
+            )  # fmt: skip
+    return out
+
+
+def band_rows(ev) -> list[dict]:
+    """Q3: Methods B and C without and with the band of 1 s: medians with 95 % intervals,
+    the benchmark verdicts of the band variant and the paired changes.
+
+    Notebook: 16_open_questions.ipynb
+    """
+    from fpdtw.paper.runner.grid import BAND_BASES
+
+    rows = []
+    for n in BAND_BASES:
+        b = f"{n} (band 1 s)"
+        for who in (n, b):
+            s, d = ev.passes(who, "similarity"), ev.passes(who, "deviation")
+            lo, hi = ev.interval(who, "similarity")
+            ds = ev.better(b, n, "similarity") if who == b else None
+            dd = ev.better(b, n, "deviation") if who == b else None
+            rows.append(
+                dict(algorithm=who, similarity=ev.median(who, "similarity"), sim_low=lo,
+                     sim_high=hi, passes_similarity=s.verdict, deviation=d.estimate,
+                     dev_low=d.low, dev_high=d.high, passes_deviation=d.verdict,
+                     sim_change=ds.estimate if ds else None,
+                     sim_change_low=ds.low if ds else None,
+                     sim_change_high=ds.high if ds else None,
+                     dev_change=dd.estimate if dd else None,
+                     dev_change_low=dd.low if dd else None,
+                     dev_change_high=dd.high if dd else None)
+            )  # fmt: skip
+    return rows
+
+
+def plot_band(ev, rows=None, axes=None):
+    """Q3: median similarity and deviation (95 % intervals) without and with the band.
+
+    Returns
+    -------
+    fig, axes
+
+    Notebook: 16_open_questions.ipynb
+    """
+    rows = band_rows(ev) if rows is None else rows
+    fig, axes = _two_axes(axes)
+    x = np.arange(len(rows))
+    cols = ["0.4" if "band" not in r["algorithm"] else "C2" for r in rows]
+    for ax, key, lo, hi in ((axes[0], "similarity", "sim_low", "sim_high"),
+                            (axes[1], "deviation", "dev_low", "dev_high")):  # fmt: skip
+        for i, r in enumerate(rows):
+            ax.errorbar(x[i], r[key], yerr=[[r[key] - r[lo]], [r[hi] - r[key]]], fmt="o",
+                        color=cols[i], ms=4, capsize=2)  # fmt: skip
+        ax.set_xticks(x, [r["algorithm"] for r in rows], rotation=30, fontsize=7)
+    axes[0].axhline(ev.median("UTW", "similarity"), color="k", lw=0.8, ls=":", label="UTW median")
+    axes[1].axhline(18, color="k", lw=0.8, ls=":", label="18 frames (150 ms)")
+    axes[0].set_ylabel("median similarity (eq. 2)")
+    axes[1].set_ylabel("median deviation (frames)")
+    for ax in axes:
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    return fig, axes
+
+
+def poster_gamma_rows(motions=None) -> list[dict]:
+    """Q4 on the OPW poster's protocol (:mod:`fpdtw.paper.opw_eval`: each motion cropped to
+    2.5 s, warped by the example curve, OPW run from the recording to the warped copy):
+    OPW at gamma 5 % and OPW adaptive, their mean and maximum deviation from the example
+    curve (ms) and the share of the temporal difference removed. Deterministic (no interval).
+
+    Parameters
+    ----------
+    motions : sequence of OPWMotion, optional
+        Default :data:`fpdtw.paper.opw_eval.FIG4_MOTIONS`.
+
+    Returns
+    -------
+    rows : list of dict
+        ``motion, method, mean_ms, max_ms, removed, final_gamma``.
+
+    Notebook: 16_open_questions.ipynb
+    """
+    from fpdtw.online.base import run_online
+    from fpdtw.online.opw import OPW
+    from fpdtw.online.opw_adaptive import AdaptiveOPW
+    from fpdtw.paper import opw_eval as oe
+
+    rows = []
+    for mo in motions or oe.FIG4_MOTIONS:
+        A = oe.load_cropped(mo.dataset, mo.path)
+        g = oe.example_curve(A.duration, oe.OFFSET)
+        B = oe.warp_motion(A, g)
+        I, T = oe.opw_features(A), oe.opw_features(B)
+        for label, aligner in (
+            (f"OPW (gamma {100 * oe.GAMMA:.0f} %)", OPW(I, oe.OMEGA, oe.GAMMA, fps=B.fps)),
+            ("OPW adaptive", AdaptiveOPW(I, oe.OMEGA, fps=B.fps)),
+        ):
+            run_online(aligner, T)
+            d = oe.deviation_ms(aligner.curve, g)
+            rows.append(
+                dict(motion=mo.label, method=label, mean_ms=d["mean"], max_ms=d["max"],
+                     removed=oe.temporal_difference_removed(aligner.curve, g),
+                     final_gamma=aligner.gamma)
+            )  # fmt: skip
+    return rows
+
+
+def pause_rows(ev, methods=None) -> list[dict]:
+    """Q6: each online method's median deviation without and with a pause (95 % intervals),
+    and the paired difference of medians.
+
+    Notebook: 16_open_questions.ipynb
+    """
+    from fpdtw.paper.runner.grid import PAUSE_METHODS, PAUSE_SUFFIX
+
+    rows = []
+    for n in methods or PAUSE_METHODS:
+        p = n + PAUSE_SUFFIX
+        lo, hi = ev.interval(n, "deviation")
+        plo, phi = ev.interval(p, "deviation")
+        diff = ev.better(p, n, "deviation")
+        rows.append(
+            dict(method=n, without=ev.median(n, "deviation"), without_low=lo, without_high=hi,
+                 with_pause=ev.median(p, "deviation"), with_low=plo, with_high=phi,
+                 below_18=ev.passes(p, "deviation").verdict, change=diff.estimate,
+                 change_low=diff.low, change_high=diff.high, not_raised=diff.verdict)
+        )  # fmt: skip
+    return rows
+
+
+def plot_pause(ev, rows=None, ax=None):
+    """Q6: median deviation of every online method without and with a pause (95 % intervals).
+
+    Returns
+    -------
+    fig, ax
+
+    Notebook: 16_open_questions.ipynb
+    """
+    rows = pause_rows(ev) if rows is None else rows
+    fig, ax = new_axes(ax, figsize=(8, 3.2))
+    x = np.arange(len(rows))
+    for key, lo, hi, dx, col, lab in (("without", "without_low", "without_high", -0.12, "0.4",
+                                       "target as recorded"),
+                                      ("with_pause", "with_low", "with_high", 0.12, "C3",
+                                       "pause of 0.5-2 s inserted")):  # fmt: skip
+        y = np.array([r[key] for r in rows])
+        err = np.array([[r[key] - r[lo] for r in rows], [r[hi] - r[key] for r in rows]])
+        ax.errorbar(x + dx, y, yerr=err, fmt="o", color=col, ms=4, capsize=2, label=lab)
+    ax.axhline(18, color="k", lw=0.8, ls=":", label="18 frames (150 ms)")
+    ax.set_yscale("symlog", linthresh=10)
+    ax.set_xticks(x, [r["method"] for r in rows], rotation=30, fontsize=8)
+    ax.set_ylabel("median deviation from DTW (frames)")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    return fig, ax
+
+
+def plot_pause_example(I, T, name: str = "Mc w40", ax=None):
+    """Q6 on one pair: the maps of DTW and of one online method, on the target as recorded
+    and with its pause (drawn in grey).
+
+    Parameters
+    ----------
+    I, T : MotionFeatures
+    name : str
+        A registry name.
+
+    Returns
+    -------
+    fig, ax
+
+    Notebook: 16_open_questions.ipynb
+    """
+    from fpdtw import registry
+    from fpdtw.pause import insert_pause, pause_plan, pause_seed
+
+    fig, ax = new_axes(ax, figsize=(7, 3.2))
+    at, L = pause_plan(T.n_frames, T.fps, pause_seed(T.name))
+    Tp = insert_pause(T, at, L)
+    ax.axvspan(at, at + L, color="0.85", label=f"pause: frame {at} held {L} frames")
+    for who, col in (("DTW", "k"), (name, "C3")):
+        ax.plot(registry.align(who, I, Tp)[0], color=col, lw=1.2, label=f"{who}, with the pause")
+        ax.plot(registry.align(who, I, T)[0], color=col, lw=0.8, ls="--", label=f"{who}, without")
+    ax.set_xlabel("target frame")
+    ax.set_ylabel("input frame")
+    ax.legend(fontsize=7)
+    return fig, ax
+
+
+__all__ = [
+    "band_rows",
+    "movement_rows",
+    "pause_rows",
+    "plot_band",
+    "plot_pause",
+    "plot_pause_example",
+    "plot_period",
+    "plot_windows",
+    "poster_gamma_rows",
+    "window_rows",
+]

@@ -1,0 +1,337 @@
+"""The questions beyond the papers (notebook 16): each variant on a hand-made case, and the
+Q claims on invented runs giving each verdict."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from reference.fake_run import FakeRun
+from reference.synthetic import features_from_euler, random_walk_features
+
+from fpdtw import registry
+from fpdtw.errors import AlignmentError
+from fpdtw.online import MethodC
+from fpdtw.online.base import run_online
+from fpdtw.paper.claims import table as claims
+from fpdtw.paper.claims.evidence import Evidence
+from fpdtw.paper.claims.table import ClaimContext
+from fpdtw.paper.runner.grid import OPEN_ALGORITHMS, PAUSE_METHODS, PAUSE_SUFFIX
+from fpdtw.paper.runner.run import resolve_algorithm, transform_target
+from fpdtw.paper.runner.selection import SELECTIONS, pair_selection
+from fpdtw.pause import insert_pause, pause_plan, pause_seed
+from fpdtw.period import auto_window, autocorrelation, dominant_period, window_from_period
+
+
+def sine_motion(period_frames, n_frames=1200, fps=120.0, amp=30.0):
+    """Every joint swings about x with the same period (phases differ): a cyclic motion."""
+    t = np.arange(n_frames)[:, None]
+    phase = np.linspace(0, np.pi, 8)[None, :]
+    E = np.zeros((n_frames, 8, 3))
+    E[:, :, 0] = amp * np.sin(2 * np.pi * t / period_frames + phase)
+    return features_from_euler(E, orders=("XYZ",) * 8, fps=fps, name="sine")
+
+
+# -- Q1: the period ---------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("period", [60, 96, 131])
+def test_the_period_of_a_sine_motion_is_its_period(period):
+    I = sine_motion(period)
+    r = autocorrelation(I.quats)
+    assert r[0] == pytest.approx(1.0)
+    assert dominant_period(I.quats, I.fps) == period
+    # the largest integer below half the period
+    assert auto_window(I) == (period - 1) // 2 if period % 2 else period // 2 - 1
+
+
+def test_equal_weights_would_call_a_swinging_bone_acyclic():
+    """Why the axes are weighted by their variance (fpdtw.period): with equal weights the
+    second harmonic of the bone's other axis cancels the first at half the period."""
+    from fpdtw.metrics import joint_trajectories
+
+    P = 60
+    X = joint_trajectories(sine_motion(P).quats).reshape(1200, -1)
+    X = X - X.mean(axis=0)
+    X = X[:, np.sum(X * X, axis=0) > 1e-12]
+    acf = np.array([[np.dot(x[: x.size - k], x[k:]) / np.dot(x, x) for k in range(P + 2)]
+                    for x in X.T]).mean(axis=0)  # fmt: skip
+    k = P // 2
+    assert acf[k - 1] < acf[k] >= acf[k + 1] and abs(acf[k]) < 0.2  # "acyclic" by the rule
+    assert dominant_period(sine_motion(P).quats, 120.0) == P
+
+
+def test_an_acyclic_motion_falls_back_to_the_papers_window_scaled_by_the_rate():
+    E = np.zeros((600, 8, 3))
+    E[:, :, 1] = np.linspace(0.0, 80.0, 600)[:, None]  # a slow turn, no cycle
+    I = features_from_euler(E, orders=("XYZ",) * 8, name="turn")
+    assert dominant_period(I.quats, 120.0) is None
+    assert auto_window(I) == 40
+    I60 = features_from_euler(E[::2], orders=("XYZ",) * 8, fps=60.0, name="turn60")
+    assert auto_window(I60) == 20
+    still = features_from_euler(np.zeros((100, 8, 3)), orders=("XYZ",) * 8)
+    assert dominant_period(still.quats, 120.0) is None
+    # periods outside 0.25-4 s are not periods
+    assert dominant_period(sine_motion(20).quats, 120.0) != 20
+    assert window_from_period(5, 120.0) == 2 and window_from_period(None, 60.0) == 20
+
+
+def test_mc_auto_is_method_c_with_the_window_of_the_period():
+    I = sine_motion(90, n_frames=400)
+    T = sine_motion(80, n_frames=380)
+    a = registry.resolve("Mc auto")
+    assert a.family == "Cauto" and a.online
+    M, _ = a.run(I, T)
+    ref, _ = run_online(MethodC(I, auto_window(I)), T)
+    assert auto_window(I) == 44
+    np.testing.assert_array_equal(M, ref)
+    with pytest.raises(AlignmentError):
+        registry.resolve("Mc auto w40")
+
+
+# -- Q6: pauses -------------------------------------------------------------------------------
+
+
+def test_a_pause_is_inserted_at_a_known_frame():
+    T = random_walk_features(50, seed=3)
+    P = insert_pause(T, at=10, length=5)
+    assert P.n_frames == 55
+    np.testing.assert_array_equal(P.quats[:11], T.quats[:11])
+    for f in range(11, 16):
+        np.testing.assert_array_equal(P.quats[f], T.quats[10])
+        np.testing.assert_array_equal(P.euler[f], T.euler[10])
+    np.testing.assert_array_equal(P.quats[16:], T.quats[11:])
+    assert P.name == T.name + "+pause"
+    with pytest.raises(AlignmentError, match="outside"):
+        insert_pause(T, at=50, length=3)
+
+
+def test_the_pause_plan_lies_in_the_middle_and_lasts_half_a_second_to_two():
+    for s in range(200):
+        at, L = pause_plan(1001, 120.0, s)
+        assert 200 <= at <= 800 and 60 <= L <= 240
+    assert pause_plan(1001, 120.0, pause_seed("a")) == pause_plan(1001, 120.0, pause_seed("a"))
+    assert pause_seed("a") != pause_seed("b")
+    T = random_walk_features(300, seed=1)
+    at, L = pause_plan(T.n_frames, T.fps, pause_seed(T.name))
+    assert transform_target("pause", T).n_frames == 300 + L
+    assert transform_target(None, T) is T
+
+
+def test_the_runner_reads_the_pause_suffix():
+    spec = resolve_algorithm("Mc w40@pause")
+    assert (spec.algorithm.name, spec.fps, spec.transform) == ("Mc w40", 120.0, "pause")
+    assert resolve_algorithm("Mc w40").transform is None
+    assert "DTW@pause" in OPEN_ALGORITHMS
+    assert all(n + PAUSE_SUFFIX in OPEN_ALGORITHMS for n in PAUSE_METHODS)
+
+
+def test_the_open_selection_is_a_subsample_of_the_paper_shaped_one():
+    study = pair_selection(SELECTIONS["study"])
+    sub = pair_selection(SELECTIONS["open"])
+    takes = {(r.path) for r in study.motions}
+    assert {r.path for r in sub.motions} <= takes
+    assert sub.counts["total"]["pairs"] < study.counts["total"]["pairs"]
+    assert "subsample_takes" not in SELECTIONS["study"].as_dict()
+
+
+# -- the Q claims on invented runs ----------------------------------------------------------
+
+
+def open_run(centres, spread=None, seed=0):
+    run = FakeRun({"authors_fbx": 4, "hdm05": 4}, takes=4, seed=seed, n_frames=40)
+    for name, (s, d) in centres.items():
+        sd = (spread or {}).get(name, 0.0)
+        run.add(name, run.scores(s, motion_sd=sd, noise_sd=0.002),
+                np.abs(run.scores(d, motion_sd=100 * sd, noise_sd=0.2)))  # fmt: skip
+    return run
+
+
+def q_table(run, ids):
+    ctx = ClaimContext(mode="smoke", open_ev=Evidence(run, n_resamples=300))
+    rows, parts = claims.evaluate_claims(claims.claims_by_id(ids), claims.claim_contexts(ctx))
+    return {r["id"]: r for r in rows}, parts
+
+
+def q1_centres(auto120, auto60):
+    c = {"UTW": (0.25, 60.0), "UTW@60Hz": (0.25, 30.0)}
+    for w, s in ((10, 0.1), (20, 0.2), (40, 0.3), (80, 0.15)):
+        c[f"Mc w{w}"] = (s, 15.0)
+    for w, s in ((10, 0.15), (20, 0.3), (40, 0.2), (80, 0.1)):
+        c[f"Mc w{w}@60Hz"] = (s, 8.0)
+    return c | {"Mc auto": auto120, "Mc auto@60Hz": auto60}
+
+
+def test_q1_holds_when_mc_auto_clears_every_bar():
+    rows, parts = q_table(open_run(q1_centres((0.4, 10.0), (0.4, 5.0))), ["Q1"])
+    assert rows["Q1"]["holds"] == "yes"
+    assert [p["part"] for p in parts] == [f"Q1({c})" for c in "abcdef"]
+    assert rows["Q1"]["holds_hdm05"] == "n/a"  # decided on the open run's pairs only
+    assert "beats the per-movement best w in 8 of 8 movements" in rows["Q1"]["ours"]
+
+
+def test_q1_is_contradicted_when_mc_auto_fails_and_partly_when_only_60_hz_fails():
+    rows, _ = q_table(open_run(q1_centres((0.05, 40.0), (0.05, 30.0))), ["Q1"])
+    assert rows["Q1"]["holds"] == "no"
+    rows, parts = q_table(open_run(q1_centres((0.4, 10.0), (0.05, 30.0))), ["Q1"])
+    assert rows["Q1"]["holds"] == "partly"
+    by = {p["part"]: p["verdict"] for p in parts}
+    assert by["Q1(a)"] == "holds" and by["Q1(b)"] == "contradicted"
+
+
+def test_q1_is_inconclusive_when_the_intervals_straddle_every_bar():
+    c = q1_centres((0.3, 15.0), (0.3, 8.0))
+    c["Mc auto"] = (0.25, 18.0)
+    c["Mc auto@60Hz"] = (0.25, 9.0)
+    run = open_run(c, spread={"Mc auto": 0.05, "Mc auto@60Hz": 0.05})
+    _, parts = q_table(run, ["Q1"])
+    by = {p["part"]: p["verdict"] for p in parts}
+    assert by["Q1(a)"] == by["Q1(b)"] == "inconclusive"
+
+
+def pause_centres(without, with_pause):
+    c = {n: (0.3, without) for n in PAUSE_METHODS}
+    return c | {n + PAUSE_SUFFIX: (0.3, with_pause) for n in PAUSE_METHODS}
+
+
+def test_q6_verdicts():
+    rows, parts = q_table(open_run(pause_centres(12.0, 8.0)), ["Q6"])
+    assert rows["Q6"]["holds"] == "yes"
+    assert len(parts) == 2 * len(PAUSE_METHODS)
+    rows, parts = q_table(open_run(pause_centres(12.0, 40.0)), ["Q6"])
+    assert rows["Q6"]["holds"] == "no"
+    assert rows["Q6"]["ours"].startswith("median deviation without -> with a pause (frames): Ma ")
+    # below 18 with a pause, but raised by it: partly
+    rows, parts = q_table(open_run(pause_centres(6.0, 12.0)), ["Q6"])
+    assert rows["Q6"]["holds"] == "partly"
+    by = {p["text"]: p["verdict"] for p in parts}
+    assert by["Mc w40: median deviation on the paused targets below 18 frames"] == "holds"
+    assert (
+        by[
+            "Mc w40: the pause does not raise its median deviation (with minus without, paired, "
+            "below 0)"
+        ]
+        == "contradicted"
+    )
+
+
+def test_q_claims_without_the_open_run_are_not_computed():
+    ctx = ClaimContext(mode="smoke")
+    rows, _ = claims.evaluate_claims(
+        claims.claims_by_id(["Q1", "Q3", "Q4", "Q6"]), claims.claim_contexts(ctx)
+    )
+    assert [r["holds"] for r in rows] == ["n/a"] * 4
+    assert all(r["ours"].startswith("not computed (no results of the open run") for r in rows)
+
+
+# -- Q3: the global band ----------------------------------------------------------------------
+
+
+def behind_pair():
+    """A target that holds its first pose for 300 frames before the input's motion: an
+    unconstrained Method C holds at the start and falls far behind the diagonal."""
+    I = random_walk_features(500, seed=5)
+    E = np.concatenate([np.repeat(I.euler[:1], 300, axis=0), I.euler])
+    T = features_from_euler(E, orders=I.orders, name="still+I")
+    return I, T
+
+
+@pytest.mark.parametrize("name", ["Mc w40", "Mb w40", "Mc w80"])
+def test_the_band_keeps_the_map_within_one_second_of_the_diagonal(name):
+    I, T = behind_pair()
+    free, _ = registry.align(name, I, T)
+    band, _ = registry.align(f"{name} (band 1 s)", I, T)
+    q = np.arange(T.n_frames)
+    assert np.min(free - q) < -120  # without the band the map leaves it
+    inside = band < I.n_frames - 1  # before the input is exhausted (then it holds at m)
+    assert np.all(np.abs(band - q)[inside] <= 120)
+    assert np.min((band - q)[inside]) == -120  # kept on its edge
+    # streamed one frame at a time (bounded history off) gives the same map
+    M, _ = run_online(registry.make_online(f"{name} (band 1 s)", I), T)
+    np.testing.assert_array_equal(M, band)
+
+
+def test_the_band_changes_nothing_where_the_map_stays_inside_it():
+    I = random_walk_features(300, seed=7)
+    T = random_walk_features(300, seed=7)
+    free, _ = registry.align("Mc w40", I, T)
+    assert np.max(np.abs(free - np.arange(300))) <= 120
+    np.testing.assert_array_equal(registry.align("Mc w40 (band 1 s)", I, T)[0], free)
+
+
+def test_band_rows_masks_a_known_candidate_and_the_band_refuses_type_v():
+    from fpdtw import plain
+
+    np.testing.assert_array_equal(
+        plain.band_rows(100, 5, 221, 120), [False, True, True, True, True]
+    )
+    np.testing.assert_array_equal(plain.band_rows(0, 3, 0, 1), [True, True, False])
+    with pytest.raises(AlignmentError, match="Type V"):
+        registry.make_online("Mc w40 (band 1 s) + Type V", random_walk_features(50))
+    assert registry.resolve("Mb w40 (band 1 s)").options == {"band": "1s"}
+
+
+def band_centres(sim, dev):
+    from fpdtw.paper.runner.grid import BAND_BASES
+
+    c = {"UTW": (0.25, 60.0)} | {n: (0.3, 20.0) for n in BAND_BASES}
+    return c | {f"{n} (band 1 s)": (sim, dev) for n in BAND_BASES}
+
+
+def test_q3_verdicts():
+    rows, parts = q_table(open_run(band_centres(0.4, 10.0)), ["Q3"])
+    assert rows["Q3"]["holds"] == "yes" and len(parts) == 6
+    rows, _ = q_table(open_run(band_centres(0.1, 40.0)), ["Q3"])
+    assert rows["Q3"]["holds"] == "no"
+    rows, parts = q_table(open_run(band_centres(0.35, 19.0)), ["Q3"])
+    by = {p["part"]: p["verdict"] for p in parts}
+    assert by["Q3(a)"] == "contradicted" and by["Q3(b)"] == "holds"  # better, yet not both
+    assert rows["Q3"]["holds"] == "partly"
+
+
+# -- Q4: adaptive gamma -------------------------------------------------------------------------
+
+
+def test_the_gamma_feedback_follows_a_scripted_decision_list():
+    from fpdtw.online.opw_adaptive import next_gamma
+
+    g = 0.05
+    seen = []
+    decisions = []
+    # speed up x3 (grow), keep (nothing), speed up again (run of 3 non-keep? no: the keep
+    # breaks the run), slow down (opposite sign: shrink), slow x2 (run incomplete, last two
+    # non-zero agree: nothing), slow (run of 3: grow)
+    for s in (2, 2, 2, 1, 2, 0, 0, 0):
+        decisions.append(s)
+        g = next_gamma(g, decisions)
+        seen.append(round(g, 6))
+    assert seen == [0.05, 0.05, 0.075, 0.075, 0.075, 0.05, 0.05, 0.075]
+    assert next_gamma(0.29, [2, 2, 2]) == 0.30 and next_gamma(0.011, [2, 0]) == 0.01
+    assert next_gamma(0.05, []) == 0.05
+
+
+def test_opw_adaptive_changes_gamma_as_its_decisions_go():
+    from fpdtw.online.opw_adaptive import GAMMA_START, AdaptiveOPW, next_gamma
+
+    rng = np.random.default_rng(0)
+    P = np.cumsum(rng.normal(0, 0.01, (400, 16, 3)), axis=0)
+    I = random_walk_features(400, seed=2)
+    I = type(I)(I.quats, I.euler, I.orders, I.fps, P, "rw")
+    T = type(I)(I.quats[::2].copy(), I.euler[::2].copy(), I.orders, I.fps, P[::2].copy(), "fast")
+    a = AdaptiveOPW(I)
+    run_online(a, T)
+    assert a.gammas[0] == GAMMA_START and len(a.gammas) == len(a.decisions)
+    g = GAMMA_START
+    for k in range(len(a.decisions)):
+        assert a.gammas[k] == pytest.approx(g)
+        g = next_gamma(g, [d.s for d in a.decisions[: k + 1]][-8:])
+    assert max(a.gammas) > GAMMA_START  # a target twice as fast: it keeps speeding up
+    assert registry.resolve("OPW adaptive").family == "OPWa"
+
+
+def q4_centres(sim, dev):
+    return {"UTW": (0.25, 60.0), "OPW": (0.3, 20.0), "OPW adaptive": (sim, dev)}
+
+
+def test_q4_verdicts():
+    assert q_table(open_run(q4_centres(0.4, 10.0)), ["Q4"])[0]["Q4"]["holds"] == "yes"
+    assert q_table(open_run(q4_centres(0.1, 40.0)), ["Q4"])[0]["Q4"]["holds"] == "no"
