@@ -457,6 +457,11 @@ def _check_options(args):
         raise UsageError("--window (OLTW's search width c) must be at least 2")
     if args.constraint and m not in CONSTRAINED:
         raise UsageError(f"--constraint applies to methods a, b, c, not {m!r}")
+    if m == "c" and args.window is not None and args.window < 2:
+        raise UsageError(
+            "--window of method c must be at least 2 (with w = 1 its window is one input "
+            "frame and the map stops moving)"
+        )
     _check_window_size(m, args.window)
     pairs = [("--skeleton", args.input, args.skeleton)]
     if args.command != "serve":

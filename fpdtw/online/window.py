@@ -279,7 +279,7 @@ def _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high):
     The accumulation is pinned to the far corner, open in the last column
     (:data:`C_OPEN_END`) or symmetric2 (:data:`C_NORMALISED`); ``score[r] = D[r, 0]``, or
     ``D[r, 0] / ((nrows - r) + ncols)`` for :data:`C_NORMALISED`. Ties: the lowest row,
-    or the highest with ``ties_high``. Returns the chosen offset.
+    or the highest with ``ties_high``. Returns the chosen offset, -1 if no row is allowed.
 
     Plain version: fpdtw.plain.method_c_step (lines 12-13).
     """
@@ -298,14 +298,14 @@ def _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high):
         if _is_allowed(r, limit, allow):
             if best < 0 or s < score[best] or (ties_high and s == score[best]):
                 best = r
-    return max(best, 0)
+    return best
 
 
 @numba.njit(cache=True)
 def _choose_a(Iq, t, start, nrows, limit, allow, c, ties_high):
     """Method A's window: ``c[r] = geoDistance(I[start + r], t)`` (eq. 1) for
     ``r < nrows``, and the argmin over the allowed rows (ties: the lowest row, or the
-    highest with ``ties_high``). Returns the chosen offset.
+    highest with ``ties_high``). Returns the chosen offset, -1 if no row is allowed.
 
     Plain version: fpdtw.plain.method_a_step (lines 7-10).
     """
@@ -316,7 +316,19 @@ def _choose_a(Iq, t, start, nrows, limit, allow, c, ties_high):
         if _is_allowed(r, limit, allow):
             if best < 0 or cost < c[best] or (ties_high and cost == c[best]):
                 best = r
-    return max(best, 0)
+    return best
+
+
+@numba.njit(cache=True)
+def _checked(off, limit, allow):
+    """``off`` if the constraint allows it: no method ever picks a masked candidate
+    (``off = -1``: no row of the window was allowed).
+
+    Plain version: fpdtw.plain.checked_choice.
+    """
+    if off < 0 or not _is_allowed(off, limit, allow):
+        raise AlignmentError("no row of the window is allowed by the Type V state")
+    return off
 
 
 # --- one whole step of Method A, B or C --------------------------------------------------
@@ -392,6 +404,7 @@ def _a_step(Iq, Tq, q, M, state, prm, table, c, out):
         limit, allow = _allowed_offsets(state, prm, table)
         nrows = min(w, m - start) + 1
         off = _choose_a(Iq, Tq[q], start, nrows, limit, allow, c, prm[P_TIES_HIGH] != 0)
+        off = _checked(off, limit, allow)
         out[1] = nrows
         out[2] = 1
         m_next = start + off
@@ -466,6 +479,7 @@ def _window_step(
                 _forecast_window(Tq, Te, q, w, with_prev, codes, F, prm[P_SHIFT], prm[P_HOLD] != 0)
                 _cost_window(Iq, start, nrows, F, ncols, C)
             off = _choose_c(C, nrows, ncols, limit, allow, D, score, reading, prm[P_TIES_HIGH] != 0)
+        off = _checked(off, limit, allow)
         out[1] = nrows
         out[2] = ncols
         m_next = start + off
@@ -771,13 +785,15 @@ class WindowAligner(OnlineAligner):
 
     #: Method letter in names ("Ma", "Mb", "Mc").
     label = "M?"
+    #: The smallest window ``w`` the method takes.
+    min_w = 1
     #: ``{option: (default, {other value: label in names})}``, in the order of names.
     options = {"start": ("zero", {"best": "M_0 best match"})}
     #: A :class:`WindowCache` shared with other aligners (Methods B and C only).
     cache = None
 
     def __init__(self, I: MotionFeatures, w: int, *, constraint=None, record=False, **options):
-        check_count(w, "window w", type(self).__name__)
+        check_count(w, "window w", type(self).__name__, minimum=self.min_w)
         check_input(I, who=type(self).__name__)
         from fpdtw import limits
 
