@@ -22,6 +22,7 @@ are not numbered).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import NamedTuple
 
@@ -559,6 +560,11 @@ def run(step, I, T, w: int, type_v: bool = False, **options) -> np.ndarray:
     Paper: FP-DTW Sections 3 and 6.
     Notebook: 11_fig9_typev.ipynb
     """
+    from fpdtw.motion.rig import cost_input
+
+    # motions of two rigs: eq. 1 between the input expressed in the target's rig and the
+    # target (fpdtw.motion.rig); the same motion of one rig: the local rotations as they are
+    I = dataclasses.replace(I, quats=cost_input(I.quats, I.rig, T.rig))
     M, state = [0], TYPE_V_START
     for _ in range(len(T.quats) - 1):
         allowed = type_v_allowed(state) if type_v else None

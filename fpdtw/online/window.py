@@ -934,6 +934,8 @@ class WindowAligner(OnlineAligner):
         general path of :meth:`OnlineAligner.step` (same result), after checking the
         frame's shape.
         """
+        if self.n_received == 0:
+            self._begin_take(frame)
         i = self.n_received - self._start
         arrays = compiled_frame(frame, i, self._M.shape[0], self._Tp) if self._lean else None
         if arrays is not None:
@@ -954,6 +956,17 @@ class WindowAligner(OnlineAligner):
                 f"{np.shape(frame.euler)}"
             )
         return super().step(frame)
+
+    def _use_input(self, Iq, orders) -> None:
+        """Eq. 1 against ``Iq``; the forecasts in the target's rotation ``orders``."""
+        if Iq is not self._Iq:
+            self._Iq = np.ascontiguousarray(Iq, dtype=np.float64)
+            if self.cache is not None:
+                self.cache.meta[0] = -1  # its costs were computed against other rotations
+        try:
+            self._codes[:] = order_codes(orders)
+        except ValueError as e:
+            raise AlignmentError(f"target of {self.name}: {e}") from None
 
     def _step(self, q: int) -> int:
         state = self.state
@@ -1081,6 +1094,10 @@ def run_group(aligners, T: MotionFeatures) -> list:
             f"target {T.name!r}: expected {k} joints like the input {a0.I.name!r}, got "
             f"quats {np.shape(T.quats)} and euler {np.shape(T.euler)}"
         )
+    if T.n_frames:
+        first = T.frame(0)
+        for a in aligners:  # the target's rotation orders and rig, as a stream's first frame
+            a._begin_take(first)
     W = max(a.w for a in aligners) + 1
     params = np.stack([a.params() for a in aligners])
     table = next((a._table for a in aligners if a.constraint is not None), a0._table)
