@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from dataclasses import dataclass, field
 from typing import NamedTuple
 
 import numpy as np
@@ -304,6 +305,49 @@ def euler_to_quat(E, orders) -> np.ndarray:
     return Q
 
 
+def forward_kinematics(Q, pre, post, offsets, parents, root) -> np.ndarray:
+    """Global joint positions of one frame from its local rotations, joint after joint
+    from the root: the joint's rotation is ``R_j = pre_j Q_j post_j``; a root is at
+    ``p_j = o_j + root`` and turned by ``G_j = R_j``; any other joint is at ``p_j = p_a +
+    G_a o_j G_a^*`` and turned by ``G_j = G_a R_j`` (``a``: its parent).
+
+    ``G_a o_j G_a^*`` is computed as ``o + w t + u x t`` with ``t = 2 u x o`` for ``G_a =
+    (w, u)``.
+
+    Parameters
+    ----------
+    Q : ndarray of float, shape (J, 4)
+        Local rotations of the joints, unit quaternions ``(w, x, y, z)``.
+    pre, post : ndarray of float, shape (J, 4)
+        Each joint's pre- and post-rotation (FBX; the identity for BVH and ASF/AMC).
+    offsets : ndarray of float, shape (J, 3)
+        Each joint's offset ``o_j`` from its parent (a root's from the origin).
+    parents : ndarray of int, shape (J,)
+        Each joint's parent, an earlier joint; -1 for a root.
+    root : ndarray of float, shape (3,)
+        The root translation of the frame.
+
+    Returns
+    -------
+    P : ndarray of float64, shape (J, 3)
+        Global positions ``p_j``.
+
+    Paper: OPW poster eq. 5 (poses compared by their joints' positions).
+    """
+    P, G = np.empty((len(Q), 3)), np.empty((len(Q), 4))
+    for j in range(len(Q)):
+        R_j = quat_multiply(quat_multiply(pre[j], Q[j]), post[j])
+        a = parents[j]
+        if a < 0:
+            P[j], G[j] = offsets[j] + root, R_j
+            continue
+        w, u = G[a, 0], G[a, 1:]
+        t = 2.0 * np.cross(u, offsets[j])
+        P[j] = P[a] + (offsets[j] + w * t + np.cross(u, t))  # p_a + G_a o_j G_a^*
+        G[j] = quat_multiply(G[a], R_j)
+    return P
+
+
 # --- the Type V constraint (Fig. 9) -----------------------------------------------------
 
 #: Fig. 9 iv: per state, the next state after an advance of 0, 1, 2, 3 input frames
@@ -573,6 +617,230 @@ def run(step, I, T, w: int, type_v: bool = False, **options) -> np.ndarray:
     return np.array(M, dtype=np.int64)
 
 
+# --- OLTW: Dixon's on-line time warping (the FP-DTW paper's reference 3) ----------------
+#
+# Dixon (DAFx 2005, Fig. 1) grows the accumulated cost D one target column or one input
+# row at a time, only inside the c x c band behind the corner (i, q), and after every
+# growth asks GetInc which way to grow next. His live sequence (index t) is our target T
+# (index q), his reference (index j) our input I (index i): his "Row" increment is our
+# "target", his "Column" our "input".
+
+
+@dataclass
+class OLTWState:
+    """Where Dixon's loop stands between two target frames.
+
+    Attributes
+    ----------
+    i, q : int
+        The corner: the last input frame (Dixon's ``j``) and target frame (his ``t``) of D.
+    D : dict of (int, int) to float
+        The path costs computed so far (Dixon's ``pathCost``), ``D[i, q]``.
+    previous : str or None
+        The last increment other than ``"both"`` (Dixon's ``previous``).
+    run_count : int
+        How many times in a row that increment was made (Dixon's ``runCount``).
+    pending : str or None
+        The increment waiting for the next target frame (``"target"`` or ``"both"``).
+    """
+
+    i: int = 0
+    q: int = 0
+    D: dict = field(default_factory=dict)
+    previous: str | None = None
+    run_count: int = 1
+    pending: str | None = None
+
+
+def oltw_path_cost(s: OLTWState, i: int, q: int, c: int) -> float:
+    """``D[i, q]`` if the cell lies in the ``c x c`` band behind the corner, else +inf (a
+    predecessor outside the band is unreachable; every cell inside it is computed).
+
+    Paper: Dixon 2005, Section 3 (the search width c).
+    """
+    inside = s.i - c < i <= s.i and s.q - c < q <= s.q
+    return s.D.get((i, q), math.inf) if inside else math.inf
+
+
+def oltw_evaluate_line(s: OLTWState, I, T, c: int, column: bool) -> None:
+    """Dixon's EvaluatePathCost over the band's new line: the new target column ``q``
+    (``column``: cells ``(i', q)``, ``i' = i - c + 1 .. i``) or the new input row ``i``
+    (cells ``(i, q')``, ``q' = q - c + 1 .. q``); indices below 0 are left out.
+
+    ``D[i, q] = min(D[i-1, q] + d, D[i, q-1] + d, D[i-1, q-1] + 2 d)`` with ``d =
+    geo_distance(I_i, T_q)`` (eq. 1): Dixon's step weights, the diagonal counted twice.
+
+    Parameters
+    ----------
+    s : OLTWState
+        Its corner already moved onto the new line; ``s.D`` is filled in.
+    I, T : MotionFeatures
+        Input and target; the line reads target frames up to ``s.q`` only.
+    c : int
+        Search width.
+    column : bool
+
+    Paper: Dixon 2005, Fig. 1 (EvaluatePathCost) and Section 2 (the step weights).
+    """
+    if column:
+        lo = max(0, s.i - c + 1)
+        cells = [(i, s.q) for i in range(lo, s.i + 1)]
+        d = geo_distance(I.quats[lo : s.i + 1], T.quats[s.q])  # eq. 1, one cost per cell
+    else:
+        lo = max(0, s.q - c + 1)
+        cells = [(s.i, q) for q in range(lo, s.q + 1)]
+        d = geo_distance(I.quats[s.i], T.quats[lo : s.q + 1])
+    for (i, q), d_iq in zip(cells, d):  # along the line: each cell after its predecessor
+        s.D[i, q] = min(oltw_path_cost(s, i - 1, q, c) + d_iq,
+                        oltw_path_cost(s, i, q - 1, c) + d_iq,
+                        oltw_path_cost(s, i - 1, q - 1, c) + 2 * d_iq)  # fmt: skip
+
+
+def oltw_get_inc(s: OLTWState, c: int, max_run_count: int = 3, warmup: bool = True,
+                 normalize: bool = True):  # fmt: skip
+    """Dixon's GetInc: which way to grow next.
+
+    (1) ``"both"`` while the band is not yet full (Dixon's ``t < c``, his ``t`` counted
+    from 1); (2) after more than ``max_run_count`` equal increments in a row, the other
+    one; (3) else by the cell of lowest path cost in the newest target column and the
+    newest input row (``D[i, q] / (1 + i + q)`` with ``normalize``: the cost per unit of
+    path weight): the first of equal ones, the column first, each from its lowest index.
+
+    Parameters
+    ----------
+    s : OLTWState
+    c, max_run_count : int
+        Search width and Dixon's MaxRunCount.
+    warmup, normalize : bool
+        Rule (1); the normalised costs of rule (3).
+
+    Returns
+    -------
+    inc : str
+        ``"target"`` (Dixon's Row: read the next target frame), ``"input"`` (Column: the
+        next input frame) or ``"both"``.
+    why : str
+        The rule that decided: ``"warmup"``, ``"runcount"`` or ``"argmin"``.
+    best : tuple of int or None
+        The argmin cell ``(i*, q*)`` (rule 3 only).
+
+    Paper: Dixon 2005, Fig. 1 (GetInc).
+    """
+    if warmup and s.q + 1 < c:  # if t < c return Both
+        return "both", "warmup", None
+    if s.run_count > max_run_count:  # if previous == Row return Column else return Row
+        return ("input" if s.previous == "target" else "target"), "runcount", None
+    cells = [(i, s.q) for i in range(max(0, s.i - c + 1), s.i + 1)]  # the newest column
+    cells += [(s.i, q) for q in range(max(0, s.q - c + 1), s.q + 1)]  # the newest row
+    cost = [s.D[i, q] / (1 + i + q) if normalize else s.D[i, q] for i, q in cells]
+    # (x, y) := argmin pathCost; of equal costs the first cell of this list wins
+    best = cells[cost.index(min(cost))]
+    if best[1] < s.q:  # if x < t return Column: the newest input frame matches an earlier
+        return "input", "argmin", best  # target frame (the input is behind)
+    if best[0] < s.i:  # if y < j return Row: the newest target frame matches an earlier
+        return "target", "argmin", best  # input frame (the input is ahead)
+    return "both", "argmin", best  # the corner itself
+
+
+def oltw_apply(s: OLTWState, I, T, inc: str, c: int) -> None:
+    """The body of Dixon's loop for the increment ``inc``: a new target column (his Row),
+    a new input row (his Column) or both, then the run count.
+
+    Paper: Dixon 2005, Fig. 1 (the main loop).
+    """
+    if inc in ("target", "both"):  # if GetInc != Column: t := t + 1
+        s.q += 1
+        oltw_evaluate_line(s, I, T, c, column=True)
+    if inc in ("input", "both"):  # if GetInc != Row: j := j + 1
+        s.i += 1
+        oltw_evaluate_line(s, I, T, c, column=False)
+    s.run_count = s.run_count + 1 if inc == s.previous else 1
+    if inc != "both":
+        s.previous = inc
+
+
+def oltw_step(s: OLTWState, I, T, q_new: int, c: int = 120, max_run_count: int = 3,
+              warmup: bool = True, normalize: bool = True):  # fmt: skip
+    """Target frame ``q_new`` has arrived: make the increment that waited for it, then grow
+    along the input until GetInc asks for the next target frame.
+
+    Dixon's loop calls GetInc three times per pass; here it is called once and its answer
+    used three times. At the end of the input (``i = m``) an ``"input"`` or ``"both"``
+    becomes ``"target"``: the map holds at ``I_m``.
+
+    Parameters
+    ----------
+    s : OLTWState
+        A new state for ``q_new = 0``; changed in place.
+    I, T : MotionFeatures
+        Input and target; the step reads target frames up to ``q_new`` only.
+    q_new : int
+        The target frame received (0, 1, 2, ... in turn).
+    c, max_run_count, warmup, normalize
+        As for :func:`oltw_get_inc`.
+
+    Returns
+    -------
+    M_q : int
+        The corner's input frame: the last point of the on-line path in target frame
+        ``q_new``.
+    decisions : list of tuple
+        Every GetInc of the step, ``(q_new, i, q, inc, why, best)`` with the corner
+        ``(i, q)`` when deciding.
+
+    Paper: Dixon 2005, Fig. 1.
+    """
+    m = len(I.quats) - 1
+    if q_new == 0:
+        s.D[0, 0] = float(geo_distance(I.quats[0], T.quats[0]))  # EvaluatePathCost(1, 1)
+    else:
+        oltw_apply(s, I, T, s.pending, c)
+    decisions = []
+    while True:
+        inc, why, best = oltw_get_inc(s, c, max_run_count, warmup, normalize)
+        if s.i >= m and inc != "target":
+            inc = "target"  # the end of the input: hold at I_m
+        decisions.append((q_new, s.i, s.q, inc, why, best))
+        if inc != "input":  # "target" or "both" waits for the next target frame
+            s.pending = inc
+            return s.i, decisions
+        oltw_apply(s, I, T, inc, c)
+
+
+def oltw(I, T, c: int = 120, max_run_count: int = 3, warmup: bool = True,
+         normalize: bool = True):  # fmt: skip
+    """Dixon's on-line time warping over a whole target, one :func:`oltw_step` per frame.
+
+    Parameters
+    ----------
+    I, T : MotionFeatures
+        Input (the recording) and target (the live motion).
+    c : int
+        Search width (the band), >= 2.
+    max_run_count : int
+        Dixon's MaxRunCount, >= 1.
+    warmup : bool
+        GetInc's start rule: ``"both"`` while ``q + 1 < c``.
+    normalize : bool
+        Compare path costs divided by the path weight ``1 + i + q``.
+
+    Returns
+    -------
+    M : ndarray of int64, shape (T.n_frames,)
+        ``M_q``: the corner's input frame after target frame ``q``.
+    decisions : list of tuple
+        Every GetInc, as :func:`oltw_step` lists them.
+
+    Paper: FP-DTW reference 3 (Dixon, DAFx 2005, Fig. 1: the algorithm and GetInc).
+    """
+    s, M, decisions = OLTWState(), [], []
+    for q in range(len(T.quats)):
+        M_q, step_decisions = oltw_step(s, I, T, q, c, max_run_count, warmup, normalize)
+        M.append(M_q)
+        decisions += step_decisions
+    return np.array(M, dtype=np.int64), decisions
+
+
 # --- eqs. 2 and 3: similarity and deviation ---------------------------------------------
 
 
@@ -670,6 +938,53 @@ def deviation(P_a, P_b) -> float:
     return float(sum(abs(P_a[q] - P_b[q]) for q in range(1, n + 1)) / n)
 
 
+# --- the evaluation's intervals: medians of resampled pairs ------------------------------
+
+
+def pair_weights(c, i_in, i_tg) -> np.ndarray:
+    """How often each pair counts when its movement's motions were drawn ``c`` times.
+
+    A pair (input ``a``, target ``b``) of two distinct motions counts ``c_a * c_b`` times in
+    a resample in which motion ``a`` was drawn ``c_a`` times and ``b`` ``c_b`` times (pairs of
+    a motion with itself do not exist).
+
+    Parameters
+    ----------
+    c : ndarray of int, shape (k,)
+        Draws of each motion of one movement.
+    i_in, i_tg : ndarray of int, shape (P,)
+        Each pair's input and target motion (indices into ``c``).
+
+    Returns
+    -------
+    w : ndarray of int, shape (P,)
+    """
+    c = np.asarray(c)
+    return c[np.asarray(i_in)] * c[np.asarray(i_tg)]
+
+
+def weighted_median(values, weights) -> float:
+    """The median of ``values`` with each value repeated ``weights`` times.
+
+    Parameters
+    ----------
+    values : ndarray of float, shape (P,)
+        One value per pair (a non-finite value counts as absent).
+    weights : ndarray of int, shape (P,)
+        How often each pair was drawn.
+
+    Returns
+    -------
+    median : float
+        ``np.median`` of the repeated values; NaN when no weight is left.
+    """
+    values, weights = np.asarray(values, dtype=float), np.asarray(weights)
+    keep = np.isfinite(values) & (weights > 0)
+    if not keep.any():
+        return float("nan")
+    return float(np.median(np.repeat(values[keep], weights[keep])))
+
+
 # --- OPW: one step of the poster's Algorithm 1 ------------------------------------------
 
 
@@ -701,11 +1016,21 @@ def interpolate_positions(P, fps: float, t: float, last: int | None = None) -> n
     return (1.0 - a) * P[i0] + a * P[i0 + 1]
 
 
-def opw_step(f, t: float, A, B, omega: float, gamma: float, fps_A: float, fps_B: float):
+def opw_step(
+    f,
+    t: float,
+    A,
+    B,
+    omega: float,
+    gamma: float,
+    fps_A: float,
+    fps_B: float,
+    reference: str = "curve",
+    direction: str = "code",
+):
     """One OPW step at live time ``t``: forecast the live motion ``B`` one step ahead,
-    compare it with the recording ``A`` at ``t' = f(t)``, ``t' + omega``, ``t' + 2 omega``
-    (eq. 5), and slow ``A`` down (``s = 0``) or speed it up (``s = 2``) by moving the
-    curve's last key (eq. 2).
+    compare it with the recording ``A`` at three nearby times (eq. 5), and slow ``A`` down
+    (``s = 0``) or speed it up (``s = 2``) by moving the curve's last key (eq. 2).
 
     Parameters
     ----------
@@ -720,6 +1045,16 @@ def opw_step(f, t: float, A, B, omega: float, gamma: float, fps_A: float, fps_B:
     omega, gamma : float
         Sample period (s) and warp parameter.
     fps_A, fps_B : float
+    reference : {"curve", "ratio"}
+        Where ``A`` is read. ``"curve"`` (the poster, eq. 4): at ``t' + i omega``,
+        ``t' = f(t)``. ``"ratio"`` (the authors' MotionBuilder plugin): at
+        ``(t + i omega) r`` with the global ratio ``r = D_A / x_last`` (the recording's
+        duration, which is the last key's value, over the last key's live time), not read
+        through the curve.
+    direction : {"code", "readme"}
+        ``"code"`` (eq. 1's bullets and the plugin's code): ``s = 0`` slows ``A`` down
+        (the last key moves later). ``"readme"`` (the plugin's readme): ``s = 0`` speeds
+        it up, ``s = 2`` slows it down.
 
     Returns
     -------
@@ -731,10 +1066,20 @@ def opw_step(f, t: float, A, B, omega: float, gamma: float, fps_A: float, fps_B:
     Paper: OPW poster Algorithm 1, eqs. 1, 2, 4, 5.
     Notebook: 13_opw_fig4.ipynb
     """
+    sign = {"code": 1.0, "readme": -1.0}.get(direction)
+    if sign is None:
+        raise ValueError(f"direction must be 'code' or 'readme', got {direction!r}")
     t_w = f.value(t)  # t' = f(t) (lines 2-3: the sample times)
     x_t = interpolate_positions(B, fps_B, t)
     x_hat = x_t + (x_t - interpolate_positions(B, fps_B, t - omega))  # line 7: dead reckoning
-    A_t = [interpolate_positions(A, fps_A, t_w + i * omega) for i in range(3)]  # line 8
+    if reference == "curve":
+        times = [t_w + i * omega for i in range(3)]  # line 8, eq. 4
+    elif reference == "ratio":
+        r = f.y[-1] / f.x[-1]  # the plugin: D_A / (live time of the last key)
+        times = [(t + i * omega) * r for i in range(3)]
+    else:
+        raise ValueError(f"reference must be 'curve' or 'ratio', got {reference!r}")
+    A_t = [interpolate_positions(A, fps_A, tau) for tau in times]
     p = [float(np.sqrt(((x_hat - a) ** 2).sum(axis=1)).sum()) for a in A_t]  # lines 9-10, eq. 5
     s = 1  # eq. 1: argmin p_i; ties keep the alignment
     if p[0] < p[1] and p[0] < p[2]:  # line 12 (the listing writes ">": inverted)
@@ -744,13 +1089,14 @@ def opw_step(f, t: float, A, B, omega: float, gamma: float, fps_A: float, fps_B:
     if s != 1:
         x_k = f.x[-1]  # the last key's live time
         f.add_key(t, t_w)  # lines 13 / 16: pin a key at the current time
-        f.move_key(-1, x=x_k - (x_k - t) * gamma * (s - 1))  # lines 14 / 17, as eq. 2
+        f.move_key(-1, x=x_k - (x_k - t) * gamma * (s - 1) * sign)  # lines 14 / 17, as eq. 2
     return s, p
 
 
 __all__ = [
     "TYPE_V_START",
     "TYPE_V_TABLE",
+    "OLTWState",
     "Step",
     "accumulate",
     "allowed_rows",
@@ -760,6 +1106,7 @@ __all__ = [
     "deviation",
     "euler_to_quat",
     "forecast_joints",
+    "forward_kinematics",
     "geo_distance",
     "interpolate_positions",
     "joint_trajectories",
@@ -768,7 +1115,14 @@ __all__ = [
     "method_b_step",
     "method_c_step",
     "oe_dtw_end_points",
+    "oltw",
+    "oltw_apply",
+    "oltw_evaluate_line",
+    "oltw_get_inc",
+    "oltw_path_cost",
+    "oltw_step",
     "opw_step",
+    "pair_weights",
     "path_to_map",
     "quat_multiply",
     "reverse_accumulate",
@@ -776,4 +1130,5 @@ __all__ = [
     "similarity",
     "type_v_allowed",
     "type_v_next",
+    "weighted_median",
 ]

@@ -116,6 +116,21 @@ def _write_csv(path, rows):
         w.writerows(rows)
 
 
+def test_claims_section_shows_the_opw_plugin_reading(tmp_path):
+    rows = _claim_rows() + [
+        {"id": "P1", "claim": "OPW 69-79 ms", "paper": "69-79 ms", "ours": "22-36 ms",
+         "holds": "partly", "ours_plugin": "60-64 ms", "holds_plugin": "no",
+         "evidence": "poster Fig. 4 (13_opw_fig4)", "stable": True},
+    ]  # fmt: skip
+    text = book.claims_section(rows, book.book_pages(tmp_path))
+    assert "| OPW plugin | notebook |" in text
+    rows = {ln.split("|")[1].strip(): ln.split("|") for ln in text.splitlines()
+            if ln.startswith("| ") and "holds-" in ln}  # fmt: skip
+    assert rows["P1"][-3].strip() == '60-64 ms<br><span class="holds holds-no">no</span>'
+    assert rows["7"][-3].strip() == ""  # n/a: an empty cell
+    assert len(rows["P1"]) == len(rows["7"])
+
+
 def test_front_page_holds_every_claim_the_data_and_how_to_rerun(tmp_path):
     nbs, figs = tmp_path / "nbs", tmp_path / "figs"
     figs.mkdir()

@@ -244,6 +244,40 @@ def test_opw_claims():
     assert "not comparable (ours is 69-79 ms on stand-in clips" in rows["P1"]["reason"]
 
 
+def test_opw_claims_under_the_plugin_reading():
+    """The OPW notebooks' facts hold the plugin reading under ``readings``; the P claims are
+    decided on it too (``ours_plugin``, ``holds_plugin``), every other claim is n/a."""
+    plug4 = {**POSTER_LIKE_FIG4, "opw_mean_ms_range": [60.0, 64.0], "opw_max_ms": 134.0,
+             "baseline": "best match"}  # fmt: skip
+    plug56 = {**POSTER_LIKE_FIG56, "removed_gamma5_mean_over_offsets": 0.52,
+              "largest_offset_max_below_150ms_s": 0.25}  # fmt: skip
+    ctx = context(None, opw_fig4={**POSTER_LIKE_FIG4, "readings": {"plugin": plug4}},
+                  opw_fig56={**POSTER_LIKE_FIG56, "readings": {"plugin": plug56}})  # fmt: skip
+    rows, parts = table(ctx, ["7", "P1", "P2", "P3", "P4"])
+    got = {k: (r["holds"], r["holds_plugin"]) for k, r in rows.items()}
+    assert got == {"7": ("n/a", "n/a"), "P1": ("partly", "partly"), "P2": ("yes", "no"),
+                   "P3": ("yes", "yes"), "P4": ("yes", "partly")}  # fmt: skip
+    assert rows["7"]["ours_plugin"] == "n/a"
+    assert rows["P1"]["ours_plugin"] == "mean 60-64 ms, max 134 ms (best match mean 20-30 ms)"
+    assert rows["P1"]["ours"].endswith("(DTW mean 20-30 ms)")
+    p2 = next(p for p in parts if p["claim"] == "P2")
+    assert (p2["verdict"], p2["verdict_plugin"]) == ("holds", "contradicted")
+    text = claims.format_claims([rows["P2"], rows["7"]])
+    assert sum("with OPW read as the authors' plugin does it" in x for x in text.splitlines()) == 1
+    assert claims.claims_summary(list(rows.values())).splitlines()[-1] == (
+        "OPW plugin reading: yes 1, partly 2, no 1, inconclusive 0, not comparable 0 "
+        "(of 4 OPW claims)"
+    )
+    # facts without the plugin reading: not computed, and no line in the summary
+    rows, _ = table(context(None), ["P1", "1"])
+    assert rows["P1"]["ours_plugin"].startswith("not computed")
+    assert rows["P1"]["holds_plugin"] == rows["1"]["holds_plugin"] == "n/a"
+    assert "OPW plugin" not in claims.claims_summary(list(rows.values()))
+    # a notebook's own facts, as notebook 13 passes them
+    (row,) = claims.claim_rows(["P1"], facts={"opw_fig4": ctx.opw_fig4})
+    assert row["holds_plugin"] == "partly" and "134 ms" in row["ours_plugin"]
+
+
 def test_per_dataset_verdicts_show_when_a_verdict_rests_on_one_dataset():
     run = paper_like_run()
     # on HDM05's pairs alone Mc w20 passes the deviation benchmark too
@@ -338,6 +372,21 @@ def test_claim_rows_from_a_notebooks_own_facts():
     assert got["4b"]["holds"] == "yes" and got["4b"]["holds_literal"] == "partly"
     with pytest.raises(TypeError, match="unknown facts"):
         claims.ClaimContext.from_facts(similarity={"Ma": 0.1})
+
+
+def test_claim_rows_with_parts_gives_the_parts_of_the_claims_asked():
+    """A notebook ends with its claims' parts: the same parts, in order, as the full table."""
+    rows, parts = claims.claim_rows(["8"], "smoke", facts={"fig8": {"deviation": FIG8_DEVIATIONS}},
+                                    with_parts=True)  # fmt: skip
+    assert [r["id"] for r in rows] == ["8"]
+    assert parts and {p["claim"] for p in parts} == {"8"}
+    assert [p["part"] for p in parts] == [f"8({c})" for c in "abcdefgh"[: len(parts)]]
+    assert all(p["verdict"] == "not comparable" for p in parts)
+    assert list(parts[0]) == list(claims.PART_COLUMNS)
+    text = claims.format_parts(parts)
+    assert all(p["part"] in text for p in parts)
+    with pytest.raises(ValueError, match="with_parts"):
+        claims.claim_rows(["8"], rows=rows, with_parts=True)
 
 
 def test_format_claims_prints_every_body_of_evidence(paper_like):

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from reference.fake_run import FakeRun
 
+from fpdtw import plain
 from fpdtw.paper.claims import bootstrap as bs
 from fpdtw.paper.claims import rules as R
 from fpdtw.paper.claims.rules import AllOf, AnyOf, Check, Not, Part
@@ -154,7 +155,8 @@ def test_weighted_medians_are_medians_of_the_repeated_values():
         W = rng.integers(0, 4, size=(6, P)).astype(np.int32)
         W[0] = 1
         got = bs.weighted_medians(v, W)
-        assert np.array_equal(got, bs.weighted_medians_plain(v, W), equal_nan=True)
+        plain_rows = [plain.weighted_median(v, w) for w in W]  # the plain version, row by row
+        assert np.array_equal(got, plain_rows, equal_nan=True)
         for b in range(W.shape[0]):
             ok = np.isfinite(v)
             rep = np.repeat(v[ok], W[b][ok])
@@ -171,6 +173,21 @@ def test_weighted_medians_are_medians_of_the_repeated_values():
 
 def _design(run):
     return bs.PairDesign.from_pairs(run.pairs)
+
+
+def test_the_compiled_weight_accumulation_is_the_plain_pair_weights():
+    rng = np.random.default_rng(5)
+    k, B = 5, 7
+    li, lt = np.nonzero(~np.eye(k, dtype=bool))
+    rows = np.arange(li.size) + 3
+    C = rng.multinomial(k, np.full(k, 1 / k), size=B)
+    live = rng.random(B) < 0.7
+    W = np.ones((B, rows.size + 6), np.int32)
+    bs._add_pair_weights(W, rows, li, lt, C, live)
+    for b in range(B):
+        want = plain.pair_weights(C[b], li, lt) * live[b] + 1
+        assert np.array_equal(W[b, rows], want)
+    assert np.all(W[:, :3] == 1) and np.all(W[:, rows[-1] + 1 :] == 1)
 
 
 def test_pairs_of_a_resample_count_as_the_product_of_their_motions_draws():

@@ -280,7 +280,7 @@ def test_measures_on_hand_curves():
 
 def test_evaluate_and_runner_hooks(handshake):
     res = evaluate(handshake, offset=0.25, gamma=0.05)
-    assert set(res["curves"]) == {"example", "DTW", "OPW"}
+    assert set(res["curves"]) == {"example", "DTW", "best match", "OPW"}
     for k in ("DTW", "OPW"):
         dev = res["deviation"][k]
         assert dev["t"].size == 126 and dev["max"] >= dev["mean"] >= 0

@@ -5,17 +5,25 @@
   (to 1e-9: the plain arccos, sin and cos are NumPy's, the kernels' a polynomial and
   libm's), path and Type V state;
 * the offline parts (eq. 1, DTW, OE-DTW, eqs. 2 and 3, the forecast, Type V, OPW);
+* Dixon's OLTW: the same maps and every decision on the hand-made cases of
+  tests/test_oltw.py and on synthetic pairs, and pymatchmaker's decisions (golden file);
+* one frame's Euler angles to quaternions and forward kinematics, against the live
+  server's compiled kernels (:mod:`fpdtw.motion.kinematics`), bit for bit;
 * the smoke grid of the experiment runner (``make test`` computes it before the suite):
-  every stored map of every FP-DTW configuration, DTW, UTW and OE-DTW reproduced by the
-  plain functions, and every stored similarity and deviation. Plain Python takes about 30
-  minutes for the whole grid (54 pairs, 39 algorithms), so the default suite checks a fixed subset
-  (:data:`SUBSET_PAIRS`, windows up to 20) and the whole grid is the ``slow`` test
-  (``.venv/bin/pytest -m slow tests/test_plain.py``).
+  every stored map of every FP-DTW configuration, DTW, UTW, OE-DTW and OLTW reproduced by
+  the plain functions, and every stored similarity and deviation. Plain Python takes about
+  30 minutes for the whole grid (54 pairs, 40 algorithms), so the default suite checks a
+  fixed subset (:data:`SUBSET_PAIRS`, windows up to 20) and the whole grid is the ``slow``
+  test (``.venv/bin/pytest -m slow tests/test_plain.py``);
+* that every module of compiled kernels names its plain versions.
 """
 
 from __future__ import annotations
 
+import ast
+import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -25,13 +33,17 @@ from fpdtw import plain
 from fpdtw.costs import geo_distance, geodesic_cost_matrix
 from fpdtw.dtw import accumulate, backtrack, dtw, path_to_map, utw_map
 from fpdtw.forecast import euler_to_quat_fast
+from fpdtw.io import load_motion
 from fpdtw.metrics import deviation, kendall_tau_b, similarity
 from fpdtw.motion.features import MotionFeatures
+from fpdtw.motion.kinematics import frame_positions, frame_quats, order_codes
+from fpdtw.motion.rotations import ORDERS
 from fpdtw.online.base import run_online
 from fpdtw.online.method_a import MethodA
 from fpdtw.online.method_b import MethodB
 from fpdtw.online.method_c import MethodC
 from fpdtw.online.oedtw import OEDTW
+from fpdtw.online.oltw import INC_NAMES, OLTW
 from fpdtw.online.opw import OPW
 from fpdtw.online.typev import TYPE_V
 from fpdtw.online.window import B_CORNER
@@ -298,6 +310,153 @@ def test_opw_runs_the_plain_step():
     np.testing.assert_array_equal(f.keys, opw.curve.keys)
 
 
+# --- OLTW -------------------------------------------------------------------------------
+
+#: The fast aligner's decision reasons by code (fpdtw.online.oltw.BY_*), as plain names them.
+WHY = {0: "argmin", 1: "warmup", 2: "runcount"}
+
+
+def fast_oltw(I, T, **options):
+    """The fast OLTW's map and decisions in the plain version's form."""
+    a = OLTW(I, record=True, **options)
+    M, _ = run_online(a, T)
+    decisions = [(int(q), int(i), int(qq), INC_NAMES[int(inc)], WHY[int(why)],
+                  None if bi < 0 else (int(bi), int(bq)))
+                 for q, i, qq, inc, why, bi, bq in a.decisions]  # fmt: skip
+    return M, decisions
+
+
+def plain_oltw(I, T, c=120, max_run_count=3, warmup=True, normalize=True):
+    return plain.oltw(I, T, c, max_run_count, warmup, normalize)
+
+
+#: The hand-made cases of tests/test_oltw.py: (input, target, options, the map by hand).
+OLTW_CASES = [
+    ([0, 1, 2, 3], [0, 2, 3, 3], {"c": 2, "warmup": False}, [0, 2, 3, 3]),
+    ([0, 1, 2, 3], [0, 2, 3, 3], {"c": 3}, [0, 1, 3, 3]),
+    (list(range(7)), [0, 4, 6], {"c": 2, "max_run_count": 1, "warmup": False}, [0, 3, 5]),
+    (list(range(5)), [0, 1, 2, 3] + [4] * 6, {"c": 3, "warmup": False}, [0, 1, 2, 3] + [4] * 6),
+]
+
+
+@pytest.mark.parametrize("case", OLTW_CASES, ids=lambda c: str(c[2]))
+def test_plain_oltw_equals_the_fast_one_on_the_hand_made_cases(case):
+    I, T, options, by_hand = case
+    M, decisions = plain_oltw(units(I), units(T), **options)
+    np.testing.assert_array_equal(M, by_hand)
+    fast_M, fast_decisions = fast_oltw(units(I), units(T), **options)
+    np.testing.assert_array_equal(M, fast_M)
+    assert decisions == fast_decisions
+
+
+@pytest.mark.parametrize(
+    "seed,c,max_run_count,warmup,normalize",
+    [(0, 120, 3, True, True), (1, 30, 3, False, True), (2, 7, 1, False, True),
+     (3, 12, 2, True, False), (4, 2, 3, False, True)],
+)  # fmt: skip
+def test_plain_oltw_equals_the_fast_one(seed, c, max_run_count, warmup, normalize):
+    """tests/test_oltw.py's synthetic pairs: every rule (warm-up, run count, argmin, the end
+    of the input) acts, and the plain decisions are the fast ones, one by one."""
+    I, T, _ = synthetic_pair(260, k=8, seed=seed)
+    options = dict(c=c, max_run_count=max_run_count, warmup=warmup, normalize=normalize)
+    M, decisions = plain_oltw(I, T, **options)
+    fast_M, fast_decisions = fast_oltw(I, T, **options)
+    np.testing.assert_array_equal(M, fast_M)
+    assert decisions == fast_decisions
+
+
+@pytest.mark.parametrize("normalize", [True, False])
+def test_plain_oltw_breaks_ties_as_the_fast_one(normalize):
+    """Equal path costs: a pose held in both motions makes many cells of the newest column
+    and row cost the same; of equal costs the first cell in scan order (the column from its
+    lowest input frame, then the row) wins in both versions. A rule that took the last
+    minimum instead gives other decisions here."""
+    I = units([0, 0, 0, 0, 0, 1, 1, 1, 2, 2, 2, 2])
+    T = units([0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 2, 2])
+    M, decisions = plain_oltw(I, T, c=4, warmup=False, normalize=normalize)
+    fast_M, fast_decisions = fast_oltw(I, T, c=4, warmup=False, normalize=normalize)
+    np.testing.assert_array_equal(M, fast_M)
+    assert decisions == fast_decisions
+
+
+def test_plain_oltw_on_an_input_aligned_to_itself_and_each_rule_acts():
+    I = random_walk_features(150, seed=3)
+    M, decisions = plain_oltw(I, I, c=40)
+    np.testing.assert_array_equal(M, np.arange(150))
+    assert {d[3] for d in decisions[:-1]} == {"both"} and decisions[-1][3] == "target"
+    I, T, _ = synthetic_pair(300, seed=7, warp=0.6)
+    M, decisions = plain_oltw(I, T, c=40)
+    np.testing.assert_array_equal(M, fast_oltw(I, T, c=40)[0])
+    assert {d[4] for d in decisions} == {"warmup", "runcount", "argmin"}
+    assert {d[3] for d in decisions} == {"target", "input", "both"}
+
+
+def test_plain_oltw_takes_pymatchmakers_decisions():
+    """tests/golden/oltw_pymatchmaker.json (pymatchmaker 0.3.0's OnlineTimeWarpingDixon on
+    a 1-D reference and a warped copy, Euclidean cost |x - y|; here one joint turned by
+    pi x, whose geodesic cost is |x - y|): the plain version takes every one of its
+    decisions (corner, increment, argmin cell)."""
+    g = json.loads((REPO_ROOT / "tests" / "golden" / "oltw_pymatchmaker.json").read_text())
+    X, Y = (one_joint_motion(180.0 * np.asarray(g[k]), "X") for k in ("x", "y"))
+    _, decisions = plain_oltw(X, Y, c=g["params"]["c"], warmup=False)
+    codes = {"target": 1, "input": 2, "both": 3}
+    ours = [[i, q, codes[inc], *best] for _, i, q, inc, _, best in decisions]
+    theirs = [[row[k] for k in (0, 1, 2, 4, 5)] for row in g["decisions"]]
+    assert len(theirs) > 150 and ours[:-1] == theirs  # the last waits for a frame they lack
+
+
+# --- one frame's rotations and forward kinematics (the live server's kernels) ------------
+
+
+def test_plain_euler_to_quat_is_the_compiled_one_in_all_six_orders():
+    """``frame_quats`` (scipy's numbers, bit for bit) keeps ``w >= 0``; the plain version
+    leaves the sign as it comes. Bit for bit where NumPy's sine and cosine are libm's (the
+    kernel's), as here; else to 1e-12."""
+    rng = np.random.default_rng(7)
+    E = rng.uniform(-720.0, 720.0, (3000, 6, 3))
+    E[:100] = np.round(E[:100])
+    E[100:200] = 0.0
+    E[200:300, :, 1] = 90.0  # gimbal lock
+    fast = frame_quats(E.reshape(-1, 3), np.tile(order_codes(ORDERS), len(E))).reshape(
+        E.shape[:-1] + (4,)
+    )
+    Q = plain.euler_to_quat(E, ORDERS)
+    Q = np.where(Q[..., :1] < 0, -Q, Q)
+    np.testing.assert_allclose(Q, fast, rtol=0, atol=1e-12)
+    h = (E * (math.pi / 360.0)).ravel()
+    if np.array_equal(np.sin(h), [math.sin(x) for x in h]) and np.array_equal(
+        np.cos(h), [math.cos(x) for x in h]
+    ):
+        np.testing.assert_array_equal(Q, fast)
+
+
+@pytest.mark.parametrize(
+    "rel", ["mocap_single_person_actions/MoCapData/Walk_02.fbx", "cmu/18_01.bvh",
+            "hdm05/HDM05_cut_amc/squat1Reps/HDM_bd_squat1Reps_001_120.amc"],
+)  # fmt: skip
+def test_plain_forward_kinematics_is_the_compiled_one(data_path, rel):
+    """FBX (pre- and post-rotations), BVH and ASF/AMC skeletons, bit for bit."""
+    m = load_motion(data_path(rel))
+    sk = m.skeleton
+    for k in range(0, m.n_frames, max(1, m.n_frames // 40)):
+        q, r = m.quats[k], m.root_translation[k]
+        P = plain.forward_kinematics(q, sk.pre_rotations, sk.post_rotations, sk.offsets,
+                                     sk.parents, r)  # fmt: skip
+        np.testing.assert_array_equal(P, frame_positions(sk, q, r, root_relative=False))
+
+
+def test_plain_forward_kinematics_by_hand():
+    """A chain of three joints, each 1 along x from its parent, the root turned by 90
+    degrees about z and the second joint by 90 about z again: (1, 2, 3) + root, then
+    (1, 3, 3), then (0, 3, 3)."""
+    turn = [math.cos(math.pi / 4), 0.0, 0.0, math.sin(math.pi / 4)]
+    Q = np.array([turn, turn, [1.0, 0, 0, 0]])
+    ident = np.tile([1.0, 0, 0, 0], (3, 1))
+    offsets = np.array([[0.0, 0, 0], [1, 0, 0], [1, 0, 0]])
+    P = plain.forward_kinematics(Q, ident, ident, offsets, np.array([-1, 0, 1]), [1.0, 2, 3])
+    np.testing.assert_allclose(P, [[1, 2, 3], [1, 3, 3], [0, 3, 3]], atol=1e-15)
+
+
 # --- the smoke grid -----------------------------------------------------------------------
 
 SMOKE_RESULTS = REPO_ROOT / "build" / "smoke" / "results"
@@ -324,6 +483,8 @@ def plain_map(name, I, T):
     a = resolve(name)
     if a.family == "UTW":
         return utw_map(I.n_frames - 1, T.n_frames - 1)
+    if a.family == "OLTW":
+        return plain.oltw(I, T, c=a.value)[0]
     if a.family in ("DTW", "OE"):
         C = plain.cost_matrix(I.quats, T.quats)
         if a.family == "OE":
@@ -338,8 +499,8 @@ def check_smoke_pairs(smoke, pairs, max_w):
     for name in results.algorithms:
         base, _, rate = name.partition("@")
         a = resolve(base)
-        if a.family in ("OPW", "OLTW") or (a.w or 0) > max_w:
-            continue  # OPW runs plain.opw_step itself; OLTW has no plain version
+        if a.family == "OPW" or (a.w or 0) > max_w:
+            continue  # OPW runs plain.opw_step itself (test_opw_runs_the_plain_step)
         fps = results.fps(name)
         stored = results.get(name)
         ref = results.get("DTW@60Hz" if rate else "DTW")
@@ -359,33 +520,88 @@ def test_plain_maps_equal_the_smoke_grid_on_a_subset(smoke):
         d: next(k for k, p in enumerate(results.pairs) if p["dataset"] == d) for d in SUBSET_PAIRS
     }
     pairs = list(first.values())
-    assert check_smoke_pairs(smoke, pairs, max_w=20) >= 2 * 20
+    assert check_smoke_pairs(smoke, pairs, max_w=20) >= 2 * 21
+    assert "OLTW" in results.algorithms
 
 
 @pytest.mark.slow
 def test_plain_maps_equal_the_whole_smoke_grid(smoke):
     results, _ = smoke
     n = check_smoke_pairs(smoke, range(len(results.pairs)), max_w=80)
-    assert n == len(results.pairs) * (len(results.algorithms) - 2)
+    assert n == len(results.pairs) * (len(results.algorithms) - 1)
+
+
+#: numba's entry points that compile a function.
+NUMBA_COMPILERS = {"jit", "njit", "generated_jit", "vectorize", "guvectorize", "cfunc",
+                   "stencil", "jit_module", "intrinsic", "overload", "overload_method",
+                   "overload_attribute", "register_jitable"}  # fmt: skip
+#: Modules of compiled kernels that need no plain version, and why.
+NO_PLAIN_VERSION = {
+    "fpdtw/paper/bench_limit.py": "the benchmark's lean limit kernels are a measuring "
+    "instrument, not an algorithm: tests/test_bench.py holds their costs equal to the "
+    "aligners' own, whose plain versions are held equal here",
+}
+
+
+def compiles_with_numba(source: str) -> bool:
+    """Whether a module's source uses one of numba's compilers (:data:`NUMBA_COMPILERS`),
+    however numba or the compiler was imported (``import numba as nb``, ``from numba
+    import njit as jit``, ``from numba.extending import intrinsic``)."""
+    tree = ast.parse(source)
+    modules, compilers = set(), set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            modules |= {a.asname or a.name.partition(".")[0] for a in node.names
+                        if a.name.partition(".")[0] == "numba"}  # fmt: skip
+        elif isinstance(node, ast.ImportFrom) and (node.module or "").startswith("numba"):
+            compilers |= {a.asname or a.name for a in node.names if a.name in NUMBA_COMPILERS}
+            modules |= {a.asname or a.name for a in node.names if a.name not in NUMBA_COMPILERS}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Name) and node.id in compilers:
+            return True
+        if isinstance(node, ast.Attribute) and node.attr in NUMBA_COMPILERS:
+            root = node.value
+            while isinstance(root, ast.Attribute):
+                root = root.value
+            if isinstance(root, ast.Name) and root.id in modules:
+                return True
+    return False
+
+
+@pytest.mark.parametrize(
+    "source,compiles",
+    [("import numba\n@numba.njit(cache=True)\ndef f(x):\n    return x", True),
+     ("import numba as nb\n@nb.jit\ndef f(x):\n    return x", True),
+     ("from numba import njit as fast\nf = fast(cache=True)(lambda x: x)", True),
+     ("from numba.extending import intrinsic\n@intrinsic\ndef f(typingctx):\n    pass", True),
+     ("import numba.np.ufunc\ng = numba.np.ufunc.vectorize(['f8(f8)'])(abs)", True),
+     ("import numba\nprint(numba.config.CPU_NAME)", False),
+     ("from numba import prange, types\n", False),
+     ("def njit(f):\n    return f\n@njit\ndef g(x):\n    return x", False)],
+)  # fmt: skip
+def test_compiles_with_numba_finds_the_compiled_modules(source, compiles):
+    assert compiles_with_numba(source) is compiles
 
 
 def test_every_plain_version_line_names_a_plain_function():
     """The kernels' "Plain version: fpdtw.plain.xxx" lines name functions of fpdtw.plain,
-    and every module of the fast kernels names at least one."""
-    import re
-
-    named = {}
+    and every module under fpdtw/ that compiles a function with numba names at least one
+    (but the exempted ones, :data:`NO_PLAIN_VERSION`)."""
+    named, compiled = {}, set()
     for path in sorted((REPO_ROOT / "fpdtw").rglob("*.py")):
+        rel, text = path.relative_to(REPO_ROOT).as_posix(), path.read_text()
+        if compiles_with_numba(text):
+            compiled.add(rel)
         if path.name == "plain.py":  # its docstring describes the convention
             continue
-        for line in path.read_text().splitlines():
+        for line in text.splitlines():
             if "Plain version:" in line:
                 names = re.findall(r"fpdtw\.plain\.(\w+)", line)
-                assert names, f"{path.name}: {line.strip()}"
-                named.setdefault(path.relative_to(REPO_ROOT).as_posix(), set()).update(names)
-    for path, names in named.items():
-        assert names <= set(plain.__all__), f"{path}: {sorted(names - set(plain.__all__))}"
-    kernels = ["costs.py", "dtw.py", "metrics.py", "forecast.py", "online/window.py",
-               "online/method_a.py", "online/method_b.py", "online/method_c.py",
-               "online/typev.py", "online/opw.py", "online/oedtw.py"]  # fmt: skip
-    assert sorted(f"fpdtw/{k}" for k in kernels) == sorted(named)
+                assert names, f"{rel}: {line.strip()}"
+                named.setdefault(rel, set()).update(names)
+    for rel, names in named.items():
+        assert names <= set(plain.__all__), f"{rel}: {sorted(names - set(plain.__all__))}"
+    assert "fpdtw/costs.py" in compiled and "fpdtw/plain.py" not in compiled
+    assert set(NO_PLAIN_VERSION) <= compiled, "an exemption of a module that compiles nothing"
+    missing = sorted(compiled - set(named) - set(NO_PLAIN_VERSION))
+    assert not missing, f"compiled, with no 'Plain version: fpdtw.plain.xxx' line: {missing}"

@@ -30,7 +30,10 @@ _RAD_PER_DEG = math.pi / 180.0
 @numba.njit(cache=True, fastmath=False)
 def _frame_quats(E, codes, axes, out):
     """out[j] = unit quaternion (w, x, y, z), w >= 0, of E[j] (degrees) in order codes[j]:
-    the product of the elementary rotations, each composed on the left as scipy does."""
+    the product of the elementary rotations, each composed on the left as scipy does.
+
+    Plain version: fpdtw.plain.euler_to_quat (which leaves the sign as it comes).
+    """
     for j in range(E.shape[0]):
         rw, rx, ry, rz = 1.0, 0.0, 0.0, 0.0
         for k in range(3):
@@ -87,7 +90,10 @@ def frame_quats(euler, codes) -> np.ndarray:
 
 @numba.njit(cache=True, fastmath=False, inline="always")
 def _mul(aw, ax, ay, az, bw, bx, by, bz):
-    """Hamilton product, term for term as :func:`fpdtw.motion.rotations.quat_mul`."""
+    """Hamilton product, term for term as :func:`fpdtw.motion.rotations.quat_mul`.
+
+    Plain version: fpdtw.plain.quat_multiply.
+    """
     return (
         aw * bw - ax * bx - ay * by - az * bz,
         aw * bx + ax * bw + ay * bz - az * by,
@@ -104,7 +110,10 @@ def _cross(a0, a1, a2, b0, b1, b2):
 
 @numba.njit(cache=True, fastmath=False)
 def _frame_positions(quats, pre, post, offsets, parents, root, pos, rot):
-    """Global positions ``pos`` (J, 3) of one frame; ``rot`` (J, 4) scratch."""
+    """Global positions ``pos`` (J, 3) of one frame; ``rot`` (J, 4) scratch.
+
+    Plain version: fpdtw.plain.forward_kinematics.
+    """
     for j in range(quats.shape[0]):
         q = quats[j]
         a = _mul(pre[j, 0], pre[j, 1], pre[j, 2], pre[j, 3], q[0], q[1], q[2], q[3])

@@ -125,6 +125,8 @@ def _new_band_line(Iq, Isoa, R, D, dl, acc, c, i, q, column):
     joint-major ``Isoa`` (k, 4, m + 1), or input frame i against the last c target frames
     ``R`` (k, 4, c), frame q' in slot ``q' % c``; values bit-identical to
     ``_geo_frame(Iq[i'], T[q'])``.
+
+    Plain version: fpdtw.plain.oltw_evaluate_line.
     """
     lo = max(0, (i if column else q) - c + 1)
     hi = (i if column else q) + 1
@@ -171,6 +173,8 @@ def _best_cell(D, c, i, q, normalize):
     """Lowest (normalised) path cost among the newest target column and input row.
 
     The column is scanned first, from its lowest cell; the first minimum wins.
+
+    Plain version: fpdtw.plain.oltw_get_inc (its rule 3).
     """
     best = np.inf
     bi = i
@@ -195,6 +199,11 @@ def _best_cell(D, c, i, q, normalize):
 
 @numba.njit(cache=True)
 def _apply(Iq, Isoa, R, D, dl, acc, st, c, inc):
+    """Make the increment ``inc`` (a new target column, input row or both), then count
+    the run.
+
+    Plain version: fpdtw.plain.oltw_apply.
+    """
     if inc == 1 or inc == 3:  # TARGET or BOTH
         st[1] += 1
         _new_band_line(Iq, Isoa, R, D, dl, acc, c, st[0], st[1], True)
@@ -219,6 +228,8 @@ def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normaliz
     work : float64 scratch of :func:`_work_views`.
     st : int64 (5,) state: corner i, corner q, previous increment, run count, pending.
     log : int64 (rows, 7) decisions of this step (see ``_LOG_COLS``).
+
+    Plain version: fpdtw.plain.oltw_step.
     """
     m = Iq.shape[0] - 1
     D, R, dl, acc = _work_views(work, c, Iq.shape[1])
@@ -304,6 +315,8 @@ class OLTW(OnlineAligner):
     ----------
     name : str
         ``"OLTW"`` (``"OLTW c60"`` etc. for another search width).
+
+    Plain version: fpdtw.plain.oltw (the same maps and decisions, tests/test_plain.py).
 
     Paper: FP-DTW reference 3 (Dixon, DAFx 2005).
     Notebook: 20_align_a_live_performance.ipynb

@@ -43,10 +43,36 @@ contradicts itself are marked (*):
    before ``q / fps``, to ``M_q = round(f(q / fps) * fps_A)``, clipped to ``[0, m]``.
 
 The pinned key makes ``f(t)`` unchanged at the current time, so the frames already
-mapped never see a jump. Because the key slopes are automatic (F-curve style), a new
-key also changes the slope at the previous key, i.e. the shape of the PAST segment of
-the final curve slightly; the realised online map is :attr:`OPW.M` (what was output),
-the final curve is :attr:`OPW.curve` (what the poster evaluates).
+mapped never see a jump.
+
+**The plugin reading** (``reading="plugin"``): the authors' only public OPW code is
+their MotionBuilder plugin (matRandall/realTimeDTW, ``ortoolDTWManager_tool.cxx``, its
+``EventHandler``). It agrees with the reading above on the forecast (constant velocity,
+one period ahead), the cost (eq. 5 over 16 effectors), the strict inequalities of item 5
+and the key change of item 6 (``+gamma`` when the current sample is closest: the last key
+moves later, the recording slows down). It differs in two mechanisms, each an option:
+
+* ``reference="ratio"``: item 4 reads A at ``(t + i omega) * r``, ``r = D_A / x_last``
+  (the curve's start length over its current end: one global rate), not at
+  ``f(t) + i omega`` through the curve.
+* ``clock="frames"``: item 2 steps at the first live frame whose time is STRICTLY later
+  than the previous step's time plus ``omega`` (the plugin's playback callback), at that
+  frame's time: at 120 Hz every 5th frame (41.7 ms), at 30 Hz every 2nd (66.7 ms).
+
+It also compares the effectors' positions in the control rig's reference space (world
+positions, the root's travel included), not root-relative ones: that is a property of the
+features, chosen by the caller (:func:`fpdtw.paper.opw_eval.opw_features`). The plugin
+keeps stepping after ``t >= x_last``, but there all three reference times lie at or past
+the recording's end, whose pose is held, so the costs tie and nothing changes: item 7 is
+the same. The plugin's readme states the opposite direction (current sample closest:
+speed the recording up); ``direction="readme"`` runs it.
+
+Because the key slopes are automatic (F-curve style), a new key also changes the slope
+at the previous key, i.e. the shape of the PAST segment of the final curve slightly; the
+realised online map is :attr:`OPW.M` (what was output), the final curve is
+:attr:`OPW.curve` (what the poster evaluates). Both readings use the same
+:class:`~fpdtw.warpcurve.WarpCurve` (the plugin's curve is MotionBuilder's own F-curve,
+whose automatic tangents are not published).
 """
 
 from __future__ import annotations
@@ -63,6 +89,12 @@ from fpdtw.warpcurve import WarpCurve
 
 #: Tolerance when comparing a step time with a frame time (seconds).
 _EPS = 1e-9
+
+#: OPW's readings: name -> the options it sets (module doc).
+READINGS = {
+    "poster": {"reference": "curve", "clock": "exact"},
+    "plugin": {"reference": "ratio", "clock": "frames"},
+}
 
 
 @dataclass(frozen=True)
@@ -104,6 +136,19 @@ class OPW(OnlineAligner):
         Warp parameter, ``0 < gamma < 1``; the poster's Figs. 4-5: 5 %.
     fps : float, optional
         Frame rate of the live (target) frames; default the recording's.
+    reading : {"poster", "plugin"}
+        ``"poster"`` (default): the poster's text (module doc, items 1-8);
+        ``"plugin"``: the authors' MotionBuilder plugin, ``reference="ratio"`` and
+        ``clock="frames"``.
+    reference : {"curve", "ratio"}, optional
+        Overrides the reading's: where the recording is read
+        (:func:`fpdtw.plain.opw_step`).
+    clock : {"exact", "frames"}, optional
+        Overrides the reading's: steps at ``t = k omega`` (``"exact"``) or at the first
+        live frame strictly after the previous step plus ``omega`` (``"frames"``).
+    direction : {"code", "readme"}
+        ``"code"``: the current sample closest slows the recording down (eq. 1's
+        bullets, the plugin's code); ``"readme"``: it speeds it up (the plugin's readme).
 
     Attributes
     ----------
@@ -121,7 +166,18 @@ class OPW(OnlineAligner):
 
     name = "OPW"
 
-    def __init__(self, I: MotionFeatures, omega: float = 0.04, gamma: float = 0.05, fps=None):
+    def __init__(
+        self,
+        I: MotionFeatures,
+        omega: float = 0.04,
+        gamma: float = 0.05,
+        fps=None,
+        reading: str = "poster",
+        *,
+        reference: str | None = None,
+        clock: str | None = None,
+        direction: str = "code",
+    ):
         check_input(I, who="OPW")
         if I.positions is None:
             raise ValueError(
@@ -137,6 +193,19 @@ class OPW(OnlineAligner):
             raise ValueError(f"omega must be positive, got {omega}")
         if not 0 < gamma < 1:
             raise ValueError(f"gamma must satisfy 0 < gamma < 1, got {gamma}")
+        if reading not in READINGS:
+            raise ValueError(f"reading must be one of {sorted(READINGS)}, got {reading!r}")
+        self.reading = reading
+        self.reference = READINGS[reading]["reference"] if reference is None else reference
+        self.clock = READINGS[reading]["clock"] if clock is None else clock
+        self.direction = direction
+        for name, value, allowed in (
+            ("reference", self.reference, ("curve", "ratio")),
+            ("clock", self.clock, ("exact", "frames")),
+            ("direction", self.direction, ("code", "readme")),
+        ):
+            if value not in allowed:
+                raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
         self.omega = float(omega)
         self.gamma = float(gamma)
         self.fps_A = float(I.fps)
@@ -149,14 +218,15 @@ class OPW(OnlineAligner):
         super().reset()
         self.curve = WarpCurve.identity(self.duration_A)
         self.decisions = []
-        self._k = 1  # index of the next OPW step (live time k * omega)
+        self._k = 1  # index of the next OPW step (live time k * omega), clock "exact"
+        self._t_prev = 0.0  # live time of the previous step, clock "frames"
 
     # -- one OPW step ---------------------------------------------------------------------
     def _opw_step(self, t: float, last: int) -> None:
         tw = self.curve.value(t)
         s, costs = opw_step(
             self.curve, t, self._PA, self._Tp[: last + 1], self.omega, self.gamma, self.fps_A,
-            self.fps,
+            self.fps, self.reference, self.direction,
         )  # fmt: skip
         self.decisions.append(OPWDecision(t, tw, tuple(costs), s, self.curve._x[-1]))
 
@@ -164,7 +234,12 @@ class OPW(OnlineAligner):
         if self._Tp is None:
             raise ValueError("OPW needs target frames with positions")
         now = q / self.fps
-        while self._k * self.omega <= now + _EPS:
+        if self.clock == "frames":  # the plugin: at this frame, once omega has passed
+            if now > self._t_prev + self.omega + _EPS:
+                self._t_prev = now
+                if now < self.curve._x[-1]:
+                    self._opw_step(now, q)
+        while self.clock == "exact" and self._k * self.omega <= now + _EPS:
             t = self._k * self.omega
             self._k += 1
             if t >= self.curve._x[-1]:  # the recording has been played out
@@ -192,4 +267,4 @@ class OPW(OnlineAligner):
         }
 
 
-__all__ = ["OPW", "OPWDecision", "interpolate_positions"]
+__all__ = ["OPW", "OPWDecision", "READINGS", "interpolate_positions"]

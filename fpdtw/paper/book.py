@@ -17,9 +17,9 @@ figure map (:mod:`fpdtw.paper.figure_map`), the claims JSON of notebook 12
 
 ``index.md``
     The front page (:func:`front_page`): the claims table (id, claim, paper, ours,
-    holds, holds with Method C's literal window, each claim linked to the notebook pages
-    that show it: :func:`claim_notebooks`), the data used and what is missing, how to
-    rerun, and every notebook page with what it reproduces.
+    holds, holds with Method C's literal window and with OPW's plugin reading, each claim
+    linked to the notebook pages that show it: :func:`claim_notebooks`), the data used and
+    what is missing, how to rerun, and every notebook page with what it reproduces.
 ``figures.md``
     Every figure (PNG, GIF) by notebook, with its PDF and the tables (CSV, Markdown) as
     downloads (:func:`figures_page`).
@@ -203,6 +203,14 @@ def _holds(verdict: str) -> str:
     return f'<span class="holds holds-{cls}">{html.escape(v)}</span>'
 
 
+def _plugin_cell(row: dict) -> str:
+    """The OPW plugin reading's value and verdict of a claims row ("" where n/a)."""
+    verdict = row.get("holds_plugin")
+    if verdict in (None, "", "n/a"):
+        return ""
+    return f"{_cell(row.get('ours_plugin', ''))}<br>{_holds(verdict)}"
+
+
 def _read_csv(path) -> list[dict] | None:
     path = Path(path)
     if not path.is_file():
@@ -244,12 +252,14 @@ def claims_section(claims: list[dict] | None, pages: list[Page]) -> str:
         "on the paper-shaped selection (at most 8 takes per movement); *these movements*: only "
         "the motions resampled. *Robust*: under how many of the paper's open readings and "
         "silent choices (notebook 15) the verdict stands. *Literal window*: with Method C's "
-        "literal `(w_i + 1) x w` window. *Notebook*: the pages that show the evidence.",
+        "literal `(w_i + 1) x w` window. *OPW plugin*: the OPW poster's claims with OPW read "
+        "as the authors' MotionBuilder plugin does it (notebooks 13, 14). *Notebook*: the "
+        "pages that show the evidence.",
         "",
         "{.claims}",
         "| # | claim | paper | ours | verdict | why | per dataset | robust | literal window "
-        "| notebook |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "| OPW plugin | notebook |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     executed = {p.stem for p in pages if p.executed}
     for r in claims:
@@ -284,6 +294,7 @@ def claims_section(claims: list[dict] | None, pages: list[Page]) -> str:
                     per or "-",
                     _cell(r.get("robustness", "")),
                     _holds(literal) if literal is not None else "",
+                    _plugin_cell(r),
                     shown,
                 ]
             )

@@ -21,11 +21,19 @@ Protocol (poster Sections 4-5; the reading notes, ``notebooks/reading_notes.md``
 The poster's numbers: OPW mean deviation 69-79 ms, maximum 121 ms (< 150 ms, Hoyet et
 al.), about 70 % of the temporal difference removed at gamma = 5 %, about 77 % at the
 best gamma (15 %).
+
+Two readings of the whole protocol (:data:`READINGS`): ``"poster"``, the poster's text
+as :mod:`fpdtw.online.opw` reads it, with root-relative positions and the Fig. 3 DTW
+curve as baseline; ``"plugin"``, as the authors' MotionBuilder plugin does it
+(matRandall/realTimeDTW): OPW's plugin options (global-ratio reference times, the frame
+clock), the effectors' world positions, and the plugin's own "standard DTW" baseline,
+which is not DTW but a per-sample best match forced monotone (:func:`best_match_curve`).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -51,6 +59,63 @@ SAMPLE_RATE = numbers.OPW_SAMPLE_RATE_HZ
 OFFSET = numbers.OPW_OFFSET_S
 #: Perceptual threshold of Hoyet et al. 2012 used by the poster (ms).
 HOYET_MS = numbers.PERCEPTUAL_THRESHOLD_MS
+
+
+@dataclass(frozen=True)
+class OPWReading:
+    """One reading of OPW and its evaluation: the aligner's options, the positions, the
+    baseline.
+
+    Attributes
+    ----------
+    name : str
+    reference, clock, direction : str
+        The options of :class:`fpdtw.online.opw.OPW`.
+    root_relative : bool
+        Positions relative to the root (the poster reading) or in world space (the
+        plugin: its control rig's effectors relative to the rig's reference node).
+    baseline : str
+        The offline method this reading compares OPW with: ``"DTW"`` (:func:`dtw_curve`)
+        or ``"best match"`` (:func:`best_match_curve`, the plugin's "standard DTW").
+    """
+
+    name: str
+    reference: str = "curve"
+    clock: str = "exact"
+    direction: str = "code"
+    root_relative: bool = True
+    baseline: str = "DTW"
+
+    def options(self) -> dict:
+        """The keyword arguments of :class:`fpdtw.online.opw.OPW`."""
+        return dict(reference=self.reference, clock=self.clock, direction=self.direction)
+
+
+#: The two readings of the protocol (module doc).
+READINGS = {
+    "poster": OPWReading("poster"),
+    "plugin": OPWReading("plugin", "ratio", "frames", "code", False, "best match"),
+}
+
+#: From the poster reading to the plugin's, one mechanism at a time, then the plugin
+#: with its readme's direction: what each mechanism does to the deviation.
+READING_STEPS = (
+    READINGS["poster"],
+    OPWReading("poster + ratio reference", reference="ratio"),
+    OPWReading("poster + frame clock", clock="frames"),
+    OPWReading("poster + world positions", root_relative=False),
+    READINGS["plugin"],
+    replace(READINGS["plugin"], name="plugin, readme direction", direction="readme"),
+)
+
+
+def as_reading(reading) -> OPWReading:
+    """An :class:`OPWReading` from itself or the name of one of :data:`READINGS`."""
+    if isinstance(reading, OPWReading):
+        return reading
+    if reading not in READINGS:
+        raise ValueError(f"unknown OPW reading {reading!r}; known: {sorted(READINGS)}")
+    return READINGS[reading]
 
 
 @dataclass(frozen=True)
@@ -158,8 +223,15 @@ def warp_motion(motion, curve: WarpCurve, fps=None, name=None):
     return motion.retime(curve(t), fps=fps, name=name or f"{motion.name}_warped")
 
 
-def opw_features(motion) -> MotionFeatures:
-    """Features with the 16 OPW joint positions (root-relative) of a motion.
+def opw_features(motion, root_relative: bool = True) -> MotionFeatures:
+    """Features with the 16 OPW joint positions of a motion.
+
+    Parameters
+    ----------
+    motion : Motion
+    root_relative : bool
+        True (the poster reading): positions relative to the root of each frame; False
+        (the plugin): world positions, the root's travel included.
 
     Returns
     -------
@@ -169,7 +241,11 @@ def opw_features(motion) -> MotionFeatures:
     Paper: OPW poster Section 4 (16 joints), eq. 5.
     Notebook: 13_opw_fig4.ipynb
     """
-    return MotionFeatures.from_motion(motion, position_joints=OPW_JOINTS)
+    if root_relative:
+        return MotionFeatures.from_motion(motion, position_joints=OPW_JOINTS)
+    feats = MotionFeatures.from_motion(motion)
+    P = motion.positions(OPW_JOINTS, root_relative=False)
+    return replace(feats, positions=np.ascontiguousarray(P, dtype=np.float64))
 
 
 def load_cropped(dataset: str, path: str, crop: float | None = CROP_S):
@@ -235,7 +311,9 @@ def fig3_key_points(path, max_run: int | None = 2) -> np.ndarray:
     return np.asarray(keep, dtype=np.int64)
 
 
-def dtw_curve(A, B, omega: float = OMEGA, max_run: int | None = 2) -> WarpCurve:
+def dtw_curve(
+    A, B, omega: float = OMEGA, max_run: int | None = 2, root_relative: bool = True
+) -> WarpCurve:
     """Offline DTW of A against B at OPW's rate, smoothed into a Bezier curve (Fig. 3).
 
     Both motions are resampled to ``1 / omega`` Hz (25 Hz): the rate OPW steps at, so
@@ -257,6 +335,8 @@ def dtw_curve(A, B, omega: float = OMEGA, max_run: int | None = 2) -> WarpCurve:
         Sample period (s).
     max_run : int or None
         See :func:`fig3_key_points`.
+    root_relative : bool
+        Positions relative to the root (default) or in world space.
 
     Returns
     -------
@@ -266,8 +346,8 @@ def dtw_curve(A, B, omega: float = OMEGA, max_run: int | None = 2) -> WarpCurve:
     Paper: OPW poster Section 4, Fig. 3, eq. 5.
     """
     rate = 1.0 / omega
-    PA = A.resample(rate).positions(OPW_JOINTS, root_relative=True)
-    PB = B.resample(rate).positions(OPW_JOINTS, root_relative=True)
+    PA = A.resample(rate).positions(OPW_JOINTS, root_relative=root_relative)
+    PB = B.resample(rate).positions(OPW_JOINTS, root_relative=root_relative)
     res = dtw(position_cost_matrix(PA, PB))
     idx = fig3_key_points(res.path, max_run)
     pts = res.path[idx]
@@ -287,6 +367,156 @@ def dtw_curve(A, B, omega: float = OMEGA, max_run: int | None = 2) -> WarpCurve:
     if len(xs) < 2:
         xs, ys = [0.0, DB], [0.0, DA]
     return WarpCurve(xs, ys)
+
+
+# -- the plugin's "standard DTW" baseline -----------------------------------------------------
+
+
+def plugin_period(fps: float) -> float:
+    """The plugin's sample period for its baseline: one frame, in whole milliseconds (s).
+
+    The plugin sets it to ``1000 / fps`` ms through ``FBTime::SetMilliSeconds``, which
+    takes an integer: 8 ms at 120 Hz, 33 ms at 30 Hz.
+    """
+    return math.floor(1000.0 / float(fps) + 1e-9) / 1000.0
+
+
+def _positions_at(P, fps: float, times) -> np.ndarray:
+    """Positions (F, p, 3) at ``times`` (s), linear between frames, clamped to the ends."""
+    x = np.clip(np.asarray(times, dtype=float) * fps, 0.0, P.shape[0] - 1)
+    i0 = np.minimum(np.floor(x + 1e-9).astype(np.int64), P.shape[0] - 1)
+    i1 = np.minimum(i0 + 1, P.shape[0] - 1)
+    a = np.clip(x - i0, 0.0, 1.0)[:, None, None]
+    return (1.0 - a) * P[i0] + a * P[i1]
+
+
+def best_match_map(C) -> np.ndarray:
+    """The plugin's baseline map: each recording sample's best live sample, forced monotone.
+
+    Row ``i`` of ``C`` (a recording sample) takes the column of its smallest cost (the
+    first on ties), then ``M_0`` is that column and ``M_i = min(max(best_i, M_{i-1}),
+    M_{i-1} + 2)``: a best match behind the previous one repeats it, one more than two
+    samples ahead is cut to two.
+
+    Parameters
+    ----------
+    C : ndarray of float, shape (N_A, N_B)
+        Costs between the recording's and the live motion's samples.
+
+    Returns
+    -------
+    M : ndarray of int64, shape (N_A,)
+        Live sample of each recording sample, non-decreasing, steps of 0, 1 or 2.
+
+    Paper: the authors' MotionBuilder plugin (``EventButtonRunStandardDTW``), the
+    baseline of the OPW poster's Figs. 4-5 under the plugin reading.
+    """
+    best = np.argmin(np.asarray(C, dtype=float), axis=1)
+    M = np.empty(best.size, dtype=np.int64)
+    M[0] = best[0]
+    for i in range(1, best.size):
+        M[i] = min(max(int(best[i]), M[i - 1]), M[i - 1] + 2)
+    return M
+
+
+def best_match_keys(M) -> np.ndarray:
+    """The samples of a :func:`best_match_map` the plugin turns into curve keys.
+
+    Sample ``i >= 1`` is kept when its step is not sequential (``M_i != M_{i-1} + 1``: a
+    repeat or a jump of two) and the next sample does not repeat it (``M_{i+1} !=
+    M_i``; the last sample has no next). The last sample is always kept.
+
+    Returns
+    -------
+    idx : ndarray of int64, shape (K,)
+        Increasing sample indices, ending with ``len(M) - 1``.
+
+    Paper: the authors' MotionBuilder plugin (``EventButtonRunStandardDTW``).
+    """
+    M = np.asarray(M, dtype=np.int64)
+    n = M.size
+    keep = [i for i in range(1, n) if M[i] != M[i - 1] + 1 and (i == n - 1 or M[i + 1] != M[i])]
+    if not keep or keep[-1] != n - 1:
+        keep.append(n - 1)
+    return np.asarray(keep, dtype=np.int64)
+
+
+def best_match_curve(A, B, period=None, root_relative: bool = False) -> WarpCurve:
+    """The plugin's "standard DTW" baseline: a monotone per-sample best match as a curve.
+
+    Both motions are sampled every ``period`` seconds (times strictly before each one's
+    last frame time, as the plugin's loops); the cost of a pair of samples is eq. 5 over
+    the 16 joints' positions. :func:`best_match_map` maps each recording sample ``i`` to
+    a live sample ``M_i``; :func:`best_match_keys` picks the samples that become keys
+    ``(t, t') = (M_i period, i period)``, added to a curve that starts with the key
+    ``(0, 0)`` (a key at ``t = 0`` replaces it). The plugin adds them to a MotionBuilder
+    F-curve; ours is a :class:`~fpdtw.warpcurve.WarpCurve` through the same keys. The
+    plugin's minimum search starts from a cost of 1000 (a sample with no cheaper match
+    maps to 0, then the clamp repeats the previous one); that cap depends on its scene's
+    units and is not applied here.
+
+    Parameters
+    ----------
+    A, B : Motion
+        Recording and live motion.
+    period : float, optional
+        Sample period (s); default :func:`plugin_period` of A's frame rate.
+    root_relative : bool
+        Positions relative to the root, or in world space (the plugin's control rig: the
+        default).
+
+    Returns
+    -------
+    f : WarpCurve
+        Live time -> recording time.
+
+    Paper: the authors' MotionBuilder plugin (``EventButtonRunStandardDTW``); OPW
+    poster eq. 5, Figs. 4-5.
+    """
+    P = plugin_period(A.fps) if period is None else float(period)
+    if not P > 0:
+        raise ValueError(f"period must be positive, got {P}")
+    tA = np.arange(max(1, int(np.ceil(A.duration / P - 1e-9)))) * P
+    tB = np.arange(max(1, int(np.ceil(B.duration / P - 1e-9)))) * P
+    PA = _positions_at(A.positions(OPW_JOINTS, root_relative=root_relative), A.fps, tA)
+    PB = _positions_at(B.positions(OPW_JOINTS, root_relative=root_relative), B.fps, tB)
+    return best_match_warp(best_match_map(position_cost_matrix(PA, PB)), P, B.duration)
+
+
+def best_match_warp(M, period: float, span: float | None = None) -> WarpCurve:
+    """The plugin's baseline curve from its map: keys ``(M_i period, i period)``.
+
+    The curve starts with the key ``(0, 0)``; each sample ``i`` of :func:`best_match_keys`
+    adds the key ``(M_i period, i period)`` (a key at a time that has one already replaces
+    it, as MotionBuilder's ``KeyAdd`` does). Key times increase with ``i`` because a kept
+    sample is never followed by a repeat.
+
+    Parameters
+    ----------
+    M : ndarray of int, shape (N,)
+        :func:`best_match_map`.
+    period : float
+        Sample period (s).
+    span : float, optional
+        Live duration: where a curve left with one key (every kept sample at live time 0)
+        ends; it then holds that key's value. Default ``period``.
+
+    Returns
+    -------
+    f : WarpCurve
+        Live time -> recording time.
+
+    Paper: the authors' MotionBuilder plugin (``EventButtonRunStandardDTW``).
+    """
+    M = np.asarray(M, dtype=np.int64)
+    keys = {0.0: 0.0}
+    for i in best_match_keys(M):
+        keys[float(M[i] * period)] = float(i * period)
+    xs = sorted(keys)
+    if len(xs) == 1:  # one key: the curve holds its value
+        xs.append(max(period, span or period))
+        keys[xs[1]] = keys[xs[0]]
+    return WarpCurve(xs, [keys[x] for x in xs])
 
 
 # -- measures -------------------------------------------------------------------------------------
@@ -372,13 +602,19 @@ def temporal_difference_removed(
 # -- one motion, one configuration --------------------------------------------------------------
 
 
-def run_opw(A, B, omega: float = OMEGA, gamma: float = GAMMA) -> OPW:
+#: The methods every :func:`evaluate` result holds, besides the example curve.
+METHODS = ("DTW", "best match", "OPW")
+
+
+def run_opw(A, B, omega: float = OMEGA, gamma: float = GAMMA, reading="poster") -> OPW:
     """Run OPW aligning recording A to live motion B, frame by frame.
 
     Parameters
     ----------
     A, B : Motion
         Recording and live motion (any frame rates).
+    reading : str or OPWReading
+        ``"poster"`` or ``"plugin"`` (:data:`READINGS`), or a reading of its own.
 
     Returns
     -------
@@ -387,8 +623,9 @@ def run_opw(A, B, omega: float = OMEGA, gamma: float = GAMMA) -> OPW:
 
     Paper: OPW poster Algorithm 1.
     """
-    I, T = opw_features(A), opw_features(B)
-    aligner = OPW(I, omega=omega, gamma=gamma, fps=B.fps)
+    rd = as_reading(reading)
+    I, T = opw_features(A, rd.root_relative), opw_features(B, rd.root_relative)
+    aligner = OPW(I, omega=omega, gamma=gamma, fps=B.fps, **rd.options())
     run_online(aligner, T)
     return aligner
 
@@ -400,8 +637,10 @@ def evaluate(
     omega: float = OMEGA,
     crop: float | None = CROP_S,
     rate: float = SAMPLE_RATE,
+    reading="poster",
 ) -> dict:
-    """The poster's test on one motion: example warp, OPW and DTW curves, their measures.
+    """The poster's test on one motion: example warp, OPW and the baselines' curves, their
+    measures.
 
     Parameters
     ----------
@@ -411,40 +650,103 @@ def evaluate(
         Example curve's middle offset (s), OPW's warp parameter and sample period (s).
     rate : float
         Sampling rate of the measures (Hz).
+    reading : str or OPWReading
+        How OPW is read and which positions every method compares (:data:`READINGS`).
 
     Returns
     -------
     result : dict
-        ``name``, ``offset``, ``gamma``, ``omega``, ``duration``; ``curves``: dict of
-        WarpCurve ``"example"``, ``"DTW"``, ``"OPW"``; ``deviation`` and ``slope``: per
-        method the dicts of :func:`deviation_ms` / :func:`slope_change_percent`;
-        ``removed``: per method :func:`temporal_difference_removed`; ``decisions``: OPW's
+        ``name``, ``reading``, ``reference`` (OPW's), ``baseline`` (the reading's), ``offset``,
+        ``gamma``,
+        ``omega``, ``duration``; ``curves``: dict of WarpCurve ``"example"`` and one per
+        method of :data:`METHODS` (``"DTW"``: :func:`dtw_curve`, ``"best match"``:
+        :func:`best_match_curve`, ``"OPW"``); ``deviation`` and ``slope``: per method the
+        dicts of :func:`deviation_ms` / :func:`slope_change_percent`; ``removed``: per
+        method :func:`temporal_difference_removed`; ``decisions``: OPW's
         :meth:`~fpdtw.online.opw.OPW.decision_table`; ``M``: OPW's online map (frames).
 
     Paper: OPW poster Sections 4-5, Figs. 4-6.
     Notebook: 13_opw_fig4.ipynb
     """
+    rd = as_reading(reading)
     A = motion if crop is None else motion.crop(0.0, crop)
     g = example_curve(A.duration, offset)
     B = warp_motion(A, g)
-    opw = run_opw(A, B, omega, gamma)
-    curves = {"example": g, "DTW": dtw_curve(A, B, omega), "OPW": opw.curve}
-    methods = ("DTW", "OPW")
+    base = _baselines(A, B, omega, rd)
+    return _evaluate(motion.name, A, B, g, base, offset, gamma, omega, rate, rd)
+
+
+def _baselines(A, B, omega, rd) -> dict:
+    """The offline curves of a pair (they do not depend on gamma)."""
     return {
-        "name": motion.name,
+        "DTW": dtw_curve(A, B, omega, root_relative=rd.root_relative),
+        "best match": best_match_curve(A, B, root_relative=rd.root_relative),
+    }
+
+
+def _evaluate(name, A, B, g, base, offset, gamma, omega, rate, rd) -> dict:
+    opw = run_opw(A, B, omega, gamma, rd)
+    curves = {"example": g, **base, "OPW": opw.curve}
+    return {
+        "name": name,
+        "reading": rd.name,
+        "reference": rd.reference,
+        "baseline": rd.baseline,
         "offset": float(offset),
         "gamma": float(gamma),
         "omega": float(omega),
         "duration": float(A.duration),
         "curves": curves,
-        "deviation": {k: deviation_ms(curves[k], g, rate) for k in methods},
+        "deviation": {k: deviation_ms(curves[k], g, rate) for k in METHODS},
         "slope": {
             k: slope_change_percent(curves[k], rate, duration=B.duration)
-            for k in ("example",) + methods
+            for k in ("example",) + METHODS
         },
-        "removed": {k: temporal_difference_removed(curves[k], g, rate) for k in methods},
+        "removed": {k: temporal_difference_removed(curves[k], g, rate) for k in METHODS},
         "decisions": opw.decision_table(),
         "M": opw.M.copy(),
+    }
+
+
+def reference_lag(result: dict) -> dict:
+    """Where OPW read the recording at each step, and where its curve was, against the example.
+
+    At a step at live time ``t`` OPW compares the forecast with the recording from the
+    *reference time* on: ``f(t)`` (the poster reading: through the curve) or
+    ``t D_A / x_last`` (the plugin: the global ratio, ``x_last`` before the step). Both are
+    set against the example ``g(t)``, the time a perfect alignment would show.
+
+    Parameters
+    ----------
+    result : dict
+        An :func:`evaluate` result.
+
+    Returns
+    -------
+    lag : dict
+        ``t`` (N,) step times (s); ``reference_ms`` (N,) reference time minus ``g(t)`` and
+        ``curve_ms`` (N,) ``f(t) - g(t)`` (the curve's value when the step was taken), in
+        ms; ``reference_mean_abs_ms`` and ``curve_mean_abs_ms``, their mean magnitudes.
+
+    Paper: OPW poster eq. 4; the authors' MotionBuilder plugin.
+    Notebook: 13_opw_fig4.ipynb
+    """
+    dec = result["decisions"]
+    g = result["curves"]["example"]
+    t, tw = dec["t"], dec["t_warped"]
+    if result.get("reference", "curve") == "ratio":
+        before = np.r_[result["duration"], dec["x_last"][:-1]]
+        ref = t * result["duration"] / before
+    else:
+        ref = tw
+    ref_ms = 1000.0 * (ref - g(t))
+    curve_ms = 1000.0 * (tw - g(t))
+    return {
+        "t": t,
+        "reference_ms": ref_ms,
+        "curve_ms": curve_ms,
+        "reference_mean_abs_ms": float(np.abs(ref_ms).mean()) if t.size else 0.0,
+        "curve_mean_abs_ms": float(np.abs(curve_ms).mean()) if t.size else 0.0,
     }
 
 
@@ -454,17 +756,18 @@ def summary_row(result: dict, label: str = "") -> list[dict]:
     Returns
     -------
     rows : list of dict
-        For DTW and OPW: ``motion, method, offset_s, gamma, mean_ms, max_ms,
-        slope_mean_pct, slope_max_pct, removed``.
+        For each method of :data:`METHODS`: ``motion, reading, method, offset_s, gamma,
+        mean_ms, max_ms, slope_mean_pct, slope_max_pct, removed``.
 
     Paper: OPW poster Fig. 4.
     Notebook: 13_opw_fig4.ipynb
     """
     rows = []
-    for k in ("DTW", "OPW"):
+    for k in METHODS:
         rows.append(
             {
                 "motion": label or result["name"],
+                "reading": result.get("reading", "poster"),
                 "method": k,
                 "offset_s": result["offset"],
                 "gamma": result["gamma"],
@@ -478,7 +781,9 @@ def summary_row(result: dict, label: str = "") -> list[dict]:
     return rows
 
 
-def sweep(motions: dict, offsets=(OFFSET,), gammas=(GAMMA,), omega: float = OMEGA) -> list:
+def sweep(
+    motions: dict, offsets=(OFFSET,), gammas=(GAMMA,), omega: float = OMEGA, reading="poster"
+) -> list:
     """:func:`evaluate` over every motion, offset and gamma.
 
     Parameters
@@ -486,6 +791,8 @@ def sweep(motions: dict, offsets=(OFFSET,), gammas=(GAMMA,), omega: float = OMEG
     motions : dict of str to Motion
         Label -> recording (already cropped or not; cropped to 2.5 s here).
     offsets, gammas : sequence of float
+    reading : str or OPWReading
+        See :func:`evaluate`.
 
     Returns
     -------
@@ -495,11 +802,16 @@ def sweep(motions: dict, offsets=(OFFSET,), gammas=(GAMMA,), omega: float = OMEG
     Paper: OPW poster Figs. 5 and 6.
     Notebook: 14_opw_fig5_fig6.ipynb
     """
+    rd = as_reading(reading)
     rows = []
     for label, motion in motions.items():
+        A = motion.crop(0.0, CROP_S)
         for off in offsets:
+            g = example_curve(A.duration, off)
+            B = warp_motion(A, g)
+            base = _baselines(A, B, omega, rd)  # once for every gamma
             for gam in gammas:
-                res = evaluate(motion, offset=off, gamma=gam, omega=omega)
+                res = _evaluate(motion.name, A, B, g, base, off, gam, omega, SAMPLE_RATE, rd)
                 for row in summary_row(res, label):
                     row["ms"] = res["deviation"][row["method"]]["ms"]
                     rows.append(row)
@@ -570,29 +882,35 @@ def _r(v, digits=3):
     return None if v is None else round(float(v), digits)
 
 
-def fig4_facts(rows: list, motions: dict) -> dict:
+def fig4_facts(rows: list, motions: dict, baseline: str = "DTW") -> dict:
     """The facts of poster Fig. 4 (notebook 13, and the claims table): ours and the poster's.
 
     Parameters
     ----------
     rows : list of dict
-        :func:`summary_row` rows of every motion.
+        :func:`summary_row` rows of every motion (one reading).
     motions : dict of str to OPWMotion
         Label -> the motion's entry (:data:`FIG4_MOTIONS`).
+    baseline : str
+        The method standing for the poster's DTW: ``"DTW"`` (the poster reading) or
+        ``"best match"`` (the plugin's).
 
     Returns
     -------
     facts : dict
-        ``opw_mean_ms_range``, ``opw_max_ms``, ``dtw_mean_ms_range`` (ms), ``opw_removed_mean``,
-        ``dtw_better_everywhere`` (DTW's mean deviation below OPW's on every motion),
-        ``opw_smoother_everywhere`` (OPW's largest slope change below DTW's), ``per_motion``
-        and ``poster`` (the poster's numbers, from :mod:`fpdtw.paper.numbers`).
+        ``opw_mean_ms_range``, ``opw_max_ms``, ``dtw_mean_ms_range`` (ms: the baseline's),
+        ``opw_removed_mean``, ``dtw_better_everywhere`` (the baseline's mean deviation below
+        OPW's on every motion), ``opw_smoother_everywhere`` (OPW's largest slope change
+        below the baseline's), ``baseline``, ``per_motion`` and ``poster`` (the poster's
+        numbers, from :mod:`fpdtw.paper.numbers`).
 
     Paper: OPW poster Section 5 and Fig. 4.
     Notebook: 13_opw_fig4.ipynb
     """
     opw = [r for r in rows if r["method"] == "OPW"]
-    dtw = [r for r in rows if r["method"] == "DTW"]
+    dtw = [r for r in rows if r["method"] == baseline]
+    if not opw or len(dtw) != len(opw):
+        raise ValueError(f"need one OPW and one {baseline!r} row per motion")
     keys = ("mean_ms", "max_ms", "slope_mean_pct", "slope_max_pct", "removed")
     return {
         "motions": {lab: {"dataset": m.dataset, "path": m.path} for lab, m in motions.items()},
@@ -609,6 +927,7 @@ def fig4_facts(rows: list, motions: dict) -> dict:
         "opw_smoother_everywhere": all(
             o["slope_max_pct"] < d["slope_max_pct"] for d, o in zip(dtw, opw)
         ),
+        "baseline": baseline,
         "poster": {
             "opw_mean_ms_range": list(numbers.OPW_MEAN_DEVIATION_MS),
             "opw_max_ms": numbers.OPW_MAX_DEVIATION_MS,
@@ -616,7 +935,9 @@ def fig4_facts(rows: list, motions: dict) -> dict:
     }  # fmt: skip
 
 
-def fig5_fig6_facts(rows5: list, offsets, rows6: list, gammas, gamma=GAMMA) -> dict:
+def fig5_fig6_facts(
+    rows5: list, offsets, rows6: list, gammas, gamma=GAMMA, baseline: str = "DTW"
+) -> dict:
     """The facts of poster Figs. 5 and 6 (notebook 14, and the claims table).
 
     Parameters
@@ -625,6 +946,8 @@ def fig5_fig6_facts(rows5: list, offsets, rows6: list, gammas, gamma=GAMMA) -> d
         :func:`sweep` rows over ``offsets`` at ``gamma`` (Fig. 5).
     rows6 : list of dict
         :func:`sweep` rows over ``gammas`` at the poster's offset (Fig. 6).
+    baseline : str
+        The method beside OPW in the Fig. 5 table (``"DTW"`` or ``"best match"``).
 
     Returns
     -------
@@ -647,7 +970,7 @@ def fig5_fig6_facts(rows5: list, offsets, rows6: list, gammas, gamma=GAMMA) -> d
     table5 = [
         {"offset_s": o, "method": k, **pooled(rows5, k, offset_s=o)}
         for o in offsets
-        for k in ("DTW", "OPW")
+        for k in (baseline, "OPW")
     ]
     table6 = [{"gamma": g, **pooled(rows6, "OPW", gamma=g)} for g in gammas]
     best = min(table6, key=lambda r: r["mean_ms"])
@@ -657,6 +980,7 @@ def fig5_fig6_facts(rows5: list, offsets, rows6: list, gammas, gamma=GAMMA) -> d
         return [{k: _r(v) if isinstance(v, float) else v for k, v in r.items()} for r in rows]
 
     return {
+        "baseline": baseline,
         "gamma_fig5": gamma,
         "fig5": plain(table5),
         "fig6": plain(table6),
@@ -678,7 +1002,81 @@ def fig5_fig6_facts(rows5: list, offsets, rows6: list, gammas, gamma=GAMMA) -> d
     }
 
 
+#: Columns of the readings table (:func:`readings_table`, ``figures/opw_readings``).
+READINGS_COLUMNS = ("reading", "motion", "opw_mean_ms", "opw_max_ms", "opw_removed",
+                    "best_gamma", "best_gamma_mean_ms", "best_gamma_removed", "baseline",
+                    "baseline_mean_ms", "baseline_max_ms", "baseline_removed")  # fmt: skip
+
+
+def readings_table(sweeps, gamma: float = GAMMA) -> list[dict]:
+    """Per reading and motion, and all motions pooled: OPW at ``gamma``, OPW at its best
+    gamma, and the reading's baseline.
+
+    Parameters
+    ----------
+    sweeps : sequence of (OPWReading, list of dict)
+        Each reading with its :func:`sweep` rows over gammas at one offset (the Fig. 6
+        sweep); ``gamma`` must be among the gammas.
+    gamma : float
+        The gamma of the first columns (the poster's Figs. 4-5: 5 %).
+
+    Returns
+    -------
+    rows : list of dict
+        Keys :data:`READINGS_COLUMNS`; ``motion`` ``"all"`` pools the motions as
+        :func:`pooled` (mean and max over every 50 Hz sample, mean of the shares removed).
+        The best gamma has the lowest mean deviation (the first on ties); the baseline
+        does not depend on gamma.
+
+    Paper: OPW poster Section 5, Figs. 4-6; the authors' MotionBuilder plugin.
+    Notebook: 14_opw_fig5_fig6.ipynb
+    """
+    out = []
+    for rd, rows in sweeps:
+        rd = as_reading(rd)
+        gammas = sorted({r["gamma"] for r in rows})
+        if not any(np.isclose(g, gamma) for g in gammas):
+            raise ValueError(f"reading {rd.name!r}: gamma {gamma} is not among {gammas}")
+        labels = list(dict.fromkeys(r["motion"] for r in rows))
+        for label in labels + ["all"]:
+            sel = [r for r in rows if label in ("all", r["motion"])]
+            opw = pooled(sel, "OPW", gamma=gamma)
+            per_gamma = [(pooled(sel, "OPW", gamma=g), g) for g in gammas]
+            best, g_best = min(per_gamma, key=lambda x: x[0]["mean_ms"])
+            base = pooled(sel, rd.baseline, gamma=gamma)
+            out.append(
+                {
+                    "reading": rd.name,
+                    "motion": label,
+                    "opw_mean_ms": _r(opw["mean_ms"], 1),
+                    "opw_max_ms": _r(opw["max_ms"], 1),
+                    "opw_removed": _r(opw["removed"]),
+                    "best_gamma": _r(g_best),
+                    "best_gamma_mean_ms": _r(best["mean_ms"], 1),
+                    "best_gamma_removed": _r(best["removed"]),
+                    "baseline": rd.baseline,
+                    "baseline_mean_ms": _r(base["mean_ms"], 1),
+                    "baseline_max_ms": _r(base["max_ms"], 1),
+                    "baseline_removed": _r(base["removed"]),
+                }
+            )
+    return out
+
+
 __all__ = [
+    "METHODS",
+    "READINGS",
+    "READINGS_COLUMNS",
+    "READING_STEPS",
+    "OPWReading",
+    "as_reading",
+    "best_match_curve",
+    "best_match_keys",
+    "best_match_map",
+    "best_match_warp",
+    "plugin_period",
+    "readings_table",
+    "reference_lag",
     "fig4_facts",
     "fig5_fig6_facts",
     "CROP_S",

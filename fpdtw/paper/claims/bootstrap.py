@@ -167,17 +167,12 @@ def resample_weights(
 def _add_pair_weights(W, rows, li, lt, C, live):  # pragma: no cover - compiled
     """``W[b, rows[p]] += C[b, li[p]] * C[b, lt[p]]`` for the resamples ``b`` with ``live[b]``.
 
-    Plain version: :func:`add_pair_weights_plain`.
+    Plain version: fpdtw.plain.pair_weights (one resample, one movement).
     """
     for b in range(W.shape[0]):
         if live[b]:
             for p in range(rows.size):
                 W[b, rows[p]] += C[b, li[p]] * C[b, lt[p]]
-
-
-def add_pair_weights_plain(W, rows, li, lt, C, live):
-    """NumPy twin of the compiled weight accumulation of :func:`resample_weights`."""
-    W[:, rows] += (C[:, li] * C[:, lt]).astype(W.dtype) * live[:, None]
 
 
 def weighted_medians(values, W, cols=None) -> np.ndarray:
@@ -213,7 +208,10 @@ def weighted_medians(values, W, cols=None) -> np.ndarray:
 @numba.njit(cache=True)
 def _weighted_medians(vs, W, order):  # pragma: no cover - compiled
     """Per row of ``W``: the median of the sorted values ``vs`` (pairs ``order``) repeated by
-    their weights. Plain version: :func:`weighted_medians_plain`."""
+    their weights.
+
+    Plain version: fpdtw.plain.weighted_median (one row).
+    """
     B = W.shape[0]
     out = np.full(B, np.nan)
     for b in range(B):
@@ -232,27 +230,6 @@ def _weighted_medians(vs, W, order):  # pragma: no cover - compiled
             if acc >= hi_pos:
                 out[b] = 0.5 * (vs[lo] + vs[i])
                 break
-    return out
-
-
-def weighted_medians_plain(values, W) -> np.ndarray:
-    """NumPy twin of :func:`weighted_medians` (cumulative weights, no compiled loop)."""
-    values = np.asarray(values, dtype=np.float64)
-    W = np.atleast_2d(W)
-    ok = np.flatnonzero(np.isfinite(values))
-    order = ok[np.argsort(values[ok], kind="stable")]
-    vs = values[order]
-    out = np.full(W.shape[0], np.nan)
-    if vs.size == 0:
-        return out
-    for s in range(0, W.shape[0], _BLOCK):
-        cw = np.cumsum(W[s : s + _BLOCK, order], axis=1, dtype=np.int64)
-        tot = cw[:, -1]
-        lo = np.minimum(np.sum(cw < ((tot + 1) // 2)[:, None], axis=1), vs.size - 1)
-        hi = np.minimum(np.sum(cw < (tot // 2 + 1)[:, None], axis=1), vs.size - 1)
-        med = 0.5 * (vs[lo] + vs[hi])
-        med[tot == 0] = np.nan
-        out[s : s + _BLOCK] = med
     return out
 
 
@@ -344,6 +321,5 @@ __all__ = [
     "resample_weights",
     "seed_stability",
     "weighted_medians",
-    "weighted_medians_plain",
     "weighted_ratios",
 ]

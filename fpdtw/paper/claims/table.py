@@ -18,7 +18,10 @@ row per claim (:data:`COLUMNS`):
   movement);
 * ``robustness``: under how many of the documented readings and silent choices the verdict
   stands (:mod:`fpdtw.paper.claims.robustness`);
-* ``ours_literal``, ``holds_literal``: with Method C's literal window.
+* ``ours_literal``, ``holds_literal``: with Method C's literal window;
+* ``ours_plugin``, ``holds_plugin``: the OPW poster's claims with OPW read as the authors'
+  MotionBuilder plugin does it (:data:`fpdtw.paper.opw_eval.READINGS`; "n/a" for the FP-DTW
+  claims).
 
 :func:`part_rows` gives one row per part (``figures/claims_intervals.csv``).
 
@@ -54,15 +57,18 @@ DATASETS = ("authors_fbx", "hdm05")
 #: Columns of the claims table.
 COLUMNS = ("id", "claim", "paper", "ours", "holds", "reason", "interval",
            "holds_same_movements", "holds_authors_fbx", "holds_hdm05", "holds_paper_shaped",
-           "robustness", "ours_literal", "holds_literal", "evidence", "stable")  # fmt: skip
+           "robustness", "ours_literal", "holds_literal", "ours_plugin", "holds_plugin",
+           "evidence", "stable")  # fmt: skip
 #: Columns of the parts table (``claims_intervals.csv``).
 PART_COLUMNS = ("claim", "part", "text", "verdict", "quantity", "estimate", "ci_low", "ci_high",
                 "threshold", "verdict_same_movements", "verdict_authors_fbx", "verdict_hdm05",
-                "verdict_paper_shaped", "verdict_literal")  # fmt: skip
+                "verdict_paper_shaped", "verdict_literal", "verdict_plugin")  # fmt: skip
 #: Method C's readings the claims table is evaluated under: column suffix -> reading.
 READINGS = {"": "square", "_literal": "literal"}
 #: The other bodies of evidence, as column suffixes of ``holds``.
 OTHER_EVIDENCE = ("same_movements", "authors_fbx", "hdm05", "paper_shaped")
+#: OPW's other reading: the OPW notebooks' facts hold it under ``readings`` -> this name.
+OPW_PLUGIN = "plugin"
 
 
 @dataclass
@@ -164,6 +170,24 @@ class ClaimContext:
         if unknown:
             raise TypeError(f"unknown facts {sorted(unknown)}; allowed: {sorted(allowed)}")
         return cls(mode=mode, alias=reading_alias(reading), **facts)
+
+
+def opw_reading(ctx, reading: str = OPW_PLUGIN):
+    """The context with the OPW notebooks' facts of another reading of OPW, or None.
+
+    The OPW notebooks store each other reading's facts under ``readings`` -> name in their
+    JSON (``13_opw_fig4.json``, ``14_opw_fig5_fig6.json``); None when neither holds it.
+
+    Paper: OPW poster Section 5; the authors' MotionBuilder plugin.
+    """
+
+    def sub(d):
+        return ((d or {}).get("readings") or {}).get(reading)
+
+    fig4, fig56 = sub(ctx.opw_fig4), sub(ctx.opw_fig56)
+    if fig4 is None and fig56 is None:
+        return None
+    return replace(ctx, opw_fig4=fig4, opw_fig56=fig56)
 
 
 def reading_alias(reading: str) -> dict:
@@ -622,7 +646,8 @@ def _claim_p1(ctx):
     if d is None:
         return f"{OPW_FIG4_JSON} absent"
     (lo, hi), mx, (dlo, dhi) = d["opw_mean_ms_range"], d["opw_max_ms"], d["dtw_mean_ms_range"]
-    ours = f"mean {lo:.0f}-{hi:.0f} ms, max {mx:.0f} ms (DTW mean {dlo:.0f}-{dhi:.0f} ms)"
+    base = d.get("baseline", "DTW")
+    ours = f"mean {lo:.0f}-{hi:.0f} ms, max {mx:.0f} ms ({base} mean {dlo:.0f}-{dhi:.0f} ms)"
     pmin, pmax = N.OPW_MEAN_DEVIATION_MS
     parts = [
         Part(
@@ -769,6 +794,9 @@ class Claim:
         Where the paper's own text contradicts itself, said first in the reason.
     beyond : bool
         Not a claim of the papers (runs beyond them): verdict "n/a".
+    opw : bool
+        A claim of the OPW poster, decided from the OPW notebooks' facts (so under the
+        plugin reading of OPW too).
     """
 
     id: str
@@ -780,6 +808,7 @@ class Claim:
     pairs: bool = True
     contradiction: str = ""
     beyond: bool = False
+    opw: bool = False
 
     def evaluate(self, ctx) -> dict:
         """``ours``, ``holds``, ``reason`` and the evaluated parts on one context."""
@@ -856,19 +885,22 @@ CLAIMS = [
           "150 ms perceptual threshold",
           "mean {:.0f}-{:.0f} ms, max {:.0f} ms".format(*N.OPW_MEAN_DEVIATION_MS,
                                                         N.OPW_MAX_DEVIATION_MS),
-          _claim_p1, f"poster Fig. 4 (13_opw_fig4); {OPW_FIG4_JSON}", pairs=False),
+          _claim_p1, f"poster Fig. 4 (13_opw_fig4); {OPW_FIG4_JSON}", pairs=False, opw=True),
     Claim("P2", "OPW poster: with gamma 5 %, OPW consistently removes about 70 % of the temporal "
           "difference between the motions, over the offsets of Fig. 5 (ours: within 10 "
           "percentage points, mean over offsets)", f"about {100 * N.OPW_REMOVED_GAMMA5:.0f} %",
-          _claim_p2, f"poster Fig. 5 (14_opw_fig5_fig6); {OPW_FIG56_JSON}", pairs=False),
+          _claim_p2, f"poster Fig. 5 (14_opw_fig5_fig6); {OPW_FIG56_JSON}", pairs=False,
+          opw=True),
     Claim("P3", "OPW poster: OPW does best with gamma = 15 %, removing about 77 % of the temporal "
           "difference (ours: best gamma within 5 points, removed share within 10 points)",
           f"gamma {100 * N.OPW_BEST_GAMMA:.0f} %, about {100 * N.OPW_REMOVED_BEST_GAMMA:.0f} %",
-          _claim_p3, f"poster Fig. 6 (14_opw_fig5_fig6); {OPW_FIG56_JSON}", pairs=False),
+          _claim_p3, f"poster Fig. 6 (14_opw_fig5_fig6); {OPW_FIG56_JSON}", pairs=False,
+          opw=True),
     Claim("P4", "OPW poster: OPW copes with a temporal difference of 300 ms in 2500 ms motions "
           "(maximum deviation below 150 ms), and up to 500 ms judged by the mean",
           f"{1000 * N.OPW_OFFSET_MAX_OK_S:.0f} ms (max), {1000 * N.OPW_OFFSET_MEAN_OK_S:.0f} ms "
-          "(mean)", _claim_p4, f"poster Fig. 5 (14_opw_fig5_fig6); {OPW_FIG56_JSON}", pairs=False),
+          "(mean)", _claim_p4, f"poster Fig. 5 (14_opw_fig5_fig6); {OPW_FIG56_JSON}", pairs=False,
+          opw=True),
     Claim("B1", "Beyond the papers: the OPW poster's method and Dixon's OLTW (the FP-DTW paper's "
           "ref. 3) run on the FP-DTW pairs, against the same two benchmarks",
           "not in the papers", _claim_b1, "Figs. 5, 6, 7; " + _SCORES[12:], beyond=True),
@@ -923,12 +955,14 @@ def claim_contexts(ctx, results=None, mode="full") -> dict:
     """Every body of evidence of the table: key -> context (None where it cannot be made).
 
     Keys: ``""`` (all pairs), ``"same_movements"``, ``"authors_fbx"``, ``"hdm05"``,
-    ``"paper_shaped"``, ``"literal"``.
+    ``"paper_shaped"``, ``"literal"``, ``"plugin"`` (OPW's plugin reading: None without its
+    facts).
     """
     out = {
         "": ctx,
         **{k: None for k in OTHER_EVIDENCE},
         "literal": _reading_context(ctx, "literal"),
+        OPW_PLUGIN: opw_reading(ctx),
     }
     ev = ctx.ev
     if ev is None:
@@ -1008,9 +1042,11 @@ def evaluate_claims(claims, contexts, robustness=None) -> tuple[list[dict], list
         main = claim.evaluate(contexts[""])
         labels = [R.part_label(claim.id, k) for k in range(len(main["parts"]))]
         others = {}
-        for key in (*OTHER_EVIDENCE, "literal"):
+        for key in (*OTHER_EVIDENCE, "literal", OPW_PLUGIN):
             c = contexts.get(key)
-            if c is None or (key != "literal" and not claim.pairs):
+            if c is None or (key in OTHER_EVIDENCE and not claim.pairs):
+                others[key] = None
+            elif key == OPW_PLUGIN and not claim.opw:
                 others[key] = None
             else:
                 others[key] = claim.evaluate(c)
@@ -1030,6 +1066,12 @@ def evaluate_claims(claims, contexts, robustness=None) -> tuple[list[dict], list
         lit = others["literal"]
         row["ours_literal"] = lit["ours"] if lit else "not computed"
         row["holds_literal"] = lit["holds"] if lit else R.NA
+        plug = others[OPW_PLUGIN]
+        if not claim.opw:
+            row["ours_plugin"] = R.NA
+        else:
+            row["ours_plugin"] = plug["ours"] if plug else "not computed (no plugin reading)"
+        row["holds_plugin"] = plug["holds"] if plug else R.NA
         rob = (robustness or {}).get(claim.id)
         if not claim.pairs or claim.beyond:
             rob = "n/a (not decided on the pairs)"
@@ -1048,7 +1090,7 @@ def evaluate_claims(claims, contexts, robustness=None) -> tuple[list[dict], list
                 ci_high=c.high if c is not None and c.interval else None,
                 threshold=c.threshold if c else None,
             )
-            for key in (*OTHER_EVIDENCE, "literal"):
+            for key in (*OTHER_EVIDENCE, "literal", OPW_PLUGIN):
                 o = others[key]
                 pr[f"verdict_{key}"] = o["parts"][k].verdict if o and k < len(o["parts"]) else R.NA
             part_out.append({c: pr[c] for c in PART_COLUMNS})
@@ -1102,7 +1144,7 @@ def build_claims(
     return (rows, parts) if with_parts else rows
 
 
-def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None) -> list[dict]:
+def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None, with_parts=False):
     """The rows of the claims table that a notebook is evidence for, in the order of ``ids``.
 
     The companion notebooks print these right after their figure (:func:`format_claims`),
@@ -1121,11 +1163,17 @@ def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None) -> list
         A claims table already built (:func:`build_claims`): its rows are picked.
     facts : dict, optional
         A notebook's own facts instead of results (:meth:`ClaimContext.from_facts`).
+    with_parts : bool
+        Return the claims' parts too (not with ``rows``: a table given has no parts), so
+        that a notebook ends with the same parts as ``figures/claims_intervals.csv``.
 
     Returns
     -------
     rows : list of dict
         Keys :data:`COLUMNS`, one row per id.
+    parts : list of dict
+        Keys :data:`PART_COLUMNS`, the parts of these claims in order (only with
+        ``with_parts``; print them with :func:`format_parts`).
 
     Paper: FP-DTW Sections 5-7; OPW poster Section 5.
     Notebook: 06_fig5_fig6_scores.ipynb
@@ -1134,6 +1182,8 @@ def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None) -> list
     if sum(x is not None for x in (results, rows, facts)) > 1:
         raise ValueError("give at most one of results, rows and facts")
     if rows is not None:
+        if with_parts:
+            raise ValueError("with_parts needs results or facts, not a table of rows")
         by = {r["id"]: r for r in rows}
         missing = [i for i in ids if i not in by]
         if missing:
@@ -1142,8 +1192,10 @@ def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None) -> list
     subset = claims_by_id(ids)
     if facts is not None:
         ctx = ClaimContext.from_facts(mode, "square", **dict(facts))
-        return evaluate_claims(subset, claim_contexts(ctx))[0]
-    return build_claims(mode, results, claims=subset, robustness=False)
+        out, parts = evaluate_claims(subset, claim_contexts(ctx))
+    else:
+        out, parts = build_claims(mode, results, claims=subset, robustness=False, with_parts=True)
+    return (out, parts) if with_parts else out
 
 
 def format_claims(rows, stable=None, width: int = 96) -> str:
@@ -1203,6 +1255,16 @@ def format_claims(rows, stable=None, width: int = 96) -> str:
                     "with Method C's literal window: ",
                 )
             )
+        if r.get("ours_plugin", R.NA) != R.NA and (r["ours_plugin"], r["holds_plugin"]) != (
+            r["ours"],
+            r["holds"],
+        ):
+            lines.append(
+                fill(
+                    f"{r['ours_plugin']}; holds? {r['holds_plugin']}",
+                    "with OPW read as the authors' plugin does it: ",
+                )
+            )
         out.append("\n".join(lines))
     return "\n".join(out) if out else "(no claims)"
 
@@ -1236,7 +1298,7 @@ def format_parts(parts, width: int = 110) -> str:
         else:
             num = f" | {est:.4g} [{lo:.4g}, {hi:.4g}] vs {p['threshold']:g}"
         other = [f"{k.replace('_', ' ')}: {p[f'verdict_{k}']}"
-                 for k in (*OTHER_EVIDENCE, "literal")
+                 for k in (*OTHER_EVIDENCE, "literal", OPW_PLUGIN)
                  if p[f"verdict_{k}"] not in (R.NA, p["verdict"])]  # fmt: skip
         line = f"{p['part']:4s} {p['verdict']:14s} {p['text']}{num}"
         if other:
@@ -1246,12 +1308,15 @@ def format_parts(parts, width: int = 110) -> str:
 
 
 def claims_summary(rows) -> str:
-    """How many claims get each verdict, with Method C's default and literal window.
+    """How many claims get each verdict, with Method C's default and literal window, and
+    how many of the OPW poster's claims with OPW's plugin reading.
 
     Returns
     -------
     text : str
-        One line per reading, e.g. ``"square window: yes 6, partly 5, no 2, ... (of 17)"``.
+        One line per reading, e.g. ``"square window: yes 6, partly 5, no 2, ... (of 17)"``;
+        the last, ``"OPW plugin reading: ..."``, counts the rows whose plugin verdict is
+        not "n/a" (none: no line).
 
     Notebook: 12_claims.ipynb
     """
@@ -1264,6 +1329,14 @@ def claims_summary(rows) -> str:
             f"{reading} window: "
             + ", ".join(f"{k} {v}" for k, v in counts.items())
             + f" (of {len(rows)} claims)"
+        )
+    opw = [r for r in rows if r.get("holds_plugin", R.NA) != R.NA]
+    if opw:
+        counts = {v: sum(r["holds_plugin"] == v for r in opw) for v in R.CLAIM_VERDICTS[:-1]}
+        lines.append(
+            "OPW plugin reading: "
+            + ", ".join(f"{k} {v}" for k, v in counts.items())
+            + f" (of {len(opw)} OPW claims)"
         )
     return "\n".join(lines)
 
@@ -1339,6 +1412,7 @@ __all__ = [
     "format_claims",
     "format_parts",
     "oedtw_backward_jumps",
+    "opw_reading",
     "paper_shaped_rows",
     "reading_alias",
     "save_claims",

@@ -10,22 +10,30 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from fpdtw.paper.figures.plotting import new_axes
+from fpdtw.paper.numbers import OPW_GAMMA, OPW_MAX_DEVIATION_MS, OPW_MEAN_DEVIATION_MS
 from fpdtw.paper.numbers import PERCEPTUAL_THRESHOLD_MS as HOYET_MS
+from fpdtw.paper.opw_eval import pooled
 
-#: Colours of the curves (example, DTW, OPW) in every OPW figure.
-COLORS = {"example": "black", "DTW": "tab:blue", "OPW": "tab:orange"}
+#: Colours of the curves (example, the baselines, OPW) in every OPW figure.
+COLORS = {"example": "black", "DTW": "tab:blue", "best match": "tab:green", "OPW": "tab:orange"}
+
+
+def _baseline(result: dict) -> str:
+    """The result's baseline method (its reading's; ``"DTW"`` for older results)."""
+    return result.get("baseline", "DTW")
 
 
 def plot_warp_curves(result: dict, ax=None, *, keys=True):
-    """Example, DTW and OPW warp curves of one motion (Fig. 4, top row).
+    """Example, baseline and OPW warp curves of one motion (Fig. 4, top row).
 
     Parameters
     ----------
     result : dict
-        From :func:`fpdtw.paper.opw_eval.evaluate`.
+        From :func:`fpdtw.paper.opw_eval.evaluate`; the baseline is its reading's (DTW,
+        or the plugin's best match).
     ax : matplotlib.axes.Axes, optional
     keys : bool
-        Mark the keys of the DTW and OPW curves.
+        Mark the keys of the baseline and OPW curves.
 
     Returns
     -------
@@ -37,7 +45,7 @@ def plot_warp_curves(result: dict, ax=None, *, keys=True):
     D = result["duration"]
     t = np.linspace(0.0, D, 501)
     ax.plot([0, D], [0, D], color="0.7", lw=0.8, ls=":", label="identity")
-    for name in ("example", "DTW", "OPW"):
+    for name in ("example", _baseline(result), "OPW"):
         c = result["curves"][name]
         ax.plot(t, c(t), color=COLORS[name], lw=1.6 if name == "example" else 1.2, label=name)
         if keys and name != "example":
@@ -53,7 +61,7 @@ def plot_warp_curves(result: dict, ax=None, *, keys=True):
 
 
 def plot_deviation(result: dict, ax=None, *, threshold_ms: float = HOYET_MS):
-    """Deviation (ms) of the DTW and OPW curves from the example curve over time (Fig. 4 middle).
+    """Deviation (ms) of the baseline and OPW curves from the example curve (Fig. 4 middle).
 
     Returns
     -------
@@ -62,7 +70,7 @@ def plot_deviation(result: dict, ax=None, *, threshold_ms: float = HOYET_MS):
     Paper: OPW poster Fig. 4 (middle row).
     """
     fig, ax = new_axes(ax)
-    for name in ("DTW", "OPW"):
+    for name in (_baseline(result), "OPW"):
         d = result["deviation"][name]
         ax.plot(d["t"], d["ms"], color=COLORS[name], lw=1.2, label=f"{name} (mean {d['mean']:.0f})")
     ax.axhline(threshold_ms, color="tab:red", ls="--", lw=1, label=f"{threshold_ms:.0f} ms")
@@ -83,7 +91,7 @@ def plot_slope_change(result: dict, ax=None, *, example=True):
     Paper: OPW poster Fig. 4 (bottom row).
     """
     fig, ax = new_axes(ax)
-    names = (("example",) if example else ()) + ("DTW", "OPW")
+    names = (("example",) if example else ()) + (_baseline(result), "OPW")
     for name in names:
         s = result["slope"][name]
         ax.plot(
@@ -156,8 +164,10 @@ def _boxes(ax, groups, positions, color, width):
     return bp
 
 
-def plot_deviation_vs_offset(rows: list, ax=None, *, threshold_ms: float = HOYET_MS):
-    """Deviation against the example's offset, DTW and OPW, motions pooled (Fig. 5).
+def plot_deviation_vs_offset(
+    rows: list, ax=None, *, threshold_ms: float = HOYET_MS, baseline: str = "DTW"
+):
+    """Deviation against the example's offset, a baseline and OPW, motions pooled (Fig. 5).
 
     Each box pools the 50 Hz deviation samples of every motion at one offset; whiskers
     span the full range (minimum to maximum); a line joins the means.
@@ -166,6 +176,8 @@ def plot_deviation_vs_offset(rows: list, ax=None, *, threshold_ms: float = HOYET
     ----------
     rows : list of dict
         :func:`fpdtw.paper.opw_eval.sweep` rows (keys ``method``, ``offset_s``, ``ms``).
+    baseline : str
+        The method beside OPW: ``"DTW"`` or ``"best match"`` (the plugin reading's).
 
     Returns
     -------
@@ -178,7 +190,7 @@ def plot_deviation_vs_offset(rows: list, ax=None, *, threshold_ms: float = HOYET
     offsets = sorted({r["offset_s"] for r in rows})
     step = min(np.diff(offsets)) if len(offsets) > 1 else 0.1
     w = 0.35 * step
-    for k, name in enumerate(("DTW", "OPW")):
+    for k, name in enumerate((baseline, "OPW")):
         groups = [
             np.concatenate([r["ms"] for r in rows if r["method"] == name and r["offset_s"] == o])
             for o in offsets
@@ -223,6 +235,50 @@ def plot_deviation_vs_gamma(rows: list, ax=None, *, threshold_ms: float = HOYET_
     ax.set_ylabel("deviation from example (ms)")
     ax.set_ylim(bottom=0)
     ax.legend(fontsize=8, loc="upper left")
+    return fig, ax
+
+
+def plot_readings(sweeps, ax=None, *, threshold_ms: float = HOYET_MS):
+    """OPW's pooled deviation against gamma under each reading, beside the poster's numbers.
+
+    One line per reading (mean, solid; maximum, dashed) over the Fig. 6 sweep, the motions
+    pooled (:func:`fpdtw.paper.opw_eval.pooled`); the poster's mean range at gamma 5 % (a
+    bar) and its maximum (a cross); the 150 ms line. Logarithmic deviation axis: the readme
+    direction diverges by an order of magnitude.
+
+    Parameters
+    ----------
+    sweeps : sequence of (OPWReading, list of dict)
+        Each reading with its :func:`fpdtw.paper.opw_eval.sweep` rows over gammas (e.g. the
+        readings of :data:`fpdtw.paper.opw_eval.READING_STEPS`).
+
+    Returns
+    -------
+    fig, ax
+
+    Paper: OPW poster Figs. 4 and 6; the authors' MotionBuilder plugin.
+    Notebook: 14_opw_fig5_fig6.ipynb
+    """
+    fig, ax = new_axes(ax, figsize=(8, 4.8))
+    cmap = plt.get_cmap("tab10")
+    for k, (rd, rows) in enumerate(sweeps):
+        gs = sorted({r["gamma"] for r in rows})
+        stats = [pooled(rows, "OPW", gamma=g) for g in gs]
+        pct = 100 * np.asarray(gs)
+        c = cmap(k % 10)
+        ax.plot(pct, [s["mean_ms"] for s in stats], "-o", color=c, ms=2.5, lw=1.3, label=rd.name)
+        ax.plot(pct, [s["max_ms"] for s in stats], "--", color=c, lw=0.9)
+    lo, hi = OPW_MEAN_DEVIATION_MS
+    g5 = 100 * OPW_GAMMA
+    ax.plot([g5, g5], [lo, hi], "-", color="black", lw=4, alpha=0.6,
+            label=f"poster: mean {lo:.0f}-{hi:.0f} ms")  # fmt: skip
+    ax.plot([g5], [OPW_MAX_DEVIATION_MS], "kx", ms=8,
+            label=f"poster: max {OPW_MAX_DEVIATION_MS:.0f} ms")  # fmt: skip
+    ax.axhline(threshold_ms, color="tab:red", ls=":", lw=1, label=f"{threshold_ms:.0f} ms")
+    ax.set_yscale("log")
+    ax.set_xlabel("warp parameter gamma (%)")
+    ax.set_ylabel("deviation from example (ms): mean solid, max dashed")
+    ax.legend(fontsize=7, loc="upper left", ncol=2)
     return fig, ax
 
 
@@ -281,6 +337,7 @@ __all__ = [
     "plot_deviation_vs_gamma",
     "plot_deviation_vs_offset",
     "plot_fig4",
+    "plot_readings",
     "plot_slope_change",
     "plot_warp_curves",
 ]
