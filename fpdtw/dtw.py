@@ -331,7 +331,10 @@ def dtw_pair(I, T, step_pattern: str = "symmetric1") -> DTWResult:
     I : MotionFeatures
         Input (recorded) motion, ``m + 1`` frames.
     T : MotionFeatures
-        Target (live) motion, ``n + 1`` frames, same joints.
+        Target (live) motion, ``n + 1`` frames, same joints. Motions of different rigs
+        are compared in the rig-independent representation
+        (:func:`fpdtw.motion.rig.pair_rotations`), motions of one rig by their local
+        rotations.
     step_pattern : {"symmetric1", "symmetric2"}
 
     Returns
@@ -353,7 +356,9 @@ def dtw_pair(I, T, step_pattern: str = "symmetric1") -> DTWResult:
             f"input and target have different joints: {I.quats.shape} vs {T.quats.shape}"
         )
     check_dtw_size(I.n_frames, T.n_frames, (I.name, T.name))
-    return dtw(geodesic_cost_matrix(I.quats, T.quats), step_pattern)
+    from fpdtw.motion.rig import pair_rotations
+
+    return dtw(geodesic_cost_matrix(*pair_rotations(I, T)), step_pattern)
 
 
 def check_dtw_size(input_frames: int, target_frames: int, names=None) -> None:

@@ -3,7 +3,8 @@
 * :func:`similarity`: warp the input by a map, turn the joints' local rotations
   into joint trajectories, Kendall tau-b per joint axis between the warped input
   and the target, mean over the ``3k`` axes.
-* :func:`deviation`: mean absolute difference between two maps, in frames.
+* :func:`deviation`: mean absolute difference between two maps over the target frames
+  ``q = 1..n``, in frames.
 
 Kendall tau-b is computed by :func:`kendall_tau_b`, an ``O(n log n)`` numba
 implementation (Knight 1966: sort by ``(x, y)``, count the inversions of ``y``
@@ -69,18 +70,25 @@ def in_range(M, m: int) -> bool:
     return bool(M.min() >= 0 and M.max() <= m)
 
 
-def deviation(P_a, P_b) -> float:
-    """Mean absolute difference between two maps, in frames.
+#: Frames eq. 3 averages over: ``"printed"`` (default), ``q = 1..n`` divided by ``n`` as
+#: the paper prints it; ``"all"``, every target frame ``q = 0..n`` divided by ``n + 1``.
+DEVIATION_FRAMES = ("printed", "all")
 
-    ``sum_q |P_a(q) - P_b(q)| / (n + 1)`` over all target frames ``q = 0..n``.
-    The paper writes the sum over ``q = 1..n`` divided by ``n``, i.e. over the
-    ``n`` frames counted from 1; our maps index target frames from 0, so the
-    sum runs over every entry of the maps.
+
+def deviation(P_a, P_b, frames: str = "printed") -> float:
+    """Mean absolute difference between two maps, in frames (eq. 3).
+
+    ``D(P_a, P_b) = sum_{q=1..n} |P_a(q) - P_b(q)| / n``, as the paper prints it: target
+    frame 0, where both maps usually start at input frame 0, is not counted.
+    ``frames="all"`` averages over every target frame instead, ``q = 0..n`` divided by
+    ``n + 1`` (what fpdtw computed before; the two differ by at most a factor
+    ``(n + 1) / n`` when ``P_a(0) = P_b(0)``).
 
     Parameters
     ----------
     P_a, P_b : ndarray of int, shape (n + 1,)
         Maps target frame -> input frame (e.g. DTW's and an online method's).
+    frames : {"printed", "all"}
 
     Returns
     -------
@@ -90,7 +98,8 @@ def deviation(P_a, P_b) -> float:
     Raises
     ------
     AlignmentError
-        Maps of different lengths, empty or not 1-D integer arrays.
+        Maps of different lengths, empty or not 1-D integer arrays, maps of one frame
+        (``n = 0``: no frame ``q = 1..n``) with ``frames="printed"``, or another ``frames``.
 
     Plain version: fpdtw.plain.deviation.
     Paper: FP-DTW eq. 3.
@@ -102,7 +111,17 @@ def deviation(P_a, P_b) -> float:
         raise AlignmentError(
             f"maps of different lengths: {P_a.shape[0]} and {P_b.shape[0]} target frames"
         )
-    return float(np.mean(np.abs(P_a - P_b)))
+    if frames not in DEVIATION_FRAMES:
+        raise AlignmentError(f"frames must be one of {DEVIATION_FRAMES}, got {frames!r}")
+    diff = np.abs(P_a - P_b)
+    if frames == "all":
+        return float(np.mean(diff))
+    if diff.size < 2:
+        raise AlignmentError(
+            "eq. 3 averages over the target frames q = 1..n: maps of one frame have none "
+            "(frames='all' counts frame 0)"
+        )
+    return float(np.mean(diff[1:]))
 
 
 def step_counts(M, m: int) -> dict:
@@ -441,6 +460,7 @@ def similarity(I_quats, T_quats, M) -> float:
 
 __all__ = [
     "BONE_AXIS",
+    "DEVIATION_FRAMES",
     "FLAT_RANGE",
     "ONE_FLAT_SCORE",
     "deviation",

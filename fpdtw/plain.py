@@ -22,6 +22,7 @@ are not numbered).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import NamedTuple
@@ -428,6 +429,24 @@ def allowed_rows(allowed, rows: int) -> np.ndarray:
     return ok
 
 
+def checked_choice(ok, r: int) -> int:
+    """Offset ``r`` if the constraint allows it; no method ever picks a masked row.
+
+    Raises
+    ------
+    AlignmentError
+        ``r`` is a row the Type V state does not allow (every row of the window is
+        masked: e.g. a one-row window after two holds).
+    """
+    if not ok[r]:
+        from fpdtw.errors import AlignmentError
+
+        raise AlignmentError(
+            f"no row of the window is allowed by the Type V state (rows {len(ok)}, chosen {r})"
+        )
+    return r
+
+
 # --- Algorithms 1-3: one step of Methods A, B and C -------------------------------------
 
 
@@ -494,8 +513,9 @@ def method_a_step(I, T, M, w: int = 2, allowed=None) -> Step:
     if w_i == 0:  # line 4
         return Step(M_n, "end")  # line 5
     C = np.array([geo_distance(I.quats[M_n + i], T.quats[n + 1]) for i in range(w_i + 1)])  # 7-9
-    choice = np.where(allowed_rows(allowed, w_i + 1), C, np.inf)
-    return Step(M_n + int(np.argmin(choice)), "window", w_i, C[:, None])  # line 10
+    ok = allowed_rows(allowed, w_i + 1)
+    r = checked_choice(ok, int(np.argmin(np.where(ok, C, np.inf))))
+    return Step(M_n + r, "window", w_i, C[:, None])  # line 10
 
 
 def method_b_step(I, T, M, w: int, allowed=None) -> Step:
@@ -530,12 +550,13 @@ def method_b_step(I, T, M, w: int, allowed=None) -> Step:
     E = forecast_joints(T.euler[n], T.euler[n + 1], w)  # T_{n+1} + i delta, i = 0..w-1
     F = np.concatenate([T.quats[n : n + 2], euler_to_quat(E[1:], T.orders)])  # lines 10-11
     C = cost_matrix(I.quats[M_n : M_n + w_i + 1], F)  # line 12
-    C[~allowed_rows(allowed, w_i + 1), 1] = np.inf  # Type V: only allowed rows for T_{n+1}
+    ok = allowed_rows(allowed, w_i + 1)
+    C[~ok, 1] = np.inf  # Type V: only allowed rows for T_{n+1}
     D = accumulate(C)  # line 13
     D[0, 0] = 10000.0  # line 14: the path must leave (0, 0) through (1, 0) or (0, 1)
     path = backtrack(D)  # line 15
     P = path_to_map(path, w)  # the overwrite rule: the lowest row of each column
-    return Step(M_n + int(P[1]), "window", w_i, C, D, path, P)  # line 16
+    return Step(M_n + checked_choice(ok, int(P[1])), "window", w_i, C, D, path, P)  # line 16
 
 
 def method_c_step(I, T, M, w: int, allowed=None, window="square", ties="low") -> Step:
@@ -583,7 +604,7 @@ def method_c_step(I, T, M, w: int, allowed=None, window="square", ties="low") ->
         score = score / ((C.shape[0] - np.arange(C.shape[0])) + C.shape[1])
     choice = np.where(ok, score, np.inf)
     r = int(np.argmin(choice)) if ties == "low" else len(choice) - 1 - int(np.argmin(choice[::-1]))
-    return Step(M_n + r, "window", w_i, C, D, score=score)  # line 13
+    return Step(M_n + checked_choice(ok, r), "window", w_i, C, D, score=score)  # line 13
 
 
 def run(step, I, T, w: int, type_v: bool = False, **options) -> np.ndarray:
@@ -608,6 +629,11 @@ def run(step, I, T, w: int, type_v: bool = False, **options) -> np.ndarray:
     Paper: FP-DTW Sections 3 and 6.
     Notebook: 11_fig9_typev.ipynb
     """
+    from fpdtw.motion.rig import cost_input
+
+    # motions of two rigs: eq. 1 between the input expressed in the target's rig and the
+    # target (fpdtw.motion.rig); the same motion of one rig: the local rotations as they are
+    I = dataclasses.replace(I, quats=cost_input(I.quats, I.rig, T.rig))
     M, state = [0], TYPE_V_START
     for _ in range(len(T.quats) - 1):
         allowed = type_v_allowed(state) if type_v else None
@@ -918,14 +944,12 @@ def similarity(I_quats, T_quats, M, flat: float = 0.001) -> float:
 
 
 def deviation(P_a, P_b) -> float:
-    """``D(P^a, P^b) = sum_q |P^a_q - P^b_q| / (n + 1)``, in frames.
-
-    The paper writes ``q = 1..n`` over ``n`` with frames counted from 1; the maps here
-    count from 0, so the sum runs over all ``n + 1`` entries.
+    """``D(P^a, P^b) = sum_{q=1..n} |P^a_q - P^b_q| / n``, in frames, as printed.
 
     Parameters
     ----------
     P_a, P_b : ndarray of int, shape (n + 1,)
+        Maps of target frames ``q = 0..n``; frame 0 is not in the sum.
 
     Returns
     -------
@@ -934,7 +958,9 @@ def deviation(P_a, P_b) -> float:
     Paper: FP-DTW eq. 3.
     Notebook: 06_fig5_fig6_scores.ipynb
     """
-    return float(np.mean(np.abs(np.asarray(P_a, np.int64) - np.asarray(P_b, np.int64))))
+    P_a, P_b = np.asarray(P_a, np.int64), np.asarray(P_b, np.int64)
+    n = len(P_a) - 1
+    return float(sum(abs(P_a[q] - P_b[q]) for q in range(1, n + 1)) / n)
 
 
 # --- the evaluation's intervals: medians of resampled pairs ------------------------------
@@ -1101,6 +1127,7 @@ __all__ = [
     "allowed_rows",
     "band_rows",
     "backtrack",
+    "checked_choice",
     "cost_matrix",
     "deviation",
     "euler_to_quat",

@@ -283,6 +283,7 @@ def test_window_zero_is_a_usage_error(data_path, tmp_path):
         (["-m", "dtw", "--constraint", "typeV"], "--constraint applies to methods a, b, c"),
         (["-m", "utw", "--window", "3"], "--window does not apply to method 'utw'"),
         (["-m", "oltw", "--window", "1"], "at least 2"),
+        (["-m", "c", "--window", "1"], "--window of method c must be at least 2"),
         (["-m", "c", "--skeleton", "x.asf"], "--skeleton applies to an .amc motion"),
         (["-m", "c", "--window", "ten"], "must be a whole number"),
         (["-m", "c", "--fps", "-5"], "must be a positive number"),

@@ -215,16 +215,26 @@ def test_similarity_errors():
 
 
 def test_deviation_by_hand():
-    # |0-0| + |1-2| + |2-2| + |3-5| = 3 over 4 target frames
-    assert deviation([0, 1, 2, 3], [0, 2, 2, 5]) == 0.75
-    assert deviation([0, 2, 2, 5], [0, 1, 2, 3]) == 0.75
+    # eq. 3 as printed: |1-2| + |2-2| + |3-5| = 3 over the n = 3 frames q = 1..3
+    assert deviation([0, 1, 2, 3], [0, 2, 2, 5]) == 1.0
+    assert deviation([0, 2, 2, 5], [0, 1, 2, 3]) == 1.0
+    # frames="all": |0-0| + 3 = 3 over the 4 target frames q = 0..3
+    assert deviation([0, 1, 2, 3], [0, 2, 2, 5], frames="all") == 0.75
+    # frame 0 counts only with frames="all"
+    assert deviation([4, 1], [0, 1]) == 0.0 and deviation([4, 1], [0, 1], frames="all") == 2.0
     assert deviation(np.arange(7), np.arange(7)) == 0.0
-    # a constant 18-frame lag is exactly the paper's benchmark
+    # a constant 18-frame lag is exactly the paper's benchmark, either way
     assert deviation(np.arange(100), np.arange(100) + 18) == 18.0
+    assert deviation(np.arange(100), np.arange(100) + 18, frames="all") == 18.0
     with pytest.raises(AlignmentError, match="different lengths"):
         deviation([0, 1], [0, 1, 2])
     with pytest.raises(AlignmentError, match="non-empty"):
         deviation([], [])
+    with pytest.raises(AlignmentError, match="q = 1..n"):
+        deviation([3], [3])
+    assert deviation([3], [1], frames="all") == 2.0
+    with pytest.raises(AlignmentError, match="frames must be one of"):
+        deviation([0, 1], [0, 1], frames="n+1")
 
 
 def test_map_helpers():

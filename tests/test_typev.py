@@ -70,6 +70,8 @@ LEGAL = [
     [0, 2, 5, 6, 6, 7, 7, 7, 10],
     [0, 1, 1, 2, 2, 3],  # +1 0 +1 0
     [0, 3, 4, 4],
+    [1, 2],  # a path starting at M_0 = 1 (start="best"): only the advances count
+    [7, 8, 8, 8, 11, 12],
 ]
 ILLEGAL = [
     ([0, 1, 1, 1, 1], 4),  # three holds
@@ -77,7 +79,8 @@ ILLEGAL = [
     ([0, 1, 4, 4], 3),  # hold after an advance of 3
     ([0, 0], 1),  # hold at the start (state N)
     ([0, 4], 1),  # advance of 4
-    ([1, 2], 0),  # M_0 != 0
+    ([5, 5], 1),  # hold at the start, from M_0 = 5
+    ([3, 5, 5], 2),  # hold after an advance of 2, from M_0 = 3
     ([0, 2, 1], 2),  # backwards
 ]
 

@@ -30,7 +30,7 @@ import textwrap
 from pathlib import Path
 
 from fpdtw import registry
-from fpdtw.argtypes import positive_int
+from fpdtw.argtypes import frame_number, positive_int
 
 PROG = "fpdtw"
 
@@ -52,11 +52,26 @@ for a live actor; offline ones see the whole target."""
 _MOTION_HELP = """\
 motion files: FBX (.fbx), Acclaim ASF/AMC (.amc; the .asf skeleton is found next to it
 or in a parent folder, e.g. HDM_bd.asf for HDM_bd_..._120.amc, or given with
---skeleton / --target-skeleton) and BVH (.bvh), in any mix. Both motions must have the
-8 joints the FP-DTW cost compares (both hips, knees, shoulders and elbows; OPW: 16
-joints), found by their usual names in each format. The cost compares LOCAL joint
-rotations, so mixing formats is meaningful only when both skeletons use the same rest
-pose conventions.
+--skeleton / --target-skeleton) and BVH (.bvh), in any mix, in any Euler rotation order.
+
+any format, any rig: the two motions may come from different capture systems. Both
+need the 8 joints the FP-DTW cost compares (both hips, knees, shoulders and elbows;
+OPW: 16 joints), found by a joint map: built in for the authors' FBX rig, Mixamo,
+HDM05/CMU ASF/AMC and CMU BVH (ASF or MotionBuilder joint names); for another rig,
+--joint-map FILE, a CSV 'joint,name' (our joint -> the rig's name; joints: center_hip,
+left_hip, right_hip, left_knee, right_knee, left_ankle, right_ankle, middle_chest,
+upper_chest, head, left_shoulder, right_shoulder, left_elbow, right_elbow, left_wrist,
+right_wrist). Two motions of the same rig are compared by their local joint rotations,
+as in the paper. Motions of different rigs (formats, rest orientations, joint names,
+sizes) are compared by each joint's rotation away from its rig's REST POSE in
+world-aligned axes: the same movement then gives the same map whatever the rig. The
+rest pose is each rig's own by default: zero rotations (BVH: its offsets; ASF: its axis
+frames; FBX: its pre/post rotations, the T-pose of the authors' rig). Limits: the two
+rest poses must have the same shape and orientation (both T-poses, the same up axis
+and facing); when they differ (an A-pose against a T-pose), give a frame of each motion
+in which the performer stands in the same pose, --input-rest-frame K and
+--target-rest-frame K. OPW compares joint positions: bodies whose sizes differ by more
+than a factor 1.5 (different length units: cm, inches, m) are rescaled to the input's.
 
 frame rates: if the two motions have different frame rates, the TARGET is resampled to
 the INPUT's rate; --fps F resamples both to F Hz (rotations by slerp). Frame numbers in
@@ -173,7 +188,34 @@ def _add_pair_arguments(p, *, live: bool):
     )
     p.add_argument("--skeleton", metavar="ASF", help="skeleton (.asf) of an .amc INPUT")
     p.add_argument("--target-skeleton", metavar="ASF", help="skeleton (.asf) of an .amc TARGET")
+    _add_rig_arguments(p)
+    p.add_argument(
+        "--target-rest-frame",
+        type=frame_number,
+        metavar="K",
+        help="take frame K of TARGET (in its own frame rate) as its rest pose (default: its "
+        "rig's own rest pose)",
+    )
     p.add_argument("--debug", action="store_true", help="show the traceback of an error")
+
+
+def _add_rig_arguments(p):
+    """--joint-map and --input-rest-frame."""
+    p.add_argument(
+        "--joint-map",
+        action="append",
+        default=[],
+        metavar="FILE",
+        help="joint map CSV 'joint,name' for a rig the built-in maps do not know; used for "
+        "every motion whose skeleton has all its names (may be given several times)",
+    )
+    p.add_argument(
+        "--input-rest-frame",
+        type=frame_number,
+        metavar="K",
+        help="take frame K of INPUT (in its own frame rate) as its rest pose (default: its "
+        "rig's own rest pose, zero rotations)",
+    )
 
 
 def _add_method_arguments(p, *, live: bool = True):
@@ -321,6 +363,7 @@ def build_parser() -> argparse.ArgumentParser:
     sv.add_argument("input", metavar="INPUT", help="the recorded motion (.fbx/.amc/.bvh)")
     _add_method_arguments(sv)
     sv.add_argument("--skeleton", metavar="ASF", help="skeleton (.asf) of an .amc INPUT")
+    _add_rig_arguments(sv)
     sv.add_argument(
         "--listen",
         default=DEFAULT_LISTEN,
@@ -457,6 +500,11 @@ def _check_options(args):
         raise UsageError("--window (OLTW's search width c) must be at least 2")
     if args.constraint and m not in CONSTRAINED:
         raise UsageError(f"--constraint applies to methods a, b, c, not {m!r}")
+    if m == "c" and args.window is not None and args.window < 2:
+        raise UsageError(
+            "--window of method c must be at least 2 (with w = 1 its window is one input "
+            "frame and the map stops moving)"
+        )
     _check_window_size(m, args.window)
     pairs = [("--skeleton", args.input, args.skeleton)]
     if args.command != "serve":
@@ -526,12 +574,25 @@ def _stage(args, *paths):
     args.about = tuple(str(Path(p)) for p in paths if p)
 
 
+def _joint_maps(args) -> list:
+    """The --joint-map files, read (MotionFormatError naming a bad one)."""
+    from fpdtw.motion.joints import read_joint_map
+
+    maps = []
+    for path in args.joint_map:
+        _stage(args, path)
+        maps.append(read_joint_map(path))
+    return maps
+
+
 def _load(args, path, skeleton):
     from fpdtw.io import load_motion
 
+    maps = _joint_maps(args)
     _stage(args, path)
     kwargs = {"skeleton": skeleton} if skeleton else {}
-    return load_motion(path, **kwargs)
+    motion = load_motion(path, **kwargs)
+    return motion.with_joint_map(*maps) if maps else motion
 
 
 def _same_rate(a: float, b: float) -> bool:
@@ -548,11 +609,22 @@ def _resample(args, motion, path, fps, log, role, to):
 
 
 def _prepare(args, log):
-    """Load both motions, bring them to one frame rate, check lengths and joints."""
+    """Load both motions, bring them to one frame rate, check lengths and joints.
+
+    Returns the two motions and their rig transforms (:mod:`fpdtw.motion.rig`; taken on
+    the motions as read, before resampling, with the rest frames asked for)."""
     from fpdtw import limits
 
     I = _load(args, args.input, args.skeleton)
     T = _load(args, args.target, args.target_skeleton)
+    rigs = []
+    for mo, path, rest in (
+        (I, args.input, args.input_rest_frame),
+        (T, args.target, args.target_rest_frame),
+    ):
+        _stage(args, path)
+        _check_joints(args, mo, path)
+        rigs.append(_rig(mo, rest))
     if args.fps is not None:
         I = _resample(args, I, args.input, args.fps, log, "input", f"{args.fps:g} Hz")
         T = _resample(args, T, args.target, args.fps, log, "target", f"{args.fps:g} Hz")
@@ -561,28 +633,29 @@ def _prepare(args, log):
     for mo, path, role in ((I, args.input, "input"), (T, args.target, "target")):
         _stage(args, path)
         limits.check_min_frames(mo.n_frames, path, role)
-    for mo, path in ((I, args.input), (T, args.target)):
-        _check_joints(args, mo, path)
     _check_sizes(args, I.n_frames, T.n_frames)
     _stage(args, args.input, args.target)
-    return I, T
+    return I, T, rigs
+
+
+def _rig(motion, rest_frame):
+    from fpdtw.motion.rig import rig_transform
+
+    return rig_transform(motion, rest_frame=rest_frame)
 
 
 def _check_joints(args, mo, path):
-    """The motion has the joints the method compares (MotionFormatError naming ``path``)."""
+    """The motion has the joints the method compares (MotionFormatError naming ``path``,
+    the joints missing and the joints it has)."""
     from fpdtw.errors import MotionFormatError
     from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
 
     joints = OPW_JOINTS if args.method == "opw" else PAPER_JOINTS
     what = "the 16 OPW joints" if args.method == "opw" else "the 8 joints FP-DTW compares"
-    for name in joints:
-        own = mo.joint_map.get(name, name)
-        if own not in mo.skeleton.joint_names:
-            raise MotionFormatError(
-                path,
-                f"skeleton has no joint for {name!r} (one of {what}); the two motions "
-                "must share these joints",
-            )
+    try:
+        mo.require_joints(joints, what)
+    except MotionFormatError as e:
+        raise MotionFormatError(path, e.reason) from None
 
 
 def _check_sizes(args, input_frames, target_frames):
@@ -606,13 +679,35 @@ def _check_sizes(args, input_frames, target_frames):
         )
 
 
-def _features(motion, method):
+def _features(motion, method, rig=None):
     from fpdtw.motion.features import MotionFeatures
     from fpdtw.motion.joints import OPW_JOINTS
 
     return MotionFeatures.from_motion(
-        motion, position_joints=OPW_JOINTS if method == "opw" else None
+        motion, position_joints=OPW_JOINTS if method == "opw" else None, rig=rig
     )
+
+
+def _pair_features(I, T, rigs, method, log):
+    """The features of both motions (fpdtw.motion.features.pair_features): each with its
+    rig, the target's positions (OPW) in the input's units when the two bodies' sizes say
+    their units differ."""
+    from fpdtw.motion.features import pair_features
+    from fpdtw.motion.joints import OPW_JOINTS
+
+    FI, FT = pair_features(I, T, position_joints=OPW_JOINTS if method == "opw" else None,
+                           rigs=rigs)  # fmt: skip
+    if not FI.rig.same_as(FT.rig):
+        log("the two motions' rigs differ: comparing each joint's rotation away from its "
+            "rig's rest pose, in world-aligned axes")  # fmt: skip
+    if FT.body_size is not None:
+        from fpdtw.motion.rig import body_size
+
+        ratio = FT.body_size / body_size(T)
+        if ratio != 1.0:
+            log(f"the target's body is {1 / ratio:.3g} times the input's: its positions are "
+                "rescaled to the input's size (different length units)")  # fmt: skip
+    return FI, FT
 
 
 def _algorithm_name(args) -> str:
@@ -645,8 +740,8 @@ def _cmd_align(args, log) -> int:
     _check_output(args.out, "--out")
     if args.export_bvh:
         _check_output(args.export_bvh, "--export-bvh")
-    I, T = _prepare(args, log)
-    FI, FT = _features(I, args.method), _features(T, args.method)
+    I, T, rigs = _prepare(args, log)
+    FI, FT = _pair_features(I, T, rigs, args.method, log)
     seconds = None
     if args.method in OFFLINE:
         M, _ = registry.align(_algorithm_name(args), FI, FT)
@@ -680,7 +775,6 @@ def _cmd_align(args, log) -> int:
 def _cmd_live(args, log) -> int:
     from fpdtw.app.export import write_map_csv
     from fpdtw.app.live import replay
-    from fpdtw.motion.joints import OPW_JOINTS
 
     if args.out:
         _check_output(args.out, "--out")
@@ -689,16 +783,11 @@ def _cmd_live(args, log) -> int:
 
         _check_output(args.animate, "--animate")
         check_writer(args.animate)  # fail before the replay, not after
-    I, T = _prepare(args, log)
+    I, T, rigs = _prepare(args, log)
+    FI, FT = _pair_features(I, T, rigs, args.method, log)
     mode = "as fast as possible" if args.fast else "in real time"
     log(f"replaying {_describe(T)} {mode}, aligning to {_describe(I)} with {_algorithm_name(args)}")
-    report = replay(
-        I,
-        T,
-        _factory(args),
-        realtime=not args.fast,
-        position_joints=OPW_JOINTS if args.method == "opw" else None,
-    )
+    report = replay(FI, FT, _factory(args), realtime=not args.fast)
     print(report.table())
     if args.out:
         _stage(args, args.out)
@@ -723,7 +812,7 @@ def _cmd_serve(args, log) -> int:
     _stage(args, args.input)
     limits.check_min_frames(I.n_frames, args.input, "input")
     _check_joints(args, I, args.input)
-    FI = _features(I, args.method)
+    FI = _features(I, args.method, _rig(I, args.input_rest_frame))
     name = _algorithm_name(args)
     factory = _factory(args)
     warm_up(factory(FI), FI)  # compile / load the numba kernels before the first take
@@ -734,6 +823,7 @@ def _cmd_serve(args, log) -> int:
         name,
         position_joints=OPW_JOINTS if args.method == "opw" else None,
         gap=args.gap,
+        joint_maps=_joint_maps(args),
         max_clients=args.max_clients,
         idle_timeout=args.idle_timeout,
         send=args.send,

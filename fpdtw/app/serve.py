@@ -64,6 +64,7 @@ from fpdtw import limits
 from fpdtw.errors import FpdtwError, MotionFormatError
 from fpdtw.io.bvh import check_start, is_header_end, parse_bvh_header
 from fpdtw.motion.features import MotionFeatures
+from fpdtw.motion.joints import find_joint_map
 from fpdtw.motion.stream import GAP_RULES, LiveTarget
 
 #: ``--max-clients`` by default.
@@ -117,6 +118,9 @@ class Session:
         Keep every target frame's and every answer's record (``ticks``, ``answers``; a
         simulation). The server does not: it keeps the latencies only (8 bytes a line, at
         most :data:`fpdtw.limits.MAX_FRAMES` of them).
+    joint_maps : sequence of dict
+        Joint maps tried before the built-in ones on the streamed skeleton
+        (:func:`fpdtw.motion.joints.find_joint_map`; ``--joint-map``).
 
     Attributes
     ----------
@@ -130,11 +134,19 @@ class Session:
     """
 
     def __init__(
-        self, I: MotionFeatures, make_aligner, *, position_joints=None, gap="slerp", record=False
+        self,
+        I: MotionFeatures,
+        make_aligner,
+        *,
+        position_joints=None,
+        gap="slerp",
+        record=False,
+        joint_maps=(),
     ):
         if gap not in GAP_RULES:
             raise ValueError(f"gap must be one of {GAP_RULES}, got {gap!r}")
         self.I, self.gap, self.position_joints = I, gap, position_joints
+        self.joint_maps = tuple(joint_maps)
         self.aligner = make_aligner(I)
         self.header = None
         self.target = None
@@ -250,13 +262,17 @@ class Session:
 
     def _live_target(self, skeleton):
         h = self.header
+        joint_map = h.joint_map
+        if self.joint_maps:
+            joint_map, _ = find_joint_map(skeleton.joint_names, "bvh", self.joint_maps)
         return LiveTarget(
             skeleton,
             h.fps,
             self.I.fps,
-            joint_map=h.joint_map,
+            joint_map=joint_map,
             position_joints=self.position_joints,
             gap=self.gap,
+            input_body_size=self.I.body_size,
         )
 
     def _time(self, s, arrival):
@@ -387,6 +403,8 @@ class Server:
         OPW's joints (the target frames then carry positions).
     gap : str
         Rule for dropped frames (:data:`fpdtw.motion.stream.GAP_RULES`).
+    joint_maps : sequence of dict
+        Joint maps for the streamed skeletons (see :class:`Session`).
     max_clients : int
         Connections served at once; one more gets an error line and is closed.
     idle_timeout : float
@@ -405,6 +423,7 @@ class Server:
         *,
         position_joints=None,
         gap="slerp",
+        joint_maps=(),
         max_clients=MAX_CLIENTS,
         idle_timeout=IDLE_TIMEOUT_S,
         send=(),
@@ -412,6 +431,7 @@ class Server:
     ):
         self.I, self.make_aligner, self.name = I, make_aligner, name
         self.position_joints, self.gap = position_joints, gap
+        self.joint_maps = tuple(joint_maps)
         self.max_clients, self.idle_timeout = int(max_clients), float(idle_timeout)
         self.senders = [_Sender(u) for u in send]
         self.log = log or (lambda msg: print(msg, file=sys.stderr, flush=True))
@@ -422,6 +442,15 @@ class Server:
         self._tasks = set()
         self._server = None
 
+    def _session(self):
+        return Session(
+            self.I,
+            self.make_aligner,
+            position_joints=self.position_joints,
+            gap=self.gap,
+            joint_maps=self.joint_maps,
+        )
+
     def warm_up(self, motion, frames: int = 8) -> None:
         """Stream the first ``frames`` frames of ``motion`` through a session, unanswered:
         every compiled kernel of a take (parsing, rotations, positions, the aligner's step)
@@ -429,7 +458,7 @@ class Server:
         from fpdtw.io.bvh import bvh_lines
 
         header, lines = bvh_lines(motion)
-        s = Session(self.I, self.make_aligner, position_joints=self.position_joints, gap=self.gap)
+        s = self._session()
         for line in header:
             s.feed(f"{line}\n".encode(), 0.0)
         for k, line in enumerate(lines[:frames]):
@@ -482,9 +511,7 @@ class Server:
         session = None
         end = "ended"
         try:
-            session = Session(
-                self.I, self.make_aligner, position_joints=self.position_joints, gap=self.gap
-            )
+            session = self._session()
             self.log(f"take {take} from {peer}")
             end = await self._serve(take, session, reader, writer)
         except asyncio.CancelledError:

@@ -41,9 +41,9 @@ import numpy as np
 from fpdtw import limits
 from fpdtw.errors import MotionFormatError
 from fpdtw.io._text import read_lines
-from fpdtw.motion.joints import NAMINGS, resolve_joint_map
+from fpdtw.motion.joints import find_joint_map
 from fpdtw.motion.motion import Motion, Skeleton
-from fpdtw.motion.rotations import quat_mul, quat_to_euler, unwrap_degrees
+from fpdtw.motion.rotations import quat_conj, quat_mul, quat_rotate, quat_to_euler, unwrap_degrees
 
 _CHANNELS = {
     f"{a.lower()}{kind}": (kind, i)
@@ -294,8 +294,7 @@ class BVHHeader:
             offsets=np.array([jt.offset for jt in joints], dtype=float),
             rotation_orders=tuple(orders),
         )
-        maps = [resolve_joint_map(self.skeleton.joint_names, NAMINGS[k]) for k in ("bvh", "fbx")]
-        self.joint_map = maps[1] if len(maps[1]) > len(maps[0]) else maps[0]
+        self.joint_map, _ = find_joint_map(self.skeleton.joint_names, "bvh")
 
     # -- one motion line -----------------------------------------------------------------
     def parse_line(self, text: str, line: int, frame: int) -> np.ndarray:
@@ -555,15 +554,66 @@ def read_bvh(path, *, name=None) -> Motion:
     return header.motion(np.stack(rows), name or path.stem, str(path))
 
 
-def bvh_euler(motion: Motion) -> np.ndarray:
-    """Euler angles of a motion in a BVH skeleton (identity pre/post rotations).
+def _snap_identity(q, tol=1e-12):
+    """Unit quaternions (N, 4) within ``tol`` of the identity set to it exactly."""
+    q = np.array(q, dtype=float)
+    near = 1.0 - np.abs(q[:, 0]) < tol
+    q[near] = (1.0, 0.0, 0.0, 0.0)
+    return q
 
-    Where the skeleton has pre/post rotations (ASF ``axis``, FBX pre-rotations)
-    they are baked into the local rotation, ``R' = pre R post``, which leaves
-    forward kinematics unchanged (each child's offset is expressed in the frame
-    after ``post``). The angles are recomputed in each joint's own order and
-    unwrapped over time. Without pre/post rotations the motion's own Euler angles
-    are returned unchanged.
+
+def bvh_pose(motion: Motion) -> tuple:
+    """Euler angles and offsets of a motion in a BVH skeleton (rest = zero rotations).
+
+    A BVH skeleton rests with every rotation zero, its bones along the offsets, in
+    world-aligned axes. A skeleton with pre/post rotations (ASF ``axis``, FBX pre-rotations)
+    rests with zero animated rotations in the pose its pre/post rotations give (the
+    authors' FBX rig: a T-pose), with global rest rotations ``G^0``
+    (:func:`fpdtw.motion.rig.rest_rotations`). Written as BVH, each joint turns by its
+    rotation away from that rest, in world-aligned axes relative to its parent's,
+    ``Delta_j = G_p^0 pre_j R_j post_j (G_j^0)^-1`` (:mod:`fpdtw.motion.rig`), and each
+    offset is the rest pose's, ``G_p^0 offset_j``: the file rests in the same pose as the
+    motion, forward kinematics gives the same positions, and its rotations are the
+    motion's rig-independent ones. For ASF skeletons ``G^0`` is the identity (the axis
+    frames cancel at rest) and this is ``C M C^-1`` with the offsets unchanged.
+    Rest rotations within 1e-12 of the identity are taken as it. Without pre/post
+    rotations the motion's own Euler angles and offsets are returned unchanged.
+
+    Parameters
+    ----------
+    motion : Motion
+
+    Returns
+    -------
+    euler : ndarray of float, shape (F, J, 3)
+        Degrees, (x, y, z) columns, each joint in its rotation order, unwrapped over time.
+    offsets : ndarray of float, shape (J, 3)
+    """
+    from fpdtw.motion.rig import rest_rotations
+
+    sk = motion.skeleton
+    euler = motion.euler.copy()
+    offsets = sk.offsets.copy()
+    pre, post = _snap_identity(sk.pre_rotations), _snap_identity(sk.post_rotations)
+    ident = np.array([1.0, 0.0, 0.0, 0.0])
+    if np.all(pre == ident) and np.all(post == ident):
+        return euler, offsets
+    G0 = _snap_identity(rest_rotations(motion))
+    for j, order in enumerate(sk.rotation_orders):
+        p = sk.parents[j]
+        left = pre[j] if p < 0 or np.all(G0[p] == ident) else quat_mul(G0[p], pre[j])
+        right = post[j] if np.all(G0[j] == ident) else quat_mul(post[j], quat_conj(G0[j]))
+        if p >= 0 and not np.all(G0[p] == ident):
+            offsets[j] = quat_rotate(G0[p], sk.offsets[j])
+        if np.all(left == ident) and np.all(right == ident):
+            continue
+        q = quat_mul(quat_mul(left, motion.quats[:, j]), right)
+        euler[:, j] = unwrap_degrees(quat_to_euler(q, order), axis=0)
+    return euler, offsets
+
+
+def bvh_euler(motion: Motion) -> np.ndarray:
+    """Euler angles of a motion in a BVH skeleton (:func:`bvh_pose`'s angles).
 
     Parameters
     ----------
@@ -574,18 +624,7 @@ def bvh_euler(motion: Motion) -> np.ndarray:
     euler : ndarray of float, shape (F, J, 3)
         Degrees, (x, y, z) columns, each joint in its rotation order.
     """
-    sk = motion.skeleton
-    ident = np.array([1.0, 0.0, 0.0, 0.0])
-    euler = motion.euler.copy()
-    for j, order in enumerate(sk.rotation_orders):
-        pre, post = sk.pre_rotations[j], sk.post_rotations[j]
-        if np.allclose(np.abs(pre @ ident), 1.0, atol=1e-12) and np.allclose(
-            np.abs(post @ ident), 1.0, atol=1e-12
-        ):
-            continue
-        q = quat_mul(quat_mul(pre, motion.quats[:, j]), post)
-        euler[:, j] = unwrap_degrees(quat_to_euler(q, order), axis=0)
-    return euler
+    return bvh_pose(motion)[0]
 
 
 def bvh_lines(motion: Motion, *, precision: int = 6) -> tuple[list[str], list[str]]:
@@ -618,7 +657,7 @@ def bvh_lines(motion: Motion, *, precision: int = 6) -> tuple[list[str], list[st
             raise MotionFormatError(
                 motion.path or motion.name or None, f"joint name {n!r} cannot be written to BVH"
             )
-    euler = bvh_euler(motion)
+    euler, offsets = bvh_pose(motion)
     kids = [[] for _ in range(sk.n_joints)]
     for j in range(1, sk.n_joints):
         kids[sk.parents[j]].append(j)
@@ -633,7 +672,7 @@ def bvh_lines(motion: Motion, *, precision: int = 6) -> tuple[list[str], list[st
         head = "ROOT" if j == 0 else "JOINT"
         rot = " ".join(f"{a}rotation" for a in reversed(sk.rotation_orders[j]))
         chans = f"6 Xposition Yposition Zposition {rot}" if j == 0 else f"3 {rot}"
-        off = " ".join(repr(float(v)) for v in sk.offsets[j])
+        off = " ".join(repr(float(v)) for v in offsets[j])
         out.write(f"{pad}{head} {sk.joint_names[j]}\n{pad}{{\n")
         out.write(f"{pad}\tOFFSET {off}\n{pad}\tCHANNELS {chans}\n")
         for k in kids[j]:
@@ -661,9 +700,10 @@ def write_bvh(motion: Motion, path, *, precision: int = 6) -> Path:
     outermost first, so order ``"XYZ"`` is written ``Zrotation Yrotation
     Xrotation``); the root also gets ``Xposition Yposition Zposition`` (its
     translation; the root OFFSET is the skeleton's root offset). Leaf joints get
-    a zero-length ``End Site``. Pre/post rotations (ASF, FBX skeletons) are baked
-    into the local rotations (see :func:`bvh_euler`), so forward kinematics of
-    the written file equals that of ``motion``. Joints are written depth first,
+    a zero-length ``End Site``. Skeletons with pre/post rotations (ASF, FBX) are
+    written resting in their own rest pose, each joint turning away from it in
+    world-aligned axes (:func:`bvh_pose`), so forward kinematics of the written file
+    equals that of ``motion``. Joints are written depth first,
     which may reorder joints of a skeleton listed otherwise.
 
     Parameters
@@ -695,6 +735,7 @@ def write_bvh(motion: Motion, path, *, precision: int = 6) -> Path:
 __all__ = [
     "BVHHeader",
     "bvh_euler",
+    "bvh_pose",
     "bvh_lines",
     "check_start",
     "is_header_end",

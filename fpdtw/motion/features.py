@@ -4,15 +4,25 @@ An aligner never sees a :class:`~fpdtw.motion.Motion` frame by frame; it sees
 :class:`Frame` records cut from a :class:`MotionFeatures`: the 8 paper joints'
 local rotations (quaternions, for eq. 1), their Euler angles unwrapped over time
 (for dead reckoning), and optionally joint positions (for the OPW poster's eq. 5).
+
+Orders and rig travel with the motion: every :class:`MotionFeatures` and every
+:class:`Frame` cut from it carries its own rotation orders (the forecasts of Methods B and
+C turn the TARGET's dead-reckoned Euler angles into quaternions in the target's orders)
+and its :class:`~fpdtw.motion.rig.RigTransform` (how its local rotations map into the
+rig-independent representation, :mod:`fpdtw.motion.rig`). A frame without them (None)
+is taken to share the input motion's orders and rig.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
 from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
+from fpdtw.motion.rig import RigTransform, rig_transform
+from fpdtw.motion.rig import body_size as _body_size
 from fpdtw.motion.rotations import unwrap_degrees
 
 
@@ -29,11 +39,21 @@ class Frame:
         the frames received so far.
     positions : ndarray of float, shape (p, 3) or None
         Root-relative joint positions (OPW only).
+    orders : tuple of str, length k, or None
+        Rotation order of each joint's Euler angles; None: the input motion's orders.
+    rig : RigTransform or None
+        The rig of the motion the frame comes from (:mod:`fpdtw.motion.rig`); None: the
+        input motion's rig.
+
+    The frames of one take share the orders and rig of its first frame (an aligner reads
+    them there).
     """
 
     quats: np.ndarray
     euler: np.ndarray
     positions: np.ndarray | None = None
+    orders: tuple | None = None
+    rig: RigTransform | None = None
 
 
 @dataclass(frozen=True)
@@ -55,6 +75,13 @@ class MotionFeatures:
         Root-relative positions of the position joints (OPW's 16 by default).
     name : str
         Motion name.
+    rig : RigTransform or None
+        How the cost joints' rotations map into the rig-independent representation
+        (:func:`fpdtw.motion.rig.rig_transform`); None: unknown, taken to be the other
+        motion's (eq. 1 then compares the raw local rotations).
+    body_size : float or None
+        The body's length along its skeleton (:func:`fpdtw.motion.rig.body_size`), in the
+        positions' unit; None when there are no positions.
     """
 
     quats: np.ndarray
@@ -63,9 +90,20 @@ class MotionFeatures:
     fps: float
     positions: np.ndarray | None = None
     name: str = ""
+    rig: RigTransform | None = None
+    body_size: float | None = None
 
     @classmethod
-    def from_motion(cls, motion, joints=PAPER_JOINTS, position_joints=None):
+    def from_motion(
+        cls,
+        motion,
+        joints=PAPER_JOINTS,
+        position_joints=None,
+        *,
+        rest_frame=None,
+        rig=None,
+        position_scale: float = 1.0,
+    ):
         """Cut the features out of a :class:`~fpdtw.motion.Motion`.
 
         Parameters
@@ -76,20 +114,46 @@ class MotionFeatures:
         position_joints : sequence of str or None
             Joints whose root-relative positions to include (e.g.
             :data:`fpdtw.motion.joints.OPW_JOINTS`); None skips forward kinematics.
+        rest_frame : int, optional
+            Frame of ``motion`` taken as its rest pose for the rig transform (default: the
+            rig's own rest; :func:`fpdtw.motion.rig.rest_rotations`).
+        rig : RigTransform, optional
+            The rig transform to carry (e.g. computed on the motion before resampling);
+            default :func:`fpdtw.motion.rig.rig_transform` of ``motion``.
+        position_scale : float
+            Factor applied to the positions and the body size
+            (:func:`fpdtw.motion.rig.position_scale`).
         """
         quats = np.ascontiguousarray(motion.rotations(joints), dtype=np.float64)
         euler = np.ascontiguousarray(unwrap_degrees(motion.eulers(joints), axis=0))
-        pos = None
+        if rig is None:
+            rig = rig_transform(motion, joints, rest_frame)
+        pos = size = None
         if position_joints is not None:
             pos = np.ascontiguousarray(motion.positions(position_joints, root_relative=True))
-        return cls(quats, euler, motion.rotation_orders(joints), motion.fps, pos, motion.name)
+            size = _body_size(motion)
+            if position_scale != 1.0:
+                pos = pos * float(position_scale)
+                size = size * float(position_scale)
+        orders = motion.rotation_orders(joints)
+        return cls(quats, euler, orders, motion.fps, pos, motion.name, rig, size)
+
+    def scaled_positions(self, scale: float) -> MotionFeatures:
+        """These features with the positions (and body size) multiplied by ``scale``
+        (:func:`fpdtw.motion.rig.position_scale`); the same object when ``scale`` is 1."""
+        if scale == 1.0 or self.positions is None:
+            return self
+        size = None if self.body_size is None else self.body_size * float(scale)
+        return dataclasses.replace(self, positions=self.positions * float(scale), body_size=size)
 
     @classmethod
-    def from_arrays(cls, quats, euler=None, orders=None, fps=120.0, positions=None, name=""):
+    def from_arrays(
+        cls, quats, euler=None, orders=None, fps=120.0, positions=None, name="", rig=None
+    ):
         """Build features from raw arrays (tests, synthetic data).
 
         ``euler`` defaults to the quaternions converted with ``orders``
-        (default ``"XYZ"`` for every joint).
+        (default ``"XYZ"`` for every joint); ``rig`` defaults to None (unknown).
         """
         from fpdtw.motion.rotations import quat_normalize, quat_to_euler
 
@@ -99,7 +163,7 @@ class MotionFeatures:
         if euler is None:
             euler = np.stack([quat_to_euler(quats[:, j], orders[j]) for j in range(k)], axis=1)
         euler = np.ascontiguousarray(unwrap_degrees(euler, axis=0))
-        return cls(quats, euler, orders, float(fps), positions, name)
+        return cls(quats, euler, orders, float(fps), positions, name, rig)
 
     def __len__(self):
         return self.quats.shape[0]
@@ -111,7 +175,7 @@ class MotionFeatures:
     def frame(self, i: int) -> Frame:
         """Frame ``i`` as an aligner receives it."""
         pos = None if self.positions is None else self.positions[i]
-        return Frame(self.quats[i], self.euler[i], pos)
+        return Frame(self.quats[i], self.euler[i], pos, self.orders, self.rig)
 
     def frames(self):
         """Iterate over the frames in order (a simulated live stream)."""
@@ -122,8 +186,65 @@ class MotionFeatures:
         """Frames ``a`` to ``b - 1``."""
         pos = None if self.positions is None else self.positions[a:b]
         return MotionFeatures(
-            self.quats[a:b].copy(), self.euler[a:b].copy(), self.orders, self.fps, pos, self.name
+            self.quats[a:b].copy(),
+            self.euler[a:b].copy(),
+            self.orders,
+            self.fps,
+            pos,
+            self.name,
+            self.rig,
+            self.body_size,
         )
 
 
-__all__ = ["Frame", "MotionFeatures", "OPW_JOINTS", "PAPER_JOINTS"]
+def pair_features(
+    input_motion,
+    target_motion,
+    joints=PAPER_JOINTS,
+    position_joints=None,
+    *,
+    rest_frames=(None, None),
+    rigs=(None, None),
+    positions: str = "auto",
+) -> tuple:
+    """The features of an (input, target) pair, ready to align whatever their rigs.
+
+    Each motion carries its own rotation orders and rig transform
+    (:mod:`fpdtw.motion.rig`): the aligners compare the two by their local rotations when
+    the rigs are the same, else in the rig-independent representation. With positions,
+    the target's are multiplied by :func:`fpdtw.motion.rig.position_scale` (1 unless the
+    two bodies' sizes say their length units differ).
+
+    Parameters
+    ----------
+    input_motion, target_motion : Motion
+    joints : sequence of str
+        Cost joints (default the paper's 8).
+    position_joints : sequence of str, optional
+        Joints whose root-relative positions to include (OPW: ``OPW_JOINTS``).
+    rest_frames : (int or None, int or None)
+        Frame of each motion to take as its rest pose (default: its rig's own rest).
+    rigs : (RigTransform or None, RigTransform or None)
+        Rig transforms computed beforehand (e.g. before resampling); they override
+        ``rest_frames``.
+    positions : {"auto", "raw", "body-size"}
+        :func:`fpdtw.motion.rig.position_scale`'s rule.
+
+    Returns
+    -------
+    I, T : MotionFeatures
+
+    Paper: FP-DTW eq. 1 (local rotations, made comparable across rigs); OPW poster eq. 5.
+    """
+    from fpdtw.motion.rig import position_scale
+
+    I, T = (
+        MotionFeatures.from_motion(mo, joints, position_joints, rest_frame=rest, rig=rig)
+        for mo, rest, rig in zip((input_motion, target_motion), rest_frames, rigs)
+    )
+    if position_joints is not None:
+        T = T.scaled_positions(position_scale(I.body_size, T.body_size, positions))
+    return I, T
+
+
+__all__ = ["Frame", "MotionFeatures", "OPW_JOINTS", "PAPER_JOINTS", "pair_features"]

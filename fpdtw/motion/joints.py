@@ -10,9 +10,28 @@ limb: "left_hip" is the thigh joint (ASF ``lfemur``), "left_knee" the shin joint
 (``ltibia``), "left_shoulder" the upper arm (``lhumerus``, not the clavicle),
 "left_elbow" the forearm (``lradius``). For positions, a joint's position is the
 origin of that joint, i.e. the anatomical hip, knee, shoulder, elbow.
+
+Joint maps are small CSV files, ``joint,name`` (our joint -> the rig's joint), one row
+per joint, ``#`` comments allowed. Built in (:data:`BUILTIN_JOINT_MAPS`, files in
+``fpdtw/motion/joint_maps/``): the authors' FBX rig, Mixamo, Acclaim ASF/AMC (HDM05, CMU),
+CMU BVH with the ASF names and CMU BVH with MotionBuilder-style names. A motion's joint
+map is the first of the maps a user gives (:func:`read_joint_map`, ``--joint-map``), then
+of the built-in ones, under which the skeleton has every joint of :data:`ALL_JOINTS`
+(:func:`find_joint_map`); failing that the first under which it has the 8 cost joints,
+and failing that each joint's usual names (:data:`NAMINGS`), which may leave joints
+unresolved: asking for them then raises an error naming the file, the joints missing and
+the joints the skeleton has (:func:`missing_joints_message`).
 """
 
 from __future__ import annotations
+
+import csv
+import functools
+import io
+from importlib import resources
+from pathlib import Path
+
+from fpdtw.errors import MotionFormatError
 
 #: The FP-DTW paper's 8 joints (Section 4), in a fixed order.
 PAPER_JOINTS = (
@@ -90,6 +109,24 @@ FBX_NAMES = {
 
 NAMINGS = {"asf": ASF_NAMES, "bvh": ASF_NAMES, "fbx": FBX_NAMES}
 
+#: Every canonical joint a joint map may name (the OPW joints include the paper's 8).
+ALL_JOINTS = OPW_JOINTS
+
+#: The built-in joint maps (files ``fpdtw/motion/joint_maps/<name>.csv``), in the order
+#: :func:`find_joint_map` tries them; by source format, the format's own maps come first.
+BUILTIN_JOINT_MAPS = (
+    "authors_fbx",
+    "mixamo",
+    "cmu_bvh_motionbuilder",
+    "asf",
+    "cmu_bvh_asf_names",
+)
+_FIRST_BY_SOURCE = {
+    "fbx": ("authors_fbx", "mixamo"),
+    "asf": ("asf",),
+    "bvh": ("cmu_bvh_asf_names", "cmu_bvh_motionbuilder", "mixamo"),
+}
+
 
 def _strip_namespace(name: str) -> str:
     return name.rsplit(":", 1)[-1]
@@ -123,3 +160,158 @@ def resolve_joint_map(joint_names, naming):
                 out[canon] = hit
                 break
     return out
+
+
+def _parse_joint_map(text: str, where) -> dict:
+    """``{our joint: the rig's name}`` of a joint map CSV's text (errors name ``where``)."""
+    rows = [
+        (n, line)
+        for n, line in enumerate(text.splitlines(), 1)
+        if line.strip() and not line.lstrip().startswith("#")
+    ]
+    if not rows:
+        raise MotionFormatError(where, "empty joint map: expected a header 'joint,name' and rows")
+    first, header = rows[0]
+    if [c.strip().lower() for c in next(csv.reader([header]))] != ["joint", "name"]:
+        raise MotionFormatError(
+            where, f"a joint map starts with the header 'joint,name', got {header!r}", line=first
+        )
+    out = {}
+    for n, line in rows[1:]:
+        cells = [c.strip() for c in next(csv.reader(io.StringIO(line)))]
+        if len(cells) != 2 or not all(cells):
+            raise MotionFormatError(
+                where, f"expected two cells 'joint,name', got {line.strip()!r}", line=n
+            )
+        joint, name = cells
+        if joint not in ALL_JOINTS:
+            raise MotionFormatError(
+                where,
+                f"unknown joint {joint!r}; the joints a map names are {', '.join(ALL_JOINTS)}",
+                line=n,
+            )
+        if joint in out:
+            raise MotionFormatError(where, f"joint {joint!r} is mapped twice", line=n)
+        out[joint] = name
+    if not out:
+        raise MotionFormatError(where, "the joint map has a header but no rows")
+    return out
+
+
+def read_joint_map(path) -> dict:
+    """Read a joint map CSV: ``joint,name`` (our joint -> the rig's joint name).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+
+    Returns
+    -------
+    joint_map : dict of str to str
+        Our joint names (those of :data:`ALL_JOINTS`) -> the rig's names.
+
+    Raises
+    ------
+    MotionFormatError
+        A missing or unreadable file, no ``joint,name`` header, a row without two
+        cells, an unknown joint, a joint mapped twice (naming the file and line).
+    OSError
+        The file cannot be read.
+    """
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8-sig")
+    except UnicodeDecodeError:
+        raise MotionFormatError(p, "not a text (UTF-8) joint map") from None
+    return _parse_joint_map(text, p)
+
+
+@functools.cache
+def builtin_joint_map(name: str) -> dict:
+    """A built-in joint map by name (one of :data:`BUILTIN_JOINT_MAPS`)."""
+    if name not in BUILTIN_JOINT_MAPS:
+        raise KeyError(f"no built-in joint map {name!r}; known: {', '.join(BUILTIN_JOINT_MAPS)}")
+    text = resources.files("fpdtw.motion").joinpath("joint_maps", f"{name}.csv").read_text()
+    return _parse_joint_map(text, f"joint map {name}")
+
+
+def _apply(joint_map: dict, joint_names) -> dict:
+    """The entries of a map whose rig name the skeleton has (namespaces ignored)."""
+    bare = {}
+    for n in joint_names:
+        bare.setdefault(_strip_namespace(n).lower(), n)
+    out = {}
+    for canon, own in joint_map.items():
+        hit = bare.get(_strip_namespace(own).lower())
+        if hit is not None:
+            out[canon] = hit
+    return out
+
+
+def find_joint_map(joint_names, source: str = "", maps=()) -> tuple:
+    """The joint map of a skeleton: the first map under which it has all its joints.
+
+    First the ``maps`` a user gives (e.g. ``--joint-map``): the first whose every joint
+    the skeleton has wins. Then the built-in maps, those of the source format first: the
+    first under which the skeleton has every joint of :data:`ALL_JOINTS` wins; else the
+    first under which it has the 8 cost joints (:data:`PAPER_JOINTS`); else the usual
+    names of the formats (:func:`resolve_joint_map` with :data:`NAMINGS`: the naming that
+    finds most joints, the source's first on a tie), which may leave joints unresolved.
+    Names are matched without case and without a namespace (``mixamorig:Hips`` is
+    ``Hips``).
+
+    Parameters
+    ----------
+    joint_names : sequence of str
+        The skeleton's joint names.
+    source : str
+        ``"fbx"``, ``"asf"`` or ``"bvh"`` (decides which built-in maps come first).
+    maps : sequence of dict
+        Joint maps given by the user, tried first.
+
+    Returns
+    -------
+    joint_map : dict of str to str
+        Canonical name -> the skeleton's joint name, for every joint found.
+    label : str
+        Which map: ``"user map 1"``, a built-in map's name, or ``"usual names"``.
+    """
+    for i, m in enumerate(maps):
+        jm = _apply(m, joint_names)
+        if len(jm) == len(m):
+            return jm, f"user map {i + 1}"
+    first = _FIRST_BY_SOURCE.get(source, ())
+    order = [(n, builtin_joint_map(n)) for n in first]
+    order += [(n, builtin_joint_map(n)) for n in BUILTIN_JOINT_MAPS if n not in first]
+    found = [(label, _apply(m, joint_names)) for label, m in order]
+    for need in (ALL_JOINTS, PAPER_JOINTS):
+        for label, jm in found:
+            if all(j in jm for j in need):
+                return jm, label
+    # the usual names of every format (the source's first), keeping the one that finds most
+    namings = [NAMINGS.get(source, FBX_NAMES), ASF_NAMES, FBX_NAMES]
+    partial = [resolve_joint_map(joint_names, n) for n in namings]
+    return max(partial, key=len), "usual names"
+
+
+def missing_joints_message(missing, have, what: str = "") -> str:
+    """The message of a rig whose joints cannot be found: the joints missing, the joints
+    the skeleton has, and the way out (``--joint-map``).
+
+    Parameters
+    ----------
+    missing : sequence of str
+        Our joint names not found.
+    have : sequence of str
+        The skeleton's own joint names.
+    what : str
+        What the joints are for (e.g. "the 8 joints FP-DTW compares").
+    """
+    what = f" ({what})" if what else ""
+    s = "s" if len(missing) > 1 else ""
+    return (
+        f"unknown joint{s} {', '.join(repr(m) for m in missing)}{what}: no joint map finds "
+        f"{'them' if s else 'it'} in this skeleton, which has {', '.join(have)}. Give a joint "
+        "map (a CSV 'joint,name': our joint -> this rig's name) with --joint-map FILE or "
+        "Motion.with_joint_map"
+    )

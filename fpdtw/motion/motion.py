@@ -23,7 +23,12 @@ import numpy as np
 
 from fpdtw import limits
 from fpdtw.errors import LimitError, MotionFormatError
-from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS, resolve_joint_map
+from fpdtw.motion.joints import (
+    OPW_JOINTS,
+    PAPER_JOINTS,
+    find_joint_map,
+    missing_joints_message,
+)
 from fpdtw.motion.rotations import (
     check_order,
     euler_to_quat,
@@ -249,8 +254,9 @@ class Motion:
     path : str
         File it was read from (for error messages).
     joint_map : dict of str to str, optional
-        Canonical joint name -> skeleton joint name; resolved from ``source``
-        when omitted.
+        Canonical joint name -> skeleton joint name; when omitted, the first built-in
+        joint map the skeleton fits (:func:`fpdtw.motion.joints.find_joint_map`, the
+        maps of ``source``'s format first).
 
     Raises
     ------
@@ -309,7 +315,7 @@ class Motion:
             if self.quats.shape != (F, J, 4):
                 raise MotionFormatError(where, f"quaternions have shape {self.quats.shape}")
         if self.joint_map is None:
-            self.joint_map = resolve_joint_map(self.skeleton.joint_names, self.source or "fbx")
+            self.joint_map, _ = find_joint_map(self.skeleton.joint_names, self.source or "fbx")
 
     @staticmethod
     def _check_magnitude(rows, big, what, where, frames=True):
@@ -362,17 +368,53 @@ class Motion:
         MotionFormatError
             If a joint is not in this skeleton (the message lists what is).
         """
-        idx = []
-        for name in joints:
-            own = self.joint_map.get(name, name)
-            if own not in self.skeleton.joint_names:
-                raise MotionFormatError(
-                    self.path or self.name,
-                    f"unknown joint {name!r}; this {self.source or 'motion'} skeleton has "
-                    f"{', '.join(self.skeleton.joint_names)}",
-                )
-            idx.append(self.skeleton.joint_names.index(own))
-        return np.asarray(idx, dtype=np.int64)
+        return self.require_joints(joints)
+
+    def require_joints(self, joints=PAPER_JOINTS, what: str = "") -> np.ndarray:
+        """Skeleton indices of joints, or an error naming every joint missing.
+
+        Parameters
+        ----------
+        joints : sequence of str
+            Canonical or own names.
+        what : str
+            What the joints are for, in the message (e.g. "the 8 joints FP-DTW compares").
+
+        Returns
+        -------
+        idx : ndarray of int64, shape (len(joints),)
+
+        Raises
+        ------
+        MotionFormatError
+            Naming the file, the joints not found, the joints the skeleton has and the
+            way out (a joint map, ``--joint-map``).
+        """
+        names = self.skeleton.joint_names
+        own = [self.joint_map.get(name, name) for name in joints]
+        missing = [j for j, o in zip(joints, own) if o not in names]
+        if missing:
+            raise MotionFormatError(
+                self.path or self.name, missing_joints_message(missing, names, what)
+            )
+        return np.asarray([names.index(o) for o in own], dtype=np.int64)
+
+    def with_joint_map(self, *maps) -> Motion:
+        """This motion with the first of ``maps`` its skeleton fits as its joint map.
+
+        Parameters
+        ----------
+        *maps : dict of str to str
+            Joint maps (our joint -> the rig's name, e.g. from
+            :func:`fpdtw.motion.joints.read_joint_map`), tried first; then the built-in
+            maps (:func:`fpdtw.motion.joints.find_joint_map`).
+
+        Returns
+        -------
+        motion : Motion
+        """
+        jm, _ = find_joint_map(self.skeleton.joint_names, self.source or "fbx", maps)
+        return self.replace(joint_map=jm)
 
     def rotations(self, joints=PAPER_JOINTS) -> np.ndarray:
         """Local rotations of the chosen joints.

@@ -63,6 +63,7 @@ from fpdtw.motion.features import Frame
 from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
 from fpdtw.motion.kinematics import frame_positions, frame_quats, order_codes
 from fpdtw.motion.motion import EXACT_FRAMES, blend_poses, sample_points
+from fpdtw.motion.rig import position_scale, skeleton_body_size, skeleton_rig
 from fpdtw.motion.rotations import UnwrapDegrees
 
 #: A frame more than this many frame periods after the previous one ends a gap.
@@ -95,6 +96,11 @@ class LiveTarget:
         Joints whose root-relative positions the frames carry (OPW: ``OPW_JOINTS``).
     gap : str
         Rule for the ticks inside a gap: ``"slerp"`` or ``"hold"`` (module docstring).
+    input_body_size : float, optional
+        The input's body size (:attr:`MotionFeatures.body_size`): the positions are
+        multiplied by :func:`fpdtw.motion.rig.position_scale` of it and the streamed
+        skeleton's (:attr:`body_size`), 1 when the two are within a factor of
+        :data:`~fpdtw.motion.rig.POSITION_UNIT_RATIO` or it is not given.
     where : str, optional
         What errors name (a file, or None: a stream, whose errors name lines).
 
@@ -115,6 +121,7 @@ class LiveTarget:
         joints=PAPER_JOINTS,
         position_joints=None,
         gap: str = "slerp",
+        input_body_size=None,
         where=None,
     ):
         if gap not in GAP_RULES:
@@ -125,9 +132,17 @@ class LiveTarget:
         jm = joint_map or {}
         cost = self._indices(joints, jm, "the 8 joints FP-DTW compares")
         self._pos_joints = None
+        #: The streamed body's size (:func:`fpdtw.motion.rig.body_size`) in the stream's
+        #: units, None without positions.
+        self.body_size = None
+        #: The factor applied to the positions (1 unless the bodies' units differ).
+        self.position_scale = 1.0
         if position_joints is not None:
             what = "the 16 OPW joints" if tuple(position_joints) == OPW_JOINTS else "joints"
             self._pos_joints = self._indices(position_joints, jm, what)
+            ends = self._indices(("head", "left_ankle", "right_ankle"), jm, "a body's size")
+            self.body_size = skeleton_body_size(skeleton, *ends)
+            self.position_scale = position_scale(input_body_size, self.body_size)
         # the joints whose rotations a frame keeps (all of them for forward kinematics),
         # and the rows of the cost joints among them
         if self._pos_joints is None:
@@ -138,6 +153,9 @@ class LiveTarget:
         self._codes = order_codes(self._orders)
         #: Rotation order of each cost joint (the streamed skeleton's).
         self.orders = tuple(skeleton.rotation_orders[j] for j in cost)
+        #: How the cost joints' rotations map into the rig-independent representation
+        #: (:mod:`fpdtw.motion.rig`; the streamed skeleton's rest: zero rotations).
+        self.rig = skeleton_rig(skeleton, cost)
         # the limits of a take are those in force when it starts
         self._big = float(limits.get("max_abs_value"))
         self._max_gap = float(limits.get("max_gap_s"))
@@ -335,7 +353,11 @@ class LiveTarget:
         pos = None
         if self._pos_joints is not None:
             pos = frame_positions(self.skeleton, q, r, self._pos_joints)
-        frame = Frame(np.ascontiguousarray(q[self._cost]), self._unwrap(e), pos)
+            if self.position_scale != 1.0:
+                pos = pos * self.position_scale
+        frame = Frame(
+            np.ascontiguousarray(q[self._cost]), self._unwrap(e), pos, self.orders, self.rig
+        )
         return k, frame, filled
 
 

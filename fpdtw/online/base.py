@@ -128,6 +128,9 @@ class OnlineAligner(ABC):
     #: ``q - history .. q``. None: any earlier frame, so every frame is kept.
     history: int | None = None
 
+    #: Rotation orders of the target's cost joints (of the current take's first frame).
+    T_orders: tuple | None = None
+
     def __init__(self, I: MotionFeatures):
         check_input(I, who=type(self).__name__)
         self.I = I
@@ -203,8 +206,49 @@ class OnlineAligner(ABC):
             buf[:keep] = buf[shift:rows]
         self._start += shift
 
+    def _begin_take(self, frame: Frame) -> None:
+        """The first frame of a take: adopt the target's rotation orders and rig.
+
+        The frame's ``orders`` (None: the input's) become :attr:`T_orders`, which the
+        forecasts of Methods B and C use to turn the target's Euler angles into
+        quaternions; its ``rig`` decides how eq. 1 compares the two motions
+        (:func:`fpdtw.motion.rig.cost_input`: the raw local rotations when both rigs are
+        the same or either is unknown, else the input expressed in the target's rig),
+        passed to :meth:`_use_input`.
+
+        Raises
+        ------
+        AlignmentError
+            Orders that are not one valid rotation order per cost joint.
+        """
+        from fpdtw.motion.rig import cost_input
+        from fpdtw.motion.rotations import check_order
+
+        I = self.I
+        k = np.shape(I.quats)[1]
+        orders = I.orders if frame.orders is None else frame.orders
+        if orders is not I.orders:
+            try:
+                orders = tuple(check_order(o) for o in orders)
+            except (TypeError, ValueError) as e:
+                raise AlignmentError(f"target frame 0: bad rotation orders ({e})") from None
+            if len(orders) != k:
+                raise AlignmentError(
+                    f"target frame 0: {len(orders)} rotation orders for {k} joints"
+                )
+        self.T_orders = tuple(orders)
+        rig = frame.rig
+        Iq = I.quats if rig is None or rig is I.rig else cost_input(I.quats, I.rig, rig)
+        self._use_input(Iq, self.T_orders)
+
+    def _use_input(self, Iq, orders) -> None:  # noqa: B027 - a hook, not abstract
+        """Use the input rotations ``Iq`` (m + 1, k, 4) for eq. 1 and the target's rotation
+        ``orders`` from now on (aligners that keep copies of them override this)."""
+
     def step(self, frame: Frame) -> int:
         """Receive target frame ``T_{n+1}`` and return ``M_{n+1}``."""
+        if self.n_received == 0:
+            self._begin_take(frame)
         i = self.n_received - self._start
         if i == self._Tq.shape[0]:
             self._make_room()

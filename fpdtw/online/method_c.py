@@ -100,7 +100,7 @@ class MethodC(ForecastAligner):
     Parameters
     ----------
     I, w, constraint, forecast, start, cache
-        As for :class:`~fpdtw.online.method_b.MethodB`.
+        As for :class:`~fpdtw.online.method_b.MethodB`; ``w >= 2`` (:attr:`min_w`).
     window : {"square", "literal", "square-tn", "open-end", "normalised"}
         The reading of Algorithm 3's window (above).
     forecast_start : {"T_{n+1}", "next"}
@@ -115,6 +115,10 @@ class MethodC(ForecastAligner):
     """
 
     label = "Mc"
+    #: ``w = 1`` is refused: the square window then has the one row ``I_{M_n}``, so the
+    #: map would hold at ``M_2`` forever (and under Type V that row is masked after two
+    #: holds, leaving no candidate).
+    min_w = 2
     options = {
         "window": (
             "square",

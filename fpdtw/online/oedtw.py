@@ -148,6 +148,12 @@ class OEDTW(OnlineAligner):
             "bounded window (a, b, c, oltw) for long takes, or shorter takes",
         )
 
+    def _use_input(self, Iq, orders) -> None:
+        """Eq. 1 against ``Iq`` (the input as compared with this take's rig)."""
+        if Iq is not self._Iq:
+            self._Iq = np.ascontiguousarray(Iq, dtype=np.float64)
+            self._Isoa = np.ascontiguousarray(self._Iq.transpose(1, 2, 0))
+
     def _step(self, q: int) -> int:
         if q == self._cols.shape[0]:
             self._check_columns(2 * q)

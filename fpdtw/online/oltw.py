@@ -368,6 +368,12 @@ class OLTW(OnlineAligner):
         self._st = np.zeros(5, dtype=np.int64)
         self._decisions = []
 
+    def _use_input(self, Iq, orders) -> None:
+        """Eq. 1 against ``Iq`` (the input as compared with this take's rig)."""
+        if Iq is not self._Iq:
+            self._Iq = np.ascontiguousarray(Iq, dtype=np.float64)
+            self._Isoa = np.ascontiguousarray(self._Iq.transpose(1, 2, 0))
+
     def _step(self, q: int) -> int:
         m, n = _oltw_step(
             self._Iq, self._Isoa, self._Tq, self.history_start, self.n_received - 1,

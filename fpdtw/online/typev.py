@@ -42,9 +42,11 @@ That is a 3-state machine (the paper's Fig. 9 iii/iv), rows = states, columns = 
     H1     held once after an advance of 1                   N    A1   N    N
 
 (A state "held twice" would have the same row as N, so it is merged into N.) The start
-state is N: the first target frame is mapped to input frame 0 (``M_0 = 0``, DTW's
-boundary condition, the path starts at (0, 0)), and the first step of a Type V path
-leaves (0, 0) diagonally, so frame 1 cannot hold. The warm-up of Methods B and C
+state is N: the first target frame is mapped to input frame ``M_0`` (0, DTW's boundary
+condition, the path starting at (0, 0); or another input frame with ``start="best"``, the
+path then starting at (0, ``M_0``)), and the first step of a Type V path leaves its start
+diagonally, so frame 1 cannot hold. Legality is the same from any ``M_0``: it depends on
+the advances only. The warm-up of Methods B and C
 (``M_1 = 1``, ``M_2 = 2``) goes N -> A1 -> A1: legal.
 
 Advance 1 is allowed in every state, so whenever the input window has at least two
@@ -97,7 +99,7 @@ class TypeV:
     table : ndarray of int64, shape (3, 4)
         ``table[state, advance]`` = next state, or -1 if the advance is not allowed.
     start : int
-        State before target frame 1 (after ``M_0 = 0``).
+        State before target frame 1 (after ``M_0``, whatever it is).
     name : str
         Suffix used in aligner names ("Type V").
 
@@ -221,7 +223,8 @@ def typev_violation(M, m=None, tv: TypeV = TYPE_V):
     Returns
     -------
     q : int or None
-        The first offending target frame (0 if ``M_0 != 0``), None if legal.
+        The first offending target frame, None if legal. The path may start at any input
+        frame ``M_0`` (``start="best"`` of the window methods): only the advances count.
     """
     M = np.asarray(M, dtype=np.int64)
     if M.ndim != 1:
@@ -229,8 +232,6 @@ def typev_violation(M, m=None, tv: TypeV = TYPE_V):
     n = legal_prefix(M, m)
     if n == 0:
         return None
-    if M[0] != 0:
-        return 0
     state = tv.start
     for q in range(1, n):
         state = tv.next_state(state, int(M[q] - M[q - 1]))
@@ -275,8 +276,9 @@ def dtw_python_accepts(M) -> bool:
     from dtw import dtw, rabinerJuangStepPattern
 
     M = np.asarray(M, dtype=np.int64)
-    if M.ndim != 1 or M.size == 0 or M[0] != 0 or np.any(np.diff(M) < 0):
+    if M.ndim != 1 or M.size == 0 or M[0] < 0 or np.any(np.diff(M) < 0):
         return False
+    M = M - M[0]  # a path from (0, M_0) is the path from (0, 0) shifted by M_0 input frames
     q = M.size - 1
     C = np.ones((q + 1, int(M[-1]) + 1))
     C[np.arange(q + 1), lowest_cells(M)] = 0.0

@@ -279,7 +279,7 @@ def _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high):
     The accumulation is pinned to the far corner, open in the last column
     (:data:`C_OPEN_END`) or symmetric2 (:data:`C_NORMALISED`); ``score[r] = D[r, 0]``, or
     ``D[r, 0] / ((nrows - r) + ncols)`` for :data:`C_NORMALISED`. Ties: the lowest row,
-    or the highest with ``ties_high``. Returns the chosen offset.
+    or the highest with ``ties_high``. Returns the chosen offset, -1 if no row is allowed.
 
     Plain version: fpdtw.plain.method_c_step (lines 12-13).
     """
@@ -298,14 +298,14 @@ def _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high):
         if _is_allowed(r, limit, allow):
             if best < 0 or s < score[best] or (ties_high and s == score[best]):
                 best = r
-    return max(best, 0)
+    return best
 
 
 @numba.njit(cache=True)
 def _choose_a(Iq, t, start, nrows, limit, allow, c, ties_high):
     """Method A's window: ``c[r] = geoDistance(I[start + r], t)`` (eq. 1) for
     ``r < nrows``, and the argmin over the allowed rows (ties: the lowest row, or the
-    highest with ``ties_high``). Returns the chosen offset.
+    highest with ``ties_high``). Returns the chosen offset, -1 if no row is allowed.
 
     Plain version: fpdtw.plain.method_a_step (lines 7-10).
     """
@@ -316,7 +316,19 @@ def _choose_a(Iq, t, start, nrows, limit, allow, c, ties_high):
         if _is_allowed(r, limit, allow):
             if best < 0 or cost < c[best] or (ties_high and cost == c[best]):
                 best = r
-    return max(best, 0)
+    return best
+
+
+@numba.njit(cache=True)
+def _checked(off, limit, allow):
+    """``off`` if the constraint allows it: no method ever picks a masked candidate
+    (``off = -1``: no row of the window was allowed).
+
+    Plain version: fpdtw.plain.checked_choice.
+    """
+    if off < 0 or not _is_allowed(off, limit, allow):
+        raise AlignmentError("no row of the window is allowed by the Type V state")
+    return off
 
 
 # --- one whole step of Method A, B or C --------------------------------------------------
@@ -420,6 +432,7 @@ def _a_step(Iq, Tq, q, M, state, prm, table, c, out):
         limit, allow = _allowed_offsets(state, prm, table)
         nrows = min(w, m - start) + 1
         off = _choose_a(Iq, Tq[q], start, nrows, limit, allow, c, prm[P_TIES_HIGH] != 0)
+        off = _checked(off, limit, allow)
         out[1] = nrows
         out[2] = 1
         m_next = start + off
@@ -498,6 +511,7 @@ def _window_step(
             _mask_band(C, nrows, 0, q, start, prm[P_BAND])
             off = _choose_c(C, nrows, ncols, limit, allow, D, score, reading, prm[P_TIES_HIGH] != 0)
             _check_band(off, q, start, prm[P_BAND])
+        off = _checked(off, limit, allow)
         out[1] = nrows
         out[2] = ncols
         m_next = start + off
@@ -803,13 +817,15 @@ class WindowAligner(OnlineAligner):
 
     #: Method letter in names ("Ma", "Mb", "Mc").
     label = "M?"
+    #: The smallest window ``w`` the method takes.
+    min_w = 1
     #: ``{option: (default, {other value: label in names})}``, in the order of names.
     options = {"start": ("zero", {"best": "M_0 best match"})}
     #: A :class:`WindowCache` shared with other aligners (Methods B and C only).
     cache = None
 
     def __init__(self, I: MotionFeatures, w: int, *, constraint=None, record=False, **options):
-        check_count(w, "window w", type(self).__name__)
+        check_count(w, "window w", type(self).__name__, minimum=self.min_w)
         check_input(I, who=type(self).__name__)
         from fpdtw import limits
 
@@ -950,6 +966,8 @@ class WindowAligner(OnlineAligner):
         general path of :meth:`OnlineAligner.step` (same result), after checking the
         frame's shape.
         """
+        if self.n_received == 0:
+            self._begin_take(frame)
         i = self.n_received - self._start
         arrays = compiled_frame(frame, i, self._M.shape[0], self._Tp) if self._lean else None
         if arrays is not None:
@@ -970,6 +988,17 @@ class WindowAligner(OnlineAligner):
                 f"{np.shape(frame.euler)}"
             )
         return super().step(frame)
+
+    def _use_input(self, Iq, orders) -> None:
+        """Eq. 1 against ``Iq``; the forecasts in the target's rotation ``orders``."""
+        if Iq is not self._Iq:
+            self._Iq = np.ascontiguousarray(Iq, dtype=np.float64)
+            if self.cache is not None:
+                self.cache.meta[0] = -1  # its costs were computed against other rotations
+        try:
+            self._codes[:] = order_codes(orders)
+        except ValueError as e:
+            raise AlignmentError(f"target of {self.name}: {e}") from None
 
     def _step(self, q: int) -> int:
         state = self.state
@@ -1121,6 +1150,10 @@ def run_group(aligners, T: MotionFeatures) -> list:
             f"target {T.name!r}: expected {k} joints like the input {a0.I.name!r}, got "
             f"quats {np.shape(T.quats)} and euler {np.shape(T.euler)}"
         )
+    if T.n_frames:
+        first = T.frame(0)
+        for a in aligners:  # the target's rotation orders and rig, as a stream's first frame
+            a._begin_take(first)
     W = max(a.w for a in aligners) + 1
     params = np.stack([a.params() for a in aligners])
     table = next((a._table for a in aligners if a.constraint is not None), a0._table)

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from fpdtw.metrics import similarity_per_axis, step_counts, stick_skip_index
+from fpdtw.metrics import deviation, similarity_per_axis, step_counts, stick_skip_index
 from fpdtw.paper import numbers
 from fpdtw.paper.numbers import WINDOWS
 from fpdtw.registry import C_READINGS, method_c_name
@@ -320,9 +320,9 @@ def choice_values(results, name: str, variant: str, features=None) -> dict:
     name : str
         An algorithm (its deviation is measured from DTW at its own rate).
     variant : {"deviation_frames", "flat_axis", "after_input"}
-        The choice (:data:`fpdtw.paper.runner.grid.SILENT_CHOICES`): eq. 3 over the frames
-        ``q = 1..n``; eq. 2 leaving out an axis flat in one motion; both scores only up to
-        the first target frame mapped to the last input frame.
+        The choice (:data:`fpdtw.paper.runner.grid.SILENT_CHOICES`): eq. 3 over all
+        ``n + 1`` target frames ``q = 0..n``; eq. 2 leaving out an axis flat in one motion;
+        both scores only up to the first target frame mapped to the last input frame.
     features : callable, optional
         ``features(k) -> (I, T)`` at the algorithm's rate
         (:func:`fpdtw.paper.runner.run.pair_features`); needed by the choices of eq. 2.
@@ -344,7 +344,7 @@ def choice_values(results, name: str, variant: str, features=None) -> dict:
         M = maps[offsets[k] : offsets[k + 1]]
         D = d_maps[d_off[k] : d_off[k + 1]]
         if variant == "deviation_frames":
-            devs[k] = float(np.abs(M - D)[1:].sum() / max(M.size - 1, 1))
+            devs[k] = deviation(D, M, frames="all")
             continue
         if features is None:
             raise ValueError(f"the choice {variant!r} of eq. 2 needs the pairs' features")
@@ -356,7 +356,7 @@ def choice_values(results, name: str, variant: str, features=None) -> dict:
             end = int(np.argmax(M >= m_all[k])) + 1 if np.any(M >= m_all[k]) else M.size
             end = max(end, 2)
             sims[k] = float(np.mean(similarity_per_axis(I.quats, T.quats[:end], M[:end])))
-            devs[k] = float(np.mean(np.abs(M[:end] - D[:end])))
+            devs[k] = deviation(D[:end], M[:end])
         else:
             raise ValueError(f"not a metric-side choice: {variant!r}")
     out = {}

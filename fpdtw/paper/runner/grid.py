@@ -118,8 +118,8 @@ SILENT_CHOICES = {
         ("start", "best"), "ABC",
     ),
     "deviation_frames": SilentChoice(
-        "eq. 3 averages over all n + 1 target frames",
-        "over the n frames q = 1..n, as printed",
+        "eq. 3 averages over the n frames q = 1..n, as printed",
+        "over all n + 1 target frames q = 0..n",
         None, "ABC",
     ),
     "flat_axis": SilentChoice(
