@@ -212,7 +212,10 @@ def test_claim_times_follow_the_makefile(tmp_path):
     steps = readme.steps_block(record)
     assert readme.steps_record(f"{readme.BEGIN.format(name='steps')}\n{steps}\n"
                                f"{readme.END.format(name='steps')}") == record  # fmt: skip
-    assert "All steps: 120.0 min; the largest peak, 1.5 GiB, is that of nb 12." in steps
+    n = len(record["steps"])  # step k: k minutes, k x 100 MiB; nb 12 is the last
+    assert record["steps"][-1]["name"] == "nb 12"
+    total, peak = n * (n + 1) / 2, readme.memory(100 * n)
+    assert f"All steps: {total:.1f} min; the largest peak, {peak}, is that of nb 12." in steps
     assert "`results` 2.0 GiB" in steps
     empty = readme.artifact_claims_block(rows, [], {}, REPO_ROOT / "figures", REPO_ROOT)
     assert empty.count(readme.NOT_MEASURED) == 3

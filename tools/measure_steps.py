@@ -49,6 +49,8 @@ STEPS = [
     ("nb 13", "make build/notebooks/13_opw_fig4.ipynb"),
     ("nb 14", "make build/notebooks/14_opw_fig5_fig6.ipynb"),
     ("nb 15", "make build/notebooks/15_readings_of_algorithm_3.ipynb"),
+    ("open grid", "make build/grids/open.done"),
+    ("nb 16", "make build/notebooks/16_open_questions.ipynb"),
     ("nb 12", "make build/notebooks/12_claims.ipynb"),
 ]
 
