@@ -258,8 +258,12 @@ def _merge_count(y, buf):
 
 
 @numba.njit(cache=True)
-def _tau_b(x, y):
-    """Kendall tau-b of two float64 vectors of equal length; NaN if either is constant."""
+def _tau(x, y, variant_a):
+    """Kendall tau-b (``variant_a`` False) or tau-a (True) of two float64 vectors.
+
+    tau-b is NaN if either vector is constant; tau-a is ``(concordant - discordant) /
+    (N (N - 1) / 2)``, ties counted as neither. Both are NaN for ``N < 2``.
+    """
     n = x.shape[0]
     if n < 2:
         return np.nan
@@ -282,10 +286,18 @@ def _tau_b(x, y):
     swaps = _merge_count(ys, np.empty_like(ys))
     n2 = _count_ties(ys)  # ys is sorted now
     n0 = n * (n - 1) // 2
+    s = (n0 - n1 - n2 + n3) - 2 * swaps  # concordant - discordant
+    if variant_a:
+        return s / float(n0)
     if n1 == n0 or n2 == n0:
         return np.nan
-    s = (n0 - n1 - n2 + n3) - 2 * swaps  # concordant - discordant
     return s / math.sqrt(float(n0 - n1) * float(n0 - n2))
+
+
+@numba.njit(cache=True)
+def _tau_b(x, y):
+    """Kendall tau-b of two float64 vectors of equal length; NaN if either is constant."""
+    return _tau(x, y, False)
 
 
 def kendall_tau_b(x, y) -> float:
@@ -314,8 +326,12 @@ def kendall_tau_b(x, y) -> float:
 
 
 @numba.njit(cache=True)
-def _axis_scores(XA, XT, flat, one_flat, out):
-    """Per-axis score; XA, XT (N, k, 3) float64; out (k, 3)."""
+def _axis_scores(XA, XT, flat, one_flat, out, variant_a=False, toolkit=False):
+    """Per-axis score; XA, XT (N, k, 3) float64; out (k, 3).
+
+    ``toolkit``: tau whenever either range reaches ``flat``, 1 only when both are below
+    it (an undefined tau then scores ``one_flat``).
+    """
     N = XA.shape[0]
     for j in range(XA.shape[1]):
         for a in range(3):
@@ -328,28 +344,62 @@ def _axis_scores(XA, XT, flat, one_flat, out):
             flat_t = xt.max() - xt.min() < flat
             if flat_a and flat_t:
                 out[j, a] = 1.0
-            elif flat_a or flat_t:
+            elif (flat_a or flat_t) and not toolkit:
                 out[j, a] = one_flat
             else:
-                out[j, a] = _tau_b(xa, xt)
+                t = _tau(xa, xt, variant_a)
+                out[j, a] = one_flat if np.isnan(t) else t
     return out
 
 
 # -- similarity --------------------------------------------------------------------------------
 
 
-def joint_trajectories(quats) -> np.ndarray:
-    """Joint trajectories: the unit vector (0, 1, 0) rotated by each joint's local rotation.
+#: Kendall tau variants of :func:`similarity` (``tau=``).
+TAU_VARIANTS = ("b", "a")
+
+#: Flat-axis rules of :func:`similarity` (``flat=``).
+FLAT_RULES = ("zero", "toolkit", "skip")
+
+
+def _axis_vectors(axis, k: int) -> np.ndarray:
+    """The unit vector of each of k joints, shape (k, 3), from ``"y"`` or an array."""
+    if isinstance(axis, str):
+        if axis != "y":
+            raise AlignmentError(
+                f"axis {axis!r}: give 'y' or each joint's own vectors, shape (k, 3) "
+                "(fpdtw.motion.rig.bone_directions for the bone reading)"
+            )
+        v = np.array(BONE_AXIS)
+    else:
+        v = np.asarray(axis, dtype=np.float64)
+    v = np.broadcast_to(v, (k, 3)) if v.shape in ((3,), (k, 3)) else None
+    if v is None or not np.all(np.isfinite(v)):
+        raise AlignmentError(f"axis vectors must be finite, shape (3,) or ({k}, 3)")
+    norm = np.linalg.norm(v, axis=1)
+    if np.any(norm < 1e-12):
+        raise AlignmentError("axis vectors must not be zero")
+    return v / norm[:, None]
+
+
+def joint_trajectories(quats, axis="y") -> np.ndarray:
+    """Joint trajectories: a unit vector rotated by each joint's rotation.
 
     Parameters
     ----------
     quats : ndarray of float, shape (F, k, 4)
-        Local rotations (w, x, y, z), unit quaternions.
+        Rotations (w, x, y, z), unit quaternions: the joints' local rotations (the
+        default reading) or those of another frame
+        (:func:`fpdtw.motion.rig.trajectory_rotations`).
+    axis : "y" or ndarray of float, shape (3,) or (k, 3)
+        ``"y"``: the unit vector (0, 1, 0) for every joint (the default); or each
+        joint's own vector (normalised), e.g. its bone direction
+        (:func:`fpdtw.motion.rig.bone_directions`).
 
     Returns
     -------
     X : ndarray of float64, shape (F, k, 3)
-        Unit vectors; ``X[f, j]`` is the direction of joint j's bone axis.
+        Unit vectors; ``X[f, j]`` is the direction of joint j's vector at frame f.
 
     Plain version: fpdtw.plain.joint_trajectories.
     Paper: FP-DTW eq. 2 ("the R^3 translation of a one unit length vector along
@@ -358,18 +408,48 @@ def joint_trajectories(quats) -> np.ndarray:
     quats = np.asarray(quats, dtype=np.float64)
     if quats.ndim != 3 or quats.shape[2] != 4:
         raise AlignmentError(f"expected quaternions of shape (F, k, 4), got {quats.shape}")
-    return np.ascontiguousarray(quat_rotate(quats, np.array(BONE_AXIS)))
+    if isinstance(axis, str) and axis == "y":
+        return np.ascontiguousarray(quat_rotate(quats, np.array(BONE_AXIS)))
+    v = _axis_vectors(axis, quats.shape[1])
+    return np.ascontiguousarray(quat_rotate(quats, v[None]))
 
 
-def similarity_per_axis(I_quats, T_quats, M, one_flat: float = ONE_FLAT_SCORE) -> np.ndarray:
-    """Per-axis scores of :func:`similarity`: Kendall tau-b of each joint axis.
+def _check_options(tau, flat, skip):
+    if tau not in TAU_VARIANTS:
+        raise AlignmentError(f"tau must be one of {TAU_VARIANTS}, got {tau!r}")
+    if flat not in FLAT_RULES:
+        raise AlignmentError(f"flat must be one of {FLAT_RULES}, got {flat!r}")
+    if isinstance(skip, bool) or not isinstance(skip, (int, np.integer)) or skip < 0:
+        raise AlignmentError(f"skip must be a non-negative integer, got {skip!r}")
+
+
+def _pair_axes(axis):
+    """(input's, target's) axis argument from ``"y"``, one array or a pair of arrays."""
+    if isinstance(axis, tuple) and len(axis) == 2:
+        return axis
+    return axis, axis
+
+
+def similarity_per_axis(
+    I_quats,
+    T_quats,
+    M,
+    one_flat: float = ONE_FLAT_SCORE,
+    *,
+    tau: str = "b",
+    flat: str = "zero",
+    skip: int = 0,
+    axis="y",
+) -> np.ndarray:
+    """Per-axis scores of :func:`similarity`: Kendall tau of each joint axis.
 
     The input is warped by the map (``A = I[M]``, one frame per target frame).
     An axis whose range (max - min) is below :data:`FLAT_RANGE` (0.001) in BOTH
     ``A`` and ``T`` scores 1 (the paper's rule). Below it in exactly ONE of them
     tau is undefined (a constant series); we score it :data:`ONE_FLAT_SCORE` (0):
     a warp that freezes a moving joint gets no credit, and a moving input
-    against a still target is not a match either.
+    against a still target is not a match either. The keyword options are the
+    readings of :func:`similarity` (its docstring says which sentence each reads).
 
     Parameters
     ----------
@@ -382,20 +462,25 @@ def similarity_per_axis(I_quats, T_quats, M, one_flat: float = ONE_FLAT_SCORE) -
     one_flat : float
         Score of an axis flat in exactly one motion (default :data:`ONE_FLAT_SCORE`;
         NaN marks such axes, e.g. to leave them out of a mean, as notebook 15 does).
+    tau, flat, skip, axis
+        See :func:`similarity`. ``flat="skip"`` sets ``one_flat`` to NaN.
 
     Returns
     -------
     r : ndarray of float64, shape (k, 3)
-        ``r[j, a]`` for joint j and axis a (x, y, z), each in ``[-1, 1]``.
+        ``r[j, a]`` for joint j and axis a (x, y, z), each in ``[-1, 1]`` (NaN for an
+        axis left out).
 
     Raises
     ------
     AlignmentError
         Map length differs from the target's frame count, entries outside
-        ``0..m``, or mismatched joints.
+        ``0..m``, mismatched joints, an unknown option, or ``skip`` leaving fewer
+        than 2 target frames.
 
     Paper: FP-DTW eq. 2.
     """
+    _check_options(tau, flat, skip)
     I_quats = np.asarray(I_quats, dtype=np.float64)
     T_quats = np.asarray(T_quats, dtype=np.float64)
     M = _as_map(M)
@@ -411,10 +496,19 @@ def similarity_per_axis(I_quats, T_quats, M, one_flat: float = ONE_FLAT_SCORE) -
     m = I_quats.shape[0] - 1
     if not in_range(M, m):
         raise AlignmentError(f"the map has entries outside the input frames 0..{m}")
-    return trajectory_scores(joint_trajectories(I_quats[M]), joint_trajectories(T_quats), one_flat)
+    if skip and M.shape[0] - skip < 2:
+        raise AlignmentError(
+            f"skip={skip} leaves {M.shape[0] - skip} of the target's {M.shape[0]} frames"
+        )
+    ax_I, ax_T = _pair_axes(axis)
+    XA = joint_trajectories(I_quats[M[skip:]], ax_I)
+    XT = joint_trajectories(T_quats[skip:], ax_T)
+    return trajectory_scores(XA, XT, one_flat, tau=tau, flat=flat)
 
 
-def trajectory_scores(XA, XT, one_flat: float = ONE_FLAT_SCORE) -> np.ndarray:
+def trajectory_scores(
+    XA, XT, one_flat: float = ONE_FLAT_SCORE, *, tau: str = "b", flat: str = "zero"
+) -> np.ndarray:
     """Per-axis scores of eq. 2 from joint trajectories already warped and aligned.
 
     :func:`similarity_per_axis` is ``trajectory_scores(joint_trajectories(I[M]),
@@ -426,6 +520,9 @@ def trajectory_scores(XA, XT, one_flat: float = ONE_FLAT_SCORE) -> np.ndarray:
     XA, XT : ndarray of float64, shape (n + 1, k, 3)
         Trajectories of the warped input and of the target.
     one_flat : float
+    tau : {"b", "a"}
+    flat : {"zero", "toolkit", "skip"}
+        See :func:`similarity`.
 
     Returns
     -------
@@ -433,36 +530,71 @@ def trajectory_scores(XA, XT, one_flat: float = ONE_FLAT_SCORE) -> np.ndarray:
 
     Paper: FP-DTW eq. 2.
     """
+    _check_options(tau, flat, 0)
     XA = np.ascontiguousarray(XA, dtype=np.float64)
     XT = np.ascontiguousarray(XT, dtype=np.float64)
     if XA.shape != XT.shape or XA.ndim != 3 or XA.shape[2] != 3:
         raise AlignmentError(f"trajectories of different shapes: {XA.shape}, {XT.shape}")
     out = np.empty((XA.shape[1], 3))
-    return _axis_scores(XA, XT, FLAT_RANGE, float(one_flat), out)
+    one = np.nan if flat == "skip" else float(one_flat)
+    return _axis_scores(XA, XT, FLAT_RANGE, one, out, tau == "a", flat == "toolkit")
 
 
-def similarity(I_quats, T_quats, M) -> float:
+def similarity(
+    I_quats, T_quats, M, *, tau: str = "b", flat: str = "zero", skip: int = 0, axis="y"
+) -> float:
     """Similarity of the warped input and the target (mean Kendall tau over 3k axes).
 
-    See :func:`similarity_per_axis` for the parameters and the flat-axis rule.
+    The defaults are the reading the text supports (bit for bit the scores of every
+    earlier version); each option is one other reading of a sentence of Section 5:
+
+    * ``tau`` -- "the Kendall Tau rank correlation coefficient": ``"b"`` (default,
+      ties corrected, what ``scipy.stats.kendalltau`` and the authors' toolkit return)
+      or ``"a"`` (``(concordant - discordant) / (N (N - 1) / 2)``, ties count as
+      neither).
+    * ``flat`` -- "if both joint axes have a range less than 0.001, the trajectories
+      are considered identical and given a score of 1": ``"zero"`` (default; an axis
+      flat in exactly one motion scores 0), ``"toolkit"`` (the authors'
+      FBXMotionToolkit, ``similarityTools.measureCorrelationSimilarity``: tau whenever
+      either range reaches 0.001, 1 only when both are below it; a tau undefined
+      because one series is exactly constant scores 0), ``"skip"`` (an axis flat in
+      exactly one motion is left out of the mean, as notebook 15's silent choice).
+    * ``skip`` -- "the similarity ... of the aligned input and target": the first
+      ``skip`` target frames are left out (the online methods' warm-up frames);
+      default 0, every target frame.
+    * ``axis`` -- "a one unit length vector along the joint's orientation": ``"y"``
+      (default, (0, 1, 0) for every joint), or each joint's own vector, shape (k, 3)
+      (both motions) or a pair ``(input's, target's)``, e.g. the bone direction
+      (:func:`fpdtw.motion.rig.bone_directions`: the offset to the joint's child).
+    * the trajectory frame -- "joint trajectories": the rotations passed in; local
+      rotations (today) or global (world) or root-relative ones from
+      :func:`fpdtw.motion.rig.trajectory_rotations`.
+
+    See :func:`similarity_per_axis` for the parameters and the errors.
 
     Returns
     -------
     r : float
-        In ``[-1, 1]``: 1 for a perfect ordinal match, negative for reversed motion.
+        In ``[-1, 1]``: 1 for a perfect ordinal match, negative for reversed motion;
+        NaN when ``flat="skip"`` leaves out every axis.
 
     Plain version: fpdtw.plain.similarity.
     Paper: FP-DTW eq. 2.
     Notebook: 06_fig5_fig6_scores.ipynb
     """
-    return float(np.mean(similarity_per_axis(I_quats, T_quats, M)))
+    r = similarity_per_axis(I_quats, T_quats, M, tau=tau, flat=flat, skip=skip, axis=axis)
+    if flat == "skip":
+        return float(np.nanmean(r)) if np.isfinite(r).any() else float("nan")
+    return float(np.mean(r))
 
 
 __all__ = [
     "BONE_AXIS",
     "DEVIATION_FRAMES",
     "FLAT_RANGE",
+    "FLAT_RULES",
     "ONE_FLAT_SCORE",
+    "TAU_VARIANTS",
     "deviation",
     "exhausted_share",
     "hold_share",

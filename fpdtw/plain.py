@@ -869,13 +869,15 @@ def oltw(I, T, c: int = 120, max_run_count: int = 3, warmup: bool = True,
 # --- eqs. 2 and 3: similarity and deviation ---------------------------------------------
 
 
-def joint_trajectories(Q) -> np.ndarray:
-    """The unit vector (0, 1, 0) rotated by each joint's rotation: ``v + w t + u x t``
-    with ``t = 2 u x v`` for ``Q = (w, u)``.
+def joint_trajectories(Q, axis=(0.0, 1.0, 0.0)) -> np.ndarray:
+    """A unit vector rotated by each joint's rotation: ``v + w t + u x t`` with
+    ``t = 2 u x v`` for ``Q = (w, u)``.
 
     Parameters
     ----------
     Q : ndarray of float, shape (F, k, 4)
+    axis : ndarray of float, shape (3,) or (k, 3)
+        (0, 1, 0) by default; normalised.
 
     Returns
     -------
@@ -884,7 +886,8 @@ def joint_trajectories(Q) -> np.ndarray:
     Paper: FP-DTW eq. 2 ("a one unit length vector along the joint's orientation").
     """
     Q = np.asarray(Q, dtype=float)
-    v = np.array([0.0, 1.0, 0.0])
+    v = np.asarray(axis, dtype=float)
+    v = np.broadcast_to(v / np.linalg.norm(v, axis=-1, keepdims=True), Q.shape[:-1] + (3,))
     t = 2.0 * np.cross(Q[..., 1:], v)
     return v + Q[..., :1] * t + np.cross(Q[..., 1:], t)
 
@@ -912,18 +915,47 @@ def kendall_tau_b(x, y) -> float:
     return np.sum(sx * sy, dtype=np.int64) / math.sqrt(float(pairs_x) * float(pairs_y))
 
 
-def similarity(I_quats, T_quats, M, flat: float = 0.001) -> float:
-    """``r = (1 / 3k) sum_j sum_a tau(A_{j,a}, T_{j,a})`` for the input warped by the map,
-    ``A_q = I_{M_q}``.
+def kendall_tau_a(x, y) -> float:
+    """Kendall's tau-a: ``sum_{a<b} sgn(x_a - x_b) sgn(y_a - y_b) / (N (N - 1) / 2)``.
 
-    An axis whose range is below ``flat`` in both motions scores 1 (the paper's rule), in
-    only one of them 0 (tau is undefined there; our choice).
+    Parameters
+    ----------
+    x, y : ndarray of float, shape (N,)
+
+    Returns
+    -------
+    tau : float
+        NaN when ``N < 2``.
+
+    Paper: FP-DTW eq. 2 (tau read without the ties correction).
+    """
+    N = len(x)
+    if N < 2:
+        return math.nan
+    s = np.sign(np.subtract.outer(x, x)) * np.sign(np.subtract.outer(y, y))
+    return float(np.sum(np.triu(s, 1)) / (N * (N - 1) / 2))
+
+
+def similarity(
+    I_quats, T_quats, M, flat: float = 0.001, *, tau="b", rule="zero", skip=0, axis=(0, 1, 0)
+) -> float:
+    """``r = (1 / 3k) sum_j sum_a tau(A_{j,a}, T_{j,a})`` for the input warped by the map,
+    ``A_q = I_{M_q}``, over target frames ``q = skip..n``.
+
+    An axis whose range is below ``flat`` in both motions scores 1 (the paper's rule). In
+    only one of them: 0 (``rule="zero"``, tau is undefined there; our choice), left out of
+    the mean (``"skip"``), or tau as computed (``"toolkit"``; 0 if undefined).
 
     Parameters
     ----------
     I_quats : ndarray of float, shape (m + 1, k, 4)
     T_quats : ndarray of float, shape (n + 1, k, 4)
     M : ndarray of int, shape (n + 1,)
+    tau : {"b", "a"}
+    rule : {"zero", "toolkit", "skip"}
+        The ``flat=`` option of :func:`fpdtw.metrics.similarity`.
+    skip : int
+    axis : ndarray of float, shape (3,) or (k, 3), or a pair (input's, target's)
 
     Returns
     -------
@@ -932,15 +964,23 @@ def similarity(I_quats, T_quats, M, flat: float = 0.001) -> float:
     Paper: FP-DTW eq. 2.
     Notebook: 06_fig5_fig6_scores.ipynb
     """
-    A = joint_trajectories(np.asarray(I_quats)[np.asarray(M)])
-    X = joint_trajectories(T_quats)
+    ax_I, ax_T = axis if isinstance(axis, tuple) and len(axis) == 2 else (axis, axis)
+    A = joint_trajectories(np.asarray(I_quats)[np.asarray(M)[skip:]], ax_I)
+    X = joint_trajectories(np.asarray(T_quats)[skip:], ax_T)
+    kendall = kendall_tau_a if tau == "a" else kendall_tau_b
     r = np.empty(A.shape[1:])
     for j in range(A.shape[1]):
         for a in range(3):
             x, y = A[:, j, a], X[:, j, a]
             flat_x, flat_y = np.ptp(x) < flat, np.ptp(y) < flat
-            r[j, a] = 1.0 if flat_x and flat_y else 0.0 if flat_x or flat_y else kendall_tau_b(x, y)
-    return float(np.mean(r))
+            if flat_x and flat_y:
+                r[j, a] = 1.0
+            elif (flat_x or flat_y) and rule != "toolkit":
+                r[j, a] = math.nan if rule == "skip" else 0.0
+            else:
+                t = kendall(x, y)
+                r[j, a] = 0.0 if math.isnan(t) else t
+    return float(np.nanmean(r)) if rule == "skip" else float(np.mean(r))
 
 
 def deviation(P_a, P_b) -> float:

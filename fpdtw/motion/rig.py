@@ -378,11 +378,97 @@ def position_scale(input_size, target_size, rule: str = "auto") -> float:
     return ratio
 
 
+#: Frames of the joint trajectories of eq. 2 (:func:`trajectory_rotations`).
+TRAJECTORY_FRAMES = ("local", "global", "root")
+
+
+def trajectory_rotations(motion, frame: str = "local", joints=PAPER_JOINTS) -> np.ndarray:
+    """Rotations whose joint trajectories eq. 2 compares, in one of three frames.
+
+    ``"local"``: the animated local rotations ``R_j`` (:meth:`fpdtw.motion.Motion.rotations`,
+    what eq. 2 reads by default); ``"global"``: each joint's world rotation ``G_j``
+    (:func:`global_rotations`: pre/post rotations and every ancestor included);
+    ``"root"``: relative to the root joint's world rotation, ``G_root^-1 G_j`` (the
+    body's turning and leaning removed).
+
+    Parameters
+    ----------
+    motion : Motion
+    frame : {"local", "global", "root"}
+    joints : sequence of str
+
+    Returns
+    -------
+    Q : ndarray of float64, shape (F, k, 4)
+
+    Raises
+    ------
+    MotionFormatError
+        An unknown frame (naming the motion's file) or a missing joint.
+
+    Paper: FP-DTW eq. 2 ("joint trajectories"; the frame is not stated).
+    """
+    if frame not in TRAJECTORY_FRAMES:
+        raise MotionFormatError(
+            motion.path or motion.name, f"frame {frame!r} is not one of {TRAJECTORY_FRAMES}"
+        )
+    idx = motion.joint_indices(joints)
+    if frame == "local":
+        return np.ascontiguousarray(motion.quats[:, idx], dtype=np.float64)
+    G = global_rotations(motion.skeleton, motion.quats)
+    Q = G[:, idx]
+    if frame == "root":
+        root = int(np.flatnonzero(np.asarray(motion.skeleton.parents) < 0)[0])
+        Q = quat_mul(quat_conj(G[:, root : root + 1]), Q)
+    return np.ascontiguousarray(quat_normalize(Q))
+
+
+def bone_directions(motion, joints=PAPER_JOINTS) -> np.ndarray:
+    """Each joint's bone direction: the unit offset to its child, in the joint's own axes.
+
+    A joint with several children takes the one with the longest offset (the limb, not
+    a twist or end-site helper).
+
+    Parameters
+    ----------
+    motion : Motion
+    joints : sequence of str
+
+    Returns
+    -------
+    v : ndarray of float64, shape (k, 3)
+
+    Raises
+    ------
+    MotionFormatError
+        A joint without a child at a non-zero offset (naming the motion's file).
+
+    Paper: FP-DTW eq. 2 ("a one unit length vector along the joint's orientation",
+    read as the bone).
+    """
+    sk = motion.skeleton
+    parents = np.asarray(sk.parents)
+    out = np.empty((len(joints), 3))
+    for i, j in enumerate(motion.joint_indices(joints)):
+        kids = np.flatnonzero(parents == j)
+        lengths = np.linalg.norm(sk.offsets[kids], axis=1) if kids.size else np.zeros(0)
+        if kids.size == 0 or lengths.max() < 1e-9:
+            raise MotionFormatError(
+                motion.path or motion.name,
+                f"joint {sk.joint_names[j]!r} has no child bone to give its direction",
+            )
+        c = kids[int(np.argmax(lengths))]
+        out[i] = sk.offsets[c] / lengths.max()
+    return out
+
+
 __all__ = [
     "POSITION_RULES",
     "POSITION_UNIT_RATIO",
     "RigTransform",
+    "TRAJECTORY_FRAMES",
     "body_size",
+    "bone_directions",
     "common_rotations",
     "cost_input",
     "global_rotations",
@@ -392,4 +478,5 @@ __all__ = [
     "rig_transform",
     "skeleton_body_size",
     "skeleton_rig",
+    "trajectory_rotations",
 ]
