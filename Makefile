@@ -256,6 +256,9 @@ build/notebooks/05_run_experiments.ipynb: build/grids/full.done
 build/notebooks/15_readings_of_algorithm_3.ipynb: build/grids/study.done
 $(SMOKE_DIR)/05_run_experiments.ipynb: $(SMOKE_DIR)/grids/smoke.done
 $(SMOKE_DIR)/15_readings_of_algorithm_3.ipynb: $(SMOKE_DIR)/grids/smoke-study.done
+# notebook 17 rescores the study grid's stored maps under each reading of eq. 2
+build/notebooks/17_similarity_level.ipynb: build/grids/study.done
+$(SMOKE_DIR)/17_similarity_level.ipynb: $(SMOKE_DIR)/grids/smoke-study.done
 # the open questions' grid (notebook 16; its Q rows are in notebook 12's claims table)
 build/grids/open.done: | build/grids/study.done
 $(SMOKE_DIR)/grids/smoke-open.done: | $(SMOKE_DIR)/grids/smoke-study.done

@@ -190,3 +190,18 @@ def test_defaults_are_todays_scores_and_plain_twin_agrees():
         similarity(I.quats, T.quats, M, tau="c")
     with pytest.raises(AlignmentError, match="flat must be"):
         similarity(I.quats, T.quats, M, flat="one")
+
+
+def test_level_table_helpers_by_hand():
+    from fpdtw.paper.similarity_level import READINGS, closest_reading, level_comparison
+
+    assert READINGS[0].name == "ours" and len({r.name for r in READINGS}) == len(READINGS)
+    rows = [
+        dict(reading="ours", changes="", dataset="all", UTW=0.43, DTW=0.5, **{"Mc w40": 0.47}),
+        dict(reading="x", changes="", dataset="all", UTW=0.26, DTW=0.3, **{"Mc w40": 0.30}),
+        dict(reading="x", changes="", dataset="hdm05", UTW=0.1, DTW=0.3, **{"Mc w40": 0.30}),
+    ]
+    best = closest_reading(rows)
+    assert best["reading"] == "x" and best["gap"] == pytest.approx(0.02)
+    assert [r["holds"] for r in level_comparison(rows)] == ["no", "no", "yes", "yes"]
+    assert level_comparison(rows)[2]["paper"] == "0.240"

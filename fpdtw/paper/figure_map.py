@@ -89,6 +89,9 @@ NOTEBOOKS = (
               "open_q4_gamma", "open_q6_pause_example", "open_q6_pause"),
              "beyond the papers: the questions they leave open, answered on the same pairs "
              "(the window from the period; a global band; adaptive gamma; standing still)"),
+    Notebook("17_similarity_level", ("similarity_level",),
+             "eq. 2 read six other ways (tau, flat axes, warm-up frames, bone axis, world and "
+             "root-relative frames): the median similarity level next to Table 1's", _RUN),
     Notebook("20_align_a_live_performance",
              ("live_latency", "live_maps", "live_walk_Mc_w40", "live_walk_OLTW",
               "live_network_latency", "live_drop_rate"),
