@@ -205,3 +205,27 @@ def test_level_table_helpers_by_hand():
     assert best["reading"] == "x" and best["gap"] == pytest.approx(0.02)
     assert [r["holds"] for r in level_comparison(rows)] == ["no", "no", "yes", "yes"]
     assert level_comparison(rows)[2]["paper"] == "0.240"
+
+
+def test_transform_frame_folds_in_pre_and_post_rotations_by_hand():
+    # joint a: pre 90 degrees about z, post its inverse, animated 30 degrees about x: the
+    # transform pre R post is 30 degrees about z(x) = y; without pre/post ("local") it is x
+    z90 = np.array([math.cos(math.pi / 4), 0, 0, math.sin(math.pi / 4)])
+    z90_inv = z90 * [1, -1, -1, -1]
+    ident = np.array([1.0, 0, 0, 0])
+    sk = Skeleton(
+        ("root", "a", "b"),
+        [-1, 0, 1],
+        [[0.0, 0, 0], [0.0, 1, 0], [2.0, 0, 0]],
+        ("XYZ", "XYZ", "XYZ"),
+        pre_rotations=np.stack([ident, z90, ident]),
+        post_rotations=np.stack([ident, z90_inv, ident]),
+    )
+    euler = np.zeros((1, 3, 3))
+    euler[0, 1, 0] = 30.0
+    mo = Motion("m", 30, sk, euler, np.zeros((1, 3)))
+    tr = trajectory_rotations(mo, "transform", ["a"])[0, 0]
+    y30 = np.array([math.cos(math.pi / 12), 0, math.sin(math.pi / 12), 0])
+    assert np.allclose(tr, y30, atol=1e-12) or np.allclose(tr, -y30, atol=1e-12)
+    loc = trajectory_rotations(mo, "local", ["a"])[0, 0]
+    assert np.allclose(np.abs(loc), [math.cos(math.pi / 12), math.sin(math.pi / 12), 0, 0])

@@ -379,14 +379,17 @@ def position_scale(input_size, target_size, rule: str = "auto") -> float:
 
 
 #: Frames of the joint trajectories of eq. 2 (:func:`trajectory_rotations`).
-TRAJECTORY_FRAMES = ("local", "global", "root")
+TRAJECTORY_FRAMES = ("local", "transform", "global", "root")
 
 
 def trajectory_rotations(motion, frame: str = "local", joints=PAPER_JOINTS) -> np.ndarray:
     """Rotations whose joint trajectories eq. 2 compares, in one of three frames.
 
     ``"local"``: the animated local rotations ``R_j`` (:meth:`fpdtw.motion.Motion.rotations`,
-    what eq. 2 reads by default); ``"global"``: each joint's world rotation ``G_j``
+    what eq. 2 reads by default); ``"transform"``: the joint's whole local transform
+    ``pre_j R_j post_j`` (FBX: with the node's pre/post-rotations, what the FBX SDK's local
+    transform evaluation returns; ASF: ``C M C^-1`` in the parent's axes; BVH: ``R``, the
+    same as ``"local"``); ``"global"``: each joint's world rotation ``G_j``
     (:func:`global_rotations`: pre/post rotations and every ancestor included);
     ``"root"``: relative to the root joint's world rotation, ``G_root^-1 G_j`` (the
     body's turning and leaning removed).
@@ -394,7 +397,7 @@ def trajectory_rotations(motion, frame: str = "local", joints=PAPER_JOINTS) -> n
     Parameters
     ----------
     motion : Motion
-    frame : {"local", "global", "root"}
+    frame : {"local", "transform", "global", "root"}
     joints : sequence of str
 
     Returns
@@ -415,10 +418,15 @@ def trajectory_rotations(motion, frame: str = "local", joints=PAPER_JOINTS) -> n
     idx = motion.joint_indices(joints)
     if frame == "local":
         return np.ascontiguousarray(motion.quats[:, idx], dtype=np.float64)
-    G = global_rotations(motion.skeleton, motion.quats)
+    sk = motion.skeleton
+    if frame == "transform":
+        pre, post = np.asarray(sk.pre_rotations)[idx], np.asarray(sk.post_rotations)[idx]
+        Q = quat_mul(quat_mul(pre[None], motion.quats[:, idx]), post[None])
+        return np.ascontiguousarray(quat_normalize(Q))
+    G = global_rotations(sk, motion.quats)
     Q = G[:, idx]
     if frame == "root":
-        root = int(np.flatnonzero(np.asarray(motion.skeleton.parents) < 0)[0])
+        root = int(np.flatnonzero(np.asarray(sk.parents) < 0)[0])
         Q = quat_mul(quat_conj(G[:, root : root + 1]), Q)
     return np.ascontiguousarray(quat_normalize(Q))
 

@@ -21,9 +21,10 @@ import numpy as np
 
 from fpdtw.metrics import similarity
 from fpdtw.motion.joints import PAPER_JOINTS
-from fpdtw.motion.rig import bone_directions, trajectory_rotations
+from fpdtw.motion.rig import TRAJECTORY_FRAMES, bone_directions, trajectory_rotations
 from fpdtw.online.window import SMOOTHING
 from fpdtw.paper import catalog
+from fpdtw.paper import numbers as N
 from fpdtw.paper.runner.run import BASE_FPS
 from fpdtw.paper.runner.selection import Selection, pair_selection
 
@@ -31,7 +32,7 @@ from fpdtw.paper.runner.selection import Selection, pair_selection
 LEVEL_ALGORITHMS = ("UTW", "DTW", "Mc w40")
 
 #: Paper Table 1 (120 Hz), median eq. 2 over its 100 pairs; DTW is not in the table.
-PAPER_TABLE1 = {"UTW": 0.240, "DTW": float("nan"), "Mc w40": 0.285}
+PAPER_TABLE1 = {"UTW": N.TABLE1[120]["UTW"], "DTW": float("nan"), "Mc w40": N.TABLE1[120][40]}
 
 #: Target frames of the online methods' warm-up: ``M_0`` and ``n < s`` (``s = 2``).
 WARMUP_FRAMES = SMOOTHING + 1
@@ -60,6 +61,11 @@ READINGS = (
         "skip-warm-up", f"the first {WARMUP_FRAMES} target frames left out", skip=WARMUP_FRAMES
     ),
     Reading("bone-axis", "each joint's bone direction instead of (0, 1, 0)", axis="bone"),
+    Reading(
+        "transform",
+        "local transforms with the pre/post-rotations (FBX; ASF axis frames)",
+        frame="transform",
+    ),
     Reading("global", "global (world) rotations", frame="global"),
     Reading("root", "rotations relative to the root", frame="root"),
 )
@@ -72,7 +78,7 @@ def _motion_arrays(record, crop) -> dict:
         motion = motion.resample(BASE_FPS)
     if crop is not None:
         motion = motion.crop(0.0, crop)
-    out = {f: trajectory_rotations(motion, f, PAPER_JOINTS) for f in ("local", "global", "root")}
+    out = {f: trajectory_rotations(motion, f, PAPER_JOINTS) for f in TRAJECTORY_FRAMES}
     out["bone"] = bone_directions(motion, PAPER_JOINTS)
     return out
 
@@ -92,7 +98,7 @@ def pair_arrays(results, k: int) -> tuple:
     Returns
     -------
     I, T : dict
-        ``"local"``, ``"global"``, ``"root"``: ndarray of float64, shape (F, 8, 4);
+        ``"local"``, ``"transform"``, ``"global"``, ``"root"``: ndarray of float64, shape (F, 8, 4);
         ``"bone"``: ndarray of float64, shape (8, 3).
 
     Notebook: 17_similarity_level.ipynb
