@@ -298,7 +298,7 @@ def test_pair_scores_and_paths_plot():
     assert list(maps) == ["DTW", "UTW", "Mc w10"]
     rows = pw.pair_scores(I, T, maps)
     assert rows[0]["algorithm"] == "DTW" and rows[0]["deviation"] == 0.0
-    dev = np.mean(np.abs(maps["DTW"] - maps["UTW"]))
+    dev = np.mean(np.abs(maps["DTW"] - maps["UTW"])[1:])  # eq. 3: q = 1..n, as printed
     assert rows[1]["deviation"] == pytest.approx(dev)
     assert rows[1]["paper_deviation"] is None
     assert all(-1 <= r["similarity"] <= 1 for r in rows)
