@@ -1,6 +1,9 @@
 """The experiment grid on a Dask cluster (fpdtw.paper.runner.parallel): the same bytes as joblib.
 
-The smoke grid (54 pairs x 41 algorithms) runs once with joblib (2 processes), then on
+The smoke grid (54 pairs) with :data:`ALGORITHMS` (one algorithm of each kind: offline,
+Methods A, B and C, Type V, 60 Hz, Method C's literal window, OE-DTW, OLTW, OPW: the
+scheduling and the bytes do not depend on how many algorithms a unit holds, and ``make test``
+stays short) runs once with joblib (2 processes), then on
 real clusters on the loopback address only: a ``distributed.LocalCluster`` (2 worker
 processes, 1 thread each) and a ``dask scheduler`` with two ``dask worker`` processes,
 started as subprocesses with random ports and always stopped by the fixture. Checked:
@@ -17,6 +20,7 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import shutil
 import signal
 import socket
 import subprocess
@@ -32,7 +36,12 @@ from fpdtw.paper.runner import run as E
 from fpdtw.paper.runner.results import load_npz
 
 N_UNITS = 54  # the smoke selection: 54 motions, each the input of one unit (one pair)
-N_ALGORITHMS = 41
+#: The algorithms of every run here (a subset of the smoke grid's DEFAULT_ALGORITHMS).
+ALGORITHMS = (
+    "DTW", "UTW", "Ma + Type V", "Mb w40", "Mc w40", "Mc w80@60Hz", "Mc w40 (literal window)",
+    "OE-DTW", "OLTW", "OPW",
+)  # fmt: skip
+N_ALGORITHMS = len(ALGORITHMS)
 SMOKE_PAIRS = 54
 START_TIMEOUT = 90  # seconds for a scheduler or a worker to come up
 RUN_TIMEOUT = 600  # seconds for one smoke run through the command line
@@ -70,6 +79,12 @@ def assert_clean_chunks(folder: Path) -> None:
         ids += meta["pair_ids"]
     assert sorted(ids) == list(range(SMOKE_PAIRS))  # every pair in exactly one chunk
     assert not list(folder.rglob("*.part")), "temporary files left behind"
+
+
+def seed_features(reference: Path, folder: Path) -> None:
+    """Give a run the feature files of the reference run (the same names: the same bytes);
+    the local cluster test builds them on the cluster's workers, the others need not."""
+    shutil.copytree(reference / "features", folder / "features")
 
 
 def computed(folder: Path) -> dict:
@@ -210,7 +225,9 @@ def root(tmp_path_factory):
 @pytest.fixture(scope="module")
 def joblib_run(root):
     """The smoke grid with joblib, 2 processes: the reference."""
-    E.run_experiments("smoke", n_jobs=2, progress=False, results=root / "joblib")
+    E.run_experiments(
+        "smoke", n_jobs=2, progress=False, results=root / "joblib", algorithms=ALGORITHMS
+    )
     folder = root / "joblib" / "smoke"
     assert computed(folder)["units"] == N_UNITS
     return folder
@@ -248,7 +265,10 @@ def test_local_cluster_gives_the_joblib_bytes(joblib_run, root, delivered):
         ) as cluster,
         Client(cluster, set_as_default=False) as client,
     ):
-        E.run_experiments("smoke", progress=False, results=root / "local", scheduler=client)
+        E.run_experiments(
+            "smoke", progress=False, results=root / "local", scheduler=client,
+            algorithms=ALGORITHMS,
+        )  # fmt: skip
         pids = {str(pid) for pid in client.run(os.getpid).values()}
     folder = root / "local" / "smoke"
     assert_same_results(folder, joblib_run)
@@ -265,6 +285,7 @@ def test_killed_worker_loses_and_duplicates_no_chunk(joblib_run, root, cli_clust
     from distributed import Client
 
     folder = root / "killed_worker" / "smoke"
+    seed_features(joblib_run, folder)  # the units are what this test kills, not the features
     killed = {}
 
     with Client(cli_cluster.address, timeout=30, set_as_default=False) as watcher:
@@ -290,8 +311,9 @@ def test_killed_worker_loses_and_duplicates_no_chunk(joblib_run, root, cli_clust
         thread = threading.Thread(target=kill_when_busy, daemon=True)
         thread.start()
         E.run_experiments(
-            "smoke", progress=False, results=root / "killed_worker", scheduler=cli_cluster.address
-        )
+            "smoke", progress=False, results=root / "killed_worker",
+            scheduler=cli_cluster.address, algorithms=ALGORITHMS,
+        )  # fmt: skip
         thread.join(timeout=30)
     assert "error" not in killed, killed.get("error")
     assert killed["keys"] and killed["chunks"] < N_UNITS, "the worker was not killed mid-run"
@@ -314,6 +336,7 @@ def test_killed_client_resumes_through_the_command_line(joblib_run, root, cli_cl
     """``fpdtw experiments run --scheduler``: the client SIGKILLed, then run again."""
     out = root / "killed_client"
     folder = out / "smoke"
+    seed_features(joblib_run, folder)  # the units are what this test kills, not the features
     cmd = [
         sys.executable,
         "-m",
@@ -326,6 +349,8 @@ def test_killed_client_resumes_through_the_command_line(joblib_run, root, cli_cl
         str(out),
         "--scheduler",
         cli_cluster.address,
+        "--algorithms",
+        *ALGORITHMS,
     ]
     proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, start_new_session=True)
     try:
@@ -425,7 +450,9 @@ def test_unreachable_scheduler_is_one_line_and_exit_1(tmp_path):
 def test_nothing_to_do_never_connects(joblib_run, root, capsys):
     """A finished run returns at once, whatever the scheduler (it is not asked)."""
     address = f"tcp://127.0.0.1:{free_port()}"
-    res = E.run_experiments("smoke", results=root / "joblib", scheduler=address)
+    res = E.run_experiments(
+        "smoke", results=root / "joblib", scheduler=address, algorithms=ALGORITHMS
+    )
     assert "nothing to do" in capsys.readouterr().out
     assert len(res.algorithms) == N_ALGORITHMS
 

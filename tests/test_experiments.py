@@ -127,6 +127,27 @@ def test_smoke_selection_two_takes_both_directions():
     assert twirls == [("Twirls_02", "Twirls_03"), ("Twirls_03", "Twirls_02")]
 
 
+@pytest.mark.parametrize("mode", ["smoke-study", "smoke-open"])
+def test_smoke_runs_of_notebooks_15_and_16_take_the_first_movements(mode):
+    """max_movements keeps the first movements of each dataset, each with all its pairs."""
+    from fpdtw.paper.runner.selection import SMOKE_MOVEMENTS
+
+    smoke = E.pair_selection(E.SELECTIONS["smoke"])
+    plan = E.pair_selection(E.SELECTIONS[mode])
+    for ds in ("authors_fbx", "hdm05"):
+        first = list(dict.fromkeys(p["movement"] for p in smoke.pairs if p["dataset"] == ds))
+        kept = list(dict.fromkeys(p["movement"] for p in plan.pairs if p["dataset"] == ds))
+        assert kept == first[:SMOKE_MOVEMENTS]
+    kept = {(p["dataset"], p["movement"]) for p in plan.pairs}
+
+    def key(pairs):
+        return [(p["dataset"], p["input"], p["target"]) for p in pairs]
+
+    assert key(plan.pairs) == key(p for p in smoke.pairs if (p["dataset"], p["movement"]) in kept)
+    assert plan.counts["total"]["movements"] == 2 * SMOKE_MOVEMENTS
+    assert "max_movements" not in E.SELECTIONS["smoke"].as_dict()
+
+
 def test_slugs_and_names():
     assert E.slug("Mc w40 + Type V") == "Mc_w40_TypeV"
     assert E.slug("Mc w40@60Hz") == "Mc_w40_60Hz"
@@ -329,3 +350,21 @@ def test_adding_an_algorithm_computes_only_it(reference, results_root, counting)
 def test_load_results_without_a_run_says_what_to_do(results_root):
     with pytest.raises(FileNotFoundError, match="fpdtw.paper.runner.run --smoke"):
         E.load_results("smoke")
+
+
+def test_a_mode_copies_the_features_another_mode_of_its_results_folder_built(tmp_path, monkeypatch):
+    plan = E.pair_selection(TINY)
+    built = E.build_features(plan, tmp_path / "smoke" / "features", n_jobs=1, progress=False)
+
+    def never(*a, **k):
+        raise AssertionError("a feature file was built again")
+
+    monkeypatch.setattr(E, "_build_feature_file", never)
+    again = E.build_features(plan, tmp_path / "smoke-open" / "features", n_jobs=1, progress=False)
+    assert [p.name for p in again] == [p.name for p in built]
+    assert all(a.read_bytes() == b.read_bytes() for a, b in zip(again, built))
+    assert not list((tmp_path / "smoke-open").rglob("*.part"))
+    # another crop is another file: built, never copied
+    other = E.pair_selection(E.Selection(**{**TINY.as_dict(), "crop_seconds": 1.5}))
+    with pytest.raises(AssertionError, match="built again"):
+        E.build_features(other, tmp_path / "x" / "features", n_jobs=1, progress=False)

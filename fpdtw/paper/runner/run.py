@@ -93,7 +93,7 @@ from fpdtw.motion.features import MotionFeatures
 from fpdtw.motion.joints import OPW_JOINTS
 from fpdtw.online.window import WindowCache, run_group
 from fpdtw.paper import catalog, numbers, provenance
-from fpdtw.paper.atomic import TMP_SUFFIX
+from fpdtw.paper.atomic import TMP_SUFFIX, tmp_path
 from fpdtw.paper.paths import results_dir
 from fpdtw.paper.runner.grid import (
     DEFAULT_ALGORITHMS,
@@ -372,6 +372,35 @@ def _check_code(expected: str) -> None:
         )
 
 
+def _reuse_features(folder: Path, files: list) -> int:
+    """Copy into ``folder`` the missing feature files that another mode of the same results
+    folder has already built (``<results>/<other mode>/features/<same name>``).
+
+    A file's name holds the hash of everything that decides its bytes (the data file's
+    sha256, the crop, the library source, :data:`CACHE_FORMAT`), so a file of the same name
+    is the same file. Copied whole or not at all (a temporary file, then a rename).
+    Returns how many files were copied.
+    """
+    siblings = [d / "features" for d in folder.parent.parent.iterdir() if d.is_dir()]
+    siblings = [d for d in siblings if d.is_dir() and d.resolve() != folder.resolve()]
+    n = 0
+    for p in files:
+        if p.is_file():
+            continue
+        src = next((d / p.name for d in siblings if (d / p.name).is_file()), None)
+        if src is None:
+            continue
+        tmp = tmp_path(p)
+        try:
+            shutil.copyfile(src, tmp)
+            os.replace(tmp, p)
+            n += 1
+        finally:
+            if tmp.exists():
+                tmp.unlink()
+    return n
+
+
 def build_features(
     plan: PairSelection,
     folder: Path,
@@ -379,7 +408,8 @@ def build_features(
     progress=True,
     executor: Executor | None = None,
 ) -> list:
-    """Feature cache files of every motion of a plan (built where missing).
+    """Feature cache files of every motion of a plan (built where missing; a file another
+    mode of the same results folder already built is copied, :func:`_reuse_features`).
 
     Parameters
     ----------
@@ -403,6 +433,7 @@ def build_features(
     src = source_hash(compute_files())
     files = [_feature_file(folder, r, d, crop, src) for r, d in zip(plan.motions, plan.sha256)]
     code = _code_key()
+    _reuse_features(folder, files)
     todo = [(r, p, crop, code) for r, p in zip(plan.motions, files) if not p.is_file()]
     if todo:
         ex = executor if executor is not None else Executor(n_jobs)

@@ -48,6 +48,11 @@ class Selection:
     crop_seconds : float or None
         Crop every motion to its first seconds (``Motion.crop(0, s)``) before
         features are built; None keeps whole motions.
+    max_movements : int or None
+        Keep at most this many movements of each dataset, the first ones (in the order of
+        the catalogue) that keep two takes; None keeps all. Only the smoke runs of notebooks
+        15 and 16 use it (to keep ``make test`` short): it is a test of the code path, not a
+        selection of results.
     """
 
     datasets: tuple = DATASETS
@@ -56,11 +61,13 @@ class Selection:
     crop_seconds: float | None = None
     sample_seed: int | None = None
     subsample_takes: int | None = None
+    max_movements: int | None = None
 
     def as_dict(self) -> dict:
         d = asdict(self)
-        if d["subsample_takes"] is None:  # the selections made before it keep their keys
-            del d["subsample_takes"]
+        for key in ("subsample_takes", "max_movements"):  # selections made before keep keys
+            if d[key] is None:
+                del d[key]
         d["datasets"] = list(self.datasets)
         d["movements"] = None if self.movements is None else list(self.movements)
         return d
@@ -75,25 +82,28 @@ PAPER_SHAPED_SEED = 2023
 #: Takes per movement of the "open" mode (notebook 16): a seeded subsample of the
 #: paper-shaped selection small enough for its grid to stay within the time budget.
 OPEN_TAKES = 2
+#: Movements per dataset of the smoke runs of notebooks 15 and 16 (``make test`` time).
+SMOKE_MOVEMENTS = 8
 
 #: The selection of each mode: ``"full"`` every take (whole classes); ``"smoke"`` the
 #: first two takes of every movement, both directions (2 pairs per movement), cropped to
 #: 2 s; ``"study"`` (notebook 15) the paper-shaped selection, at most 8 takes per movement
 #: drawn with a fixed seed (the authors' movements have 3 takes, so all of them stay);
-#: ``"smoke-study"`` the smoke selection; ``"open"`` (notebook 16) a subsample of the
-#: paper-shaped selection: of its takes of each movement, :data:`OPEN_TAKES` drawn with
-#: seed ``PAPER_SHAPED_SEED + 1``; ``"smoke-open"`` the smoke selection.
+#: ``"smoke-study"`` the smoke selection on its first :data:`SMOKE_MOVEMENTS` movements of
+#: each dataset; ``"open"`` (notebook 16) a subsample of the paper-shaped selection: of its
+#: takes of each movement, :data:`OPEN_TAKES` drawn with seed ``PAPER_SHAPED_SEED + 1``;
+#: ``"smoke-open"`` as ``"smoke-study"``.
 SELECTIONS = {
     "full": Selection(),
     "smoke": Selection(takes_per_movement=2, crop_seconds=2.0),
     "study": Selection(takes_per_movement=PAPER_SHAPED_TAKES, sample_seed=PAPER_SHAPED_SEED),
-    "smoke-study": Selection(takes_per_movement=2, crop_seconds=2.0),
+    "smoke-study": Selection(takes_per_movement=2, crop_seconds=2.0, max_movements=SMOKE_MOVEMENTS),
     "open": Selection(
         takes_per_movement=PAPER_SHAPED_TAKES,
         sample_seed=PAPER_SHAPED_SEED,
         subsample_takes=OPEN_TAKES,
     ),
-    "smoke-open": Selection(takes_per_movement=2, crop_seconds=2.0),
+    "smoke-open": Selection(takes_per_movement=2, crop_seconds=2.0, max_movements=SMOKE_MOVEMENTS),
 }
 
 
@@ -197,6 +207,8 @@ def pair_selection(selection: Selection | None = None) -> PairSelection:
             recs = _subsample(recs, sel, ds, movement)
             if len(recs) < 2:
                 dropped.append(f"{ds}/{movement}")
+                continue
+            if sel.max_movements is not None and c["movements"] >= sel.max_movements:
                 continue
             first = len(motions)
             for r in recs:
