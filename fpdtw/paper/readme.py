@@ -213,6 +213,39 @@ def live_drop_block(figures_dir) -> str:
     return "\n".join(out)
 
 
+def open_block(rows) -> str:
+    """The README's "Beyond the papers" answers: one bullet per question row of the claims.
+
+    Parameters
+    ----------
+    rows : list of dict
+        Rows of ``figures/claims.csv``; those whose id starts with ``Q`` are used.
+
+    Returns
+    -------
+    text : str
+        Markdown: how many questions are answered and which are not, then per question its
+        statement, our numbers (column ``ours``) and its verdict (the reasons are in the
+        claims table's rows).
+    """
+    from fpdtw.paper.claims import QUESTION_IDS
+
+    qs = {r["id"]: r for r in rows if r["id"].startswith("Q")}
+    missing = [q for q in QUESTION_IDS if q not in qs]
+    head = (
+        f"Answered here: {len(qs)} of the {len(QUESTION_IDS)} questions "
+        f"({', '.join(qs) or 'none'})"
+        + (f"; not answered yet: {', '.join(missing)}." if missing else ".")
+    )
+    out = [head, ""]
+    for q, r in qs.items():
+        out.append(
+            f"- **{q}** {_cell(r['claim'])}. Ours (`claims.csv`): {_cell(r['ours'])}. "
+            f"Verdict: *{r['holds']}* (why, part by part: the claims table above, row {q})."
+        )
+    return "\n".join(out)
+
+
 def blocks(figures_dir) -> dict:
     """Every generated block of the README, from the files of ``figures_dir``.
 
@@ -226,6 +259,7 @@ def blocks(figures_dir) -> dict:
         "findings": findings_block(figures_dir),
         "live-drop": live_drop_block(figures_dir),
         "claims": claims_block(_read_csv(figures_dir / "claims.csv")),
+        "open": open_block(_read_csv(figures_dir / "claims.csv")),
     }
 
 

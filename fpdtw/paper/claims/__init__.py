@@ -7,6 +7,7 @@
 * :mod:`~fpdtw.paper.claims.robustness`: each verdict under the documented readings.
 """
 
+from fpdtw.paper.claims.open import QUESTION_IDS
 from fpdtw.paper.claims.rules import LEGEND
 from fpdtw.paper.claims.table import (
     CLAIMS,
@@ -43,6 +44,7 @@ __all__ = [
     "OPW_FIG4_JSON",
     "OPW_FIG56_JSON",
     "PART_COLUMNS",
+    "QUESTION_IDS",
     "READINGS",
     "Assessment",
     "Claim",

@@ -51,6 +51,8 @@ OPEN_MODES = {"full": "open", "smoke": "smoke-open"}
 #: The overall best fixed window of Method C at each rate (the paper's Table 1).
 BEST_FIXED = {120: 40, 60: 20}
 _SFX = {120: "", 60: "@60Hz"}
+#: The open questions of issue 23, in the papers' order (Q1-Q3: FP-DTW; Q4-Q6: OPW).
+QUESTION_IDS = ("Q1", "Q2", "Q3", "Q4", "Q5", "Q6")
 
 
 def open_mode(mode: str) -> str:
