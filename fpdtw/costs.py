@@ -144,6 +144,61 @@ def _geo_line(a, B, lo, hi, acc, out):
         out[c] = acc[c] * _TWO_OVER_PI
 
 
+@numba.njit(cache=True, inline="always")
+def _geo_frame_w(qa, qb, wts):
+    """eq. 1 with optional per-joint weights ``wts`` : float64 (k,) or EMPTY (0,).
+
+    Empty: exactly :func:`_geo_frame` (the unweighted arithmetic, one branch per call);
+    else ``(2/pi) * sum_j wts[j] * arccos|qa_j . qb_j|``.
+
+    Plain version: fpdtw.plain.geo_distance.
+    """
+    if wts.shape[0] == 0:
+        return _geo_frame(qa, qb)
+    total = 0.0
+    for j in range(qa.shape[0]):
+        d = abs(
+            qa[j, 0] * qb[j, 0] + qa[j, 1] * qb[j, 1] + qa[j, 2] * qb[j, 2] + qa[j, 3] * qb[j, 3]
+        )
+        if d > 1.0:
+            d = 1.0
+        total += wts[j] * _acos01(d)
+    return _TWO_OVER_PI * total
+
+
+@numba.njit(cache=True)
+def _geo_line_w(a, B, lo, hi, acc, out, wts):
+    """:func:`_geo_line` with optional per-joint weights ``wts`` : float64 (k,) or EMPTY.
+
+    Empty: exactly :func:`_geo_line` (one branch per call); else every joint's arccos is
+    multiplied by ``wts[j]`` before it is summed, each value bit-identical to
+    ``_geo_frame_w(a, B[:, :, lo + c], wts)``.
+
+    Plain version: fpdtw.plain.geo_distance.
+    """
+    if wts.shape[0] == 0:
+        _geo_line(a, B, lo, hi, acc, out)
+        return
+    n = hi - lo
+    for c in range(n):
+        acc[c] = 0.0
+    for j in range(a.shape[0]):
+        wj = wts[j]
+        a0 = a[j, 0]
+        a1 = a[j, 1]
+        a2 = a[j, 2]
+        a3 = a[j, 3]
+        b0 = B[j, 0, lo:hi]
+        b1 = B[j, 1, lo:hi]
+        b2 = B[j, 2, lo:hi]
+        b3 = B[j, 3, lo:hi]
+        for c in range(n):
+            d = abs(a0 * b0[c] + a1 * b1[c] + a2 * b2[c] + a3 * b3[c])
+            acc[c] += wj * _acos01(min(d, 1.0))
+    for c in range(n):
+        out[c] = acc[c] * _TWO_OVER_PI
+
+
 @numba.njit(cache=True)
 def _geo_block(A, B, out):
     """Fill ``out[i, j] = geoDistance(A[i], B[j])``; A (m, k, 4), B (n, k, 4).

@@ -1,4 +1,4 @@
-"""Claims beyond the papers: the questions they leave open (Q1, Q3, Q4, Q6), on the open run.
+"""Claims beyond the papers: the questions they leave open (Q1-Q4, Q6), on the open run.
 
 Each question is a :class:`~fpdtw.paper.claims.table.Claim` with ``question=True``: it is not
 a claim of the papers but a statement about a variant they suggest, decided by the SAME rules
@@ -18,6 +18,11 @@ Q1 (Method C's window from the input's period, ``"Mc auto"``, :mod:`fpdtw.period
     movement's winner fixed);
     (d), (f) its median similarity is above the overall best fixed window's (Mc w40 at
     120 Hz, Mc w20 at 60 Hz, the paper's Table 1), paired on the same pairs.
+Q2 (eq. 1's joints weighted by their total angular travel in the input,
+:func:`fpdtw.weights.joint_weights`, names ``"... (weighted joints)"``)
+    for Mb w40, Mc w40 and OLTW: the weighted variant passes both benchmarks; and weighting
+    improves the method (median similarity higher AND median deviation lower than without
+    it, paired).
 Q3 (a global band of 1 s around the diagonal ``M_q = q``, Methods B and C,
 :class:`fpdtw.online.window.ForecastAligner`)
     for Mb w40, Mc w40 and Mc w80: the band variant passes both benchmarks; and the band
@@ -212,6 +217,32 @@ def assess_q3(ctx):
     return Assessment("without -> with the band: " + "; ".join(words), parts)
 
 
+def assess_q2(ctx):
+    """Our value and the parts of Q2 (see the module), or why not computed."""
+    from fpdtw.paper.claims.rules import AllOf
+    from fpdtw.paper.claims.table import Assessment
+    from fpdtw.paper.runner.grid import WEIGHT_BASES, WEIGHT_SUFFIX
+
+    ev = ctx.open_ev
+    if why := _need(ev, ["UTW", *WEIGHT_BASES, *(n + WEIGHT_SUFFIX for n in WEIGHT_BASES)]):
+        return why
+    parts, words = [], []
+    for n in WEIGHT_BASES:
+        b = n + WEIGHT_SUFFIX
+        parts.append(Part(f"{b} passes both benchmarks", ev.passes_both(b)))
+        parts.append(Part(
+            f"weighting improves {n} (median similarity higher and median deviation lower, "
+            "paired)",
+            AllOf(ev.better(b, n, "similarity"), ev.better(b, n, "deviation")),
+        ))  # fmt: skip
+        words.append(
+            f"{n}: similarity {ev.median(n, 'similarity'):.3f} -> "
+            f"{ev.median(b, 'similarity'):.3f}, deviation {ev.median(n, 'deviation'):.1f} -> "
+            f"{ev.median(b, 'deviation'):.1f}"
+        )
+    return Assessment("without -> with weighted joints: " + "; ".join(words), parts)
+
+
 def assess_q4(ctx):
     """Our value and the parts of Q4 (see the module), or why not computed."""
     from fpdtw.paper.claims.rules import AllOf
@@ -256,6 +287,7 @@ __all__ = [
     "BEST_FIXED",
     "OPEN_MODES",
     "assess_q1",
+    "assess_q2",
     "assess_q3",
     "assess_q4",
     "assess_q6",
