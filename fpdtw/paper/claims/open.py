@@ -192,21 +192,23 @@ def assess_q6(ctx):
                       parts)  # fmt: skip
 
 
-def assess_q3(ctx):
-    """Our value and the parts of Q3 (see the module), or why not computed."""
+def _variant_assessment(ev, variants: dict, change: str, with_what: str):
+    """Q2's and Q3's parts: per base, the variant passes both benchmarks; and ``change``
+    improves the base (median similarity higher AND median deviation lower, paired).
+
+    ``variants`` maps each base method to its variant's name; ``with_what`` names the
+    variant in our value ("without -> with <with_what>: ...").
+    """
     from fpdtw.paper.claims.rules import AllOf
     from fpdtw.paper.claims.table import Assessment
-    from fpdtw.paper.runner.grid import BAND_BASES
 
-    ev = ctx.open_ev
-    if why := _need(ev, ["UTW", *BAND_BASES, *(f"{n} (band 1 s)" for n in BAND_BASES)]):
+    if why := _need(ev, ["UTW", *variants, *variants.values()]):
         return why
     parts, words = [], []
-    for n in BAND_BASES:
-        b = f"{n} (band 1 s)"
+    for n, b in variants.items():
         parts.append(Part(f"{b} passes both benchmarks", ev.passes_both(b)))
         parts.append(Part(
-            f"the band improves {n} (median similarity higher and median deviation lower, paired)",
+            f"{change} improves {n} (median similarity higher and median deviation lower, paired)",
             AllOf(ev.better(b, n, "similarity"), ev.better(b, n, "deviation")),
         ))  # fmt: skip
         words.append(
@@ -214,33 +216,23 @@ def assess_q3(ctx):
             f"{ev.median(b, 'similarity'):.3f}, deviation {ev.median(n, 'deviation'):.1f} -> "
             f"{ev.median(b, 'deviation'):.1f}"
         )
-    return Assessment("without -> with the band: " + "; ".join(words), parts)
+    return Assessment(f"without -> with {with_what}: " + "; ".join(words), parts)
 
 
 def assess_q2(ctx):
     """Our value and the parts of Q2 (see the module), or why not computed."""
-    from fpdtw.paper.claims.rules import AllOf
-    from fpdtw.paper.claims.table import Assessment
     from fpdtw.paper.runner.grid import WEIGHT_BASES, WEIGHT_SUFFIX
 
-    ev = ctx.open_ev
-    if why := _need(ev, ["UTW", *WEIGHT_BASES, *(n + WEIGHT_SUFFIX for n in WEIGHT_BASES)]):
-        return why
-    parts, words = [], []
-    for n in WEIGHT_BASES:
-        b = n + WEIGHT_SUFFIX
-        parts.append(Part(f"{b} passes both benchmarks", ev.passes_both(b)))
-        parts.append(Part(
-            f"weighting improves {n} (median similarity higher and median deviation lower, "
-            "paired)",
-            AllOf(ev.better(b, n, "similarity"), ev.better(b, n, "deviation")),
-        ))  # fmt: skip
-        words.append(
-            f"{n}: similarity {ev.median(n, 'similarity'):.3f} -> "
-            f"{ev.median(b, 'similarity'):.3f}, deviation {ev.median(n, 'deviation'):.1f} -> "
-            f"{ev.median(b, 'deviation'):.1f}"
-        )
-    return Assessment("without -> with weighted joints: " + "; ".join(words), parts)
+    variants = {n: n + WEIGHT_SUFFIX for n in WEIGHT_BASES}
+    return _variant_assessment(ctx.open_ev, variants, "weighting", "weighted joints")
+
+
+def assess_q3(ctx):
+    """Our value and the parts of Q3 (see the module), or why not computed."""
+    from fpdtw.paper.runner.grid import BAND_BASES
+
+    variants = {n: f"{n} (band 1 s)" for n in BAND_BASES}
+    return _variant_assessment(ctx.open_ev, variants, "the band", "the band")
 
 
 def assess_q4(ctx):
