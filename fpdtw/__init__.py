@@ -12,6 +12,7 @@ The public API, by what it holds:
   :class:`OLTW`, the :class:`TypeV` constraint, :func:`run_online`, and
   :func:`make_online` / :func:`align` by the paper's names ("Mc w40 + Type V");
 * metrics: :func:`similarity` (eq. 2), :func:`deviation` (eq. 3);
+* eq. 1's joint weights from the recorded motion (beyond the papers): :func:`joint_weights`;
 * the OPW warp curve: :class:`WarpCurve`;
 * the papers' equations and algorithms in plain NumPy, line by line: :mod:`fpdtw.plain`
   (what the notebooks step through; the compiled aligners are tested equal to it);
@@ -48,6 +49,7 @@ from fpdtw.online import (
 )
 from fpdtw.registry import align, make_online
 from fpdtw.warpcurve import WarpCurve
+from fpdtw.weights import joint_weights
 
 __version__ = "0.1.0"
 
@@ -79,6 +81,7 @@ __all__ = [
     "dtw_pair",
     "geo_distance",
     "geodesic_cost_matrix",
+    "joint_weights",
     "load_motion",
     "make_online",
     "plain",

@@ -95,12 +95,21 @@ def fast_acos(x) -> np.ndarray:
     return _acos01_array(flat, np.empty_like(flat)).reshape(x.shape)
 
 
+#: Eq. 1 as written: the empty weights of the kernels below.
+_NO_WEIGHTS = np.empty(0)
+
+
 @numba.njit(cache=True, fastmath=False, inline="always")
-def _geo_frame(qa, qb):
-    """eq. 1 between two frames; qa, qb : float64 (k, 4).
+def _geo_frame_w(qa, qb, wts):
+    """eq. 1 between two frames; qa, qb : float64 (k, 4); ``wts`` : float64 (k,) per-joint
+    weights, or EMPTY (0,) for eq. 1 as written.
+
+    Empty weights take a branch per joint to exactly the unweighted sum (``total +=
+    arccos``); weights multiply each joint's arccos first (``total += wts[j] * arccos``).
 
     Plain version: fpdtw.plain.geo_distance.
     """
+    weighted = wts.shape[0] > 0
     total = 0.0
     for j in range(qa.shape[0]):
         d = abs(
@@ -108,23 +117,38 @@ def _geo_frame(qa, qb):
         )
         if d > 1.0:
             d = 1.0
-        total += _acos01(d)
+        if weighted:
+            total += wts[j] * _acos01(d)
+        else:
+            total += _acos01(d)
     return _TWO_OVER_PI * total
 
 
+@numba.njit(cache=True, fastmath=False, inline="always")
+def _geo_frame(qa, qb):
+    """eq. 1 between two frames; qa, qb : float64 (k, 4) (:func:`_geo_frame_w` unweighted).
+
+    Plain version: fpdtw.plain.geo_distance.
+    """
+    return _geo_frame_w(qa, qb, _NO_WEIGHTS)
+
+
 @numba.njit(cache=True)
-def _geo_line(a, B, lo, hi, acc, out):
+def _geo_line_w(a, B, lo, hi, acc, out, wts):
     """``out[c] = geoDistance(a, B[:, :, lo + c])`` for ``c < hi - lo``: one frame against
-    a run of frames.
+    a run of frames, eq. 1 weighted by ``wts`` : float64 (k,), or as written when ``wts``
+    is EMPTY (0,).
 
     a : float64 (k, 4); B : float64 (k, 4, n), frames joint-major (structure of arrays:
     the loop over frames vectorises); acc : scratch, length >= hi - lo. Joints are summed
     in order, the dot product in (w, x, y, z) order and ``a``'s factor first, as in
-    :func:`_geo_frame` (a product's operands commute exactly): every value is
-    bit-identical to ``_geo_frame(a, B[:, :, lo + c])``.
+    :func:`_geo_frame_w` (a product's operands commute exactly): every value is
+    bit-identical to ``_geo_frame_w(a, B[:, :, lo + c], wts)``. The branch on the weights
+    is taken once per joint, outside the vectorised loop over frames.
 
     Plain version: fpdtw.plain.geo_distance.
     """
+    weighted = wts.shape[0] > 0
     n = hi - lo
     for c in range(n):
         acc[c] = 0.0
@@ -137,11 +161,26 @@ def _geo_line(a, B, lo, hi, acc, out):
         b1 = B[j, 1, lo:hi]
         b2 = B[j, 2, lo:hi]
         b3 = B[j, 3, lo:hi]
-        for c in range(n):
-            d = abs(a0 * b0[c] + a1 * b1[c] + a2 * b2[c] + a3 * b3[c])
-            acc[c] += _acos01(min(d, 1.0))
+        if weighted:
+            wj = wts[j]
+            for c in range(n):
+                d = abs(a0 * b0[c] + a1 * b1[c] + a2 * b2[c] + a3 * b3[c])
+                acc[c] += wj * _acos01(min(d, 1.0))
+        else:
+            for c in range(n):
+                d = abs(a0 * b0[c] + a1 * b1[c] + a2 * b2[c] + a3 * b3[c])
+                acc[c] += _acos01(min(d, 1.0))
     for c in range(n):
         out[c] = acc[c] * _TWO_OVER_PI
+
+
+@numba.njit(cache=True)
+def _geo_line(a, B, lo, hi, acc, out):
+    """:func:`_geo_line_w` unweighted (eq. 1 as written).
+
+    Plain version: fpdtw.plain.geo_distance.
+    """
+    _geo_line_w(a, B, lo, hi, acc, out, _NO_WEIGHTS)
 
 
 @numba.njit(cache=True)

@@ -32,13 +32,18 @@ import numpy as np
 # --- eq. 1: the geodesic distance of two poses -----------------------------------------
 
 
-def geo_distance(Q_a, Q_b):
+def geo_distance(Q_a, Q_b, weights=None):
     """Geodesic distance between poses: ``d = sum_j (2/pi) arccos |Q_j^a . Q_j^b|``.
+
+    With ``weights`` (beyond the papers, notebook 16's Q2): ``d = sum_j w_j (2/pi)
+    arccos |Q_j^a . Q_j^b|`` (see :func:`fpdtw.weights.joint_weights`).
 
     Parameters
     ----------
     Q_a, Q_b : ndarray of float, shape (..., k, 4)
         Unit quaternions of the ``k`` joints (leading axes broadcast).
+    weights : ndarray of float, shape (k,), optional
+        Per-joint weights; None: every joint counts 1 (eq. 1 as written).
 
     Returns
     -------
@@ -53,19 +58,23 @@ def geo_distance(Q_a, Q_b):
     for c in (1, 2, 3):
         dot = dot + Q_a[..., c] * Q_b[..., c]
     angle = np.arccos(np.minimum(np.abs(dot), 1.0))  # |dot| clipped to [0, 1]
+    if weights is not None:
+        angle = angle * np.asarray(weights, dtype=float)
     d = angle[..., 0]
     for j in range(1, angle.shape[-1]):  # joints summed in order
         d = d + angle[..., j]
     return (2 / np.pi) * d
 
 
-def cost_matrix(A, B) -> np.ndarray:
+def cost_matrix(A, B, weights=None) -> np.ndarray:
     """``C[i, j] = geo_distance(A_i, B_j)`` (eq. 1) for every pair of frames.
 
     Parameters
     ----------
     A : ndarray of float, shape (r, k, 4)
     B : ndarray of float, shape (c, k, 4)
+    weights : ndarray of float, shape (k,), optional
+        Per-joint weights of eq. 1 (see :func:`geo_distance`).
 
     Returns
     -------
@@ -74,7 +83,7 @@ def cost_matrix(A, B) -> np.ndarray:
     Paper: FP-DTW eq. 1 (getCostMatrix of Algorithms 2 and 3).
     Notebook: 02_fig1_oedtw.ipynb
     """
-    return np.array([geo_distance(A_i, np.asarray(B)) for A_i in np.asarray(A)]).reshape(
+    return np.array([geo_distance(A_i, np.asarray(B), weights) for A_i in np.asarray(A)]).reshape(
         len(A), len(B)
     )
 

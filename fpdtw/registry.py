@@ -5,7 +5,8 @@ Names follow the FP-DTW paper's figures. Fixed names: ``"DTW"``, ``"UTW"`` (offl
 The FP-DTW methods: ``"Ma"`` (window 2; ``"Ma w3"``), ``"Mb w40"``, ``"Mc w40"``, the
 constrained variants with the suffix ``" + Type V"``, and any option other than the
 default in brackets before it, by its label in the method's ``options`` table:
-``"Mc w40 (literal window) + Type V"``, ``"Mb w40 (hold forecast)"``. Beyond the papers:
+``"Mc w40 (literal window) + Type V"``, ``"Mb w40 (hold forecast)"``; OLTW's one option:
+``"OLTW (weighted joints)"``. Beyond the papers:
 ``"Mc auto"`` (Method C with w from the input's period, :mod:`fpdtw.period`) and
 ``"OPW adaptive"`` (OPW with gamma from its decisions, :mod:`fpdtw.online.opw_adaptive`).
 
@@ -60,12 +61,14 @@ def online(target: str):
     """Builder of an online aligner class given as ``"module:Class"``.
 
     The class is called ``Class(I)``, or ``Class(I, value)`` when the name carries a
-    parameter (``"OLTW c60"``: 60).
+    parameter (``"OLTW c60"``: 60), with the name's options as keywords (a class with an
+    ``options`` table: ``"OLTW (weighted joints)"`` -> ``OLTW(I, weights="travel")``).
     """
 
-    def build(I, value=None, **_):
+    def build(I, value=None, options=None, **_):
         cls = _import(target)
-        return cls(I) if value is None else cls(I, value)
+        opts = dict(options or {})
+        return cls(I, **opts) if value is None else cls(I, value, **opts)
 
     build.target, build.window = target, False
     return build
@@ -225,9 +228,14 @@ class Algorithm:
 
 
 def _options(entry: Entry, text: str, name: str) -> dict:
-    if not entry.window_method:
+    """The options named in brackets, by the labels of the aligner class's ``options``
+    table: the window methods', or one a non-window class defines itself (OLTW's
+    ``"weighted joints"``; not one it inherits, as ``"Mc auto"`` would from Method C)."""
+    cls = entry.aligner_class
+    own = cls is not None and "options" in vars(cls)
+    if not (entry.window_method or own):
         raise AlignmentError(f"{name!r}: {entry.key} has no options")
-    table = entry.aligner_class.options
+    table = cls.options
     by_label = {lab: (key, val) for key, (_, vals) in table.items() for val, lab in vals.items()}
     out = {}
     for label in (x.strip() for x in text.split(",")):

@@ -217,9 +217,9 @@ def test_q6_verdicts():
 def test_q_claims_without_the_open_run_are_not_computed():
     ctx = ClaimContext(mode="smoke")
     rows, _ = claims.evaluate_claims(
-        claims.claims_by_id(["Q1", "Q3", "Q4", "Q6"]), claims.claim_contexts(ctx)
+        claims.claims_by_id(["Q1", "Q2", "Q3", "Q4", "Q6"]), claims.claim_contexts(ctx)
     )
-    assert [r["holds"] for r in rows] == ["n/a"] * 4
+    assert [r["holds"] for r in rows] == ["n/a"] * 5
     assert all(r["ours"].startswith("not computed (no results of the open run") for r in rows)
 
 
@@ -286,6 +286,183 @@ def test_q3_verdicts():
     by = {p["part"]: p["verdict"] for p in parts}
     assert by["Q3(a)"] == "contradicted" and by["Q3(b)"] == "holds"  # better, yet not both
     assert rows["Q3"]["holds"] == "partly"
+
+
+# -- Q2: joint weights from the recorded motion ------------------------------------------------
+
+
+def turning_quats(steps_rad, n_frames=11):
+    """Joint j turns about x by ``steps_rad[j]`` every frame: quaternions (n_frames, k, 4)."""
+    theta = np.arange(n_frames)[:, None] * np.asarray(steps_rad)[None, :]
+    Q = np.zeros((n_frames, len(steps_rad), 4))
+    Q[..., 0], Q[..., 1] = np.cos(theta / 2), np.sin(theta / 2)
+    return Q
+
+
+def test_joint_weights_are_each_joints_travel_over_the_mean():
+    from fpdtw import joint_weights
+
+    # 10 steps of 0.1 and 0.3 rad: travel (2/pi) * 10 * step / 2 -> ratio 1 : 3, mean 1
+    np.testing.assert_allclose(joint_weights(turning_quats([0.1, 0.3])), [0.5, 1.5], rtol=1e-12)
+    # a joint that never moves gets 0 (no floor); a still input gets 1 everywhere
+    np.testing.assert_allclose(joint_weights(turning_quats([0.2, 0.0])), [2.0, 0.0], rtol=1e-12)
+    np.testing.assert_array_equal(joint_weights(turning_quats([0.0, 0.0, 0.0])), np.ones(3))
+    # q and -q are the same rotation: a sign flip is no travel
+    Q = turning_quats([0.1, 0.1])
+    Q[1::2, 1] *= -1
+    np.testing.assert_allclose(joint_weights(Q), [1.0, 1.0], rtol=1e-12)
+    I = random_walk_features(200, seed=3)
+    w = joint_weights(I)
+    assert w.shape == (8,) and w.dtype == np.float64 and w.mean() == pytest.approx(1.0)
+    with pytest.raises(AlignmentError, match=r"quaternions \(frames, k, 4\)"):
+        joint_weights(np.zeros((5, 3)))
+    with pytest.raises(AlignmentError, match="finite"):
+        joint_weights(np.full((5, 2, 4), np.nan))
+
+
+def test_the_weighted_kernels_on_a_hand_checked_case_and_against_the_plain_twin():
+    from fpdtw import plain
+    from fpdtw.costs import _geo_frame, _geo_frame_w, _geo_line, _geo_line_w
+
+    a = np.array([[1.0, 0, 0, 0], [1.0, 0, 0, 0]])
+    # joint 0 turned by pi/2: (2/pi) acos(cos(pi/4)) = 0.5; joint 1 by pi: 1
+    b = np.array([[np.cos(np.pi / 4), np.sin(np.pi / 4), 0, 0], [0.0, 1, 0, 0]])
+    w = np.array([0.5, 1.5])
+    assert _geo_frame_w(a, b, w) == pytest.approx(0.5 * 0.5 + 1.5 * 1.0, abs=1e-15)
+    assert plain.geo_distance(a, b, w) == pytest.approx(1.75, abs=1e-15)
+    assert plain.geo_distance(a, b) == pytest.approx(1.5, abs=1e-15)
+    out, acc = np.empty(1), np.empty(1)
+    _geo_line_w(a, b[:, :, None].copy(), 0, 1, acc, out, w)
+    assert out[0] == pytest.approx(1.75, abs=1e-15)
+    # random frames and weights: numba == plain; empty weights == the unweighted kernels, bit
+    # for bit
+    rng = np.random.default_rng(4)
+    A = random_walk_features(30, seed=8).quats
+    B = random_walk_features(25, seed=9).quats
+    Bsoa = np.ascontiguousarray(B.transpose(1, 2, 0))
+    w = rng.uniform(0, 3, 8)
+    none = np.empty(0)
+    got, ref = np.empty(25), np.empty(25)
+    acc = np.empty(25)
+    for i in range(A.shape[0]):
+        _geo_line_w(A[i], Bsoa, 0, 25, acc, got, w)
+        np.testing.assert_allclose(got, plain.cost_matrix(A[i : i + 1], B, w)[0], atol=1e-12)
+        assert _geo_frame_w(A[i], B[3], w) == got[3]
+        _geo_line_w(A[i], Bsoa, 0, 25, acc, got, none)
+        _geo_line(A[i], Bsoa, 0, 25, acc, ref)
+        np.testing.assert_array_equal(got, ref)
+        assert _geo_frame_w(A[i], B[3], none) == _geo_frame(A[i], B[3])
+
+
+WEIGHTED = ["Mb w40", "Mc w40", "OLTW"]
+
+
+@pytest.mark.parametrize("name", WEIGHTED)
+def test_weights_of_one_give_the_unweighted_map(name):
+    from reference.synthetic import synthetic_pair
+
+    I, T, _ = synthetic_pair(260, seed=21)
+    free, _ = registry.align(name, I, T)
+    a = registry.make_online(f"{name} (weighted joints)", I)
+    assert a.name == f"{name} (weighted joints)"
+    a._wts[:] = 1.0  # the weighted kernels, multiplying every joint's arccos by exactly 1
+    M, _ = run_online(a, T)
+    np.testing.assert_array_equal(M, free)
+    assert not np.array_equal(registry.align(f"{name} (weighted joints)", I, T)[0], free)
+
+
+def one_joint_pair():
+    """Only joint 0 moves in the input (weights (8, 0, ..., 0)); the target's joint 0 is the
+    input's, time-warped, and its other joints move at random (``noisy``) or stay at the
+    identity (``clean``, where they cost exactly 0)."""
+    E = np.zeros((300, 8, 3))
+    E[:, 0] = random_walk_features(300, k=1, seed=6).euler[:, 0]
+    I = features_from_euler(E, orders=("XYZ",) * 8, name="joint0")
+    t = np.clip(np.cumsum(np.r_[0, np.where(np.arange(1, 320) % 3 == 0, 0.6, 1.0)]), 0, 299)
+    Et = np.zeros((len(t), 8, 3))
+    Et[:, 0] = E[np.round(t).astype(int), 0]
+    clean = features_from_euler(Et, orders=("XYZ",) * 8, name="clean")
+    Et[:, 1:] = random_walk_features(len(t), seed=7).euler[:, 1:]
+    noisy = features_from_euler(Et, orders=("XYZ",) * 8, name="noisy")
+    return I, clean, noisy
+
+
+@pytest.mark.parametrize("name", WEIGHTED)
+def test_weights_that_zero_every_joint_but_one_follow_that_joint_only(name):
+    from fpdtw import joint_weights
+
+    I, clean, noisy = one_joint_pair()
+    np.testing.assert_array_equal(joint_weights(I), [8.0] + [0.0] * 7)
+    # weighted on the noisy target == unweighted on the clean one (costs x 8, a power of 2:
+    # every comparison the same); the noise moves the unweighted map
+    weighted, _ = registry.align(f"{name} (weighted joints)", I, noisy)
+    np.testing.assert_array_equal(weighted, registry.align(name, I, clean)[0])
+    assert not np.array_equal(registry.align(name, I, noisy)[0], weighted)
+
+
+def test_weighted_aligners_in_a_group_with_a_cache_give_their_streamed_maps():
+    from reference.synthetic import synthetic_pair
+
+    from fpdtw.online.window import WindowCache, run_group
+
+    I, T, _ = synthetic_pair(200, seed=22)
+    names = ["Mb w40", "Mb w40 (weighted joints)", "Mc w40 (weighted joints)", "Mc w40"]
+    cache = WindowCache(I, 40)
+    aligners = [registry.make_online(n, I, cache=cache) for n in names]
+    assert [a.cache is None for a in aligners] == [False, True, True, False]
+    for n, M in zip(names, run_group(aligners, T)):
+        np.testing.assert_array_equal(M, run_online(registry.make_online(n, I), T)[0], err_msg=n)
+
+
+def test_the_one_call_streaming_kernel_refuses_weights_instead_of_ignoring_them():
+    from fpdtw.online.window import _stream_step
+
+    I = random_walk_features(60, seed=2)
+    a = registry.make_online("Mc w40 (weighted joints)", I)
+    assert not a._lean  # its step() takes the general path, which weights (tested above)
+    f = I.frame(0)
+    args = (a._Iq, a._Tq, a._Te, a._M, 0, f.quats, f.euler, a._work, a._iwork)
+    assert _stream_step(*args) == -2  # nothing stored, nothing computed
+    b = registry.make_online("Mc w40", I)
+    assert _stream_step(b._Iq, b._Tq, b._Te, b._M, 0, f.quats, f.euler, b._work, b._iwork) == 0
+
+
+def test_weighted_names_resolve_and_unknown_options_are_refused():
+    assert registry.resolve("OLTW (weighted joints)").options == {"weights": "travel"}
+    assert registry.resolve("Mc w40 (band 1 s, weighted joints)").options == {
+        "band": "1s", "weights": "travel"
+    }  # fmt: skip
+    with pytest.raises(AlignmentError, match="unknown option 'band 1 s'"):
+        registry.resolve("OLTW (band 1 s)")
+    with pytest.raises(AlignmentError, match="has no options"):
+        registry.resolve("Mc auto (weighted joints)")
+    with pytest.raises(AlignmentError, match="weights="):
+        from fpdtw.online import OLTW
+
+        OLTW(random_walk_features(50), weights="equal")
+
+
+def weight_centres(sim, dev):
+    from fpdtw.paper.runner.grid import WEIGHT_BASES, WEIGHT_SUFFIX
+
+    c = {"UTW": (0.25, 60.0)} | {n: (0.3, 20.0) for n in WEIGHT_BASES}
+    return c | {n + WEIGHT_SUFFIX: (sim, dev) for n in WEIGHT_BASES}
+
+
+def test_q2_verdicts():
+    from fpdtw.paper.runner.grid import OPEN_Q2
+
+    assert all(n in OPEN_ALGORITHMS for n in OPEN_Q2)
+    assert OPEN_ALGORITHMS[-1] == "OLTW (weighted joints)"  # appended after Q4
+    rows, parts = q_table(open_run(weight_centres(0.4, 10.0)), ["Q2"])
+    assert rows["Q2"]["holds"] == "yes" and len(parts) == 6
+    assert rows["Q2"]["ours"].startswith("without -> with weighted joints: Mb w40: similarity")
+    rows, _ = q_table(open_run(weight_centres(0.1, 40.0)), ["Q2"])
+    assert rows["Q2"]["holds"] == "no"
+    rows, parts = q_table(open_run(weight_centres(0.35, 19.0)), ["Q2"])
+    by = {p["part"]: p["verdict"] for p in parts}
+    assert by["Q2(a)"] == "contradicted" and by["Q2(b)"] == "holds"  # better, yet not both
+    assert rows["Q2"]["holds"] == "partly"
 
 
 # -- Q4: adaptive gamma -------------------------------------------------------------------------

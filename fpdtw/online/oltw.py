@@ -81,10 +81,11 @@ import numba
 import numpy as np
 
 from fpdtw import limits
-from fpdtw.costs import _geo_frame, _geo_line
+from fpdtw.costs import _geo_frame_w, _geo_line_w
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.online.base import OnlineAligner, check_count, check_input, run_online
+from fpdtw.weights import joint_weights
 
 #: Increment codes (Dixon's names in brackets).
 NONE, TARGET, INPUT, BOTH = 0, 1, 2, 3
@@ -112,7 +113,7 @@ def _work_views(work, c, k):
 
 
 @numba.njit(cache=True)
-def _new_band_line(Iq, Isoa, R, D, dl, acc, c, i, q, column):
+def _new_band_line(Iq, Isoa, R, D, dl, acc, c, i, q, column, wts):
     """Evaluate the new line of the band at the corner (i, q): target column q (``column``
     true; cells (i', q), i' = max(0, i - c + 1) .. i) or input row i (cells (i, q'),
     q' = max(0, q - c + 1) .. q).
@@ -124,7 +125,8 @@ def _new_band_line(Iq, Isoa, R, D, dl, acc, c, i, q, column):
     one vectorised pass (:func:`fpdtw.costs._geo_line`): target frame q against the input
     joint-major ``Isoa`` (k, 4, m + 1), or input frame i against the last c target frames
     ``R`` (k, 4, c), frame q' in slot ``q' % c``; values bit-identical to
-    ``_geo_frame(Iq[i'], T[q'])``.
+    ``_geo_frame(Iq[i'], T[q'])``. ``wts``: eq. 1's per-joint weights, or EMPTY for eq. 1
+    as written (exactly the unweighted arithmetic).
 
     Plain version: fpdtw.plain.oltw_evaluate_line.
     """
@@ -132,15 +134,15 @@ def _new_band_line(Iq, Isoa, R, D, dl, acc, c, i, q, column):
     hi = (i if column else q) + 1
     if column:
         s = q % c
-        _geo_line(R[:, :, s], Isoa, lo, hi, acc, dl)
+        _geo_line_w(R[:, :, s], Isoa, lo, hi, acc, dl, wts)
     else:
         s0 = lo % c
         s1 = q % c
         if s0 <= s1:
-            _geo_line(Iq[i], R, s0, s1 + 1, acc, dl)
+            _geo_line_w(Iq[i], R, s0, s1 + 1, acc, dl, wts)
         else:  # the run of slots wraps around the ring
-            _geo_line(Iq[i], R, s0, c, acc, dl)
-            _geo_line(Iq[i], R, 0, s1 + 1, acc, dl[c - s0 :])
+            _geo_line_w(Iq[i], R, s0, c, acc, dl, wts)
+            _geo_line_w(Iq[i], R, 0, s1 + 1, acc, dl[c - s0 :], wts)
     # ring slots: of the line's running index k and of k - 1 (advanced without a modulo
     # per cell), and of its fixed index and that minus one
     s = lo % c
@@ -198,7 +200,7 @@ def _best_cell(D, c, i, q, normalize):
 
 
 @numba.njit(cache=True)
-def _apply(Iq, Isoa, R, D, dl, acc, st, c, inc):
+def _apply(Iq, Isoa, R, D, dl, acc, st, c, inc, wts):
     """Make the increment ``inc`` (a new target column, input row or both), then count
     the run.
 
@@ -206,10 +208,10 @@ def _apply(Iq, Isoa, R, D, dl, acc, st, c, inc):
     """
     if inc == 1 or inc == 3:  # TARGET or BOTH
         st[1] += 1
-        _new_band_line(Iq, Isoa, R, D, dl, acc, c, st[0], st[1], True)
+        _new_band_line(Iq, Isoa, R, D, dl, acc, c, st[0], st[1], True, wts)
     if inc == 2 or inc == 3:  # INPUT or BOTH
         st[0] += 1
-        _new_band_line(Iq, Isoa, R, D, dl, acc, c, st[0], st[1], False)
+        _new_band_line(Iq, Isoa, R, D, dl, acc, c, st[0], st[1], False, wts)
     if inc == st[2]:
         st[3] += 1
     else:
@@ -219,7 +221,7 @@ def _apply(Iq, Isoa, R, D, dl, acc, st, c, inc):
 
 
 @numba.njit(cache=True)
-def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normalize, log):
+def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normalize, log, wts):
     """Receive target frame ``q_new``; grow the matrix; return (M_q, number of log rows).
 
     Iq : float64 (m + 1, k, 4) the input; Isoa : the same joint-major (k, 4, m + 1).
@@ -228,6 +230,7 @@ def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normaliz
     work : float64 scratch of :func:`_work_views`.
     st : int64 (5,) state: corner i, corner q, previous increment, run count, pending.
     log : int64 (rows, 7) decisions of this step (see ``_LOG_COLS``).
+    wts : float64 (k,) eq. 1's per-joint weights, or EMPTY (0,) for eq. 1 as written.
 
     Plain version: fpdtw.plain.oltw_step.
     """
@@ -238,14 +241,14 @@ def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normaliz
         for a in range(4):
             R[j, a, s] = Tq[q_new - base, j, a]
     if q_new == 0:
-        D[0, 0] = _geo_frame(Iq[0], Tq[0 - base])
+        D[0, 0] = _geo_frame_w(Iq[0], Tq[0 - base], wts)
         st[0] = 0
         st[1] = 0
         st[2] = 0
         st[3] = 0
         st[4] = 0
     else:
-        _apply(Iq, Isoa, R, D, dl, acc, st, c, st[4])  # the increment that waited for this frame
+        _apply(Iq, Isoa, R, D, dl, acc, st, c, st[4], wts)  # the increment that waited for it
     n = 0
     while True:
         i = st[0]
@@ -279,7 +282,7 @@ def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normaliz
             log[n, 6] = bq
         n += 1
         if inc == 2:
-            _apply(Iq, Isoa, R, D, dl, acc, st, c, inc)
+            _apply(Iq, Isoa, R, D, dl, acc, st, c, inc, wts)
         else:
             st[4] = inc
             break
@@ -310,6 +313,10 @@ class OLTW(OnlineAligner):
         :mod:`fpdtw.paper.bench`; OLTW has no local constraint (anything but None is an error).
     record : bool
         Keep every decision (:attr:`decisions`) and the on-line path (:attr:`path`).
+    weights : {"none", "travel"}
+        ``"travel"`` (beyond the papers, notebook 16's Q2; name ``"OLTW (weighted
+        joints)"``): eq. 1 becomes ``sum_j w_j (2/pi) arccos |q_a,j . q_b,j|`` with ``w =``
+        :func:`fpdtw.weights.joint_weights` of the input, computed once here.
 
     Attributes
     ----------
@@ -323,6 +330,9 @@ class OLTW(OnlineAligner):
     """
 
     name = "OLTW"
+    #: ``{option: (default, {other value: label in names})}``, as the window methods'
+    #: (:attr:`fpdtw.online.window.WindowAligner.options`): ``"OLTW (weighted joints)"``.
+    options = {"weights": ("none", {"travel": "weighted joints"})}
 
     def __init__(
         self,
@@ -334,8 +344,11 @@ class OLTW(OnlineAligner):
         normalize: bool = True,
         constraint=None,
         record: bool = False,
+        weights: str = "none",
     ):
         check_count(c, "search width c", "OLTW", minimum=2)
+        if weights not in ("none", "travel"):
+            raise AlignmentError(f"OLTW: weights={weights!r}; expected one of 'none', 'travel'")
         check_count(max_run_count, "max_run_count", "OLTW")
         if constraint is not None:
             raise AlignmentError(f"OLTW has no local constraint (got {constraint!r})")
@@ -353,6 +366,10 @@ class OLTW(OnlineAligner):
         self.normalize = bool(normalize)
         self.record = bool(record)
         self.name = "OLTW" if self.c == 120 else f"OLTW c{self.c}"
+        self.weights = weights
+        if weights == "travel":
+            self.name += " (weighted joints)"
+        self._wts = joint_weights(I) if weights == "travel" else np.empty(0)
         self._Iq = np.ascontiguousarray(I.quats, dtype=np.float64)
         self._Isoa = np.ascontiguousarray(self._Iq.transpose(1, 2, 0))  # (k, 4, m+1)
         self._log = np.zeros((self.max_run_count + 4, _LOG_COLS), dtype=np.int64)
@@ -378,7 +395,7 @@ class OLTW(OnlineAligner):
         m, n = _oltw_step(
             self._Iq, self._Isoa, self._Tq, self.history_start, self.n_received - 1,
             self._work, self._st, self.c, self.max_run_count, self.warmup, self.normalize,
-            self._log,
+            self._log, self._wts,
         )  # fmt: skip
         if self.record:
             self._decisions.append(self._log[:n].copy())

@@ -36,13 +36,14 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
-from fpdtw.costs import _geo_frame, _geo_line
+from fpdtw.costs import _geo_frame_w, _geo_line, _geo_line_w
 from fpdtw.dtw import _accumulate
 from fpdtw.errors import AlignmentError
 from fpdtw.forecast import _euler_to_quat, order_codes
 from fpdtw.motion.features import Frame, MotionFeatures
 from fpdtw.online.base import OnlineAligner, check_count, check_input, compiled_frame
 from fpdtw.online.typev import MAX_ADVANCE, resolve_constraint
+from fpdtw.weights import joint_weights
 
 _TWO_OVER_PI = 2.0 / math.pi
 
@@ -104,14 +105,15 @@ def _forecast_window(Tq, Te, q, w, with_prev, codes, F, shift=0, hold=False):
 
 
 @numba.njit(cache=True)
-def _cost_window(Iq, start, nrows, F, ncols, C):
-    """C[r, col] = geoDistance(I[start + r], F[:, :, col]) (eq. 1), r < nrows, col < ncols.
+def _cost_window(Iq, start, nrows, F, ncols, C, wts):
+    """C[r, col] = geoDistance(I[start + r], F[:, :, col]) (eq. 1), r < nrows, col < ncols;
+    ``wts``: per-joint weights, or empty for eq. 1 as written.
 
     Plain version: fpdtw.plain.cost_matrix.
     """
     acc = np.empty(ncols)
     for r in range(nrows):
-        _geo_line(Iq[start + r], F, 0, ncols, acc, C[r])
+        _geo_line_w(Iq[start + r], F, 0, ncols, acc, C[r], wts)
 
 
 @numba.njit(cache=True)
@@ -302,7 +304,7 @@ def _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high):
 
 
 @numba.njit(cache=True)
-def _choose_a(Iq, t, start, nrows, limit, allow, c, ties_high):
+def _choose_a(Iq, t, start, nrows, limit, allow, c, ties_high, wts):
     """Method A's window: ``c[r] = geoDistance(I[start + r], t)`` (eq. 1) for
     ``r < nrows``, and the argmin over the allowed rows (ties: the lowest row, or the
     highest with ``ties_high``). Returns the chosen offset, -1 if no row is allowed.
@@ -311,7 +313,7 @@ def _choose_a(Iq, t, start, nrows, limit, allow, c, ties_high):
     """
     best = -1
     for r in range(nrows):
-        cost = _geo_frame(Iq[start + r], t)
+        cost = _geo_frame_w(Iq[start + r], t, wts)
         c[r] = cost
         if _is_allowed(r, limit, allow):
             if best < 0 or cost < c[best] or (ties_high and cost == c[best]):
@@ -339,7 +341,10 @@ P_TYPEV, P_SHARED = 8, 9
 #: Half-width in frames of the global band around the diagonal ``M = q`` (0: no band;
 #: beyond the papers, see :class:`ForecastAligner`).
 P_BAND = 10
-N_PARAMS = 11
+#: 1: the aligner weights eq. 1's joints (:func:`fpdtw.weights.joint_weights`; beyond the
+#: papers, see :class:`ForecastAligner`); the weights go to the kernels beside ``prm``.
+P_WEIGHTED = 11
+N_PARAMS = 12
 #: Method codes of ``P_METHOD``.
 METHOD_A, METHOD_B, METHOD_C = 0, 1, 2
 #: Kinds of step (``out[0]`` of :func:`_window_step`).
@@ -374,14 +379,15 @@ def _check_band(off, q, start, band):
 
 
 @numba.njit(cache=True)
-def _first_frame(Iq, Tq, w, m, start_best):
-    """``M_0``: 0, or the best match (eq. 1) of T_0 among I_0..I_w."""
+def _first_frame(Iq, Tq, w, m, start_best, wts):
+    """``M_0``: 0, or the best match (eq. 1, weighted by ``wts`` unless empty) of T_0
+    among I_0..I_w."""
     if not start_best:
         return 0
     best = 0
     best_cost = np.inf
     for r in range(min(w, m) + 1):
-        c = _geo_frame(Iq[r], Tq[0])
+        c = _geo_frame_w(Iq[r], Tq[0], wts)
         if c < best_cost:
             best_cost = c
             best = r
@@ -409,9 +415,10 @@ def _advance_state(state, prm, table, advance):
 
 
 @numba.njit(cache=True)
-def _a_step(Iq, Tq, q, M, state, prm, table, c, out):
+def _a_step(Iq, Tq, q, M, state, prm, table, c, out, wts):
     """``M_q`` of a Method A aligner at target frame q: :func:`_window_step` for Method A,
-    with only the arrays it needs (``c`` : float64 (>= w + 1,), the window's costs).
+    with only the arrays it needs (``c`` : float64 (>= w + 1,), the window's costs;
+    ``wts`` : eq. 1's joint weights, empty for none).
 
     Plain version: fpdtw.plain.method_a_step.
     """
@@ -422,7 +429,7 @@ def _a_step(Iq, Tq, q, M, state, prm, table, c, out):
     out[3] = 0
     if q == 0:
         out[0] = STEP_FIRST
-        return _first_frame(Iq, Tq, w, m, prm[P_START_BEST] != 0)
+        return _first_frame(Iq, Tq, w, m, prm[P_START_BEST] != 0, wts)
     start = M[q - 1]
     if start >= m:
         out[0] = STEP_END
@@ -431,7 +438,7 @@ def _a_step(Iq, Tq, q, M, state, prm, table, c, out):
         out[0] = STEP_WINDOW
         limit, allow = _allowed_offsets(state, prm, table)
         nrows = min(w, m - start) + 1
-        off = _choose_a(Iq, Tq[q], start, nrows, limit, allow, c, prm[P_TIES_HIGH] != 0)
+        off = _choose_a(Iq, Tq[q], start, nrows, limit, allow, c, prm[P_TIES_HIGH] != 0, wts)
         off = _checked(off, limit, allow)
         out[1] = nrows
         out[2] = 1
@@ -443,7 +450,7 @@ def _a_step(Iq, Tq, q, M, state, prm, table, c, out):
 @numba.njit(cache=True)
 def _window_step(
     Iq, Tq, Te, q, M, state, prm, table, codes, F, C, D, Pcol, path, score,
-    cF, cG, cN, cMeta, cKey, out,
+    cF, cG, cN, cMeta, cKey, out, wts,
 ):  # fmt: skip
     """``M_q`` of one Method A, B or C aligner at target frame q (frames 0..q received).
 
@@ -451,14 +458,17 @@ def _window_step(
     ``prm`` the aligner's parameter vector (``P_*``); ``table`` the Type V state table;
     ``F, C, D, Pcol, path, score`` scratch; ``cF..cKey`` a :class:`WindowCache`'s
     arrays (used when ``prm[P_SHARED]``). ``out`` gets the kind of step, the window's
-    rows and columns and (B) the path length, for the debug record.
+    rows and columns and (B) the path length, for the debug record. ``wts`` : float64
+    (k,) eq. 1's per-joint weights, or EMPTY (0,) for eq. 1 as written (exactly the
+    unweighted arithmetic); an aligner with weights never shares a cache (``prm[P_SHARED]``
+    is 0), whose costs are unweighted.
 
     Plain version: fpdtw.plain.method_a_step, fpdtw.plain.method_b_step and
     fpdtw.plain.method_c_step (one step each; fpdtw.plain.run steps through a target).
     """
     method = prm[P_METHOD]
     if method == METHOD_A:
-        return _a_step(Iq, Tq, q, M, state, prm, table, C[:, 0], out)
+        return _a_step(Iq, Tq, q, M, state, prm, table, C[:, 0], out, wts)
     m = Iq.shape[0] - 1
     w = prm[P_W]
     out[1] = 0
@@ -466,7 +476,7 @@ def _window_step(
     out[3] = 0
     if q == 0:
         out[0] = STEP_FIRST
-        return _first_frame(Iq, Tq, w, m, prm[P_START_BEST] != 0)
+        return _first_frame(Iq, Tq, w, m, prm[P_START_BEST] != 0, wts)
     start = M[q - 1]
     if q - 1 < SMOOTHING:
         out[0] = STEP_WARMUP
@@ -486,7 +496,7 @@ def _window_step(
                 _fill_shared(Iq, Tq, Te, q, codes, start, nrows, w, 1, C, cF, cG, cN, cMeta, cKey)
             else:
                 _forecast_window(Tq, Te, q, w, True, codes, F, 0, prm[P_HOLD] != 0)
-                _cost_window(Iq, start, nrows, F, ncols, C)
+                _cost_window(Iq, start, nrows, F, ncols, C, wts)
             _mask_band(C, nrows, 1, q, start, prm[P_BAND])
             off, npath = _choose_b(
                 C, nrows, ncols, limit, allow, D, Pcol, path, prm[P_INPUT_FIRST] != 0
@@ -507,7 +517,7 @@ def _window_step(
                 _fill_shared(Iq, Tq, Te, q, codes, start, nrows, w, c0, C, cF, cG, cN, cMeta, cKey)
             else:
                 _forecast_window(Tq, Te, q, w, with_prev, codes, F, prm[P_SHIFT], prm[P_HOLD] != 0)
-                _cost_window(Iq, start, nrows, F, ncols, C)
+                _cost_window(Iq, start, nrows, F, ncols, C, wts)
             _mask_band(C, nrows, 0, q, start, prm[P_BAND])
             off = _choose_c(C, nrows, ncols, limit, allow, D, score, reading, prm[P_TIES_HIGH] != 0)
             _check_band(off, q, start, prm[P_BAND])
@@ -522,8 +532,12 @@ def _window_step(
 @numba.njit(cache=True)
 def _run_group(
     Iq, Tq, Te, codes, params, table, M, F, C, D, Pcol, path, score, cF, cG, cN, cMeta, cKey,
+    wts,
 ):  # fmt: skip
     """Every aligner of ``params`` (one row each) over the whole target, in lockstep.
+
+    ``wts`` (aligners, k): eq. 1's joint weights of the aligners with ``P_WEIGHTED``
+    (the rows of the others are not read: they get an empty slice, eq. 1 as written).
 
     ``M`` (aligners, frames) receives the maps; each aligner's step only reads the
     frames up to its own (as when streaming). Scratch buffers are shared: the steps
@@ -533,11 +547,13 @@ def _run_group(
     A = params.shape[0]
     state = np.zeros((A, 1), dtype=np.int64)
     out = np.zeros(4, dtype=np.int64)
+    k = Iq.shape[1]
     for q in range(n):
         for a in range(A):
+            nw = k if params[a, P_WEIGHTED] != 0 else 0
             M[a, q] = _window_step(
                 Iq, Tq, Te, q, M[a], state[a], params[a], table, codes, F, C, D, Pcol, path,
-                score, cF, cG, cN, cMeta, cKey, out,
+                score, cF, cG, cN, cMeta, cKey, out, wts[a, :nw],
             )  # fmt: skip
 
 
@@ -636,19 +652,23 @@ def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
     :func:`_window_step`, store ``M[q]``; the whole ``step`` of a B/C aligner in one call.
 
     ``fq`` (k, 4) and ``fe`` (k, 3) are the frame's quaternions and Euler angles; a frame
-    of another shape changes nothing and returns -1 (the caller then raises).
+    of another shape changes nothing and returns -1 (the caller then raises). Eq. 1 as
+    written only: an aligner that weights the joints never takes this path (its ``step``
+    takes the general one, :meth:`WindowAligner._step`).
     """
+    if iwork[_HEADER + P_WEIGHTED] != 0:
+        return -2
     if not _store_frame(Iq.shape[1], Tq, Te, q, fq, fe):
         return -1
     if iwork[_HEADER + P_METHOD] == METHOD_A:
         prm, table, tv, out, c = _head_views(work, iwork)
-        m = _a_step(Iq, Tq, q, M, tv, prm, table, c, out)
+        m = _a_step(Iq, Tq, q, M, tv, prm, table, c, out, work[0:0])
     else:
         views = _work_views(work, iwork)
         F, C, D, score, cF, cG, cKey, prm, table, codes, tv, Pcol, path, out, cN, cMeta = views
         m = _window_step(
             Iq, Tq, Te, q, M, tv, prm, table, codes, F, C, D, Pcol, path, score,
-            cF, cG, cN, cMeta, cKey, out,
+            cF, cG, cN, cMeta, cKey, out, work[0:0],
         )  # fmt: skip
     M[q] = m
     return m
@@ -851,6 +871,10 @@ class WindowAligner(OnlineAligner):
         except ValueError as e:
             raise AlignmentError(f"input motion {I.name!r}: {e}") from None
         self._Iq = np.ascontiguousarray(I.quats, dtype=np.float64)
+        # eq. 1's joint weights (option weights="travel"), EMPTY for eq. 1 as written
+        self._wts = (
+            joint_weights(I) if self.settings.get("weights", "none") == "travel" else np.empty(0)
+        )
         if self.constraint is not None:
             self._allow_by_state = (self.constraint.table >= 0).astype(np.int64)
 
@@ -882,8 +906,8 @@ class WindowAligner(OnlineAligner):
         from the aligner's settings (again after a subclass sets :attr:`cache`)."""
         self._params[:] = self.params()
         self._cache_arrays = self._placeholder if self.cache is None else self.cache.arrays()
-        # the one-call path: no debug record, no shared cache
-        self._lean = not self.record and self.cache is None
+        # the one-call path: no debug record, no shared cache, eq. 1 unweighted
+        self._lean = not self.record and self.cache is None and self._wts.shape[0] == 0
 
     def params(self) -> np.ndarray:
         """This aligner's parameter vector for :func:`_window_step` (int64, ``N_PARAMS``)."""
@@ -892,6 +916,7 @@ class WindowAligner(OnlineAligner):
         p[P_START_BEST] = self.settings["start"] == "best"
         p[P_TYPEV] = self.constraint is not None
         p[P_SHARED] = self.cache is not None
+        p[P_WEIGHTED] = self._wts.shape[0] > 0
         return p
 
     @classmethod
@@ -1006,7 +1031,7 @@ class WindowAligner(OnlineAligner):
             _window_step(
                 self._Iq, self._Tq, self._Te, q, self._M, self._tv, self._params, self._table,
                 self._codes, self._F, self._C, self._D, self._P, self._path, self._score,
-                *self._cache_arrays, self._out,
+                *self._cache_arrays, self._out, self._wts,
             )
         )  # fmt: skip
         if self.constraint is not None:
@@ -1060,7 +1085,13 @@ class ForecastAligner(WindowAligner):
     s = SMOOTHING
     #: Options of Methods B and C (beyond :attr:`WindowAligner.options`): ``band="1s"``,
     #: the global band of the FP-DTW paper's conclusion (an open question, notebook 16).
-    options = {**WindowAligner.options, "band": ("none", {"1s": "band 1 s"})}
+    #: ``weights="travel"``: eq. 1's joints weighted by their travel in the input
+    #: (:func:`fpdtw.weights.joint_weights`; an open question, notebook 16).
+    options = {
+        **WindowAligner.options,
+        "band": ("none", {"1s": "band 1 s"}),
+        "weights": ("none", {"travel": "weighted joints"}),
+    }
     #: Half-width of ``band="1s"``, seconds (120 frames at 120 Hz).
     BAND_SECONDS = 1.0
 
@@ -1079,7 +1110,13 @@ class ForecastAligner(WindowAligner):
         Type V (``M_n`` within the band at ``q - 1`` leaves row 0 or row 1 within it at
         ``q``), and a band with Type V is refused. Warm-up and the forced hold at ``m``
         once the input is exhausted are as without the band. A band aligner keeps every
-        target frame (its step reads the frame number ``q``)."""
+        target frame (its step reads the frame number ``q``).
+
+        Weighted joints (``weights="travel"``, beyond the papers): eq. 1 becomes
+        ``sum_j w_j (2/pi) arccos |q_a,j . q_b,j|`` with ``w =``
+        :func:`fpdtw.weights.joint_weights` of the input, computed once here. Such an
+        aligner computes its own costs (a shared :class:`WindowCache` holds unweighted ones,
+        so it is not used) and streams through the general path of :meth:`step`."""
         super().__init__(I, w, constraint=constraint, record=record, **options)
         if self.settings.get("band", "none") != "none":
             if self.constraint is not None:
@@ -1097,6 +1134,8 @@ class ForecastAligner(WindowAligner):
                 self.settings.get("forecast_start", "T_{n+1}") != "T_{n+1}"
             ):
                 cache = None  # its forecast is not the shared one
+            if self._wts.shape[0]:
+                cache = None  # the cache's costs are unweighted
         self.cache = cache
         self._configure()
 
@@ -1156,13 +1195,17 @@ def run_group(aligners, T: MotionFeatures) -> list:
             a._begin_take(first)
     W = max(a.w for a in aligners) + 1
     params = np.stack([a.params() for a in aligners])
+    wts = np.ones((len(aligners), k))
+    for row, a in zip(wts, aligners):
+        if a._wts.shape[0]:
+            row[:] = a._wts
     table = next((a._table for a in aligners if a.constraint is not None), a0._table)
     M = np.zeros((len(aligners), T.n_frames), dtype=np.int64)
     _run_group(
         a0._Iq, np.ascontiguousarray(T.quats, dtype=np.float64),
         np.ascontiguousarray(T.euler, dtype=np.float64), a0._codes, params, table, M,
         np.empty((k, 4, W)), np.empty((W, W)), np.empty((W, W)), np.empty(W, dtype=np.int64),
-        np.empty((2 * W, 2), dtype=np.int64), np.empty(W), *holder._cache_arrays,
+        np.empty((2 * W, 2), dtype=np.int64), np.empty(W), *holder._cache_arrays, wts,
     )  # fmt: skip
     return list(M)
 

@@ -259,11 +259,12 @@ def _replay_window(
     w = prm[W.P_W]
     is_a = prm[W.P_METHOD] == W.METHOD_A
     with_prev = prm[W.P_METHOD] == W.METHOD_B or prm[W.P_READING] == W.C_SQUARE_TN
+    unweighted = np.empty(0)  # eq. 1 as written
     for q in range(n):
         t0 = _cycles()
         m_next = W._window_step(
             Iq, Tq, Te, q, M, state, prm, table, codes, F, C, D, Pcol, path, score,
-            cF, cG, cN, cMeta, cKey, out,
+            cF, cG, cN, cMeta, cKey, out, unweighted,
         )  # fmt: skip
         t1 = _cycles()
         if m_next != M[q]:
@@ -400,12 +401,15 @@ def _replay_oltw(
     out = np.empty(c)
     acc = np.empty(c)
     lines = np.zeros((log.shape[0] + 3, 3), dtype=np.int64)
+    unweighted = np.empty(0)  # eq. 1 as written
     for q in range(n):
         pend = st[4]
         i0 = st[0]
         q0 = st[1]
         t0 = _cycles()
-        mq, nlog = oltw._oltw_step(Iq, Isoa, Tq, 0, q, work, st, c, max_run, warmup, normalize, log)
+        mq, nlog = oltw._oltw_step(
+            Iq, Isoa, Tq, 0, q, work, st, c, max_run, warmup, normalize, log, unweighted
+        )
         t1 = _cycles()
         if mq != M[q]:
             return q

@@ -1,4 +1,4 @@
-"""Claims beyond the papers: the questions they leave open (Q1, Q3, Q4, Q6), on the open run.
+"""Claims beyond the papers: the questions they leave open (Q1-Q4, Q6), on the open run.
 
 Each question is a :class:`~fpdtw.paper.claims.table.Claim` with ``question=True``: it is not
 a claim of the papers but a statement about a variant they suggest, decided by the SAME rules
@@ -18,6 +18,11 @@ Q1 (Method C's window from the input's period, ``"Mc auto"``, :mod:`fpdtw.period
     movement's winner fixed);
     (d), (f) its median similarity is above the overall best fixed window's (Mc w40 at
     120 Hz, Mc w20 at 60 Hz, the paper's Table 1), paired on the same pairs.
+Q2 (eq. 1's joints weighted by their total angular travel in the input,
+:func:`fpdtw.weights.joint_weights`, names ``"... (weighted joints)"``)
+    for Mb w40, Mc w40 and OLTW: the weighted variant passes both benchmarks; and weighting
+    improves the method (median similarity higher AND median deviation lower than without
+    it, paired).
 Q3 (a global band of 1 s around the diagonal ``M_q = q``, Methods B and C,
 :class:`fpdtw.online.window.ForecastAligner`)
     for Mb w40, Mc w40 and Mc w80: the band variant passes both benchmarks; and the band
@@ -189,21 +194,23 @@ def assess_q6(ctx):
                       parts)  # fmt: skip
 
 
-def assess_q3(ctx):
-    """Our value and the parts of Q3 (see the module), or why not computed."""
+def _variant_assessment(ev, variants: dict, change: str, with_what: str):
+    """Q2's and Q3's parts: per base, the variant passes both benchmarks; and ``change``
+    improves the base (median similarity higher AND median deviation lower, paired).
+
+    ``variants`` maps each base method to its variant's name; ``with_what`` names the
+    variant in our value ("without -> with <with_what>: ...").
+    """
     from fpdtw.paper.claims.rules import AllOf
     from fpdtw.paper.claims.table import Assessment
-    from fpdtw.paper.runner.grid import BAND_BASES
 
-    ev = ctx.open_ev
-    if why := _need(ev, ["UTW", *BAND_BASES, *(f"{n} (band 1 s)" for n in BAND_BASES)]):
+    if why := _need(ev, ["UTW", *variants, *variants.values()]):
         return why
     parts, words = [], []
-    for n in BAND_BASES:
-        b = f"{n} (band 1 s)"
+    for n, b in variants.items():
         parts.append(Part(f"{b} passes both benchmarks", ev.passes_both(b)))
         parts.append(Part(
-            f"the band improves {n} (median similarity higher and median deviation lower, paired)",
+            f"{change} improves {n} (median similarity higher and median deviation lower, paired)",
             AllOf(ev.better(b, n, "similarity"), ev.better(b, n, "deviation")),
         ))  # fmt: skip
         words.append(
@@ -211,7 +218,23 @@ def assess_q3(ctx):
             f"{ev.median(b, 'similarity'):.3f}, deviation {ev.median(n, 'deviation'):.1f} -> "
             f"{ev.median(b, 'deviation'):.1f}"
         )
-    return Assessment("without -> with the band: " + "; ".join(words), parts)
+    return Assessment(f"without -> with {with_what}: " + "; ".join(words), parts)
+
+
+def assess_q2(ctx):
+    """Our value and the parts of Q2 (see the module), or why not computed."""
+    from fpdtw.paper.runner.grid import WEIGHT_BASES, WEIGHT_SUFFIX
+
+    variants = {n: n + WEIGHT_SUFFIX for n in WEIGHT_BASES}
+    return _variant_assessment(ctx.open_ev, variants, "weighting", "weighted joints")
+
+
+def assess_q3(ctx):
+    """Our value and the parts of Q3 (see the module), or why not computed."""
+    from fpdtw.paper.runner.grid import BAND_BASES
+
+    variants = {n: f"{n} (band 1 s)" for n in BAND_BASES}
+    return _variant_assessment(ctx.open_ev, variants, "the band", "the band")
 
 
 def assess_q4(ctx):
@@ -258,6 +281,7 @@ __all__ = [
     "BEST_FIXED",
     "OPEN_MODES",
     "assess_q1",
+    "assess_q2",
     "assess_q3",
     "assess_q4",
     "assess_q6",

@@ -921,6 +921,11 @@ CLAIMS = [
           "passes both benchmarks at 120 and 60 Hz and beats a fixed window",
           "an open question (not tested in the papers)", _open.assess_q1,
           "notebook 16; open_q1_windows, open_q1_movements", question=True),
+    Claim("Q2", "Beyond the papers (FP-DTW conclusion: pre-process the recorded motion to weight "
+          "joints): weighting eq. 1's joints by how much each moves in the recorded motion lets "
+          "Mb w40, Mc w40 and OLTW pass both benchmarks and improves each",
+          "an open question (not tested in the papers)", _open.assess_q2,
+          "notebook 16", question=True),
     Claim("Q3", "Beyond the papers (FP-DTW conclusion: a global constraint): a band of 1 s around "
           "the uniform-time diagonal lets Mb w40, Mc w40 and Mc w80 pass both benchmarks and "
           "improves each (per-frame cost: make bench)",

@@ -181,12 +181,20 @@ OPEN_Q3 = BAND_BASES + BAND_NAMES
 OPEN_Q4 = ("OPW", "OPW adaptive")
 
 
+#: Q2 (eq. 1's joints weighted by their travel in the input, :func:`fpdtw.weights.joint_weights`):
+#: Methods B and C and OLTW, each without and with the weights.
+WEIGHT_BASES = ("Mb w40", "Mc w40", "OLTW")
+WEIGHT_SUFFIX = " (weighted joints)"
+OPEN_Q2 = tuple(n for b in WEIGHT_BASES for n in (b, b + WEIGHT_SUFFIX))
+
+
 def _open_algorithms() -> tuple:
     """The algorithms of notebook 16 (modes "open" and "smoke-open"): DTW and UTW at 120
-    and 60 Hz, then :data:`OPEN_Q1`, :data:`OPEN_Q6`, :data:`OPEN_Q3`, :data:`OPEN_Q4`
-    (first of any duplicate kept)."""
+    and 60 Hz, then :data:`OPEN_Q1`, :data:`OPEN_Q6`, :data:`OPEN_Q3`, :data:`OPEN_Q4`,
+    :data:`OPEN_Q2` (first of any duplicate kept)."""
     out = []
-    for n in ("DTW", "UTW", "DTW@60Hz", "UTW@60Hz", *OPEN_Q1, *OPEN_Q6, *OPEN_Q3, *OPEN_Q4):
+    names = ("DTW", "UTW", "DTW@60Hz", "UTW@60Hz", *OPEN_Q1, *OPEN_Q6, *OPEN_Q3, *OPEN_Q4)
+    for n in (*names, *OPEN_Q2):
         if n not in out:
             out.append(n)
     return tuple(out)
@@ -229,12 +237,15 @@ __all__ = [
     "BAND_BASES",
     "BAND_NAMES",
     "OPEN_ALGORITHMS",
+    "OPEN_Q2",
     "OPEN_Q3",
     "OPEN_Q4",
     "OPEN_Q1",
     "OPEN_Q6",
     "PAUSE_METHODS",
     "PAUSE_SUFFIX",
+    "WEIGHT_BASES",
+    "WEIGHT_SUFFIX",
     "SILENT_CHOICES",
     "SilentChoice",
     "STUDY_ALGORITHMS",
