@@ -8,6 +8,9 @@ default in brackets before it, by its label in the method's ``options`` table:
 ``"Mc w40 (literal window) + Type V"``, ``"Mb w40 (hold forecast)"``. Beyond the papers:
 ``"Mc auto"`` (Method C with w from the input's period, :mod:`fpdtw.period`) and
 ``"OPW adaptive"`` (OPW with gamma from its decisions, :mod:`fpdtw.online.opw_adaptive`).
+Any ONLINE name takes the general option ``"derivative"`` (:data:`DERIVATIVE`): the aligner
+run unchanged on the derivative motions (:mod:`fpdtw.derivative`), ``"OPW (derivative)"``,
+``"Mc w40 (derivative, band 1 s)"``.
 
 The experiment runner, the command line, the benchmark and the figures all ask this
 module: :func:`resolve` a name into an :class:`Algorithm`, :func:`make_online` its
@@ -36,6 +39,8 @@ from fpdtw.motion.features import MotionFeatures
 
 #: Suffix of the Type V constraint in names.
 TYPE_V_SUFFIX = " + Type V"
+#: The general option (any online entry): run on derivative motions (:mod:`fpdtw.derivative`).
+DERIVATIVE = "derivative"
 
 
 def _dtw(I: MotionFeatures, T: MotionFeatures):
@@ -181,6 +186,9 @@ class Algorithm:
     typev : bool
     options : dict
         Non-default options of an FP-DTW method (``{"window": "literal"}``).
+    derivative : bool
+        The general option ``"derivative"``: the aligner runs on derivative motions
+        (:class:`fpdtw.derivative.DerivativeAligner`).
     """
 
     name: str
@@ -188,6 +196,7 @@ class Algorithm:
     value: int | None
     typev: bool
     options: dict
+    derivative: bool = False
 
     @property
     def family(self) -> str:
@@ -204,14 +213,19 @@ class Algorithm:
 
     @property
     def shares_window(self) -> bool:
-        """Methods B and C: their window costs can be shared (a WindowCache)."""
-        return self.family in ("B", "C")
+        """Methods B and C on poses: their window costs can be shared (a WindowCache)."""
+        return self.family in ("B", "C") and not self.derivative
 
     def make(self, I: MotionFeatures, *, cache=None, record=False):
         """The streaming aligner of an online algorithm, for the input motion ``I``."""
         if not self.online:
             raise AlignmentError(f"{self.name!r} is offline: it has no streaming aligner")
         kw = dict(value=self.value, typev=self.typev, options=self.options)
+        if self.derivative:
+            from fpdtw.derivative import DerivativeAligner, derivative_features
+
+            inner = self.entry.build(derivative_features(I), cache=None, record=record, **kw)
+            return DerivativeAligner(I, inner)
         return self.entry.build(I, cache=cache, record=record, **kw)
 
     def run(self, I: MotionFeatures, T: MotionFeatures):
@@ -222,6 +236,22 @@ class Algorithm:
             return np.asarray(self.entry.build(I, T), dtype=np.int64), None
         M, seconds = run_online(self.make(I), T)
         return np.asarray(M, dtype=np.int64), seconds
+
+
+def _general(entry: Entry, text: str, name: str) -> tuple:
+    """``(derivative, rest)``: the general option taken out of a bracket's labels."""
+    labels = [x.strip() for x in text.split(",")]
+    derivative = DERIVATIVE in labels
+    if derivative:
+        if labels.count(DERIVATIVE) > 1:
+            raise AlignmentError(f"{name!r}: option {DERIVATIVE!r} given twice")
+        if not entry.online:
+            raise AlignmentError(
+                f"{name!r}: {entry.key} is offline; option {DERIVATIVE!r} wraps online "
+                "aligners only"
+            )
+        labels.remove(DERIVATIVE)
+    return derivative, ", ".join(labels)
 
 
 def _options(entry: Entry, text: str, name: str) -> dict:
@@ -267,8 +297,9 @@ def resolve(name: str) -> Algorithm:
         raise AlignmentError(f"{name!r}: {entry.key} needs a window, e.g. '{entry.key} w40'")
     if m.group("tv") and not entry.typev:
         raise AlignmentError(f"{name!r}: {entry.key} does not take the Type V constraint")
-    options = _options(entry, m.group("opts"), name) if m.group("opts") else {}
-    return Algorithm(name, entry, value, bool(m.group("tv")), options)
+    derivative, opts = _general(entry, m.group("opts"), name) if m.group("opts") else (False, "")
+    options = _options(entry, opts, name) if opts else {}
+    return Algorithm(name, entry, value, bool(m.group("tv")), options, derivative)
 
 
 def by_cli(method: str) -> Entry:
@@ -353,6 +384,7 @@ C_READINGS = _readings()
 
 __all__ = [
     "C_READINGS",
+    "DERIVATIVE",
     "ENTRIES",
     "TYPE_V_SUFFIX",
     "Algorithm",

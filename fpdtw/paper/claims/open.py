@@ -1,4 +1,4 @@
-"""Claims beyond the papers: the questions they leave open (Q1, Q3, Q4, Q6), on the open run.
+"""Claims beyond the papers: the questions they leave open (Q1, Q3-Q6), on the open run.
 
 Each question is a :class:`~fpdtw.paper.claims.table.Claim` with ``question=True``: it is not
 a claim of the papers but a statement about a variant they suggest, decided by the SAME rules
@@ -28,6 +28,11 @@ Q4 (OPW's gamma adapted from its own decisions, :mod:`fpdtw.online.opw_adaptive`
     gamma 5 % (median similarity higher AND median deviation lower, paired). On the poster's
     protocol the numbers are deterministic (one run per motion) and shown in notebook 16's
     table only, not as a part.
+Q5 (Keogh and Pazzani's derivative DTW, :mod:`fpdtw.derivative`: the method run unchanged on
+the frame-to-frame rotations ``q_t conj(q_{t-1})`` and position differences of both motions)
+    for Mc w40 and OPW: the derivative variant passes both benchmarks; and the derivative cost
+    improves the method (median similarity higher AND median deviation lower than on poses,
+    paired). The maps are scored on the original pairs, as every other algorithm's.
 Q6 (standing still, targets with a pause inserted, :mod:`fpdtw.pause`)
     for every online method of the papers (:data:`fpdtw.paper.runner.grid.PAUSE_METHODS`):
     its median deviation on the paused targets (from DTW of the same modified pairs) below
@@ -236,6 +241,33 @@ def assess_q4(ctx):
     return Assessment(ours, parts)
 
 
+def assess_q5(ctx):
+    """Our value and the parts of Q5 (see the module), or why not computed."""
+    from fpdtw.paper.claims.rules import AllOf
+    from fpdtw.paper.claims.table import Assessment
+    from fpdtw.paper.runner.grid import DERIVATIVE_BASES
+
+    ev = ctx.open_ev
+    names = ["UTW", *DERIVATIVE_BASES, *(f"{n} (derivative)" for n in DERIVATIVE_BASES)]
+    if why := _need(ev, names):
+        return why
+    parts, words = [], []
+    for n in DERIVATIVE_BASES:
+        d = f"{n} (derivative)"
+        parts.append(Part(f"{d} passes both benchmarks", ev.passes_both(d)))
+        parts.append(Part(
+            f"the derivative cost improves {n} (median similarity higher and median deviation "
+            "lower, paired)",
+            AllOf(ev.better(d, n, "similarity"), ev.better(d, n, "deviation")),
+        ))  # fmt: skip
+        words.append(
+            f"{n}: similarity {ev.median(n, 'similarity'):.3f} -> "
+            f"{ev.median(d, 'similarity'):.3f}, deviation {ev.median(n, 'deviation'):.1f} -> "
+            f"{ev.median(d, 'deviation'):.1f}"
+        )
+    return Assessment("poses -> derivatives: " + "; ".join(words), parts)
+
+
 def open_claim_rows(ids, mode: str = "full"):
     """The rows and parts of the Q claims ``ids`` on the open run alone (no other run read).
 
@@ -258,6 +290,7 @@ __all__ = [
     "assess_q1",
     "assess_q3",
     "assess_q4",
+    "assess_q5",
     "assess_q6",
     "beats_share_check",
     "movements_of",
