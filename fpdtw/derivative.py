@@ -85,7 +85,6 @@ def derivative_quats(quats) -> np.ndarray:
         identity at ``t = 0``.
 
     Paper: OPW poster Section 6 (derivative DTW, Keogh and Pazzani).
-    Notebook: 16_open_questions.ipynb
     """
     q = np.asarray(quats, dtype=np.float64)
     out = np.empty_like(q)
