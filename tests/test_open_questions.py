@@ -271,11 +271,16 @@ def test_band_rows_masks_a_known_candidate_and_the_band_refuses_type_v():
     assert registry.resolve("Mb w40 (band 1 s)").options == {"band": "1s"}
 
 
+def variant_centres(bases, option, sim, dev):
+    """UTW, the base methods at (0.3, 20) and their variants ``f"{n} ({option})"``."""
+    c = {"UTW": (0.25, 60.0)} | {n: (0.3, 20.0) for n in bases}
+    return c | {f"{n} ({option})": (sim, dev) for n in bases}
+
+
 def band_centres(sim, dev):
     from fpdtw.paper.runner.grid import BAND_BASES
 
-    c = {"UTW": (0.25, 60.0)} | {n: (0.3, 20.0) for n in BAND_BASES}
-    return c | {f"{n} (band 1 s)": (sim, dev) for n in BAND_BASES}
+    return variant_centres(BAND_BASES, "band 1 s", sim, dev)
 
 
 def test_q3_verdicts():
@@ -543,8 +548,7 @@ def test_the_derivative_option_in_names():
 def q5_centres(sim, dev):
     from fpdtw.paper.runner.grid import DERIVATIVE_BASES
 
-    c = {"UTW": (0.25, 60.0)} | {n: (0.3, 20.0) for n in DERIVATIVE_BASES}
-    return c | {f"{n} (derivative)": (sim, dev) for n in DERIVATIVE_BASES}
+    return variant_centres(DERIVATIVE_BASES, "derivative", sim, dev)
 
 
 def test_q5_verdicts():

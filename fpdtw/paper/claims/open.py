@@ -192,21 +192,22 @@ def assess_q6(ctx):
                       parts)  # fmt: skip
 
 
-def assess_q3(ctx):
-    """Our value and the parts of Q3 (see the module), or why not computed."""
+def _variant_assessment(ctx, bases, option: str, improves: str, heading: str):
+    """Per base method ``n`` and its variant ``f"{n} ({option})"``: the variant passes both
+    benchmarks; ``improves`` (e.g. "the band improves") ``n``, median similarity higher and
+    median deviation lower, paired. The assessment, or why not computed."""
     from fpdtw.paper.claims.rules import AllOf
     from fpdtw.paper.claims.table import Assessment
-    from fpdtw.paper.runner.grid import BAND_BASES
 
     ev = ctx.open_ev
-    if why := _need(ev, ["UTW", *BAND_BASES, *(f"{n} (band 1 s)" for n in BAND_BASES)]):
+    if why := _need(ev, ["UTW", *bases, *(f"{n} ({option})" for n in bases)]):
         return why
     parts, words = [], []
-    for n in BAND_BASES:
-        b = f"{n} (band 1 s)"
+    for n in bases:
+        b = f"{n} ({option})"
         parts.append(Part(f"{b} passes both benchmarks", ev.passes_both(b)))
         parts.append(Part(
-            f"the band improves {n} (median similarity higher and median deviation lower, paired)",
+            f"{improves} {n} (median similarity higher and median deviation lower, paired)",
             AllOf(ev.better(b, n, "similarity"), ev.better(b, n, "deviation")),
         ))  # fmt: skip
         words.append(
@@ -214,7 +215,16 @@ def assess_q3(ctx):
             f"{ev.median(b, 'similarity'):.3f}, deviation {ev.median(n, 'deviation'):.1f} -> "
             f"{ev.median(b, 'deviation'):.1f}"
         )
-    return Assessment("without -> with the band: " + "; ".join(words), parts)
+    return Assessment(f"{heading}: " + "; ".join(words), parts)
+
+
+def assess_q3(ctx):
+    """Our value and the parts of Q3 (see the module), or why not computed."""
+    from fpdtw.paper.runner.grid import BAND_BASES
+
+    return _variant_assessment(
+        ctx, BAND_BASES, "band 1 s", "the band improves", "without -> with the band"
+    )
 
 
 def assess_q4(ctx):
@@ -243,29 +253,12 @@ def assess_q4(ctx):
 
 def assess_q5(ctx):
     """Our value and the parts of Q5 (see the module), or why not computed."""
-    from fpdtw.paper.claims.rules import AllOf
-    from fpdtw.paper.claims.table import Assessment
     from fpdtw.paper.runner.grid import DERIVATIVE_BASES
 
-    ev = ctx.open_ev
-    names = ["UTW", *DERIVATIVE_BASES, *(f"{n} (derivative)" for n in DERIVATIVE_BASES)]
-    if why := _need(ev, names):
-        return why
-    parts, words = [], []
-    for n in DERIVATIVE_BASES:
-        d = f"{n} (derivative)"
-        parts.append(Part(f"{d} passes both benchmarks", ev.passes_both(d)))
-        parts.append(Part(
-            f"the derivative cost improves {n} (median similarity higher and median deviation "
-            "lower, paired)",
-            AllOf(ev.better(d, n, "similarity"), ev.better(d, n, "deviation")),
-        ))  # fmt: skip
-        words.append(
-            f"{n}: similarity {ev.median(n, 'similarity'):.3f} -> "
-            f"{ev.median(d, 'similarity'):.3f}, deviation {ev.median(n, 'deviation'):.1f} -> "
-            f"{ev.median(d, 'deviation'):.1f}"
-        )
-    return Assessment("poses -> derivatives: " + "; ".join(words), parts)
+    return _variant_assessment(
+        ctx, DERIVATIVE_BASES, "derivative", "the derivative cost improves",
+        "poses -> derivatives",
+    )  # fmt: skip
 
 
 def open_claim_rows(ids, mode: str = "full"):
