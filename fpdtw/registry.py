@@ -256,13 +256,17 @@ def _general(entry: Entry, text: str, name: str) -> tuple:
 
 def _options(entry: Entry, text: str, name: str) -> dict:
     if not entry.window_method:
+        if entry.online:
+            raise AlignmentError(
+                f"{name!r}: unknown option {text!r}; {entry.key} has no options but {DERIVATIVE!r}"
+            )
         raise AlignmentError(f"{name!r}: {entry.key} has no options")
     table = entry.aligner_class.options
     by_label = {lab: (key, val) for key, (_, vals) in table.items() for val, lab in vals.items()}
     out = {}
     for label in (x.strip() for x in text.split(",")):
         if label not in by_label:
-            known = ", ".join(repr(x) for x in by_label)
+            known = ", ".join(repr(x) for x in (*by_label, DERIVATIVE))
             raise AlignmentError(f"{name!r}: unknown option {label!r} (known: {known})")
         key, value = by_label[label]
         if key in out:

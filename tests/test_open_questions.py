@@ -535,8 +535,12 @@ def test_the_derivative_option_in_names():
         registry.resolve("DTW (derivative)")
     with pytest.raises(AlignmentError, match="unknown option 'derivatives'"):
         registry.resolve("Mc w40 (derivatives)")
-    with pytest.raises(AlignmentError, match="OPW has no options"):
+    with pytest.raises(AlignmentError, match="unknown option 'band 1 s'; OPW has no options but"):
         registry.resolve("OPW (derivative, band 1 s)")
+    with pytest.raises(AlignmentError, match="'derivative'\\)$"):  # named among the known
+        registry.resolve("Mc w40 (derivatives)")
+    with pytest.raises(AlignmentError, match="UTW has no options"):
+        registry.resolve("UTW (literal window)")
     with pytest.raises(AlignmentError, match="twice"):
         registry.resolve("Mc w40 (derivative, derivative)")
     from fpdtw.paper.runner.grid import OPEN_Q5
