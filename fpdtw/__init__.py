@@ -11,6 +11,8 @@ The public API, by what it holds:
   :class:`OEDTW`, :class:`MethodA`, :class:`MethodB`, :class:`MethodC`, :class:`OPW`,
   :class:`OLTW`, the :class:`TypeV` constraint, :func:`run_online`, and
   :func:`make_online` / :func:`align` by the paper's names ("Mc w40 + Type V");
+* beyond the papers: :func:`derivative_features` (derivative motions; any online name
+  with the option ``"derivative"`` runs on them, "OPW (derivative)");
 * metrics: :func:`similarity` (eq. 2), :func:`deviation` (eq. 3);
 * eq. 1's joint weights from the recorded motion (beyond the papers): :func:`joint_weights`;
 * the OPW warp curve: :class:`WarpCurve`;
@@ -22,6 +24,7 @@ The public API, by what it holds:
 
 from fpdtw import plain
 from fpdtw.costs import geo_distance, geodesic_cost_matrix, position_cost_matrix
+from fpdtw.derivative import derivative_features
 from fpdtw.dtw import dtw, dtw_pair, utw_map
 from fpdtw.errors import (
     AlignmentError,
@@ -76,6 +79,7 @@ __all__ = [
     "TypeV",
     "WarpCurve",
     "align",
+    "derivative_features",
     "deviation",
     "dtw",
     "dtw_pair",

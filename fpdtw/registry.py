@@ -9,6 +9,9 @@ default in brackets before it, by its label in the method's ``options`` table:
 ``"OLTW (weighted joints)"``. Beyond the papers:
 ``"Mc auto"`` (Method C with w from the input's period, :mod:`fpdtw.period`) and
 ``"OPW adaptive"`` (OPW with gamma from its decisions, :mod:`fpdtw.online.opw_adaptive`).
+Any ONLINE name takes the general option ``"derivative"`` (:data:`DERIVATIVE`): the aligner
+run unchanged on the derivative motions (:mod:`fpdtw.derivative`), ``"OPW (derivative)"``,
+``"Mc w40 (derivative, band 1 s)"``.
 
 The experiment runner, the command line, the benchmark and the figures all ask this
 module: :func:`resolve` a name into an :class:`Algorithm`, :func:`make_online` its
@@ -37,6 +40,8 @@ from fpdtw.motion.features import MotionFeatures
 
 #: Suffix of the Type V constraint in names.
 TYPE_V_SUFFIX = " + Type V"
+#: The general option (any online entry): run on derivative motions (:mod:`fpdtw.derivative`).
+DERIVATIVE = "derivative"
 
 
 def _dtw(I: MotionFeatures, T: MotionFeatures):
@@ -184,6 +189,9 @@ class Algorithm:
     typev : bool
     options : dict
         Non-default options of an FP-DTW method (``{"window": "literal"}``).
+    derivative : bool
+        The general option ``"derivative"``: the aligner runs on derivative motions
+        (:class:`fpdtw.derivative.DerivativeAligner`).
     """
 
     name: str
@@ -191,6 +199,7 @@ class Algorithm:
     value: int | None
     typev: bool
     options: dict
+    derivative: bool = False
 
     @property
     def family(self) -> str:
@@ -207,14 +216,19 @@ class Algorithm:
 
     @property
     def shares_window(self) -> bool:
-        """Methods B and C: their window costs can be shared (a WindowCache)."""
-        return self.family in ("B", "C")
+        """Methods B and C on poses: their window costs can be shared (a WindowCache)."""
+        return self.family in ("B", "C") and not self.derivative
 
     def make(self, I: MotionFeatures, *, cache=None, record=False):
         """The streaming aligner of an online algorithm, for the input motion ``I``."""
         if not self.online:
             raise AlignmentError(f"{self.name!r} is offline: it has no streaming aligner")
         kw = dict(value=self.value, typev=self.typev, options=self.options)
+        if self.derivative:
+            from fpdtw.derivative import DerivativeAligner, derivative_features
+
+            inner = self.entry.build(derivative_features(I), cache=None, record=record, **kw)
+            return DerivativeAligner(I, inner)
         return self.entry.build(I, cache=cache, record=record, **kw)
 
     def run(self, I: MotionFeatures, T: MotionFeatures):
@@ -227,20 +241,41 @@ class Algorithm:
         return np.asarray(M, dtype=np.int64), seconds
 
 
+def _general(entry: Entry, text: str, name: str) -> tuple:
+    """``(derivative, rest)``: the general option taken out of a bracket's labels."""
+    labels = [x.strip() for x in text.split(",")]
+    derivative = DERIVATIVE in labels
+    if derivative:
+        if labels.count(DERIVATIVE) > 1:
+            raise AlignmentError(f"{name!r}: option {DERIVATIVE!r} given twice")
+        if not entry.online:
+            raise AlignmentError(
+                f"{name!r}: {entry.key} is offline; option {DERIVATIVE!r} wraps online "
+                "aligners only"
+            )
+        labels.remove(DERIVATIVE)
+    return derivative, ", ".join(labels)
+
+
 def _options(entry: Entry, text: str, name: str) -> dict:
     """The options named in brackets, by the labels of the aligner class's ``options``
     table: the window methods', or one a non-window class defines itself (OLTW's
-    ``"weighted joints"``; not one it inherits, as ``"Mc auto"`` would from Method C)."""
+    ``"weighted joints"``; not one it inherits, as ``"Mc auto"`` would from Method C).
+    The general option ``"derivative"`` is taken out before (:func:`_general`)."""
     cls = entry.aligner_class
     own = cls is not None and "options" in vars(cls)
     if not (entry.window_method or own):
+        if entry.online:
+            raise AlignmentError(
+                f"{name!r}: unknown option {text!r}; {entry.key} has no options but {DERIVATIVE!r}"
+            )
         raise AlignmentError(f"{name!r}: {entry.key} has no options")
     table = cls.options
     by_label = {lab: (key, val) for key, (_, vals) in table.items() for val, lab in vals.items()}
     out = {}
     for label in (x.strip() for x in text.split(",")):
         if label not in by_label:
-            known = ", ".join(repr(x) for x in by_label)
+            known = ", ".join(repr(x) for x in (*by_label, DERIVATIVE))
             raise AlignmentError(f"{name!r}: unknown option {label!r} (known: {known})")
         key, value = by_label[label]
         if key in out:
@@ -275,8 +310,9 @@ def resolve(name: str) -> Algorithm:
         raise AlignmentError(f"{name!r}: {entry.key} needs a window, e.g. '{entry.key} w40'")
     if m.group("tv") and not entry.typev:
         raise AlignmentError(f"{name!r}: {entry.key} does not take the Type V constraint")
-    options = _options(entry, m.group("opts"), name) if m.group("opts") else {}
-    return Algorithm(name, entry, value, bool(m.group("tv")), options)
+    derivative, opts = _general(entry, m.group("opts"), name) if m.group("opts") else (False, "")
+    options = _options(entry, opts, name) if opts else {}
+    return Algorithm(name, entry, value, bool(m.group("tv")), options, derivative)
 
 
 def by_cli(method: str) -> Entry:
@@ -361,6 +397,7 @@ C_READINGS = _readings()
 
 __all__ = [
     "C_READINGS",
+    "DERIVATIVE",
     "ENTRIES",
     "TYPE_V_SUFFIX",
     "Algorithm",

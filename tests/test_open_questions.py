@@ -10,6 +10,7 @@ from reference.synthetic import features_from_euler, random_walk_features
 
 from fpdtw import registry
 from fpdtw.errors import AlignmentError
+from fpdtw.motion.features import MotionFeatures
 from fpdtw.online import MethodC
 from fpdtw.online.base import run_online
 from fpdtw.paper.claims import table as claims
@@ -217,9 +218,9 @@ def test_q6_verdicts():
 def test_q_claims_without_the_open_run_are_not_computed():
     ctx = ClaimContext(mode="smoke")
     rows, _ = claims.evaluate_claims(
-        claims.claims_by_id(["Q1", "Q2", "Q3", "Q4", "Q6"]), claims.claim_contexts(ctx)
+        claims.claims_by_id(["Q1", "Q2", "Q3", "Q4", "Q5", "Q6"]), claims.claim_contexts(ctx)
     )
-    assert [r["holds"] for r in rows] == ["n/a"] * 5
+    assert [r["holds"] for r in rows] == ["n/a"] * 6
     assert all(r["ours"].startswith("not computed (no results of the open run") for r in rows)
 
 
@@ -270,11 +271,16 @@ def test_band_rows_masks_a_known_candidate_and_the_band_refuses_type_v():
     assert registry.resolve("Mb w40 (band 1 s)").options == {"band": "1s"}
 
 
+def variant_centres(bases, option, sim, dev):
+    """UTW, the base methods at (0.3, 20) and their variants ``f"{n} ({option})"``."""
+    c = {"UTW": (0.25, 60.0)} | {n: (0.3, 20.0) for n in bases}
+    return c | {f"{n} ({option})": (sim, dev) for n in bases}
+
+
 def band_centres(sim, dev):
     from fpdtw.paper.runner.grid import BAND_BASES
 
-    c = {"UTW": (0.25, 60.0)} | {n: (0.3, 20.0) for n in BAND_BASES}
-    return c | {f"{n} (band 1 s)": (sim, dev) for n in BAND_BASES}
+    return variant_centres(BAND_BASES, "band 1 s", sim, dev)
 
 
 def test_q3_verdicts():
@@ -512,3 +518,227 @@ def q4_centres(sim, dev):
 def test_q4_verdicts():
     assert q_table(open_run(q4_centres(0.4, 10.0)), ["Q4"])[0]["Q4"]["holds"] == "yes"
     assert q_table(open_run(q4_centres(0.1, 40.0)), ["Q4"])[0]["Q4"]["holds"] == "no"
+
+
+# -- Q5: derivative costs ------------------------------------------------------------------------
+
+
+def spinning_joint(step_deg=2.5, n_frames=50, flip_signs=True):
+    """Joint 0 turns about a fixed axis by ``step_deg`` per frame from a tilted start (left
+    multiplied: ``q_t = r^t q_0``); the other joints are still. With ``flip_signs`` every
+    other frame's quaternion is negated (the same rotations)."""
+    from fpdtw.motion.rotations import quat_mul
+
+    axis = np.array([1.0, 2.0, 3.0]) / np.sqrt(14.0)
+    half = np.deg2rad(step_deg) * np.arange(n_frames)[:, None] / 2
+    r = np.concatenate([np.cos(half), np.sin(half) * axis], axis=1)
+    q0 = np.array([np.cos(0.4), np.sin(0.4), 0.0, 0.0])
+    Q = np.tile(np.array([1.0, 0.0, 0.0, 0.0]), (n_frames, 3, 1))
+    Q[:, 0] = quat_mul(r, q0)
+    if flip_signs:
+        Q[1::2] *= -1.0
+    return MotionFeatures.from_arrays(Q, orders=("XYZ", "ZXY", "YZX"), name="spin"), axis
+
+
+def test_constant_angular_velocity_has_constant_derivative_quaternions():
+    from fpdtw import derivative_features
+
+    F, axis = spinning_joint(2.5)
+    D = derivative_features(F)
+    h = np.deg2rad(2.5) / 2
+    want = np.array([np.cos(h), *(np.sin(h) * axis)])
+    np.testing.assert_allclose(D.quats[1:, 0], np.tile(want, (49, 1)), atol=1e-12)
+    # the angle of each derivative rotation is the step, whatever the quaternions' signs
+    angle = np.rad2deg(2 * np.arccos(np.clip(D.quats[1:, 0, 0], -1, 1)))
+    np.testing.assert_allclose(angle, 2.5, atol=1e-6)
+    np.testing.assert_array_equal(D.quats[0], np.tile([1.0, 0.0, 0.0, 0.0], (3, 1)))
+    np.testing.assert_allclose(D.quats[1:, 1:], np.tile([1.0, 0, 0, 0], (49, 2, 1)), atol=1e-12)
+    assert np.all(D.quats[..., 0] >= 0)
+    np.testing.assert_array_equal(D.euler[0], 0.0)
+    assert D.orders == F.orders and D.fps == F.fps and D.n_frames == F.n_frames
+    assert D.name == "spin (derivative)"
+
+
+def test_the_derivative_euler_angles_of_a_turn_about_z_are_the_step():
+    from fpdtw import derivative_features
+
+    E = np.zeros((30, 2, 3))
+    E[:, 0, 2] = 170.0 + 7.0 * np.arange(30)  # wraps past 180 degrees on the way
+    D = derivative_features(features_from_euler(E, orders=("XYZ", "ZYX")))
+    np.testing.assert_allclose(D.euler[1:, 0], np.tile([0.0, 0.0, 7.0], (29, 1)), atol=1e-9)
+    np.testing.assert_allclose(D.euler[:, 1], 0.0, atol=1e-12)
+
+
+def test_derivative_positions_are_backward_differences_and_zero_first():
+    from fpdtw import derivative_features
+
+    rng = np.random.default_rng(4)
+    F = random_walk_features(20, seed=4)
+    P = rng.normal(size=(20, 5, 3))
+    D = derivative_features(type(F)(F.quats, F.euler, F.orders, F.fps, P, "p", None, 1.7))
+    np.testing.assert_array_equal(D.positions[0], 0.0)
+    np.testing.assert_allclose(D.positions[7], P[7] - P[6])
+    assert D.body_size == 1.7 and D.rig is None
+    with pytest.raises(AlignmentError, match="MotionFeatures"):
+        derivative_features(F.quats)
+
+
+def test_the_derivative_rig_compares_the_derivatives_of_the_common_representations():
+    """Differencing after the rig mapping (fpdtw.derivative): the input's derivative expressed
+    in the target's rig, mapped to the common representation, equals the derivative of the
+    input's common representation."""
+    from fpdtw.derivative import derivative_quats, derivative_rig
+    from fpdtw.motion.rig import RigTransform, cost_input
+
+    rng = np.random.default_rng(9)
+
+    def unit(n):
+        q = rng.normal(size=(n, 4))
+        return q / np.linalg.norm(q, axis=1, keepdims=True)
+
+    rig_I, rig_T = RigTransform(unit(3), unit(3)), RigTransform(unit(3), unit(3))
+    Q = random_walk_features(40, k=3, seed=1).quats
+    dI = cost_input(derivative_quats(Q), derivative_rig(rig_I), derivative_rig(rig_T))
+    got = derivative_rig(rig_T).to_common(dI)
+    want = derivative_quats(rig_I.to_common(Q))
+    dots = np.abs(np.sum(got * want, axis=-1))
+    np.testing.assert_allclose(dots, 1.0, atol=1e-12)
+    assert derivative_rig(None) is None
+
+
+def with_positions(F, seed):
+    rng = np.random.default_rng(seed)
+    P = np.cumsum(rng.normal(0, 0.01, (F.n_frames, 16, 3)), axis=0)
+    return type(F)(F.quats, F.euler, F.orders, F.fps, P, F.name, F.rig, 1.0)
+
+
+def test_the_stream_wrapper_equals_the_batch_derivative():
+    from fpdtw import derivative_features
+    from fpdtw.derivative import DerivativeFrames
+
+    F = with_positions(random_walk_features(300, seed=6), 6)
+    D = derivative_features(F)
+    diff = DerivativeFrames()
+    for t in range(F.n_frames):
+        f = diff(F.frame(t), F.orders)
+        np.testing.assert_array_equal(f.quats, D.quats[t])
+        np.testing.assert_array_equal(f.euler, D.euler[t])
+        np.testing.assert_array_equal(f.positions, D.positions[t])
+
+
+@pytest.mark.parametrize(
+    "name, inner",
+    [("Mc w40", "Mc w40"), ("OPW", "OPW"), ("Mc w40 (band 1 s)", "Mc w40 (band 1 s)")],
+)
+def test_a_derivative_aligner_is_the_method_on_both_derivative_motions(name, inner):
+    """Streamed pose by pose through the wrapper == the unchanged method run on
+    derivative_features of both motions (stream == batch), including a reset and rerun."""
+    from fpdtw import derivative_features
+
+    I = with_positions(random_walk_features(260, seed=11), 1)
+    T = with_positions(random_walk_features(240, seed=12), 2)
+    a = registry.make_online(name.replace(")", ", derivative)") if "(" in name
+                             else f"{name} (derivative)", I)  # fmt: skip
+    M, _ = run_online(a, T)
+    ref, _ = run_online(registry.make_online(inner, derivative_features(I)),
+                        derivative_features(T))  # fmt: skip
+    np.testing.assert_array_equal(M, ref)
+    np.testing.assert_array_equal(run_online(a, T)[0], ref)  # reset: the same again
+    assert a.name.endswith("(derivative)")
+
+
+def speed_pair(speed=1.5, n_frames=600):
+    """A smooth input and the target = the input played ``speed`` times as fast (frame t of
+    the target is input frame round(speed t))."""
+    t = np.arange(n_frames)[:, None, None]
+    k = np.arange(8)[None, :, None]
+    ax = np.arange(3)[None, None, :]
+    E = 40 * np.sin(2 * np.pi * t / (150 + 17 * k) + ax) + 15 * np.sin(2 * np.pi * t / 61 + k)
+    I = with_positions(features_from_euler(E, orders=("XYZ",) * 8, name="smooth"), 3)
+    idx = np.round(np.arange(0, n_frames - 1, speed)).astype(int)
+    T = type(I)(I.quats[idx].copy(), I.euler[idx].copy(), I.orders, I.fps,
+                I.positions[idx].copy(), "faster", None, 1.0)  # fmt: skip
+    return I, T, idx
+
+
+@pytest.mark.parametrize("name", ["Mc w40 (derivative)", "OPW (derivative)"])
+def test_a_derivative_method_aligns_a_target_played_faster(name):
+    """The map has the runner's shape and range and is monotone; on the input itself
+    (speed 1) Method C recovers the diagonal. At another speed the frame-to-frame rotations
+    are scaled by the speed (checked here), so the derivative costs no longer match frame
+    for frame: how far the map then strays is measured (notebook 16), not asserted."""
+    from fpdtw import derivative_features
+    from fpdtw.paper.runner.run import _check_map
+
+    for speed in (1.0, 1.5):
+        I, T, idx = speed_pair(speed)
+        M, _ = registry.align(name, I, T)
+        np.testing.assert_array_equal(_check_map(resolve_algorithm(name), M, I, T, {"id": 0}), M)
+        assert M.shape == (T.n_frames,) and M.min() >= 0 and M.max() <= I.n_frames - 1
+        assert np.all(np.diff(M) >= 0)  # monotone
+        if speed == 1.0 and name.startswith("Mc"):
+            np.testing.assert_array_equal(M, idx)
+
+    def step_angle(F):
+        return np.rad2deg(2 * np.arccos(np.clip(derivative_features(F).quats[1:, :, 0], -1, 1)))
+
+    assert np.mean(step_angle(T)) / np.mean(step_angle(I)) == pytest.approx(1.5, rel=0.05)
+
+
+def test_the_runner_runs_derivative_methods_beside_their_pose_methods():
+    from fpdtw.paper.runner.run import _pair_maps
+
+    I = with_positions(random_walk_features(200, seed=21), 4)
+    T = with_positions(random_walk_features(180, seed=22), 5)
+    names = ["Mc w40", "Mc w40 (derivative)", "OPW", "OPW (derivative)"]
+    specs = [resolve_algorithm(n) for n in names]
+    assert [s.algorithm.shares_window for s in specs] == [True, False, False, False]
+    maps = _pair_maps(specs, I, T, {"id": 0})
+    for n in names:
+        np.testing.assert_array_equal(maps[n], registry.align(n, I, T)[0])
+    assert not np.array_equal(maps["Mc w40"], maps["Mc w40 (derivative)"])
+
+
+def test_the_derivative_option_in_names():
+    a = registry.resolve("Mc w40 (derivative)")
+    assert a.derivative and a.options == {} and a.w == 40 and a.family == "C"
+    b = registry.resolve("Mc w40 (derivative, band 1 s)")
+    assert b.derivative and b.options == {"band": "1s"}
+    assert registry.resolve("Mc w40 (band 1 s, derivative)").options == {"band": "1s"}
+    assert registry.resolve("OPW (derivative)").derivative
+    assert registry.resolve("Mc w40 (derivative) + Type V").typev
+    assert not registry.resolve("Mc w40").derivative
+    with pytest.raises(AlignmentError, match="offline"):
+        registry.resolve("DTW (derivative)")
+    with pytest.raises(AlignmentError, match="unknown option 'derivatives'"):
+        registry.resolve("Mc w40 (derivatives)")
+    with pytest.raises(AlignmentError, match="unknown option 'band 1 s'; OPW has no options but"):
+        registry.resolve("OPW (derivative, band 1 s)")
+    with pytest.raises(AlignmentError, match="'derivative'\\)$"):  # named among the known
+        registry.resolve("Mc w40 (derivatives)")
+    with pytest.raises(AlignmentError, match="UTW has no options"):
+        registry.resolve("UTW (literal window)")
+    with pytest.raises(AlignmentError, match="twice"):
+        registry.resolve("Mc w40 (derivative, derivative)")
+    from fpdtw.paper.runner.grid import OPEN_Q5
+
+    assert OPEN_Q5 == ("Mc w40", "Mc w40 (derivative)", "OPW", "OPW (derivative)")
+    assert all(n in OPEN_ALGORITHMS for n in OPEN_Q5)
+
+
+def q5_centres(sim, dev):
+    from fpdtw.paper.runner.grid import DERIVATIVE_BASES
+
+    return variant_centres(DERIVATIVE_BASES, "derivative", sim, dev)
+
+
+def test_q5_verdicts():
+    rows, parts = q_table(open_run(q5_centres(0.4, 10.0)), ["Q5"])
+    assert rows["Q5"]["holds"] == "yes" and len(parts) == 4
+    assert rows["Q5"]["ours"].startswith("poses -> derivatives: Mc w40: similarity 0.300 -> 0.400")
+    rows, _ = q_table(open_run(q5_centres(0.1, 40.0)), ["Q5"])
+    assert rows["Q5"]["holds"] == "no"
+    rows, parts = q_table(open_run(q5_centres(0.35, 19.0)), ["Q5"])
+    by = {p["part"]: p["verdict"] for p in parts}
+    assert by["Q5(a)"] == "contradicted" and by["Q5(b)"] == "holds"
+    assert rows["Q5"]["holds"] == "partly"

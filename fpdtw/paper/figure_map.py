@@ -86,9 +86,10 @@ NOTEBOOKS = (
               "15_readings_of_algorithm_3", "16_open_questions")),
     Notebook("16_open_questions",
              ("open_q1_period", "open_q1_windows", "open_q1_movements", "open_q3_band",
-              "open_q4_gamma", "open_q6_pause_example", "open_q6_pause"),
+              "open_q4_gamma", "open_q5_derivative", "open_q6_pause_example", "open_q6_pause"),
              "beyond the papers: the questions they leave open, answered on the same pairs "
-             "(the window from the period; a global band; adaptive gamma; standing still)"),
+             "(the window from the period; a global band; adaptive gamma; derivative costs; "
+             "standing still)"),
     Notebook("17_similarity_level", ("similarity_level",),
              "eq. 2 read six other ways (tau, flat axes, warm-up frames, bone axis, world and "
              "root-relative frames): the median similarity level next to Table 1's", _RUN),

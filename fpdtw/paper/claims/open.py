@@ -1,4 +1,4 @@
-"""Claims beyond the papers: the questions they leave open (Q1-Q4, Q6), on the open run.
+"""Claims beyond the papers: the questions they leave open (Q1-Q6), on the open run.
 
 Each question is a :class:`~fpdtw.paper.claims.table.Claim` with ``question=True``: it is not
 a claim of the papers but a statement about a variant they suggest, decided by the SAME rules
@@ -33,6 +33,11 @@ Q4 (OPW's gamma adapted from its own decisions, :mod:`fpdtw.online.opw_adaptive`
     gamma 5 % (median similarity higher AND median deviation lower, paired). On the poster's
     protocol the numbers are deterministic (one run per motion) and shown in notebook 16's
     table only, not as a part.
+Q5 (Keogh and Pazzani's derivative DTW, :mod:`fpdtw.derivative`: the method run unchanged on
+the frame-to-frame rotations ``q_t conj(q_{t-1})`` and position differences of both motions)
+    for Mc w40 and OPW: the derivative variant passes both benchmarks; and the derivative cost
+    improves the method (median similarity higher AND median deviation lower than on poses,
+    paired). The maps are scored on the original pairs, as every other algorithm's.
 Q6 (standing still, targets with a pause inserted, :mod:`fpdtw.pause`)
     for every online method of the papers (:data:`fpdtw.paper.runner.grid.PAUSE_METHODS`):
     its median deviation on the paused targets (from DTW of the same modified pairs) below
@@ -194,12 +199,13 @@ def assess_q6(ctx):
                       parts)  # fmt: skip
 
 
-def _variant_assessment(ev, variants: dict, change: str, with_what: str):
-    """Q2's and Q3's parts: per base, the variant passes both benchmarks; and ``change``
-    improves the base (median similarity higher AND median deviation lower, paired).
+def _variant_assessment(ev, variants: dict, change: str, heading: str):
+    """Q2's, Q3's and Q5's parts: per base, the variant passes both benchmarks; and
+    ``change`` improves the base (median similarity higher AND median deviation lower,
+    paired).
 
-    ``variants`` maps each base method to its variant's name; ``with_what`` names the
-    variant in our value ("without -> with <with_what>: ...").
+    ``variants`` maps each base method to its variant's name; ``heading`` starts our value
+    (e.g. "without -> with the band").
     """
     from fpdtw.paper.claims.rules import AllOf
     from fpdtw.paper.claims.table import Assessment
@@ -218,7 +224,7 @@ def _variant_assessment(ev, variants: dict, change: str, with_what: str):
             f"{ev.median(b, 'similarity'):.3f}, deviation {ev.median(n, 'deviation'):.1f} -> "
             f"{ev.median(b, 'deviation'):.1f}"
         )
-    return Assessment(f"without -> with {with_what}: " + "; ".join(words), parts)
+    return Assessment(f"{heading}: " + "; ".join(words), parts)
 
 
 def assess_q2(ctx):
@@ -226,7 +232,9 @@ def assess_q2(ctx):
     from fpdtw.paper.runner.grid import WEIGHT_BASES, WEIGHT_SUFFIX
 
     variants = {n: n + WEIGHT_SUFFIX for n in WEIGHT_BASES}
-    return _variant_assessment(ctx.open_ev, variants, "weighting", "weighted joints")
+    return _variant_assessment(
+        ctx.open_ev, variants, "weighting", "without -> with weighted joints"
+    )
 
 
 def assess_q3(ctx):
@@ -234,7 +242,7 @@ def assess_q3(ctx):
     from fpdtw.paper.runner.grid import BAND_BASES
 
     variants = {n: f"{n} (band 1 s)" for n in BAND_BASES}
-    return _variant_assessment(ctx.open_ev, variants, "the band", "the band")
+    return _variant_assessment(ctx.open_ev, variants, "the band", "without -> with the band")
 
 
 def assess_q4(ctx):
@@ -261,6 +269,14 @@ def assess_q4(ctx):
     return Assessment(ours, parts)
 
 
+def assess_q5(ctx):
+    """Our value and the parts of Q5 (see the module), or why not computed."""
+    from fpdtw.paper.runner.grid import DERIVATIVE_BASES
+
+    variants = {n: f"{n} (derivative)" for n in DERIVATIVE_BASES}
+    return _variant_assessment(ctx.open_ev, variants, "the derivative cost", "poses -> derivatives")
+
+
 def open_claim_rows(ids, mode: str = "full"):
     """The rows and parts of the Q claims ``ids`` on the open run alone (no other run read).
 
@@ -284,6 +300,7 @@ __all__ = [
     "assess_q2",
     "assess_q3",
     "assess_q4",
+    "assess_q5",
     "assess_q6",
     "beats_share_check",
     "movements_of",

@@ -936,6 +936,11 @@ CLAIMS = [
           "pairs and improves on OPW at gamma 5 %",
           "an open question (not tested in the papers)", _open.assess_q4,
           "notebook 16; open_q4_gamma", question=True),
+    Claim("Q5", "Beyond the papers (OPW conclusion: Keogh and Pazzani's derivative DTW): "
+          "derivative costs (frame-to-frame rotations and position differences) let Method C "
+          "(Mc w40) and OPW pass both benchmarks and improve each",
+          "an open question (not tested in the papers)", _open.assess_q5,
+          "notebook 16; open_q5_derivative", question=True),
     Claim("Q6", "Beyond the papers (OPW conclusion: 'may not work consistently if there are "
           "periods of standing still'): with a pause of 0.5-2 s inserted in the target, every "
           "online method's median deviation stays below 18 frames and the pause does not raise it",

@@ -1,4 +1,4 @@
-"""Figures and tables of notebook 16: the questions the papers leave open (Q1, Q3, Q4, Q6).
+"""Figures and tables of notebook 16: the questions the papers leave open (Q1, Q3-Q6).
 
 Every number comes from the open run (mode ``"open"``) through the claims' evidence
 (:func:`fpdtw.paper.claims.open.open_evidence`), so the figures, the tables and the Q rows of
@@ -143,17 +143,12 @@ def movement_rows(ev) -> list[dict]:
     return out
 
 
-def band_rows(ev) -> list[dict]:
-    """Q3: Methods B and C without and with the band of 1 s: medians with 95 % intervals,
-    the benchmark verdicts of the band variant and the paired changes.
-
-    Notebook: 16_open_questions.ipynb
-    """
-    from fpdtw.paper.runner.grid import BAND_BASES
-
+def _variant_rows(ev, bases, suffix: str) -> list[dict]:
+    """Each base method and its variant ``f"{base} ({suffix})"``: medians with 95 %
+    intervals, the benchmark verdicts and the variant's paired changes."""
     rows = []
-    for n in BAND_BASES:
-        b = f"{n} (band 1 s)"
+    for n in bases:
+        b = f"{n} ({suffix})"
         for who in (n, b):
             s, d = ev.passes(who, "similarity"), ev.passes(who, "deviation")
             lo, hi = ev.interval(who, "similarity")
@@ -173,19 +168,12 @@ def band_rows(ev) -> list[dict]:
     return rows
 
 
-def plot_band(ev, rows=None, axes=None):
-    """Q3: median similarity and deviation (95 % intervals) without and with the band.
-
-    Returns
-    -------
-    fig, axes
-
-    Notebook: 16_open_questions.ipynb
-    """
-    rows = band_rows(ev) if rows is None else rows
+def _plot_variants(ev, rows, axes, mark: str):
+    """Median similarity and deviation (95 % intervals) of base methods and their variants
+    (the rows whose name contains ``mark`` in colour)."""
     fig, axes = _two_axes(axes)
     x = np.arange(len(rows))
-    cols = ["0.4" if "band" not in r["algorithm"] else "C2" for r in rows]
+    cols = ["0.4" if mark not in r["algorithm"] else "C2" for r in rows]
     for ax, key, lo, hi in ((axes[0], "similarity", "sim_low", "sim_high"),
                             (axes[1], "deviation", "dev_low", "dev_high")):  # fmt: skip
         for i, r in enumerate(rows):
@@ -200,6 +188,53 @@ def plot_band(ev, rows=None, axes=None):
         ax.legend(fontsize=7)
     fig.tight_layout()
     return fig, axes
+
+
+def band_rows(ev) -> list[dict]:
+    """Q3: Methods B and C without and with the band of 1 s: medians with 95 % intervals,
+    the benchmark verdicts of the band variant and the paired changes.
+
+    Notebook: 16_open_questions.ipynb
+    """
+    from fpdtw.paper.runner.grid import BAND_BASES
+
+    return _variant_rows(ev, BAND_BASES, "band 1 s")
+
+
+def plot_band(ev, rows=None, axes=None):
+    """Q3: median similarity and deviation (95 % intervals) without and with the band.
+
+    Returns
+    -------
+    fig, axes
+
+    Notebook: 16_open_questions.ipynb
+    """
+    return _plot_variants(ev, band_rows(ev) if rows is None else rows, axes, "band")
+
+
+def derivative_rows(ev) -> list[dict]:
+    """Q5: Mc w40 and OPW on poses and on derivative motions (:mod:`fpdtw.derivative`):
+    medians with 95 % intervals, the benchmark verdicts of the derivative variant and the
+    paired changes.
+
+    Notebook: 16_open_questions.ipynb
+    """
+    from fpdtw.paper.runner.grid import DERIVATIVE_BASES
+
+    return _variant_rows(ev, DERIVATIVE_BASES, "derivative")
+
+
+def plot_derivative(ev, rows=None, axes=None):
+    """Q5: median similarity and deviation (95 % intervals) on poses and on derivatives.
+
+    Returns
+    -------
+    fig, axes
+
+    Notebook: 16_open_questions.ipynb
+    """
+    return _plot_variants(ev, derivative_rows(ev) if rows is None else rows, axes, "derivative")
 
 
 def poster_gamma_rows(motions=None) -> list[dict]:
@@ -330,9 +365,11 @@ def plot_pause_example(I, T, name: str = "Mc w40", ax=None):
 
 __all__ = [
     "band_rows",
+    "derivative_rows",
     "movement_rows",
     "pause_rows",
     "plot_band",
+    "plot_derivative",
     "plot_pause",
     "plot_pause_example",
     "plot_period",

@@ -187,14 +187,19 @@ WEIGHT_BASES = ("Mb w40", "Mc w40", "OLTW")
 WEIGHT_SUFFIX = " (weighted joints)"
 OPEN_Q2 = tuple(n for b in WEIGHT_BASES for n in (b, b + WEIGHT_SUFFIX))
 
+#: Q5 (Keogh and Pazzani's derivative DTW): Method C and OPW on poses and on derivative motions
+#: (:mod:`fpdtw.derivative`).
+DERIVATIVE_BASES = ("Mc w40", "OPW")
+OPEN_Q5 = tuple(n for b in DERIVATIVE_BASES for n in (b, f"{b} (derivative)"))
+
 
 def _open_algorithms() -> tuple:
     """The algorithms of notebook 16 (modes "open" and "smoke-open"): DTW and UTW at 120
     and 60 Hz, then :data:`OPEN_Q1`, :data:`OPEN_Q6`, :data:`OPEN_Q3`, :data:`OPEN_Q4`,
-    :data:`OPEN_Q2` (first of any duplicate kept)."""
+    :data:`OPEN_Q2`, :data:`OPEN_Q5` (first of any duplicate kept)."""
     out = []
-    names = ("DTW", "UTW", "DTW@60Hz", "UTW@60Hz", *OPEN_Q1, *OPEN_Q6, *OPEN_Q3, *OPEN_Q4)
-    for n in (*names, *OPEN_Q2):
+    lists = (*OPEN_Q1, *OPEN_Q6, *OPEN_Q3, *OPEN_Q4, *OPEN_Q2, *OPEN_Q5)
+    for n in ("DTW", "UTW", "DTW@60Hz", "UTW@60Hz", *lists):
         if n not in out:
             out.append(n)
     return tuple(out)
@@ -236,10 +241,12 @@ __all__ = [
     "MODE_ALGORITHMS",
     "BAND_BASES",
     "BAND_NAMES",
+    "DERIVATIVE_BASES",
     "OPEN_ALGORITHMS",
     "OPEN_Q2",
     "OPEN_Q3",
     "OPEN_Q4",
+    "OPEN_Q5",
     "OPEN_Q1",
     "OPEN_Q6",
     "PAUSE_METHODS",
