@@ -216,6 +216,8 @@ bench-peers: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(PEERS_VENV)/.installed
 results/bench.json: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(LIB_SRC)
 	$(PY) -m fpdtw.paper.bench
 build/notebooks/09_table2_timing.ipynb: results/bench.json
+# notebook 16 shows the band's per-frame cost (Q3) from the same benchmark
+build/notebooks/16_open_questions.ipynb: results/bench.json
 
 # every notebook is executed by papermill into build/notebooks (sources never edited
 # in place), with an explicit kernel and the notebooks folder as working directory; the

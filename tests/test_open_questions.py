@@ -459,7 +459,12 @@ def test_q2_verdicts():
     from fpdtw.paper.runner.grid import OPEN_Q2
 
     assert all(n in OPEN_ALGORITHMS for n in OPEN_Q2)
-    assert OPEN_ALGORITHMS[-1] == "OLTW (weighted joints)"  # appended after Q4
+    # appended after Q4, before Q5's derivative variants
+    assert OPEN_ALGORITHMS[-3:] == (
+        "OLTW (weighted joints)",
+        "Mc w40 (derivative)",
+        "OPW (derivative)",
+    )
     rows, parts = q_table(open_run(weight_centres(0.4, 10.0)), ["Q2"])
     assert rows["Q2"]["holds"] == "yes" and len(parts) == 6
     assert rows["Q2"]["ours"].startswith("without -> with weighted joints: Mb w40: similarity")

@@ -85,11 +85,12 @@ NOTEBOOKS = (
               "09_table2_timing", "10_fig8_walk_pair", "13_opw_fig4", "14_opw_fig5_fig6",
               "15_readings_of_algorithm_3", "16_open_questions")),
     Notebook("16_open_questions",
-             ("open_q1_period", "open_q1_windows", "open_q1_movements", "open_q3_band",
+             ("open_q1_period", "open_q1_windows", "open_q1_movements", "open_q2_weights",
+              "open_q3_band", "open_q3_cost",
               "open_q4_gamma", "open_q5_derivative", "open_q6_pause_example", "open_q6_pause"),
              "beyond the papers: the questions they leave open, answered on the same pairs "
-             "(the window from the period; a global band; adaptive gamma; derivative costs; "
-             "standing still)"),
+             "(the window from the period; joint weights; a global band and its per-frame cost; "
+             "adaptive gamma; derivative costs; standing still)"),
     Notebook("17_similarity_level", ("similarity_level",),
              "eq. 2 read six other ways (tau, flat axes, warm-up frames, bone axis, world and "
              "root-relative frames): the median similarity level next to Table 1's", _RUN),

@@ -190,6 +190,30 @@ def _plot_variants(ev, rows, axes, mark: str):
     return fig, axes
 
 
+def weight_rows(ev) -> list[dict]:
+    """Q2: Mb w40, Mc w40 and OLTW without and with the joint weights
+    (:func:`fpdtw.weights.joint_weights`): medians with 95 % intervals, the benchmark verdicts
+    of the weighted variant and the paired changes.
+
+    Notebook: 16_open_questions.ipynb
+    """
+    from fpdtw.paper.runner.grid import WEIGHT_BASES
+
+    return _variant_rows(ev, WEIGHT_BASES, "weighted joints")
+
+
+def plot_weights(ev, rows=None, axes=None):
+    """Q2: median similarity and deviation (95 % intervals) without and with the weights.
+
+    Returns
+    -------
+    fig, axes
+
+    Notebook: 16_open_questions.ipynb
+    """
+    return _plot_variants(ev, weight_rows(ev) if rows is None else rows, axes, "weighted")
+
+
 def band_rows(ev) -> list[dict]:
     """Q3: Methods B and C without and with the band of 1 s: medians with 95 % intervals,
     the benchmark verdicts of the band variant and the paired changes.
