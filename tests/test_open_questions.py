@@ -747,3 +747,20 @@ def test_q5_verdicts():
     by = {p["part"]: p["verdict"] for p in parts}
     assert by["Q5(a)"] == "contradicted" and by["Q5(b)"] == "holds"
     assert rows["Q5"]["holds"] == "partly"
+
+
+def test_band_cost_pairs_each_band_variant_with_its_base():
+    from fpdtw.paper.bench import band_cost
+
+    report = {"online": [
+        {"name": "Mb w40", "median_s": 4e-5},
+        {"name": "Mb w40 (band 1 s)", "median_s": 5e-5, "step_median_s": 3e-5},
+        {"name": "Mc w40", "median_s": 8e-5, "step_median_s": 6e-5},
+        {"name": "Mc w80 (band 1 s)", "median_s": 1e-4},  # its base was not timed: no row
+    ]}  # fmt: skip
+    rows = band_cost(report)
+    assert [r["name"] for r in rows] == ["Mb w40"]
+    assert rows[0]["band"] == "Mb w40 (band 1 s)"
+    assert rows[0]["base_us"] == pytest.approx(40.0) and rows[0]["band_us"] == pytest.approx(30.0)
+    assert rows[0]["ratio"] == pytest.approx(0.75)
+    assert band_cost({"online": []}) == []
