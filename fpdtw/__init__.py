@@ -11,10 +11,14 @@ The public API, by what it holds:
   :class:`OEDTW`, :class:`MethodA`, :class:`MethodB`, :class:`MethodC`, :class:`OPW`,
   :class:`OLTW`, the :class:`TypeV` constraint, :func:`run_online`, and
   :func:`make_online` / :func:`align` by the paper's names ("Mc w40 + Type V");
-* beyond the papers: :func:`derivative_features` (derivative motions; any online name
-  with the option ``"derivative"`` runs on them, "OPW (derivative)");
+* beyond the papers (the questions they leave open): :func:`dominant_period` and
+  :func:`auto_window` (Method C's window from the input's period, "Mc auto");
+  :func:`joint_weights` (eq. 1's joints weighted by their travel in the recording,
+  "Mc w40 (weighted joints)"); the global band ("Mc w40 (band 1 s)"); :class:`AdaptiveOPW`
+  (OPW's gamma from its own decisions); :func:`derivative_features` (derivative motions; any
+  online name with the option ``"derivative"`` runs on them, "OPW (derivative)");
+  :func:`insert_pause` (a held pose inserted in a target);
 * metrics: :func:`similarity` (eq. 2), :func:`deviation` (eq. 3);
-* eq. 1's joint weights from the recorded motion (beyond the papers): :func:`joint_weights`;
 * the OPW warp curve: :class:`WarpCurve`;
 * the papers' equations and algorithms in plain NumPy, line by line: :mod:`fpdtw.plain`
   (what the notebooks step through; the compiled aligners are tested equal to it);
@@ -50,6 +54,9 @@ from fpdtw.online import (
     TypeV,
     run_online,
 )
+from fpdtw.online.opw_adaptive import AdaptiveOPW
+from fpdtw.pause import insert_pause
+from fpdtw.period import auto_window, dominant_period
 from fpdtw.registry import align, make_online
 from fpdtw.warpcurve import WarpCurve
 from fpdtw.weights import joint_weights
@@ -93,4 +100,8 @@ __all__ = [
     "run_online",
     "similarity",
     "utw_map",
+    "AdaptiveOPW",
+    "insert_pause",
+    "auto_window",
+    "dominant_period",
 ]
