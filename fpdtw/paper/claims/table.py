@@ -925,12 +925,12 @@ CLAIMS = [
           "joints): weighting eq. 1's joints by how much each moves in the recorded motion lets "
           "Mb w40, Mc w40 and OLTW pass both benchmarks and improves each",
           "an open question (not tested in the papers)", _open.assess_q2,
-          "notebook 16", question=True),
+          "notebook 16; open_q2_weights", question=True),
     Claim("Q3", "Beyond the papers (FP-DTW conclusion: a global constraint): a band of 1 s around "
           "the uniform-time diagonal lets Mb w40, Mc w40 and Mc w80 pass both benchmarks and "
           "improves each (per-frame cost: make bench)",
           "an open question (not tested in the papers)", _open.assess_q3,
-          "notebook 16; open_q3_band", question=True),
+          "notebook 16; open_q3_band, open_q3_cost", question=True),
     Claim("Q4", "Beyond the papers (OPW conclusion: adjust gamma by a feedback loop): OPW with "
           "gamma adapted from its own recent decisions passes both benchmarks on the FP-DTW "
           "pairs and improves on OPW at gamma 5 %",
