@@ -186,7 +186,8 @@ def test_q1_is_inconclusive_when_the_intervals_straddle_every_bar():
     run = open_run(c, spread={"Mc auto": 0.05, "Mc auto@60Hz": 0.05})
     _, parts = q_table(run, ["Q1"])
     by = {p["part"]: p["verdict"] for p in parts}
-    assert by["Q1(a)"] == by["Q1(b)"] == "inconclusive"
+    # straddling: inconclusive, or on the threshold where the second seed decides it
+    assert {by["Q1(a)"], by["Q1(b)"]} <= {"inconclusive", "on the threshold"}
 
 
 def pause_centres(without, with_pause):
@@ -194,25 +195,22 @@ def pause_centres(without, with_pause):
     return c | {n + PAUSE_SUFFIX: (0.3, with_pause) for n in PAUSE_METHODS}
 
 
-def test_q6_verdicts():
+def test_q6_decides_the_posters_remark_on_opw_alone():
+    # the pause lowers every method's deviation: the remark ("may not work") is contradicted
     rows, parts = q_table(open_run(pause_centres(12.0, 8.0)), ["Q6"])
-    assert rows["Q6"]["holds"] == "yes"
-    assert len(parts) == 2 * len(PAUSE_METHODS)
-    rows, parts = q_table(open_run(pause_centres(12.0, 40.0)), ["Q6"])
     assert rows["Q6"]["holds"] == "no"
+    assert [p["text"] for p in parts] == [
+        "the pause raises OPW's median deviation (with minus without, paired, above 0)"
+    ]
+    # raised: the remark holds; the other methods are findings in our value, not parts
+    rows, parts = q_table(open_run(pause_centres(12.0, 40.0)), ["Q6"])
+    assert rows["Q6"]["holds"] == "yes" and len(parts) == 1
     assert rows["Q6"]["ours"].startswith("median deviation without -> with a pause (frames): Ma ")
-    # below 18 with a pause, but raised by it: partly
-    rows, parts = q_table(open_run(pause_centres(6.0, 12.0)), ["Q6"])
-    assert rows["Q6"]["holds"] == "partly"
-    by = {p["text"]: p["verdict"] for p in parts}
-    assert by["Mc w40: median deviation on the paused targets below 18 frames"] == "holds"
-    assert (
-        by[
-            "Mc w40: the pause does not raise its median deviation (with minus without, paired, "
-            "below 0)"
-        ]
-        == "contradicted"
-    )
+    assert "OE-DTW 12.0 -> 40.0 (raised)" in rows["Q6"]["ours"]
+    # only OPW decides it: the others raised, OPW lowered -> no
+    c = pause_centres(12.0, 40.0) | {"OPW" + PAUSE_SUFFIX: (0.3, 8.0)}
+    rows, _ = q_table(open_run(c), ["Q6"])
+    assert rows["Q6"]["holds"] == "no"
 
 
 def test_q_claims_without_the_open_run_are_not_computed():

@@ -274,6 +274,34 @@ def interval(replicates, level: float = LEVEL) -> tuple[float, float]:
     return float(lo), float(hi)
 
 
+#: Batches of the batch-means estimate of an interval end's Monte Carlo error.
+MC_BATCHES = 16
+
+
+def interval_error(replicates, level: float = LEVEL, batches: int = MC_BATCHES):
+    """The percentile interval and the Monte Carlo standard error of each end.
+
+    The replicates are cut into ``batches`` consecutive batches (the resamples are
+    independent draws, so each batch is a bootstrap of its own); each batch's interval ends
+    vary as ``1 / sqrt(batch size)``, so the standard error of the ends from all replicates
+    is the standard deviation over the batches divided by ``sqrt(batches)``.
+
+    Returns
+    -------
+    low, high, low_se, high_se : float
+        NaN where no replicate is finite; the errors NaN with fewer than 2 batches of at
+        least 50 finite replicates.
+    """
+    lo, hi = interval(replicates, level)
+    r = np.asarray(replicates, dtype=np.float64)
+    r = r[np.isfinite(r)]
+    if batches < 2 or r.size < 50 * batches:
+        return lo, hi, float("nan"), float("nan")
+    ends = np.array([interval(b, level) for b in np.array_split(r, batches)])
+    se = ends.std(axis=0, ddof=1) / np.sqrt(batches)
+    return lo, hi, float(se[0]), float(se[1])
+
+
 def seed_stability(
     values_by_name: dict,
     design: PairDesign,
@@ -317,7 +345,9 @@ __all__ = [
     "SEED",
     "STABILITY",
     "PairDesign",
+    "MC_BATCHES",
     "interval",
+    "interval_error",
     "resample_weights",
     "seed_stability",
     "weighted_medians",

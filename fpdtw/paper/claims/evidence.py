@@ -65,6 +65,11 @@ def _cached(folder, key: str, compute) -> np.ndarray:
 _UNIT = {"similarity": "", "deviation": " frames"}
 
 
+def _ci(replicates) -> tuple[float, float, float, float]:
+    """Interval ends and their Monte Carlo errors (:func:`bootstrap.interval_error`)."""
+    return bs.interval_error(replicates)
+
+
 def rate_of(name: str) -> int:
     """120, or 60 for a name ending in ``"@60Hz"``."""
     return 60 if name.endswith("@60Hz") else 120
@@ -281,20 +286,22 @@ class Evidence:
         if metric == "similarity":
             u = utw_of(name)
             est = self.median(name, metric) - self.median(u, metric)
-            lo, hi = bs.interval(self.replicates(name, metric) - self.replicates(u, metric))
+            ci = _ci(self.replicates(name, metric) - self.replicates(u, metric))
             return Check(
-                f"{name} median similarity minus UTW's", est, lo, hi, 0.0, above=True, signed=True
-            )
+                f"{name} median similarity minus UTW's", est, *ci[:2], 0.0, above=True,
+                signed=True, low_se=ci[2], high_se=ci[3],
+            )  # fmt: skip
         thr = N.deviation_benchmark_frames(rate_of(name))
-        lo, hi = self.interval(name, metric)
+        ci = _ci(self.replicates(name, metric))
         return Check(
             f"{name} median deviation, frames",
             self.median(name, metric),
-            lo,
-            hi,
+            *ci[:2],
             thr,
             above=False,
             digits=1,
+            low_se=ci[2],
+            high_se=ci[3],
         )
 
     def passes_either(self, name: str):
@@ -313,16 +320,17 @@ class Evidence:
         """``a`` is better than ``b`` on the same pairs: higher median similarity, or lower
         median deviation (difference of the two medians, paired resamples)."""
         est = self.median(a, metric) - self.median(b, metric)
-        lo, hi = bs.interval(self.replicates(a, metric) - self.replicates(b, metric))
+        ci = _ci(self.replicates(a, metric) - self.replicates(b, metric))
         return Check(
             f"median {metric} of {a} minus {b}",
             est,
-            lo,
-            hi,
+            *ci[:2],
             0.0,
             above=metric == "similarity",
             signed=True,
             digits=3 if metric == "similarity" else 1,
+            low_se=ci[2],
+            high_se=ci[3],
         )
 
     def ranks(self, names, metric: str) -> tuple[np.ndarray, np.ndarray]:
@@ -345,15 +353,16 @@ class Evidence:
         names = list(names)
         rank, reps = self.ranks(names, metric)
         i = names.index(name)
-        lo, hi = bs.interval(reps[i])
+        ci = _ci(reps[i])
         return Check(
             f"rank of {name} (of {len(names)}) by median {metric}",
             float(rank[i]),
-            lo,
-            hi,
+            *ci[:2],
             worst_from - 0.5,
             above=True,
             digits=0,
+            low_se=ci[2],
+            high_se=ci[3],
         )
 
     def share(
@@ -363,8 +372,8 @@ class Evidence:
         num = np.asarray(numerator, dtype=np.float64)
         den = np.asarray(denominator, dtype=np.float64)
         est = float(num.sum() / den.sum()) if den.sum() > 0 else float("nan")
-        lo, hi = bs.interval(self.ratio_replicates(num, den))
-        return Check(quantity, est, lo, hi, threshold, above=above)
+        lo, hi, lo_se, hi_se = _ci(self.ratio_replicates(num, den))
+        return Check(quantity, est, lo, hi, threshold, above=above, low_se=lo_se, high_se=hi_se)
 
     def share_difference(self, quantity: str, a, b, threshold: float = 0.0) -> Check:
         """Difference of two shares of the same pairs: ``a`` and ``b`` are
@@ -372,8 +381,10 @@ class Evidence:
         (na, da), (nb, db) = ((np.asarray(x, dtype=np.float64) for x in y) for y in (a, b))
         est = float(na.sum() / da.sum() - nb.sum() / db.sum())
         reps = self.ratio_replicates(na, da) - self.ratio_replicates(nb, db)
-        lo, hi = bs.interval(reps)
-        return Check(quantity, est, lo, hi, threshold, above=True, signed=True)
+        lo, hi, lo_se, hi_se = _ci(reps)
+        return Check(
+            quantity, est, lo, hi, threshold, above=True, signed=True, low_se=lo_se, high_se=hi_se
+        )
 
     # -- per pair, from the maps ---------------------------------------------------------------
 

@@ -3,7 +3,8 @@
 A claim of a paper is split into **parts**, each an atomic statement that can be tested
 ("Mc w40 passes a benchmark"; "no other unconstrained FP-DTW algorithm passes one"). A part
 is a small logical formula of **checks**; a check is one number (with its 95 % interval)
-against one threshold. The rules, fixed before any result was looked at:
+against one threshold. The rules are :data:`RULE` (printed under every claims table); when
+each was chosen and what had been seen by then is in ``docs/history.md``.
 
 * a :class:`Check` that says "estimate above threshold" **holds** when its whole interval
   lies above the threshold, is **contradicted** when its whole interval lies at or below
@@ -16,6 +17,9 @@ against one threshold. The rules, fixed before any result was looked at:
   holds and is contradicted when every item is; ``Not`` swaps holds and contradicted.
 * a :class:`Part` may instead be **not comparable**: our data cannot test it (another
   sample than the paper's; a number that depends on data we do not have), with a note why.
+* a part decided on resampled pairs is decided again with a second bootstrap seed; where
+  the two seeds give different verdicts it is **on the threshold** (counted as
+  inconclusive).
 * a claim's verdict follows from its parts' verdicts (:func:`claim_verdict`): every part
   holds: **yes**; none holds and at least one is contradicted: **no**; none holds and none
   is contradicted: **inconclusive**; every part not comparable: **not comparable**;
@@ -35,22 +39,36 @@ HOLDS = "holds"
 CONTRADICTED = "contradicted"
 INCONCLUSIVE = "inconclusive"
 NOT_COMPARABLE = "not comparable"
-PART_VERDICTS = (HOLDS, CONTRADICTED, INCONCLUSIVE, NOT_COMPARABLE)
 
 #: Verdicts of a claim ("n/a": not computed, or not a claim of the papers).
 YES, NO, PARTLY, NA = "yes", "no", "partly", "n/a"
 CLAIM_VERDICTS = (YES, PARTLY, NO, INCONCLUSIVE, NOT_COMPARABLE, NA)
 
-#: The legend printed under every claims table.
-LEGEND = (
-    "How a verdict is decided: each claim is split into parts; a part is checked against a "
-    "threshold with a 95 % interval (a cluster bootstrap that resamples movements and, "
-    "within them, motions, so pairs sharing a motion move together). A part holds when its "
-    "whole interval clears the threshold, is contradicted when the whole interval fails it, "
-    "and is inconclusive when the interval straddles it; not comparable when our data cannot "
-    "test it. A claim is yes when every part holds, no when none holds and one is "
-    "contradicted, inconclusive when none holds and none is contradicted, partly otherwise."
+ON_THRESHOLD = "on the threshold"
+PART_VERDICTS = (HOLDS, CONTRADICTED, INCONCLUSIVE, NOT_COMPARABLE, ON_THRESHOLD)
+
+#: The whole rule, printed under every claims table (README, ARTIFACT, book, figures/).
+RULE = (
+    "How a verdict is decided. A claim is split into parts: the statements its words make, "
+    "no more. A part is a check, or checks joined by all-of, any-of and not (Kleene's "
+    "three-valued logic). A check compares one estimate with one threshold. With a 95 % "
+    "interval (a cluster bootstrap: movements resampled within each dataset, then motions "
+    "within each movement; pairs sharing a motion move together) it holds when the whole "
+    "interval clears the threshold, is contradicted when the whole interval fails it, and is "
+    "inconclusive when the interval straddles it. A point check (timings, the OPW poster's "
+    "deterministic protocol: no resampling) is decided by its value alone. Ties: a strict "
+    "check ('above', 'below') counts a value equal to the threshold as failing; an 'at "
+    "least' / 'at most' check counts it as clearing. A value that could not be computed is "
+    "inconclusive. A part is not comparable when our data cannot test it (the reason is "
+    "given). Every part decided on resampled pairs is decided again with a second seed; "
+    "where the seeds disagree it is 'on the threshold', counted as inconclusive. A claim is "
+    "yes when every part holds; no when none holds and at least one is contradicted; "
+    "inconclusive when none holds and none is contradicted; not comparable when every part "
+    "is; partly otherwise (some parts hold, others do not: the reason names them). Claims "
+    "that could not be computed, and runs beyond the papers, are n/a."
 )
+#: Kept for the callers of the old name.
+LEGEND = RULE
 
 _FLIP = {HOLDS: CONTRADICTED, CONTRADICTED: HOLDS, INCONCLUSIVE: INCONCLUSIVE}
 
@@ -85,6 +103,9 @@ class Check:
         Show a sign (differences).
     strict : bool
         True: "above" means ``> threshold``; False: ``>= threshold`` ("at least").
+    low_se, high_se : float
+        Monte Carlo standard errors of the interval ends (batch means over the bootstrap
+        replicates; NaN when not estimated).
     """
 
     quantity: str
@@ -97,6 +118,8 @@ class Check:
     digits: int = 3
     signed: bool = False
     strict: bool = True
+    low_se: float = float("nan")
+    high_se: float = float("nan")
 
     @property
     def bounds(self) -> tuple[float, float]:
@@ -117,6 +140,17 @@ class Check:
         else:
             ok, bad = (hi < t, lo >= t) if self.strict else (hi <= t, lo > t)
         return HOLDS if ok else CONTRADICTED if bad else INCONCLUSIVE
+
+    def mc_margin(self) -> float:
+        """How many Monte Carlo standard errors the nearer interval end lies from the
+        threshold (inf without an interval or without an error estimate)."""
+        if not self.interval:
+            return float("inf")
+        out = float("inf")
+        for end, se in ((self.low, self.low_se), (self.high, self.high_se)):
+            if math.isfinite(end) and math.isfinite(se) and se > 0:
+                out = min(out, abs(end - self.threshold) / se)
+        return out
 
     def describe(self) -> str:
         """``"median deviation of Mc w20, frames 13.5 [12.1, 14.9] < 18"``.
@@ -219,6 +253,78 @@ def checks(node) -> list[Check]:
     if isinstance(node, Not):
         return checks(node.item)
     return [c for x in node.items for c in checks(x)]
+
+
+def formula(node) -> str:
+    """The formula as text, its checks numbered in the order of :func:`checks` from 1.
+
+    ``formula(AllOf(a, Not(b)))`` -> ``"all(c1, not(c2))"``; a single check -> ``"c1"``.
+    :func:`parse_formula` reads it back.
+    """
+    count = iter(range(1, 1 << 30))
+
+    def text(x):
+        if isinstance(x, Check):
+            return f"c{next(count)}"
+        if isinstance(x, Not):
+            return f"not({text(x.item)})"
+        word = "all" if isinstance(x, AllOf) else "any"
+        return f"{word}({', '.join(text(i) for i in x.items)})"
+
+    return text(node)
+
+
+def parse_formula(text: str, checks_by_number: dict):
+    """The formula of :func:`formula` back as objects.
+
+    Parameters
+    ----------
+    text : str
+        ``"all(c1, not(c2))"``.
+    checks_by_number : dict of int to Check
+
+    Raises
+    ------
+    ValueError
+        Text that is not a formula, or a check number not given.
+    """
+    import re
+
+    tokens = re.findall(r"all\(|any\(|not\(|c\d+|,|\)|\S", text)
+    pos = 0
+
+    def take():
+        nonlocal pos
+        if pos >= len(tokens):
+            raise ValueError(f"formula {text!r} ends early")
+        pos += 1
+        return tokens[pos - 1]
+
+    def node():
+        tok = take()
+        if tok.startswith("c") and tok[1:].isdigit():
+            k = int(tok[1:])
+            if k not in checks_by_number:
+                raise ValueError(f"formula {text!r} names check {k}, which is not given")
+            return checks_by_number[k]
+        if tok == "not(":
+            inner = node()
+            if take() != ")":
+                raise ValueError(f"formula {text!r}: not(...) takes one item")
+            return Not(inner)
+        if tok in ("all(", "any("):
+            items = [node()]
+            while (sep := take()) == ",":
+                items.append(node())
+            if sep != ")":
+                raise ValueError(f"formula {text!r}: expected ',' or ')', got {sep!r}")
+            return AllOf(*items) if tok == "all(" else AnyOf(*items)
+        raise ValueError(f"formula {text!r}: unexpected {tok!r}")
+
+    out = node()
+    if pos != len(tokens):
+        raise ValueError(f"formula {text!r}: text after the end")
+    return out
 
 
 @dataclass(frozen=True)
@@ -340,10 +446,14 @@ __all__ = [
     "Not",
     "Part",
     "PartResult",
+    "ON_THRESHOLD",
+    "RULE",
     "checks",
     "claim_reason",
     "claim_verdict",
     "evaluate",
     "evidence",
+    "formula",
+    "parse_formula",
     "part_label",
 ]
