@@ -189,7 +189,7 @@ $(SMOKE_DIR)/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(
 
 # the smoke book: the site of the smoke notebooks, which the browser test opens
 smoke-book: $(SMOKE_BOOK)
-$(SMOKE_BOOK): $(SMOKE_NBS) fpdtw/paper/book.py
+$(SMOKE_BOOK): $(SMOKE_NBS) fpdtw/paper/book.py docs/history.md
 	$(SMOKE_ENV) $(PY) -m fpdtw.paper.book --mode smoke --notebooks $(SMOKE_DIR) --out $(@D)
 
 bench: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP)
@@ -280,7 +280,7 @@ $(patsubst %,$(SMOKE_DIR)/%.ipynb,$(CLAIM_NBS)): $(SMOKE_DIR)/grids/smoke.done \
 # executed again) with the claims table, the data used and missing and how to rerun on its
 # front page (fpdtw.paper.book: Sphinx + MyST-NB); open build/book/index.html
 book: $(BOOK)
-$(BOOK): $(EXECUTED) figures/ENVIRONMENT.md fpdtw/paper/book.py
+$(BOOK): $(EXECUTED) figures/ENVIRONMENT.md fpdtw/paper/book.py docs/history.md
 	$(PY) -m fpdtw.paper.book --mode full --notebooks build/notebooks --out $(@D)
 
 # the book in headless Chromium (Debian's chromium and chromium-driver, through Selenium):

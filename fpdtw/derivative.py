@@ -2,9 +2,10 @@
 
 The OPW poster's conclusion suggests Keogh and Pazzani's derivative DTW (DDTW, SDM 2001):
 the cost on the frame-to-frame differences of the two series instead of their values. DDTW
-runs DTW UNCHANGED on the derivative estimates of both series. The reading here, fixed before
-any result was looked at: ``"<method> (derivative)"`` runs the method unchanged on the
-derivative motions of both the input and the target stream.
+runs DTW UNCHANGED on the derivative estimates of both series. The reading here (committed
+in d1a2385, 2026-11-23, before Q5's first results in 97738ec; docs/history.md):
+``"<method> (derivative)"`` runs the method unchanged on the derivative motions of both the
+input and the target stream.
 
 Rotations
     per cost joint, the backward difference ``q'_t = q_t conj(q_{t-1})``: the rotation that

@@ -2,8 +2,8 @@
 
 The OPW poster's conclusion warns that its method "may not work consistently if there are
 periods of standing still". To measure that on the FP-DTW pairs, a pause is inserted in the
-TARGET (the live take), the input left unchanged. The rule, fixed before any result was
-looked at:
+TARGET (the live take), the input left unchanged. The rule (committed in cbb3316,
+2026-11-23, before Q6's first results in cfc7b1d, and unchanged since; docs/history.md):
 
 * where: a frame ``a`` drawn uniformly from the middle 60 % of the target's frames,
   ``a`` in ``[ceil(0.2 (F - 1)), floor(0.8 (F - 1))]``;

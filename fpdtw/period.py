@@ -2,8 +2,8 @@
 
 The FP-DTW paper's conclusion suggests "restricting the size of the forecast window to less
 than half the period of the movement cycle". The recorded input is known in advance, so its
-period can be estimated before the live take starts. The rule, fixed before any result was
-looked at (never retuned):
+period can be estimated before the live take starts. The rule (committed in cbb3316,
+2026-11-23, before Q1's first results in cfc7b1d, and unchanged since; docs/history.md):
 
 * the joint trajectories of the input (:func:`fpdtw.metrics.joint_trajectories` of its
   cost joints: 8 joints x 3 axes = 24 series), each with its mean removed; the biased

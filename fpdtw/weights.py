@@ -1,7 +1,8 @@
 """Per-joint weights of eq. 1 from the recorded motion (an open question, notebook 16).
 
 FP-DTW's conclusion suggests pre-processing the recorded motion to weight its joints. The
-rule here was fixed before any result and is not tuned: each joint's weight is
+rule here (committed in 0b05346, 2026-11-23, before Q2's first results in 97738ec, and
+unchanged since; docs/history.md): each joint's weight is
 proportional to how far it turns over the whole INPUT ``I`` (known in advance), measured
 with eq. 1's own per-joint angle on the cost features' quaternions ``I.quats``.
 """

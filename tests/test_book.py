@@ -170,9 +170,35 @@ def test_front_page_holds_every_claim_the_data_and_how_to_rerun(tmp_path):
     assert "notebooks/06_fig5_fig6_scores\n" in text  # in the toctree
     assert "notebooks/05_run_experiments\n" not in text  # not executed: no page
     assert "smoke" not in text.split("## The claims")[0]
+    assert "(history.md)" not in text and "\nhistory\n" not in text  # no page: no link
     smoke = book.front_page(None, pages, tmp_path / "none", mode="smoke")
     assert "smoke-banner" in smoke and "No claims table yet" in smoke
     assert "No data summary yet" in smoke
+
+
+def test_front_page_links_how_this_analysis_was_made(tmp_path):
+    pages = book.book_pages(tmp_path)
+    text = book.front_page(_claim_rows(), pages, tmp_path, mode="full", history=True)
+    intro, claims_part = text.split("## The claims, checked")[:2]
+    assert book.HISTORY_LINK == "[How this analysis was made](history.md)"
+    assert book.HISTORY_LINK in intro  # above the claims
+    assert book.HISTORY_LINK in claims_part.split("{.claims}")[0]  # where the rules are named
+    assert "never tuned" not in text and "fixed before" not in text
+    assert "```{toctree}\n:hidden:\n:caption: About\n\nhistory\n```" in text
+
+
+def test_the_source_holds_the_history_page(tmp_path):
+    nbs, figs = tmp_path / "nbs", tmp_path / "figs"
+    figs.mkdir()
+    _notebook(nbs / "02_fig1_oedtw.ipynb", title="02 · Figure 1")
+    src = tmp_path / "src"
+    book.write_source(src, nbs, figs, tmp_path / "none.json")  # the repository's page
+    assert (src / "history.md").read_bytes() == book.HISTORY.read_bytes()
+    assert book.HISTORY == book.REPO_ROOT / "docs" / "history.md"
+    assert book.HISTORY_LINK in (src / "index.md").read_text(encoding="utf-8")
+    book.write_source(src, nbs, figs, tmp_path / "none.json", history=None)
+    assert not (src / "history.md").exists()  # left from the earlier build: removed
+    assert "(history.md)" not in (src / "index.md").read_text(encoding="utf-8")
 
 
 def test_what_the_manifests_say_is_not_obtainable():
@@ -236,8 +262,12 @@ def test_build_shows_stored_outputs_without_running_or_fetching_anything(tmp_pat
     info = book.build(out, nbs, figs, claims_json, mode="smoke")
     assert info["index"] == out / "index.html" and info["index"].is_file()
     assert info["notebooks"] == 2
-    # index, figures, two notebooks, genindex, search
-    assert info["pages"] == 6
+    # index, figures, history, two notebooks, genindex, search
+    assert info["pages"] == 7
+    src = out.with_name(out.name + "-src")
+    assert (src / "history.md").read_bytes() == book.HISTORY.read_bytes()
+    history = (out / "history.html").read_text()
+    assert "How this analysis was made" in history and "f88f748" in history
     assert (out / "screenshots" / "front.png").read_bytes() == b"kept"
     assert not (out / "stale.html").exists()
 
@@ -248,6 +278,7 @@ def test_build_shows_stored_outputs_without_running_or_fetching_anything(tmp_pat
     index = (out / "index.html").read_text()
     assert 'class="claims' in index and "holds-partly" in index
     assert 'href="notebooks/02_fig1_oedtw.html"' in index
+    assert 'href="history.html"' in index  # linked from the front page
     assert "smoke-banner" in index
     assert (out / "figures.html").is_file()
     # nothing is loaded from another host: every src and stylesheet is inside the site

@@ -84,6 +84,7 @@ def test_every_notebook_has_a_page_reached_from_the_front_page(smoke_report):
         assert smoke_report.pages[page].images >= _image_outputs(SMOKE_NOTEBOOKS / f"{stem}.ipynb")
         assert smoke_report.pages[page].title.startswith(stem[:2])
     assert "figures.html" in reached and smoke_report.pages["figures.html"].images >= 20
+    assert "history.html" in reached  # How this analysis was made
 
 
 def test_the_claims_table_has_every_claim_linked_to_its_notebook(smoke_report):

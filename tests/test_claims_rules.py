@@ -1,7 +1,7 @@
 """The verdict rules (fpdtw.paper.claims.rules) and the cluster bootstrap, on invented data.
 
-Every rule is shown able to give every verdict, on numbers made up for the purpose: the
-rules were fixed before looking at which verdict they give on our results.
+Every rule is shown able to give every verdict, on numbers made up for the purpose. When
+the rules were chosen, and which results had been seen by then: docs/history.md.
 """
 
 from __future__ import annotations

@@ -1,7 +1,8 @@
 """OPW with gamma adapted by a feedback loop on its own decisions ("OPW adaptive").
 
 The OPW poster's conclusion suggests adjusting gamma "by a feedback loop measuring the
-alignment as it is built". The rule, fixed before any result was looked at (never retuned):
+alignment as it is built". The rule (committed in 64f220a, 2026-11-23, before Q4's first
+results in 81545c1, and unchanged since; docs/history.md):
 gamma starts at :data:`GAMMA_START` (5 %, the poster's); after each OPW decision ``s``
 (direction ``s - 1``: -1 slow the recording down, 0 keep, +1 speed it up):
 

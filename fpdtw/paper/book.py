@@ -23,6 +23,10 @@ figure map (:mod:`fpdtw.paper.figure_map`), the claims JSON of notebook 12
 ``figures.md``
     Every figure (PNG, GIF) by notebook, with its PDF and the tables (CSV, Markdown) as
     downloads (:func:`figures_page`).
+``history.md``
+    *How this analysis was made*, a copy of the repository's ``docs/history.md``
+    (:data:`HISTORY`): when each analysis default and verdict rule was chosen, and which
+    results had been committed by then. The front page links it.
 ``notebooks/<stem>.ipynb``
     The executed notebooks, one page each, in the order of their numbers.
 ``conf.py``, ``_static/book.css``
@@ -56,6 +60,11 @@ DOWNLOAD_SUFFIXES = (".pdf", ".csv", ".md")
 #: Tables of at most this many Markdown lines are shown on the figures page (all are
 #: downloads).
 TABLE_MAX_LINES = 40
+#: The page "How this analysis was made" (MyST Markdown), copied into the book as
+#: ``history.md``.
+HISTORY = REPO_ROOT / "docs" / "history.md"
+#: The front page's link to it.
+HISTORY_LINK = "[How this analysis was made](history.md)"
 
 _CSS = """\
 /* fpdtw book: the claims table and the verdicts */
@@ -219,7 +228,7 @@ def _read_csv(path) -> list[dict] | None:
         return list(csv.DictReader(f))
 
 
-def claims_section(claims: list[dict] | None, pages: list[Page]) -> str:
+def claims_section(claims: list[dict] | None, pages: list[Page], history: bool = False) -> str:
     """The front page's claims table (MyST Markdown).
 
     Parameters
@@ -228,6 +237,8 @@ def claims_section(claims: list[dict] | None, pages: list[Page]) -> str:
         Rows of ``results/<mode>/claims.json`` (:data:`fpdtw.paper.claims.COLUMNS`); None
         when notebook 12 has not written them.
     pages : list of Page
+    history : bool
+        The book has the page :data:`HISTORY`: say where the rules' dates are.
     """
     out = ["## The claims, checked", ""]
     if not claims:
@@ -238,9 +249,14 @@ def claims_section(claims: list[dict] | None, pages: list[Page]) -> str:
     counts = {v: sum(1 for r in claims if r.get("holds") == v) for v in HOLDS}
     extra = sum(1 for r in claims if r.get("holds") not in HOLDS)
     summary = ", ".join(f"{_holds(v)} {counts[v]}" for v in HOLDS if counts[v])
+    when = ""
+    if history:
+        when = f" (when each rule was chosen, and what had been seen by then: {HISTORY_LINK})"
     out += [
         f"{len(claims)} claims of the FP-DTW paper and the OPW poster, each split into parts "
-        "and decided by rules fixed in `fpdtw.paper.claims` (never tuned to the results): "
+        "and decided by the rules in `fpdtw.paper.claims`"
+        + when
+        + ": "
         + summary
         + (f", other {extra}" if extra else "")
         + ".",
@@ -451,6 +467,7 @@ def front_page(
     figures_dir,
     mode: str = "full",
     built_from: str | None = None,
+    history: bool = False,
 ) -> str:
     """The book's front page, ``index.md`` (MyST Markdown).
 
@@ -465,6 +482,9 @@ def front_page(
         ``"smoke"`` says at the top that the numbers come from the short smoke runs.
     built_from : str, optional
         A line on what made it (versions, commit).
+    history : bool
+        The book has the page :data:`HISTORY` (``history.md``): link it and list it in the
+        contents.
     """
     title = "FP-DTW and OPW, reproduced" + (" (smoke run)" if mode == "smoke" else "")
     # no right-hand contents column on the front page: the claims table needs the width
@@ -483,14 +503,22 @@ def front_page(
         "it ran, outputs included.",
         "",
     ]
+    if history:
+        out += [
+            f"{HISTORY_LINK}: when each analysis default and verdict rule was chosen, and "
+            "which results had been seen by then.",
+            "",
+        ]
     if built_from:
         out += [f"*Built from* {built_from}.", ""]
     out += [
-        claims_section(claims, pages),
+        claims_section(claims, pages, history),
         data_section(figures_dir),
         RERUN,
         notebooks_section(pages),
     ]
+    if history:
+        out += ["```{toctree}", ":hidden:", ":caption: About", "", "history", "```", ""]
     return "\n".join(out)
 
 
@@ -663,6 +691,7 @@ def write_source(
     claims_path,
     mode: str = "full",
     built_from: str | None = None,
+    history=HISTORY,
 ) -> list[Page]:
     """Write the book's Sphinx source folder (files unchanged since the last build are kept).
 
@@ -677,6 +706,9 @@ def write_source(
     mode : {"full", "smoke"}
     built_from : str, optional
         Shown on the front page.
+    history : str or Path or None
+        The page "How this analysis was made" (default :data:`HISTORY`), copied as
+        ``history.md`` and linked from the front page; left out when None or missing.
 
     Returns
     -------
@@ -686,10 +718,16 @@ def write_source(
     pages = book_pages(notebooks_dir)
     claims = load_claims(claims_path)
     wanted = {"conf.py", "index.md", "figures.md", "_static/book.css", "_static/favicon.svg"}
+    has_history = history is not None and Path(history).is_file()
     _write_if_changed(src / "conf.py", sphinx_conf(mode))
     _write_if_changed(src / "_static" / "book.css", _CSS)
     _write_if_changed(src / "_static" / "favicon.svg", _FAVICON)
-    _write_if_changed(src / "index.md", front_page(claims, pages, figures_dir, mode, built_from))
+    _write_if_changed(
+        src / "index.md", front_page(claims, pages, figures_dir, mode, built_from, has_history)
+    )
+    if has_history:
+        _copy_if_changed(Path(history), src / "history.md")
+        wanted.add("history.md")
     _write_if_changed(src / "figures.md", figures_page(pages, figures_dir))
     for p in pages:
         if p.executed:

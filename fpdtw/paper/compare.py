@@ -10,7 +10,8 @@ here. The claims of ``figures/claims.md`` are printed by
 Every function returns rows with the keys :data:`COLUMNS`. ``holds`` is:
 
 * ``"yes"`` / ``"no"`` (``"partly"`` where a row bundles several checks): by the rule the
-  function's docstring states, fixed here and not tuned to the results;
+  function's docstring states (written after the first full-run figures had been
+  committed; docs/history.md);
 * ``"-"``: the paper gives the value but claims nothing about it that ours could confirm
   (e.g. UTW's median similarity, a time per frame): the two are shown side by side only.
 

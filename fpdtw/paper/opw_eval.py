@@ -129,7 +129,8 @@ class OPWMotion:
     dataset, path : str
         Where it is in the catalog.
     why : str
-        Why it was chosen (the rule, stated before any result was seen).
+        Why it was chosen (the rule, committed with the clips in 4d74569 before any OPW
+        result was in the repository; docs/history.md).
     """
 
     label: str
@@ -141,7 +142,8 @@ class OPWMotion:
 #: Fig. 4's three motions. Only the hand shake is the poster's own source (CMU 18_01,
 #: subject A; B is A warped, so one partner suffices). The CMU conversation (18_08/18_09)
 #: and arm-wrestle (22_17) takes are not obtainable here; the stand-ins follow a rule
-#: fixed before running anything: an upper-body, non-contact gesture clip of at least
+#: committed with them in 4d74569 (2026-11-21), before any OPW result was in the
+#: repository (docs/history.md): an upper-body, non-contact gesture clip of at least
 #: 2.5 s, and a clip of sustained two-arm work in place.
 FIG4_MOTIONS = (
     OPWMotion(

@@ -5,8 +5,10 @@ a claim of the papers but a statement about a variant they suggest, decided by t
 (:mod:`fpdtw.paper.claims.rules`: a variant holds when its 95 % interval clears the
 benchmark it is asked to clear) on the results of the runner's mode ``"open"``
 (``"smoke-open"`` for SMOKE), a seeded subsample of the paper-shaped selection
-(:data:`fpdtw.paper.runner.selection.SELECTIONS`). The parts, fixed before any result was
-looked at:
+(:data:`fpdtw.paper.runner.selection.SELECTIONS`). The parts, each committed with its
+question's rule before that question's first committed results (Q1, Q6: cbb3316; Q3:
+8914ef2; Q4: 64f220a; Q2: 0b05346; Q5: d1a2385; all 2026-11-23, after the papers' claims
+tables had been committed; docs/history.md):
 
 Q1 (Method C's window from the input's period, ``"Mc auto"``, :mod:`fpdtw.period`)
     (a), (b) at 120 and at 60 Hz Mc auto passes both benchmarks

@@ -3,8 +3,10 @@
 A claim of a paper is split into **parts**, each an atomic statement that can be tested
 ("Mc w40 passes a benchmark"; "no other unconstrained FP-DTW algorithm passes one"). A part
 is a small logical formula of **checks**; a check is one number (with its 95 % interval)
-against one threshold. The rules are :data:`RULE` (printed under every claims table); when
-each was chosen and what had been seen by then is in ``docs/history.md``.
+against one threshold. The rules are :data:`RULE` (printed under every claims table). They
+were chosen in f88f748 (2026-11-23), after the claims tables of the first full runs had been
+committed, and extended on 2026-11-24 (the second seed, the rule text in full) after a
+reviewer's reading of those tables; ``docs/history.md`` says which results had been seen:
 
 * a :class:`Check` that says "estimate above threshold" **holds** when its whole interval
   lies above the threshold, is **contradicted** when its whole interval lies at or below

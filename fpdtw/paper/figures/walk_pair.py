@@ -5,7 +5,9 @@ Mc w20, Mc w40 and Mc w80, unconstrained, and shows (a) the paths over the heat 
 DTW's accumulated cost, (b) the right hip's motion curves, target on top and each aligned
 input below, (c) poses in side elevation at a few target frames. We use the authors' own
 walk pair ``Walk_01 -> Walk_02`` (input -> target), the paper's "walking" example type,
-chosen before looking at any result; the same pair draws Figs. 1, 2 and 4.
+chosen in 578ff6e (2026-11-21) with the notebooks that draw these figures, before any
+alignment figure or claims table was committed (docs/history.md); the same pair draws
+Figs. 1, 2 and 4.
 """
 
 from __future__ import annotations
