@@ -83,6 +83,23 @@ def _motion_arrays(record, crop) -> dict:
     return out
 
 
+def _plan(results) -> tuple:
+    """The run's pair selection, ``(input, target)`` motion indices of each of its pairs
+    (``results.pairs`` order) and its crop."""
+    selection = Selection(
+        **{k: tuple(v) if isinstance(v, list) else v for k, v in results.selection.items()}
+    )
+    plan = pair_selection(selection)
+    by_id = {p["id"]: (p["input_index"], p["target_index"]) for p in plan.pairs}
+    return plan, [by_id[int(p["id"])] for p in results.pairs], selection.crop_seconds
+
+
+def _score(r: Reading, I: dict, T: dict, M) -> float:
+    """Eq. 2 of one map under reading ``r`` (``I``, ``T``: :func:`_motion_arrays`)."""
+    axis = (I["bone"], T["bone"]) if r.axis == "bone" else "y"
+    return similarity(I[r.frame], T[r.frame], M, tau=r.tau, flat=r.flat, skip=r.skip, axis=axis)
+
+
 def pair_arrays(results, k: int) -> tuple:
     """The rotations (each frame) and bone directions of pair k's input and target.
 
@@ -103,15 +120,8 @@ def pair_arrays(results, k: int) -> tuple:
 
     Notebook: 17_similarity_level.ipynb
     """
-    selection = Selection(
-        **{k_: tuple(v) if isinstance(v, list) else v for k_, v in results.selection.items()}
-    )
-    plan = pair_selection(selection)
-    pair = next(p for p in plan.pairs if p["id"] == int(results.pairs[k]["id"]))
-    crop = selection.crop_seconds
-    return tuple(
-        _motion_arrays(plan.motions[pair[f"{w}_index"]], crop) for w in ("input", "target")
-    )
+    plan, index, crop = _plan(results)
+    return tuple(_motion_arrays(plan.motions[i], crop) for i in index[k])
 
 
 def rescore(results, readings=READINGS, algorithms=LEVEL_ALGORITHMS, progress=True) -> dict:
@@ -143,31 +153,21 @@ def rescore(results, readings=READINGS, algorithms=LEVEL_ALGORITHMS, progress=Tr
     """
     from tqdm.auto import tqdm
 
-    selection = Selection(
-        **{k: tuple(v) if isinstance(v, list) else v for k, v in results.selection.items()}
-    )
-    plan = pair_selection(selection)
-    by_id = {p["id"]: (p["input_index"], p["target_index"]) for p in plan.pairs}
-    ids = [int(p["id"]) for p in results.pairs]
-    used = sorted({i for k in ids for i in by_id[k]})
-    crop = selection.crop_seconds
+    plan, index, crop = _plan(results)
+    used = sorted({i for pair in index for i in pair})
     arrays = {
         i: _motion_arrays(plan.motions[i], crop)
         for i in tqdm(used, desc="motions", disable=not progress)
     }
     stored = {a: results.get(a) for a in algorithms}
-    P = len(ids)
+    P = len(index)
     scores = {r.name: {a: np.full(P, np.nan) for a in algorithms} for r in readings}
     for k in tqdm(range(P), desc="pairs", disable=not progress):
-        I, T = (arrays[i] for i in by_id[ids[k]])
+        I, T = (arrays[i] for i in index[k])
         for a in algorithms:
-            off = np.asarray(stored[a]["offsets"])
-            M = np.asarray(stored[a]["maps"][off[k] : off[k + 1]], dtype=np.int64)
+            M = np.asarray(stored[a].map(k), dtype=np.int64)
             for r in readings:
-                axis = (I["bone"], T["bone"]) if r.axis == "bone" else "y"
-                scores[r.name][a][k] = similarity(
-                    I[r.frame], T[r.frame], M, tau=r.tau, flat=r.flat, skip=r.skip, axis=axis
-                )
+                scores[r.name][a][k] = _score(r, I, T, M)
     if "ours" in scores:
         for a in algorithms:
             want = np.asarray(stored[a]["similarity"], dtype=np.float64)
