@@ -11,11 +11,18 @@ The motions are loaded again from the catalog (resampled to 120 Hz and cropped a
 did) because the global and root-relative frames and the bone directions need the whole
 skeleton, which the run's feature cache does not keep; the local rotations so obtained are
 checked equal to the cache's reading (the ``ours`` row reproduces the run's stored scores).
+
+:func:`reading_values` rescores EVERY algorithm of a run (both rates, lazily, cached on
+disk) under one reading, as the per-pair ``values`` of
+:class:`fpdtw.paper.claims.evidence.Evidence`: the claims can then be read under it.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import hashlib
+import io
+import json
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
@@ -25,8 +32,12 @@ from fpdtw.motion.rig import TRAJECTORY_FRAMES, bone_directions, trajectory_rota
 from fpdtw.online.window import SMOOTHING
 from fpdtw.paper import catalog
 from fpdtw.paper import numbers as N
+from fpdtw.paper.atomic import write_atomic
+from fpdtw.paper.runner.grid import split_transform
+from fpdtw.paper.runner.results import slug
 from fpdtw.paper.runner.run import BASE_FPS
 from fpdtw.paper.runner.selection import Selection, pair_selection
+from fpdtw.pause import hold_frames, pause_plan, pause_seed
 
 #: Algorithms of the table (the paper's Table 1 gives UTW and Mc w40 at 120 Hz).
 LEVEL_ALGORITHMS = ("UTW", "DTW", "Mc w40")
@@ -71,16 +82,37 @@ READINGS = (
 )
 
 
-def _motion_arrays(record, crop) -> dict:
-    """Rotations of the paper's joints in each frame and the bone directions of one motion."""
+def _motion_arrays(record, crop, fps=BASE_FPS, frames=TRAJECTORY_FRAMES) -> dict:
+    """Rotations of the paper's joints in some frames, the bone directions and the name of
+    one motion, resampled and cropped as the run did (120 Hz, crop, then ``fps``)."""
     motion = catalog.load(record)
     if abs(motion.fps - BASE_FPS) > 1e-6:
         motion = motion.resample(BASE_FPS)
     if crop is not None:
         motion = motion.crop(0.0, crop)
-    out = {f: trajectory_rotations(motion, f, PAPER_JOINTS) for f in TRAJECTORY_FRAMES}
+    if fps != BASE_FPS:
+        motion = motion.resample(fps)
+    out = {f: trajectory_rotations(motion, f, PAPER_JOINTS) for f in frames}
     out["bone"] = bone_directions(motion, PAPER_JOINTS)
+    out["name"] = motion.name
     return out
+
+
+def _plan(results) -> tuple:
+    """The run's pair selection, ``(input, target)`` motion indices of each of its pairs
+    (``results.pairs`` order) and its crop."""
+    selection = Selection(
+        **{k: tuple(v) if isinstance(v, list) else v for k, v in results.selection.items()}
+    )
+    plan = pair_selection(selection)
+    by_id = {p["id"]: (p["input_index"], p["target_index"]) for p in plan.pairs}
+    return plan, [by_id[int(p["id"])] for p in results.pairs], selection.crop_seconds
+
+
+def _score(r: Reading, I: dict, T: dict, M) -> float:
+    """Eq. 2 of one map under reading ``r`` (``I``, ``T``: :func:`_motion_arrays`)."""
+    axis = (I["bone"], T["bone"]) if r.axis == "bone" else "y"
+    return similarity(I[r.frame], T[r.frame], M, tau=r.tau, flat=r.flat, skip=r.skip, axis=axis)
 
 
 def pair_arrays(results, k: int) -> tuple:
@@ -103,15 +135,8 @@ def pair_arrays(results, k: int) -> tuple:
 
     Notebook: 17_similarity_level.ipynb
     """
-    selection = Selection(
-        **{k_: tuple(v) if isinstance(v, list) else v for k_, v in results.selection.items()}
-    )
-    plan = pair_selection(selection)
-    pair = next(p for p in plan.pairs if p["id"] == int(results.pairs[k]["id"]))
-    crop = selection.crop_seconds
-    return tuple(
-        _motion_arrays(plan.motions[pair[f"{w}_index"]], crop) for w in ("input", "target")
-    )
+    plan, index, crop = _plan(results)
+    return tuple(_motion_arrays(plan.motions[i], crop) for i in index[k])
 
 
 def rescore(results, readings=READINGS, algorithms=LEVEL_ALGORITHMS, progress=True) -> dict:
@@ -143,31 +168,21 @@ def rescore(results, readings=READINGS, algorithms=LEVEL_ALGORITHMS, progress=Tr
     """
     from tqdm.auto import tqdm
 
-    selection = Selection(
-        **{k: tuple(v) if isinstance(v, list) else v for k, v in results.selection.items()}
-    )
-    plan = pair_selection(selection)
-    by_id = {p["id"]: (p["input_index"], p["target_index"]) for p in plan.pairs}
-    ids = [int(p["id"]) for p in results.pairs]
-    used = sorted({i for k in ids for i in by_id[k]})
-    crop = selection.crop_seconds
+    plan, index, crop = _plan(results)
+    used = sorted({i for pair in index for i in pair})
     arrays = {
         i: _motion_arrays(plan.motions[i], crop)
         for i in tqdm(used, desc="motions", disable=not progress)
     }
     stored = {a: results.get(a) for a in algorithms}
-    P = len(ids)
+    P = len(index)
     scores = {r.name: {a: np.full(P, np.nan) for a in algorithms} for r in readings}
     for k in tqdm(range(P), desc="pairs", disable=not progress):
-        I, T = (arrays[i] for i in by_id[ids[k]])
+        I, T = (arrays[i] for i in index[k])
         for a in algorithms:
-            off = np.asarray(stored[a]["offsets"])
-            M = np.asarray(stored[a]["maps"][off[k] : off[k + 1]], dtype=np.int64)
+            M = np.asarray(stored[a].map(k), dtype=np.int64)
             for r in readings:
-                axis = (I["bone"], T["bone"]) if r.axis == "bone" else "y"
-                scores[r.name][a][k] = similarity(
-                    I[r.frame], T[r.frame], M, tau=r.tau, flat=r.flat, skip=r.skip, axis=axis
-                )
+                scores[r.name][a][k] = _score(r, I, T, M)
     if "ours" in scores:
         for a in algorithms:
             want = np.asarray(stored[a]["similarity"], dtype=np.float64)
@@ -177,6 +192,126 @@ def rescore(results, readings=READINGS, algorithms=LEVEL_ALGORITHMS, progress=Tr
                     "from the run's stored scores (other data or code than the run's)"
                 )
     return scores
+
+
+#: Bump when what :func:`reading_values` stores changes (it is part of every cache key).
+RESCORE_FORMAT = 1
+
+
+def _algorithm_scores(r: Reading, stored, arrays: dict, index: list, pause_fps=None):
+    """Eq. 2 of every stored map of one algorithm under reading ``r``.
+
+    ``arrays``: motion index -> :func:`_motion_arrays` at the algorithm's rate; ``index``:
+    ``(input, target)`` of each pair; ``pause_fps``: the rate, when the algorithm ran on
+    the targets with a pause inserted (the pause of :func:`fpdtw.pause.insert_pause`).
+    """
+    out = np.empty(len(index))
+    for k, (i, t) in enumerate(index):
+        T = arrays[t]
+        if pause_fps is not None:
+            at, length = pause_plan(T[r.frame].shape[0], pause_fps, pause_seed(T["name"]))
+            T = {**T, r.frame: hold_frames(T[r.frame], at, length)}
+        out[k] = _score(r, arrays[i], T, np.asarray(stored.map(k), dtype=np.int64))
+    return out
+
+
+def _npy_bytes(a: np.ndarray) -> bytes:
+    buf = io.BytesIO()
+    np.lib.format.write_array(buf, a, allow_pickle=False)
+    return buf.getvalue()
+
+
+def reading_values(results, reading: str = "transform", progress: bool = True):
+    """Per-pair eq. 2 of every algorithm of a run under one reading, for :class:`Evidence`.
+
+    The maps the run stored are rescored (no aligner runs again) on the motions loaded from
+    the catalog as the run loaded them (resampled to 120 Hz, cropped, then resampled to
+    60 Hz for the ``"@60Hz"`` names; a ``"@pause"`` name's targets get their pause). Each
+    motion is loaded once per rate, each algorithm rescored on its first request, and its
+    scores kept in ``results.folder / "rescored" / reading / f"{slug(name)}.{key}.npy"``,
+    where ``key`` (16 hex digits) is a sha256 of :data:`RESCORE_FORMAT`, the reading's
+    options, the name, the crop, the pair ids, the motions' data hashes and the stored
+    ``offsets`` and ``maps``: a changed run writes a new file (the old ones of that name
+    are removed) and never reads a stale one. Changes to the code that reads the motions
+    or computes eq. 2 are not in the key: bump :data:`RESCORE_FORMAT`.
+
+    Parameters
+    ----------
+    results : fpdtw.paper.runner.run.Results
+        A finished run (its result files are read; only ``rescored/`` is written).
+    reading : str
+        A name of :data:`READINGS` (``"ours"`` reproduces the stored scores).
+    progress : bool
+        tqdm bar over the motions loaded for each rate.
+
+    Returns
+    -------
+    values : callable
+        ``values(name, metric) -> ndarray of float64, shape (P,) or None``:
+        ``"similarity"``: eq. 2 of each pair of ``name`` in ``results.pairs`` order;
+        any other metric (``"deviation"``: eq. 3 does not depend on the reading): None.
+
+    Raises
+    ------
+    KeyError
+        An unknown reading, or (from ``values``) a name without results.
+    ValueError
+        (from ``values``) The stored pairs are not ``results.pairs`` in order.
+
+    Paper: FP-DTW eq. 2.
+    Notebook: 17_similarity_level.ipynb
+    """
+    from tqdm.auto import tqdm
+
+    by_name = {r.name: r for r in READINGS}
+    if reading not in by_name:
+        raise KeyError(f"unknown reading {reading!r}; have: {', '.join(by_name)}")
+    r = by_name[reading]
+    plan, index, crop = _plan(results)
+    used = sorted({i for pair in index for i in pair})
+    ids = np.array([int(p["id"]) for p in results.pairs], dtype=np.int64)
+    base = hashlib.sha256(
+        json.dumps(
+            [RESCORE_FORMAT, asdict(r), crop, [[plan.sha256[i] for i in p] for p in index]]
+        ).encode()
+        + ids.tobytes()
+    )
+    folder = results.folder / "rescored" / reading
+    motions, scores = {}, {}
+
+    def arrays(fps: float) -> dict:
+        if fps not in motions:
+            motions[fps] = {
+                i: _motion_arrays(plan.motions[i], crop, fps, frames=(r.frame,))
+                for i in tqdm(used, desc=f"motions at {fps:g} Hz", disable=not progress)
+            }
+        return motions[fps]
+
+    def compute(name: str) -> np.ndarray:
+        stored, fps = results.get(name), results.fps(name)
+        if not np.array_equal(np.asarray(stored["pair_id"], dtype=np.int64), ids):
+            raise ValueError(f"{results.folder}: the pairs of {name} are not the run's pairs")
+        h = base.copy()
+        for part in (name.encode(), stored["offsets"].tobytes(), stored["maps"].tobytes()):
+            h.update(part)
+        path = folder / f"{slug(name)}.{h.hexdigest()[:16]}.npy"
+        if path.is_file():
+            return np.load(path)
+        pause = fps if split_transform(name)[1] == "pause" else None
+        v = _algorithm_scores(r, stored, arrays(fps), index, pause)
+        for old in folder.glob(f"{slug(name)}.*.npy"):
+            old.unlink()
+        write_atomic(path, _npy_bytes(v))
+        return v
+
+    def values(name: str, metric: str):
+        if metric != "similarity":
+            return None
+        if name not in scores:
+            scores[name] = compute(name)
+        return scores[name]
+
+    return values
 
 
 def similarity_level_rows(results, scores=None, progress=True) -> list[dict]:
@@ -295,11 +430,13 @@ __all__ = [
     "NEAR",
     "PAPER_TABLE1",
     "READINGS",
+    "RESCORE_FORMAT",
     "Reading",
     "WARMUP_FRAMES",
     "closest_reading",
     "level_comparison",
     "pair_arrays",
+    "reading_values",
     "rescore",
     "similarity_level_rows",
 ]
