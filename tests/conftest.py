@@ -14,6 +14,10 @@ from pathlib import Path
 import pytest
 
 os.environ.setdefault("MPLBACKEND", "Agg")
+# The unit tests read runs with the stored reading of eq. 2 (fake runs have no motions to
+# rescore); the default reading ("transform") is tested on a real run in
+# tests/test_similarity_level.py, and the smoke notebooks (outside this folder) run with it.
+os.environ["FPDTW_EQ2"] = "local"
 
 
 def _no_network():

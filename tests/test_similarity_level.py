@@ -171,3 +171,25 @@ def test_eq2_sees_a_constant_axis_frame_by_hand():
     assert similarity(R, R, rev) == pytest.approx(-1 / 3)
     assert similarity(CRC, CRC, rev) == 1.0
     assert costs.geo_distance(CRC[0], CRC[-1]) == pytest.approx(costs.geo_distance(R[0], R[-1]))
+
+
+def test_results_score_eq2_under_the_default_reading_and_keep_the_other_switchable(
+    fresh_run, monkeypatch
+):
+    """Since 2026-11-24 a run's similarity is read under "transform" (docs/eq2_reading.md);
+    FPDTW_EQ2=local gives the stored scores; the maps and deviations are the same."""
+    monkeypatch.delenv("FPDTW_EQ2", raising=False)
+    default = Results(fresh_run.folder)
+    assert default.eq2 == "transform"
+    transform = SL.reading_values(fresh_run, "transform", progress=False)
+    for name in ("UTW", "Mc w10@60Hz"):
+        got = default.get(name)
+        np.testing.assert_array_equal(got["similarity"], transform(name, "similarity"))
+        np.testing.assert_array_equal(got["deviation"], default.stored(name)["deviation"])
+        np.testing.assert_array_equal(got.map(0), default.stored(name).map(0))
+    monkeypatch.setenv("FPDTW_EQ2", "local")
+    local = Results(fresh_run.folder)
+    assert local.get("UTW")["similarity"] is local.stored("UTW")["similarity"]
+    monkeypatch.setenv("FPDTW_EQ2", "sideways")
+    with pytest.raises(ValueError, match="FPDTW_EQ2='sideways': not a reading of eq. 2"):
+        Results(fresh_run.folder)

@@ -174,7 +174,7 @@ def rescore(results, readings=READINGS, algorithms=LEVEL_ALGORITHMS, progress=Tr
         i: _motion_arrays(plan.motions[i], crop)
         for i in tqdm(used, desc="motions", disable=not progress)
     }
-    stored = {a: results.get(a) for a in algorithms}
+    stored = {a: results.stored(a) for a in algorithms}
     P = len(index)
     scores = {r.name: {a: np.full(P, np.nan) for a in algorithms} for r in readings}
     for k in tqdm(range(P), desc="pairs", disable=not progress):
@@ -288,7 +288,7 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
         return motions[fps]
 
     def compute(name: str) -> np.ndarray:
-        stored, fps = results.get(name), results.fps(name)
+        stored, fps = results.stored(name), results.fps(name)
         if not np.array_equal(np.asarray(stored["pair_id"], dtype=np.int64), ids):
             raise ValueError(f"{results.folder}: the pairs of {name} are not the run's pairs")
         h = base.copy()

@@ -47,6 +47,7 @@ from fpdtw.paper.claims import rules as R
 from fpdtw.paper.claims.evidence import Evidence
 from fpdtw.paper.claims.rules import AllOf, Check, Not, Part
 from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES, TYPE_V, WINDOWS
+from fpdtw.paper.runner.results import EQ2_READINGS, STORED_EQ2
 
 #: Name of the Fig. 8 notebook's JSON under ``results/<mode>/figs/``.
 FIG8_JSON = "10_fig8_walk_pair.json"
@@ -59,12 +60,15 @@ DATASETS = ("authors_fbx", "hdm05")
 COLUMNS = ("id", "claim", "short", "paper", "ours", "holds", "reason", "interval",
            "holds_same_movements", "holds_authors_fbx", "holds_hdm05", "holds_paper_shaped",
            "robustness", "ours_literal", "holds_literal", "ours_plugin", "holds_plugin",
-           "holds_seed2", "evidence", "stable")  # fmt: skip
+           "holds_seed2", "eq2_other", "holds_eq2_other", "holds_eq2_other_authors_fbx",
+           "holds_eq2_other_hdm05", "holds_eq2_other_paper_shaped", "evidence",
+           "stable")  # fmt: skip
 #: Columns of the parts table (``claims_intervals.csv``).
 PART_COLUMNS = ("claim", "part", "text", "verdict", "formula", "checks", "quantity", "estimate",
                 "ci_low", "ci_high", "threshold", "mc_margin", "verdict_seed2",
                 "verdict_same_movements", "verdict_authors_fbx", "verdict_hdm05",
-                "verdict_paper_shaped", "verdict_literal", "verdict_plugin")  # fmt: skip
+                "verdict_paper_shaped", "verdict_literal", "verdict_plugin",
+                "verdict_eq2_other")  # fmt: skip
 #: Columns of the checks table (``claims_checks.csv``): every check behind every part, on
 #: every body of evidence (:data:`BODIES`).
 CHECK_COLUMNS = ("body", "claim", "part", "formula", "check", "quantity", "estimate", "low",
@@ -73,7 +77,11 @@ CHECK_COLUMNS = ("body", "claim", "part", "formula", "check", "quantity", "estim
 #: Every body of evidence a part is decided on: ``"all"`` (the headline), the second seed,
 #: the other bodies, Method C's literal window and OPW's plugin reading.
 BODIES = ("all", "seed2", "same_movements", "authors_fbx", "hdm05", "paper_shaped", "literal",
-          "plugin")  # fmt: skip
+          "plugin", "eq2_other", "eq2_other_authors_fbx", "eq2_other_hdm05",
+          "eq2_other_paper_shaped")  # fmt: skip
+#: The bodies under the other reading of eq. 2 (:func:`other_eq2`), as keys of
+#: :func:`claim_contexts`.
+EQ2_OTHER = ("eq2_other", "eq2_other_authors_fbx", "eq2_other_hdm05", "eq2_other_paper_shaped")
 #: The second bootstrap seed's offset from :data:`fpdtw.paper.claims.bootstrap.SEED`.
 SEED2_OFFSET = 1
 #: Method C's readings the claims table is evaluated under: column suffix -> reading.
@@ -1159,9 +1167,11 @@ def claim_contexts(ctx, results=None, mode="full") -> dict:
     }
     if ctx.ev is not None or ctx.open_ev is not None:
         out["seed2"] = replace(ctx, ev=_reseeded(ctx.ev), open_ev=_reseeded(ctx.open_ev))
+    out |= dict.fromkeys(EQ2_OTHER)
     ev = ctx.ev
     if ev is None:
         return out
+    other = _other_eq2_values(ev.results)
     out["same_movements"] = ctx.with_evidence(
         Evidence(
             ev.results,
@@ -1174,23 +1184,50 @@ def claim_contexts(ctx, results=None, mode="full") -> dict:
         )
     )
     ds = np.array([ev.results.pairs[r]["dataset"] for r in ev.rows])
+    if other is not None:
+        o = ev.reading(values=other, label=f"eq. 2 {other_eq2(ev.results)}")
+        out["eq2_other"] = ctx.with_evidence(o)
     for d in DATASETS:
         if np.any(ds == d):
             out[d] = ctx.with_evidence(ev.restrict(ds == d, d))
+            if other is not None:
+                out[f"eq2_other_{d}"] = ctx.with_evidence(o.restrict(ds == d, d))
     rows = paper_shaped_rows(ev.results, mode) if results is not None else None
     if rows is not None and rows.size:
-        out["paper_shaped"] = ctx.with_evidence(
-            Evidence(
-                ev.results,
-                rows,
-                ev.scheme,
-                ev.n_resamples,
-                ev.seed,
-                alias=ev.alias,
-                label="paper-shaped selection",
-            )
-        )
+        for key, values in (("paper_shaped", None), ("eq2_other_paper_shaped", other)):
+            if key != "paper_shaped" and other is None:
+                continue
+            out[key] = ctx.with_evidence(
+                Evidence(ev.results, rows, ev.scheme, ev.n_resamples, ev.seed, alias=ev.alias,
+                         values=values, label="paper-shaped selection")
+            )  # fmt: skip
     return out
+
+
+def other_eq2(results) -> str | None:
+    """The reading of eq. 2 other than the one ``results`` scores with (None: a run
+    without readings, e.g. a test's fake run)."""
+    eq2 = getattr(results, "eq2", None)
+    if eq2 is None:
+        return None
+    other = next(r for r in EQ2_READINGS if r != eq2)
+    if other != STORED_EQ2 and not getattr(results, "selection", None):
+        return None  # a run without its selection cannot be rescored
+    return other
+
+
+def _other_eq2_values(results):
+    """``values(name, metric)`` of :class:`Evidence` under the other reading of eq. 2."""
+    other = other_eq2(results)
+    if other is None:
+        return None
+    if other == STORED_EQ2:
+        return lambda name, metric: (
+            results.stored(name)["similarity"] if metric == "similarity" else None
+        )
+    from fpdtw.paper.similarity_level import reading_values
+
+    return reading_values(results, other)
 
 
 def _interval_text(parts, labels) -> str:
@@ -1278,9 +1315,9 @@ def evaluate_claims(claims, contexts, robustness=None, checks=None):
         main = claim.evaluate(contexts[""])
         labels = [R.part_label(claim.id, k) for k in range(len(main["parts"]))]
         others = {}
-        for key in (*OTHER_EVIDENCE, "literal", OPW_PLUGIN, "seed2"):
+        for key in (*OTHER_EVIDENCE, "literal", OPW_PLUGIN, "seed2", *EQ2_OTHER):
             c = contexts.get(key)
-            on_pairs = key in OTHER_EVIDENCE
+            on_pairs = key in OTHER_EVIDENCE or key in EQ2_OTHER
             if c is None or (on_pairs and not claim.pairs) or (claim.question and on_pairs):
                 others[key] = None
             elif key in ("literal", OPW_PLUGIN) and claim.question:
@@ -1318,6 +1355,9 @@ def evaluate_claims(claims, contexts, robustness=None, checks=None):
         for key in OTHER_EVIDENCE:
             row[f"holds_{key}"] = R.NA if others[key] is None else others[key]["holds"]
         row["holds_seed2"] = seed2["holds"] if seed2 else R.NA
+        row["eq2_other"] = other_eq2(getattr(contexts[""].ev, "results", None)) or R.NA
+        for key in EQ2_OTHER:
+            row[f"holds_{key}"] = R.NA if others[key] is None else others[key]["holds"]
         lit = others["literal"]
         row["ours_literal"] = lit["ours"] if lit else "not computed"
         row["holds_literal"] = lit["holds"] if lit else R.NA
@@ -1350,7 +1390,7 @@ def evaluate_claims(claims, contexts, robustness=None, checks=None):
                 threshold=c.threshold if c else None,
                 mc_margin=_mc_margin(p),
             )
-            for key in (*OTHER_EVIDENCE, "literal", OPW_PLUGIN, "seed2"):
+            for key in (*OTHER_EVIDENCE, "literal", OPW_PLUGIN, "seed2", "eq2_other"):
                 o = others[key]
                 pr[f"verdict_{key}"] = o["parts"][k].verdict if o and k < len(o["parts"]) else R.NA
             part_out.append({c: pr[c] for c in PART_COLUMNS})

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import io
 import json
+import os
 import re
 import zipfile
 from pathlib import Path
@@ -185,6 +186,36 @@ class AlgorithmResult(dict):
         return int(self["pair_id"].shape[0])
 
 
+#: The reading of eq. 2 the run stores (each paper joint's animated local rotation).
+STORED_EQ2 = "local"
+#: The readings of eq. 2 a :class:`Results` can score with: the stored one, and each
+#: joint's whole local transform (FBX pre/post-rotations; HDM05: ``C M C^-1``), rescored
+#: from the stored maps (:func:`fpdtw.paper.similarity_level.reading_values`).
+EQ2_READINGS = ("transform", "local")
+#: Environment variable choosing the reading (default: the first of :data:`EQ2_READINGS`).
+EQ2_ENV = "FPDTW_EQ2"
+
+
+def default_eq2() -> str:
+    """The reading of eq. 2 the results are scored with: ``$FPDTW_EQ2`` or ``"transform"``.
+
+    ``"transform"`` (each joint's whole local transform, what the authors' toolkit reads:
+    ``docs/eq2_reading.md``) has been the default since 2026-11-24; ``"local"`` (the raw
+    animated rotation, the stored scores) before, and it stays one switch away.
+
+    Raises
+    ------
+    ValueError
+        ``$FPDTW_EQ2`` names no reading.
+
+    Paper: FP-DTW eq. 2.
+    """
+    value = os.environ.get(EQ2_ENV, "").strip() or EQ2_READINGS[0]
+    if value not in EQ2_READINGS:
+        raise ValueError(f"{EQ2_ENV}={value!r}: not a reading of eq. 2 ({', '.join(EQ2_READINGS)})")
+    return value
+
+
 class Results:
     """The results of a run (see :func:`load_results`).
 
@@ -203,9 +234,16 @@ class Results:
         ``summary.json`` (see :func:`fpdtw.paper.runner.run.summarize`); {} before it is written.
     run : dict
         ``run.json``; {} before it is written.
+    eq2 : str
+        The reading of eq. 2 that :meth:`get` scores with (:func:`default_eq2`); the
+        stored scores are :data:`STORED_EQ2`'s (:meth:`stored`).
     """
 
-    def __init__(self, folder, algorithms=None):
+    def __init__(self, folder, algorithms=None, eq2=None):
+        self.eq2 = default_eq2() if eq2 is None else eq2
+        if self.eq2 not in EQ2_READINGS:
+            raise ValueError(f"eq2={self.eq2!r}: not one of {EQ2_READINGS}")
+        self._rescore = None
         self.folder = Path(folder)
         meta = load_json(self.folder / "pairs.json")
         self.mode = meta["mode"]
@@ -240,13 +278,31 @@ class Results:
         self._check(name)
         return bool(self._info[name]["online"])
 
-    def get(self, name: str) -> AlgorithmResult:
-        """Maps, similarity and deviation of every pair for one algorithm."""
+    def stored(self, name: str) -> AlgorithmResult:
+        """Maps, similarity and deviation of every pair as the run stored them (eq. 2 under
+        :data:`STORED_EQ2`)."""
         self._check(name)
         if name not in self._cache:
             arrays = load_npz(self.folder / "algorithms" / f"{slug(name)}.npz")
             self._cache[name] = AlgorithmResult(arrays, name, self.fps(name))
         return self._cache[name]
+
+    def get(self, name: str) -> AlgorithmResult:
+        """Maps, similarity and deviation of every pair for one algorithm, eq. 2 under
+        :attr:`eq2` (the stored maps rescored once and cached beside the run)."""
+        r = self.stored(name)
+        if self.eq2 == STORED_EQ2:
+            return r
+        key = (name, self.eq2)
+        if key not in self._cache:
+            if self._rescore is None:
+                from fpdtw.paper.similarity_level import reading_values  # circle: it reads runs
+
+                self._rescore = reading_values(self, self.eq2)
+            arrays = {k: v for k, v in r.items() if k not in ("name", "fps", "map")}
+            arrays["similarity"] = self._rescore(name, "similarity")
+            self._cache[key] = AlgorithmResult(arrays, name, self.fps(name))
+        return self._cache[key]
 
     def frames(self, name: str) -> tuple:
         """Last input and target frame indices ``(m, n)`` of every pair at the algorithm's rate.
@@ -261,8 +317,9 @@ class Results:
         return m, n
 
 
-def load_results(mode: str = "full") -> Results:
-    """Read the results of a run from ``results_dir()/<mode>``.
+def load_results(mode: str = "full", eq2: str | None = None) -> Results:
+    """Read the results of a run from ``results_dir()/<mode>``, eq. 2 under ``eq2``
+    (default :func:`default_eq2`).
 
     Raises
     ------
@@ -279,7 +336,7 @@ def load_results(mode: str = "full") -> Results:
             f"no finished {mode!r} run in {folder}; run `python -m fpdtw.paper.runner.run{flag}` "
             "or notebooks/05_run_experiments.ipynb first"
         )
-    return Results(folder)
+    return Results(folder, eq2=eq2)
 
 
 def aggregate_heatmap(results: Results, name: str, bins: int = 100) -> np.ndarray:
