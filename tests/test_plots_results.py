@@ -380,6 +380,17 @@ def test_table1_best_windows_and_paper_rows(fake):
     plt.close(fig)
 
 
+def test_table1_plot_is_titled_and_its_legend_covers_no_point(fake):
+    fig, ax = scores.plot_table1(scores.table1_rows(fake))
+    assert ax.get_title() == "Table 1"
+    fig.canvas.draw()
+    legend = ax.get_legend().get_window_extent()
+    frame = ax.get_window_extent()
+    assert legend.x0 >= frame.x1  # wholly right of the axes: over no point, no line
+    assert not legend.overlaps(frame)
+    plt.close(fig)
+
+
 def test_best_window_rules():
     assert scores.best_window({10: 0.1, 20: 0.3, 40: 0.2, 80: 0.0, "UTW": 0.9}) == 20
     assert scores.best_window({10: 0.2, 20: 0.2, 40: 0.1}) == 10  # tie: the smaller window
