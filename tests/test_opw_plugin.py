@@ -293,3 +293,62 @@ def test_plot_readings_and_plugin_fig4(handshake):
     assert "plugin" in labels and ax.get_yscale() == "log"
     fig, ax = plot_deviation(oe.evaluate(handshake, reading="plugin"))
     assert [ln.get_label().split(" (")[0] for ln in ax.get_lines()[:2]] == ["best match", "OPW"]
+
+
+def test_opw_figures_say_what_their_lines_and_whiskers_are_and_whose_clips(handshake):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from fpdtw.paper.figures.opw import (
+        clips_note,
+        plot_curve_construction,
+        plot_deviation_vs_gamma,
+        plot_deviation_vs_offset,
+        plot_fig4,
+        plot_readings,
+    )
+
+    def note(fig):
+        texts = [t.get_text().replace("\n", " ") for t in fig.texts if t.get_gid() == "opw_note"]
+        assert len(texts) == 1
+        return texts[0]
+
+    # the clips: the hand shake is the poster's own source take, the other two stand-ins
+    everything = clips_note()
+    assert "hand gestures = HDM05 HDM_bd_throwBasketball_002_120 (stand-in)" in everything
+    assert "arm wrestle = the FP-DTW authors' Shelf_Stack_01 (stand-in)" in everything
+    assert "hand shake = CMU 18_01 (the poster's own source take)" in everything
+    assert "FIG4_MOTIONS" in everything
+    rows = oe.sweep({"hand shake": handshake}, offsets=(0.1, 0.25), gammas=(0.05, 0.15))
+    fig, ax = plot_deviation_vs_offset([r for r in rows if r["gamma"] == 0.05])
+    text = note(fig)
+    assert "whiskers = minimum to maximum of the pooled samples" in text
+    assert "the line with dots joins the means" in text and "CMU 18_01" in text
+    assert "stand in for the poster's CMU two-person clips" in text
+    assert "arm wrestle" not in text  # only the clips the figure shows
+    # what the note says is what is drawn: OPW's whiskers at 0.1 s span its samples
+    ms = np.concatenate([r["ms"] for r in rows if r["method"] == "OPW" and r["offset_s"] == 0.1
+                         and r["gamma"] == 0.05])  # fmt: skip
+    vertical = [ln.get_ydata() for ln in ax.lines if len(ln.get_ydata()) == 2]
+    ends = [float(y) for ys in vertical if ys[0] != ys[1] for y in ys]
+    assert ms.min() in ends and ms.max() in ends
+    plt.close(fig)
+    fig, ax = plot_deviation_vs_gamma([r for r in rows if r["offset_s"] == 0.25])
+    assert "dashed: their maximum" in note(fig) and "whiskers = minimum to maximum" in note(fig)
+    plt.close(fig)
+    fig, ax = plot_readings([(oe.READINGS["poster"], rows)])
+    assert "solid = mean, dashed = maximum" in note(fig) and "hand shake" in note(fig)
+    plt.close(fig)
+    res = oe.evaluate(handshake)
+    fig, axes = plot_fig4([res], labels=["hand shake"])
+    assert "Top: warp curves" in note(fig) and "no whiskers" in note(fig)
+    assert "hand shake = CMU 18_01" in note(fig)
+    plt.close(fig)
+    fig, ax = plot_curve_construction(res["curves"]["OPW"], label="hand shake")
+    assert "black dots: its keys" in note(fig) and "CMU 18_01" in note(fig)
+    plt.close(fig)
+    fig, ax = plot_deviation_vs_offset(rows, note=False)
+    assert not fig.texts
+    plt.close(fig)

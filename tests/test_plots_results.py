@@ -232,15 +232,123 @@ def test_score_summary_of_one_dataset(fake):
         scores.scores(fake, "Ma", "similarity", dataset="cmu")
 
 
-def test_deviation_box_plot_is_symlog_by_default(fake):
-    fig, ax = scores.plot_score_boxes(fake, "deviation")
-    assert ax.get_yscale() == "symlog"
-    plt.close(fig)
-    fig, ax = scores.plot_score_boxes(fake, "deviation", yscale="linear")
+def test_deviation_box_plot_is_linear_and_counts_what_it_cuts(tmp_path, monkeypatch):
+    """Fig. 6: a linear axis cut above the highest whisker (at least twice 18 frames), never
+    symlog; each value above the cut is counted over its box and in the legend."""
+    from fpdtw.paper.runner.run import load_results
+
+    monkeypatch.setenv("FPDTW_RESULTS_DIR", str(tmp_path))
+    algos = {
+        "DTW": dict(similarity=[0.6] * 5, deviation=[0.0] * 5),
+        "UTW": dict(similarity=[0.2] * 5, deviation=[5.0, 6.0, 7.0, 8.0, 9.0]),
+        "Mc w40": dict(similarity=[0.3] * 5, deviation=[1.0, 2.0, 3.0, 4.0, 500.0]),
+    }
+    write_fake_results(tmp_path / "cut", algos)
+    res = load_results("cut")
+    kw = dict(names=("DTW", "UTW", "Mc w40"), typev=False, intervals=False)
+    fig, ax = scores.plot_score_boxes(res, "deviation", **kw)
     assert ax.get_yscale() == "linear"
+    # whiskers: UTW's top 9, Mc w40's 4 (500 is beyond 1.5 IQR); twice 18 is higher: 36
+    assert ax.get_ylim() == pytest.approx((0.0, 1.08 * 36.0))
+    counts = [t for t in ax.texts if t.get_gid() == "clipped_count"]
+    assert [(t.get_text(), t.get_position()[0]) for t in counts] == [("\u25b21", 2.0)]
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert any("above 39 frames, not drawn (1 of 15)" in t for t in legend), legend
     plt.close(fig)
+    fig, ax = scores.plot_score_boxes(res, "deviation", clip=600.0, **kw)
+    assert ax.get_ylim()[1] == 600.0 and not [t for t in ax.texts if t.get_gid()]
+    plt.close(fig)
+    fig, ax = scores.plot_score_boxes(res, "similarity", **kw)
+    assert ax.get_yscale() == "linear" and not ax.texts
+    plt.close(fig)
+    with pytest.raises(ValueError, match="yscale"):
+        scores.plot_score_boxes(res, "deviation", yscale="symlog", **kw)
+
+
+def test_fig5_draws_the_papers_utw_level_beside_ours(fake):
+    from fpdtw.paper import numbers
+
     fig, ax = scores.plot_score_boxes(fake, "similarity")
-    assert ax.get_yscale() == "linear"
+    paper = [ln for ln in ax.lines if ln.get_gid() == "paper_benchmark"]
+    ours = [ln for ln in ax.lines if ln.get_gid() == "benchmark"]
+    assert len(paper) == 1 and len(ours) == 1
+    assert paper[0].get_ydata()[0] == pytest.approx(numbers.TABLE1[120]["UTW"]) == 0.240
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert "paper's UTW median = 0.240 (Table 1)" in legend
+    assert any(t.startswith("our UTW median (benchmark) = 0.240") for t in legend)
+    plt.close(fig)
+    fig, ax = scores.plot_score_boxes(fake, "deviation")
+    assert not [ln for ln in ax.lines if ln.get_gid() == "paper_benchmark"]
+    plt.close(fig)
+
+
+def test_beyond_the_paper_rule():
+    from fpdtw.paper.figures.plotting import beyond_paper
+
+    for name in PAPER_NAMES + ("Mc w40@60Hz", "UTW@60Hz", "Mc w40 (literal window)",
+                               "Mc w80 (literal window) + Type V"):  # fmt: skip
+        assert not beyond_paper(name), name
+    for name in ("OPW", "OLTW", "OLTW c60", "Mc auto", "OPW adaptive", "Mc w30",
+                 "Mc w40 (band 1 s)", "Mc w40 (derivative)", "OLTW (weighted joints)",
+                 "Mb w40 (weighted joints)", "no such method"):  # fmt: skip
+        assert beyond_paper(name), name
+
+
+@pytest.fixture
+def fake_beyond(tmp_path, monkeypatch):
+    """The fake run of :func:`fake` with OPW and OLTW added (diagonal maps)."""
+    from fpdtw.paper.runner.run import load_results
+
+    monkeypatch.setenv("FPDTW_RESULTS_DIR", str(tmp_path))
+    sim, dev = paper_like_medians()
+    algos = paper_like_algos(sim, dev)
+    for name, (s_, d_) in {"OPW": (0.15, 30.0), "OLTW": (0.26, 12.0)}.items():
+        algos[name] = dict(similarity=s_ + 0.01 * SPREAD, deviation=d_ + SPREAD)
+    write_fake_results(tmp_path / "beyond", algos)
+    return load_results("beyond")
+
+
+def _box_at(ax, x):
+    """The box patch whose centre is at x."""
+    boxes = [p for p in ax.patches if p.get_gid() != "benchmark_ci"]
+    xs = [b.get_path().vertices[:, 0] for b in boxes]
+    hit = [b for b, v in zip(boxes, xs) if (v.min() + v.max()) / 2 == pytest.approx(x)]
+    assert len(hit) == 1
+    return hit[0]
+
+
+@pytest.mark.parametrize("metric", ["similarity", "deviation"])
+def test_box_plot_sets_apart_the_methods_beyond_the_paper(fake_beyond, metric):
+    from fpdtw.paper.figures.plotting import BEYOND_PAPER_LABEL, BEYOND_PAPER_PATCH
+
+    fig, ax = scores.plot_score_boxes(fake_beyond, metric)
+    names = [t.get_text() for t in ax.get_xticklabels()]
+    assert names[-2:] == ["OPW", "OLTW"]
+    grey = matplotlib.colors.to_rgba(BEYOND_PAPER_PATCH["facecolor"])
+    for name in ("OPW", "OLTW"):
+        box = _box_at(ax, names.index(name))
+        assert box.get_hatch() == BEYOND_PAPER_PATCH["hatch"]
+        assert np.allclose(box.get_facecolor(), grey)
+    for x in (names.index("Mc w40") - 0.2, names.index("Mc w40") + 0.2, names.index("UTW")):
+        box = _box_at(ax, x)
+        assert not box.get_hatch()
+        assert not np.allclose(box.get_facecolor(), grey)
+    ticks = {t.get_text(): t for t in ax.get_xticklabels()}
+    assert ticks["OPW"].get_fontstyle() == "italic" and ticks["Mc w40"].get_fontstyle() == "normal"
+    sep = [ln for ln in ax.lines if ln.get_gid() == "beyond_paper_separator"]
+    assert len(sep) == 1 and sep[0].get_xdata()[0] == pytest.approx(names.index("OPW") - 0.5)
+    assert [t.get_text().strip() for t in ax.texts if t.get_gid() == "beyond_paper_label"] == [
+        BEYOND_PAPER_LABEL + " \u2192"
+    ]
+    assert BEYOND_PAPER_LABEL in [t.get_text() for t in ax.get_legend().get_texts()]
+    plt.close(fig)
+
+
+def test_box_plot_of_the_papers_methods_alone_has_no_beyond_style(fake):
+    fig, ax = scores.plot_score_boxes(fake, "similarity")
+    assert not any(p.get_hatch() for p in ax.patches)
+    assert not [ln for ln in ax.lines if ln.get_gid() == "beyond_paper_separator"]
+    assert "beyond the paper" not in [t.get_text() for t in ax.get_legend().get_texts()]
     plt.close(fig)
 
 
@@ -269,6 +377,17 @@ def test_table1_best_windows_and_paper_rows(fake):
     assert by[(60, "paper")]["above_utw"] == "20"  # 0.281 > 0.242 only
     fig, ax = scores.plot_table1(rows)
     assert len([ln for ln in ax.lines if len(ln.get_xdata()) == 4]) == 4
+    plt.close(fig)
+
+
+def test_table1_plot_is_titled_and_its_legend_covers_no_point(fake):
+    fig, ax = scores.plot_table1(scores.table1_rows(fake))
+    assert ax.get_title() == "Table 1"
+    fig.canvas.draw()
+    legend = ax.get_legend().get_window_extent()
+    frame = ax.get_window_extent()
+    assert legend.x0 >= frame.x1  # wholly right of the axes: over no point, no line
+    assert not legend.overlaps(frame)
     plt.close(fig)
 
 
@@ -333,6 +452,7 @@ def test_heatmap_grids_have_a_panel_per_algorithm(fake):
     norms = {id(ax.images[0].norm) for ax in visible}
     assert len(norms) == 1  # one shared colour scale
     plt.close(fig)
+    assert all(ax.get_gid() != "beyond_paper_panel" for ax in visible)
     fig, axes = heatmaps.plot_typev_heatmaps(fake, bins=10)
     assert axes.shape == (2, 3)
     assert [ax.get_title() for ax in axes[1]] == [n + " + Type V" for n in heatmaps.FIG10_NAMES]
@@ -340,6 +460,18 @@ def test_heatmap_grids_have_a_panel_per_algorithm(fake):
     fig, axes = heatmaps.plot_typev_heatmaps(fake, bases=FPDTW_NAMES, bins=10, per_row=5)
     assert axes.shape == (4, 5)
     assert sum(ax.get_visible() for ax in axes.flat) == 18
+    plt.close(fig)
+
+
+def test_heatmap_grid_sets_apart_the_panels_beyond_the_paper(fake_beyond):
+    fig, axes = heatmaps.plot_heatmap_grid(fake_beyond, heatmaps.FIG7_NAMES, ncols=4, bins=10)
+    visible = {ax.get_title().split("\n")[0]: ax for ax in axes.flat if ax.get_visible()}
+    assert visible["OPW"].get_title() == "OPW\n(beyond the paper)"
+    assert visible["OLTW"].get_gid() == "beyond_paper_panel"
+    assert visible["OPW"].spines["left"].get_linestyle() == "--"
+    assert visible["Mc w40"].get_title() == "Mc w40"
+    assert visible["Mc w40"].get_gid() != "beyond_paper_panel"
+    assert visible["Mc w40"].spines["left"].get_linestyle() != "--"
     plt.close(fig)
 
 

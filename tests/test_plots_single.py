@@ -340,6 +340,83 @@ def test_aligned_poses_grid(walk_short):
     assert head > 100
 
 
+def _statement_case(**maps):
+    """A hand-made walk pair: n = 40 target frames, m = 80 input frames, DTW's map 2q,
+    gait cycles of 25 input and 10 target frames; ``maps`` replace the defaults (DTW's)."""
+    q = np.arange(41)
+    P = 2 * q
+    base = {"DTW": P, "Mb w80": P, "Mc w20": P, "Mc w80": P}
+    return dict(pair="in -> tg", maps={**base, **maps}, input_cycle=25, target_cycle=10, m=80)
+
+
+def test_fig8_statements_hand_checked():
+    q = np.arange(41)
+    P = 2 * q
+    stuck = np.minimum(P, 4)  # input frame 4 held from target frame 2 to 40: 39 frames
+    ahead = np.where(q >= 10, np.minimum(P + 25, 80), P)  # 25 input frames ahead at q = 10..27
+    close = np.minimum(P + 1, 80)  # 1 frame off on q = 1..39, 0 at q = 40
+    rows = pw.fig8_statements([_statement_case(**{"Mc w20": stuck, "Mc w80": ahead,
+                                                  "Mb w80": close})])  # fmt: skip
+    by = {r["statement"]: r for r in rows}
+    assert list(by) == ["Mc w20 fails", "Mc w20 sticks early", "Mc w80 skips a walk cycle",
+                        "Mb w80 stays close to DTW"]  # fmt: skip
+    # eq. 3: sum over q = 3..40 of (2q - 4), over 40 = 1482 / 40
+    assert by["Mc w20 fails"]["value"] == pytest.approx(1482 / 40)
+    assert by["Mc w20 fails"]["holds"] and by["Mc w20 fails"]["threshold"] == 18
+    assert by["Mc w20 sticks early"]["value"] == 39 and by["Mc w20 sticks early"]["holds"]
+    assert by["Mc w20 sticks early"]["threshold"] == 10  # one target gait cycle
+    assert by["Mc w80 skips a walk cycle"]["value"] == 25  # exactly one input cycle: holds
+    assert by["Mc w80 skips a walk cycle"]["holds"]
+    assert by["Mb w80 stays close to DTW"]["value"] == pytest.approx(39 / 40)
+    assert by["Mb w80 stays close to DTW"]["holds"]
+    assert {r["pair"] for r in rows} == {"in -> tg"}
+
+
+def test_fig8_statements_fail_where_the_words_do_not_fit():
+    q = np.arange(41)
+    P = 2 * q
+    # runs to the last input frame at q = 8 and stays there: the input run out, not a stick
+    run_out = np.minimum(10 * q, 80)
+    # a long hold that starts late (q = 20 >= 40 / 3) is not "early"
+    late = np.where(q >= 20, 40, P)
+    far = np.minimum(P + 30, 80)  # Mb w80 30 frames ahead nearly everywhere
+    case = _statement_case(**{"Mc w20": run_out, "Mc w80": np.minimum(P + 24, 80), "Mb w80": far})
+    by = {r["statement"]: r for r in pw.fig8_statements([case])}
+    assert by["Mc w20 sticks early"]["value"] == 1 and not by["Mc w20 sticks early"]["holds"]
+    assert by["Mc w20 fails"]["holds"]  # far from DTW all the same
+    assert by["Mc w80 skips a walk cycle"]["value"] == 24  # one frame short of a cycle
+    assert not by["Mc w80 skips a walk cycle"]["holds"]
+    assert not by["Mb w80 stays close to DTW"]["holds"]
+    by = {r["statement"]: r for r in pw.fig8_statements([_statement_case(**{"Mc w20": late})])}
+    assert by["Mc w20 sticks early"]["value"] == 1 and not by["Mc w20 sticks early"]["holds"]
+    assert not by["Mc w20 fails"]["holds"]  # sum of 2q - 40 over q = 21..40 is 420; / 40
+    assert by["Mc w20 fails"]["value"] == pytest.approx(10.5)
+    # the statement counts over pairs
+    rows = pw.fig8_statements([case, _statement_case()])
+    counts = pw.statement_counts(rows)
+    assert counts["Mc w20 fails"] == {"holds": 1, "pairs": 2}
+    assert counts["Mb w80 stays close to DTW"] == {"holds": 1, "pairs": 2}
+    assert list(counts) == list(pw.FIG8_STATEMENT_RULES)
+
+
+def test_walk_pairs_are_the_six_ordered_pairs_of_the_authors_walk_takes():
+    pairs = pw.walk_pairs()
+    names = [(a.name, b.name) for a, b in pairs]
+    takes = ("Walk_01", "Walk_02", "Walk_03")
+    assert names == [(a, b) for a in takes for b in takes if a != b]
+    assert all(a.movement == b.movement == "Walk" for a, b in pairs)
+
+
+def test_gait_cycle_from_the_autocorrelation_or_the_papers_gait():
+    f = np.arange(600)
+    swing = one_joint_motion(30.0 * np.sin(2 * np.pi * f / 50.0), "X")  # a 50-frame cycle
+    assert pw.gait_cycle(swing) == (50, "autocorrelation")
+    still = one_joint_motion(np.zeros(200), "X")  # nothing moves: no period
+    # the middle of the paper's 0.82-0.9 Hz at 120 Hz: 120 / 0.86 = 139.5 -> 140 frames
+    assert numbers.WALK_GAIT_HZ == (0.82, 0.9)
+    assert pw.gait_cycle(still) == (140, "paper's gait")
+
+
 # --- Fig. 9: Type V -----------------------------------------------------------------------
 
 

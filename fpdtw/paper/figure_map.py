@@ -62,7 +62,10 @@ NOTEBOOKS = (
     Notebook("09_table2_timing", ("table2_time_per_frame", "table2_time_vs_w"),
              "Table 2 (`make bench`: one core, warmed up)", _RUN),
     Notebook("10_fig8_walk_pair",
-             ("fig8_paths", "fig8_right_hip", "fig8_poses", "fig8_walk_pair_scores"), "Fig. 8"),
+             ("fig8_paths", "fig8_right_hip", "fig8_poses", "fig8_walk_pair_scores",
+              "fig8_statements"),
+             "Fig. 8; its statements (Mc w20 fails, Mc w80 skips a cycle, Mb w80 stays close) "
+             "on our six walk pairs"),
     Notebook("11_fig9_typev", ("fig9_typev", "fig9_typev_table"),
              "Fig. 9: the Type V state table as used"),
     Notebook("13_opw_fig4",

@@ -25,6 +25,9 @@ DATA_SOURCES = {"authors_fbx": 57, "hdm05": 267}
 N_JOINTS = 8
 #: Section 4: the motions were sampled at 120 Hz.
 SAMPLE_RATE_HZ = 120
+#: Section 4: "the period of a typical walking gait is between 0.82 and 0.9 Hz" (a gait
+#: frequency: one cycle of 133-146 frames at 120 Hz, half a cycle "67-73 frames").
+WALK_GAIT_HZ = (0.82, 0.9)
 #: Section 4: "Methods B and C were each implemented with forecast window sizes of 10, 20,
 #: 40, and 80 frames".
 WINDOWS = (10, 20, 40, 80)

@@ -18,6 +18,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import LogNorm, Normalize
 
+from fpdtw.paper.figures.plotting import style_beyond_paper_panel
 from fpdtw.registry import TYPE_V_SUFFIX
 
 #: The algorithms of the paper's Fig. 7.
@@ -218,7 +219,10 @@ def plot_heatmap_grid(
     Returns
     -------
     fig, axes
-        ``axes`` is a 2-D array; panels past ``len(names)`` are hidden.
+        ``axes`` is a 2-D array; panels past ``len(names)`` are hidden. A panel of an
+        algorithm beyond the paper (OPW, OLTW) is set apart by
+        :func:`fpdtw.paper.figures.plotting.style_beyond_paper_panel` (its title says so, its
+        frame is grey and dashed).
 
     Paper: FP-DTW Fig. 7.
     Notebook: 08_fig7_fig10_heatmaps.ipynb
@@ -233,6 +237,7 @@ def plot_heatmap_grid(
     norm = shared_norm([maps[n] for n in names], log=log)
     for ax, n in zip(axes.flat, names):
         plot_heatmap(maps[n], ax, norm=norm, title=(titles or {}).get(n, n))
+        style_beyond_paper_panel(ax, n)  # OPW, OLTW: titled "beyond the paper", dashed frame
     for ax in axes.flat[len(names) :]:
         ax.set_visible(False)
     for ax in axes.flat:

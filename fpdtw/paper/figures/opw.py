@@ -2,9 +2,17 @@
 
 Every function takes the dicts of :func:`fpdtw.paper.opw_eval.evaluate` or the rows of
 :func:`fpdtw.paper.opw_eval.sweep`; they draw, they never save or show.
+
+Each figure carries a footnote (a figure text, ``gid`` ``"opw_note"``, under the axes) that
+says what its lines, boxes and whiskers are and which clips it shows: ours are not the
+poster's two-person CMU clips but stand-ins chosen by a fixed rule
+(:data:`fpdtw.paper.opw_eval.FIG4_MOTIONS`), except the hand shake, the poster's own source
+take.
 """
 
 from __future__ import annotations
+
+import textwrap
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -12,10 +20,64 @@ import numpy as np
 from fpdtw.paper.figures.plotting import new_axes
 from fpdtw.paper.numbers import OPW_GAMMA, OPW_MAX_DEVIATION_MS, OPW_MEAN_DEVIATION_MS
 from fpdtw.paper.numbers import PERCEPTUAL_THRESHOLD_MS as HOYET_MS
-from fpdtw.paper.opw_eval import pooled
+from fpdtw.paper.opw_eval import FIG4_MOTIONS, pooled
 
 #: Colours of the curves (example, the baselines, OPW) in every OPW figure.
 COLORS = {"example": "black", "DTW": "tab:blue", "best match": "tab:green", "OPW": "tab:orange"}
+
+
+def clips_note(labels=None) -> str:
+    """Which clips an OPW figure shows, in words: stand-ins for the poster's.
+
+    Parameters
+    ----------
+    labels : iterable of str, optional
+        The motion labels the figure shows (:data:`fpdtw.paper.opw_eval.FIG4_MOTIONS`
+        labels, e.g. ``"hand shake"``); default all three. Unknown labels are named as
+        they are.
+
+    Returns
+    -------
+    note : str
+
+    Paper: OPW poster Section 4 (three CMU two-person clips, cropped to 2.5 s).
+    """
+    by = {m.label: m for m in FIG4_MOTIONS}
+    labels = list(dict.fromkeys(labels)) if labels is not None else list(by)
+    parts = []
+    for lab in labels:
+        m = by.get(lab)
+        if m is None:
+            parts.append(f"{lab}: not one of the poster's motions")
+            continue
+        stem = m.path.rsplit("/", 1)[-1].rsplit(".", 1)[0]
+        where = {"hdm05": "HDM05", "cmu": "CMU", "authors_fbx": "the FP-DTW authors'"}
+        src = f"{where.get(m.dataset, m.dataset)} {stem}"
+        kind = "stand-in" if m.why.startswith("stand-in") else "the poster's own source take"
+        parts.append(f"{lab} = {src} ({kind})")
+    return (
+        "Clips, chosen by a fixed rule to stand in for the poster's CMU two-person clips "
+        "(fpdtw.paper.opw_eval.FIG4_MOTIONS): " + "; ".join(parts) + ". Each cropped to "
+        "2.5 s; the live motion B is the clip A replayed through the example warp curve."
+    )
+
+
+def add_note(fig, text: str, width=None):
+    """Put (or replace) an OPW figure's footnote: a figure text under the axes, ``gid``
+    ``"opw_note"``, wrapped to the figure's width."""
+    width = width or max(60, int(fig.get_figwidth() * 16))
+    wrapped = "\n".join(textwrap.fill(par, width) for par in text.split("\n"))
+    for t in fig.texts:
+        if t.get_gid() == "opw_note":
+            t.set_text(wrapped)
+            return t
+    t = fig.text(0.01, 0.0, wrapped, ha="left", va="top", fontsize=7.5, color="0.2")
+    t.set_gid("opw_note")
+    return t
+
+
+def _labels_of(rows) -> list:
+    return list(dict.fromkeys(r["motion"] for r in rows if "motion" in r))
 
 
 def _baseline(result: dict) -> str:
@@ -119,6 +181,8 @@ def plot_fig4(results: list, labels=None, axes=None):
     Returns
     -------
     fig, axes
+        With a footnote (``gid`` ``"opw_note"``): what each row's lines are, and the clips
+        (:func:`clips_note` of ``labels``).
 
     Paper: OPW poster Fig. 4.
     Notebook: 13_opw_fig4.ipynb
@@ -147,6 +211,16 @@ def plot_fig4(results: list, labels=None, axes=None):
     axes[0, 0].legend(fontsize=7, loc="upper left")
     axes[2, 0].legend(fontsize=7, loc="upper right")
     fig.tight_layout()
+    base = _baseline(results[0]) if results else "DTW"
+    add_note(
+        fig,
+        "Top: warp curves t' = f(t), live time t of B against the time t' of A it shows "
+        f"(black: the example curve g that made B; {base} and OPW: the curves they recover, "
+        "marks at their keys; dotted: no warp). Middle: deviation |f(t) - g(t)| of each "
+        "curve at 50 Hz, in ms (legend: its mean); dashed red: 150 ms (Hoyet et al.). "
+        "Bottom: change of slope between 50 Hz samples, % of 90 degrees. "
+        "One motion per column, no pooling, no whiskers.\n" + clips_note(labels),
+    )
     return fig, axes
 
 
@@ -165,7 +239,7 @@ def _boxes(ax, groups, positions, color, width):
 
 
 def plot_deviation_vs_offset(
-    rows: list, ax=None, *, threshold_ms: float = HOYET_MS, baseline: str = "DTW"
+    rows: list, ax=None, *, threshold_ms: float = HOYET_MS, baseline: str = "DTW", note=True
 ):
     """Deviation against the example's offset, a baseline and OPW, motions pooled (Fig. 5).
 
@@ -178,6 +252,9 @@ def plot_deviation_vs_offset(
         :func:`fpdtw.paper.opw_eval.sweep` rows (keys ``method``, ``offset_s``, ``ms``).
     baseline : str
         The method beside OPW: ``"DTW"`` or ``"best match"`` (the plugin reading's).
+    note : bool
+        Add the footnote (``gid`` ``"opw_note"``): what the boxes, whiskers and line are,
+        and the clips (:func:`clips_note` of the rows' motions).
 
     Returns
     -------
@@ -205,11 +282,23 @@ def plot_deviation_vs_offset(
     ax.set_ylabel("deviation from example (ms)")
     ax.set_ylim(bottom=0)
     ax.legend(fontsize=8, loc="upper left")
+    if note:
+        add_note(
+            fig,
+            "Per offset and method one box over the 50 Hz deviation samples |f(t) - g(t)| of "
+            "every motion pooled: box = quartiles, black line = median, whiskers = minimum to "
+            "maximum of the pooled samples (no outliers left out); the line with dots joins "
+            "the means of the pooled samples; dashed red: 150 ms.\n" + clips_note(_labels_of(rows)),
+        )
     return fig, ax
 
 
-def plot_deviation_vs_gamma(rows: list, ax=None, *, threshold_ms: float = HOYET_MS):
+def plot_deviation_vs_gamma(rows: list, ax=None, *, threshold_ms: float = HOYET_MS, note=True):
     """OPW deviation against the warp parameter gamma, motions pooled (Fig. 6).
+
+    Each box pools the 50 Hz deviation samples of every motion at one gamma; whiskers span
+    the full range (minimum to maximum); a solid line joins the means, a dashed one the
+    maxima. ``note``: add the footnote saying so, with the clips (:func:`clips_note`).
 
     Returns
     -------
@@ -235,10 +324,18 @@ def plot_deviation_vs_gamma(rows: list, ax=None, *, threshold_ms: float = HOYET_
     ax.set_ylabel("deviation from example (ms)")
     ax.set_ylim(bottom=0)
     ax.legend(fontsize=8, loc="upper left")
+    if note:
+        add_note(
+            fig,
+            "Per gamma one box over OPW's 50 Hz deviation samples |f(t) - g(t)| of every "
+            "motion pooled: box = quartiles, black line = median, whiskers = minimum to "
+            "maximum of the pooled samples; solid line with dots: their mean; dashed: their "
+            "maximum; dashed red: 150 ms.\n" + clips_note(_labels_of(rows)),
+        )
     return fig, ax
 
 
-def plot_readings(sweeps, ax=None, *, threshold_ms: float = HOYET_MS):
+def plot_readings(sweeps, ax=None, *, threshold_ms: float = HOYET_MS, note=True):
     """OPW's pooled deviation against gamma under each reading, beside the poster's numbers.
 
     One line per reading (mean, solid; maximum, dashed) over the Fig. 6 sweep, the motions
@@ -251,6 +348,8 @@ def plot_readings(sweeps, ax=None, *, threshold_ms: float = HOYET_MS):
     sweeps : sequence of (OPWReading, list of dict)
         Each reading with its :func:`fpdtw.paper.opw_eval.sweep` rows over gammas (e.g. the
         readings of :data:`fpdtw.paper.opw_eval.READING_STEPS`).
+    note : bool
+        Add the footnote (``gid`` ``"opw_note"``): what the lines are, and the clips.
 
     Returns
     -------
@@ -279,10 +378,19 @@ def plot_readings(sweeps, ax=None, *, threshold_ms: float = HOYET_MS):
     ax.set_xlabel("warp parameter gamma (%)")
     ax.set_ylabel("deviation from example (ms): mean solid, max dashed")
     ax.legend(fontsize=7, loc="upper left", ncol=2)
+    if note:
+        labels = [lab for _, rows in sweeps for lab in _labels_of(rows)]
+        add_note(
+            fig,
+            "One colour per reading of OPW: solid = mean, dashed = maximum of the 50 Hz "
+            "deviation samples |f(t) - g(t)| of every motion pooled, per gamma (no whiskers). "
+            "Black bar: the poster's mean range at gamma 5 %; cross: its maximum; dotted red: "
+            "150 ms.\n" + clips_note(labels),
+        )
     return fig, ax
 
 
-def plot_curve_construction(curve, ax=None, *, window=None, relative=False):
+def plot_curve_construction(curve, ax=None, *, window=None, relative=False, label=None, note=True):
     """A warp curve with its keys and Bezier control polygons (poster Fig. 2, Table 1).
 
     Parameters
@@ -294,6 +402,11 @@ def plot_curve_construction(curve, ax=None, *, window=None, relative=False):
         Plot ``t' - t`` instead of ``t'``: the shear ``(x, y) -> (x, y - x)`` is linear, so
         it maps each segment's control points to those of the sheared segment and keeps
         the handles at a key collinear, while making the small warps visible.
+    label : str, optional
+        The motion's label (:data:`fpdtw.paper.opw_eval.FIG4_MOTIONS`), named in the
+        footnote with its clip.
+    note : bool
+        Add the footnote (``gid`` ``"opw_note"``): what the lines and marks are.
 
     Returns
     -------
@@ -327,11 +440,22 @@ def plot_curve_construction(curve, ax=None, *, window=None, relative=False):
     ax.set_xlabel("live time t (s)")
     ax.set_ylabel("t' - t (s)" if relative else "warped time t' (s)")
     ax.legend(fontsize=8)
+    if note:
+        add_note(
+            fig,
+            "Orange: the warp curve"
+            + (" minus the identity (a shear)" if relative else "")
+            + "; black dots: its keys (P0, P3 of each Bezier segment); grey squares joined "
+            "to the keys: the control points P1, P2 (handles), collinear through each key."
+            + ("\n" + clips_note([label]) if label is not None else ""),
+        )
     return fig, ax
 
 
 __all__ = [
     "COLORS",
+    "add_note",
+    "clips_note",
     "plot_curve_construction",
     "plot_deviation",
     "plot_deviation_vs_gamma",

@@ -5,7 +5,8 @@ per algorithm, one similarity (eq. 2) and one deviation from DTW (eq. 3) per pai
 
 * :func:`plot_score_boxes` draws Fig. 5 (similarity) or Fig. 6 (deviation): one box per
   algorithm, each FP-DTW algorithm without and with the Type V constraint side by side,
-  and the benchmark line (UTW's median similarity, red; 18 frames, blue).
+  and the benchmark line (UTW's median similarity, red, beside the paper's level, dashed;
+  18 frames, blue); the online baselines beyond the paper (OPW, OLTW) set apart.
 * :func:`score_summary` gives the table next to each figure: median with its 95 % interval,
   quartiles, number of pairs, whether the median passes the benchmark, and the verdict of
   that pass once the interval is taken into account (the claims' rule,
@@ -27,7 +28,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from fpdtw.paper import numbers
-from fpdtw.paper.figures.plotting import new_axes
+from fpdtw.paper.figures.plotting import beyond_paper_handle, new_axes, style_beyond_paper
 from fpdtw.paper.numbers import FPDTW_NAMES, WINDOWS
 from fpdtw.registry import TYPE_V_SUFFIX, method_c_name
 
@@ -214,16 +215,44 @@ def passing(rows, online_only=False) -> list[str]:
     ]
 
 
+def _clip_top(bp, bench: float) -> float:
+    """Top of Fig. 6's linear axis: the highest upper whisker of any box (1.5 IQR), and at
+    least twice the benchmark, plus 8 % headroom."""
+    tops = [float(np.max(w.get_ydata())) for w in bp["whiskers"][1::2]]
+    return 1.08 * max(max(tops, default=0.0), 2.0 * bench)
+
+
 def plot_score_boxes(
-    results, metric="similarity", names=BASE_NAMES, typev=True, ax=None, yscale=None,
-    intervals=True,
+    results, metric="similarity", names=BASE_NAMES, typev=True, ax=None, yscale="linear",
+    intervals=True, clip=None,
 ):  # fmt: skip
     """Fig. 5 / Fig. 6: box plot of a score per algorithm, with the benchmark line.
 
     Each FP-DTW algorithm gets two boxes side by side: without constraint (blue) and
-    "+ Type V" (pink, as in the paper). The benchmark line is red at UTW's median
+    "+ Type V" (pink, as in the paper). The benchmark line is red at our UTW's median
     similarity (Fig. 5) or blue at 18 frames (Fig. 6). Boxes: quartiles, median line;
     whiskers 1.5 IQR; outliers as small dots.
+
+    Algorithms the FP-DTW paper does not evaluate (OPW, OLTW: the online baselines we run
+    beyond it) are set apart by the one style rule of
+    :func:`fpdtw.paper.figures.plotting.style_beyond_paper`: grey hatched boxes, grey italic
+    names, a dashed separator and the words "beyond the paper".
+
+    Fig. 5 also draws the paper's level, UTW's median similarity as the paper prints it
+    (:data:`fpdtw.paper.numbers.TABLE1` at 120 Hz, 0.240), as a dashed dark red line
+    (``gid`` ``"paper_benchmark"``) beside our UTW median: the two benchmarks differ, and
+    a box can clear the paper's and not ours.
+
+    **Fig. 6's scale: linear, cut above the boxes.** The deviation is drawn on a linear
+    axis whose top is the highest upper whisker of any box (and at least twice the
+    18-frame benchmark, so the line sits low in the plot), with 8 % headroom; pairs whose
+    deviation lies above that cut are not drawn but counted: the count stands over its box
+    at the top edge (``"▲k"``, text ``gid`` ``"clipped_count"``) and the legend states the
+    cut and the total. Linear, because the boxes and the benchmark are then read off at
+    their true distances (a symlog axis squeezed everything below 1 frame into a band of
+    its own, a log axis cannot show the deviations of 0 frames: DTW against itself, and
+    online maps that equal DTW's on some pairs). ``yscale="log"`` remains for a look at the
+    far outliers (values of 0 are then not drawn).
 
     Parameters
     ----------
@@ -234,15 +263,15 @@ def plot_score_boxes(
     typev : bool
         Draw the "+ Type V" boxes too.
     ax : matplotlib.axes.Axes, optional
-    yscale : {"linear", "symlog"}, optional
-        Default linear for similarity, symlog for deviation (linear below 1 frame,
-        logarithmic above: the boxes sit within 100 frames while single pairs deviate by
-        hundreds).
+    yscale : {"linear", "log"}
     intervals : bool
         Draw each median's 95 % interval (a black bar beside its box, ``gid``
         ``"median_ci"``) and, on Fig. 5, the interval of UTW's median around the
         benchmark line (a band, ``gid`` ``"benchmark_ci"``): the cluster bootstrap of the
         claims table.
+    clip : float or None
+        Fig. 6 on a linear axis: the cut in frames (default: see above). Ignored for the
+        similarity and on a log axis.
 
     Returns
     -------
@@ -253,21 +282,25 @@ def plot_score_boxes(
     Paper: FP-DTW Fig. 5 (similarity, eq. 2) and Fig. 6 (deviation, eq. 3).
     Notebook: 06_fig5_fig6_scores.ipynb
     """
+    if yscale not in ("linear", "log"):
+        raise ValueError(f"yscale must be 'linear' or 'log', got {yscale!r}")
     fig, ax = new_axes(ax, figsize=(12, 4.5))
     have = set(results.algorithms)
     names = [n for n in names if n in have]  # e.g. OPW/OLTW only when they were run
-    data, pos, widths, colours = [], [], [], []
+    data, pos, widths, colours, drawn = [], [], [], [], []
     for i, (name, tv) in enumerate(figure_names(names, typev)):
         if tv is None:
             data.append(scores(results, name, metric))
             pos.append(i)
             widths.append(0.6)
             colours.append(COLOURS["offline" if name in ("DTW", "UTW") else "plain"])
+            drawn.append(name)
         else:
             data += [scores(results, name, metric), scores(results, tv, metric)]
             pos += [i - 0.2, i + 0.2]
             widths += [0.36, 0.36]
             colours += [COLOURS["plain"], COLOURS["typev"]]
+            drawn += [name, tv]
     bp = ax.boxplot(
         data,
         positions=pos,
@@ -287,7 +320,6 @@ def plot_score_boxes(
         from fpdtw.paper.claims.evidence import shared_evidence
 
         ev = shared_evidence(results)
-        drawn = [n for pair in figure_names(names, typev) for n in pair if n is not None]
         for name, x, w in zip(drawn, pos, widths):
             lo, hi = ev.interval(name, metric)
             bar = ax.vlines(x + 0.5 * w + 0.04, lo, hi, color="k", lw=2.2, zorder=6)
@@ -296,37 +328,57 @@ def plot_score_boxes(
             lo, hi = ev.interval("UTW", metric)
             band = ax.axhspan(lo, hi, color="red", alpha=0.10, lw=0, zorder=0.5)
             band.set_gid("benchmark_ci")
-    if metric == "similarity":
-        label = f"UTW median (benchmark) = {bench:.3f}"
-        line_colour = "red"
-        ax.set_ylabel("similarity (eq. 2, mean Kendall tau)")
-    else:
-        label = f"benchmark: {bench:g} frames (150 ms)"
-        line_colour = "blue"
-        ax.set_ylabel("deviation from DTW (eq. 3), frames")
-    yscale = yscale or ("symlog" if metric == "deviation" else "linear")
-    if yscale == "symlog":
-        ax.set_yscale("symlog", linthresh=1.0, linscale=0.5)
-        ax.set_ylim(bottom=0.0)
-        ax.set_ylabel(ax.get_ylabel() + " (symlog scale)")
-    else:
-        ax.set_yscale(yscale)
-    line = ax.axhline(bench, color=line_colour, lw=1.2, zorder=5)
-    line.set_gid("benchmark")
-    ax.set_xticks(range(len(names)))
-    ax.set_xticklabels(names, rotation=45, ha="right")
-    ax.set_xlim(-0.6, len(names) - 0.4)
     handles = [
         Patch(facecolor=COLOURS["offline"], edgecolor="0.25", label="offline"),
         Patch(facecolor=COLOURS["plain"], edgecolor="0.25", label="online, no constraint"),
     ]
     if typev:
         handles.append(Patch(facecolor=COLOURS["typev"], edgecolor="0.25", label="+ Type V"))
-    handles.append(Line2D([], [], color=line_colour, lw=1.2, label=label))
+    if metric == "similarity":
+        line_colour = "red"
+        handles.append(Line2D([], [], color="red", lw=1.2,
+                              label=f"our UTW median (benchmark) = {bench:.3f}"))  # fmt: skip
+        paper_utw = float(numbers.TABLE1[numbers.SAMPLE_RATE_HZ]["UTW"])
+        paper = ax.axhline(paper_utw, color="darkred", lw=1.2, ls=(0, (5, 3)), zorder=5)
+        paper.set_gid("paper_benchmark")
+        handles.append(Line2D([], [], color="darkred", lw=1.2, ls=(0, (5, 3)),
+                              label=f"paper's UTW median = {paper_utw:.3f} (Table 1)"))  # fmt: skip
+        ax.set_ylabel("similarity (eq. 2, mean Kendall tau)")
+    else:
+        line_colour = "blue"
+        handles.append(Line2D([], [], color="blue", lw=1.2,
+                              label=f"benchmark: {bench:g} frames (150 ms)"))  # fmt: skip
+        ax.set_ylabel("deviation from DTW (eq. 3), frames")
+    ax.set_yscale(yscale)
+    if metric == "deviation" and yscale == "linear":
+        top = float(clip) if clip is not None else _clip_top(bp, bench)
+        ax.set_ylim(0.0, top)
+        above = [int(np.sum(v > top)) for v in data]
+        for x, k in zip(pos, above):
+            if k:
+                t = ax.text(x, top, f"\u25b2{k}", ha="center", va="top", fontsize=6.5,
+                            color="0.2", zorder=7)  # fmt: skip
+                t.set_gid("clipped_count")
+        total = sum(len(v) for v in data)
+        handles.append(Line2D([], [], ls="", marker="^", ms=5, color="0.2",
+                              label=f"\u25b2k: k values above {top:.0f} frames, not drawn "
+                              f"({sum(above)} of {total})"))  # fmt: skip
+        ax.set_ylabel(ax.get_ylabel() + " (linear)")
+    line = ax.axhline(bench, color=line_colour, lw=1.2, zorder=5)
+    line.set_gid("benchmark")
+    ax.set_xticks(range(len(names)))
+    ax.set_xticklabels(names, rotation=45, ha="right")
+    ax.set_xlim(-0.6, len(names) - 0.4)
+    boxes_of = {}  # each name's boxes, "+ Type V" with its base
+    for n, b in zip(drawn, bp["boxes"]):
+        boxes_of.setdefault(n.removesuffix(TYPE_V_SUFFIX), []).append(b)
+    beyond = style_beyond_paper(ax, names, patches=boxes_of)
+    if beyond:
+        handles.append(beyond_paper_handle())
     if intervals:
         handles.append(Line2D([], [], color="k", lw=2.2, label="95 % interval of the median"))
         if metric == "similarity":
-            band_label = "95 % interval of UTW's median"
+            band_label = "95 % interval of our UTW median"
             handles.append(Patch(facecolor="red", alpha=0.10, label=band_label))
     ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.005, 1.0))
     ax.grid(axis="y", alpha=0.3)
@@ -414,6 +466,11 @@ def table1_rows(
 def plot_table1(rows, ax=None):
     """Table 1 as a plot: Method C's median similarity vs window, per rate, ours vs paper.
 
+    Titled "Table 1"; one line per row of :func:`table1_rows` (solid: ours, dashed: the
+    paper's, dotted: ours with the literal window), and per rate a thin horizontal line at
+    UTW's median (solid: ours, dashed: the paper's). The legend stands outside the axes, to
+    the right, so it covers none of the points.
+
     Parameters
     ----------
     rows : list of dict
@@ -427,7 +484,7 @@ def plot_table1(rows, ax=None):
     Paper: FP-DTW Table 1.
     Notebook: 07_table1_60hz.ipynb
     """
-    fig, ax = new_axes(ax, figsize=(6, 4))
+    fig, ax = new_axes(ax, figsize=(8.5, 4))
     colours = {60: "tab:orange", 120: "tab:blue"}
     for r in rows:
         ws = [int(k[1:]) for k in r if k.startswith("w") and k[1:].isdigit() and r[k] is not None]
@@ -437,15 +494,16 @@ def plot_table1(rows, ax=None):
         ax.plot(ws, ys, style, color=c, label=f"{r['source']}, {r['rate_hz']} Hz, Method C")
         if r["source"] != "ours (literal window)":
             ax.axhline(
-                r["UTW"], color=c, lw=0.8, ls="-" if r["source"] == "ours" else "--", alpha=0.5
-            )
+                r["UTW"], color=c, lw=0.8, ls="-" if r["source"] == "ours" else "--", alpha=0.5,
+                label=f"{r['source']}, {r['rate_hz']} Hz, UTW median (thin)",
+            )  # fmt: skip
     ax.set_xscale("log", base=2)
     ax.set_xticks(list(WINDOWS))
     ax.set_xticklabels([str(w) for w in WINDOWS])
     ax.set_xlabel("window w (frames)")
     ax.set_ylabel("median similarity (eq. 2)")
-    ax.set_title("Method C vs window; thin lines: UTW median", fontsize=9)
-    ax.legend(fontsize=8)
+    ax.set_title("Table 1")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
     ax.grid(alpha=0.3)
     return fig, ax
 

@@ -8,6 +8,12 @@ walk pair ``Walk_01 -> Walk_02`` (input -> target), the paper's "walking" exampl
 chosen in 578ff6e (2026-11-21) with the notebooks that draw these figures, before any
 alignment figure or claims table was committed (docs/history.md); the same pair draws
 Figs. 1, 2 and 4.
+
+:func:`fig8_statements` tests the paper's three words about its walk pair (Section 5:
+Mc w20 "complete[ly] fails", Mc w80 "skips a walk cycle", Mb w80 within the benchmark) on
+every walk pair we have (:func:`walk_pairs`: the six ordered pairs of the authors' three
+``Walk`` takes), each by a rule fixed in its docstring from the paper's words (written on
+2026-11-24, before any walk pair was aligned by it).
 """
 
 from __future__ import annotations
@@ -18,7 +24,7 @@ from fpdtw.metrics import deviation, similarity
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.paper.catalog import load
 from fpdtw.paper.figures.plotting import new_axes, plot_skeleton
-from fpdtw.paper.numbers import FIG8_DEVIATIONS
+from fpdtw.paper.numbers import DEVIATION_BENCHMARK_FRAMES, FIG8_DEVIATIONS, WALK_GAIT_HZ
 from fpdtw.registry import align
 
 #: (dataset, path) of the input and the target motion of the walk pair.
@@ -42,6 +48,19 @@ ALGORITHM_COLORS = {
     "Mc w40": "tab:green",
     "Mc w80": "tab:red",
 }
+#: The maps :func:`fig8_statements` reads: DTW's and the three algorithms it judges.
+FIG8_STATEMENT_ALGORITHMS = ("DTW", "Mb w80", "Mc w20", "Mc w80")
+#: The rule of each statement of :func:`fig8_statements`, in one line (the table's note).
+FIG8_STATEMENT_RULES = {
+    "Mc w20 fails": "Mc w20's deviation from DTW (eq. 3) above the 18-frame benchmark",
+    "Mc w20 sticks early": "Mc w20 holds one input frame (not the last) for at least one "
+    "target gait cycle, in a hold starting in the first third of the target",
+    "Mc w80 skips a walk cycle": "at some target frame Mc w80's map is ahead of DTW's by at "
+    "least one input gait cycle (input frames)",
+    "Mb w80 stays close to DTW": "Mb w80's deviation from DTW (eq. 3) below 18 frames",
+}
+#: The movement of the authors' FBX dataset whose takes give the walk pairs.
+WALK_MOVEMENT = ("authors_fbx", "Walk")
 #: Side elevation of the authors' FBX rig: y is up and the walk runs along z, so the
 #: side view plots z horizontally and y vertically.
 FBX_SIDE_VIEW = (2, 1)
@@ -317,10 +336,208 @@ def plot_aligned_poses(mI, mT, maps: dict, frames, axes=None, view=FBX_SIDE_VIEW
     return fig, axes
 
 
+def walk_pairs() -> list:
+    """Every ordered pair of distinct takes of the authors' ``Walk`` movement available here.
+
+    The experiment runner's rule for pairs (both directions of every two takes of one
+    movement), on the movement the paper's Fig. 8 is an example of. The authors' dataset
+    lists three ``Walk`` takes, all here, so six pairs. (Its five walk styles, Jaunty, Slow,
+    Sneaky, Stepping Stones and Stiff, are not here; the paper's own pair, "sample 3239",
+    is one we do not have.)
+
+    Returns
+    -------
+    pairs : list of (MotionRecord, MotionRecord)
+        (input, target), in catalog order: ``Walk_01 -> Walk_02``, ``Walk_01 -> Walk_03``, ...
+
+    Paper: FP-DTW Section 5, Fig. 8.
+    Notebook: 10_fig8_walk_pair.ipynb
+    """
+    from fpdtw.paper.catalog import motion_records
+
+    ds, movement = WALK_MOVEMENT
+    takes = [r for r in motion_records((ds,), available_only=True) if r.movement == movement]
+    return [(a, b) for a in takes for b in takes if a.path != b.path]
+
+
+def gait_cycle(F: MotionFeatures) -> tuple[int, str]:
+    """One gait cycle of a walk, in its own frames, and how it was found.
+
+    The dominant period of the motion's joint trajectories
+    (:func:`fpdtw.period.dominant_period`: the first peak of their autocorrelation after
+    its first zero crossing, 0.25-4 s, fixed before any result); when that finds none
+    (e.g. a smoke run's 2 s hold too few cycles), the paper's walking gait: the middle of
+    its 0.82-0.9 Hz (:data:`fpdtw.paper.numbers.WALK_GAIT_HZ`), 140 frames at 120 Hz.
+
+    Returns
+    -------
+    frames : int
+    source : str
+        ``"autocorrelation"`` or ``"paper's gait"``.
+
+    Paper: FP-DTW Section 4 (walking gait 0.82-0.9 Hz).
+    Notebook: 10_fig8_walk_pair.ipynb
+    """
+    from fpdtw.period import dominant_period
+
+    P = dominant_period(F.quats, F.fps)
+    if P is not None:
+        return int(P), "autocorrelation"
+    return int(round(F.fps / float(np.mean(WALK_GAIT_HZ)))), "paper's gait"
+
+
+def walk_pair_cases(smoke: bool = False, seconds: float = SMOKE_SECONDS,
+                    names=FIG8_STATEMENT_ALGORITHMS) -> list:  # fmt: skip
+    """Every walk pair (:func:`walk_pairs`) aligned by ``names``, with each motion's gait cycle.
+
+    Parameters
+    ----------
+    smoke : bool
+        Crop both motions of each pair to ``[0, seconds]``.
+    seconds : float
+    names : sequence of str
+
+    Returns
+    -------
+    cases : list of dict
+        The input of :func:`fig8_statements`: keys ``pair`` (``"Walk_01 -> Walk_02"``),
+        ``maps``, ``input_cycle``, ``target_cycle`` (frames), ``cycle_source`` (input's,
+        target's: see :func:`gait_cycle`), ``m``, ``n``.
+
+    Notebook: 10_fig8_walk_pair.ipynb
+    """
+    from fpdtw.paper.catalog import load
+
+    cases = []
+    for a, b in walk_pairs():
+        motions = [load(a), load(b)]
+        if smoke:
+            motions = [x.crop(0.0, seconds) for x in motions]
+        I, T = (MotionFeatures.from_motion(x) for x in motions)
+        (ci, si), (ct, st) = gait_cycle(I), gait_cycle(T)
+        cases.append(
+            dict(pair=f"{a.name} -> {b.name}", maps=align_all(I, T, names), input_cycle=ci,
+                 target_cycle=ct, cycle_source=f"{si}, {st}", m=I.n_frames - 1,
+                 n=T.n_frames - 1)
+        )  # fmt: skip
+    return cases
+
+
+def _longest_early_hold(M, m: int, before: float) -> tuple[int, int]:
+    """``(length, start)`` of the longest run of one input frame (other than the last, m)
+    over consecutive target frames, among the runs starting before target frame ``before``;
+    ``(0, -1)`` when there is none. Length in target frames: a frame mapped once is a run of
+    1, an input frame held over 5 target frames a run of 5."""
+    M = np.asarray(M)
+    edges = np.flatnonzero(np.diff(M) != 0) + 1
+    starts = np.concatenate([[0], edges])
+    ends = np.concatenate([edges, [M.size]])
+    best = (0, -1)
+    for s0, e0 in zip(starts, ends):
+        if s0 < before and M[s0] != m and e0 - s0 > best[0]:
+            best = (int(e0 - s0), int(s0))
+    return best
+
+
+def fig8_statements(cases, benchmark: float = DEVIATION_BENCHMARK_FRAMES) -> list[dict]:
+    """The paper's statements about its Fig. 8 walk pair, measured on each of our walk pairs.
+
+    Section 5, on a walk pair: "*Mc w80* skips a walk cycle, while the *Mc w20* complete
+    fails, sticking on an input frame early in the alignment", and (with the deviations 8,
+    177, 62, 6 frames) "only algorithms *Mb w80* and *Mc w40* with errors (or deviations)
+    below the 18 frame benchmark". Each statement is measured against DTW's map ``P`` of
+    the same pair (the paper's reference, eq. 3), by a rule fixed from those words before
+    any walk pair was aligned:
+
+    * **"Mc w20 fails"**: its deviation from DTW (eq. 3, frames) is above the 18-frame
+      benchmark, the paper's line between an alignment that passes and one that does not.
+    * **"Mc w20 sticks early"** (the paper's account of that failure): Mc w20's map holds one
+      input frame over at least one gait cycle of the target, ``target_cycle`` consecutive
+      target frames, in a hold that starts in the first third of the target
+      (``q < n / 3``: "early in the alignment"). A hold on the input's last frame ``m`` does
+      not count: that is the input run out (as for Mc w80 in the paper's Table 2 text), not
+      a stick. Value: the longest such hold, in target frames.
+    * **"Mc w80 skips a walk cycle"**: at some target frame Mc w80's map is ahead of DTW's by
+      at least one gait cycle of the input: ``max_q (M_q - P_q) >= input_cycle`` input frames.
+      Value: that largest lead, in input frames.
+    * **"Mb w80 stays close to DTW"**: its deviation from DTW (eq. 3) is below 18 frames.
+
+    A gait cycle is estimated from the motion itself (:func:`gait_cycle`: the
+    autocorrelation's period, else the paper's 0.82-0.9 Hz gait).
+
+    Parameters
+    ----------
+    cases : iterable of dict
+        One per pair: ``pair`` (label), ``maps`` (name -> map, ndarray of int, shape
+        (n + 1,); must hold DTW, Mb w80, Mc w20, Mc w80), ``input_cycle`` and
+        ``target_cycle`` (frames); optional ``m`` (the input's last frame, default the
+        largest input frame any map reaches). :func:`walk_pair_cases` gives them.
+    benchmark : float
+        The deviation benchmark in frames (18 at 120 Hz).
+
+    Returns
+    -------
+    rows : list of dict
+        Per pair, four rows in the order above; keys ``pair``, ``statement``, ``value``,
+        ``threshold``, ``unit``, ``holds`` (bool).
+
+    Paper: FP-DTW Section 5 (the text on Fig. 8) and eq. 3.
+    Notebook: 10_fig8_walk_pair.ipynb
+    """
+    rows = []
+    for c in cases:
+        maps = {k: np.asarray(v, dtype=np.int64) for k, v in c["maps"].items()}
+        P = maps["DTW"]
+        m = int(c.get("m", max(int(v.max()) for v in maps.values())))
+        n = P.size - 1
+        d20 = deviation(P, maps["Mc w20"])
+        hold, _ = _longest_early_hold(maps["Mc w20"], m, n / 3.0)
+        lead = int(np.max(maps["Mc w80"] - P))
+        db80 = deviation(P, maps["Mb w80"])
+        ci, ct = int(c["input_cycle"]), int(c["target_cycle"])
+        for statement, value, threshold, unit, holds in (
+            ("Mc w20 fails", d20, benchmark, "frames (eq. 3) > threshold", d20 > benchmark),
+            ("Mc w20 sticks early", hold, ct, "target frames held >= threshold", hold >= ct),
+            ("Mc w80 skips a walk cycle", lead, ci, "input frames ahead >= threshold",
+             lead >= ci),
+            ("Mb w80 stays close to DTW", db80, benchmark, "frames (eq. 3) < threshold",
+             db80 < benchmark),
+        ):  # fmt: skip
+            rows.append(dict(pair=c["pair"], statement=statement, value=float(value),
+                             threshold=float(threshold), unit=unit, holds=bool(holds)))  # fmt: skip
+    return rows
+
+
+def statement_counts(rows) -> dict:
+    """Per statement of :func:`fig8_statements`: on how many pairs it holds, of how many.
+
+    Returns
+    -------
+    counts : dict
+        ``{statement: {"holds": k, "pairs": n}}``, in the order of the rows.
+
+    Notebook: 10_fig8_walk_pair.ipynb
+    """
+    out = {}
+    for r in rows:
+        c = out.setdefault(r["statement"], {"holds": 0, "pairs": 0})
+        c["holds"] += int(r["holds"])
+        c["pairs"] += 1
+    return out
+
+
 __all__ = [
     "ALGORITHM_COLORS",
     "FBX_SIDE_VIEW",
     "FIG8_ALGORITHMS",
+    "FIG8_STATEMENT_ALGORITHMS",
+    "FIG8_STATEMENT_RULES",
+    "WALK_MOVEMENT",
+    "fig8_statements",
+    "gait_cycle",
+    "statement_counts",
+    "walk_pair_cases",
+    "walk_pairs",
     "SMOKE_SECONDS",
     "WALK_PAIR",
     "align_all",
