@@ -294,7 +294,7 @@ def test_opw_claims_under_the_plugin_reading():
     assert sum("with OPW read as the authors' plugin does it" in x for x in text.splitlines()) == 1
     assert claims.claims_summary(list(rows.values())).splitlines()[-1] == (
         "OPW plugin reading: yes 1, partly 3, no 0, inconclusive 0, not comparable 0 "
-        "(of 4 OPW claims)"
+        "(of 4 claims decided)"
     )
     # facts without the plugin reading: not computed, and no line in the summary
     rows, _ = table(context(None), ["P1", "1"])
@@ -440,13 +440,17 @@ def test_format_claims_prints_every_body_of_evidence(paper_like):
 
 def test_claims_summary_counts_each_verdict_per_reading():
     rows = [
-        dict(holds="yes", holds_literal="no"),
-        dict(holds="inconclusive", holds_literal="partly"),
+        dict(holds="yes", holds_literal="no", eq2_other="local", holds_eq2_other="partly"),
+        dict(holds="inconclusive", holds_literal="partly", holds_same_movements="yes"),
         dict(holds="n/a", holds_literal="n/a"),
     ]
     assert claims.claims_summary(rows).splitlines() == [
-        "square window: yes 1, partly 0, no 0, inconclusive 1, not comparable 0, n/a 1 "
-        "(of 3 claims)",
-        "literal window: yes 0, partly 1, no 1, inconclusive 0, not comparable 0, n/a 1 "
-        "(of 3 claims)",
+        "headline (movements resampled): yes 1, partly 0, no 0, inconclusive 1, "
+        "not comparable 0 (of 2 claims decided)",
+        "movements fixed: yes 1, partly 0, no 0, inconclusive 0, not comparable 0 "
+        "(of 1 claims decided)",
+        "eq. 2 read as local: yes 0, partly 1, no 0, inconclusive 0, not comparable 0 "
+        "(of 1 claims decided)",
+        "Method C's literal window: yes 0, partly 1, no 1, inconclusive 0, not comparable 0 "
+        "(of 2 claims decided)",
     ]

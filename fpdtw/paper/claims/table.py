@@ -1415,7 +1415,14 @@ def _mc_margin(part) -> float | None:
 
 
 def build_claims(
-    mode="full", results=None, claims=None, context=None, *, robustness=True, with_parts=False
+    mode="full",
+    results=None,
+    claims=None,
+    context=None,
+    *,
+    robustness=True,
+    with_parts=False,
+    with_checks=False,
 ):
     """Check every claim against our results, part by part, on every body of evidence.
 
@@ -1433,13 +1440,17 @@ def build_claims(
         exists (:mod:`fpdtw.paper.claims.robustness`).
     with_parts : bool
         Return the parts table too.
+    with_checks : bool
+        Return the checks table too (implies ``with_parts``).
 
     Returns
     -------
     rows : list of dict
         Keys :data:`COLUMNS`.
     parts : list of dict
-        Keys :data:`PART_COLUMNS` (only with ``with_parts``).
+        Keys :data:`PART_COLUMNS` (only with ``with_parts`` or ``with_checks``).
+    checks : list of dict
+        Keys :data:`CHECK_COLUMNS` (only with ``with_checks``).
 
     Paper: FP-DTW Sections 5-7; OPW poster Section 5.
     Notebook: 12_claims.ipynb
@@ -1457,8 +1468,73 @@ def build_claims(
         from fpdtw.paper.claims.robustness import robustness as _robustness
 
         rob = _robustness(claims, mode)
-    rows, parts = evaluate_claims(claims, contexts, rob)
+    checks = []
+    rows, parts = evaluate_claims(claims, contexts, rob, checks=checks)
+    if with_checks:
+        return rows, parts, checks
     return (rows, parts) if with_parts else rows
+
+
+#: Claims whose pooled intervals get a power estimate (:func:`power_rows`).
+POWER_CLAIMS = ("1", "3")
+POWER_COLUMNS = ("claim", "part", "check", "quantity", "estimate", "low", "high", "threshold",
+                 "relation", "movements", "movements_needed", "to")  # fmt: skip
+
+
+def movement_count(ev) -> int:
+    """Movements (dataset, movement) among an evidence's pairs."""
+    return len({(ev.results.pairs[r]["dataset"], ev.results.pairs[r]["movement"]) for r in ev.rows})
+
+
+def power_rows(checks, movements: int, claims=POWER_CLAIMS) -> list[dict]:
+    """How many movements like ours the pooled intervals would need to decide each
+    inconclusive check of ``claims`` (headline body).
+
+    An interval over ``K`` movements (movements resampled) narrows about as
+    ``1 / sqrt(K)``; with the estimate where it is, the end on the threshold's side clears
+    the threshold at ``K' = K * (h / |estimate - threshold|) ** 2``, ``h`` being that end's
+    distance from the estimate today. ``to`` says which way it would then be decided (the
+    estimate's side: "hold" or "be contradicted"). A rough guide from the bootstrap's
+    spread, not a power analysis: the estimate itself moves with new movements.
+
+    Parameters
+    ----------
+    checks : list of dict
+        Rows of :data:`CHECK_COLUMNS`.
+    movements : int
+        Movements of the headline body (:func:`movement_count`).
+
+    Returns
+    -------
+    rows : list of dict
+        Keys :data:`POWER_COLUMNS`.
+
+    Notebook: 12_claims.ipynb
+    """
+    out = []
+    for c in checks:
+        if c["body"] != "all" or c["claim"] not in claims or c["verdict"] != R.INCONCLUSIVE:
+            continue
+        if c["low"] == "" or c["check"] == 0:
+            continue
+        est, lo, hi, t = (float(c[k]) for k in ("estimate", "low", "high", "threshold"))
+        above = c["relation"].startswith(">")
+        gap = est - t
+        if gap == 0 or not np.isfinite(gap):
+            need, to = float("inf"), "neither (the estimate is on the threshold)"
+        else:
+            # the end between the estimate and the threshold decides
+            h = (est - lo) if gap > 0 else (hi - est)
+            need = movements * (h / abs(gap)) ** 2
+            to = "hold" if (gap > 0) == above else "be contradicted"
+        out.append(
+            {k: c[k] for k in ("claim", "part", "check", "quantity", "estimate", "low", "high",
+                               "threshold", "relation")}
+            | dict(movements=movements,
+                   movements_needed=int(np.ceil(need - 1e-9)) if np.isfinite(need) else "never",
+                   to=to)
+        )  # fmt: skip
+    return out
 
 
 def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None, with_parts=False):
@@ -1625,41 +1701,98 @@ def format_parts(parts, width: int = 110) -> str:
 
 
 def claims_summary(rows) -> str:
-    """How many claims get each verdict, with Method C's default and literal window, and
-    how many of the OPW poster's claims with OPW's plugin reading.
+    """How many claims get each verdict: the headline (movements resampled), with the
+    movements fixed, under the other reading of eq. 2, with Method C's literal window, and
+    the OPW poster's claims with OPW's plugin reading.
 
     Returns
     -------
     text : str
-        One line per reading, e.g. ``"square window: yes 6, partly 5, no 2, ... (of 17)"``;
-        the last, ``"OPW plugin reading: ..."``, counts the rows whose plugin verdict is
-        not "n/a" (none: no line).
+        One line per body, e.g. ``"headline: yes 6, partly 5, no 2, ... (of 17 claims)"``;
+        a body no claim was decided on has no line.
 
     Notebook: 12_claims.ipynb
     """
     lines = []
-    for suffix, reading in READINGS.items():
-        counts = {v: 0 for v in R.CLAIM_VERDICTS}
-        for r in rows:
-            counts[r[f"holds{suffix}"]] = counts.get(r[f"holds{suffix}"], 0) + 1
+    other = next((r.get("eq2_other") for r in rows if r.get("eq2_other", R.NA) != R.NA), None)
+    bodies = (
+        ("holds", "headline (movements resampled)"),
+        ("holds_same_movements", "movements fixed"),
+        ("holds_eq2_other", f"eq. 2 read as {other}"),
+        ("holds_literal", "Method C's literal window"),
+        ("holds_plugin", "OPW plugin reading"),
+    )
+    for col, label in bodies:
+        got = [r[col] for r in rows if r.get(col, R.NA) != R.NA]
+        if not got:
+            continue
+        counts = {v: got.count(v) for v in R.CLAIM_VERDICTS[:-1]}
         lines.append(
-            f"{reading} window: "
-            + ", ".join(f"{k} {v}" for k, v in counts.items())
-            + f" (of {len(rows)} claims)"
-        )
-    opw = [r for r in rows if r.get("holds_plugin", R.NA) != R.NA]
-    if opw:
-        counts = {v: sum(r["holds_plugin"] == v for r in opw) for v in R.CLAIM_VERDICTS[:-1]}
-        lines.append(
-            "OPW plugin reading: "
-            + ", ".join(f"{k} {v}" for k, v in counts.items())
-            + f" (of {len(opw)} OPW claims)"
-        )
+            f"{label}: " + ", ".join(f"{k} {v}" for k, v in counts.items())
+            + f" (of {len(got)} claims decided)"
+        )  # fmt: skip
     return "\n".join(lines)
 
 
-def save_claims(rows, mode="full", parts=None, meta=None):
-    """Write ``claims.csv|md``, ``claims_intervals.csv|md`` (parts) and ``claims.json``.
+#: The bodies of the short table's "A / H / S" column.
+AHS = ("authors_fbx", "hdm05", "paper_shaped")
+#: Columns of ``figures/claims.md``, the short table (``claims.csv`` keeps every column).
+SHORT_COLUMNS = ("id", "claim", "paper", "ours", "verdict", "movements fixed", "A / H / S",
+                 "other eq. 2", "parts")  # fmt: skip
+
+
+def short_rows(rows, parts=None) -> list[dict]:
+    """The short claims table: each claim in at most 12 words, the paper's value, ours, the
+    verdict (movements resampled), with the movements fixed, per dataset and selection (A:
+    the authors' FBX takes, H: HDM05, S: the paper-shaped selection), under the other
+    reading of eq. 2 and each part's verdict.
+
+    Returns
+    -------
+    rows : list of dict
+        Keys :data:`SHORT_COLUMNS`.
+
+    Notebook: 12_claims.ipynb
+    """
+    by_claim = {}
+    for p in parts or []:
+        by_claim.setdefault(p["claim"], []).append(f"{p['part'][len(p['claim']) :]} {p['verdict']}")
+    out = []
+    for r in rows:
+        ahs = " / ".join(r.get(f"holds_{k}", R.NA) for k in AHS)
+        out.append({
+            "id": r["id"], "claim": r.get("short") or SHORT.get(r["id"], r["claim"]),
+            "paper": r["paper"], "ours": r["ours"], "verdict": r["holds"],
+            "movements fixed": r.get("holds_same_movements", R.NA),
+            "A / H / S": ahs if ahs != " / ".join([R.NA] * 3) else R.NA,
+            "other eq. 2": r.get("holds_eq2_other", R.NA),
+            "parts": "; ".join(by_claim.get(r["id"], [])) or "-",
+        })  # fmt: skip
+    return out
+
+
+def bootstrap_note() -> str:
+    """Which question each resampling answers, and the seeds (under every claims table)."""
+    from fpdtw.paper.claims import bootstrap as bs
+
+    return (
+        f"Intervals: {bs.N_RESAMPLES} resamples of a two-stage cluster bootstrap (seed "
+        f"{bs.SEED}; second seed {bs.SEED + SEED2_OFFSET}). The verdict resamples movements "
+        "within each dataset, then motions within each movement: it answers 'would this hold "
+        "for other movements like these, recorded again?'. 'Movements fixed' resamples the "
+        "motions only: 'would it hold for other takes of these movements?'. Monte Carlo "
+        f"errors of the interval ends: batch means over {bs.MC_BATCHES} batches."
+    )
+
+
+def save_claims(rows, mode="full", parts=None, meta=None, checks=None, power=None):
+    """Write ``claims.csv|md``, ``claims_intervals.csv|md`` (parts), ``claims_checks.csv|md``
+    (every check of every part on every body, at full precision), ``claims_power.csv|md``
+    and ``results/<mode>/claims.json``.
+
+    ``claims.md`` is the short table (:func:`short_rows`); ``claims.csv`` has every column
+    (:data:`COLUMNS`). ``python -m fpdtw.paper.claims verify figures/`` recomputes every
+    part and claim verdict from the CSV files alone.
 
     Parameters
     ----------
@@ -1670,6 +1803,10 @@ def save_claims(rows, mode="full", parts=None, meta=None):
         The parts table (:func:`build_claims` with ``with_parts=True``).
     meta : dict, optional
         Stored in the JSON beside the rows (e.g. the bootstrap's design).
+    checks : list of dict, optional
+        The checks table (:func:`build_claims` with ``with_checks=True``).
+    power : list of dict, optional
+        :func:`power_rows`.
 
     Returns
     -------
@@ -1678,22 +1815,32 @@ def save_claims(rows, mode="full", parts=None, meta=None):
     Notebook: 12_claims.ipynb
     """
     from fpdtw.paper.claims import bootstrap as bs
-    from fpdtw.paper.figures.tables import save_table
-    from fpdtw.paper.paths import results_dir
+    from fpdtw.paper.figures.tables import save_table, to_markdown
+    from fpdtw.paper.paths import figures_dir, results_dir
     from fpdtw.paper.provenance import versions_line
 
-    boot = (
-        f"Intervals: {bs.N_RESAMPLES} resamples of a two-stage cluster bootstrap (seed "
-        f"{bs.SEED}; movements within each dataset, then motions within each movement); "
-        "holds_same_movements resamples the motions only."
-    )
+    boot = bootstrap_note()
     note = (
-        f"{R.LEGEND}\n\n{boot}\n\nComputed with {versions_line()}. The commit and the "
-        "machine that made these figures: ENVIRONMENT.md."
+        f"{R.RULE}\n\n{boot}\n\nComputed with {versions_line()}. The commit and the "
+        "machine that made these figures: ENVIRONMENT.md. Every column: claims.csv; every "
+        "check: claims_checks.csv; `python -m fpdtw.paper.claims verify figures/` recomputes "
+        "every verdict from these files."
     )
     out = list(save_table(rows, "claims", columns=COLUMNS, note=note))
+    md = to_markdown(short_rows(rows, parts), SHORT_COLUMNS) + f"\n{note}\n"
+    out[1] = write_atomic(figures_dir() / "claims.md", md.encode())
     if parts is not None:
-        out += save_table(parts, "claims_intervals", columns=PART_COLUMNS, note=boot)
+        out += save_table(parts, "claims_intervals", columns=PART_COLUMNS, note=boot,
+                          csvfmt=".17g")  # fmt: skip
+    if checks is not None:
+        out += save_table(checks, "claims_checks", columns=CHECK_COLUMNS, csvfmt=".17g",
+                          floatfmt=".4g", note=f"{R.RULE}\n\n{boot}")  # fmt: skip
+    if power is not None:
+        out += save_table(power, "claims_power", columns=POWER_COLUMNS, note=(
+            "How many movements like ours the pooled interval of each inconclusive check of "
+            "claims 1 and 3 would need to decide it, if its estimate stayed where it is and "
+            "the interval narrowed as 1/sqrt(movements) (fpdtw.paper.claims.table.power_rows)."
+        ))  # fmt: skip
     doc = {
         "mode": mode,
         "claims": rows,
@@ -1701,6 +1848,7 @@ def save_claims(rows, mode="full", parts=None, meta=None):
         "bootstrap": {
             "resamples": bs.N_RESAMPLES,
             "seed": bs.SEED,
+            "seed2": bs.SEED + SEED2_OFFSET,
             "level": bs.LEVEL,
             "schemes": bs.SCHEMES,
         },
@@ -1712,14 +1860,21 @@ def save_claims(rows, mode="full", parts=None, meta=None):
 
 
 __all__ = [
+    "BODIES",
+    "CHECK_COLUMNS",
     "CLAIMS",
     "COLUMNS",
     "PART_COLUMNS",
+    "POWER_COLUMNS",
+    "SHORT",
+    "SHORT_COLUMNS",
     "Assessment",
     "Claim",
     "ClaimContext",
     "best_window_test",
+    "bootstrap_note",
     "build_claims",
+    "check_rows",
     "claim_contexts",
     "claim_rows",
     "claims_by_id",
@@ -1728,9 +1883,12 @@ __all__ = [
     "evaluate_claims",
     "format_claims",
     "format_parts",
+    "movement_count",
     "oedtw_backward_jumps",
     "opw_reading",
     "paper_shaped_rows",
+    "power_rows",
     "reading_alias",
     "save_claims",
+    "short_rows",
 ]

@@ -26,7 +26,13 @@ def to_markdown(rows: list[dict], columns=None, floatfmt=".3f") -> str:
 
 
 def save_table(
-    rows: list[dict], name: str, folder=None, columns=None, floatfmt=".3f", note: str = ""
+    rows: list[dict],
+    name: str,
+    folder=None,
+    columns=None,
+    floatfmt=".3f",
+    note: str = "",
+    csvfmt: str = ".6g",
 ):
     """Write ``<name>.csv`` and ``<name>.md`` atomically.
 
@@ -42,6 +48,9 @@ def save_table(
         Column order (default: keys of the first row).
     note : str, optional
         A paragraph put under the Markdown table.
+    csvfmt : str
+        Format of the CSV's floats (``".17g"``: every digit, for files that verdicts are
+        recomputed from).
 
     Returns
     -------
@@ -55,7 +64,7 @@ def save_table(
     w = csv.DictWriter(buf, fieldnames=columns, lineterminator="\n", extrasaction="ignore")
     w.writeheader()
     for r in rows:
-        w.writerow({c: _fmt(r.get(c), ".6g") for c in columns})
+        w.writerow({c: _fmt(r.get(c), csvfmt) for c in columns})
     out = []
     md = to_markdown(rows, columns, floatfmt) + (f"\n{note}\n" if note else "")
     for ext, text in (("csv", buf.getvalue()), ("md", md)):

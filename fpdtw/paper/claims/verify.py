@@ -1,0 +1,151 @@
+"""Every verdict again, from the committed files alone.
+
+``python -m fpdtw.paper.claims verify figures/`` reads ``claims_checks.csv`` (every check of
+every part on every body of evidence, at full precision, with each part's formula),
+rebuilds each :class:`~fpdtw.paper.claims.rules.Check`, decides each check, part and claim by
+the rules of :mod:`fpdtw.paper.claims.rules` and compares them with what
+``claims_intervals.csv`` (parts) and ``claims.csv`` (claims) say. Nothing else is read: no
+results, no bootstrap. It exits 1 and names every disagreement.
+
+Paper: FP-DTW Section 5 (the benchmarks); OPW poster Section 5.
+Notebook: 12_claims.ipynb
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import sys
+from pathlib import Path
+
+from fpdtw.paper.claims import rules as R
+from fpdtw.paper.claims.table import BODIES, seed_verdict
+
+#: claims_intervals.csv's column of each body's part verdict (the headline: ``verdict``,
+#: with the second seed applied; bodies without a column are checked at the claim level).
+PART_COLUMN = {"all": "verdict", "seed2": "verdict_seed2", "plugin": "verdict_plugin"} | {
+    b: f"verdict_{b}" for b in ("same_movements", "authors_fbx", "hdm05", "paper_shaped",
+                                "literal", "eq2_other")
+}  # fmt: skip
+#: claims.csv's column of each body's claim verdict.
+CLAIM_COLUMN = {"all": "holds"} | {b: f"holds_{b}" for b in BODIES if b != "all"}
+
+
+def _read(path: Path) -> list[dict]:
+    with path.open(newline="", encoding="utf-8") as f:
+        return list(csv.DictReader(f))
+
+
+def _float(text: str) -> float:
+    return float("nan") if text in ("", "nan") else float(text)
+
+
+def check_from_row(row: dict) -> R.Check:
+    """The :class:`~fpdtw.paper.claims.rules.Check` of one row of ``claims_checks.csv``."""
+    rel = row["relation"]
+    if rel not in (">", ">=", "<", "<="):
+        raise ValueError(f"check {row['part']}#{row['check']}: relation {rel!r}")
+    return R.Check(
+        row["quantity"],
+        _float(row["estimate"]),
+        _float(row["low"]),
+        _float(row["high"]),
+        _float(row["threshold"]),
+        above=rel.startswith(">"),
+        interval=row["interval"] == "True",
+        strict=len(rel) == 1,
+    )
+
+
+def part_verdicts(checks: list[dict]) -> tuple[dict, list[str]]:
+    """Each (body, claim, part)'s verdict recomputed from its check rows, and the check rows
+    whose stored verdict disagrees with the recomputed one."""
+    groups: dict = {}
+    for row in checks:
+        groups.setdefault((row["body"], row["claim"], row["part"]), []).append(row)
+    out, bad = {}, []
+    for key, rows in groups.items():
+        if len(rows) == 1 and rows[0]["check"] == "0":
+            out[key] = R.NOT_COMPARABLE
+            continue
+        by_number = {}
+        for row in rows:
+            c = check_from_row(row)
+            if c.verdict != row["verdict"]:
+                bad.append(f"{key[0]} {key[2]} check {row['check']}: stored {row['verdict']!r}, "
+                           f"recomputed {c.verdict!r}")  # fmt: skip
+            by_number[int(row["check"])] = c
+        out[key] = R.evaluate(R.parse_formula(rows[0]["formula"], by_number))
+    return out, bad
+
+
+def verify(folder) -> list[str]:
+    """Every disagreement between the stored verdicts and those recomputed from the checks.
+
+    Parameters
+    ----------
+    folder : path-like
+        A folder with ``claims.csv``, ``claims_intervals.csv`` and ``claims_checks.csv``.
+
+    Returns
+    -------
+    problems : list of str
+        Empty when every check, part and claim verdict recomputes to the stored one.
+    """
+    folder = Path(folder)
+    claims = _read(folder / "claims.csv")
+    parts = _read(folder / "claims_intervals.csv")
+    got, problems = part_verdicts(_read(folder / "claims_checks.csv"))
+    labels: dict = {}
+    for p in parts:
+        labels.setdefault(p["claim"], []).append(p["part"])
+    for body in BODIES:
+        for claim in claims:
+            cid = claim["id"]
+            verdicts = []
+            for label in labels.get(cid, []):
+                v = got.get((body, cid, label))
+                if body == "all" and v is not None:
+                    v = seed_verdict(v, got.get(("seed2", cid, label)))
+                if v is None:
+                    continue
+                verdicts.append(v)
+                col = PART_COLUMN.get(body)
+                stored = next(p for p in parts if p["part"] == label).get(col) if col else None
+                if stored is not None and stored != v:
+                    problems.append(f"{body} {label}: stored {stored!r}, recomputed {v!r}")
+            want = R.claim_verdict(verdicts) if verdicts else R.NA
+            have = claim.get(CLAIM_COLUMN[body], R.NA)
+            if claim["holds"] == R.NA and body == "all" and not verdicts:
+                continue
+            if have != want:
+                problems.append(f"{body} claim {cid}: stored {have!r}, recomputed {want!r}")
+    return problems
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(prog="python -m fpdtw.paper.claims", description=__doc__)
+    sub = ap.add_subparsers(dest="command", required=True)
+    v = sub.add_parser("verify", help="recompute every verdict from the committed files")
+    v.add_argument("folder", nargs="?", default="figures")
+    a = ap.parse_args(argv)
+    folder = Path(a.folder)
+    missing = [n for n in ("claims.csv", "claims_intervals.csv", "claims_checks.csv")
+               if not (folder / n).is_file()]  # fmt: skip
+    if missing:
+        print(f"{folder}: no {', '.join(missing)} (make figures writes them)", file=sys.stderr)
+        return 2
+    problems = verify(folder)
+    n_checks = sum(1 for _ in _read(folder / "claims_checks.csv"))
+    if problems:
+        print(f"{len(problems)} verdicts do not recompute from {folder}:")
+        print("\n".join(f"  {p}" for p in problems))
+        return 1
+    n_parts = len(_read(folder / "claims_intervals.csv"))
+    n_claims = len(_read(folder / "claims.csv"))
+    print(f"every verdict recomputes from {folder}: {n_checks} checks, {n_parts} parts, "
+          f"{n_claims} claims on {len(BODIES)} bodies of evidence")  # fmt: skip
+    return 0
+
+
+__all__ = ["check_from_row", "main", "part_verdicts", "verify"]
