@@ -102,11 +102,11 @@ def paper_like():
 
 def test_every_claim_holds_on_a_paper_like_run(paper_like):
     rows, parts = paper_like
-    assert list(rows) == ["1", "2", "2b", "3", "4", "4b", "4c", "5", "5b", "6", "7", "8", "9",
+    assert list(rows) == ["1", "2", "2b", "3", "4", "4b", "4c", "5", "5b", "6", "7", "8", "8b", "9",
                           "P1", "P2", "P3", "P4", "B1",
                           "Q1", "Q2", "Q3", "Q4", "Q5", "Q6"]  # fmt: skip
     want = dict.fromkeys(["1", "2", "2b", "3", "4", "4b", "4c", "5", "5b", "6", "7", "P1"], "yes")
-    want |= {"8": "not comparable", "9": "not comparable", "B1": "n/a"}
+    want |= {"8": "not comparable", "8b": "n/a", "9": "not comparable", "B1": "n/a"}
     # no open run here (tests/test_open_questions.py)
     want |= dict.fromkeys(["Q1", "Q2", "Q3", "Q4", "Q5", "Q6"], "n/a")
     want |= dict.fromkeys(["P2", "P3", "P4"], "yes")
@@ -454,3 +454,15 @@ def test_claims_summary_counts_each_verdict_per_reading():
         "Method C's literal window: yes 0, partly 1, no 1, inconclusive 0, not comparable 0 "
         "(of 2 claims decided)",
     ]
+
+
+def test_claim8b_reads_the_walk_pair_statements():
+    counts = {"Mc w20 fails": {"holds": 0, "pairs": 6},
+              "Mc w80 skips a walk cycle": {"holds": 4, "pairs": 6},
+              "Mb w80 stays close to DTW": {"holds": 3, "pairs": 6}}  # fmt: skip
+    fig8 = {"deviation": dict(FIG8_DEVIATIONS), "statements": counts}
+    (row,), parts = claims.claim_rows(["8b"], facts={"fig8": fig8}, with_parts=True)
+    assert row["holds"] == "partly"
+    assert [p["verdict"] for p in parts] == ["contradicted", "holds", "contradicted"]  # 3/6: tie
+    assert row["ours"] == ("walk pairs where it holds: Mc w20 fails: 0 of 6, Mc w80 skips a "
+                           "walk cycle: 4 of 6, Mb w80 stays close to DTW: 3 of 6")  # fmt: skip
