@@ -259,7 +259,6 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
         (from ``values``) The stored pairs are not ``results.pairs`` in order.
 
     Paper: FP-DTW eq. 2.
-    Notebook: 17_similarity_level.ipynb
     """
     from tqdm.auto import tqdm
 

@@ -351,7 +351,6 @@ def walk_pairs() -> list:
         (input, target), in catalog order: ``Walk_01 -> Walk_02``, ``Walk_01 -> Walk_03``, ...
 
     Paper: FP-DTW Section 5, Fig. 8.
-    Notebook: 10_fig8_walk_pair.ipynb
     """
     from fpdtw.paper.catalog import motion_records
 
@@ -376,7 +375,6 @@ def gait_cycle(F: MotionFeatures) -> tuple[int, str]:
         ``"autocorrelation"`` or ``"paper's gait"``.
 
     Paper: FP-DTW Section 4 (walking gait 0.82-0.9 Hz).
-    Notebook: 10_fig8_walk_pair.ipynb
     """
     from fpdtw.period import dominant_period
 
