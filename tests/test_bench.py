@@ -43,8 +43,10 @@ def test_limit_window_is_the_geodesic_window_and_its_dtw_accumulation():
 
 @cycles
 @pytest.mark.parametrize(
-    "name", ["Ma", "Mb w10", "Mc w10 + Type V", "Mc w20 (literal window)", "OE-DTW", "OLTW c40"]
-)
+    "name",
+    ["Ma", "Mb w10", "Mc w10 + Type V", "Mc w20 (literal window)", "OE-DTW", "OLTW c40",
+     "Mb w40 (band w/2)", "Mc w40 (band w/2)"],
+)  # fmt: skip
 def test_replay_reproduces_the_map_and_the_limit_has_the_steps_costs(name):
     I, T, _ = synthetic_pair(90, seed=5)
     a = make_online(name, I)
