@@ -536,26 +536,28 @@ def band_cost(report) -> list:
     Returns
     -------
     rows : list of dict
-        One per base of :data:`fpdtw.paper.runner.grid.BAND_BASES` that the report timed
-        with and without the band: ``name``, ``band`` (the band variant's name),
-        ``base_us`` and ``band_us`` (median seconds per frame times 1e6, :func:`step_s`),
-        ``ratio`` (band / base).
+        One per band (:data:`fpdtw.paper.runner.grid.BAND_1S` first, the first reading,
+        then :data:`~fpdtw.paper.runner.grid.BAND_HALF_W`) and per base of
+        :data:`fpdtw.paper.runner.grid.BAND_BASES` that the report timed with and without
+        that band: ``name``, ``band`` (the band variant's name), ``base_us`` and ``band_us``
+        (median seconds per frame times 1e6, :func:`step_s`), ``ratio`` (band / base).
 
     Paper: FP-DTW Section 7 (conclusion: a global constraint).
     Notebook: 16_open_questions.ipynb
     """
-    from fpdtw.paper.runner.grid import BAND_BASES
+    from fpdtw.paper.runner.grid import BAND_1S, BAND_BASES, BAND_HALF_W
 
     by_name = {r["name"]: r for r in report.get("online", [])}
     rows = []
-    for base in BAND_BASES:
-        band = f"{base} (band 1 s)"
-        if base in by_name and band in by_name:
-            b, v = step_s(by_name[base]), step_s(by_name[band])
-            rows.append(
-                {"name": base, "band": band, "base_us": b * 1e6, "band_us": v * 1e6,
-                 "ratio": v / b}
-            )  # fmt: skip
+    for label in (BAND_1S, BAND_HALF_W):
+        for base in BAND_BASES:
+            band = f"{base} ({label})"
+            if base in by_name and band in by_name:
+                b, v = step_s(by_name[base]), step_s(by_name[band])
+                rows.append(
+                    {"name": base, "band": band, "base_us": b * 1e6, "band_us": v * 1e6,
+                     "ratio": v / b}
+                )  # fmt: skip
     return rows
 
 
