@@ -14,7 +14,8 @@ The public API, by what it holds:
 * beyond the papers (the questions they leave open): :func:`dominant_period` and
   :func:`auto_window` (Method C's window from the input's period, "Mc auto");
   :func:`joint_weights` (eq. 1's joints weighted by their travel in the recording,
-  "Mc w40 (weighted joints)"); the global band ("Mc w40 (band 1 s)"); :class:`AdaptiveOPW`
+  "Mc w40 (weighted joints)"); the global bands ("Mc w40 (band 1 s)", which masks, and
+  "Mc w40 (band w/2)", which computes only the window's rows inside it); :class:`AdaptiveOPW`
   (OPW's gamma from its own decisions); :func:`derivative_features` (derivative motions; any
   online name with the option ``"derivative"`` runs on them, "OPW (derivative)");
   :func:`insert_pause` (a held pose inserted in a target);

@@ -418,6 +418,110 @@ def band_rows(start: int, rows: int, q: int, band: int) -> np.ndarray:
     return np.abs(start + np.arange(rows) - q) <= band
 
 
+#: Half-width of ``band="1s"`` in seconds (multiplied by the input's frame rate).
+BAND_SECONDS = 1.0
+
+
+def band_half_width(band: str, w: int, fps: float) -> int:
+    """The half-width ``B`` in frames of a global band option (beyond the papers, notebook
+    16): ``"1s"``, one second of the input, ``round(fps)``; ``"half-w"``, half the window,
+    ``floor(w / 2)``; each at least 1. ``"none"``: 0.
+
+    Paper: FP-DTW Section 7 (conclusion: a global constraint).
+    """
+    if band == "none":
+        return 0
+    if band == "1s":
+        return max(1, int(round(BAND_SECONDS * fps)))
+    if band == "half-w":
+        return max(1, int(w) // 2)
+    raise ValueError(f"band must be 'none', '1s' or 'half-w', got {band!r}")
+
+
+def band_window(start: int, w_i: int, q: int, band: int):
+    """The rows of the window ``I_{M_n}..I_{M_n + w_i}`` that lie inside the global band,
+    as the offsets of the first and the last: what ``band="half-w"`` computes.
+
+    Row ``r`` is inside when ``|M_n + r - q| <= band`` (:func:`band_rows`); those rows are
+    consecutive, from ``max(0, q - band - M_n)`` to ``min(w_i, q + band - M_n)``.
+
+    Parameters
+    ----------
+    start : int
+        ``M_n``.
+    w_i : int
+        Offset of the window's last row.
+    q : int
+        The target frame being mapped, ``n + 1``.
+    band : int
+        Half-width in frames (> 0).
+
+    Returns
+    -------
+    rows : tuple of int (first, last), or None
+        The window clipped to the band, ``I_{M_n + first}..I_{M_n + last}``; None when no row
+        of the window lies inside it.
+
+    Paper: FP-DTW Section 7 ("a global constraint would restrict the area in which a path
+    can be plotted within the cost matrix, reducing the number of cells which need to be
+    calculated").
+    Notebook: 16_open_questions.ipynb
+    """
+    first, last = max(0, q - band - start), min(w_i, q + band - start)
+    return (first, last) if first <= last else None
+
+
+def band_cells(M, m: int, w: int, method: str, band: str = "half-w"):
+    """Cells of eq. 1 a band aligner's window computes at each of its window steps, with its
+    band and without it, from its map alone.
+
+    A step at target frame ``q`` (``n = q - 1``) has a window when ``n >= 2`` (after the
+    warm-up) and ``M_n < m``; its window is ``w_i + 1`` rows by ``cols`` columns (Method B:
+    ``w_i = min(w, m - M_n)``, ``w + 1`` columns; Method C's square window: ``w_i = min(w -
+    1, m - M_n)``, ``w`` columns). Without the band every row is computed; with
+    ``band="half-w"`` only those of :func:`band_window` (all of them when none lies inside
+    the band, where the step raises); with ``band="1s"`` every row (it masks, computes
+    all).
+
+    Parameters
+    ----------
+    M : ndarray of int, shape (n + 1,)
+        The band aligner's map (``M_0..``).
+    m : int
+        The input's last frame.
+    w : int
+    method : {"B", "C"}
+        Method C: the default square window.
+    band : {"half-w", "1s"}
+
+    Returns
+    -------
+    q : ndarray of int64, shape (s,)
+        The target frames of the window steps.
+    full, banded : ndarray of int64, shape (s,)
+        Cells computed without and with the band at each of them.
+
+    Paper: FP-DTW Section 7 (conclusion: a global constraint).
+    """
+    M = np.asarray(M, dtype=np.int64)
+    B = band_half_width(band, w, 0.0) if band == "half-w" else 0  # "1s" clips nothing
+    reach, cols = (w, w + 1) if method == "B" else (w - 1, w)
+    qs, full, banded = [], [], []
+    for q in range(3, len(M)):  # n = q - 1 >= s = 2
+        start = int(M[q - 1])
+        if start >= m:
+            continue
+        w_i = min(reach, m - start)
+        rows = w_i + 1
+        if band == "half-w" and (r := band_window(start, w_i, q, B)) is not None:
+            rows = r[1] - r[0] + 1
+        qs.append(q)
+        full.append((w_i + 1) * cols)
+        banded.append(rows * cols)
+    as_int = lambda x: np.array(x, dtype=np.int64)  # noqa: E731
+    return as_int(qs), as_int(full), as_int(banded)
+
+
 def allowed_rows(allowed, rows: int) -> np.ndarray:
     """Which rows (offsets from ``M_n``) of a window a Type V state allows.
 
@@ -479,6 +583,10 @@ class Step(NamedTuple):
         B: the lowest row of the path in each column (``P[1]`` is the choice).
     score : ndarray of float64, shape (w_i + 1,), or None
         C: what the argmin compares per row.
+    first : int
+        The window's first row is ``I_{M_n + first}``: 0, but under ``band="half-w"`` when
+        ``I_{M_n}`` lies outside the band; then ``C, D, score`` have ``w_i - first + 1``
+        rows (row ``r``: input frame ``I_{M_n + first + r}``).
     """
 
     M: int
@@ -489,6 +597,26 @@ class Step(NamedTuple):
     path: np.ndarray | None = None
     P: np.ndarray | None = None
     score: np.ndarray | None = None
+    first: int = 0
+
+
+def _band_of_window(I, M_n: int, w_i: int, q: int, w: int, band: str, allowed):
+    """``(B, first, w_i)`` of a step under a band option: its half-width and the window's
+    rows (clipped to the band for ``"half-w"`` when a row lies inside it)."""
+    B = band_half_width(band, w, I.fps)
+    if B and allowed is not None:
+        raise ValueError("the global band is not combined with Type V")
+    if band == "half-w" and (rows := band_window(M_n, w_i, q, B)) is not None:
+        return B, rows[0], rows[1]  # the rows outside the band are not computed
+    return B, 0, w_i
+
+
+def _check_band(inside, r: int) -> int:
+    """Row ``r`` if it lies inside the band (``inside``: :func:`band_rows`); a masked row is
+    never chosen: the step raises when no row of the window lies inside."""
+    if not inside[r]:
+        raise ValueError("global band: no input frame of the window lies inside the band")
+    return r
 
 
 def method_a_step(I, T, M, w: int = 2, allowed=None) -> Step:
@@ -527,7 +655,7 @@ def method_a_step(I, T, M, w: int = 2, allowed=None) -> Step:
     return Step(M_n + r, "window", w_i, C[:, None])  # line 10
 
 
-def method_b_step(I, T, M, w: int, allowed=None) -> Step:
+def method_b_step(I, T, M, w: int, allowed=None, band: str = "none") -> Step:
     """Method B: a DTW path through a forecast window; ``n = len(M) - 1``.
 
     Parameters
@@ -536,12 +664,23 @@ def method_b_step(I, T, M, w: int, allowed=None) -> Step:
         As for :func:`method_a_step`; the step reads ``T_n`` and ``T_{n+1}`` only.
     w : int
         Forecast window (the paper: 10, 20, 40, 80).
+    band : {"none", "1s", "half-w"}
+        The global band (beyond the papers, :class:`fpdtw.online.window.ForecastAligner`):
+        ``"1s"`` masks the rows of column ``T_{n+1}`` outside it (:func:`band_rows`);
+        ``"half-w"`` computes only the rows inside it (:func:`band_window`), the path
+        starting at the first of them. Not with Type V.
 
     Returns
     -------
     Step
         ``C, D`` of ``w_i + 1`` rows by ``w + 1`` columns ``[T_n, T_{n+1}, forecasts]``,
-        the path and ``P``; ``M_{n+1} = M_n + P_1``.
+        the path and ``P``; ``M_{n+1} = M_n + P_1`` (``M_n + first + P_1`` under a clipping
+        band).
+
+    Raises
+    ------
+    ValueError
+        Under a band, no row of the window lies inside it.
 
     Paper: FP-DTW Algorithm 2, Fig. 4.
     Notebook: 03_fig2_fig4_windows.ipynb
@@ -556,19 +695,25 @@ def method_b_step(I, T, M, w: int, allowed=None) -> Step:
     w_i = w  # line 6
     if M_n + w_i > m:  # line 7
         w_i = m - M_n  # line 8
+    B, first, w_i = _band_of_window(I, M_n, w_i, n + 1, w, band, allowed)
     E = forecast_joints(T.euler[n], T.euler[n + 1], w)  # T_{n+1} + i delta, i = 0..w-1
     F = np.concatenate([T.quats[n : n + 2], euler_to_quat(E[1:], T.orders)])  # lines 10-11
-    C = cost_matrix(I.quats[M_n : M_n + w_i + 1], F)  # line 12
-    ok = allowed_rows(allowed, w_i + 1)
+    C = cost_matrix(I.quats[M_n + first : M_n + w_i + 1], F)  # line 12
+    ok = allowed_rows(allowed, len(C))
     C[~ok, 1] = np.inf  # Type V: only allowed rows for T_{n+1}
+    inside = band_rows(M_n + first, len(C), n + 1, B) if B else np.ones(len(C), dtype=bool)
+    C[~inside, 1] = np.inf  # the band: only rows inside it for T_{n+1}
     D = accumulate(C)  # line 13
     D[0, 0] = 10000.0  # line 14: the path must leave (0, 0) through (1, 0) or (0, 1)
     path = backtrack(D)  # line 15
     P = path_to_map(path, w)  # the overwrite rule: the lowest row of each column
-    return Step(M_n + checked_choice(ok, int(P[1])), "window", w_i, C, D, path, P)  # line 16
+    r = _check_band(inside, checked_choice(ok, int(P[1])))
+    return Step(M_n + first + r, "window", w_i, C, D, path, P, first=first)  # line 16
 
 
-def method_c_step(I, T, M, w: int, allowed=None, window="square", ties="low") -> Step:
+def method_c_step(
+    I, T, M, w: int, allowed=None, window="square", ties="low", band: str = "none"
+) -> Step:
     """Method C: the reverse-accumulated forecast window; ``n = len(M) - 1``.
 
     Parameters
@@ -581,11 +726,20 @@ def method_c_step(I, T, M, w: int, allowed=None, window="square", ties="low") ->
         ``{I_{M_n}..I_{M_n+w}}``, ``w + 1`` rows; the others as there.
     ties : {"low", "high"}
         Which of equal scores wins.
+    band : {"none", "1s", "half-w"}
+        The global band, as for :func:`method_b_step` (masked or clipped rows of column
+        ``T_{n+1}``; the reverse accumulation from the far corner of the clipped window).
 
     Returns
     -------
     Step
-        ``C, D`` and ``score = D[:, 0]`` (normalised: divided by each row's path weight).
+        ``C, D`` and ``score = D[:, 0]`` (normalised: divided by each row's path weight);
+        ``M_{n+1} = M_n + first + argmin``.
+
+    Raises
+    ------
+    ValueError
+        Under a band, no row of the window lies inside it.
 
     Paper: FP-DTW Algorithm 3.
     Notebook: 03_fig2_fig4_windows.ipynb
@@ -600,20 +754,24 @@ def method_c_step(I, T, M, w: int, allowed=None, window="square", ties="low") ->
     w_i = w - 1 if window == "square" else w  # line 6 (square: w rows I_{M_n}..I_{M_n+w-1})
     if M_n + w_i > m:  # line 7
         w_i = m - M_n  # line 8
+    B, first, w_i = _band_of_window(I, M_n, w_i, n + 1, w, band, allowed)
     E = forecast_joints(T.euler[n], T.euler[n + 1], w)
     F = np.concatenate([T.quats[n + 1 : n + 2], euler_to_quat(E[1:], T.orders)])  # line 10
     if window == "square-tn":
         F = np.concatenate([T.quats[n : n + 1], F])  # Method B's F_0 = T_n first
-    C = cost_matrix(I.quats[M_n : M_n + w_i + 1], F)  # line 11
-    ok = allowed_rows(allowed, w_i + 1)
+    C = cost_matrix(I.quats[M_n + first : M_n + w_i + 1], F)  # line 11
+    ok = allowed_rows(allowed, len(C))
     C[~ok, 0] = np.inf  # Type V: only allowed rows for T_{n+1}
+    inside = band_rows(M_n + first, len(C), n + 1, B) if B else np.ones(len(C), dtype=bool)
+    C[~inside, 0] = np.inf  # the band: only rows inside it for T_{n+1}
     D = reverse_accumulate(C, window == "open-end", window == "normalised")  # line 12
     score = D[:, 0].copy()
     if window == "normalised":
         score = score / ((C.shape[0] - np.arange(C.shape[0])) + C.shape[1])
     choice = np.where(ok, score, np.inf)
     r = int(np.argmin(choice)) if ties == "low" else len(choice) - 1 - int(np.argmin(choice[::-1]))
-    return Step(M_n + checked_choice(ok, r), "window", w_i, C, D, score=score)  # line 13
+    r = _check_band(inside, checked_choice(ok, r))
+    return Step(M_n + first + r, "window", w_i, C, D, score=score, first=first)  # line 13
 
 
 def run(step, I, T, w: int, type_v: bool = False, **options) -> np.ndarray:
@@ -1174,7 +1332,11 @@ __all__ = [
     "Step",
     "accumulate",
     "allowed_rows",
+    "BAND_SECONDS",
+    "band_cells",
+    "band_half_width",
     "band_rows",
+    "band_window",
     "backtrack",
     "checked_choice",
     "cost_matrix",

@@ -43,8 +43,10 @@ def test_limit_window_is_the_geodesic_window_and_its_dtw_accumulation():
 
 @cycles
 @pytest.mark.parametrize(
-    "name", ["Ma", "Mb w10", "Mc w10 + Type V", "Mc w20 (literal window)", "OE-DTW", "OLTW c40"]
-)
+    "name",
+    ["Ma", "Mb w10", "Mc w10 + Type V", "Mc w20 (literal window)", "OE-DTW", "OLTW c40",
+     "Mb w40 (band w/2)", "Mc w40 (band w/2)"],
+)  # fmt: skip
 def test_replay_reproduces_the_map_and_the_limit_has_the_steps_costs(name):
     I, T, _ = synthetic_pair(90, seed=5)
     a = make_online(name, I)
@@ -165,6 +167,65 @@ def test_report_shows_the_server_round_trip():
     assert lines[at + 1].split()[:3] == ["takes", "at", "once"]
     assert lines[at + 2].split() == ["1", "4", "2.500", "3.970", "4.000", "0.500", "1.470"]
     assert "Server round trip" not in bench.format_report(_fake_report({}))
+
+
+# ------------------------------------------- the paper's algorithms without optimisation
+def test_plain_step_times_has_a_row_per_name_with_positive_times():
+    pairs = [synthetic_pair(120, seed=s)[:2] for s in (1, 2)]
+    rows = bench.plain_step_times(pairs, frames=12, warmup=3)
+    assert [r["name"] for r in rows] == list(bench.PLAIN_NAMES) == ["Mb w80", "Mc w80"]
+    for r, method in zip(rows, "BC"):
+        assert set(r) == {"name", "method", "w", "mean_us", "median_us", "frames", "pairs"}
+        assert (r["method"], r["w"], r["frames"], r["pairs"]) == (method, 80, 24, 2)
+        assert r["mean_us"] > 0 and r["median_us"] > 0
+    json.dumps(rows)  # as bench.json stores them
+    with pytest.raises(ValueError, match="plain step"):
+        bench.time_plain_run("OLTW", *pairs[0])
+
+
+@pytest.mark.parametrize("name", bench.PLAIN_NAMES)
+def test_the_plain_step_timed_is_the_one_held_equal_to_the_kernels(name, monkeypatch):
+    """time_plain_run times fpdtw.plain's step (the function tests/test_plain.py compares
+    with the kernels, called once per timed frame) through fpdtw.plain.run, and its map is
+    the compiled aligner's map on that prefix."""
+    from fpdtw import plain
+    from fpdtw.registry import align
+
+    family = name[1].upper()
+    step = getattr(plain, bench.PLAIN_STEPS[family])
+    assert step is {"B": plain.method_b_step, "C": plain.method_c_step}[family]
+    calls = []
+    monkeypatch.setattr(
+        plain, bench.PLAIN_STEPS[family], lambda *a, **k: calls.append(1) or step(*a, **k)
+    )
+    I, T, _ = synthetic_pair(200, seed=3)
+    M, dt = bench.time_plain_run(name, I, T, frames=60)
+    assert M.shape == (61,) and dt.shape == (60,) and len(calls) == 60 and (dt > 0).all()
+    np.testing.assert_array_equal(M, align(name, I, T)[0][:61])
+    monkeypatch.undo()
+    np.testing.assert_array_equal(M, plain.run(step, I, T.slice(0, 61), 80))
+
+
+def test_report_shows_the_plain_steps_beside_the_compiled_ones():
+    report = _fake_report({})
+    plain = [
+        dict(name="Mb w80", method="B", w=80, mean_us=20000.0, median_us=19000.0, frames=720,
+             pairs=3),
+        dict(name="Mc w80", method="C", w=80, mean_us=8000.0, median_us=7900.0, frames=720,
+             pairs=3),
+    ]  # fmt: skip
+    text = bench.format_report(dict(report, plain=plain))
+    lines = text.splitlines()
+    assert any(x.startswith("Without further optimization (Section 5): PLAIN") for x in lines)
+    assert "COMPILED = our numba kernels" in text and "8333 us" in text
+    by = {r["name"]: r for r in report["online"]}
+    (b,) = [x for x in lines if x.startswith("Mb w80 ") and "20000" in x]
+    assert b.split() == ["Mb", "w80", "20000", "19000", "720",
+                         f"{by['Mb w80']['mean_s'] * 1e6:.1f}",
+                         f"{20000 / (by['Mb w80']['mean_s'] * 1e6):.0f}x", "no"]  # fmt: skip
+    (c,) = [x for x in lines if x.startswith("Mc w80 ") and "8000" in x]
+    assert c.split()[-1] == "yes"  # within the 8333 us budget
+    assert "PLAIN" not in bench.format_report(report)  # no plain rows: no section
 
 
 # ------------------------------------------------------------------------------- peers

@@ -625,6 +625,7 @@ SHARED_NAMES = (
     [f"Mb w{w}{t}" for w in (10, 40, 80) for t in ("", " + Type V")]
     + [method_c_name(w, r, t) for r in C_READINGS for w in (10, 40, 80) for t in (False, True)]
     + ["Mb w40 (hold forecast)", "Mc w40 (forecast from T_n+2)", "Mc w20 (ties high)"]
+    + ["Mb w40 (band w/2)", "Mc w40 (band w/2)", "Mc w80 (band w/2)", "Mc w40 (band 1 s)"]
 )
 
 

@@ -138,8 +138,8 @@ def test_the_open_selection_is_a_subsample_of_the_paper_shaped_one():
 # -- the Q claims on invented runs ----------------------------------------------------------
 
 
-def open_run(centres, spread=None, seed=0):
-    run = FakeRun({"authors_fbx": 4, "hdm05": 4}, takes=4, seed=seed, n_frames=40)
+def open_run(centres, spread=None, seed=0, n_frames=40):
+    run = FakeRun({"authors_fbx": 4, "hdm05": 4}, takes=4, seed=seed, n_frames=n_frames)
     for name, (s, d) in centres.items():
         sd = (spread or {}).get(name, 0.0)
         run.add(name, run.scores(s, motion_sd=sd, noise_sd=0.002),
@@ -147,8 +147,8 @@ def open_run(centres, spread=None, seed=0):
     return run
 
 
-def q_table(run, ids):
-    ctx = ClaimContext(mode="smoke", open_ev=Evidence(run, n_resamples=300))
+def q_table(run, ids, bench=None):
+    ctx = ClaimContext(mode="smoke", open_ev=Evidence(run, n_resamples=300), bench=bench)
     rows, parts = claims.evaluate_claims(claims.claims_by_id(ids), claims.claim_contexts(ctx))
     return {r["id"]: r for r in rows}, parts
 
@@ -234,18 +234,20 @@ def behind_pair():
     return I, T
 
 
+@pytest.mark.parametrize("label", ["band 1 s", "band w/2"])
 @pytest.mark.parametrize("name", ["Mc w40", "Mb w40", "Mc w80"])
-def test_the_band_keeps_the_map_within_one_second_of_the_diagonal(name):
+def test_the_band_keeps_the_map_within_its_half_width_of_the_diagonal(name, label):
     I, T = behind_pair()
+    B = 120 if label == "band 1 s" else registry.resolve(name).w // 2
     free, _ = registry.align(name, I, T)
-    band, _ = registry.align(f"{name} (band 1 s)", I, T)
+    band, _ = registry.align(f"{name} ({label})", I, T)
     q = np.arange(T.n_frames)
     assert np.min(free - q) < -120  # without the band the map leaves it
     inside = band < I.n_frames - 1  # before the input is exhausted (then it holds at m)
-    assert np.all(np.abs(band - q)[inside] <= 120)
-    assert np.min((band - q)[inside]) == -120  # kept on its edge
+    assert np.all(np.abs(band - q)[inside] <= B)
+    assert np.min((band - q)[inside]) == -B  # kept on its edge
     # streamed one frame at a time (bounded history off) gives the same map
-    M, _ = run_online(registry.make_online(f"{name} (band 1 s)", I), T)
+    M, _ = run_online(registry.make_online(f"{name} ({label})", I), T)
     np.testing.assert_array_equal(M, band)
 
 
@@ -266,7 +268,48 @@ def test_band_rows_masks_a_known_candidate_and_the_band_refuses_type_v():
     np.testing.assert_array_equal(plain.band_rows(0, 3, 0, 1), [True, True, False])
     with pytest.raises(AlignmentError, match="Type V"):
         registry.make_online("Mc w40 (band 1 s) + Type V", random_walk_features(50))
+    with pytest.raises(AlignmentError, match="Type V"):
+        registry.make_online("Mb w40 (band w/2) + Type V", random_walk_features(50))
     assert registry.resolve("Mb w40 (band 1 s)").options == {"band": "1s"}
+    assert registry.resolve("Mc w80 (band w/2)").options == {"band": "half-w"}
+    assert registry.make_online("Mc w80 (band w/2)", random_walk_features(50)).name == (
+        "Mc w80 (band w/2)"
+    )
+
+
+def test_band_names_have_file_names_without_a_slash():
+    from fpdtw.paper.runner.grid import BAND_NAMES, OPEN_ALGORITHMS
+    from fpdtw.paper.runner.results import slug
+
+    assert slug("Mc w40 (band w/2)") == "Mc_w40_band_w2"
+    assert slug("Mc w40 (band 1 s)") == "Mc_w40_band_1_s"  # as before
+    assert set(BAND_NAMES) <= set(OPEN_ALGORITHMS) and len(BAND_NAMES) == 6
+    assert len({slug(n) for n in OPEN_ALGORITHMS}) == len(OPEN_ALGORITHMS)
+
+
+def test_the_band_of_w2_computes_fewer_cells_on_the_diagonal():
+    """On a map along the diagonal, Mc w40's band of w/2 computes rows 0..21 of each window
+    (q + 20 - M_n with M_n = q - 1), of 41 - q without it (the input ends at frame 39); the
+    1 s band all of them."""
+    from fpdtw.paper.claims.open import band_removed_share
+
+    run = FakeRun({"authors_fbx": 1}, takes=2, n_frames=40)
+    for n in ("UTW", "Mc w40 (band w/2)", "Mc w40 (band 1 s)", "Mb w40 (band w/2)"):
+        run.add(n, 0.3, 10.0)
+    ev = Evidence(run, n_resamples=10)
+    q = np.arange(3, 40)  # window steps: n = q - 1 >= 2, M_n = q - 1 < m = 39
+    full = np.minimum(39, 39 - (q - 1)) + 1
+    expected = np.mean(1 - np.minimum(full, 22) / full)
+    assert band_removed_share(ev, "Mc w40 (band w/2)") == pytest.approx(expected)
+    assert 0.1 < expected < 0.5
+    steps, cells, banded, _ = ev.band_cells("Mc w40 (band w/2)")
+    np.testing.assert_array_equal(steps, [37, 37])
+    np.testing.assert_array_equal(cells, [40 * full.sum()] * 2)
+    np.testing.assert_array_equal(banded, [40 * np.minimum(full, 22).sum()] * 2)
+    assert band_removed_share(ev, "Mc w40 (band 1 s)") == 0.0
+    assert band_removed_share(ev, "Mb w40 (band w/2)") > 0.0
+    with pytest.raises(ValueError, match="not a band variant"):
+        ev.band_cells("UTW")
 
 
 def variant_centres(bases, option, sim, dev):
@@ -276,20 +319,53 @@ def variant_centres(bases, option, sim, dev):
 
 
 def band_centres(sim, dev):
+    """The band of w/2 at (sim, dev); the 1 s band (the first reading) at its bases'."""
+    from fpdtw.paper.runner.grid import BAND_1S, BAND_BASES, BAND_HALF_W
+
+    c = variant_centres(BAND_BASES, BAND_HALF_W, sim, dev)
+    return c | {f"{n} ({BAND_1S})": (0.3, 20.0) for n in BAND_BASES}
+
+
+def band_bench(ratio):
+    """A make bench report timing each base at 100 us and its band of w/2 at ``ratio`` x."""
     from fpdtw.paper.runner.grid import BAND_BASES
 
-    return variant_centres(BAND_BASES, "band 1 s", sim, dev)
+    online = []
+    for n in BAND_BASES:
+        online += [{"name": n, "median_s": 1e-4}, {"name": f"{n} (band w/2)",
+                                                    "median_s": ratio * 1e-4}]  # fmt: skip
+    return {"online": online}
+
+
+def band_run(sim, dev):
+    """An open run of 200-frame pairs mapped along the diagonal: every band of w/2 clips."""
+    return open_run(band_centres(sim, dev), n_frames=200)
 
 
 def test_q3_verdicts():
-    rows, parts = q_table(open_run(band_centres(0.4, 10.0)), ["Q3"])
-    assert rows["Q3"]["holds"] == "yes" and len(parts) == 6
-    rows, _ = q_table(open_run(band_centres(0.1, 40.0)), ["Q3"])
-    assert rows["Q3"]["holds"] == "no"
-    rows, parts = q_table(open_run(band_centres(0.35, 19.0)), ["Q3"])
+    rows, parts = q_table(band_run(0.4, 10.0), ["Q3"], band_bench(0.6))
+    assert rows["Q3"]["holds"] == "yes" and len(parts) == 12
+    assert [p["part"] for p in parts[:4]] == ["Q3(a)", "Q3(b)", "Q3(c)", "Q3(d)"]
+    assert "Mb w40 (band w/2) computes fewer cells" in parts[2]["text"]
+    assert "time per frame is lower" in parts[3]["text"]
+    ours = rows["Q3"]["ours"]
+    assert "with the band of w/2" in ours and "cells removed" in ours and "time x0.60" in ours
+    assert "(first reading, a 1 s band: Mb w40 similarity 0.3" in ours
+    rows, parts = q_table(band_run(0.1, 40.0), ["Q3"], band_bench(1.2))
+    by = {p["part"]: p["verdict"] for p in parts}
+    assert [by[f"Q3({c})"] for c in "abcd"] == ["contradicted", "contradicted", "holds",
+                                                "contradicted"]  # fmt: skip
+    assert rows["Q3"]["holds"] == "partly"  # it removes cells, and that is all
+    rows, parts = q_table(band_run(0.35, 19.0), ["Q3"], band_bench(0.6))
     by = {p["part"]: p["verdict"] for p in parts}
     assert by["Q3(a)"] == "contradicted" and by["Q3(b)"] == "holds"  # better, yet not both
     assert rows["Q3"]["holds"] == "partly"
+    # without make bench's report the time parts cannot be decided
+    rows, parts = q_table(band_run(0.4, 10.0), ["Q3"])
+    by = {p["part"]: p["verdict"] for p in parts}
+    assert by["Q3(c)"] == "holds" and by["Q3(d)"] == "inconclusive"
+    assert rows["Q3"]["holds"] == "partly"
+    assert "no make bench report" in rows["Q3"]["reason"]
 
 
 # -- Q2: joint weights from the recorded motion ------------------------------------------------
@@ -751,14 +827,15 @@ def test_band_cost_pairs_each_band_variant_with_its_base():
     from fpdtw.paper.bench import band_cost
 
     report = {"online": [
+        {"name": "Mb w40 (band w/2)", "median_s": 2e-5},
         {"name": "Mb w40", "median_s": 4e-5},
         {"name": "Mb w40 (band 1 s)", "median_s": 5e-5, "step_median_s": 3e-5},
         {"name": "Mc w40", "median_s": 8e-5, "step_median_s": 6e-5},
         {"name": "Mc w80 (band 1 s)", "median_s": 1e-4},  # its base was not timed: no row
     ]}  # fmt: skip
     rows = band_cost(report)
-    assert [r["name"] for r in rows] == ["Mb w40"]
-    assert rows[0]["band"] == "Mb w40 (band 1 s)"
+    assert [r["band"] for r in rows] == ["Mb w40 (band 1 s)", "Mb w40 (band w/2)"]  # 1 s first
+    assert [r["name"] for r in rows] == ["Mb w40", "Mb w40"]
     assert rows[0]["base_us"] == pytest.approx(40.0) and rows[0]["band_us"] == pytest.approx(30.0)
-    assert rows[0]["ratio"] == pytest.approx(0.75)
+    assert rows[0]["ratio"] == pytest.approx(0.75) and rows[1]["ratio"] == pytest.approx(0.5)
     assert band_cost({"online": []}) == []

@@ -27,7 +27,13 @@ import re
 
 import numpy as np
 import pytest
-from reference.synthetic import method_pairs, one_joint_motion, random_walk_features, synthetic_pair
+from reference.synthetic import (
+    features_from_euler,
+    method_pairs,
+    one_joint_motion,
+    random_walk_features,
+    synthetic_pair,
+)
 
 from fpdtw import plain
 from fpdtw.costs import geo_distance, geodesic_cost_matrix
@@ -57,7 +63,9 @@ STEPS = {"A": plain.method_a_step, "B": plain.method_b_step, "C": plain.method_c
 def plain_of(aligner):
     """The plain step of a fast aligner, its window and its options."""
     family = type(aligner).__name__[-1]
-    options = {k: v for k, v in aligner.settings.items() if k in ("window", "ties")}
+    options = {k: v for k, v in aligner.settings.items() if k in ("window", "ties", "band")}
+    if options.get("band") == "none":
+        options.pop("band")
     if family == "A":
         assert options.pop("ties") == "low"  # the plain Method A has the default only
     return STEPS[family], options
@@ -87,7 +95,7 @@ def assert_same_steps(aligner, T):
     snaps, steps = fast_and_plain_steps(aligner, T)
     for f, (s, state, allowed) in zip(snaps[1:], steps[1:]):
         assert (f.M, f.kind) == (s.M, s.kind), (aligner.name, f.q)
-        assert f.w_i == s.w_i, (aligner.name, f.q)
+        assert (f.w_i, f.first) == (s.w_i, s.first), (aligner.name, f.q)
         assert f.state == state
         if allowed is not None:
             np.testing.assert_array_equal(f.allowed, allowed)
@@ -135,6 +143,69 @@ def test_plain_method_c_readings_equal_the_fast_ones(pairs, window, typev):
     for I, T in pairs:
         for w, ties in ((10, "low"), (40, "high")):
             assert_same_steps(make("C", I, w, typev, window=window, ties=ties), T)
+
+
+def behind_pair():
+    """A target holding its first pose for 300 frames before the input's motion: the maps
+    fall behind the diagonal and a band binds (tests/test_open_questions.py)."""
+    I = random_walk_features(500, seed=5)
+    E = np.concatenate([np.repeat(I.euler[:1], 300, axis=0), I.euler])
+    return I, features_from_euler(E, orders=I.orders, name="still+I")
+
+
+@pytest.mark.parametrize("band", ["1s", "half-w"])
+@pytest.mark.parametrize("method,w", [("B", 10), ("B", 40), ("C", 10), ("C", 40), ("C", 80)])
+def test_plain_band_steps_equal_the_fast_ones(pairs, method, w, band):
+    """The global bands of notebook 16 (Q3), step by step: the 1 s band masks, the band of
+    half the window computes only the rows inside it (the window's first row, its rows,
+    costs, accumulation, path and choice all the kernels')."""
+    I, T = behind_pair()
+    M = np.array(assert_same_steps(make(method, I, w, False, band=band), T))
+    inside = M < I.n_frames - 1  # before the input is exhausted
+    B = w // 2 if band == "half-w" else 120
+    assert np.abs(M - np.arange(T.n_frames))[inside].max() == B  # the band binds
+    for I, T in pairs[::3]:
+        assert_same_steps(make(method, I, w, False, band=band), T)
+
+
+def test_band_cells_are_the_rows_the_kernels_compute():
+    """plain.band_cells counts, from a band aligner's map alone, the cells its recorded
+    windows hold, and those of the same steps without the band."""
+    I, T = behind_pair()
+    for method, w in (("B", 40), ("C", 40), ("C", 80)):
+        a = make(method, I, w, False, band="half-w")
+        snaps, _ = fast_and_plain_steps(a, T)
+        win = [f for f in snaps if f.kind == "window"]
+        M = np.array([f.M for f in snaps])
+        q, full, banded = plain.band_cells(M, I.n_frames - 1, w, method)
+        np.testing.assert_array_equal(q, [f.q for f in win])
+        np.testing.assert_array_equal(banded, [f.C.size for f in win])
+        rows = [min(w if method == "B" else w - 1, I.n_frames - 1 - f.start) + 1 for f in win]
+        np.testing.assert_array_equal(full, np.array(rows) * win[0].C.shape[1])
+        assert (banded < full).any() and (banded <= full).all()
+        assert any(f.first == 1 for f in win)  # the map on the band's lower edge: row 0 out
+        _, full1, banded1 = plain.band_cells(M, I.n_frames - 1, w, method, band="1s")
+        np.testing.assert_array_equal(banded1, full1)  # the 1 s band masks: computes all
+
+
+def test_a_clipping_band_with_no_row_inside_raises_as_the_masking_band():
+    """No row of the window inside the band (only possible from M_0 > B + 1: start="best"):
+    the whole window is computed and masked and the step raises, in both versions."""
+    from fpdtw.online.method_c import MethodC
+
+    I = random_walk_features(200, seed=9)
+    T = I.slice(30, 200)  # T_0 is I_30: M_0 = 30 with start="best", far above q = 3 + 20
+    a = MethodC(I, 40, start="best", band="half-w")
+    with pytest.raises(ValueError, match="no input frame of the window lies inside the band"):
+        run_online(a, T)
+    M = [30, 31, 32]
+    assert plain.band_window(32, 39, 3, 20) is None
+    with pytest.raises(ValueError, match="no input frame of the window lies inside the band"):
+        plain.method_c_step(I, T, M, 40, band="half-w")
+    assert plain.band_window(0, 39, 3, 20) == (0, 23)
+    assert plain.band_window(10, 40, 55, 20) == (25, 40)
+    assert plain.band_half_width("half-w", 41, 120.0) == 20
+    assert plain.band_half_width("1s", 40, 60.0) == 60
 
 
 def units(u):

@@ -344,11 +344,17 @@ P_BAND = 10
 #: 1: the aligner weights eq. 1's joints (:func:`fpdtw.weights.joint_weights`; beyond the
 #: papers, see :class:`ForecastAligner`); the weights go to the kernels beside ``prm``.
 P_WEIGHTED = 11
-N_PARAMS = 12
+#: 1: the band clips the window's rows (``band="half-w"``: the rows outside it are not
+#: computed); 0: it masks them (``band="1s"``). See :class:`ForecastAligner`.
+P_BAND_CLIP = 12
+N_PARAMS = 13
 #: Method codes of ``P_METHOD``.
 METHOD_A, METHOD_B, METHOD_C = 0, 1, 2
 #: Kinds of step (``out[0]`` of :func:`_window_step`).
 STEP_FIRST, STEP_WARMUP, STEP_END, STEP_WINDOW = 0, 1, 2, 3
+#: Length of a step's ``out`` record: kind, the window's rows and columns, (B) the path
+#: length, and the offset of the window's first row from ``M_n`` (0 but under a clipping band).
+N_OUT = 5
 #: Frames needed before forecasting (dead reckoning on two frames).
 SMOOTHING = 2
 
@@ -365,6 +371,22 @@ def _mask_band(C, nrows, col, q, start, band):
     for r in range(nrows):
         if abs(start + r - q) > band:
             C[r, col] = np.inf
+
+
+@numba.njit(cache=True)
+def _clip_band(start, nrows, q, band):
+    """The rows of a window ``I_{start}..I_{start + nrows - 1}`` inside the band, as
+    ``(first, rows)``: offsets ``first..first + rows - 1``; ``(0, nrows)`` (the whole window,
+    to be masked and refused as by :func:`_mask_band` and :func:`_check_band`) when no row
+    lies inside.
+
+    Plain version: fpdtw.plain.band_window.
+    """
+    lo = max(0, q - band - start)
+    hi = min(nrows - 1, q + band - start)
+    if lo > hi:
+        return 0, nrows
+    return lo, hi - lo + 1
 
 
 @numba.njit(cache=True)
@@ -427,6 +449,7 @@ def _a_step(Iq, Tq, q, M, state, prm, table, c, out, wts):
     out[1] = 0
     out[2] = 0
     out[3] = 0
+    out[4] = 0
     if q == 0:
         out[0] = STEP_FIRST
         return _first_frame(Iq, Tq, w, m, prm[P_START_BEST] != 0, wts)
@@ -457,8 +480,11 @@ def _window_step(
     ``M[:q]`` is the map so far; ``state[0]`` the Type V state (advanced in place);
     ``prm`` the aligner's parameter vector (``P_*``); ``table`` the Type V state table;
     ``F, C, D, Pcol, path, score`` scratch; ``cF..cKey`` a :class:`WindowCache`'s
-    arrays (used when ``prm[P_SHARED]``). ``out`` gets the kind of step, the window's
-    rows and columns and (B) the path length, for the debug record. ``wts`` : float64
+    arrays (used when ``prm[P_SHARED]``). ``out`` (``N_OUT``) gets the kind of step, the
+    window's rows and columns, (B) the path length and the offset of the window's first
+    row from ``M_n``, for the debug record. With a clipping band (``prm[P_BAND_CLIP]``)
+    the window's rows are those of :func:`_clip_band`: rows outside the band are not
+    computed, and the window is the same method's on ``I_{M_n + first}..``. ``wts`` : float64
     (k,) eq. 1's per-joint weights, or EMPTY (0,) for eq. 1 as written (exactly the
     unweighted arithmetic); an aligner with weights never shares a cache (``prm[P_SHARED]``
     is 0), whose costs are unweighted.
@@ -474,6 +500,7 @@ def _window_step(
     out[1] = 0
     out[2] = 0
     out[3] = 0
+    out[4] = 0
     if q == 0:
         out[0] = STEP_FIRST
         return _first_frame(Iq, Tq, w, m, prm[P_START_BEST] != 0, wts)
@@ -488,43 +515,51 @@ def _window_step(
         out[0] = STEP_WINDOW
         limit, allow = _allowed_offsets(state, prm, table)
         shared = prm[P_SHARED] != 0
+        band = prm[P_BAND]
         if method == METHOD_B:
             nrows = min(w, m - start) + 1
+        else:
+            # w_i = min(w - 1, m - M_n) for the square window (w rows), else min(w, m - M_n)
+            nrows = min(w - 1 if prm[P_READING] == C_SQUARE else w, m - start) + 1
+        first = 0
+        if band > 0 and prm[P_BAND_CLIP] != 0:  # only the rows inside the band
+            first, nrows = _clip_band(start, nrows, q, band)
+        s0 = start + first  # the window's first row
+        if method == METHOD_B:
             ncols = w + 1
             if shared:
-                _fill_prev_column(Iq, Tq, q, start, nrows, F, C)
-                _fill_shared(Iq, Tq, Te, q, codes, start, nrows, w, 1, C, cF, cG, cN, cMeta, cKey)
+                _fill_prev_column(Iq, Tq, q, s0, nrows, F, C)
+                _fill_shared(Iq, Tq, Te, q, codes, s0, nrows, w, 1, C, cF, cG, cN, cMeta, cKey)
             else:
                 _forecast_window(Tq, Te, q, w, True, codes, F, 0, prm[P_HOLD] != 0)
-                _cost_window(Iq, start, nrows, F, ncols, C, wts)
-            _mask_band(C, nrows, 1, q, start, prm[P_BAND])
+                _cost_window(Iq, s0, nrows, F, ncols, C, wts)
+            _mask_band(C, nrows, 1, q, s0, band)
             off, npath = _choose_b(
                 C, nrows, ncols, limit, allow, D, Pcol, path, prm[P_INPUT_FIRST] != 0
             )
-            _check_band(off, q, start, prm[P_BAND])
+            _check_band(off, q, s0, band)
             out[3] = npath
         else:
             reading = prm[P_READING]
-            # w_i = min(w - 1, m - M_n) for the square window (w rows), else min(w, m - M_n)
-            nrows = min(w - 1 if reading == C_SQUARE else w, m - start) + 1
             with_prev = reading == C_SQUARE_TN
             ncols = w + 1 if with_prev else w
             if shared:
                 c0 = 0
                 if with_prev:
-                    _fill_prev_column(Iq, Tq, q, start, nrows, F, C)
+                    _fill_prev_column(Iq, Tq, q, s0, nrows, F, C)
                     c0 = 1
-                _fill_shared(Iq, Tq, Te, q, codes, start, nrows, w, c0, C, cF, cG, cN, cMeta, cKey)
+                _fill_shared(Iq, Tq, Te, q, codes, s0, nrows, w, c0, C, cF, cG, cN, cMeta, cKey)
             else:
                 _forecast_window(Tq, Te, q, w, with_prev, codes, F, prm[P_SHIFT], prm[P_HOLD] != 0)
-                _cost_window(Iq, start, nrows, F, ncols, C, wts)
-            _mask_band(C, nrows, 0, q, start, prm[P_BAND])
+                _cost_window(Iq, s0, nrows, F, ncols, C, wts)
+            _mask_band(C, nrows, 0, q, s0, band)
             off = _choose_c(C, nrows, ncols, limit, allow, D, score, reading, prm[P_TIES_HIGH] != 0)
-            _check_band(off, q, start, prm[P_BAND])
-        off = _checked(off, limit, allow)
+            _check_band(off, q, s0, band)
+        off = _checked(off, limit, allow)  # (a band is never combined with Type V: first = 0)
         out[1] = nrows
         out[2] = ncols
-        m_next = start + off
+        out[4] = first
+        m_next = s0 + off
     _advance_state(state, prm, table, m_next - start)
     return m_next
 
@@ -546,7 +581,7 @@ def _run_group(
     n = Tq.shape[0]
     A = params.shape[0]
     state = np.zeros((A, 1), dtype=np.int64)
-    out = np.zeros(4, dtype=np.int64)
+    out = np.zeros(N_OUT, dtype=np.int64)
     k = Iq.shape[1]
     for q in range(n):
         for a in range(A):
@@ -568,7 +603,7 @@ _HEADER = 3
 def _work_sizes(k: int, W: int, ns: int) -> tuple:
     """Lengths of the float64 and int64 work buffers of :func:`_work_views`."""
     floats = W * W + k * 4 * W + W * W + W + 4 * k + 1 + 12 * k
-    ints = _HEADER + N_PARAMS + 4 * ns + 1 + 4 + k + W + 4 * W + 1 + 2
+    ints = _HEADER + N_PARAMS + 4 * ns + 1 + N_OUT + k + W + 4 * W + 1 + 2
     return floats, ints
 
 
@@ -586,7 +621,7 @@ def _head_views(work, iwork):
     i += 4 * ns
     tv = iwork[i : i + 1]
     i += 1
-    out = iwork[i : i + 4]
+    out = iwork[i : i + N_OUT]
     return prm, table, tv, out, work[0 : W * W : W]
 
 
@@ -597,7 +632,7 @@ def _work_views(work, iwork):
     ``work`` (float64) holds ``C (W, W), F (k, 4, W), D (W, W), score (W)`` and the
     placeholder cache arrays ``cF (k, 4, 1), cG (1, 1), cKey (3, k, 4)``; ``iwork``
     (int64) the header ``k, W, ns``, then ``prm (N_PARAMS), table (ns, 4), tv (1),
-    out (4)`` (:func:`_head_views`), ``codes (k), Pcol (W), path (2W, 2), cN (1),
+    out (N_OUT)`` (:func:`_head_views`), ``codes (k), Pcol (W), path (2W, 2), cN (1),
     cMeta (2)``. Two buffers instead of nineteen arrays: a compiled function costs about
     0.1 us per array argument to call, and :func:`_stream_step` is called once per frame.
     """
@@ -619,7 +654,7 @@ def _work_views(work, iwork):
     cG = work[o : o + 1].reshape((1, 1))
     o += 1
     cKey = work[o : o + 12 * k].reshape((3, k, 4))
-    i = _HEADER + N_PARAMS + 4 * ns + 1 + 4
+    i = _HEADER + N_PARAMS + 4 * ns + 1 + N_OUT
     codes = iwork[i : i + k]
     i += k
     Pcol = iwork[i : i + W]
@@ -749,13 +784,14 @@ class WindowSnapshot:
         Window start ``M_n`` (-1 for q = 0).
     w_i : int
         The window's input rows are ``I_{M_n}..I_{M_n + w_i}`` (``w_i + 1`` rows, for
-        every method and reading; 0 without a window).
+        every method and reading; 0 without a window); under ``band="half-w"``
+        ``I_{M_n + first}..I_{M_n + w_i}`` (``w_i - first + 1`` rows).
     offset : int
         Chosen offset, ``M_{n+1} - M_n``.
     M : int
         ``M_{n+1}``.
-    C : ndarray of float64, shape (w_i + 1, ncols) or None
-        Cost window (eq. 1); rows = input frames ``M_n + r``, columns = target window:
+    C : ndarray of float64, shape (w_i - first + 1, ncols) or None
+        Cost window (eq. 1); rows = input frames ``M_n + first + r``, columns = target window:
         A: ``[T_{n+1}]``; B: ``[T_n, T_{n+1}, forecasts]`` (w + 1); C: ``[T_{n+1},
         forecasts]`` (w; w + 1 with ``T_n`` first for the "square-tn" reading). Cells
         masked by Type V are +inf (B and C; Method A records its costs unmasked).
@@ -770,9 +806,12 @@ class WindowSnapshot:
         Type V: offsets 0..3 allowed in this step's state (offsets > 3 never are).
     state : str or None
         Type V state before the step.
-    score : ndarray of float64, shape (w_i + 1,) or None
+    score : ndarray of float64, shape (w_i - first + 1,) or None
         C: what the argmin compares per row, ``D[r, 0]`` (normalised reading:
         divided by the paths' weight).
+    first : int
+        Offset from ``M_n`` of the window's first row: 0, but under ``band="half-w"`` when
+        ``I_{M_n}`` lies outside the band (its rows are not computed).
 
     Paper: FP-DTW Fig. 2 (window), Fig. 4 (Method B's path and choice).
     """
@@ -790,6 +829,7 @@ class WindowSnapshot:
     allowed: np.ndarray | None = None
     state: str | None = None
     score: np.ndarray | None = None
+    first: int = 0
 
 
 # --- the common aligner ---------------------------------------------------------------
@@ -1042,8 +1082,9 @@ class WindowAligner(OnlineAligner):
             arrays = {}
             w_i = 0
             if kind == "window":
-                nr, nc = int(self._out[1]), int(self._out[2])
-                w_i, arrays = nr - 1, self._window_record(nr, nc, int(self._out[3]))
+                nr, nc, first = int(self._out[1]), int(self._out[2]), int(self._out[4])
+                w_i, arrays = first + nr - 1, self._window_record(nr, nc, int(self._out[3]))
+                arrays["first"] = first
             self._snap(q, kind, start, w_i, m_next, state=state, **arrays)
         return m_next
 
@@ -1083,13 +1124,14 @@ class ForecastAligner(WindowAligner):
 
     #: Smoothing window: frames needed before forecasting (dead reckoning: 2).
     s = SMOOTHING
-    #: Options of Methods B and C (beyond :attr:`WindowAligner.options`): ``band="1s"``,
-    #: the global band of the FP-DTW paper's conclusion (an open question, notebook 16).
+    #: Options of Methods B and C (beyond :attr:`WindowAligner.options`): ``band="1s"`` and
+    #: ``band="half-w"``, the global band of the FP-DTW paper's conclusion (an open
+    #: question, notebook 16).
     #: ``weights="travel"``: eq. 1's joints weighted by their travel in the input
     #: (:func:`fpdtw.weights.joint_weights`; an open question, notebook 16).
     options = {
         **WindowAligner.options,
-        "band": ("none", {"1s": "band 1 s"}),
+        "band": ("none", {"1s": "band 1 s", "half-w": "band w/2"}),
         "weights": ("none", {"travel": "weighted joints"}),
     }
     #: Half-width of ``band="1s"``, seconds (120 frames at 120 Hz).
@@ -1111,6 +1153,24 @@ class ForecastAligner(WindowAligner):
         ``q``), and a band with Type V is refused. Warm-up and the forced hold at ``m``
         once the input is exhausted are as without the band. A band aligner keeps every
         target frame (its step reads the frame number ``q``).
+
+        The band of half the window (``band="half-w"``, names ``"Mc w40 (band w/2)"``;
+        beyond the papers): half-width ``B = max(1, floor(w / 2))`` frames around the same
+        diagonal, and the window's rows outside it are NOT COMPUTED: the window's row range
+        is clipped to the band, ``I_{M_n + first}..I_{M_n + w_i'}`` with ``first = max(0, q -
+        B - M_n)`` and ``w_i' = min(w_i, q + B - M_n)``, and the method runs unchanged on
+        that smaller window (Method B's path starts at its first row; the chosen row is
+        ``M_n + first + P_1``, or Method C's argmin from there). Fewer rows, fewer cells of
+        eq. 1 per frame: the global constraint of the paper's conclusion, which "would
+        restrict the area in which a path can be plotted within the cost matrix, reducing
+        the number of cells which need to be calculated". If no row of the window lies in
+        the band the step is the 1 s band's: the whole window computed and masked, and
+        ValueError (:func:`_check_band`); without Type V that needs a map already outside
+        the band, which the band never makes (``M_0 = 0`` starts on the diagonal): only
+        ``start="best"`` with ``M_0 > B + 1`` can. The rule ``w / 2`` was chosen on
+        2026-11-24, after the 1 s band's results were seen (inconclusive: a 1 s band barely
+        binds a window of 40 frames, and masking computes every cell anyway) and before any
+        run of this band.
 
         Weighted joints (``weights="travel"``, beyond the papers): eq. 1 becomes
         ``sum_j w_j (2/pi) arccos |q_a,j . q_b,j|`` with ``w =``
@@ -1142,8 +1202,12 @@ class ForecastAligner(WindowAligner):
     def params(self) -> np.ndarray:
         p = super().params()
         p[P_HOLD] = self.settings.get("forecast", "dead-reckoning") == "hold"
-        if self.settings.get("band", "none") == "1s":
+        band = self.settings.get("band", "none")
+        if band == "1s":
             p[P_BAND] = max(1, int(round(self.BAND_SECONDS * self.I.fps)))
+        elif band == "half-w":
+            p[P_BAND] = max(1, self.w // 2)
+            p[P_BAND_CLIP] = 1
         return p
 
 

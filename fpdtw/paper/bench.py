@@ -20,7 +20,14 @@ puts each median next to:
 * the PAPER: our median over Table 2's mean, a cross-machine comparison (3.58-3.95 GHz,
   C#/Unity-era implementation).
 
-and the SERVER: the loopback round trip per frame of ``fpdtw serve`` (Method C, w 40) for
+and the PAPER'S UNOPTIMISED IMPLEMENTATION: Section 5 judges w 80 at 120 Hz "without further
+optimization", so :func:`plain_step_times` also times the plain NumPy steps of
+:mod:`fpdtw.plain` (Algorithms 2 and 3 line by line, no numba: ``method_b_step`` and
+``method_c_step``, stepped by ``fpdtw.plain.run``) for Mb w80 and Mc w80 on the first
+:data:`PLAIN_FRAMES` target frames of each pair, next to the 8333 us budget of one frame at
+120 Hz; the compiled kernels' times are our own finding beside them.
+
+And the SERVER: the loopback round trip per frame of ``fpdtw serve`` (Method C, w 40) for
 the first pair's target played in real time by ``fpdtw stream``, alone and as eight takes at
 once (:func:`bench_server`; the two commands run as subprocesses on every core, before the
 benchmark pins itself to one).
@@ -62,6 +69,18 @@ BENCH_PAIRS = (
 
 #: OE-DTW is timed against an input of exactly this many frames (issue target).
 OE_INPUT_FRAMES = 1000
+
+#: The configurations :func:`plain_step_times` times as the paper's unoptimised implementation
+#: (Section 5: "a window size of 80 would not be feasible ... at 120 Hz").
+PLAIN_NAMES = ("Mb w80", "Mc w80")
+#: Target frames timed per pair by :func:`plain_step_times` (the plain steps take
+#: milliseconds each: a bounded prefix keeps ``make bench`` within a minute for them).
+PLAIN_FRAMES = 240
+#: Target frames of each pair run untimed first, per configuration (warm-up).
+PLAIN_WARMUP = 20
+#: The plain step of each method :func:`plain_step_times` times: the functions of
+#: :mod:`fpdtw.plain` that ``tests/test_plain.py`` holds equal to the compiled kernels.
+PLAIN_STEPS = {"B": "method_b_step", "C": "method_c_step"}
 
 
 def bench_names() -> list:
@@ -372,6 +391,140 @@ def paper_ratios(rows) -> dict:
     return out
 
 
+def time_plain_run(name, I, T, frames=PLAIN_FRAMES):
+    """The plain steps of one configuration over the first target frames of a pair, each
+    step timed.
+
+    The map is :func:`fpdtw.plain.run`'s on ``T``'s first ``frames + 1`` frames (``M_0 = 0``,
+    no Type V unless the name has it), with the method's plain step (:data:`PLAIN_STEPS`)
+    wrapped by a timer: each call of the step is timed with :func:`time.perf_counter`,
+    nothing else (the loop of ``run`` is not counted).
+
+    Parameters
+    ----------
+    name : str
+        A Method B or C configuration of the registry (``"Mb w80"``).
+    I, T : MotionFeatures
+        Input and target.
+    frames : int
+        Target frames stepped and timed, ``q = 1..frames`` (fewer if the target is shorter).
+
+    Returns
+    -------
+    M : ndarray of int64, shape (min(frames, T.n_frames - 1) + 1,)
+        The map of target frames ``0..frames``.
+    dt : ndarray of float64, shape (len(M) - 1,)
+        Seconds of the step of each target frame ``q = 1..``.
+
+    Paper: FP-DTW Table 2 and Section 5 (Algorithms 2 and 3 without further optimization).
+    """
+    from fpdtw import plain
+    from fpdtw.registry import resolve
+
+    a = resolve(name)
+    if a.family not in PLAIN_STEPS or a.derivative:
+        raise ValueError(f"{name!r}: only Methods B and C have a plain step to time")
+    step = getattr(plain, PLAIN_STEPS[a.family])
+    times = []
+
+    def timed(*args, **kwargs):
+        t0 = time.perf_counter()
+        out = step(*args, **kwargs)
+        times.append(time.perf_counter() - t0)
+        return out
+
+    n = max(1, min(int(frames) + 1, T.n_frames))
+    M = plain.run(timed, I, T.slice(0, n), a.w, a.typev, **a.options)
+    return M, np.array(times, dtype=float)
+
+
+def plain_step_times(pairs, names=PLAIN_NAMES, frames=PLAIN_FRAMES, warmup=PLAIN_WARMUP):
+    """Per-frame time of the paper's algorithms as written, without the compiled kernels.
+
+    Times :func:`fpdtw.plain.method_b_step` (Algorithm 2) and
+    :func:`fpdtw.plain.method_c_step` (Algorithm 3), plain NumPy and Python loops, no numba,
+    stepped through each pair by :func:`fpdtw.plain.run` (:func:`time_plain_run`): the same
+    functions ``tests/test_plain.py`` holds equal to the compiled aligners, so the maps are
+    the aligners' maps. Per configuration, the first ``warmup`` target frames of every pair
+    are run untimed first (allocation, caches); then target frames ``q = 1..frames`` of
+    every pair are timed (every step: the method's two warm-up steps and any step with the
+    input exhausted count too, as in the compiled rows' means).
+
+    Parameters
+    ----------
+    pairs : sequence of (MotionFeatures, MotionFeatures)
+        (input, target) pairs (:func:`load_bench_pairs`).
+    names : sequence of str
+        Method B and C configurations (default :data:`PLAIN_NAMES`).
+    frames : int
+        Target frames timed per pair (default :data:`PLAIN_FRAMES`).
+    warmup : int
+        Target frames run untimed per pair first.
+
+    Returns
+    -------
+    rows : list of dict
+        ``name``, ``method`` (``"B"`` or ``"C"``), ``w``, ``mean_us`` and ``median_us``
+        (microseconds per target frame, float), ``frames`` (steps timed, all pairs),
+        ``pairs``.
+
+    Paper: FP-DTW Table 2 and Section 5 ("Without further optimization ... a window size of
+    80 would not be feasible for use with a sample rate of 120 Hz").
+    """
+    from fpdtw.registry import resolve
+
+    pairs = list(pairs)
+    if not pairs:
+        raise ValueError("no pairs to time")
+    rows = []
+    for name in _progress(names, "plain steps"):
+        for I, T in pairs:
+            time_plain_run(name, I, T, max(1, int(warmup)))
+        dt = np.concatenate([time_plain_run(name, I, T, frames)[1] for I, T in pairs])
+        a = resolve(name)
+        rows.append(
+            dict(name=name, method=a.family, w=int(a.w), mean_us=float(dt.mean() * 1e6),
+                 median_us=float(np.median(dt) * 1e6), frames=int(dt.size), pairs=len(pairs))
+        )  # fmt: skip
+    return rows
+
+
+def plain_table(report) -> str:
+    """The plain steps (:func:`plain_step_times`, the paper's algorithms without further
+    optimisation) beside our compiled kernels and the 120 Hz budget, as text; ``""`` when
+    the report has no plain rows.
+
+    Paper: FP-DTW Table 2 and Section 5.
+    """
+    rows = report.get("plain") or []
+    if not rows:
+        return ""
+    compiled = {r["name"]: r for r in report.get("online", [])}
+    budget = 1e6 / 120
+    per_pair = max(r["frames"] // max(r["pairs"], 1) for r in rows)
+    fmt = "{:<10}{:>15}{:>17}{:>8}{:>18}{:>16}{:>11}"
+    lines = [
+        "Without further optimization (Section 5): PLAIN = fpdtw.plain's line-by-line NumPy "
+        f"steps (method_b_step, method_c_step; no numba), up to {per_pair} target frames per "
+        f"pair; COMPILED = our numba kernels (our finding, not the paper's implementation); "
+        f"budget at 120 Hz: {budget:.0f} us per frame",
+        fmt.format("", "plain mean us", "plain median us", "frames", "compiled mean us",
+                   "plain/compiled", "in budget"),
+    ]  # fmt: skip
+    for r in rows:
+        c = compiled.get(r["name"])
+        c_us = None if c is None else c["mean_s"] * 1e6
+        lines.append(
+            fmt.format(
+                r["name"], f"{r['mean_us']:.0f}", f"{r['median_us']:.0f}", r["frames"],
+                "-" if c_us is None else f"{c_us:.1f}",
+                "-" if c_us is None else f"{r['mean_us'] / c_us:.0f}x",
+                "yes" if r["mean_us"] <= budget else "no",
+            )
+        )  # fmt: skip
+    return "\n".join(lines)
+
+
 def band_cost(report) -> list:
     """Per-frame cost of the global band variants of notebook 16 (Q3) beside their bases.
 
@@ -383,26 +536,28 @@ def band_cost(report) -> list:
     Returns
     -------
     rows : list of dict
-        One per base of :data:`fpdtw.paper.runner.grid.BAND_BASES` that the report timed
-        with and without the band: ``name``, ``band`` (the band variant's name),
-        ``base_us`` and ``band_us`` (median seconds per frame times 1e6, :func:`step_s`),
-        ``ratio`` (band / base).
+        One per band (:data:`fpdtw.paper.runner.grid.BAND_1S` first, the first reading,
+        then :data:`~fpdtw.paper.runner.grid.BAND_HALF_W`) and per base of
+        :data:`fpdtw.paper.runner.grid.BAND_BASES` that the report timed with and without
+        that band: ``name``, ``band`` (the band variant's name), ``base_us`` and ``band_us``
+        (median seconds per frame times 1e6, :func:`step_s`), ``ratio`` (band / base).
 
     Paper: FP-DTW Section 7 (conclusion: a global constraint).
     Notebook: 16_open_questions.ipynb
     """
-    from fpdtw.paper.runner.grid import BAND_BASES
+    from fpdtw.paper.runner.grid import BAND_1S, BAND_BASES, BAND_HALF_W
 
     by_name = {r["name"]: r for r in report.get("online", [])}
     rows = []
-    for base in BAND_BASES:
-        band = f"{base} (band 1 s)"
-        if base in by_name and band in by_name:
-            b, v = step_s(by_name[base]), step_s(by_name[band])
-            rows.append(
-                {"name": base, "band": band, "base_us": b * 1e6, "band_us": v * 1e6,
-                 "ratio": v / b}
-            )  # fmt: skip
+    for label in (BAND_1S, BAND_HALF_W):
+        for base in BAND_BASES:
+            band = f"{base} ({label})"
+            if base in by_name and band in by_name:
+                b, v = step_s(by_name[base]), step_s(by_name[band])
+                rows.append(
+                    {"name": base, "band": band, "base_us": b * 1e6, "band_us": v * 1e6,
+                     "ratio": v / b}
+                )  # fmt: skip
     return rows
 
 
@@ -756,7 +911,9 @@ def server_table(result) -> str:
     return "\n".join(lines)
 
 
-def run_benchmark(pairs=None, out=None, single_core=True, limits=True, peers=True, server=False):
+def run_benchmark(
+    pairs=None, out=None, single_core=True, limits=True, peers=True, server=False, plain=False
+):
     """Time everything ``make bench`` reports and write ``results/bench.json``.
 
     Parameters
@@ -774,6 +931,9 @@ def run_benchmark(pairs=None, out=None, single_core=True, limits=True, peers=Tru
         peer is read from ``results/bench_peers.json`` when ``make bench-peers`` wrote it.
     server : bool
         Measure ``fpdtw serve``'s round trip first (:func:`bench_server`, on every core).
+    plain : bool
+        Time the plain steps of :data:`PLAIN_NAMES` (:func:`plain_step_times`, about half a
+        minute on one core; ``make bench`` does, :func:`main` without ``--no-plain``).
 
     Returns
     -------
@@ -782,7 +942,8 @@ def run_benchmark(pairs=None, out=None, single_core=True, limits=True, peers=Tru
         ``loadavg`` (``before``, ``after``: :func:`os.getloadavg`), ``cycle_counter_hz``,
         ``pairs``, ``online`` (rows of :func:`bench_online`), ``oe_dtw`` (OE-DTW against a
         1000-frame input), ``dtw`` (offline throughput), ``peers`` (``dtw``, ``open_end``,
-        ``oltw``), ``paper_table2_us`` and ``paper_over_ours`` (:func:`paper_ratios`).
+        ``oltw``), ``paper_table2_us`` and ``paper_over_ours`` (:func:`paper_ratios`),
+        ``plain`` (rows of :func:`plain_step_times`; empty without ``plain``).
 
     Paper: FP-DTW Table 2.
     Notebook: 09_table2_timing.ipynb
@@ -802,6 +963,7 @@ def run_benchmark(pairs=None, out=None, single_core=True, limits=True, peers=Tru
     online += bench_online(pairs, ["OLTW"], limits=limits)
     if all(I.positions is not None and T.positions is not None for I, T in pairs):
         online += bench_online(pairs, ["OPW"])
+    plain_rows = plain_step_times(pairs) if plain else []
     I_oe, T_oe = oe_pair(pairs)
     oe = bench_online([(I_oe, T_oe)], ["OE-DTW"], limits=limits)
     # offline DTW on the largest real cost matrix
@@ -830,6 +992,7 @@ def run_benchmark(pairs=None, out=None, single_core=True, limits=True, peers=Tru
         "peers": peer,
         "paper_table2_us": {f"{m} w{w}": v for (m, w), v in TABLE2_US.items()},
         "paper_over_ours": paper_ratios(online),
+        "plain": plain_rows,
         "server": served,
     }
     out = results_dir() / "bench.json" if out is None else out
@@ -852,7 +1015,9 @@ def _concat(features):
 
 
 def format_report(report) -> str:
-    """Everything ``make bench`` prints: the machine, the limit table, the peers, the paper."""
+    """Everything ``make bench`` prints: the machine, the limit table, the peers, the paper,
+    the plain steps (the paper's algorithms without further optimisation) beside the compiled
+    ones."""
     rows = report["online"] + report["oe_dtw"]
     d = report["dtw"]
     parts = [
@@ -871,6 +1036,8 @@ def format_report(report) -> str:
         f"offline DTW (accumulate + path) on {d['cells']} cells: {d['median_s'] * 1e3:.1f} ms, "
         f"{d['cells_per_s'] / 1e6:.0f} million cells/s",
     ]
+    if report.get("plain"):
+        parts += ["", plain_table(report)]
     if report.get("server"):
         parts += ["", server_table(report["server"])]
     return "\n".join(parts)
@@ -886,12 +1053,14 @@ def main(argv=None) -> None:
     ap.add_argument("--no-limits", action="store_true", help="skip the limit replays")
     ap.add_argument("--no-peers", action="store_true", help="skip dtw-python")
     ap.add_argument("--no-server", action="store_true", help="skip fpdtw serve's round trip")
+    ap.add_argument("--no-plain", action="store_true", help="skip the plain (unoptimised) steps")
     args = ap.parse_args(argv)
     report = run_benchmark(
         single_core=not args.all_cores,
         limits=not args.no_limits,
         peers=not args.no_peers,
         server=not args.no_server,
+        plain=not args.no_plain,
     )
     print(format_report(report))
 
@@ -914,7 +1083,10 @@ __all__ = [
     "peer_open_end",
     "peer_ratios",
     "peers_table",
+    "plain_step_times",
+    "plain_table",
     "step_s",
+    "time_plain_run",
     "round_trip_stats",
     "run_benchmark",
     "server_table",

@@ -250,7 +250,7 @@ def _replay_window(
     n = Tq.shape[0]
     W1 = C.shape[0]
     state = np.zeros(1, dtype=np.int64)  # Type V's start state, as in run_group
-    out = np.zeros(4, dtype=np.int64)
+    out = np.zeros(W.N_OUT, dtype=np.int64)
     Cf = np.empty((W1, W1))
     Cl = np.empty((W1, W1))
     Dl = np.empty((W1, W1))
@@ -275,7 +275,7 @@ def _replay_window(
             continue
         nrows = out[1]
         ncols = out[2]
-        start = M[q - 1]
+        start = M[q - 1] + out[4]  # the window's first row (a clipping band may skip M_n)
         rec[q, R_ROWS] = nrows
         rec[q, R_COLS] = ncols
         ev = 0

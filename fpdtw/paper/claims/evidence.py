@@ -410,6 +410,45 @@ class Evidence:
             self._cache[key] = (ex, fr)
         return self._cache[key]
 
+    def band_cells(self, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Per pair, the cells of eq. 1 a band variant's windows compute, from its maps
+        (:func:`fpdtw.plain.band_cells`): its window steps, the cells of those steps without
+        the band and with it, and the sum over the steps of the share of the window's cells
+        the band removes (``1 - with / without``).
+
+        Parameters
+        ----------
+        name : str
+            A Method B or C name with a band option (``"Mc w40 (band w/2)"``).
+
+        Returns
+        -------
+        steps, full, banded, removed : ndarray of float64, shape (P,)
+
+        Paper: FP-DTW Section 7 (conclusion: a global constraint).
+        """
+        from fpdtw.plain import band_cells
+        from fpdtw.registry import resolve
+
+        key = ("band_cells", name)
+        if key not in self._cache:
+            src = self.source(name)
+            a = resolve(src.partition("@")[0])
+            band = a.options.get("band", "none")
+            if a.family not in ("B", "C") or band == "none" or "window" in a.options:
+                raise ValueError(f"{name!r}: not a band variant of Method B or C (square window)")
+            arr = self.results.get(src)
+            m_all, _ = self.results.frames(src)
+            m_of = {int(p["id"]): int(m_all[i]) for i, p in enumerate(self.results.pairs)}
+            pos = {int(pid): k for k, pid in enumerate(arr["pair_id"])}
+            out = np.zeros((4, self.n_pairs))
+            for j, pid in enumerate(self._pair_ids):
+                M = arr.map(pos[int(pid)])
+                _, full, banded = band_cells(M, m_of[int(pid)], a.w, a.family, band)
+                out[:, j] = (full.size, full.sum(), banded.sum(), np.sum(1.0 - banded / full))
+            self._cache[key] = tuple(out)
+        return self._cache[key]
+
     def backward_jumps(self, name: str = "OE-DTW") -> np.ndarray:
         """Per pair: 1 when the map moves backwards at least once (``M_{q+1} < M_q``)."""
         src = self.source(name)

@@ -215,18 +215,34 @@ def plot_weights(ev, rows=None, axes=None):
 
 
 def band_rows(ev) -> list[dict]:
-    """Q3: Methods B and C without and with the band of 1 s: medians with 95 % intervals,
-    the benchmark verdicts of the band variant and the paired changes.
+    """Q3: Methods B and C without a band, with the band of 1 s (the first reading) and with
+    the band of w/2 (the claim's): medians with 95 % intervals, the benchmark verdicts of
+    each band variant, its paired changes, and the cells it removes.
+
+    Returns
+    -------
+    rows : list of dict
+        Per base: the base, then its two band variants; the keys of the Q2 and Q5 tables and
+        ``cells_removed``: the mean share of the window's cells the band removes per window
+        step (:func:`fpdtw.paper.claims.open.band_removed_share`; None for a base).
 
     Notebook: 16_open_questions.ipynb
     """
-    from fpdtw.paper.runner.grid import BAND_BASES
+    from fpdtw.paper.claims.open import band_removed_share
+    from fpdtw.paper.runner.grid import BAND_1S, BAND_BASES, BAND_HALF_W
 
-    return _variant_rows(ev, BAND_BASES, "band 1 s")
+    rows = []
+    for n in BAND_BASES:
+        group = _variant_rows(ev, [n], BAND_1S) + _variant_rows(ev, [n], BAND_HALF_W)[1:]
+        for r in group:
+            a = r["algorithm"]
+            r["cells_removed"] = None if a == n else band_removed_share(ev, a)
+        rows += group
+    return rows
 
 
 def plot_band(ev, rows=None, axes=None):
-    """Q3: median similarity and deviation (95 % intervals) without and with the band.
+    """Q3: median similarity and deviation (95 % intervals) without and with each band.
 
     Returns
     -------

@@ -364,7 +364,7 @@ def gait_cycle(F: MotionFeatures) -> tuple[int, str]:
 
     The dominant period of the motion's joint trajectories
     (:func:`fpdtw.period.dominant_period`: the first peak of their autocorrelation after
-    its first zero crossing, 0.25-4 s, fixed before any result); when that finds none
+    its first zero crossing, 0.25-4 s, committed in cbb3316 for Q1); when that finds none
     (e.g. a smoke run's 2 s hold too few cycles), the paper's walking gait: the middle of
     its 0.82-0.9 Hz (:data:`fpdtw.paper.numbers.WALK_GAIT_HZ`), 140 frames at 120 Hz.
 

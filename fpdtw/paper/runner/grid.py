@@ -171,9 +171,16 @@ PAUSE_METHODS = (
 OPEN_Q6 = ("DTW" + PAUSE_SUFFIX, *PAUSE_METHODS, *(n + PAUSE_SUFFIX for n in PAUSE_METHODS))
 
 
-#: Q3 (a global band around the diagonal): Methods B and C with the band of 1 s.
+#: Q3 (a global band around the diagonal): Methods B and C with the band of 1 s (the first
+#: reading: it masks, and barely binds these windows) and with the band of half the window,
+#: whose rows outside the band are not computed (the claim's band; its rule w/2 chosen on
+#: 2026-11-24, after the 1 s band's results were seen and before any run of it).
 BAND_BASES = ("Mb w40", "Mc w40", "Mc w80")
-BAND_NAMES = tuple(f"{n} (band 1 s)" for n in BAND_BASES)
+#: The labels of Q3's two bands in names, the first reading first.
+BAND_1S, BAND_HALF_W = "band 1 s", "band w/2"
+BAND_1S_NAMES = tuple(f"{n} ({BAND_1S})" for n in BAND_BASES)
+BAND_HALF_W_NAMES = tuple(f"{n} ({BAND_HALF_W})" for n in BAND_BASES)
+BAND_NAMES = BAND_1S_NAMES + BAND_HALF_W_NAMES
 OPEN_Q3 = BAND_BASES + BAND_NAMES
 
 
@@ -239,7 +246,11 @@ __all__ = [
     "LITERAL_NAMES",
     "MC_LITERAL_NAMES",
     "MODE_ALGORITHMS",
+    "BAND_1S",
+    "BAND_1S_NAMES",
     "BAND_BASES",
+    "BAND_HALF_W",
+    "BAND_HALF_W_NAMES",
     "BAND_NAMES",
     "DERIVATIVE_BASES",
     "OPEN_ALGORITHMS",

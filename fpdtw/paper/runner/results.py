@@ -152,11 +152,11 @@ def slug(name: str) -> str:
     """File name of an algorithm's results: ``"Mc w40 + Type V"`` -> ``"Mc_w40_TypeV"``.
 
     ``" + Type V"`` -> ``"_TypeV"``, ``"@60Hz"`` -> ``"_60Hz"``, spaces -> ``"_"``; the
-    brackets and commas of options are dropped: ``"Mc w40 (literal window)"`` ->
-    ``"Mc_w40_literal_window"``.
+    brackets, commas and slashes of options are dropped: ``"Mc w40 (literal window)"`` ->
+    ``"Mc_w40_literal_window"``, ``"Mc w40 (band w/2)"`` -> ``"Mc_w40_band_w2"``.
     """
     s = name.replace(" + Type V", "_TypeV").replace(RATE_SUFFIX, "_60Hz").replace(" ", "_")
-    return re.sub(r"_+", "_", re.sub(r"[(),]", "", s))
+    return re.sub(r"_+", "_", re.sub(r"[(),/]", "", s))
 
 
 # -- reading results ---------------------------------------------------------------------------
