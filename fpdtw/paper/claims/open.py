@@ -28,18 +28,19 @@ Q2 (eq. 1's joints weighted by their total angular travel in the input,
 Q3 (a global band around the diagonal ``M_q = q``, Methods B and C,
 :class:`fpdtw.online.window.ForecastAligner`)
     The first reading, a band of 1 s (``"... (band 1 s)"``, committed in 8914ef2 before its
-    first results), masks the window's rows outside it: the windows' cells are all
-    computed and a 1 s band barely binds a 40-frame window; its results were inconclusive
-    (every part), and it is shown as the first reading (our value, notebook 16), not
-    tested. The claim's band, half the window (``band="half-w"``, ``"... (band w/2)"``: half-width ``w / 2`` frames,
-    the window's rows outside it not computed), was chosen on 2026-11-24, after the 1 s
-    band's results were seen and before any run of it. For Mb w40, Mc w40 and Mc w80: the
-    band variant passes both benchmarks; the band improves the method (median similarity
-    higher AND median deviation lower than without it, paired); it computes fewer cells (the
-    mean share of the window's cells removed per window step, over every step of every pair,
-    from the maps, :func:`band_removed_share`, above 0: a point value); and its per-frame
-    time is lower (``make bench``'s median time per frame with the band over without it,
-    :func:`fpdtw.paper.bench.band_cost`, below 1: a point value; no report: inconclusive).
+    first results), masks the window's rows outside it: the windows' cells are all computed
+    and a 1 s band barely binds a 40-frame window; its results were inconclusive (every
+    part), and it is shown as the first reading (our value, notebook 16), not tested. The
+    claim's band, half the window (``band="half-w"``, ``"... (band w/2)"``: half-width ``w /
+    2`` frames, the window's rows outside it not computed), was chosen on 2026-11-24, after
+    the 1 s band's results were seen and before any run of it. For Mb w40, Mc w40 and Mc
+    w80: the band variant passes both benchmarks; the band improves the method (median
+    similarity higher AND median deviation lower than without it, paired); it computes fewer
+    cells (the mean share of the window's cells removed per window step, over every step of
+    every pair, from the maps, :func:`band_removed_share`, above 0: a point value); and its
+    per-frame time is lower (``make bench``'s median time per frame with the band over
+    without it, :func:`fpdtw.paper.bench.band_cost`, below 1: a point value; no report:
+    inconclusive).
 Q4 (OPW's gamma adapted from its own decisions, :mod:`fpdtw.online.opw_adaptive`)
     on the FP-DTW pairs: OPW adaptive passes both benchmarks; and it improves on OPW at
     gamma 5 % (median similarity higher AND median deviation lower, paired). On the poster's
