@@ -227,8 +227,10 @@ build/notebooks/16_open_questions.ipynb: results/bench.json
 figures: $(EXECUTED) figures/ENVIRONMENT.md readme-results $(BOOK)
 
 # the generated blocks of README.md and ARTIFACT.md, from figures/ (fpdtw.paper.readme; tests
-# keep them in step); ARTIFACT.md's times and memory come from tools/measure_steps.py
-readme-results: $(EXECUTED)
+# keep them in step); ARTIFACT.md's times and memory come from tools/measure_steps.py. After
+# figures/ENVIRONMENT.md: it records whether the checkout had uncommitted changes, and these
+# files are about to change
+readme-results: $(EXECUTED) | figures/ENVIRONMENT.md
 	$(PY) -m fpdtw.paper.readme README.md ARTIFACT.md --update
 
 # did this run reproduce the committed figures? Every deterministic file byte for byte
