@@ -51,6 +51,8 @@ RUNNER_SRC := $(wildcard fpdtw/paper/runner/*.py)
 SMOKE_ENV := FPDTW_FIGURES_DIR=$(CURDIR)/$(SMOKE_DIR)/figures FPDTW_RESULTS_DIR=$(CURDIR)/$(SMOKE_DIR)/results
 SMOKE_BOOK := $(SMOKE_DIR)/book/index.html
 BOOK       := build/book/index.html
+# the pages of docs/, each also a page of the book
+DOCS       := $(sort $(wildcard docs/*.md))
 # every notebook is executed by papermill through fpdtw.paper.execute (kernel fpdtw, the
 # notebooks folder as working directory, parameter SMOKE), which prints when each starts
 # and ends and how long it took
@@ -189,7 +191,7 @@ $(SMOKE_DIR)/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(
 
 # the smoke book: the site of the smoke notebooks, which the browser test opens
 smoke-book: $(SMOKE_BOOK)
-$(SMOKE_BOOK): $(SMOKE_NBS) fpdtw/paper/book.py docs/history.md
+$(SMOKE_BOOK): $(SMOKE_NBS) fpdtw/paper/book.py $(DOCS)
 	$(SMOKE_ENV) $(PY) -m fpdtw.paper.book --mode smoke --notebooks $(SMOKE_DIR) --out $(@D)
 
 bench: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP)
@@ -282,7 +284,7 @@ $(patsubst %,$(SMOKE_DIR)/%.ipynb,$(CLAIM_NBS)): $(SMOKE_DIR)/grids/smoke.done \
 # executed again) with the claims table, the data used and missing and how to rerun on its
 # front page (fpdtw.paper.book: Sphinx + MyST-NB); open build/book/index.html
 book: $(BOOK)
-$(BOOK): $(EXECUTED) figures/ENVIRONMENT.md fpdtw/paper/book.py docs/history.md
+$(BOOK): $(EXECUTED) figures/ENVIRONMENT.md fpdtw/paper/book.py $(DOCS)
 	$(PY) -m fpdtw.paper.book --mode full --notebooks build/notebooks --out $(@D)
 
 # the book in headless Chromium (Debian's chromium and chromium-driver, through Selenium):
