@@ -51,6 +51,9 @@ RUNNER_SRC := $(wildcard fpdtw/paper/runner/*.py)
 SMOKE_ENV := FPDTW_FIGURES_DIR=$(CURDIR)/$(SMOKE_DIR)/figures FPDTW_RESULTS_DIR=$(CURDIR)/$(SMOKE_DIR)/results
 SMOKE_BOOK := $(SMOKE_DIR)/book/index.html
 BOOK       := build/book/index.html
+# the pages of docs/ (each also a page of the book) and the files with generated blocks
+DOCS       := $(sort $(wildcard docs/*.md))
+READMES    := README.md ARTIFACT.md $(DOCS)
 # every notebook is executed by papermill through fpdtw.paper.execute (kernel fpdtw, the
 # notebooks folder as working directory, parameter SMOKE), which prints when each starts
 # and ends and how long it took
@@ -75,7 +78,7 @@ help:
 	@echo "make env      - .venv from requirements.lock (LOCKED=0: pyproject's version ranges)"
 	@echo "make lock     - refresh requirements.lock with uv (UPGRADE=1: newest versions)"
 	@echo "make dist     - sdist and wheel in dist/ (python -m build), checked with twine"
-	@echo "make readme-results - the generated blocks of README.md and ARTIFACT.md from figures/"
+	@echo "make readme-results - the generated blocks of README.md, ARTIFACT.md, docs/*.md from figures/"
 	@echo "make figures/<name>.pdf - one figure or table and what it needs (figures/ lists them)"
 	@echo "make clean    - remove build/;  make distclean - also .venv, data_cache, results"
 	@echo "make help     - this list"
@@ -93,7 +96,7 @@ $(VENV)/.installed-locked: pyproject.toml $(LOCK)
 	  want = "CPython $(LOCK_PYTHON) on linux x86_64"; \
 	  sys.exit(0 if have == want else f"$(LOCK) is for {want}, but $(PYTHON) is {have}: " \
 	    "run make with PYTHON=python$(LOCK_PYTHON), or with LOCKED=0 to install the version " \
-	    "ranges of pyproject.toml instead (see README, Reproducible environment)")'
+	    "ranges of pyproject.toml instead (see docs/environment.md)")'
 	$(PYTHON) -m venv --clear $(VENV)
 	$(PY) -m pip install --upgrade pip
 	$(PY) -m pip install --require-hashes -r $(LOCK)
@@ -189,7 +192,7 @@ $(SMOKE_DIR)/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(
 
 # the smoke book: the site of the smoke notebooks, which the browser test opens
 smoke-book: $(SMOKE_BOOK)
-$(SMOKE_BOOK): $(SMOKE_NBS) fpdtw/paper/book.py docs/history.md
+$(SMOKE_BOOK): $(SMOKE_NBS) fpdtw/paper/book.py $(DOCS)
 	$(SMOKE_ENV) $(PY) -m fpdtw.paper.book --mode smoke --notebooks $(SMOKE_DIR) --out $(@D)
 
 bench: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP)
@@ -226,10 +229,12 @@ build/notebooks/16_open_questions.ipynb: results/bench.json
 # book comes last
 figures: $(EXECUTED) figures/ENVIRONMENT.md readme-results $(BOOK)
 
-# the generated blocks of README.md and ARTIFACT.md, from figures/ (fpdtw.paper.readme; tests
-# keep them in step); ARTIFACT.md's times and memory come from tools/measure_steps.py
-readme-results: $(EXECUTED)
-	$(PY) -m fpdtw.paper.readme README.md ARTIFACT.md --update
+# the generated blocks of README.md, ARTIFACT.md and the pages of docs/, from figures/
+# (fpdtw.paper.readme; tests keep them in step); ARTIFACT.md's times and memory come from
+# tools/measure_steps.py. After figures/ENVIRONMENT.md: it records whether the checkout had
+# uncommitted changes, and these files are about to change
+readme-results: $(EXECUTED) | figures/ENVIRONMENT.md
+	$(PY) -m fpdtw.paper.readme $(READMES) --update
 
 # did this run reproduce the committed figures? Every deterministic file byte for byte
 # (the timing outputs, fpdtw.paper.provenance.TIMING_OUTPUTS, may differ)
@@ -280,7 +285,7 @@ $(patsubst %,$(SMOKE_DIR)/%.ipynb,$(CLAIM_NBS)): $(SMOKE_DIR)/grids/smoke.done \
 # executed again) with the claims table, the data used and missing and how to rerun on its
 # front page (fpdtw.paper.book: Sphinx + MyST-NB); open build/book/index.html
 book: $(BOOK)
-$(BOOK): $(EXECUTED) figures/ENVIRONMENT.md fpdtw/paper/book.py docs/history.md
+$(BOOK): $(EXECUTED) figures/ENVIRONMENT.md fpdtw/paper/book.py $(DOCS)
 	$(PY) -m fpdtw.paper.book --mode full --notebooks build/notebooks --out $(@D)
 
 # the book in headless Chromium (Debian's chromium and chromium-driver, through Selenium):

@@ -192,7 +192,9 @@ def test_claim_times_follow_the_makefile(tmp_path):
             dict(id="4", claim="c", paper="p", ours="o", holds="yes",
                  evidence="Table 2; table2_time_per_frame", stable="False"),
             dict(id="6", claim="c", paper="p", ours="o", holds="no",
-                 evidence="fig5/fig6 summaries", stable="True")]  # fmt: skip
+                 evidence="fig5/fig6 summaries", stable="True"),
+            dict(id="7", claim="c", paper="p", ours="o", holds="yes",
+                 evidence="Fig. 1 (02_fig1_oedtw); OE-DTW maps", stable="True")]  # fmt: skip
     parts = [dict(claim="8", part="8(a)", text="x below 18", verdict="holds",
                   quantity="deviation of x, frames", threshold="18")]  # fmt: skip
     block = readme.artifact_claims_block(rows, parts, record, REPO_ROOT / "figures", REPO_ROOT)
@@ -209,6 +211,11 @@ def test_claim_times_follow_the_makefile(tmp_path):
     assert "`make figures/claims.csv`" in lines["6"]
     want = [n for n in minutes if n != "data"]
     assert f"{sum(minutes[n] for n in want):.1f} min: {', '.join(want)} |" in lines["6"]
+    # claim 7's number (every pair of the full grid) comes from notebook 12, not from Fig. 1's
+    # one pair: the command is the claims table's, and it runs the full grid
+    assert "`make figures/claims.csv`" in lines["7"] and "fig1_oedtw" not in lines["7"]
+    assert f"{sum(minutes[n] for n in want):.1f} min: {', '.join(want)} |" in lines["7"]
+    assert "full grid" in want and "nb 12" in want
     steps = readme.steps_block(record)
     assert readme.steps_record(f"{readme.BEGIN.format(name='steps')}\n{steps}\n"
                                f"{readme.END.format(name='steps')}") == record  # fmt: skip
@@ -218,7 +225,42 @@ def test_claim_times_follow_the_makefile(tmp_path):
     assert f"All steps: {total:.1f} min; the largest peak, {peak}, is that of nb 12." in steps
     assert "`results` 2.0 GiB" in steps
     empty = readme.artifact_claims_block(rows, [], {}, REPO_ROOT / "figures", REPO_ROOT)
-    assert empty.count(readme.NOT_MEASURED) == 3
+    assert empty.count(readme.NOT_MEASURED) == len(rows)
+
+
+def _notebooks_deciding() -> dict[str, set[str]]:
+    """Claim id -> the notebooks whose code computes its row (claim_rows, open_claim_rows),
+    notebook 12 (every claim) aside."""
+    import json
+
+    out = {}
+    for f in sorted((REPO_ROOT / "notebooks").glob("*.ipynb")):
+        cells = json.loads(f.read_text(encoding="utf-8"))["cells"]
+        code = "\n".join("".join(c["source"]) for c in cells if c["cell_type"] == "code")
+        for m in re.finditer(r"claim_rows\(\s*(\[[^\]]*\])", code):
+            for cid in re.findall(r"\"([^\"]+)\"", m.group(1)):
+                out.setdefault(cid, set()).add(f.stem)
+    return out
+
+
+def test_each_command_regenerates_its_claims_number():
+    """Each row's command runs a notebook that computes that claim's row: notebook 12 (the
+    claims table, over the full grid) for a claim decided on the experiment pairs, else a
+    notebook that prints the claim after its figure (never a figure alone, such as Fig. 1's one
+    pair for claim 7, whose number counts every pair)."""
+    from fpdtw.paper.figure_map import NOTEBOOKS
+
+    deciding = _notebooks_deciding()
+    made_by = {m: nb.stem for nb in NOTEBOOKS for m in nb.makes}
+    by_id = {c.id: c for c in claims.CLAIMS}
+    for cid, row in artifact_rows().items():
+        targets = re.findall(r"figures/([\w]+)\.\w+", row["command"])
+        assert targets, (cid, row["command"])
+        notebooks = {made_by[t] for t in targets}
+        if cid in by_id and by_id[cid].pairs:
+            assert notebooks == {"12_claims"}, (cid, row["command"])
+        else:
+            assert notebooks & (deciding.get(cid, set()) | {"12_claims"}), (cid, notebooks)
 
 
 def test_every_command_in_the_appendix_runs_here():

@@ -178,27 +178,68 @@ def test_front_page_holds_every_claim_the_data_and_how_to_rerun(tmp_path):
 
 def test_front_page_links_how_this_analysis_was_made(tmp_path):
     pages = book.book_pages(tmp_path)
-    text = book.front_page(_claim_rows(), pages, tmp_path, mode="full", history=True)
+    docs = book.doc_pages()
+    text = book.front_page(_claim_rows(), pages, tmp_path, mode="full", docs=docs)
     intro, claims_part = text.split("## The claims, checked")[:2]
     assert book.HISTORY_LINK == "[How this analysis was made](history.md)"
     assert book.HISTORY_LINK in intro  # above the claims
     assert book.HISTORY_LINK in claims_part.split("{.claims}")[0]  # where the rules are named
     assert "never tuned" not in text and "fixed before" not in text
-    assert "```{toctree}\n:hidden:\n:caption: About\n\nhistory\n```" in text
+    toc = "```{toctree}\n:hidden:\n:caption: About\n\n" + "\n".join(d.stem for d in docs)
+    assert toc + "\n```" in text and "history" in [d.stem for d in docs]
+    for d in docs:  # every page of docs/ listed on the front page, by its title
+        assert f"- [{d.title}]({d.stem}.md)" in text
 
 
-def test_the_source_holds_the_history_page(tmp_path):
+def test_the_source_holds_every_page_of_docs(tmp_path):
     nbs, figs = tmp_path / "nbs", tmp_path / "figs"
     figs.mkdir()
     _notebook(nbs / "02_fig1_oedtw.ipynb", title="02 · Figure 1")
     src = tmp_path / "src"
-    book.write_source(src, nbs, figs, tmp_path / "none.json")  # the repository's page
-    assert (src / "history.md").read_bytes() == book.HISTORY.read_bytes()
+    book.write_source(src, nbs, figs, tmp_path / "none.json")  # the repository's pages
     assert book.HISTORY == book.REPO_ROOT / "docs" / "history.md"
-    assert book.HISTORY_LINK in (src / "index.md").read_text(encoding="utf-8")
-    book.write_source(src, nbs, figs, tmp_path / "none.json", history=None)
+    pages = sorted((book.REPO_ROOT / "docs").glob("*.md"))
+    assert {p.name for p in pages} >= {"history.md", "eq2_reading.md"}
+    for p in pages:
+        assert (src / p.name).read_bytes() == p.read_bytes(), p.name
+    index = (src / "index.md").read_text(encoding="utf-8")
+    assert book.HISTORY_LINK in index
+    assert "- [Which rotation turns eq. 2's unit vector?](eq2_reading.md)" in index
+    book.write_source(src, nbs, figs, tmp_path / "none.json", docs=None)
     assert not (src / "history.md").exists()  # left from the earlier build: removed
+    assert not (src / "claims.md").exists()
     assert "(history.md)" not in (src / "index.md").read_text(encoding="utf-8")
+
+
+def test_doc_pages_in_order_with_their_titles(tmp_path):
+    (tmp_path / "zeta.md").write_text("# Zeta\n")
+    (tmp_path / "history.md").write_text("# How this analysis was made\n\ntext\n")
+    (tmp_path / "claims.md").write_text("# The claims, checked\n")
+    got = [(d.stem, d.title) for d in book.doc_pages(tmp_path)]
+    assert got == [("claims", "The claims, checked"), ("history", "How this analysis was made"),
+                   ("zeta", "Zeta")]  # fmt: skip
+    assert book.doc_pages(None) == [] and book.doc_pages(tmp_path / "none") == []
+    (tmp_path / "index.md").write_text("# Index\n")
+    with pytest.raises(ValueError, match="book's own pages"):
+        book.doc_pages(tmp_path)
+    (tmp_path / "index.md").unlink()
+    (tmp_path / "bad.md").write_text("no heading\n")
+    with pytest.raises(ValueError, match="starts with its"):
+        book.doc_pages(tmp_path)
+
+
+def test_docs_link_only_each_other_or_the_web():
+    """A page of docs/ is also a page of the book: its links name another page of docs/ (by
+    file name) or a web address, so that they resolve in both places."""
+    pages = {p.name for p in (book.REPO_ROOT / "docs").glob("*.md")}
+    bad = []
+    for p in sorted((book.REPO_ROOT / "docs").glob("*.md")):
+        text = re.sub(r"^```.*?^```", "", p.read_text(encoding="utf-8"), flags=re.S | re.M)
+        text = re.sub(r"`[^`]*`", "", text)
+        for target in re.findall(r"\]\(([^)\s]+)\)", text):
+            if not (target.startswith(("http://", "https://")) or target.split("#")[0] in pages):
+                bad.append(f"{p.name}: {target}")
+    assert not bad, bad
 
 
 def test_what_the_manifests_say_is_not_obtainable():
@@ -262,8 +303,8 @@ def test_build_shows_stored_outputs_without_running_or_fetching_anything(tmp_pat
     info = book.build(out, nbs, figs, claims_json, mode="smoke")
     assert info["index"] == out / "index.html" and info["index"].is_file()
     assert info["notebooks"] == 2
-    # index, figures, history, two notebooks, genindex, search
-    assert info["pages"] == 7
+    # index, figures, the pages of docs/, two notebooks, genindex, search
+    assert info["pages"] == 6 + len(book.doc_pages())
     src = out.with_name(out.name + "-src")
     assert (src / "history.md").read_bytes() == book.HISTORY.read_bytes()
     history = (out / "history.html").read_text()

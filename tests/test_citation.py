@@ -141,12 +141,13 @@ def test_authors_dataset_reference_pins_the_manifest_commit():
     assert ref["commit"] in manifest.upstream
 
 
-def test_readme_points_at_the_citation_and_the_lock():
+def test_the_docs_point_at_the_citation_and_the_lock():
     readme = (REPO_ROOT / "README.md").read_text()
-    citing = readme.split("## Citing", 1)[1]
+    assert "docs/citing.md" in readme and "docs/environment.md" in readme
+    citing = (REPO_ROOT / "docs" / "citing.md").read_text()
     for needle in ("CITATION.cff", "10.1002/cav.2166", "fpdtw data cite", "LICENSE"):
         assert needle in citing, needle
-    env = readme.split("## Reproducible environment", 1)[1].split("\n## ", 1)[0]
+    env = (REPO_ROOT / "docs" / "environment.md").read_text().split("\n## ", 1)[0]
     for needle in ("requirements.lock", "make lock", "LOCKED=0", "--require-hashes"):
         assert needle in env, needle
 

@@ -85,9 +85,10 @@ def test_every_row_is_dated_by_its_commit(checkout):
 
 def _citing_paragraphs():
     """(file, paragraph) for every paragraph that cites docs/history.md or dates a choice by
-    its commit ("committed in <hash>"), in README, ARTIFACT, the package, the tests and the
-    notebooks' Markdown, of the files that cite the page."""
+    its commit ("committed in <hash>"), in README, ARTIFACT, the other pages of docs/, the
+    package, the tests and the notebooks' Markdown, of the files that cite the page."""
     files = [REPO_ROOT / "README.md", REPO_ROOT / "ARTIFACT.md"]
+    files += [f for f in sorted((REPO_ROOT / "docs").glob("*.md")) if f != PAGE]
     for folder, pattern in (("fpdtw", "*.py"), ("tests", "*.py"), ("notebooks", "*.ipynb")):
         files += sorted((REPO_ROOT / folder).rglob(pattern))
     for f in files:

@@ -8,7 +8,8 @@ claims' rules (:mod:`fpdtw.paper.claims.bootstrap`: the interval level and its t
 stability target), a frame period, or a value of the notebook's own ``parameters`` cell (an
 input). Each may appear scaled as prose writes it: a fraction as a percentage, microseconds
 as milliseconds. Integers are not checked (counts of the data are glued where a run gives
-them; the papers' counts are typed as the papers' own).
+them; the papers' counts are typed as the papers' own). What is prose: :func:`reference.prose.prose`
+(shared with the check of README.md and ARTIFACT.md, ``tests/test_prose_numbers.py``).
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ import math
 import re
 
 import pytest
+from reference.prose import prose
 
 from fpdtw.paper.paths import REPO_ROOT
 
@@ -68,15 +70,6 @@ def parameters(nb: dict) -> list[float]:
                 except ValueError:
                     continue
     return out
-
-
-def prose(markdown: str) -> str:
-    """A markdown cell without its code blocks, code spans, math and glue references."""
-    text = re.sub(r"^```.*?^```", " ", markdown, flags=re.S | re.M)
-    text = re.sub(r"\{glue(:\w+)?\}`[^`]*`", " ", text)
-    text = re.sub(r"`[^`]*`", " ", text)
-    text = re.sub(r"\$\$.*?\$\$", " ", text, flags=re.S)
-    return re.sub(r"\$[^$]*\$", " ", text)
 
 
 def allowed(token: str, values: list[float]) -> bool:

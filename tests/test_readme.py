@@ -1,4 +1,5 @@
-"""The README's examples run and print what they promise; its measured numbers still hold."""
+"""The README's and docs' examples run and print what they promise; every generated block of
+README.md, ARTIFACT.md and docs/*.md is what figures/ gives, each in one place."""
 
 from __future__ import annotations
 
@@ -9,8 +10,8 @@ import re
 from fpdtw.paper.paths import REPO_ROOT
 
 
-def _snippet(section: str) -> str:
-    text = (REPO_ROOT / "README.md").read_text()
+def _snippet(section: str, page: str = "README.md") -> str:
+    text = (REPO_ROOT / page).read_text()
     body = text.split(section, 1)[1]
     return re.search(r"```python\n(.*?)```", body, re.S).group(1)
 
@@ -18,7 +19,7 @@ def _snippet(section: str) -> str:
 def test_readme_load_example(mirror_root):
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
-        exec(compile(_snippet("## Load a motion"), "README.md", "exec"), {})
+        exec(compile(_snippet("## Load a motion", "docs/data.md"), "docs/data.md", "exec"), {})
     lines = out.getvalue().splitlines()
     assert len(lines) == 3
     assert lines[0].startswith("Walk_01: 649 frames at 120 Hz; 8 paper joints: ['LeftUpLeg'")
@@ -40,13 +41,12 @@ def test_readme_streaming_example(mirror_root):
 
 
 def test_readme_cluster_commands_parse():
-    """Every `fpdtw experiments run` line of the cluster section is a valid command."""
+    """Every `fpdtw experiments run` line of the cluster page is a valid command."""
     import shlex
 
     from fpdtw.app.cli import build_parser
 
-    section = (REPO_ROOT / "README.md").read_text().split("## Running the grid on a cluster")[1]
-    section = section.split("\n## ", 1)[0]
+    section = (REPO_ROOT / "docs" / "cluster.md").read_text()
     lines = [ln.split("#")[0] for ln in section.splitlines() if "fpdtw experiments run" in ln]
     lines = [ln for ln in lines if not ln.lstrip().startswith(("from", "run_experiments"))]
     assert len(lines) == 4
@@ -59,8 +59,33 @@ def test_readme_cluster_commands_parse():
         assert placeholder not in section, "the scaling numbers are not filled in"
 
 
-def test_readme_result_blocks_are_what_the_committed_figures_give():
-    """The README's generated blocks (fpdtw.paper.readme) match figures/: no stale numbers."""
+#: Every file with generated blocks: README.md, ARTIFACT.md and the pages of docs/.
+def _files():
+    return [REPO_ROOT / "README.md", REPO_ROOT / "ARTIFACT.md",
+            *sorted((REPO_ROOT / "docs").glob("*.md"))]  # fmt: skip
+
+
+def test_every_generated_block_is_what_the_committed_figures_give():
+    """The generated blocks (fpdtw.paper.readme) of README.md, ARTIFACT.md and docs/*.md
+    match figures/: no stale numbers (the command the Makefile's readme-results runs)."""
+    from fpdtw.paper import readme
+
+    stale = []
+    for f in _files():
+        text = f.read_text(encoding="utf-8")
+        if readme.render(text, readme.blocks_for(f, text, REPO_ROOT / "figures")) != text:
+            stale.append(f.relative_to(REPO_ROOT).as_posix())
+    assert not stale, (
+        f"generated blocks differ from figures/ in {stale}: run `python -m fpdtw.paper.readme "
+        "README.md ARTIFACT.md docs/*.md --update` (make readme-results; make figures does)"
+    )
+    files = " ".join(f.relative_to(REPO_ROOT).as_posix() for f in _files())
+    assert readme.main([*files.split(), "--check"]) == 0
+
+
+def test_the_claims_table_is_the_claims_packages():
+    """figures/claims.csv has every column of the claims package (fails until make figures
+    rewrites a table from before the claims were split into parts)."""
     import csv
 
     import pytest
@@ -71,24 +96,193 @@ def test_readme_result_blocks_are_what_the_committed_figures_give():
         if not readme.claims_regenerated(list(csv.DictReader(f))):
             pytest.fail(
                 "figures/claims.csv predates the claims package (it lacks columns of "
-                "fpdtw.paper.claims.COLUMNS): run make figures, which writes it and the README's "
-                "block (ARTIFACT.md's time and memory then need tools/measure_steps.py)"
+                "fpdtw.paper.claims.COLUMNS): run make figures, which writes it and the generated "
+                "blocks (ARTIFACT.md's time and memory then need tools/measure_steps.py)"
             )
-    text = (REPO_ROOT / "README.md").read_text()
-    assert readme.render(text, readme.blocks(REPO_ROOT / "figures")) == text, (
-        "README.md's generated blocks differ from figures/: run "
-        "`python -m fpdtw.paper.readme README.md --update` (make figures does)"
+
+
+def test_each_block_is_in_exactly_one_file():
+    """Every block of fpdtw.paper.readme.BLOCKS sits in exactly one of README.md and
+    docs/*.md, and ARTIFACT.md holds its own blocks once each; only the outcome is in two
+    places, the README and ARTIFACT.md."""
+    from fpdtw.paper import readme
+
+    where = {}
+    for f in _files():
+        for name in readme.block_names(f.read_text(encoding="utf-8")):
+            key = ("ARTIFACT" if f.name == "ARTIFACT.md" else "pages", name)
+            where.setdefault(key, []).append(f.relative_to(REPO_ROOT).as_posix())
+    for name in readme.BLOCKS:
+        assert len(where.get(("pages", name), [])) == 1, (name, where.get(("pages", name)))
+    for name in readme.ARTIFACT_BLOCKS:
+        assert where.get(("ARTIFACT", name)) == ["ARTIFACT.md"], name
+    assert where[("pages", "outcome")] == ["README.md"]
+
+
+def _block(text: str, name: str) -> str:
+    from fpdtw.paper import readme
+
+    return text.split(readme.BEGIN.format(name=name), 1)[1].split(readme.END.format(name=name))[0]
+
+
+def test_the_outcome_follows_the_two_commands_and_opens_the_abstract():
+    """The same outcome block right after the README's two commands (the first screen) and at
+    the top of ARTIFACT.md's abstract."""
+    readme_text = (REPO_ROOT / "README.md").read_text(encoding="utf-8")
+    artifact = (REPO_ROOT / "ARTIFACT.md").read_text(encoding="utf-8")
+    assert _block(readme_text, "outcome") == _block(artifact, "outcome")
+    after = readme_text.split("## Two commands", 1)[1]
+    assert "make figures" in after.split("\n## ", 1)[0] and "make test" in after
+    nxt = after.split("\n## ", 1)[1]
+    assert nxt.startswith("The outcome\n")
+    assert readme_text.index("generated by make figures: outcome") < len(
+        "\n".join(readme_text.splitlines()[:60])
+    ), "the outcome starts within the first 60 lines"
+    abstract = artifact.split("\n## Abstract\n", 1)[1].lstrip("\n")
+    assert abstract.startswith("<!-- generated by make figures: outcome -->")
+
+
+def test_the_readme_is_short():
+    lines = (REPO_ROOT / "README.md").read_text(encoding="utf-8").splitlines()
+    assert len(lines) <= 220, f"README.md has {len(lines)} lines: move a section into docs/"
+
+
+def _rows(n_fp=13, questions=True, **extra):
+    """Made-up claims rows in the claims package's columns."""
+    verdicts = ["yes", "partly", "inconclusive", "no", "not comparable"]
+    ids = ["1", "2", "2b", "3", "4", "4b", "4c", "5", "5b", "6", "7", "8", "9", "8b"][:n_fp]
+    rows = []
+    for k, cid in enumerate([*ids, "P1", "P2", "P3", "P4", "B1"]):
+        rows.append(dict(
+            id=cid, claim=f"claim {cid} " + "word " * 20, short=f"short {cid} | piped",
+            paper=f"paper {cid}", ours=f"ours {cid}",
+            holds=verdicts[k % 5] if cid != "B1" else "n/a",
+            holds_same_movements="yes" if cid in ("3", "5b") else verdicts[k % 5],
+            holds_authors_fbx="yes", holds_hdm05="no", holds_paper_shaped="n/a",
+            eq2_other="local", holds_eq2_other="no", **extra,
+        ))  # fmt: skip
+    if questions:
+        rows += [dict(id=f"Q{i}", claim="q", short="q", paper="-", ours="-", holds="no",
+                      holds_same_movements="n/a") for i in range(1, 7)]  # fmt: skip
+    return rows
+
+
+def test_outcome_block_from_made_up_rows():
+    from fpdtw.paper import readme
+
+    rows = _rows()
+    block = readme.outcome_block(rows)
+    lines = block.splitlines()
+    assert len(lines) <= readme.OUTCOME_MAX_LINES
+    table = [ln for ln in lines if ln.startswith("| ") and not ln.startswith("| id ")]
+    paper = [r for r in rows if readme.is_paper_claim(r)]
+    assert [ln.split(" | ")[0][2:] for ln in table] == [r["id"] for r in paper]
+    assert "| 2b | short 2b \\| piped | paper 2b | ours 2b |" in block
+    assert "| yes / no / n/a |" in block and "B1" not in block.split("- FP-DTW")[0]
+    # the counts add up, per paper
+    for label, part in (("FP-DTW paper", [r for r in paper if r["id"][0] != "P"]),
+                        ("OPW poster", [r for r in paper if r["id"][0] == "P"])):  # fmt: skip
+        line = next(ln for ln in lines if ln.startswith(f"- {label} ("))
+        assert line.startswith(f"- {label} ({len(part)} claims): yes ")
+        counts = [int(n) for n in re.findall(r" (\d+)(?=[,.])", line.split(": ", 1)[1])]
+        assert sum(counts) == len(part), line
+        for v in readme.OUTCOME_VERDICTS:
+            assert f"{v} {sum(r['holds'] == v for r in part)}" in line
+    beyond = "- Beyond the papers (`docs/claims.md`): " + ", ".join(f"Q{i} no" for i in range(1, 7))
+    assert beyond + "." in lines
+    why = lines[-1]
+    assert "other movements like these, recorded again?" in why
+    assert "other takes of these movements?" in why
+    differ = [r["id"] for r in paper if r["holds_same_movements"] != r["holds"]]
+    assert "3" in differ and "5b" in differ
+    assert "claims 3 and 5b hold (yes) with the movements fixed but not with them resampled" in why
+    assert "Eq. 2 is read as each joint's whole local transform (`docs/eq2_reading.md`)" in why
+    assert "the other reading, local," in why
+    for where in ("figures/claims.md", "figures/claims_checks.csv", "docs/history.md",
+                  "python -m fpdtw.paper.claims verify figures/"):  # fmt: skip
+        assert where in why
+    # a fourteenth FP-DTW claim (8b) still fits: the questions share the last line
+    big = readme.outcome_block(_rows(n_fp=14))
+    assert len(big.splitlines()) <= readme.OUTCOME_MAX_LINES and "| 8b |" in big
+    assert "Q6 no." in big
+
+
+def test_outcome_block_of_a_table_from_before_the_short_column():
+    """A claims.csv without ``short`` and ``eq2_other`` (written before they existed): the
+    claim cut to 12 words, and the eq. 2 sentence says the table predates the readings."""
+    from fpdtw.paper import readme
+
+    rows = [{k: v for k, v in r.items() if k not in ("short", "eq2_other", "holds_eq2_other")}
+            for r in _rows(questions=False)]  # fmt: skip
+    block = readme.outcome_block(rows)
+    assert "| 1 | claim 1 word word word word word word word word word word ... |" in block
+    assert "predates the verdicts under both readings of eq. 2" in block
+    assert "Beyond the papers" not in block
+
+
+def test_counts_times_and_data_blocks(tmp_path):
+    from fpdtw.paper import readme
+    from fpdtw.paper.provenance import TIMING_OUTPUTS
+
+    root, figs = tmp_path / "root", tmp_path / "figs"
+    (root / "notebooks").mkdir(parents=True)
+    figs.mkdir()
+    for n in ("01_a", "02_b", "03_c"):
+        (root / "notebooks" / f"{n}.ipynb").write_text("{}")
+    for name in ("a.pdf", "b.csv", TIMING_OUTPUTS[0], TIMING_OUTPUTS[1], ".hidden"):
+        (figs / name).write_text("x")
+    counts = readme.counts_block(root, figs)
+    assert "runs the 3 notebooks of `notebooks/` and writes the 4 files of `figures/`" in counts
+    assert "Of these, 2 are timing outputs" in counts
+    record = {"date": "2026-01-01", "commit": "abc1234", "cpus": 2, "steps": [
+        dict(name="data", seconds=6.0), dict(name="full grid", seconds=420.0),
+        dict(name="nb 12", seconds=54.0), dict(name="study grid", seconds=120.0)]}  # fmt: skip
+    times = readme.times_block(record)
+    assert "they feed) took 10.0 min, most of it in the steps *full grid* (7.0 min) and" in times
+    assert readme.NOT_MEASURED in readme.times_block({})
+    (figs / "data_summary.csv").write_text(
+        "dataset,movement,listed,available,missing\nauthors_fbx,Walk,3,3,0\n"
+        "authors_fbx,Slow_Walk,3,0,3\nhdm05,squat,5,5,0\nhdm05,kick,4,4,0\ncmu,x,1,1,0\n"
     )
+    (figs / "experiment_pairs.csv").write_text(
+        "dataset,movement,motions,pairs\nauthors_fbx,Walk,3,6\nhdm05,squat,5,20\nhdm05,kick,4,12\n"
+    )
+    data = readme.data_block(figs).splitlines()
+    assert len(data) == 2
+    assert data[0].startswith("The results in `figures/` used 3 of the authors' 6 FBX takes "
+                              "(1 of their 2 movements; not available here: Slow_Walk), 9 HDM05 "
+                              "clips in 2 classes and 1 CMU BVH take: 38 ordered pairs of 12 "
+                              "motions of 3 movements")  # fmt: skip
+    assert data[1].startswith("The FP-DTW paper used 333 motions of 44 movements, 3248 ordered")
+    assert "HDM05's walking, turning, punching, jumping and sitting classes" in data[1]
 
 
-def test_readme_findings_are_what_the_committed_figures_give():
+def test_blocks_for_refuses_an_unknown_block(tmp_path):
+    import pytest
+
+    from fpdtw.paper import readme
+
+    text = "<!-- generated by make figures: nonsense -->\n<!-- end of generated nonsense -->\n"
+    with pytest.raises(ValueError, match="no generated block is named"):
+        readme.blocks_for(tmp_path / "docs" / "x.md", text, REPO_ROOT / "figures")
+    page = tmp_path / "page.md"
+    page.write_text("# A page\n\nNo blocks.\n")
+    assert readme.main([str(page), "--check"]) == 0
+    page.write_text(f"# A page\n\n{readme.BEGIN.format(name='notebooks')}\nold\n"
+                    f"{readme.END.format(name='notebooks')}\n")  # fmt: skip
+    assert readme.main([str(page), "--check"]) == 1
+    assert readme.main([str(page), "--update"]) == 0
+    assert "| `12_claims` |" in page.read_text() and readme.main([str(page), "--check"]) == 0
+
+
+def test_findings_are_what_the_committed_figures_give():
     """The numbers of "What we find" are generated from figures/ (and none is typed around
     them: the paragraph before the block holds no decimal or percentage)."""
     from fpdtw.paper import readme
 
-    text = (REPO_ROOT / "README.md").read_text()
+    text = (REPO_ROOT / "docs" / "findings.md").read_text()
     new = readme.render(text, {"findings": readme.findings_block(REPO_ROOT / "figures")})
-    assert new == text, "README.md's findings differ from figures/: run make readme-results"
+    assert new == text, "docs/findings.md's findings differ from figures/: make readme-results"
     prose = text.split("**What we find**")[1].split(readme.BEGIN.format(name="findings"))[0]
     prose = re.sub(r"`[^`]*`", "", prose)
     assert not re.findall(r"\d+\.\d+|\d+ ?%", prose)
@@ -112,14 +306,14 @@ def test_findings_name_their_files_and_the_papers_numbers(tmp_path):
     assert block.count("\n- ") == 8
 
 
-def test_readme_live_drop_block_is_what_the_committed_figures_give(tmp_path):
+def test_live_drop_block_is_what_the_committed_figures_give(tmp_path):
     """The lost-frames table and its sentence come from figures/live_drop_rate.csv; a
     hand-made file gives hand-checked numbers."""
     from fpdtw.paper import readme
 
-    text = (REPO_ROOT / "README.md").read_text()
+    text = (REPO_ROOT / "docs" / "live.md").read_text()
     new = readme.render(text, {"live-drop": readme.live_drop_block(REPO_ROOT / "figures")})
-    assert new == text, "README.md's live-drop block differs from figures/: make readme-results"
+    assert new == text, "docs/live.md's live-drop block differs from figures/: make readme-results"
     (tmp_path / "live_drop_rate.csv").write_text(
         "method,condition,gap,runs,lost_per_run,deviation_frames,deviation_max_frames\n"
         "A,drop 0 %,-,6,0,1.0,2\nA,drop 5 %,slerp,18,3,1.1,2\nA,drop 5 %,hold,18,3,2.5,3\n"
@@ -163,25 +357,25 @@ def _layer_sizes():
     return module
 
 
-def test_readme_layer_sizes_are_measured():
-    """The "Size of each layer" table is what tools/layer_sizes.py counts, within 10 %."""
-    L = _layer_sizes()
-    section = (REPO_ROOT / "README.md").read_text().split("## Size of each layer")[1]
-    rows = [ln for ln in section.split("\n## ", 1)[0].splitlines() if ln.startswith("| ")][1:]
-    stated = {}
-    for row in rows:
-        cells = [c.strip() for c in row.strip("|").split("|")]
-        stated[cells[0].split(":")[0]] = [int(c) for c in cells[1:]]
-    measured = L.sizes()
-    assert list(stated) == list(measured)
-    for layer, (files, code, lines) in stated.items():
-        m = measured[layer]
-        for what, have, now in (("files", files, m["files"]), ("code", code, m["code"]),
-                                ("lines", lines, m["lines"])):  # fmt: skip
-            assert abs(now - have) <= 0.1 * have, (
-                f"README: {layer} has {have} {what}, now {now}: run tools/layer_sizes.py and "
-                "update the table"
-            )
+def test_the_layout_names_files_that_exist():
+    """Every file and folder the tree of docs/layout.md names exists where it says."""
+    text = (REPO_ROOT / "docs" / "layout.md").read_text()
+    tree = re.search(r"^```\n(fpdtw/.*?)^```", text, re.S | re.M).group(1)
+    parents, missing, named = {}, [], 0
+    for line in tree.splitlines():
+        m = re.match(r"( *)((?:[\w.]+/?, )*[\w.]+/?)(?:\s{2,}|$)", line)
+        indent = len(m.group(1)) if m else 99
+        if not m or indent >= 20:
+            continue  # a description's continuation
+        base = parents.get(indent - 2, REPO_ROOT)
+        for name in m.group(2).split(", "):
+            named += 1
+            path = base / name.rstrip("/")
+            if not path.exists():
+                missing.append(path.relative_to(REPO_ROOT).as_posix())
+            if name.endswith("/"):
+                parents[indent] = path
+    assert named >= 30 and not missing, (named, missing)
 
 
 def test_layer_sizes_count_code_not_docstrings_or_comments():

@@ -1,4 +1,4 @@
-"""Count the size of each layer of the package: the README's "Size of each layer" table.
+"""Count the size of each layer of the package (docs/layout.md, "Size of each layer").
 
 Usage (from the checkout)::
 
@@ -6,8 +6,8 @@ Usage (from the checkout)::
 
 A layer's size is its lines of code: the physical lines of its ``.py`` files that are
 neither blank, nor comments only, nor docstrings (module, class and function docstrings);
-its total lines are given beside them. tests/test_readme.py recomputes the table and fails
-when a number in the README is more than 10 % off.
+its total lines are given beside them. The numbers are printed for the checkout the tool
+runs in, never typed into the documentation.
 """
 
 from __future__ import annotations
@@ -82,7 +82,7 @@ def sizes(root: Path = ROOT) -> dict:
 
 
 def table(counts: dict) -> str:
-    """The README's Markdown table."""
+    """The sizes as a Markdown table."""
     rows = ["| layer | files | lines of code | all lines |", "|---|---:|---:|---:|"]
     for layer, c in counts.items():
         rows.append(f"| {layer}: {LAYERS[layer]} | {c['files']} | {c['code']} | {c['lines']} |")

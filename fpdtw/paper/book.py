@@ -23,10 +23,15 @@ figure map (:mod:`fpdtw.paper.figure_map`), the claims JSON of notebook 12
 ``figures.md``
     Every figure (PNG, GIF) by notebook, with its PDF and the tables (CSV, Markdown) as
     downloads (:func:`figures_page`).
-``history.md``
-    *How this analysis was made*, a copy of the repository's ``docs/history.md``
-    (:data:`HISTORY`): when each analysis default and verdict rule was chosen, and which
-    results had been committed by then. The front page links it.
+``<page>.md``
+    A copy of every page of the repository's ``docs/`` folder (:data:`DOCS`,
+    :func:`doc_pages`): the pages behind the README (the claims and their reasons, the data,
+    the environment, the live server, ...), *How this analysis was made* (``docs/history.md``,
+    :data:`HISTORY`: when each analysis default and verdict rule was chosen, and which results
+    had been committed by then) and *Which rotation turns eq. 2's unit vector?*
+    (``docs/eq2_reading.md``). The front page lists them all and links the history where the
+    rules are named. The pages link each other by file name, so their links resolve both in
+    the repository and in the book.
 ``notebooks/<stem>.ipynb``
     The executed notebooks, one page each, in the order of their numbers.
 ``conf.py``, ``_static/book.css``
@@ -60,9 +65,10 @@ DOWNLOAD_SUFFIXES = (".pdf", ".csv", ".md")
 #: Tables of at most this many Markdown lines are shown on the figures page (all are
 #: downloads).
 TABLE_MAX_LINES = 40
-#: The page "How this analysis was made" (MyST Markdown), copied into the book as
-#: ``history.md``.
-HISTORY = REPO_ROOT / "docs" / "history.md"
+#: The folder whose Markdown pages are copied into the book, one page each (:func:`doc_pages`).
+DOCS = REPO_ROOT / "docs"
+#: The page "How this analysis was made" (MyST Markdown), one of them: ``history.md``.
+HISTORY = DOCS / "history.md"
 #: The front page's link to it.
 HISTORY_LINK = "[How this analysis was made](history.md)"
 
@@ -98,6 +104,67 @@ _FAVICON = """\
 
 
 # -- pages ---------------------------------------------------------------------------------
+
+#: The order of the pages of ``docs/`` in the book (pages not named here follow, by name).
+DOCS_ORDER = ("claims", "findings", "eq2_reading", "history", "notebooks", "book", "data",
+              "environment", "align", "live", "performance", "limits", "cluster", "layout",
+              "citing", "releasing")  # fmt: skip
+#: Names the book's own pages take: a page of ``docs/`` may not have them.
+RESERVED = ("index", "figures", "conf", "genindex", "search")
+
+
+@dataclass(frozen=True)
+class DocPage:
+    """One page of ``docs/`` in the book.
+
+    Attributes
+    ----------
+    stem : str
+        The file name without ``.md`` (also the page's name in the book).
+    title : str
+        Its first heading.
+    path : Path
+        The file.
+    """
+
+    stem: str
+    title: str
+    path: Path
+
+
+def doc_pages(docs_dir=DOCS) -> list[DocPage]:
+    """The Markdown pages of ``docs_dir``, in :data:`DOCS_ORDER` ([] when it is None or
+    missing).
+
+    Raises
+    ------
+    ValueError
+        A page has no ``# `` heading on its first line, or takes the name of one of the
+        book's own pages (:data:`RESERVED`).
+    """
+    if docs_dir is None or not Path(docs_dir).is_dir():
+        return []
+    out = []
+    for f in sorted(Path(docs_dir).glob("*.md")):
+        first = f.read_text(encoding="utf-8").split("\n", 1)[0]
+        if not first.startswith("# "):
+            raise ValueError(f"{f}: a page of the book starts with its '# ' heading")
+        if f.stem in RESERVED:
+            raise ValueError(f"{f}: {f.stem!r} is the name of one of the book's own pages")
+        out.append(DocPage(f.stem, first[2:].strip(), f))
+    rank = {stem: i for i, stem in enumerate(DOCS_ORDER)}
+    return sorted(out, key=lambda d: (rank.get(d.stem, len(rank)), d.stem))
+
+
+def docs_section(docs) -> str:
+    """The front page's list of the pages of ``docs/`` (MyST Markdown), and their toctree."""
+    if not docs:
+        return ""
+    out = ["## About this reproduction", ""]
+    out += [f"- [{_cell(d.title)}]({d.stem}.md)" for d in docs]
+    out += ["", "```{toctree}", ":hidden:", ":caption: About", ""]
+    out += [d.stem for d in docs]
+    return "\n".join([*out, "```", ""])
 
 
 @dataclass(frozen=True)
@@ -416,8 +483,8 @@ def data_section(figures_dir) -> str:
             "",
         ]
     out += [
-        "Where the data come from, their licences and how to cite them: the README "
-        "(*Data, and working offline*) and `fpdtw data cite`. Notebook "
+        "Where the data come from, their licences and how to cite them: the page *Data, and "
+        "working offline* (`docs/data.md`) and `fpdtw data cite`. Notebook "
         "[01](notebooks/01_data_and_motions.ipynb) lists every movement.",
         "",
     ]
@@ -437,9 +504,9 @@ make test                        # lint, tests, the smoke notebooks, the smoke b
 make figures/fig5_similarity.pdf # one figure and what it needs
 ```
 
-Offline, point `FPDTW_MIRROR` at a copy of the data first (README, *Data, and working
-offline*). The experiment grids run in the terminal with a progress bar before notebooks 05
-and 15, and each notebook prints when it starts and ends.
+Offline, point `FPDTW_MIRROR` at a copy of the data first (the page *Data, and working
+offline*, `docs/data.md`). The experiment grids run in the terminal with a progress bar
+before notebooks 05 and 15, and each notebook prints when it starts and ends.
 """
 
 
@@ -467,7 +534,7 @@ def front_page(
     figures_dir,
     mode: str = "full",
     built_from: str | None = None,
-    history: bool = False,
+    docs=(),
 ) -> str:
     """The book's front page, ``index.md`` (MyST Markdown).
 
@@ -482,10 +549,11 @@ def front_page(
         ``"smoke"`` says at the top that the numbers come from the short smoke runs.
     built_from : str, optional
         A line on what made it (versions, commit).
-    history : bool
-        The book has the page :data:`HISTORY` (``history.md``): link it and list it in the
-        contents.
+    docs : sequence of DocPage
+        The pages of ``docs/`` in the book (:func:`doc_pages`): listed, and ``history.md``
+        linked where the rules are named when it is one of them.
     """
+    history = any(d.stem == HISTORY.stem for d in docs)
     title = "FP-DTW and OPW, reproduced" + (" (smoke run)" if mode == "smoke" else "")
     # no right-hand contents column on the front page: the claims table needs the width
     out = ["---", "html_theme.sidebar_secondary.remove: true", "---", "", f"# {title}", ""]
@@ -516,9 +584,8 @@ def front_page(
         data_section(figures_dir),
         RERUN,
         notebooks_section(pages),
+        docs_section(docs),
     ]
-    if history:
-        out += ["```{toctree}", ":hidden:", ":caption: About", "", "history", "```", ""]
     return "\n".join(out)
 
 
@@ -691,7 +758,7 @@ def write_source(
     claims_path,
     mode: str = "full",
     built_from: str | None = None,
-    history=HISTORY,
+    docs=DOCS,
 ) -> list[Page]:
     """Write the book's Sphinx source folder (files unchanged since the last build are kept).
 
@@ -706,9 +773,9 @@ def write_source(
     mode : {"full", "smoke"}
     built_from : str, optional
         Shown on the front page.
-    history : str or Path or None
-        The page "How this analysis was made" (default :data:`HISTORY`), copied as
-        ``history.md`` and linked from the front page; left out when None or missing.
+    docs : str or Path or None
+        The folder of Markdown pages (default :data:`DOCS`), each copied as a page of the
+        book and listed on the front page (:func:`doc_pages`); none when None or missing.
 
     Returns
     -------
@@ -718,16 +785,16 @@ def write_source(
     pages = book_pages(notebooks_dir)
     claims = load_claims(claims_path)
     wanted = {"conf.py", "index.md", "figures.md", "_static/book.css", "_static/favicon.svg"}
-    has_history = history is not None and Path(history).is_file()
+    extra = doc_pages(docs)
     _write_if_changed(src / "conf.py", sphinx_conf(mode))
     _write_if_changed(src / "_static" / "book.css", _CSS)
     _write_if_changed(src / "_static" / "favicon.svg", _FAVICON)
     _write_if_changed(
-        src / "index.md", front_page(claims, pages, figures_dir, mode, built_from, has_history)
+        src / "index.md", front_page(claims, pages, figures_dir, mode, built_from, extra)
     )
-    if has_history:
-        _copy_if_changed(Path(history), src / "history.md")
-        wanted.add("history.md")
+    for d in extra:
+        _copy_if_changed(d.path, src / f"{d.stem}.md")
+        wanted.add(f"{d.stem}.md")
     _write_if_changed(src / "figures.md", figures_page(pages, figures_dir))
     for p in pages:
         if p.executed:

@@ -2,7 +2,7 @@
 
 The Makefile's per-figure rules and notebook order are produced from it
 (``python fpdtw/paper/figure_map.py makefile > build/figure_map.mk``, included by the
-Makefile); the README's notebook table and each notebook's "Makes:" line are checked
+Makefile); the notebook table of docs/notebooks.md and each notebook's "Makes:" line are checked
 against it by the tests. Standard library only, so that make can run it before the
 environment exists.
 
@@ -26,7 +26,7 @@ class Notebook:
     makes : tuple of str
         File stems it writes to ``figures/`` (figures as PDF + PNG, tables as CSV + Markdown).
     paper : str
-        What it reproduces, in words (the README's table).
+        What it reproduces, in words (the table of docs/notebooks.md).
     needs : tuple of str
         Notebooks whose results it reads (run first).
     """
@@ -111,7 +111,7 @@ def by_stem() -> dict:
 
 
 def readme_table() -> str:
-    """The README's notebook table (Markdown)."""
+    """The notebook table of docs/notebooks.md (Markdown; a generated block there)."""
     lines = ["| notebook | makes | paper |", "|---|---|---|"]
     for nb in sorted(NOTEBOOKS, key=lambda n: n.stem):
         makes = ", ".join(f"`{m}`" for m in nb.makes)

@@ -7,7 +7,7 @@ Environment variables override the defaults:
     user cache folder, e.g. ``~/.cache/fpdtw``).
 ``FPDTW_MIRROR``
     A local folder or a base URL laid out like the upstream datasets
-    (``<dataset>/<path>``), used instead of the upstream URLs (see README).
+    (``<dataset>/<path>``), used instead of the upstream URLs (see docs/data.md).
 ``FPDTW_RESULTS_DIR``
     Experiment results (default: ``<repo>/results``).
 ``FPDTW_FIGURES_DIR``

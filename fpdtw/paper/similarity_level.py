@@ -42,7 +42,8 @@ from fpdtw.pause import hold_frames, pause_plan, pause_seed
 #: Algorithms of the table (the paper's Table 1 gives UTW and Mc w40 at 120 Hz).
 LEVEL_ALGORITHMS = ("UTW", "DTW", "Mc w40")
 
-#: Paper Table 1 (120 Hz), median eq. 2 over its 100 pairs; DTW is not in the table.
+#: Paper Table 1 (120 Hz), median eq. 2 over its data set's pairs (Section 4 names no other
+#: selection); DTW is not in the table.
 PAPER_TABLE1 = {"UTW": N.TABLE1[120]["UTW"], "DTW": float("nan"), "Mc w40": N.TABLE1[120][40]}
 
 #: Target frames of the online methods' warm-up: ``M_0`` and ``n < s`` (``s = 2``).
