@@ -100,3 +100,11 @@ def test_power_says_how_many_movements_would_decide(saved):
     )  # fmt: skip
     # below 18 at 12: the high end must fall under 18: 27 * (20 / 6) ** 2 = 300 movements
     assert rows[0]["movements_needed"] == 300 and rows[0]["to"] == "hold"
+
+
+def test_the_committed_figures_recompute():
+    """Every verdict in the repository's figures/ recomputes from its own CSV files."""
+    from pathlib import Path
+
+    folder = Path(__file__).resolve().parents[1] / "figures"
+    assert verify(folder) == []
