@@ -159,7 +159,7 @@ PAIRS = (
 
 
 def test_data_numbers_count_a_pair_list():
-    from fpdtw.paper.glue import DATA_NUMBERS, data_numbers, glue_numbers
+    from fpdtw.paper.glue import DATA_NUMBERS, data_numbers
 
     got = data_numbers(PAIRS)
     assert set(got) == set(DATA_NUMBERS)
@@ -167,8 +167,6 @@ def test_data_numbers_count_a_pair_list():
                        hdm05_share=0.8, hdm05_clips_min=2, hdm05_clips_max=3,
                        largest_movement="squat", largest_movement_share=0.6)  # fmt: skip
     assert all(type(v) in (int, float, str) for v in got.values())
-    out = glue_numbers(got, prefix="run_")  # outside a kernel: nothing shown, values kept
-    assert out["run_pairs"] == 10 and out["run_largest_movement"] == "squat"
 
 
 def test_sentences_quote_the_counts():
@@ -189,42 +187,6 @@ def test_sentences_quote_the_counts():
         "FBX takes, 2 from HDM05); the whole-class run of notebook 05 has 10 ordered pairs "
         "(2 from the authors' FBX takes, 8 from HDM05)."
     )
-
-
-def test_glued_numbers_reach_the_book_from_a_real_kernel(tmp_path):
-    """glue_numbers in a headless kernel (as papermill runs it) stores the numbers in the
-    cell's outputs, and the book (MyST-NB) puts them into the markdown, formatted."""
-    import nbclient
-    import nbformat
-
-    from fpdtw.paper import book
-
-    nb = nbformat.v4.new_notebook()
-    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
-                                 "language": "python"}  # fmt: skip
-    nb.cells = [
-        nbformat.v4.new_markdown_cell(
-            "# 01 · Data and motions\n\nHDM05 gives {glue:text}`share:.0%` of our "
-            "{glue:text}`pairs` pairs; {glue:text}`largest` is the largest class."
-        ),
-        nbformat.v4.new_code_cell(
-            "from fpdtw.paper.glue import glue_numbers\n"
-            "numbers = glue_numbers({'share': 0.98885, 'pairs': 8610, 'largest': 'squat'})"
-        ),
-    ]
-    nbclient.NotebookClient(nb, timeout=120, kernel_name="python3").execute()
-    mimes = [m for o in nb.cells[1].outputs for m in o.get("data", {})]
-    assert mimes == ["application/papermill.record/text/plain"] * 3  # glued, nothing shown
-    nbs = tmp_path / "nbs"
-    nbs.mkdir()
-    nbformat.write(nb, nbs / "01_data_and_motions.ipynb")
-    claims_json = tmp_path / "claims.json"
-    claims_json.write_text(json.dumps({"mode": "smoke", "claims": []}))
-    (tmp_path / "figs").mkdir()
-    book.build(tmp_path / "site", nbs, tmp_path / "figs", claims_json, mode="smoke")
-    page = (tmp_path / "site" / "notebooks" / "01_data_and_motions.html").read_text()
-    text = re.sub(r"<[^>]+>", "", page)
-    assert "HDM05 gives 99% of our 8610 pairs; squat is the largest class." in text
 
 
 def test_a_sentence_shown_by_a_code_cell_reaches_the_book_from_a_real_kernel(tmp_path):

@@ -30,28 +30,6 @@ def _plain(value):
     raise TypeError(f"a number or a string, not {type(value).__name__}: {value!r}")
 
 
-def glue_numbers(numbers: dict, prefix: str = "") -> dict:
-    """Glue every ``name: value`` for the notebook's markdown (not shown in the cell).
-
-    Parameters
-    ----------
-    numbers : dict of str to int, float or str
-    prefix : str
-        Put before every name (``"study_"``: ``study_pairs``), to glue two runs' numbers.
-
-    Returns
-    -------
-    numbers : dict
-        The same names, values as plain Python numbers (what was glued).
-    """
-    from myst_nb import glue
-
-    out = {prefix + name: _plain(v) for name, v in numbers.items()}
-    for name, v in out.items():
-        glue(name, v, display=False)
-    return out
-
-
 def data_numbers(pairs) -> dict:
     """The data behind a run, as the notebooks' prose quotes them.
 
@@ -172,11 +150,4 @@ def selection_sentence(pairs) -> str:
     )
 
 
-__all__ = [
-    "DATA_NUMBERS",
-    "data_numbers",
-    "data_sentence",
-    "glue_numbers",
-    "selection_sentence",
-    "study_sentence",
-]
+__all__ = ["DATA_NUMBERS", "data_numbers", "data_sentence", "selection_sentence", "study_sentence"]
