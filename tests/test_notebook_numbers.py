@@ -1,15 +1,20 @@
-"""No notebook types a result number into its prose: results are glued (fpdtw.paper.glue).
+"""No notebook types a result number into its prose: a code cell shows it (fpdtw.paper.glue).
 
-What counts as a typed result number, in a markdown cell's prose (code blocks, code spans,
-math and glue references left out): a decimal with two or more digits after the point
+Where the prose needs a count of the data, a code cell prints it or shows it as Markdown
+(``Markdown(data_sentence(results.pairs))``), so the number is seen in plain Jupyter as in the
+book; MyST-NB's ``{glue}`` roles, which only the book fills in, are not used.
+
+What counts as a typed result number, in a markdown cell's prose (code blocks, code spans
+and math left out): a decimal with two or more digits after the point
 (``0.478``) or a percentage (``88 %``, ``99%``). It is allowed only when it is a constant,
 not a result: one of the papers' own numbers (:mod:`fpdtw.paper.numbers`), a constant of the
 claims' rules (:mod:`fpdtw.paper.claims.bootstrap`: the interval level and its tails, the
 stability target), a frame period, or a value of the notebook's own ``parameters`` cell (an
 input). Each may appear scaled as prose writes it: a fraction as a percentage, microseconds
-as milliseconds. Integers are not checked (counts of the data are glued where a run gives
-them; the papers' counts are typed as the papers' own). What is prose: :func:`reference.prose.prose`
-(shared with the check of README.md and ARTIFACT.md, ``tests/test_prose_numbers.py``).
+as milliseconds. Integers are not checked (counts of the data are shown by a code cell where a
+run gives them; the papers' counts are typed as the papers' own). What is prose:
+:func:`reference.prose.prose` (shared with the check of README.md and ARTIFACT.md,
+``tests/test_prose_numbers.py``).
 """
 
 from __future__ import annotations
@@ -26,9 +31,8 @@ from fpdtw.paper.paths import REPO_ROOT
 
 #: Notebooks another branch edits at the same time (issue 24 leaves their prose to it).
 ELSEWHERE = ("13_", "14_", "16_", "17_")
-NOTEBOOKS = sorted(
-    p for p in (REPO_ROOT / "notebooks").glob("*.ipynb") if not p.name.startswith(ELSEWHERE)
-)
+ALL_NOTEBOOKS = sorted((REPO_ROOT / "notebooks").glob("*.ipynb"))
+NOTEBOOKS = [p for p in ALL_NOTEBOOKS if not p.name.startswith(ELSEWHERE)]
 NUMBER = re.compile(r"(?<![\w.])(\d+\.\d{2,}|\d+(?:\.\d+)? ?%)")
 
 
@@ -105,26 +109,19 @@ def test_no_markdown_cell_types_a_result_number(path):
     nb = json.loads(path.read_text(encoding="utf-8"))
     found = typed_numbers(nb)
     assert not found, (
-        f"{path.name}: result numbers typed into markdown; glue them "
-        "(fpdtw.paper.glue.glue_numbers, then {glue:text}`name:format`):\n"
+        f"{path.name}: result numbers typed into markdown; show them from a code cell "
+        "(print them, or Markdown(sentence) built by fpdtw.paper.glue):\n"
         + "\n".join(f"  cell {i}: {tok!r} in {line!r}" for i, tok, line in found)
     )
 
 
-@pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)
-def test_every_glue_reference_is_glued_by_the_notebook(path):
-    """Each {glue:text}`name` of the markdown names a number a code cell glues: a literal
-    name of glue_numbers' results (data_numbers' keys, with the call's prefix)."""
-    from fpdtw.paper.glue import DATA_NUMBERS
-
+@pytest.mark.parametrize("path", ALL_NOTEBOOKS, ids=lambda p: p.stem)
+def test_no_notebook_has_glue_roles(path):
+    """MyST-NB's ``{glue}`` roles and directives show a number only in the book (plain Jupyter
+    shows the placeholder): a code cell shows it instead."""
     nb = json.loads(path.read_text(encoding="utf-8"))
-    code = "\n".join("".join(c["source"]) for c in nb["cells"] if c["cell_type"] == "code")
-    glued = set()
-    for m in re.finditer(r"glue_numbers\(data_numbers\([^)]*\)(?:, prefix=\"(\w*)\")?\)", code):
-        glued |= {(m.group(1) or "") + k for k in DATA_NUMBERS}
-    md = "\n".join("".join(c["source"]) for c in nb["cells"] if c["cell_type"] == "markdown")
-    refs = {r.split(":")[0] for r in re.findall(r"\{glue(?::\w+)?\}`([^`]*)`", md)}
-    assert refs <= glued, f"{path.name}: glued nowhere: {sorted(refs - glued)}"
+    found = [i for i, c in enumerate(nb["cells"]) if "{glue" in "".join(c["source"])]
+    assert not found, f"{path.name}: glue roles in cells {found}; show the numbers from code"
 
 
 def test_the_rule_finds_typed_numbers_and_allows_constants():
@@ -135,40 +132,64 @@ def test_the_rule_finds_typed_numbers_and_allows_constants():
             {"cell_type": "markdown", "metadata": {},
              "source": ["Mc w40 reaches 0.478 and 12.7 frames; 88% of pairs, 7537 of 8610.\n",
                         "The paper's budget is 8333 us (8.33 ms), its 95 % interval; we drop ",
-                        "5 % of the frames; $x = 0.25$, `0.125`, {glue:text}`share:.0%`."]},
+                        "5 % of the frames; $x = 0.25$, `0.125`."]},
         ]
     }  # fmt: skip
     found = [tok for _, tok, _ in typed_numbers(nb)]
     assert found == ["0.478", "88%"]
 
 
+def _pairs(ds, mv, takes):
+    return [dict(dataset=ds, movement=mv, input=a, target=b)
+            for a in takes for b in takes if a != b]  # fmt: skip
+
+
+#: Hand-counted: two HDM05 classes (3 clips: 6 pairs; 2 clips: 2 pairs) and one authors'
+#: movement (2 takes: 2 pairs).
+PAIRS = (
+    _pairs("hdm05", "squat", "abc")
+    + _pairs("hdm05", "kick", "de")
+    + _pairs("authors_fbx", "Walk", "xy")
+)
+
+
 def test_data_numbers_count_a_pair_list():
-    """Hand-counted: two HDM05 classes (3 clips: 6 pairs; 2 clips: 2 pairs) and one authors'
-    movement (2 takes: 2 pairs)."""
-    from fpdtw.paper.glue import DATA_NUMBERS, data_numbers, glue_numbers
+    from fpdtw.paper.glue import DATA_NUMBERS, data_numbers
 
-    def pairs(ds, mv, takes):
-        return [dict(dataset=ds, movement=mv, input=a, target=b)
-                for a in takes for b in takes if a != b]  # fmt: skip
-
-    pp = (
-        pairs("hdm05", "squat", "abc")
-        + pairs("hdm05", "kick", "de")
-        + pairs("authors_fbx", "Walk", "xy")
-    )
-    got = data_numbers(pp)
+    got = data_numbers(PAIRS)
     assert set(got) == set(DATA_NUMBERS)
     assert got == dict(motions=7, movements=3, pairs=10, pairs_authors_fbx=2, pairs_hdm05=8,
                        hdm05_share=0.8, hdm05_clips_min=2, hdm05_clips_max=3,
                        largest_movement="squat", largest_movement_share=0.6)  # fmt: skip
     assert all(type(v) in (int, float, str) for v in got.values())
-    out = glue_numbers(got, prefix="run_")  # outside a kernel: nothing shown, values kept
-    assert out["run_pairs"] == 10 and out["run_largest_movement"] == "squat"
 
 
-def test_glued_numbers_reach_the_book_from_a_real_kernel(tmp_path):
-    """glue_numbers in a headless kernel (as papermill runs it) stores the numbers in the
-    cell's outputs, and the book (MyST-NB) puts them into the markdown, formatted."""
+def test_sentences_quote_the_counts():
+    from fpdtw.paper.glue import data_sentence, selection_sentence, study_sentence
+
+    assert data_sentence(PAIRS) == (
+        "**This run's data:** 7 motions of 3 movements, 10 ordered pairs (2 from the authors' "
+        "FBX takes, 8 from HDM05), against the paper's 333 motions of 44 movements and 3248 "
+        "pairs. HDM05 gives 80% of our pairs."
+    )
+    assert selection_sentence(PAIRS) == (
+        "The HDM05 classes of this run hold 2-3 clips each, and squat alone gives 60% of all "
+        "10 pairs."
+    )
+    assert "hold 2 clips each" in selection_sentence(_pairs("hdm05", "kick", "de"))
+    assert study_sentence(PAIRS[:2], PAIRS) == (
+        "**The runs' data:** the paper-shaped selection has 2 ordered pairs (0 from the authors' "
+        "FBX takes, 2 from HDM05); the whole-class run of notebook 05 has 10 ordered pairs "
+        "(2 from the authors' FBX takes, 8 from HDM05)."
+    )
+
+
+def test_a_sentence_shown_by_a_code_cell_reaches_the_book_from_a_real_kernel(tmp_path):
+    """A sentence a code cell shows as Markdown in a headless kernel (as papermill runs it)
+    is stored in the cell's outputs as text/markdown, which plain Jupyter renders, and the
+    book (MyST-NB) renders it as text of the page."""
+    import html
+
     import nbclient
     import nbformat
 
@@ -178,18 +199,17 @@ def test_glued_numbers_reach_the_book_from_a_real_kernel(tmp_path):
     nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
                                  "language": "python"}  # fmt: skip
     nb.cells = [
-        nbformat.v4.new_markdown_cell(
-            "# 01 · Data and motions\n\nHDM05 gives {glue:text}`share:.0%` of our "
-            "{glue:text}`pairs` pairs; {glue:text}`largest` is the largest class."
-        ),
+        nbformat.v4.new_markdown_cell("# 01 · Data and motions\n\nThe data of the run:"),
         nbformat.v4.new_code_cell(
-            "from fpdtw.paper.glue import glue_numbers\n"
-            "numbers = glue_numbers({'share': 0.98885, 'pairs': 8610, 'largest': 'squat'})"
+            "from IPython.display import Markdown\n"
+            "from fpdtw.paper.glue import data_sentence\n"
+            f"Markdown(data_sentence({PAIRS!r}))"
         ),
     ]
     nbclient.NotebookClient(nb, timeout=120, kernel_name="python3").execute()
-    mimes = [m for o in nb.cells[1].outputs for m in o.get("data", {})]
-    assert mimes == ["application/papermill.record/text/plain"] * 3  # glued, nothing shown
+    shown = [o["data"]["text/markdown"] for o in nb.cells[1].outputs if "data" in o]
+    assert shown and "10 ordered pairs" in shown[0]
+    assert not typed_numbers(nb)
     nbs = tmp_path / "nbs"
     nbs.mkdir()
     nbformat.write(nb, nbs / "01_data_and_motions.ipynb")
@@ -198,5 +218,6 @@ def test_glued_numbers_reach_the_book_from_a_real_kernel(tmp_path):
     (tmp_path / "figs").mkdir()
     book.build(tmp_path / "site", nbs, tmp_path / "figs", claims_json, mode="smoke")
     page = (tmp_path / "site" / "notebooks" / "01_data_and_motions.html").read_text()
-    text = re.sub(r"<[^>]+>", "", page)
-    assert "HDM05 gives 99% of our 8610 pairs; squat is the largest class." in text
+    text = html.unescape(re.sub(r"<[^>]+>", "", page)).replace("\u2019", "'")
+    assert "This run's data: 7 motions of 3 movements, 10 ordered pairs" in text
+    assert "HDM05 gives 80% of our pairs." in text

@@ -1,11 +1,9 @@
-"""Numbers for the notebooks' prose: computed from the results and glued, never typed.
+"""Numbers for the notebooks' prose: computed from the results and shown by a code cell.
 
-A notebook's markdown never types a result: a code cell computes the numbers and glues them
-with MyST-NB (:func:`glue_numbers`), and the markdown refers to them by name,
-``{glue:text}`hdm05_share:.0%```, which the book (:mod:`fpdtw.paper.book`, MyST-NB) replaces
-by the value of the run it shows. Gluing only displays a mime bundle that Jupyter keeps in
-the cell's outputs, so it works under papermill and in any kernel; outside a kernel
-(plain Python) nothing is shown and the numbers are still returned.
+A notebook's markdown never types a result. Where its prose needs a count of the data, a
+code cell shows it as a sentence built here from the run's pair list
+(``Markdown(data_sentence(results.pairs))``), so the number is seen in plain Jupyter and in
+the book (:mod:`fpdtw.paper.book` renders the cell's Markdown output) alike.
 ``tests/test_notebook_numbers.py`` checks that no markdown cell types a result number.
 """
 
@@ -13,15 +11,14 @@ from __future__ import annotations
 
 import numpy as np
 
-#: The names :func:`data_numbers` glues.
+#: The names :func:`data_numbers` returns.
 DATA_NUMBERS = ("motions", "movements", "pairs", "pairs_authors_fbx", "pairs_hdm05",
                 "hdm05_share", "hdm05_clips_min", "hdm05_clips_max", "largest_movement",
                 "largest_movement_share")  # fmt: skip
 
 
 def _plain(value):
-    """Python int, float or str: what MyST-NB's ``glue:text`` formats (numpy scalars' text
-    would be ``np.int64(5)``)."""
+    """Python int, float or str (a numpy scalar's text would be ``np.int64(5)``)."""
     if isinstance(value, bool | np.bool_):
         return bool(value)
     if isinstance(value, int | np.integer):
@@ -30,31 +27,7 @@ def _plain(value):
         return float(value)
     if isinstance(value, str):
         return value
-    raise TypeError(f"glue a number or a string, not {type(value).__name__}: {value!r}")
-
-
-def glue_numbers(numbers: dict, prefix: str = "") -> dict:
-    """Glue every ``name: value`` for the notebook's markdown (not shown in the cell).
-
-    Parameters
-    ----------
-    numbers : dict of str to int, float or str
-    prefix : str
-        Put before every name (``"study_"``: ``study_pairs``), to glue two runs' numbers.
-
-    Returns
-    -------
-    numbers : dict
-        The same names, values as plain Python numbers (what was glued).
-
-    Notebook: 06_fig5_fig6_scores.ipynb
-    """
-    from myst_nb import glue
-
-    out = {prefix + name: _plain(v) for name, v in numbers.items()}
-    for name, v in out.items():
-        glue(name, v, display=False)
-    return out
+    raise TypeError(f"a number or a string, not {type(value).__name__}: {value!r}")
 
 
 def data_numbers(pairs) -> dict:
@@ -72,8 +45,6 @@ def data_numbers(pairs) -> dict:
         ``hdm05_share`` (fraction of the pairs from HDM05); ``hdm05_clips_min``,
         ``hdm05_clips_max`` (clips per HDM05 class); ``largest_movement`` and
         ``largest_movement_share`` (the movement with most pairs, its fraction of them).
-
-    Notebook: 06_fig5_fig6_scores.ipynb
     """
     from fpdtw.paper.claims import data_counts
 
@@ -98,4 +69,85 @@ def data_numbers(pairs) -> dict:
     return {k: _plain(out[k]) for k in DATA_NUMBERS}
 
 
-__all__ = ["DATA_NUMBERS", "data_numbers", "glue_numbers"]
+def _pairs_by_dataset(n: dict) -> str:
+    return (
+        f"{n['pairs']} ordered pairs ({n['pairs_authors_fbx']} from the authors' FBX takes, "
+        f"{n['pairs_hdm05']} from HDM05)"
+    )
+
+
+def data_sentence(pairs) -> str:
+    """The data of a run against the paper's, as Markdown (what the prose's data paragraph
+    leaves to the run).
+
+    Parameters
+    ----------
+    pairs : list of dict
+        ``Results.pairs``.
+
+    Returns
+    -------
+    text : str
+        Motions, movements and pairs (per dataset) of the run next to the paper's, and
+        HDM05's share of the pairs.
+
+    Notebook: 05_run_experiments.ipynb, 06_fig5_fig6_scores.ipynb, 07_table1_60hz.ipynb,
+    08_fig7_fig10_heatmaps.ipynb, 09_table2_timing.ipynb
+    """
+    from fpdtw.paper.numbers import DATA
+
+    n = data_numbers(pairs)
+    return (
+        f"**This run's data:** {n['motions']} motions of {n['movements']} movements, "
+        f"{_pairs_by_dataset(n)}, against the paper's {DATA['motions']} motions of "
+        f"{DATA['movements']} movements and {DATA['pairs']} pairs. HDM05 gives "
+        f"{n['hdm05_share']:.0%} of our pairs."
+    )
+
+
+def study_sentence(study_pairs, full_pairs) -> str:
+    """The pairs of notebook 15's two runs, as Markdown.
+
+    Parameters
+    ----------
+    study_pairs, full_pairs : list of dict
+        ``Results.pairs`` of the paper-shaped selection and of the whole-class run.
+
+    Returns
+    -------
+    text : str
+
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    study, full = data_numbers(study_pairs), data_numbers(full_pairs)
+    return (
+        f"**The runs' data:** the paper-shaped selection has {_pairs_by_dataset(study)}; "
+        f"the whole-class run of notebook 05 has {_pairs_by_dataset(full)}."
+    )
+
+
+def selection_sentence(pairs) -> str:
+    """How unevenly a run's pairs fall on its movements, as Markdown: the clips per HDM05
+    class and the share of the movement with most pairs.
+
+    Parameters
+    ----------
+    pairs : list of dict
+        ``Results.pairs``.
+
+    Returns
+    -------
+    text : str
+
+    Notebook: 15_readings_of_algorithm_3.ipynb
+    """
+    n = data_numbers(pairs)
+    lo, hi = n["hdm05_clips_min"], n["hdm05_clips_max"]
+    clips = f"{lo}" if lo == hi else f"{lo}-{hi}"
+    return (
+        f"The HDM05 classes of this run hold {clips} clips each, and {n['largest_movement']} alone "
+        f"gives {n['largest_movement_share']:.0%} of all {n['pairs']} pairs."
+    )
+
+
+__all__ = ["DATA_NUMBERS", "data_numbers", "data_sentence", "selection_sentence", "study_sentence"]

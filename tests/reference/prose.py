@@ -16,10 +16,9 @@ def _blank(m: re.Match) -> str:
 
 
 def prose(markdown: str) -> str:
-    """A Markdown text without its code blocks, code spans, math and glue references (each
-    left as blank space, its line breaks kept)."""
+    """A Markdown text without its code blocks, code spans and math (each left as blank
+    space, its line breaks kept)."""
     text = re.sub(r"^```.*?^```", _blank, markdown, flags=re.S | re.M)
-    text = re.sub(r"\{glue(:\w+)?\}`[^`]*`", " ", text)
     text = re.sub(r"`[^`]*`", " ", text)
     text = re.sub(r"\$\$.*?\$\$", _blank, text, flags=re.S)
     return re.sub(r"\$[^$]*\$", _blank, text)
