@@ -193,3 +193,27 @@ def test_results_score_eq2_under_the_default_reading_and_keep_the_other_switchab
     monkeypatch.setenv("FPDTW_EQ2", "sideways")
     with pytest.raises(ValueError, match="FPDTW_EQ2='sideways': not a reading of eq. 2"):
         Results(fresh_run.folder)
+
+
+def test_claims_decide_under_the_other_reading_of_eq2(fresh_run):
+    """Under the transform default the claims' other body reads the stored (local) scores."""
+    from fpdtw.paper.claims import ClaimContext, claim_contexts
+
+    default = Results(fresh_run.folder, eq2="transform")
+    ctx = ClaimContext(mode="smoke", ev=Evidence(default, n_resamples=50))
+    ctxs = claim_contexts(ctx)
+    other = ctxs["eq2_other"].ev
+    for name in ("UTW", "Mc w10@60Hz"):
+        np.testing.assert_array_equal(
+            other.values(name, "similarity"), default.stored(name)["similarity"]
+        )
+        np.testing.assert_array_equal(
+            ctx.ev.values(name, "similarity"), default.get(name)["similarity"]
+        )
+    assert ctxs["eq2_other_hdm05"].ev.n_pairs == 2
+    local = Results(fresh_run.folder, eq2="local")
+    back = claim_contexts(ClaimContext(mode="smoke", ev=Evidence(local, n_resamples=50)))
+    transform = SL.reading_values(fresh_run, "transform", progress=False)
+    np.testing.assert_array_equal(
+        back["eq2_other"].ev.values("UTW", "similarity"), transform("UTW", "similarity")
+    )

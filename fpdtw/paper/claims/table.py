@@ -1252,9 +1252,16 @@ def _other_eq2_values(results):
     if other is None:
         return None
     if other == STORED_EQ2:
-        return lambda name, metric: (
-            results.stored(name)["similarity"] if metric == "similarity" else None
-        )
+
+        def stored(name, metric):  # in results.pairs order, as Evidence expects
+            if metric != "similarity":
+                return None
+            arr = results.stored(name)
+            pos = {int(p): k for k, p in enumerate(arr["pair_id"])}
+            sim = np.asarray(arr["similarity"], dtype=np.float64)
+            return np.array([sim[pos[int(p["id"])]] for p in results.pairs])
+
+        return stored
     from fpdtw.paper.similarity_level import reading_values
 
     return reading_values(results, other)
