@@ -34,7 +34,7 @@ from fpdtw.paper import catalog
 from fpdtw.paper import numbers as N
 from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.runner.grid import split_transform
-from fpdtw.paper.runner.results import slug
+from fpdtw.paper.runner.results import EQ2_READINGS, RESCORERS, STORED_EQ2, slug
 from fpdtw.paper.runner.run import BASE_FPS
 from fpdtw.paper.runner.selection import Selection, pair_selection
 from fpdtw.pause import hold_frames, pause_plan, pause_seed
@@ -424,6 +424,9 @@ def level_comparison(rows, dataset: str = "all") -> list[dict]:
             )
     return out
 
+
+# the readings of eq. 2 a Results can be scored with, other than the stored one
+RESCORERS.update({r: reading_values for r in EQ2_READINGS if r != STORED_EQ2})
 
 __all__ = [
     "LEVEL_ALGORITHMS",

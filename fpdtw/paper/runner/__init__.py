@@ -6,6 +6,8 @@
 * :mod:`.results`: reading and writing the result files (:class:`Results`).
 """
 
+# registers the rescoring of the other readings of eq. 2 (Results.get)
+from fpdtw.paper import similarity_level as _similarity_level  # noqa: E402, F401
 from fpdtw.paper.runner.grid import DEFAULT_ALGORITHMS, STUDY_ALGORITHMS, TABLE1_60HZ_NAMES
 from fpdtw.paper.runner.results import AlgorithmResult, Results, aggregate_heatmap, slug
 from fpdtw.paper.runner.run import (

@@ -194,6 +194,11 @@ STORED_EQ2 = "local"
 EQ2_READINGS = ("transform", "local")
 #: Environment variable choosing the reading (default: the first of :data:`EQ2_READINGS`).
 EQ2_ENV = "FPDTW_EQ2"
+#: Reading of eq. 2 -> ``rescore(results, reading) -> values(name, metric)``, the function
+#: that rescores a run's stored maps under it. Filled by
+#: :mod:`fpdtw.paper.similarity_level` (imported with :mod:`fpdtw.paper.runner`), so that
+#: this module, which that one reads runs with, does not import it.
+RESCORERS: dict = {}
 
 
 def default_eq2() -> str:
@@ -296,9 +301,11 @@ class Results:
         key = (name, self.eq2)
         if key not in self._cache:
             if self._rescore is None:
-                from fpdtw.paper.similarity_level import reading_values  # circle: it reads runs
-
-                self._rescore = reading_values(self, self.eq2)
+                if self.eq2 not in RESCORERS:
+                    raise RuntimeError(
+                        f"no rescorer for eq. 2 read as {self.eq2!r}: import fpdtw.paper.runner"
+                    )
+                self._rescore = RESCORERS[self.eq2](self, self.eq2)
             arrays = {k: v for k, v in r.items() if k not in ("name", "fps", "map")}
             arrays["similarity"] = self._rescore(name, "similarity")
             self._cache[key] = AlgorithmResult(arrays, name, self.fps(name))
@@ -378,6 +385,9 @@ def aggregate_heatmap(results: Results, name: str, bins: int = 100) -> np.ndarra
 
 
 __all__ = [
+    "EQ2_READINGS",
+    "RESCORERS",
+    "STORED_EQ2",
     "AlgorithmResult",
     "Results",
     "ZIP_DATE",
