@@ -71,10 +71,13 @@ def test_dirty_means_source_changed_not_the_outputs(tmp_path):
     (tmp_path / "fpdtw").mkdir()
     (tmp_path / "figures" / "fig.csv").write_text("a\n")
     (tmp_path / "fpdtw" / "m.py").write_text("x = 1\n")
+    (tmp_path / "ARTIFACT.md").write_text("steps\n")
     git("add", ".")
     git("-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "init")
     assert provenance.git_commit(tmp_path)["dirty"] is False
     (tmp_path / "figures" / "fig.csv").write_text("b\n")  # make figures rewrote an output
+    assert provenance.git_commit(tmp_path)["dirty"] is False
+    (tmp_path / "ARTIFACT.md").write_text("steps measured\n")  # tools/measure_steps.py did
     assert provenance.git_commit(tmp_path)["dirty"] is False
     (tmp_path / "fpdtw" / "m.py").write_text("x = 2\n")  # the code changed
     assert provenance.git_commit(tmp_path)["dirty"] is True

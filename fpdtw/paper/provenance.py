@@ -42,11 +42,18 @@ def package_versions(names=COMPUTE_PACKAGES + DRAW_PACKAGES) -> dict:
     return out
 
 
+#: What ``make figures`` rewrites in the checkout (:func:`git_commit` leaves them out).
+OUTPUTS = ("figures", "README.md", "ARTIFACT.md", "docs")
+
+
 def git_commit(root: Path = REPO_ROOT) -> dict:
     """``{"commit": sha or None, "dirty": bool or None}`` of the source checkout.
 
-    ``dirty``: a tracked file other than the outputs (``figures/``, which ``make
-    figures`` rewrites while it runs) differs from the commit. None where the package
+    ``dirty``: a tracked file other than the outputs differs from the commit. The outputs
+    are what ``make figures`` itself rewrites while it runs: ``figures/``, and the generated
+    blocks of README.md, ARTIFACT.md and ``docs/`` (``tools/measure_steps.py`` writes
+    ARTIFACT.md's steps before the figures' provenance is taken); none of them changes a
+    figure. None where the package
     does not run from a git checkout (an installed wheel) or git is missing.
     """
     try:
@@ -56,7 +63,7 @@ def git_commit(root: Path = REPO_ROOT) -> dict:
         ).stdout.strip()  # fmt: skip
         status = subprocess.run(
             ["git", "-C", str(root), "status", "--porcelain", "--untracked-files=no",
-             "--", ".", ":(exclude)figures"],
+             "--", ".", *(f":(exclude){p}" for p in OUTPUTS)],
             capture_output=True, text=True, timeout=10, check=True,
         ).stdout  # fmt: skip
     except (OSError, subprocess.SubprocessError):
