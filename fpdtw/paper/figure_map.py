@@ -81,7 +81,7 @@ NOTEBOOKS = (
               "selection_paper_shaped"),
              "Algorithm 3's window read five ways, side by side; every other silent choice; "
              "a paper-shaped data selection", _RUN),
-    Notebook("12_claims", ("claims", "claims_intervals"),
+    Notebook("12_claims", ("claims", "claims_intervals", "claims_checks", "claims_power"),
              "every claim of both papers split into parts: verdict and reason, 95 % intervals, "
              "per dataset and selection, robustness to the paper's open readings",
              ("02_fig1_oedtw", "06_fig5_fig6_scores", "07_table1_60hz", "08_fig7_fig10_heatmaps",

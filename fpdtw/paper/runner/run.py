@@ -646,6 +646,8 @@ def summarize(results: Results) -> dict:
     Returns
     -------
     summary : dict
+        ``"eq2"``: the reading of eq. 2 the similarities are scored with
+        (:attr:`Results.eq2`).
         ``"benchmarks"``: ``utw_median_similarity_120hz`` / ``_60hz`` (median
         similarity of UTW at that rate, None if UTW was not run),
         ``deviation_frames`` (18), ``deviation_ms`` (150).
@@ -697,7 +699,7 @@ def summarize(results: Results) -> dict:
             else numbers.passes_similarity(s["median"], u),
             "passes_deviation_benchmark": numbers.passes_deviation(d["median"], fps),
         }
-    return {"benchmarks": bench, "algorithms": algos}
+    return {"eq2": results.eq2, "benchmarks": bench, "algorithms": algos}
 
 
 # -- the run -----------------------------------------------------------------------------------
