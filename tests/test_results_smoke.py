@@ -108,7 +108,7 @@ def test_summary_agrees_with_the_stored_arrays(smoke):
         assert r["deviation"][k] == pytest.approx(deviation(dtw.map(k), r.map(k)))
         assert np.all(np.abs(r["similarity"]) <= 1.0)
     utw_median = smoke.summary["benchmarks"]["utw_median_similarity_120hz"]
-    assert utw_median == pytest.approx(float(np.median(smoke.get("UTW")["similarity"])))
+    assert utw_median == pytest.approx(float(np.median(scored.get("UTW")["similarity"])))
 
 
 def test_figure_notebooks_recorded_their_facts():
