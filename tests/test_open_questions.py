@@ -824,7 +824,7 @@ def test_q5_verdicts():
 
 
 def test_band_cost_pairs_each_band_variant_with_its_base():
-    from fpdtw.paper.bench import band_cost
+    from fpdtw.paper.figures.timing import band_cost
 
     report = {"online": [
         {"name": "Mb w40 (band w/2)", "median_s": 2e-5},

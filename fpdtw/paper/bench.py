@@ -48,6 +48,7 @@ import numpy as np
 
 from fpdtw.paper import bench_limit, provenance
 from fpdtw.paper.atomic import write_atomic
+from fpdtw.paper.figures.timing import step_s
 from fpdtw.paper.numbers import TABLE2_US
 
 #: A step above this many times its limit gets its gap explained in the report.
@@ -247,12 +248,6 @@ def _progress(items, what):
     except ImportError:
         return items
     return tqdm(items, desc=what, leave=False)
-
-
-def step_s(row) -> float:
-    """Our time per frame of a row: the median over its window steps when the limit was
-    measured (the steady state Table 2 is about), else the median over every frame."""
-    return row.get("step_median_s") or row["median_s"]
 
 
 def _us(x, digits=1) -> str:
@@ -523,42 +518,6 @@ def plain_table(report) -> str:
             )
         )  # fmt: skip
     return "\n".join(lines)
-
-
-def band_cost(report) -> list:
-    """Per-frame cost of the global band variants of notebook 16 (Q3) beside their bases.
-
-    Parameters
-    ----------
-    report : dict
-        ``results/bench.json`` as :func:`run_benchmark` writes it.
-
-    Returns
-    -------
-    rows : list of dict
-        One per band (:data:`fpdtw.paper.runner.grid.BAND_1S` first, the first reading,
-        then :data:`~fpdtw.paper.runner.grid.BAND_HALF_W`) and per base of
-        :data:`fpdtw.paper.runner.grid.BAND_BASES` that the report timed with and without
-        that band: ``name``, ``band`` (the band variant's name), ``base_us`` and ``band_us``
-        (median seconds per frame times 1e6, :func:`step_s`), ``ratio`` (band / base).
-
-    Paper: FP-DTW Section 7 (conclusion: a global constraint).
-    Notebook: 16_open_questions.ipynb
-    """
-    from fpdtw.paper.runner.grid import BAND_1S, BAND_BASES, BAND_HALF_W
-
-    by_name = {r["name"]: r for r in report.get("online", [])}
-    rows = []
-    for label in (BAND_1S, BAND_HALF_W):
-        for base in BAND_BASES:
-            band = f"{base} ({label})"
-            if base in by_name and band in by_name:
-                b, v = step_s(by_name[base]), step_s(by_name[band])
-                rows.append(
-                    {"name": base, "band": band, "base_us": b * 1e6, "band_us": v * 1e6,
-                     "ratio": v / b}
-                )  # fmt: skip
-    return rows
 
 
 def dtw_throughput(C, repeats=5):
@@ -1085,7 +1044,6 @@ __all__ = [
     "peers_table",
     "plain_step_times",
     "plain_table",
-    "step_s",
     "time_plain_run",
     "round_trip_stats",
     "run_benchmark",

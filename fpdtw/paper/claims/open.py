@@ -39,7 +39,7 @@ Q3 (a global band around the diagonal ``M_q = q``, Methods B and C,
     cells (the mean share of the window's cells removed per window step, over every step of
     every pair, from the maps, :func:`band_removed_share`, above 0: a point value); and its
     per-frame time is lower (``make bench``'s median time per frame with the band over
-    without it, :func:`fpdtw.paper.bench.band_cost`, below 1: a point value; no report:
+    without it, :func:`fpdtw.paper.figures.timing.band_cost`, below 1: a point value; no report:
     inconclusive).
 Q4 (OPW's gamma adapted from its own decisions, :mod:`fpdtw.online.opw_adaptive`)
     on the FP-DTW pairs: OPW adaptive passes both benchmarks; and it improves on OPW at
@@ -277,9 +277,9 @@ def band_removed_share(ev, name: str) -> float:
 
 def assess_q3(ctx):
     """Our value and the parts of Q3 (see the module), or why not computed."""
-    from fpdtw.paper.bench import band_cost
     from fpdtw.paper.claims.rules import AllOf, Check
     from fpdtw.paper.claims.table import Assessment
+    from fpdtw.paper.figures.timing import band_cost
     from fpdtw.paper.runner.grid import BAND_1S, BAND_BASES, BAND_HALF_W
 
     ev = ctx.open_ev

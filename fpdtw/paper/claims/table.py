@@ -130,7 +130,7 @@ class ClaimContext:
         without further optimisation, for claim 4b.
     bench : dict or None
         ``make bench``'s report (``results/bench.json``) as it is, for what Q3 reads of it
-        (:func:`fpdtw.paper.bench.band_cost`); None without one.
+        (:func:`fpdtw.paper.figures.timing.band_cost`); None without one.
     """
 
     mode: str = "full"

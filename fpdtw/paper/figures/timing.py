@@ -21,7 +21,7 @@ import numpy as np
 
 from fpdtw.paper.figures.plotting import new_axes
 from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES, TABLE2_US, WINDOWS
-from fpdtw.paper.runner.grid import MC_LITERAL_NAMES
+from fpdtw.paper.runner.grid import BAND_1S, BAND_BASES, BAND_HALF_W, MC_LITERAL_NAMES
 from fpdtw.registry import resolve
 
 #: Online algorithms of Table 2 (and Method A, OE-DTW, Type V variants, OPW, OLTW, and
@@ -267,3 +267,43 @@ __all__ = [
     "slowest_window",
     "time_per_frame_rows",
 ]
+
+
+def step_s(row) -> float:
+    """Our time per frame of a row: the median over its window steps when the limit was
+    measured (the steady state Table 2 is about), else the median over every frame."""
+    return row.get("step_median_s") or row["median_s"]
+
+
+def band_cost(report) -> list:
+    """Per-frame cost of the global band variants of notebook 16 (Q3) beside their bases.
+
+    Parameters
+    ----------
+    report : dict
+        ``results/bench.json`` as :func:`run_benchmark` writes it.
+
+    Returns
+    -------
+    rows : list of dict
+        One per band (:data:`fpdtw.paper.runner.grid.BAND_1S` first, the first reading,
+        then :data:`~fpdtw.paper.runner.grid.BAND_HALF_W`) and per base of
+        :data:`fpdtw.paper.runner.grid.BAND_BASES` that the report timed with and without
+        that band: ``name``, ``band`` (the band variant's name), ``base_us`` and ``band_us``
+        (median seconds per frame times 1e6, :func:`step_s`), ``ratio`` (band / base).
+
+    Paper: FP-DTW Section 7 (conclusion: a global constraint).
+    Notebook: 16_open_questions.ipynb
+    """
+    by_name = {r["name"]: r for r in report.get("online", [])}
+    rows = []
+    for label in (BAND_1S, BAND_HALF_W):
+        for base in BAND_BASES:
+            band = f"{base} ({label})"
+            if base in by_name and band in by_name:
+                b, v = step_s(by_name[base]), step_s(by_name[band])
+                rows.append(
+                    {"name": base, "band": band, "base_us": b * 1e6, "band_us": v * 1e6,
+                     "ratio": v / b}
+                )  # fmt: skip
+    return rows
