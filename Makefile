@@ -19,7 +19,7 @@ PY     := $(VENV)/bin/python
 # changes.
 LOCKED ?= 1
 LOCK   := requirements.lock
-EXTRAS := test,notebooks
+EXTRAS := paper,live,cluster,book,test,notebooks
 LOCK_PYTHON   := 3.11
 LOCK_PLATFORM := x86_64-unknown-linux-gnu
 UV_VERSION    := 0.13.9
@@ -44,7 +44,7 @@ NUMBA_STAMP := $(NUMBA_CACHE_DIR)/.sources-stamp
 SMOKE_DIR := build/smoke
 SMOKE_NBS := $(patsubst notebooks/%.ipynb,$(SMOKE_DIR)/%.ipynb,$(NOTEBOOKS))
 # the book's tools (site, browser check, notebook runner) change no notebook's result
-BOOK_SRC  := fpdtw/paper/book.py fpdtw/paper/browser.py fpdtw/paper/execute.py
+BOOK_SRC  := fpdtw/app/book.py fpdtw/app/browser.py fpdtw/app/execute.py
 LIB_SRC   := $(filter-out $(BOOK_SRC),$(wildcard fpdtw/*.py fpdtw/*/*.py fpdtw/*/*/*.py))
 RUNNER_SRC := $(wildcard fpdtw/paper/runner/*.py)
 # smoke runs write their figures and results under build/smoke, never over figures/
@@ -54,10 +54,10 @@ BOOK       := build/book/index.html
 # the pages of docs/ (each also a page of the book) and the files with generated blocks
 DOCS       := $(sort $(wildcard docs/*.md))
 READMES    := README.md ARTIFACT.md $(DOCS)
-# every notebook is executed by papermill through fpdtw.paper.execute (kernel fpdtw, the
+# every notebook is executed by papermill through fpdtw.app.execute (kernel fpdtw, the
 # notebooks folder as working directory, parameter SMOKE), which prints when each starts
 # and ends and how long it took
-EXECUTE := $(PY) -m fpdtw.paper.execute --kernel fpdtw --cwd notebooks
+EXECUTE := $(PY) -m fpdtw.app.execute --kernel fpdtw --cwd notebooks
 
 .PHONY: env lock data test test-all fuzz lint format figures check-figures book book-check \
 	smoke-book bench bench-peers readme-results dist clean distclean help
@@ -192,11 +192,11 @@ $(SMOKE_DIR)/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(
 
 # the smoke book: the site of the smoke notebooks, which the browser test opens
 smoke-book: $(SMOKE_BOOK)
-$(SMOKE_BOOK): $(SMOKE_NBS) fpdtw/paper/book.py $(DOCS)
-	$(SMOKE_ENV) $(PY) -m fpdtw.paper.book --mode smoke --notebooks $(SMOKE_DIR) --out $(@D)
+$(SMOKE_BOOK): $(SMOKE_NBS) fpdtw/app/book.py $(DOCS)
+	$(SMOKE_ENV) $(PY) -m fpdtw.app.book --mode smoke --notebooks $(SMOKE_DIR) --out $(@D)
 
 bench: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP)
-	$(PY) -m fpdtw.paper.bench
+	$(PY) -m fpdtw.app.bench
 
 # OLTW against pymatchmaker's OLTW-Dixon (optional). pymatchmaker needs numpy < 2, so it
 # gets its own venv, build/peers-venv, NEVER the project's .venv: the project's half
@@ -214,12 +214,12 @@ $(PEERS_VENV)/.installed:
 	touch $@
 
 bench-peers: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(PEERS_VENV)/.installed
-	$(PY) -m fpdtw.paper.bench_peers export build/peers/oltw_pairs.npz
-	$(PEERS_PY) -P fpdtw/paper/bench_peers.py peer build/peers/oltw_pairs.npz
+	$(PY) -m fpdtw.app.bench_peers export build/peers/oltw_pairs.npz
+	$(PEERS_PY) -P fpdtw/app/bench_peers.py peer build/peers/oltw_pairs.npz
 
 # Table 2's notebook shows the single-core benchmark next to the runner's timings
 results/bench.json: $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(LIB_SRC)
-	$(PY) -m fpdtw.paper.bench
+	$(PY) -m fpdtw.app.bench
 build/notebooks/09_table2_timing.ipynb: results/bench.json
 # notebook 16 shows the band's per-frame cost (Q3) from the same benchmark
 build/notebooks/16_open_questions.ipynb: results/bench.json
@@ -230,11 +230,11 @@ build/notebooks/16_open_questions.ipynb: results/bench.json
 figures: $(EXECUTED) figures/ENVIRONMENT.md readme-results $(BOOK)
 
 # the generated blocks of README.md, ARTIFACT.md and the pages of docs/, from figures/
-# (fpdtw.paper.readme; tests keep them in step); ARTIFACT.md's times and memory come from
+# (fpdtw.app.readme; tests keep them in step); ARTIFACT.md's times and memory come from
 # tools/measure_steps.py. After figures/ENVIRONMENT.md: it records whether the checkout had
 # uncommitted changes, and these files are about to change
 readme-results: $(EXECUTED) | figures/ENVIRONMENT.md
-	$(PY) -m fpdtw.paper.readme $(READMES) --update
+	$(PY) -m fpdtw.app.readme $(READMES) --update
 
 # did this run reproduce the committed figures? Every deterministic file byte for byte
 # (the timing outputs, fpdtw.paper.provenance.TIMING_OUTPUTS, may differ)
@@ -283,16 +283,16 @@ $(patsubst %,$(SMOKE_DIR)/%.ipynb,$(CLAIM_NBS)): $(SMOKE_DIR)/grids/smoke.done \
 
 # the book: one static site of the executed notebooks (outputs as they ran, nothing
 # executed again) with the claims table, the data used and missing and how to rerun on its
-# front page (fpdtw.paper.book: Sphinx + MyST-NB); open build/book/index.html
+# front page (fpdtw.app.book: Sphinx + MyST-NB); open build/book/index.html
 book: $(BOOK)
-$(BOOK): $(EXECUTED) figures/ENVIRONMENT.md fpdtw/paper/book.py $(DOCS)
-	$(PY) -m fpdtw.paper.book --mode full --notebooks build/notebooks --out $(@D)
+$(BOOK): $(EXECUTED) figures/ENVIRONMENT.md fpdtw/app/book.py $(DOCS)
+	$(PY) -m fpdtw.app.book --mode full --notebooks build/notebooks --out $(@D)
 
 # the book in headless Chromium (Debian's chromium and chromium-driver, through Selenium):
 # every page without a console error, every image loaded, every internal link resolving; a
 # screenshot of every page in build/book/screenshots
 book-check: $(BOOK)
-	$(PY) -m fpdtw.paper.browser build/book --screenshots build/book/screenshots
+	$(PY) -m fpdtw.app.browser build/book --screenshots build/book/screenshots
 
 # notebook order and one target per figure or table (`make figures/fig5_similarity.pdf` runs
 # its notebook and what that needs): generated from the one map, fpdtw/paper/figure_map.py

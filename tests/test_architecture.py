@@ -35,15 +35,81 @@ def _layer(rel: Path) -> str:
     return rel.parts[0] if rel.parts[0] in ("paper", "app") else "library"
 
 
+#: Optional parts of the tools a lower layer may reach, inside a function only, when a user
+#: asks for them: the Dask cluster (``fpdtw experiments run --scheduler``).
+OPTIONAL_PARTS = {"paper": ("fpdtw.app.cluster",)}
+
+
+def _top_level_imports(path: Path) -> set:
+    """The fpdtw modules a file imports at module level (not inside a function)."""
+    tree = ast.parse(path.read_text())
+    inner = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+            inner.update(id(n) for n in ast.walk(node) if n is not node)
+    out = set()
+    for node in ast.walk(tree):
+        if id(node) in inner:
+            continue
+        if isinstance(node, ast.Import):
+            out.update(a.name for a in node.names if a.name.startswith("fpdtw"))
+        elif isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("fpdtw"):
+            out.add(node.module)
+            out.update(f"{node.module}.{a.name}" for a in node.names)
+    return out
+
+
 def test_nothing_below_imports_the_layers_above():
-    """library <- paper <- app: the library imports neither, the paper layer not the apps."""
+    """library <- paper <- app: the library imports neither; the paper layer imports no tool
+    but the optional parts of OPTIONAL_PARTS, and those only inside a function."""
     above = {"library": ("fpdtw.paper", "fpdtw.app"), "paper": ("fpdtw.app",), "app": ()}
     bad = []
     for f in sorted(PKG.rglob("*.py")):
         layer = _layer(f.relative_to(PKG))
+        optional = OPTIONAL_PARTS.get(layer, ())
+        top = _top_level_imports(f)
         for mod in _imports(f):
-            if any(mod == a or mod.startswith(a + ".") for a in above[layer]):
-                bad.append(f"{f.relative_to(REPO_ROOT)} ({layer}) imports {mod}")
+            if not any(mod == a or mod.startswith(a + ".") for a in above[layer]):
+                continue
+            lazy_optional = mod in optional or any(mod.startswith(o + ".") for o in optional)
+            if lazy_optional and mod not in top:
+                continue
+            bad.append(f"{f.relative_to(REPO_ROOT)} ({layer}) imports {mod}")
+    assert not bad, "\n".join(bad)
+
+
+def test_an_optional_part_imported_at_module_level_is_caught(tmp_path):
+    f = tmp_path / "parallel.py"
+    f.write_text("from fpdtw.app import cluster\n\ndef g():\n    from fpdtw.app import bench\n")
+    assert "fpdtw.app.cluster" in _top_level_imports(f)
+    assert "fpdtw.app.bench" not in _top_level_imports(f)
+    assert "fpdtw.app.bench" in _imports(f)
+
+
+def test_the_library_needs_only_its_own_dependencies():
+    """The library (fpdtw without paper/ and app/) imports at module level nothing beyond the
+    standard library and pyproject.toml's `dependencies` (numpy, scipy, numba, the FBX
+    reader's binding): the reproduction's and the tools' packages are extras."""
+    import sys
+    import tomllib
+
+    deps = tomllib.loads((REPO_ROOT / "pyproject.toml").read_text())["project"]["dependencies"]
+    allowed = {d.split(">")[0].split("=")[0].split("<")[0].strip() for d in deps} | {"fpdtw"}
+    bad = []
+    for f in sorted(PKG.rglob("*.py")):
+        if _layer(f.relative_to(PKG)) != "library":
+            continue
+        tree = ast.parse(f.read_text())
+        for node in tree.body:
+            names = []
+            if isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom) and node.module and not node.level:
+                names = [node.module]
+            for name in names:
+                top = name.split(".")[0]
+                if top not in allowed and top not in sys.stdlib_module_names:
+                    bad.append(f"{f.relative_to(REPO_ROOT)} imports {name}")
     assert not bad, "\n".join(bad)
 
 
@@ -114,7 +180,7 @@ def test_adding_an_aligner_is_one_class_and_one_entry(monkeypatch):
     benchmark times."""
     from reference.synthetic import synthetic_pair
 
-    from fpdtw.paper.bench import bench_online
+    from fpdtw.app.bench import bench_online
 
     entry = registry.Entry(
         "Greedy", "G", "greedy", True, registry.online("test_architecture:Greedy"), "k", 1

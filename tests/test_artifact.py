@@ -3,7 +3,7 @@
 The claim ids come from two places, and both must be covered: the committed claims table
 (``figures/claims.csv``, what ``make figures`` last wrote) and the claims the code checks
 (:data:`fpdtw.paper.claims.CLAIMS`). The claims and steps tables are generated
-(:func:`fpdtw.paper.readme.artifact_blocks`) and must be what the committed files give; each
+(:func:`fpdtw.app.readme.artifact_blocks`) and must be what the committed files give; each
 row's verdict and value are the committed table's; each command is a make target that make
 can resolve (``make -n``) or an ``fpdtw`` command line the real parser accepts.
 """
@@ -18,8 +18,9 @@ import subprocess
 
 import pytest
 
+from fpdtw.app import readme
 from fpdtw.app.cli import build_parser
-from fpdtw.paper import claims, readme
+from fpdtw.paper import claims
 from fpdtw.paper.claims.rules import CLAIM_VERDICTS
 from fpdtw.paper.paths import REPO_ROOT
 
@@ -117,12 +118,12 @@ def test_every_claim_has_a_row():
 
 
 def test_the_generated_blocks_are_what_the_committed_figures_give():
-    """The steps and claims tables are generated (fpdtw.paper.readme.artifact_blocks) from
+    """The steps and claims tables are generated (fpdtw.app.readme.artifact_blocks) from
     figures/ and the measurements kept in the steps block: nothing in them is typed."""
     text = _text()
     assert readme.render(text, readme.artifact_blocks(REPO_ROOT / "figures", text)) == text, (
         "ARTIFACT.md's generated blocks differ from figures/: run "
-        "`python -m fpdtw.paper.readme ARTIFACT.md --update` (make figures does)"
+        "`python -m fpdtw.app.readme ARTIFACT.md --update` (make figures does)"
     )
 
 

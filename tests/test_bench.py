@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 from reference.synthetic import synthetic_pair
 
+from fpdtw.app import bench, bench_limit, bench_peers
 from fpdtw.costs import geodesic_cost_matrix
 from fpdtw.dtw import accumulate
 from fpdtw.online.base import run_online
-from fpdtw.paper import bench, bench_limit, bench_peers
 from fpdtw.paper.numbers import TABLE2_US
 from fpdtw.registry import make_online
 
@@ -295,7 +295,7 @@ def test_peers_never_run_in_the_project_environment(tmp_path):
     venvs = {k.strip(): v.strip() for k, v in venvs.items()}
     assert venvs["PEERS_VENV"] == "build/peers-venv" != venvs["VENV"]
     assert bench_peers.PEERS_VENV == ROOT / venvs["PEERS_VENV"]
-    assert "$(PEERS_PY) -P fpdtw/paper/bench_peers.py peer" in make
+    assert "$(PEERS_PY) -P fpdtw/app/bench_peers.py peer" in make
 
 
 def test_peers_half_imports_no_fpdtw():
@@ -304,6 +304,6 @@ def test_peers_half_imports_no_fpdtw():
         "import runpy, sys; runpy.run_path(sys.argv[1]); "
         "sys.exit(any(m == 'fpdtw' or m.startswith('fpdtw.') for m in sys.modules))"
     )
-    path = str(ROOT / "fpdtw" / "paper" / "bench_peers.py")
+    path = str(ROOT / "fpdtw" / "app" / "bench_peers.py")
     r = subprocess.run([sys.executable, "-P", "-c", code, path], cwd="/", capture_output=True)
     assert r.returncode == 0, r.stderr.decode()

@@ -1,7 +1,7 @@
-"""The book (fpdtw.paper.book): pages from the figure map, claims linked to their notebooks,
+"""The book (fpdtw.app.book): pages from the figure map, claims linked to their notebooks,
 the front page, a real Sphinx build of a hand-made executed notebook (nothing re-executed,
 math as MathML, nothing fetched), and the notebook runner that prints start and end
-(fpdtw.paper.execute)."""
+(fpdtw.app.execute)."""
 
 from __future__ import annotations
 
@@ -16,8 +16,9 @@ import pytest
 
 matplotlib.use("Agg")
 
-from fpdtw.paper import book, claims, figure_map  # noqa: E402
-from fpdtw.paper.execute import execute, part_path  # noqa: E402
+from fpdtw.app import book  # noqa: E402
+from fpdtw.app.execute import execute, part_path  # noqa: E402
+from fpdtw.paper import claims, figure_map  # noqa: E402
 
 
 def _png() -> bytes:

@@ -1,5 +1,5 @@
 """The smoke book in a real browser (headless Chromium driven by Selenium through Debian's
-chromedriver, fpdtw.paper.browser), and the check itself on a site broken on purpose.
+chromedriver, fpdtw.app.browser), and the check itself on a site broken on purpose.
 
 ``make test`` builds the smoke book (``build/smoke/book``) before pytest runs. Without the
 browser or its driver the tests skip, saying which Debian packages to install; under
@@ -17,7 +17,8 @@ import time
 
 import pytest
 
-from fpdtw.paper import browser, claims
+from fpdtw.app import browser
+from fpdtw.paper import claims
 from fpdtw.paper.paths import REPO_ROOT
 
 SMOKE_BOOK = REPO_ROOT / "build" / "smoke" / "book"

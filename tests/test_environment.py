@@ -56,7 +56,7 @@ def test_environment_has_conda_forge_and_installs_the_package_editable():
     env, pip_section, _ = _conda_requirements()
     assert env["channels"] == ["conda-forge"]
     assert any(p.replace(" ", "").startswith("-e.") for p in pip_section)
-    assert "[test,notebooks]" in " ".join(pip_section)
+    assert "[paper,live,cluster,book,test,notebooks]" in " ".join(pip_section)
 
 
 def test_same_python():

@@ -689,7 +689,7 @@ def test_shared_window_cache_is_safe_to_misuse(squat_pair):
 
 
 def test_bench_online_rows():
-    from fpdtw.paper.bench import bench_online, format_bench, paper_comparison
+    from fpdtw.app.bench import bench_online, format_bench, paper_comparison
 
     I, T, _ = synthetic_pair(60, seed=2)
     names = ["Ma", "Ma + Type V", "Mc w10", "Mc w10 + Type V", "Mc w10 (literal window)"]

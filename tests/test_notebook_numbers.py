@@ -193,7 +193,7 @@ def test_a_sentence_shown_by_a_code_cell_reaches_the_book_from_a_real_kernel(tmp
     import nbclient
     import nbformat
 
-    from fpdtw.paper import book
+    from fpdtw.app import book
 
     nb = nbformat.v4.new_notebook()
     nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",

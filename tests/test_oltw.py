@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 from reference.synthetic import random_walk_features, synthetic_pair
 
+from fpdtw.app.bench import bench_online
 from fpdtw.costs import geodesic_cost_matrix
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import MotionFeatures
@@ -29,7 +30,6 @@ from fpdtw.online.oltw import (
     OLTW,
     TARGET,
 )
-from fpdtw.paper.bench import bench_online
 
 GOLDEN = Path(__file__).parent / "golden" / "oltw_pymatchmaker.json"
 

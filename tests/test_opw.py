@@ -12,11 +12,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from fpdtw.app.bench import bench_online
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.online.base import run_online
 from fpdtw.online.opw import OPW, interpolate_positions
 from fpdtw.paper import catalog
-from fpdtw.paper.bench import bench_online
 from fpdtw.paper.opw_eval import (
     deviation_ms,
     dtw_curve,

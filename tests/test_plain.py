@@ -608,7 +608,7 @@ NUMBA_COMPILERS = {"jit", "njit", "generated_jit", "vectorize", "guvectorize", "
                    "overload_attribute", "register_jitable"}  # fmt: skip
 #: Modules of compiled kernels that need no plain version, and why.
 NO_PLAIN_VERSION = {
-    "fpdtw/paper/bench_limit.py": "the benchmark's lean limit kernels are a measuring "
+    "fpdtw/app/bench_limit.py": "the benchmark's lean limit kernels are a measuring "
     "instrument, not an algorithm: tests/test_bench.py holds their costs equal to the "
     "aligners' own, whose plain versions are held equal here",
 }

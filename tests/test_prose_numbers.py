@@ -1,5 +1,5 @@
 """No result number is typed into the prose of README.md or ARTIFACT.md: results sit in the
-generated blocks (:mod:`fpdtw.paper.readme`), which the tests compare with ``figures/``.
+generated blocks (:mod:`fpdtw.app.readme`), which the tests compare with ``figures/``.
 
 The idea of ``tests/test_notebook_numbers.py``, for the two front pages: what is left of a
 file once its generated blocks, code blocks, code spans, HTML comments and link targets are
@@ -72,7 +72,7 @@ def test_no_result_number_is_typed_into_the_prose(name):
     found = typed_results((REPO_ROOT / name).read_text(encoding="utf-8"))
     assert not found, (
         f"{name}: result numbers typed into prose; generate them (a block of "
-        "fpdtw.paper.readme) or say it without the number:\n"
+        "fpdtw.app.readme) or say it without the number:\n"
         + "\n".join(f"  line {i}: {tok!r} in {line!r}" for i, tok, line in found)
     )
 

@@ -16,7 +16,7 @@ it reads /proc)::
 With no STEP names, every step of :data:`STEPS` runs, in order (a step already in the JSON
 file is measured again; the others are kept). The measurements then go into ARTIFACT.md
 (``--artifact``): the record into its steps block, from which
-:func:`fpdtw.paper.readme.artifact_blocks` writes the steps table and each claim's time and
+:func:`fpdtw.app.readme.artifact_blocks` writes the steps table and each claim's time and
 peak memory (the sum of the times and the largest peak of the steps its command runs, by
 make's dependencies); ``--no-run`` only writes (from the JSON file).
 """
@@ -121,7 +121,7 @@ def disk_mib(folders) -> dict:
 
 def write_artifact(path: Path, record: dict) -> None:
     """Keep the measurements in ARTIFACT.md's steps block and regenerate its blocks."""
-    from fpdtw.paper import readme
+    from fpdtw.app import readme
     from fpdtw.paper.paths import figures_dir
 
     text = path.read_text(encoding="utf-8")
@@ -149,7 +149,7 @@ def main(argv=None) -> int:
     record = {"cpus": os.cpu_count(), "steps": {}}
     if a.out.is_file():
         record = json.loads(a.out.read_text())
-    from fpdtw.paper.readme import memory, minutes
+    from fpdtw.app.readme import memory, minutes
 
     code = 0
     if not a.no_run:

@@ -532,7 +532,7 @@ def round_trip_rows(addresses: dict, take: TakeLines, streams=(1, 8), *, fast=Fa
 
     Notebook: 20_align_a_live_performance.ipynb
     """
-    from fpdtw.paper.bench import round_trip_stats
+    from fpdtw.app.bench import round_trip_stats
 
     warm = TakeLines(take.name, take.fps, take.header, take.lines[:60])
     rows = []

@@ -310,7 +310,7 @@ class OLTW(OnlineAligner):
         Compare path costs divided by the path weight ``1 + i + q`` (default True).
     constraint : None
         Accepted for the common constructor signature ``cls(I, w, constraint=...)`` of
-        :mod:`fpdtw.paper.bench`; OLTW has no local constraint (anything but None is an error).
+        :mod:`fpdtw.app.bench`; OLTW has no local constraint (anything but None is an error).
     record : bool
         Keep every decision (:attr:`decisions`) and the on-line path (:attr:`path`).
     weights : {"none", "travel"}

@@ -3,7 +3,7 @@
 A notebook's markdown never types a result. Where its prose needs a count of the data, a
 code cell shows it as a sentence built here from the run's pair list
 (``Markdown(data_sentence(results.pairs))``), so the number is seen in plain Jupyter and in
-the book (:mod:`fpdtw.paper.book` renders the cell's Markdown output) alike.
+the book (:mod:`fpdtw.app.book` renders the cell's Markdown output) alike.
 ``tests/test_notebook_numbers.py`` checks that no markdown cell types a result number.
 """
 

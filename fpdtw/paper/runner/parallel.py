@@ -31,7 +31,6 @@ from __future__ import annotations
 import os
 import re
 import sys
-import uuid
 from collections.abc import Callable, Iterator, Sequence
 
 from fpdtw.errors import FpdtwError
@@ -128,7 +127,7 @@ def scheduler_from_env() -> str | None:
         raise ClusterError(f"{SCHEDULER_ENV}: {e}") from None
 
 
-def _bar(total: int, desc: str, progress: bool):
+def progress_bar(total: int, desc: str, progress: bool):
     from tqdm import tqdm
 
     return tqdm(
@@ -139,6 +138,20 @@ def _bar(total: int, desc: str, progress: bool):
         mininterval=1.0,
         smoothing=0.05,
     )
+
+
+def _cluster():
+    """The optional ``[cluster]`` part (:mod:`fpdtw.app.cluster`), imported only when a run
+    is given a scheduler: the reproduction runs without dask installed."""
+    try:
+        import fpdtw.app.cluster as cluster
+    except ImportError as e:
+        raise ClusterError(
+            f"running on a Dask cluster needs dask and distributed ({e}): "
+            "pip install 'fpdtw[cluster]', or run without --scheduler and "
+            f"{SCHEDULER_ENV} to use this machine's cores"
+        ) from None
+    return cluster
 
 
 class Executor:
@@ -233,44 +246,11 @@ class Executor:
         return int(self._cluster.get("threads", 0))
 
     def client(self):
-        """The :class:`distributed.Client` (connecting first if needed).
-
-        Raises
-        ------
-        ClusterError
-            The scheduler does not answer within ``connect_timeout`` seconds.
-        """
+        """The :class:`distributed.Client` (connecting first if needed): see
+        :func:`fpdtw.app.cluster.connect`."""
         if self.kind != "dask":
             raise RuntimeError("a joblib executor has no Dask client")
-        if self._client is None:
-            from distributed import Client
-
-            try:
-                self._client = Client(
-                    self.address, timeout=self.connect_timeout, set_as_default=False
-                )
-            except (OSError, TimeoutError) as e:
-                raise ClusterError(
-                    f"cannot reach the Dask scheduler at {self.address} within "
-                    f"{self.connect_timeout:g} s ({e}); start one there with "
-                    f"`dask scheduler` and workers with `dask worker {self.address}`, or run "
-                    f"without --scheduler and {SCHEDULER_ENV} to use this machine's cores"
-                ) from None
-            self._own = True
-        if not self._cluster:
-            workers = self._client.scheduler_info(n_workers=-1).get("workers", {})
-            threads = sum(int(w.get("nthreads", 0)) for w in workers.values())
-            self._cluster = {"workers": len(workers), "threads": threads}
-            if workers:
-                self._say(
-                    f"Dask scheduler {self.address}: {len(workers)} workers, {threads} threads"
-                )
-            else:
-                self._say(
-                    f"Dask scheduler {self.address} has no workers yet: the tasks wait for "
-                    f"`dask worker {self.address}` (Ctrl-C to stop)"
-                )
-        return self._client
+        return _cluster().connect(self)
 
     def map(
         self,
@@ -321,7 +301,7 @@ class Executor:
         gen = Parallel(n_jobs=self.n_jobs, return_as="generator_unordered", batch_size=1)(
             delayed(fn)(*t) for t in tasks
         )
-        bar = _bar(len(tasks), desc, progress)
+        bar = progress_bar(len(tasks), desc, progress)
         try:
             for r in gen:
                 bar.update(1)
@@ -330,49 +310,7 @@ class Executor:
             bar.close()
 
     def _map_dask(self, fn, tasks, desc, progress, keys):
-        from distributed import KilledWorker, as_completed
-
-        client = self.client()
-        n = len(tasks)
-        token = uuid.uuid4().hex[:8]
-        if keys is None:
-            keys = [f"{fn.__name__}-{i}" for i in range(n)]
-        if len(set(keys)) != n:
-            raise ValueError("keys must name every task once")
-        keys = [f"{k}-{token}" for k in keys]
-        futures = [
-            client.submit(fn, *t, key=k, priority=n - i, retries=0)
-            for i, (t, k) in enumerate(zip(tasks, keys))
-        ]
-        bar = _bar(n, desc, progress)
-        done = 0
-        try:
-            for fut in as_completed(futures, loop=client.loop):
-                try:
-                    result = fut.result()
-                except KilledWorker as e:
-                    raise ClusterError(
-                        f"task {fut.key} of the scheduler at {self.address}: its workers died "
-                        f"too often ({e}); see the workers' logs (memory limit? killed?)"
-                    ) from None
-                except Exception as e:
-                    if fut.status != "cancelled":
-                        raise
-                    raise ClusterError(
-                        f"the scheduler at {self.address} cancelled task {fut.key} "
-                        f"(connection lost?): {e}"
-                    ) from None
-                fut.release()
-                done += 1
-                bar.update(1)
-                yield result
-        finally:
-            bar.close()
-            if done < n:  # stopped early: the cluster need not finish the rest
-                try:
-                    client.cancel([f for f in futures if not f.done()])
-                except Exception:  # the connection is gone already
-                    pass
+        yield from _cluster().map_on_cluster(self, fn, tasks, desc, progress, keys)
 
 
 __all__ = [

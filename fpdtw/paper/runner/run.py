@@ -7,7 +7,7 @@ frame), the similarity (eq. 2) of the warped input and the target and the deviat
 from the DTW map at the same frame rate (in frames of that rate). Methods B and C of a pair
 run together in one compiled loop sharing one :class:`fpdtw.online.window.WindowCache` (the
 maps are those of separate runs; tested), so the grid does not time frames: per-frame
-latency is what ``make bench`` measures (:mod:`fpdtw.paper.bench`).
+latency is what ``make bench`` measures (:mod:`fpdtw.app.bench`).
 
 Files, under ``results_dir()/<mode>/`` (every write atomic: temporary file +
 :func:`os.replace`; ``.npz`` files by :func:`fpdtw.paper.runner.results.save_npz`, byte for
@@ -659,7 +659,7 @@ def summarize(results: Results) -> dict:
         ``passes_similarity_benchmark`` (median similarity above the UTW median),
         ``passes_deviation_benchmark`` (median deviation below 150 ms, i.e. 18
         frames at 120 Hz, 9 at 60 Hz). Deterministic, like the whole summary (the
-        time per frame is measured by ``make bench``, :mod:`fpdtw.paper.bench`).
+        time per frame is measured by ``make bench``, :mod:`fpdtw.app.bench`).
 
     Paper: FP-DTW Section 5 (benchmarks), Figs. 5-6, Tables 1-2.
     """

@@ -10,13 +10,13 @@ Absolute times do not travel between machines (2-3x between two of ours), so the
 puts each median next to:
 
 * the LIMIT: the unavoidable work of the same steps on the same data, timed in the same
-  run (:mod:`fpdtw.paper.bench_limit`: the window's geodesic evaluations and its
+  run (:mod:`fpdtw.app.bench_limit`: the window's geodesic evaluations and its
   accumulation), with the gap split into the forecast, the rest of the compiled step and
   the Python call overhead;
 * the PEERS, side by side: offline DTW against dtw-python on the same cost matrix; OE-DTW
   per frame against recomputing dtw-python's ``open_end`` per frame (what a dtw-python
   user would do); OLTW per frame against pymatchmaker's OLTW-Dixon on the same features
-  (``make bench-peers``, a separate environment: :mod:`fpdtw.paper.bench_peers`);
+  (``make bench-peers``, a separate environment: :mod:`fpdtw.app.bench_peers`);
 * the PAPER: our median over Table 2's mean, a cross-machine comparison (3.58-3.95 GHz,
   C#/Unity-era implementation).
 
@@ -46,7 +46,8 @@ import time
 
 import numpy as np
 
-from fpdtw.paper import bench_limit, provenance
+from fpdtw.app import bench_limit
+from fpdtw.paper import provenance
 from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.figures.timing import step_s
 from fpdtw.paper.numbers import TABLE2_US
@@ -119,7 +120,7 @@ def bench_online(pairs, names=None, make=None, limits=False):
     make : callable, optional
         ``make(I) -> OnlineAligner``, to time one other aligner instead of ``names``.
     limits : bool
-        Also replay every timed run with :func:`fpdtw.paper.bench_limit.replay` and add
+        Also replay every timed run with :func:`fpdtw.app.bench_limit.replay` and add
         the keys of :func:`limit_stats` (aligners without a replay get None there).
 
     Returns
@@ -188,7 +189,7 @@ def limit_stats(dt, rec) -> dict:
     dt : ndarray of float, shape (n,)
         Streamed time of each frame (seconds), as :func:`fpdtw.online.base.run_online`.
     rec : ndarray of int64, shape (n, N_REC), or None
-        :func:`fpdtw.paper.bench_limit.replay` of the same frames (None: no replay).
+        :func:`fpdtw.app.bench_limit.replay` of the same frames (None: no replay).
 
     Returns
     -------
@@ -1003,7 +1004,7 @@ def format_report(report) -> str:
 
 
 def main(argv=None) -> None:
-    """``python -m fpdtw.paper.bench``: time every aligner on real pairs against its limit,
+    """``python -m fpdtw.app.bench``: time every aligner on real pairs against its limit,
     the peers and the paper; write ``results/bench.json``; print the tables."""
     import argparse
 

@@ -4,7 +4,7 @@
 pymatchmaker needs numpy < 2, which the project's environment does not allow, so the
 comparison runs in two halves and never installs pymatchmaker next to fpdtw:
 
-1. ``export`` (the project's ``.venv``): the bench pairs of :mod:`fpdtw.paper.bench`
+1. ``export`` (the project's ``.venv``): the bench pairs of :mod:`fpdtw.app.bench`
    as flat per-frame feature vectors (each frame's joint quaternions, ``k * 4`` numbers),
    OLTW's parameters, and our OLTW streamed over the same pairs (warm-up run first):
    its map and its time per frame. Written to one ``.npz`` file.
@@ -89,7 +89,7 @@ def export(path, pairs=None, c=None, max_run_count=3) -> dict:
     path : str or Path
         The ``.npz`` file to write.
     pairs : sequence of (MotionFeatures, MotionFeatures), optional
-        Default :func:`fpdtw.paper.bench.load_bench_pairs`.
+        Default :func:`fpdtw.app.bench.load_bench_pairs`.
     c : int, optional
         OLTW's band (default: the registry's, 120).
     max_run_count : int
@@ -103,9 +103,9 @@ def export(path, pairs=None, c=None, max_run_count=3) -> dict:
     """
     import inspect
 
+    from fpdtw.app.bench import load_bench_pairs
     from fpdtw.online.base import run_online
     from fpdtw.online.oltw import OLTW
-    from fpdtw.paper.bench import load_bench_pairs
     from fpdtw.paper.paths import results_dir
 
     pairs = load_bench_pairs() if pairs is None else list(pairs)

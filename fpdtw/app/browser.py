@@ -15,7 +15,7 @@ them through that driver, named explicitly, so Selenium Manager never runs and n
 downloaded (``SE_OFFLINE=true`` as well, should anything ask it). Every wait has a time
 limit; the browser and the server are stopped however the check ends.
 
-Run ``python -m fpdtw.paper.browser build/book [--screenshots DIR]`` (``make book-check``).
+Run ``python -m fpdtw.app.browser build/book [--screenshots DIR]`` (``make book-check``).
 """
 
 from __future__ import annotations
@@ -514,10 +514,10 @@ def check_site(
 
 
 def main(argv=None) -> int:
-    """``python -m fpdtw.paper.browser SITE [--screenshots DIR] [--prefix P]``: exit 1 on
+    """``python -m fpdtw.app.browser SITE [--screenshots DIR] [--prefix P]``: exit 1 on
     any problem, 2 without a browser or its driver."""
     ap = argparse.ArgumentParser(
-        prog="python -m fpdtw.paper.browser", description=__doc__.split("\n")[0]
+        prog="python -m fpdtw.app.browser", description=__doc__.split("\n")[0]
     )
     ap.add_argument("site", type=Path, help="the built site (e.g. build/book)")
     ap.add_argument("--screenshots", type=Path, help="folder for a screenshot of every page")

@@ -3,7 +3,7 @@
 ``make book`` (and, last, ``make figures``) turns the notebooks that papermill executed
 into ``build/notebooks/`` into a website in ``build/book/`` (open ``build/book/index.html``);
 ``make test`` builds the same site from the smoke notebooks into ``build/smoke/book/`` and
-checks it in headless Chromium (:mod:`fpdtw.paper.browser`).
+checks it in headless Chromium (:mod:`fpdtw.app.browser`).
 
 The site is built by Sphinx with MyST-NB (the Jupyter ecosystem's notebook reader for
 Sphinx) and the Sphinx Book Theme. Nothing is executed again (``nb_execution_mode =
@@ -37,7 +37,7 @@ figure map (:mod:`fpdtw.paper.figure_map`), the claims JSON of notebook 12
 ``conf.py``, ``_static/book.css``
     The Sphinx configuration (:func:`sphinx_conf`) and a little CSS.
 
-Run ``python -m fpdtw.paper.book --notebooks DIR --figures DIR --claims FILE --out DIR
+Run ``python -m fpdtw.app.book --notebooks DIR --figures DIR --claims FILE --out DIR
 [--mode full|smoke]`` (the Makefile does; ``--help`` lists the defaults).
 """
 
@@ -661,7 +661,7 @@ def sphinx_conf(mode: str = "full") -> str:
         "project": "fpdtw",
         "author": "fpdtw developers",
         "copyright": "fpdtw developers; figures from data under their own licences",
-        "extensions": ["myst_nb", "fpdtw.paper.book"],
+        "extensions": ["myst_nb", "fpdtw.app.book"],
         "html_theme": "sphinx_book_theme",
         "html_title": "fpdtw book" + (" (smoke)" if mode == "smoke" else ""),
         "html_static_path": ["_static"],
@@ -684,7 +684,7 @@ def sphinx_conf(mode: str = "full") -> str:
         "myst_heading_anchors": 3,
         "suppress_warnings": ["myst.header", "mystnb.unknown_mime_type"],
     }
-    lines = ['"""Sphinx configuration of the fpdtw book, written by fpdtw.paper.book."""', ""]
+    lines = ['"""Sphinx configuration of the fpdtw book, written by fpdtw.app.book."""', ""]
     lines += [f"{k} = {v!r}" for k, v in conf.items()]
     return "\n".join(lines) + "\n"
 
@@ -881,10 +881,10 @@ def build(
 
 
 def main(argv=None) -> int:
-    """``python -m fpdtw.paper.book [--mode full|smoke] [--notebooks DIR] [--figures DIR]
+    """``python -m fpdtw.app.book [--mode full|smoke] [--notebooks DIR] [--figures DIR]
     [--claims FILE] [--out DIR]``."""
     ap = argparse.ArgumentParser(
-        prog="python -m fpdtw.paper.book", description=__doc__.split("\n")[0]
+        prog="python -m fpdtw.app.book", description=__doc__.split("\n")[0]
     )
     ap.add_argument("--mode", choices=("full", "smoke"), default="full")
     ap.add_argument("--notebooks", type=Path, help="executed notebooks (default build/notebooks)")

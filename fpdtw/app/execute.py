@@ -2,7 +2,7 @@
 
 ``make figures`` and ``make test`` run every notebook through this module::
 
-    python -m fpdtw.paper.execute [--smoke] [--kernel fpdtw] [--cwd notebooks] SOURCE OUTPUT
+    python -m fpdtw.app.execute [--smoke] [--kernel fpdtw] [--cwd notebooks] SOURCE OUTPUT
 
 It prints ``[12:03:04] start 06_fig5_fig6_scores (full)`` and then ``[12:03:41] done
 06_fig5_fig6_scores in 37.2 s`` (or ``FAILED ... after``, and exits 1), executes
@@ -99,9 +99,9 @@ def execute(
 
 
 def main(argv=None) -> int:
-    """``python -m fpdtw.paper.execute [--smoke] [--kernel K] [--cwd DIR] SOURCE OUTPUT``."""
+    """``python -m fpdtw.app.execute [--smoke] [--kernel K] [--cwd DIR] SOURCE OUTPUT``."""
     ap = argparse.ArgumentParser(
-        prog="python -m fpdtw.paper.execute", description=__doc__.split("\n")[0]
+        prog="python -m fpdtw.app.execute", description=__doc__.split("\n")[0]
     )
     ap.add_argument("source", type=Path)
     ap.add_argument("output", type=Path)

@@ -1,6 +1,6 @@
 """The hardware limit of one online step, and where a step's time goes (``make bench``).
 
-For every timed aligner :mod:`fpdtw.paper.bench` asks: how close is a step to the
+For every timed aligner :mod:`fpdtw.app.bench` asks: how close is a step to the
 unavoidable work of that step on this machine? The unavoidable work of a window step is
 the ``rows x cols x joints`` geodesic evaluations (FP-DTW eq. 1) of its cost window plus
 the DTW accumulation of that window; the LIMIT is that work done by a lean kernel
@@ -23,7 +23,7 @@ counter (``rdtsc`` on x86-64, converted to seconds by :func:`ticks_per_second`):
 
 Per frame, the gap ``step - limit`` splits into forecast, the rest of the compiled step
 (masks, back-track, argmin, call structure) and the Python call overhead
-(``step - compiled``); :mod:`fpdtw.paper.bench` prints their medians.
+(``step - compiled``); :mod:`fpdtw.app.bench` prints their medians.
 
 Method A's limit is its window column, ``w_i + 1`` input frames against ``T_{n+1}`` and
 their argmin; OE-DTW and OLTW have their own replays: OE-DTW's window is the whole input
