@@ -118,6 +118,10 @@ class Entry:
         Takes the Type V constraint.
     about : str
         One line for ``fpdtw --help``.
+    baseline : bool
+        An online method beyond the FP-DTW paper that runs on its pairs beside the paper's
+        (OPW, OLTW): the experiment grid, Figs. 5-7, Table 2's benchmark and claim B1 take
+        every such entry (:func:`baselines`).
     """
 
     key: str
@@ -129,6 +133,7 @@ class Entry:
     default: int | None = None
     typev: bool = False
     about: str = ""
+    baseline: bool = False
 
     @property
     def window_method(self) -> bool:
@@ -159,15 +164,35 @@ ENTRIES = (
     Entry("Mc auto", "Cauto", "c-auto", True, online("fpdtw.online.method_c_auto:MethodCAuto"),
           about="Method C with w from the input's dominant period (beyond the papers; online)"),
     Entry("OPW", "OPW", "opw", True, online("fpdtw.online.opw:OPW"),
-          about="On-line Predictive Warping (the OPW poster; online, joint positions)"),
+          about="On-line Predictive Warping (the OPW poster; online, joint positions)",
+          baseline=True),
     Entry("OPW adaptive", "OPWa", "opw-adaptive", True,
           online("fpdtw.online.opw_adaptive:AdaptiveOPW"),
           about="OPW with gamma adapted from its own decisions (beyond the papers; online)"),
     Entry("OLTW", "OLTW", "oltw", True, online("fpdtw.online.oltw:OLTW"), "c", 120,
-          about="Dixon's on-line time warping (DAFx 2005; online; --window = search width c)"),
+          about="Dixon's on-line time warping (DAFx 2005; online; --window = search width c)",
+          baseline=True),
 )  # fmt: skip
 
 _BY_KEY = {e.key: e for e in ENTRIES}
+
+
+def baselines() -> tuple:
+    """The names of the online baselines beyond the FP-DTW paper (:attr:`Entry.baseline`),
+    in registry order: what the grid, Figs. 5-7, Table 2's benchmark and claim B1 add to
+    the paper's algorithms. Read from :data:`ENTRIES` at each call.
+
+    Returns
+    -------
+    names : tuple of str
+        ``("OPW", "OLTW")`` with the built-in entries.
+
+    Paper: none (the FP-DTW paper's ref. 3 and the OPW poster, run on its pairs).
+    Notebook: 05_run_experiments.ipynb
+    """
+    return tuple(e.key for e in ENTRIES if e.baseline)
+
+
 _PATTERN = re.compile(
     r"^(?P<key>[A-Za-z][A-Za-z-]*(?: auto| adaptive)?)(?: (?P<p>[a-z])(?P<n>\d+))?"
     r"(?: \((?P<opts>[^()]+)\))?"
@@ -403,6 +428,7 @@ __all__ = [
     "Algorithm",
     "Entry",
     "align",
+    "baselines",
     "by_cli",
     "make_online",
     "method_c_name",

@@ -206,6 +206,47 @@ def test_adding_an_aligner_is_one_class_and_one_entry(monkeypatch):
         registry.resolve("Greedy k3 + Type V")
 
 
+def test_a_baseline_in_one_entry_reaches_the_grid_figures_bench_and_claim_b1(monkeypatch, tmp_path):
+    """The same toy aligner, its Entry marked ``baseline=True``: with no other edit it is in
+    the grid's default list and runs there, gets a box in Figs. 5 and 6 and a panel in
+    Fig. 7, is timed by make bench's baselines and is one of claim B1's algorithms."""
+    from reference.synthetic import synthetic_pair
+
+    from fpdtw.app.bench import bench_baselines
+    from fpdtw.paper.figures import heatmaps, scores, timing
+    from fpdtw.paper.runner import grid
+    from fpdtw.paper.runner import run as E
+
+    entry = registry.Entry(
+        "Greedy", "G", "greedy", True, registry.online("test_architecture:Greedy"), "k", 1,
+        baseline=True,
+    )  # fmt: skip
+    monkeypatch.setattr(registry, "ENTRIES", (*registry.ENTRIES, entry))
+    monkeypatch.setitem(registry._BY_KEY, "Greedy", entry)
+    assert registry.baselines() == ("OPW", "OLTW", "Greedy")
+    assert "Greedy" in grid.mode_algorithms("full") and "Greedy" in grid.default_algorithms()
+    assert scores.base_names()[-1] == heatmaps.fig7_names()[-1] == "Greedy"
+    assert "Greedy" in timing.timed_names()
+
+    monkeypatch.setenv("FPDTW_RESULTS_DIR", str(tmp_path))
+    tiny = E.Selection(
+        datasets=("authors_fbx",), movements=("Walk",), takes_per_movement=2, crop_seconds=1.0
+    )
+    res = E.run_experiments("toy", ["DTW", "UTW", "Greedy"], n_jobs=1, progress=False,
+                            selection=tiny)  # fmt: skip
+    assert "Greedy" in res.algorithms
+    fig, ax = scores.plot_score_boxes(res, "similarity", intervals=False)
+    labels = [t.get_text() for t in ax.get_xticklabels()]
+    assert any("Greedy" in t for t in labels), labels
+    fig, axes = heatmaps.plot_heatmap_grid(res, ncols=3, bins=10)
+    titles = [a.get_title() for a in axes.flat]
+    assert any("Greedy" in t for t in titles), titles
+
+    I, T, _ = synthetic_pair(80)
+    rows = bench_baselines([(I, T)])  # synthetic: no joint positions, so no OPW
+    assert [r["name"] for r in rows] == ["OLTW", "Greedy"]
+
+
 def test_every_name_a_notebook_imports_from_fpdtw_exists():
     """Catches a notebook left behind by a move of modules, without running it."""
     import importlib

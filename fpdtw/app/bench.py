@@ -46,6 +46,7 @@ import time
 
 import numpy as np
 
+from fpdtw import registry
 from fpdtw.app import bench_limit
 from fpdtw.paper import provenance
 from fpdtw.paper.atomic import write_atomic
@@ -94,6 +95,34 @@ def bench_names() -> list:
     from fpdtw.paper.runner.grid import BAND_NAMES, MC_LITERAL_NAMES
 
     return list(FPDTW_NAMES) + list(FPDTW_TYPEV_NAMES) + list(MC_LITERAL_NAMES) + list(BAND_NAMES)
+
+
+def bench_baselines(pairs, limits=False) -> list:
+    """:func:`bench_online` of the registry's online baselines beyond the paper
+    (:func:`fpdtw.registry.baselines`: OPW and OLTW as built in; OPW only on pairs with
+    joint positions, which it compares). A baseline without a replay of its steps gets no
+    limit (None).
+
+    Parameters
+    ----------
+    pairs : sequence of (MotionFeatures, MotionFeatures)
+    limits : bool
+
+    Returns
+    -------
+    rows : list of dict
+        One per baseline timed, as :func:`bench_online`.
+
+    Paper: FP-DTW Table 2 (the baselines beside it).
+    Notebook: none (``make bench`` runs it; notebook 09 reads its report)
+    """
+    positions = all(I.positions is not None and T.positions is not None for I, T in pairs)
+    rows = []
+    for name in registry.baselines():
+        if registry.resolve(name).family == "OPW" and not positions:
+            continue
+        rows += bench_online(pairs, [name], limits=limits)
+    return rows
 
 
 def _name_key(name: str) -> tuple:
@@ -919,10 +948,7 @@ def run_benchmark(
     limits = limits and bench_limit.HAVE_CYCLES
     tps = bench_limit.ticks_per_second() if limits else None
 
-    online = bench_online(pairs, limits=limits)
-    online += bench_online(pairs, ["OLTW"], limits=limits)
-    if all(I.positions is not None and T.positions is not None for I, T in pairs):
-        online += bench_online(pairs, ["OPW"])
+    online = bench_online(pairs, limits=limits) + bench_baselines(pairs, limits=limits)
     plain_rows = plain_step_times(pairs) if plain else []
     I_oe, T_oe = oe_pair(pairs)
     oe = bench_online([(I_oe, T_oe)], ["OE-DTW"], limits=limits)
@@ -1030,6 +1056,7 @@ if __name__ == "__main__":
 
 
 __all__ = [
+    "bench_baselines",
     "bench_online",
     "bench_server",
     "dtw_throughput",

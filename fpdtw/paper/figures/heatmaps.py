@@ -18,11 +18,12 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import LogNorm, Normalize
 
+from fpdtw import registry
 from fpdtw.paper.figures.plotting import style_beyond_paper_panel
 from fpdtw.registry import TYPE_V_SUFFIX
 
-#: The algorithms of the paper's Fig. 7.
-FIG7_NAMES = (
+#: The paper's algorithms of its Fig. 7.
+FIG7_PAPER_NAMES = (
     "DTW",
     "UTW",
     "OE-DTW",
@@ -33,9 +34,25 @@ FIG7_NAMES = (
     "Mc w20",
     "Mc w40",
     "Mc w80",
-    "OPW",
-    "OLTW",
 )
+
+
+def fig7_names() -> tuple:
+    """Fig. 7's panels: the paper's algorithms, then the registry's online baselines beyond
+    it (:func:`fpdtw.registry.baselines`), read at each call.
+
+    Returns
+    -------
+    names : tuple of str
+
+    Paper: FP-DTW Fig. 7.
+    Notebook: none (the default of :func:`plot_heatmap_grid`)
+    """
+    return FIG7_PAPER_NAMES + registry.baselines()
+
+
+#: :func:`fig7_names` with the registry as built in.
+FIG7_NAMES = fig7_names()
 
 #: The algorithms of the paper's Fig. 10 (each without and with the Type V constraint).
 FIG10_NAMES = ("Ma", "Mc w10", "Mc w80")
@@ -198,15 +215,14 @@ def _colourbar(fig, axes, norm, cmap="magma"):
     return cb
 
 
-def plot_heatmap_grid(
-    results, names=FIG7_NAMES, ncols=5, bins=100, log=True, maps=None, titles=None
-):
+def plot_heatmap_grid(results, names=None, ncols=5, bins=100, log=True, maps=None, titles=None):
     """Fig. 7: the aggregate heat map of each algorithm, one panel each, one colour scale.
 
     Parameters
     ----------
     results : fpdtw.paper.runner.run.Results
-    names : sequence of str
+    names : sequence of str, optional
+        Default: :func:`fig7_names`.
     ncols : int
     bins : int
     log : bool
@@ -228,6 +244,7 @@ def plot_heatmap_grid(
     Notebook: 08_fig7_fig10_heatmaps.ipynb
     """
     maps = dict(maps or {})
+    names = fig7_names() if names is None else names
     names = [n for n in names if n in maps or n in set(results.algorithms)]
     for n in names:
         if n not in maps:
@@ -299,6 +316,8 @@ def plot_typev_heatmaps(results, bases=FIG10_NAMES, bins=100, log=True, per_row=
 __all__ = [
     "FIG10_NAMES",
     "FIG7_NAMES",
+    "FIG7_PAPER_NAMES",
+    "fig7_names",
     "heatmap",
     "path_balance",
     "plot_heatmap",

@@ -27,6 +27,7 @@ import numpy as np
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
+from fpdtw import registry
 from fpdtw.paper import numbers
 from fpdtw.paper.figures.plotting import beyond_paper_handle, new_axes, style_beyond_paper
 from fpdtw.paper.numbers import FPDTW_NAMES, WINDOWS
@@ -35,7 +36,24 @@ from fpdtw.registry import TYPE_V_SUFFIX, method_c_name
 #: The algorithms of Figs. 5 and 6, without constraint, in the paper's order, then the
 #: online baselines beyond the paper run on the same pairs (OPW poster, Dixon's OLTW);
 #: names without results are left out.
-BASE_NAMES = ("DTW", "UTW", "OE-DTW") + FPDTW_NAMES + ("OPW", "OLTW")
+
+
+def base_names() -> tuple:
+    """The algorithms of Figs. 5 and 6 in plotting order: the paper's, then the registry's
+    online baselines beyond it (:func:`fpdtw.registry.baselines`), read at each call.
+
+    Returns
+    -------
+    names : tuple of str
+
+    Paper: FP-DTW Figs. 5 and 6.
+    Notebook: none (the default of :func:`plot_score_boxes` and :func:`score_summary`)
+    """
+    return ("DTW", "UTW", "OE-DTW") + FPDTW_NAMES + registry.baselines()
+
+
+#: :func:`base_names` with the registry as built in.
+BASE_NAMES = base_names()
 
 #: Colours: unconstrained online algorithms, offline baselines, "+ Type V" (pink, as the paper).
 COLOURS = {"plain": "#8fb3d9", "offline": "#bdbdbd", "typev": "#f4a6c8"}
@@ -120,18 +138,18 @@ def passes(median: float, metric: str, bench: float) -> bool:
     return numbers.passes_deviation(median)
 
 
-def figure_names(names=BASE_NAMES, typev=True) -> list[tuple[str, str | None]]:
+def figure_names(names=None, typev=True) -> list[tuple[str, str | None]]:
     """Pairs ``(name, name + " + Type V")`` for the FP-DTW algorithms, ``(name, None)`` else.
 
     Parameters
     ----------
-    names : sequence of str
-        Unconstrained names, in plotting order.
+    names : sequence of str, optional
+        Unconstrained names, in plotting order (default: :func:`base_names`).
     typev : bool
         Include the Type V variants.
     """
     out = []
-    for n in names:
+    for n in base_names() if names is None else names:
         tv = n + TYPE_V_SUFFIX if (typev and n in FPDTW_NAMES) else None
         out.append((n, tv))
     return out
@@ -145,7 +163,7 @@ def score_summary(results, metric: str, names=None, dataset=None) -> list[dict]:
     results : fpdtw.paper.runner.run.Results
     metric : {"similarity", "deviation"}
     names : sequence of str, optional
-        Default: every algorithm of Figs. 5 and 6 (:data:`BASE_NAMES`, each FP-DTW one
+        Default: every algorithm of Figs. 5 and 6 (:func:`base_names`, each FP-DTW one
         followed by its "+ Type V" variant) that is in ``results.algorithms``.
     dataset : str, optional
         Only this dataset's pairs (the similarity benchmark too is then UTW's median over
@@ -223,7 +241,7 @@ def _clip_top(bp, bench: float) -> float:
 
 
 def plot_score_boxes(
-    results, metric="similarity", names=BASE_NAMES, typev=True, ax=None, yscale="linear",
+    results, metric="similarity", names=None, typev=True, ax=None, yscale="linear",
     intervals=True, clip=None,
 ):  # fmt: skip
     """Fig. 5 / Fig. 6: box plot of a score per algorithm, with the benchmark line.
@@ -258,8 +276,8 @@ def plot_score_boxes(
     ----------
     results : fpdtw.paper.runner.run.Results
     metric : {"similarity", "deviation"}
-    names : sequence of str
-        Unconstrained algorithm names, in order along x.
+    names : sequence of str, optional
+        Unconstrained algorithm names, in order along x (default: :func:`base_names`).
     typev : bool
         Draw the "+ Type V" boxes too.
     ax : matplotlib.axes.Axes, optional
@@ -286,7 +304,7 @@ def plot_score_boxes(
         raise ValueError(f"yscale must be 'linear' or 'log', got {yscale!r}")
     fig, ax = new_axes(ax, figsize=(12, 4.5))
     have = set(results.algorithms)
-    names = [n for n in names if n in have]  # e.g. OPW/OLTW only when they were run
+    names = [n for n in (base_names() if names is None else names) if n in have]  # as run
     data, pos, widths, colours, drawn = [], [], [], [], []
     for i, (name, tv) in enumerate(figure_names(names, typev)):
         if tv is None:
@@ -510,6 +528,7 @@ def plot_table1(rows, ax=None):
 
 __all__ = [
     "BASE_NAMES",
+    "base_names",
     "benchmark",
     "best_window",
     "figure_names",

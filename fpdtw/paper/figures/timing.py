@@ -22,11 +22,27 @@ import numpy as np
 from fpdtw.paper.figures.plotting import new_axes
 from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES, TABLE2_US, WINDOWS
 from fpdtw.paper.runner.grid import BAND_1S, BAND_BASES, BAND_HALF_W, MC_LITERAL_NAMES
-from fpdtw.registry import resolve
+from fpdtw.registry import baselines, resolve
 
-#: Online algorithms of Table 2 (and Method A, OE-DTW, Type V variants, OPW, OLTW, and
-#: Method C's literal window of notebook 15), in table order.
-TIMED_NAMES = ("OE-DTW",) + FPDTW_NAMES + FPDTW_TYPEV_NAMES + ("OPW", "OLTW") + MC_LITERAL_NAMES
+
+def timed_names() -> tuple:
+    """The online algorithms of Table 2 in table order: OE-DTW, Methods A, B and C without
+    and with Type V, the registry's online baselines beyond the paper
+    (:func:`fpdtw.registry.baselines`, read at each call) and Method C's literal window of
+    notebook 15.
+
+    Returns
+    -------
+    names : tuple of str
+
+    Paper: FP-DTW Table 2.
+    Notebook: none (the default of :func:`time_per_frame_rows`)
+    """
+    return ("OE-DTW",) + FPDTW_NAMES + FPDTW_TYPEV_NAMES + baselines() + MC_LITERAL_NAMES
+
+
+#: :func:`timed_names` with the registry as built in.
+TIMED_NAMES = timed_names()
 
 
 def _default_rows(rows):
@@ -95,7 +111,7 @@ def time_per_frame_rows(bench: dict, results=None, names=None) -> list[dict]:
     results : fpdtw.paper.runner.run.Results, optional
         The experiment grid, for the share of frames processed with the input exhausted.
     names : sequence of str, optional
-        Default: every algorithm of :data:`TIMED_NAMES` the bench timed.
+        Default: every algorithm of :func:`timed_names` the bench timed.
 
     Returns
     -------
@@ -111,7 +127,7 @@ def time_per_frame_rows(bench: dict, results=None, names=None) -> list[dict]:
     """
     by = {r["name"]: r for r in list(bench.get("online", [])) + list(bench.get("oe_dtw", []))}
     if names is None:
-        names = [n for n in TIMED_NAMES if n in by]
+        names = [n for n in timed_names() if n in by]
     rows = []
     for name in names:
         b = by.get(name)
@@ -258,6 +274,7 @@ def plot_time_vs_w(rows, ax=None, key="median_us"):
 
 __all__ = [
     "TIMED_NAMES",
+    "timed_names",
     "exhausted_fraction",
     "growth_ratio",
     "last_input_frame",

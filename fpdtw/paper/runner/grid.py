@@ -38,12 +38,24 @@ TABLE1_60HZ_NAMES = (
 #: Method C's literal ``(w_i + 1) x w`` window, at 120 Hz (with and without Type V) and,
 #: for Table 1, at 60 Hz: the claims table shows its verdicts next to the default's.
 LITERAL_NAMES = MC_LITERAL_NAMES + tuple(method_c_name(w, "literal") + "@60Hz" for w in WINDOWS)
-#: Online baselines beyond the FP-DTW paper, run on its pairs: the OPW poster's method
-#: and Dixon's on-line time warping (the paper's ref. 3); registered at the end of
-#: this module.
-EXTRA_ALGORITHMS = ("OPW", "OLTW")
-#: What a run computes by default (modes "full" and "smoke").
-DEFAULT_ALGORITHMS = tuple(PAPER_NAMES) + TABLE1_60HZ_NAMES + EXTRA_ALGORITHMS + LITERAL_NAMES
+
+
+def default_algorithms() -> tuple:
+    """What a run computes by default (modes "full" and "smoke"): the paper's algorithms,
+    Table 1 at 60 Hz, the registry's online baselines beyond the FP-DTW paper
+    (:func:`fpdtw.registry.baselines`: the OPW poster's method and Dixon's OLTW, the
+    paper's ref. 3) and Method C's literal window. Read from the registry at each call: an
+    aligner registered as a baseline joins the grid.
+
+    Returns
+    -------
+    names : tuple of str
+    """
+    return tuple(PAPER_NAMES) + TABLE1_60HZ_NAMES + registry.baselines() + LITERAL_NAMES
+
+
+#: :func:`default_algorithms` with the registry as built in (the names notebook 05 prints).
+DEFAULT_ALGORITHMS = default_algorithms()
 
 
 def _study_algorithms() -> tuple:
@@ -214,15 +226,19 @@ def _open_algorithms() -> tuple:
 
 #: What notebook 16 computes by default (modes "open" and "smoke-open").
 OPEN_ALGORITHMS = _open_algorithms()
-#: The default algorithm list of each mode.
+#: The default algorithm list of each mode but "full" and "smoke" (:func:`mode_algorithms`).
 MODE_ALGORITHMS = {
-    "full": DEFAULT_ALGORITHMS,
-    "smoke": DEFAULT_ALGORITHMS,
     "study": STUDY_ALGORITHMS,
     "smoke-study": STUDY_ALGORITHMS,
     "open": OPEN_ALGORITHMS,
     "smoke-open": OPEN_ALGORITHMS,
 }
+
+
+def mode_algorithms(mode: str) -> tuple:
+    """The default algorithm list of a mode: :data:`MODE_ALGORITHMS`, else
+    :func:`default_algorithms` (modes "full" and "smoke", and any other)."""
+    return MODE_ALGORITHMS.get(mode) or default_algorithms()
 
 
 def split_rate(name: str) -> tuple:
@@ -242,7 +258,8 @@ def split_transform(name: str) -> tuple:
 __all__ = [
     "CHOICE_TARGETS",
     "DEFAULT_ALGORITHMS",
-    "EXTRA_ALGORITHMS",
+    "default_algorithms",
+    "mode_algorithms",
     "LITERAL_NAMES",
     "MC_LITERAL_NAMES",
     "MODE_ALGORITHMS",

@@ -96,8 +96,7 @@ from fpdtw.paper import catalog, numbers, provenance
 from fpdtw.paper.atomic import TMP_SUFFIX, tmp_path
 from fpdtw.paper.paths import results_dir
 from fpdtw.paper.runner.grid import (
-    DEFAULT_ALGORITHMS,
-    MODE_ALGORITHMS,
+    mode_algorithms,
     split_rate,
     split_transform,
 )
@@ -840,7 +839,7 @@ def run_experiments(
         ``"full"`` or ``"smoke"`` (see :data:`SELECTIONS`), or any folder name
         together with ``selection``. Results go to ``<results>/<mode>``.
     algorithms : sequence of str, optional
-        Registry names (default: the mode's list, :data:`fpdtw.paper.runner.grid.MODE_ALGORITHMS`);
+        Registry names (default: the mode's list, :func:`fpdtw.paper.runner.grid.mode_algorithms`);
         ``"X@60Hz"`` runs X at 60 Hz. Results of other algorithms already in the folder
         (same pairs and code) are kept.
     n_jobs : int
@@ -879,9 +878,7 @@ def run_experiments(
         if mode not in SELECTIONS:
             raise ValueError(f"mode {mode!r} needs a selection (known modes: {list(SELECTIONS)})")
         selection = SELECTIONS[mode]
-    names = list(
-        MODE_ALGORITHMS.get(mode, DEFAULT_ALGORITHMS) if algorithms is None else algorithms
-    )
+    names = list(mode_algorithms(mode) if algorithms is None else algorithms)
     if len(set(names)) != len(names):
         raise ValueError(f"an algorithm is listed twice: {names}")
     specs = [resolve_algorithm(n) for n in names]
