@@ -6,7 +6,6 @@ of evidence from it (the movements fixed, each dataset, the paper-shaped selecti
 C's literal window, OPW's plugin reading, the second seed, the other reading of eq. 2).
 
 Paper: FP-DTW Sections 5-7; OPW poster Section 5.
-Notebook: 12_claims.ipynb
 """
 
 from __future__ import annotations
@@ -68,7 +67,6 @@ def load_context(
     ctx : ClaimContext
 
     Paper: FP-DTW Sections 5-7; OPW poster Section 5.
-    Notebook: 12_claims.ipynb
     """
     alias = reading_alias(reading)
     ev = Evidence(results, scheme=scheme, alias=alias, **evidence)

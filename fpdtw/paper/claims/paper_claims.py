@@ -12,7 +12,6 @@ Nothing here loads results: :mod:`fpdtw.paper.claims.contexts` makes the context
 :mod:`fpdtw.paper.claims.evaluation` decides the claims on them.
 
 Paper: FP-DTW Sections 5-7; OPW poster Section 5.
-Notebook: 12_claims.ipynb
 """
 
 from __future__ import annotations

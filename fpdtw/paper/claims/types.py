@@ -12,7 +12,6 @@ intervals (:mod:`~fpdtw.paper.claims.bootstrap`) and the evidence of the pairs
 * the columns of the claims, parts and checks tables and the bodies of evidence.
 
 Paper: FP-DTW Sections 5-7; OPW poster Section 5.
-Notebook: 12_claims.ipynb
 """
 
 from __future__ import annotations
