@@ -18,7 +18,7 @@ from fpdtw.paper import claims
 from fpdtw.paper.claims import ClaimContext
 from fpdtw.paper.claims import bootstrap as bs
 from fpdtw.paper.claims.evidence import Evidence
-from fpdtw.paper.numbers import FIG8_DEVIATIONS
+from fpdtw.paper.numbers import FIG8_DEVIATIONS, FPDTW_NAMES
 
 N_FRAMES = 40
 
@@ -210,7 +210,7 @@ def test_claim6_type_v_improvements():
     assert "Type V does not improve Mc w10, Mc w20, Mc w40: contradicted" in rows["6"]["reason"]
     # Type V worsens everything: A/B and Mc w80 contradicted, "not Mc w10/20/40" holds
     sim, dev = paper_like_medians()
-    worse = {n + " + Type V": (sim[n] - 0.01, dev[n] + 1.0) for n in claims.table.FPDTW_NAMES}
+    worse = {n + " + Type V": (sim[n] - 0.01, dev[n] + 1.0) for n in FPDTW_NAMES}
     assert verdicts(context(paper_like_run(worse)), ["6"]) == {"6": "partly"}
     rows, parts = table(context(paper_like_run(worse)), ["6"])
     assert [p["verdict"] for p in parts] == ["contradicted", "contradicted", "holds"]

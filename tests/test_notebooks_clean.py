@@ -55,15 +55,16 @@ def _paper_results() -> set:
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.name)
 def test_notebook_reads_as_a_companion(path):
     """Each notebook shows the equation or algorithm it reproduces, and after its figures
-    prints the paper's values next to ours with a verdict (``fpdtw.paper.compare`` or the
-    claims table), in a cell nbval checks; its code never retypes a paper result."""
+    prints the paper's values next to ours (``fpdtw.paper.figures.paper_vs_ours``) or the
+    claims' verdicts and parts (``fpdtw.paper.claims``), in a cell nbval checks; its code never
+    retypes a paper result."""
     nb = nbformat.read(path, as_version=4)
     md = "".join(c.source for c in nb.cells if c.cell_type == "markdown")
     assert md.count("$$") >= 2, "no display equation ($$ ... $$) in the markdown"
     code = [c for c in nb.cells if c.cell_type == "code"]
-    printers = ("format_comparison(", "format_claims(", "claims_summary(")
+    printers = ("format_side_by_side(", "format_claims(", "format_parts(", "claims_summary(")
     checked = [c for c in code if any(p in c.source for p in printers)]
-    assert checked, "no cell prints paper | ours | holds?"
+    assert checked, "no cell prints paper | ours or the claims"
     assert any("# NBVAL_CHECK_OUTPUT" in c.source for c in checked), (
         "no comparison cell is checked by nbval"
     )

@@ -13,9 +13,9 @@ from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.online import MethodC
 from fpdtw.online.base import run_online
-from fpdtw.paper.claims import table as claims
+from fpdtw.paper import claims
+from fpdtw.paper.claims import ClaimContext
 from fpdtw.paper.claims.evidence import Evidence
-from fpdtw.paper.claims.table import ClaimContext
 from fpdtw.paper.runner.grid import OPEN_ALGORITHMS, PAUSE_METHODS, PAUSE_SUFFIX
 from fpdtw.paper.runner.run import resolve_algorithm, transform_target
 from fpdtw.paper.runner.selection import SELECTIONS, pair_selection

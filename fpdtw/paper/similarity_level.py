@@ -389,7 +389,7 @@ NEAR = 0.05
 
 
 def level_comparison(rows, dataset: str = "all") -> list[dict]:
-    """``paper | ours | holds`` rows: does a reading bring UTW and Mc w40 near Table 1?
+    """``paper | ours`` rows: UTW's and Mc w40's median eq. 2 under each reading, beside Table 1.
 
     Parameters
     ----------
@@ -400,13 +400,16 @@ def level_comparison(rows, dataset: str = "all") -> list[dict]:
     Returns
     -------
     out : list of dict
-        :func:`fpdtw.paper.compare.comparison_row` rows, two per reading (UTW and Mc w40
-        median eq. 2); ``holds``: the median is within :data:`NEAR` of the paper's (the
-        reading closes the gap).
+        :func:`fpdtw.paper.figures.paper_vs_ours.side_by_side` rows, two per reading (UTW and
+        Mc w40 median eq. 2); ``ours`` says whether the median is within :data:`NEAR` of the
+        paper's (the reading closes the gap). Values only: the claims decide nothing here.
 
+    Paper: FP-DTW Table 1 (120 Hz: UTW and Mc w40), eq. 2.
     Notebook: 17_similarity_level.ipynb
     """
-    from fpdtw.paper.compare import comparison_row
+    # in the function: fpdtw.paper.runner imports this module, and the figures package
+    # imports the runner
+    from fpdtw.paper.figures.paper_vs_ours import side_by_side
 
     out = []
     for r in rows:
@@ -415,11 +418,10 @@ def level_comparison(rows, dataset: str = "all") -> list[dict]:
         for a in ("UTW", "Mc w40"):
             near = bool(abs(r[a] - PAPER_TABLE1[a]) <= NEAR)
             out.append(
-                comparison_row(
+                side_by_side(
                     f"{a} median eq. 2, {r['reading']} ({dataset})",
                     f"{PAPER_TABLE1[a]:.3f}",
-                    f"{r[a]:.3f}",
-                    near,
+                    f"{r[a]:.3f} ({'within' if near else 'not within'} {NEAR:g})",
                 )
             )
     return out

@@ -1,49 +1,64 @@
 """The papers' claims, checked against our results: parts, intervals, verdicts.
 
+The modules, bottom to top (a module imports only those above it in this list):
+
 * :mod:`~fpdtw.paper.claims.rules`: the one set of rules (checks, parts, claim verdicts);
 * :mod:`~fpdtw.paper.claims.bootstrap`: intervals for medians over pairs that share motions;
 * :mod:`~fpdtw.paper.claims.evidence`: per-pair values, medians and checks of a run;
-* :mod:`~fpdtw.paper.claims.table`: the claims, split into parts, and the table;
+* :mod:`~fpdtw.paper.claims.types`: a claim, its context and assessment, the table's columns;
+* :mod:`~fpdtw.paper.claims.open`: the questions beyond the papers (Q rows) and their parts;
+* :mod:`~fpdtw.paper.claims.paper_claims`: the papers' claims (FP-DTW, OPW poster) and the
+  claims table's rows (:data:`CLAIMS`);
+* :mod:`~fpdtw.paper.claims.contexts`: the contexts a claim is decided on, loaded from a run;
 * :mod:`~fpdtw.paper.claims.robustness`: each verdict under the documented readings;
+* :mod:`~fpdtw.paper.claims.evaluation`: every claim on every body of evidence, part by part;
+* :mod:`~fpdtw.paper.claims.report`: the claims as text, as tables and as files;
 * :mod:`~fpdtw.paper.claims.verify`: every verdict again from the committed files
   (``python -m fpdtw.paper.claims verify figures/``).
 """
 
-from fpdtw.paper.claims.open import QUESTION_IDS
+from fpdtw.paper.claims.contexts import (
+    claim_contexts,
+    data_counts,
+    load_context,
+    oedtw_backward_jumps,
+    open_evidence,
+    paper_shaped_rows,
+)
+from fpdtw.paper.claims.evaluation import (
+    build_claims,
+    claim_rows,
+    evaluate_claims,
+    open_claim_rows,
+)
+from fpdtw.paper.claims.open import QUESTION_IDS, open_mode
+from fpdtw.paper.claims.paper_claims import CLAIMS, SHORT, claims_by_id
+from fpdtw.paper.claims.report import (
+    POWER_COLUMNS,
+    SHORT_COLUMNS,
+    claims_summary,
+    format_claims,
+    format_parts,
+    movement_count,
+    power_rows,
+    save_claims,
+    short_rows,
+)
 from fpdtw.paper.claims.rules import LEGEND, RULE
-from fpdtw.paper.claims.table import (
+from fpdtw.paper.claims.types import (
     BODIES,
     CHECK_COLUMNS,
-    CLAIMS,
     COLUMNS,
     FIG8_JSON,
     OPW_FIG4_JSON,
     OPW_FIG56_JSON,
     PART_COLUMNS,
-    POWER_COLUMNS,
     READINGS,
-    SHORT,
-    SHORT_COLUMNS,
     Assessment,
     Claim,
     ClaimContext,
-    build_claims,
-    claim_contexts,
-    claim_rows,
-    claims_by_id,
-    claims_summary,
-    data_counts,
-    evaluate_claims,
-    format_claims,
-    format_parts,
-    movement_count,
-    oedtw_backward_jumps,
     opw_reading,
-    paper_shaped_rows,
-    power_rows,
     reading_alias,
-    save_claims,
-    short_rows,
 )
 
 __all__ = [
@@ -74,8 +89,12 @@ __all__ = [
     "evaluate_claims",
     "format_claims",
     "format_parts",
+    "load_context",
     "movement_count",
     "oedtw_backward_jumps",
+    "open_claim_rows",
+    "open_evidence",
+    "open_mode",
     "opw_reading",
     "paper_shaped_rows",
     "power_rows",

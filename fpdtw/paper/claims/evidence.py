@@ -27,8 +27,11 @@ import io
 import numpy as np
 
 from fpdtw.paper import numbers as N
+from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.claims import bootstrap as bs
-from fpdtw.paper.claims.rules import Check
+from fpdtw.paper.claims.rules import AllOf, AnyOf, Check
+from fpdtw.plain import band_cells
+from fpdtw.registry import resolve
 
 METRICS = ("similarity", "deviation")
 #: Bump when what a cached bootstrap replicate holds changes.
@@ -53,7 +56,6 @@ def _cached(folder, key: str, compute) -> np.ndarray:
     except (FileNotFoundError, ValueError, OSError):
         pass
     out = compute()
-    from fpdtw.paper.atomic import write_atomic
 
     buf = io.BytesIO()
     np.save(buf, out, allow_pickle=False)
@@ -306,13 +308,11 @@ class Evidence:
 
     def passes_either(self, name: str):
         """``name`` passes at least one of the two benchmarks."""
-        from fpdtw.paper.claims.rules import AnyOf
 
         return AnyOf(self.passes(name, "similarity"), self.passes(name, "deviation"))
 
     def passes_both(self, name: str):
         """``name`` passes both benchmarks."""
-        from fpdtw.paper.claims.rules import AllOf
 
         return AllOf(self.passes(name, "similarity"), self.passes(name, "deviation"))
 
@@ -427,8 +427,6 @@ class Evidence:
 
         Paper: FP-DTW Section 7 (conclusion: a global constraint).
         """
-        from fpdtw.plain import band_cells
-        from fpdtw.registry import resolve
 
         key = ("band_cells", name)
         if key not in self._cache:

@@ -1,6 +1,6 @@
 """Claims beyond the papers: the questions they leave open (Q1-Q6), on the open run.
 
-Each question is a :class:`~fpdtw.paper.claims.table.Claim` with ``question=True``: it is not
+Each question is a :class:`~fpdtw.paper.claims.types.Claim` with ``question=True``: it is not
 a claim of the papers but a statement about a variant they suggest, decided by the SAME rules
 (:mod:`fpdtw.paper.claims.rules`: a variant holds when its 95 % interval clears the
 benchmark it is asked to clear) on the results of the runner's mode ``"open"``
@@ -67,8 +67,20 @@ from __future__ import annotations
 
 import numpy as np
 
-from fpdtw.paper.claims.rules import Not, Part
+from fpdtw.paper.claims.rules import AllOf, Check, Not, Part
+from fpdtw.paper.claims.types import Assessment
+from fpdtw.paper.figures.timing import band_cost
 from fpdtw.paper.numbers import WINDOWS
+from fpdtw.paper.runner.grid import (
+    BAND_1S,
+    BAND_BASES,
+    BAND_HALF_W,
+    DERIVATIVE_BASES,
+    PAUSE_METHODS,
+    PAUSE_SUFFIX,
+    WEIGHT_BASES,
+    WEIGHT_SUFFIX,
+)
 
 #: The method the poster's remark on standing still (Q6) is about.
 POSTER_METHOD = "OPW"
@@ -88,18 +100,6 @@ def open_mode(mode: str) -> str:
     Notebook: 16_open_questions.ipynb
     """
     return OPEN_MODES.get(mode, "smoke-open" if "smoke" in mode else "open")
-
-
-def open_evidence(mode: str = "full"):
-    """The :class:`~fpdtw.paper.claims.evidence.Evidence` of the open run of ``mode``, or
-    None when that run does not exist (the Q claims are then "not computed")."""
-    from fpdtw.paper.claims.evidence import shared_evidence
-    from fpdtw.paper.paths import results_dir
-    from fpdtw.paper.runner import load_results
-
-    if not (results_dir() / open_mode(mode) / "summary.json").is_file():
-        return None
-    return shared_evidence(load_results(open_mode(mode)))
 
 
 def movements_of(ev) -> np.ndarray:
@@ -160,7 +160,6 @@ def _need(ev, names):
 
 def assess_q1(ctx):
     """Our value and the parts of Q1 (see the module), or why not computed."""
-    from fpdtw.paper.claims.table import Assessment
 
     ev = ctx.open_ev
     names = [
@@ -195,8 +194,6 @@ def assess_q1(ctx):
 
 def assess_q6(ctx):
     """Our value and the part of Q6 (see the module), or why not computed."""
-    from fpdtw.paper.claims.table import Assessment
-    from fpdtw.paper.runner.grid import PAUSE_METHODS, PAUSE_SUFFIX
 
     ev = ctx.open_ev
     if why := _need(ev, [n + s for n in PAUSE_METHODS for s in ("", PAUSE_SUFFIX)]):
@@ -227,8 +224,6 @@ def _variant_assessment(ev, variants: dict, change: str, heading: str):
     ``variants`` maps each base method to its variant's name; ``heading`` starts our value
     (e.g. "without -> with the band").
     """
-    from fpdtw.paper.claims.rules import AllOf
-    from fpdtw.paper.claims.table import Assessment
 
     if why := _need(ev, ["UTW", *variants, *variants.values()]):
         return why
@@ -249,7 +244,6 @@ def _variant_assessment(ev, variants: dict, change: str, heading: str):
 
 def assess_q2(ctx):
     """Our value and the parts of Q2 (see the module), or why not computed."""
-    from fpdtw.paper.runner.grid import WEIGHT_BASES, WEIGHT_SUFFIX
 
     variants = {n: n + WEIGHT_SUFFIX for n in WEIGHT_BASES}
     return _variant_assessment(
@@ -277,10 +271,6 @@ def band_removed_share(ev, name: str) -> float:
 
 def assess_q3(ctx):
     """Our value and the parts of Q3 (see the module), or why not computed."""
-    from fpdtw.paper.claims.rules import AllOf, Check
-    from fpdtw.paper.claims.table import Assessment
-    from fpdtw.paper.figures.timing import band_cost
-    from fpdtw.paper.runner.grid import BAND_1S, BAND_BASES, BAND_HALF_W
 
     ev = ctx.open_ev
     variants = {n: f"{n} ({BAND_HALF_W})" for n in BAND_BASES}
@@ -326,8 +316,6 @@ def assess_q3(ctx):
 
 def assess_q4(ctx):
     """Our value and the parts of Q4 (see the module), or why not computed."""
-    from fpdtw.paper.claims.rules import AllOf
-    from fpdtw.paper.claims.table import Assessment
 
     ev = ctx.open_ev
     if why := _need(ev, ["UTW", "OPW", "OPW adaptive"]):
@@ -350,27 +338,9 @@ def assess_q4(ctx):
 
 def assess_q5(ctx):
     """Our value and the parts of Q5 (see the module), or why not computed."""
-    from fpdtw.paper.runner.grid import DERIVATIVE_BASES
 
     variants = {n: f"{n} (derivative)" for n in DERIVATIVE_BASES}
     return _variant_assessment(ctx.open_ev, variants, "the derivative cost", "poses -> derivatives")
-
-
-def open_claim_rows(ids, mode: str = "full"):
-    """The rows and parts of the Q claims ``ids`` on the open run alone (no other run read).
-
-    Returns
-    -------
-    rows, parts : list of dict
-        As :func:`fpdtw.paper.claims.table.claim_rows` with ``with_parts=True``.
-
-    Notebook: 16_open_questions.ipynb
-    """
-    from fpdtw.paper.claims.table import ClaimContext, claim_contexts, claims_by_id, evaluate_claims
-    from fpdtw.paper.figures.timing import load_bench
-
-    ctx = ClaimContext(mode=mode, open_ev=open_evidence(mode), bench=load_bench())
-    return evaluate_claims(claims_by_id([str(i) for i in ids]), claim_contexts(ctx))
 
 
 __all__ = [
@@ -385,8 +355,6 @@ __all__ = [
     "band_removed_share",
     "beats_share_check",
     "movements_of",
-    "open_claim_rows",
-    "open_evidence",
     "open_mode",
     "per_movement_windows",
 ]

@@ -21,8 +21,16 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass, field
 
+from tqdm.auto import tqdm
+
 from fpdtw.paper.claims.evidence import Evidence
 from fpdtw.paper.claims.rules import NA
+from fpdtw.paper.claims.types import ClaimContext, reading_alias
+from fpdtw.paper.readings import choice_values, study_mode
+from fpdtw.paper.runner import load_results
+from fpdtw.paper.runner.grid import SILENT_CHOICES, choice_targets, choice_variant
+from fpdtw.paper.runner.run import pair_features
+from fpdtw.registry import C_READINGS
 
 
 @dataclass(frozen=True)
@@ -49,9 +57,6 @@ class Alternative:
 
 def alternatives() -> list[Alternative]:
     """Every reading and silent choice of notebook 15, as alternatives to ours."""
-    from fpdtw.paper.claims.table import reading_alias
-    from fpdtw.paper.runner.grid import SILENT_CHOICES, choice_targets, choice_variant
-    from fpdtw.registry import C_READINGS
 
     out = [
         Alternative(f"window: {r}", f"Method C's {r} window", reading_alias(r))
@@ -75,7 +80,6 @@ def _metric_values(results, key, features):
 
     ``features``: rate (120 or 60) -> ``features(k)``.
     """
-    from fpdtw.paper.readings import choice_values
 
     cache = {}
 
@@ -91,7 +95,6 @@ def _metric_values(results, key, features):
 def _study_features(study):
     """``rate -> features(k)``, each pair read once (every algorithm is rescored on the same
     pairs)."""
-    from fpdtw.paper.runner.run import pair_features
 
     @functools.cache
     def at(rate):
@@ -123,12 +126,8 @@ def robustness(claims, mode: str = "full", study=None, features=None, progress=F
         forecast hold -> partly); not run: ..."``. Claims not decided on the pairs are
         absent; {} when there is no study run.
     """
-    from fpdtw.paper.claims.table import ClaimContext
 
     if study is None:
-        from fpdtw.paper.readings import study_mode
-        from fpdtw.paper.runner import load_results
-
         try:
             study = load_results(study_mode(mode == "smoke"))
         except FileNotFoundError:
@@ -140,8 +139,6 @@ def robustness(claims, mode: str = "full", study=None, features=None, progress=F
     alts = alternatives()
     verdicts = {c.id: [] for c in todo}
     if progress:
-        from tqdm.auto import tqdm
-
         alts = tqdm(alts, desc="readings")
     for alt in alts:
         values = None

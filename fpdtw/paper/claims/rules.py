@@ -34,6 +34,7 @@ Paper: FP-DTW Section 5 (the pass rule of the two benchmarks).
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, field
 
 #: Verdicts of a check or a part.
@@ -290,7 +291,6 @@ def parse_formula(text: str, checks_by_number: dict):
     ValueError
         Text that is not a formula, or a check number not given.
     """
-    import re
 
     tokens = re.findall(r"all\(|any\(|not\(|c\d+|,|\)|\S", text)
     pos = 0

@@ -19,7 +19,8 @@ import sys
 from pathlib import Path
 
 from fpdtw.paper.claims import rules as R
-from fpdtw.paper.claims.table import BODIES, seed_verdict
+from fpdtw.paper.claims.evaluation import seed_verdict
+from fpdtw.paper.claims.types import BODIES
 
 #: claims_intervals.csv's column of each body's part verdict (the headline: ``verdict``,
 #: with the second seed applied; bodies without a column are checked at the claim level).

@@ -1,7 +1,7 @@
 """Figures and tables of notebook 16: the questions the papers leave open (Q1, Q3-Q6).
 
 Every number comes from the open run (mode ``"open"``) through the claims' evidence
-(:func:`fpdtw.paper.claims.open.open_evidence`), so the figures, the tables and the Q rows of
+(:func:`fpdtw.paper.claims.contexts.open_evidence`), so the figures, the tables and the Q rows of
 the claims table read the same medians and the same bootstrap intervals.
 
 Paper: FP-DTW Section 7; OPW poster Section 6.

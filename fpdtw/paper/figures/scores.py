@@ -442,8 +442,9 @@ def table1_rows(
     Notebook: 07_table1_60hz.ipynb
     """
     from fpdtw.paper.claims.evidence import shared_evidence
+    from fpdtw.paper.claims.paper_claims import best_window_test
     from fpdtw.paper.claims.rules import evaluate
-    from fpdtw.paper.claims.table import best_window_test, reading_alias
+    from fpdtw.paper.claims.types import reading_alias
 
     ev = shared_evidence(results)
     if reading != "square":

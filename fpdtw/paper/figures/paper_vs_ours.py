@@ -1,21 +1,15 @@
-"""Paper | ours | holds?: the comparison printed after each figure of the notebooks.
+"""Paper | ours: the paper's values next to ours, printed after the notebooks' figures.
 
-The notebooks read as companions to the papers: each figure is followed by a cell that
-prints, for the quantities the figure is about, the paper's value (always read from
-:mod:`fpdtw.paper.numbers`, never retyped), ours, and whether the paper's statement holds
-here. The claims of ``figures/claims.md`` are printed by
-:func:`fpdtw.paper.claims.format_claims`; this module adds the finer, per-quantity rows
-(one per algorithm, window or motion) that a figure shows, and the text table both use.
+The notebooks read as companions to the papers: after a figure, a cell prints, for the
+quantities the figure shows, the paper's value (always read from :mod:`fpdtw.paper.numbers`,
+never retyped) and ours, side by side. These tables carry no verdict of their own: whether
+a claim of the papers holds is decided by the claims (:mod:`fpdtw.paper.claims`, one set of
+rules), which the notebooks print beside these tables (:func:`fpdtw.paper.claims.format_parts`)
+for the claims a section is about. Where ``ours`` quotes a verdict (a median passing a
+benchmark, a Table 1 cell), it is the claims' check of it (:mod:`fpdtw.paper.claims.rules`).
 
-Every function returns rows with the keys :data:`COLUMNS`. ``holds`` is:
-
-* ``"yes"`` / ``"no"`` (``"partly"`` where a row bundles several checks): by the rule the
-  function's docstring states (written after the first full-run figures had been
-  committed; docs/history.md);
-* ``"-"``: the paper gives the value but claims nothing about it that ours could confirm
-  (e.g. UTW's median similarity, a time per frame): the two are shown side by side only.
-
-The printed values are rounded so that a SMOKE run prints the same text every time.
+Every function returns rows with the keys :data:`COLUMNS`. The printed values are rounded
+so that a SMOKE run prints the same text every time.
 """
 
 from __future__ import annotations
@@ -23,25 +17,34 @@ from __future__ import annotations
 import numpy as np
 
 from fpdtw.paper import numbers as N
+from fpdtw.paper.figures.forecast import best_level
+from fpdtw.registry import resolve
 
-#: Keys of every comparison row.
-COLUMNS = ("quantity", "paper", "ours", "holds")
-#: ``holds`` of a row that only shows two values side by side.
-NO_CLAIM = "-"
+#: Keys of every row.
+COLUMNS = ("quantity", "paper", "ours")
 
 
-def comparison_row(quantity: str, paper, ours, holds=NO_CLAIM) -> dict:
-    """One row: ``quantity``, ``paper``, ``ours`` (as text), ``holds``.
+def side_by_side(quantity: str, paper, ours) -> dict:
+    """One row: ``quantity``, ``paper``, ``ours``, as text.
 
-    ``holds`` may be a bool (``True`` -> ``"yes"``), a verdict string or None (``"-"``).
+    Parameters
+    ----------
+    quantity : str
+    paper, ours : object
+        Shown with ``str``.
+
+    Returns
+    -------
+    row : dict
+        Keys :data:`COLUMNS`.
+
+    Paper: the values of :mod:`fpdtw.paper.numbers`.
     """
-    if isinstance(holds, bool | np.bool_):
-        holds = "yes" if holds else "no"
-    return dict(quantity=str(quantity), paper=str(paper), ours=str(ours), holds=holds or NO_CLAIM)
+    return dict(quantity=str(quantity), paper=str(paper), ours=str(ours))
 
 
-def format_comparison(rows, title: str | None = None) -> str:
-    """The rows as a fixed-width text table with the header ``quantity | paper | ours | holds?``.
+def format_side_by_side(rows, title: str | None = None) -> str:
+    """The rows as a fixed-width text table with the header ``quantity | paper | ours``.
 
     Parameters
     ----------
@@ -55,9 +58,10 @@ def format_comparison(rows, title: str | None = None) -> str:
     text : str
         Deterministic for deterministic rows (a notebook can check it with nbval).
 
-    Notebook: every notebook's comparison cell, e.g. 07_table1_60hz.ipynb
+    Paper: the values of :mod:`fpdtw.paper.numbers`.
+    Notebook: 07_table1_60hz.ipynb
     """
-    header = dict(quantity="quantity", paper="paper", ours="ours", holds="holds?")
+    header = dict(quantity="quantity", paper="paper", ours="ours")
     table = [header] + [{c: str(r[c]) for c in COLUMNS} for r in rows]
     widths = {c: max(len(r[c]) for r in table) for c in COLUMNS}
 
@@ -72,10 +76,6 @@ def format_comparison(rows, title: str | None = None) -> str:
 
 def _yes_no(x: bool) -> str:
     return "yes" if x else "no"
-
-
-def _all_some(hits: int, of: int) -> str:
-    return "yes" if hits == of else "partly" if hits else "no"
 
 
 # -- 01: the data ---------------------------------------------------------------------------
@@ -95,8 +95,8 @@ def data_comparison(summary_rows, datasets=("authors_fbx", "hdm05")) -> list[dic
     Returns
     -------
     rows : list of dict
-        Motions per dataset and in total, and movements; ``holds`` is "yes" where our
-        count equals the paper's.
+        Motions per dataset and in total, and movements (the claim on them: claim 9,
+        notebook 05).
 
     Paper: FP-DTW Section 4 ("333 recorded motions of 44 different movements ... Fifty
     seven from Reference 8 and 267 from ... HDM05").
@@ -109,23 +109,16 @@ def data_comparison(summary_rows, datasets=("authors_fbx", "hdm05")) -> list[dic
         listed = sum(int(r["listed"]) for r in rows if r["dataset"] == ds)
         paper = N.DATA_SOURCES.get(ds)
         out.append(
-            comparison_row(
+            side_by_side(
                 f"motions from {ds}",
                 paper,
                 f"{have} (of {listed} listed)",
-                None if paper is None else have == paper,
             )
         )
     motions = sum(int(r["available"]) for r in rows)
     movements = sum(int(r["available"]) > 0 for r in rows)
-    out.append(
-        comparison_row("motions in all", N.DATA["motions"], motions, motions == N.DATA["motions"])
-    )
-    out.append(
-        comparison_row(
-            "movements", N.DATA["movements"], movements, movements == N.DATA["movements"]
-        )
-    )
+    out.append(side_by_side("motions in all", N.DATA["motions"], motions))
+    out.append(side_by_side("movements", N.DATA["movements"], movements))
     return out
 
 
@@ -146,7 +139,8 @@ def oedtw_comparison(facts: dict, label: str = "OE-DTW") -> list[dict]:
     Returns
     -------
     rows : list of dict
-        One row; ``holds`` is "yes" when at least one backward jump occurs.
+        One row: the backward jumps of the run and the first one (the claim on all pairs:
+        claim 7, notebook 12).
 
     Paper: FP-DTW Section 2, Fig. 1 (frames 15 -> 16).
     Notebook: 02_fig1_oedtw.ipynb
@@ -161,11 +155,10 @@ def oedtw_comparison(facts: dict, label: str = "OE-DTW") -> list[dict]:
     else:
         ours = f"none in {facts['n_frames'] - 1} steps"
     return [
-        comparison_row(
+        side_by_side(
             f"{label}: end point moves backwards",
             f"yes, e.g. frames {a} -> {b}",
             ours,
-            facts["jumps"] > 0,
         )
     ]
 
@@ -174,9 +167,9 @@ def oedtw_comparison(facts: dict, label: str = "OE-DTW") -> list[dict]:
 
 
 def windows_comparison(step_a, steps_b, step_c) -> list[dict]:
-    """Figs. 2 and 4: what Algorithms 1-3 prescribe, checked on the real steps drawn.
+    """Figs. 2 and 4: what Algorithms 1-3 prescribe, next to the real steps drawn.
 
-    Rules, one per row: Method A searches ``w + 1`` frames from ``M_n`` (``w`` = 2, or
+    One row per prescription: Method A searches ``w + 1`` frames from ``M_n`` (``w`` = 2, or
     fewer at the end of the input) and takes the argmin of eq. 1; Method B sets
     ``D[0, 0]`` to 10,000, its path leaves (0, 0) through (1, 0) in one drawn step and
     through (0, 1) in the other, and it maps ``T_{n+1}`` to the lowest input frame its
@@ -203,40 +196,36 @@ def windows_comparison(step_a, steps_b, step_c) -> list[dict]:
     w = N.METHOD_A_WINDOW
     n_a = int(step_a.C.shape[0])
     rows.append(
-        comparison_row(
+        side_by_side(
             "Ma: frames searched (Fig. 2)",
             f"w + 1 = {w + 1}: I_Mn .. I_Mn+{w}",
             f"{n_a}: I_{step_a.start} .. I_{step_a.start + n_a - 1}",
-            step_a.w_i == w or (step_a.w_i < w and n_a == step_a.w_i + 1),
         )
     )
     best_a = int(np.argmin(step_a.C[:, 0]))
     rows.append(
-        comparison_row(
+        side_by_side(
             "Ma: M_n+1 = M_n + argmin of eq. 1",
             "Algorithm 1",
             f"offset {step_a.offset}, argmin {best_a}",
-            step_a.offset == best_a,
         )
     )
     found = [s for s in steps_b if s is not None]
     if found:
         corner = float(found[0].D[0, 0])
         rows.append(
-            comparison_row(
+            side_by_side(
                 "Mb: D[0, 0] before back-tracking",
                 f"{N.METHOD_B_CORNER:,.0f}",
                 f"{corner:,.0f}",
-                corner == N.METHOD_B_CORNER,
             )
         )
     vias = sorted({tuple(int(v) for v in s.path[1]) for s in found})
     rows.append(
-        comparison_row(
+        side_by_side(
             "Mb: path leaves (0, 0) via",
             "(1, 0) or (0, 1) (Fig. 4)",
             ", ".join(f"({r}, {c})" for r, c in vias) or "no window step",
-            _all_some(len({(1, 0), (0, 1)} & set(vias)), 2),
         )
     )
     hits = 0
@@ -244,21 +233,19 @@ def windows_comparison(step_a, steps_b, step_c) -> list[dict]:
         lowest = int(min(r for r, c in s.path if c == 1))
         hits += s.offset == lowest
     rows.append(
-        comparison_row(
+        side_by_side(
             "Mb: X = lowest input row of the path in column T_n+1",
             "M_n+1 = M_n + P_1 (Fig. 4)",
             f"{hits} of {len(found)} steps drawn",
-            _all_some(hits, len(found)) if found else None,
         )
     )
     score = step_c.score if step_c.score is not None else step_c.D[:, 0]
     best_c = int(np.argmin(score))
     rows.append(
-        comparison_row(
+        side_by_side(
             "Mc: M_n+1 = M_n + argmin of D over column T_n+1",
             "Algorithm 3",
             f"offset {step_c.offset}, argmin {best_c}",
-            step_c.offset == best_c,
         )
     )
     return rows
@@ -268,12 +255,12 @@ def windows_comparison(step_a, steps_b, step_c) -> list[dict]:
 
 
 def forecast_comparison(curves: dict, levels, ahead=(1, 10), short=(1, 10)) -> list[dict]:
-    """Fig. 3: is the two-frame forecast (s = 2) the best, and is dead reckoning as good as
-    the other smoothing functions in the short term?
+    """Fig. 3: the paper's two-frame forecast (s = 2) and dead reckoning against the other
+    smoothing functions, next to ours.
 
-    Rules: per horizon ``i`` of ``ahead``, "yes" when dead reckoning's lowest error is at
-    the paper's level s = 2. Per horizon of ``short``, "yes" when dead reckoning with s = 2
-    has an error no higher than every other forecaster's best level.
+    Per horizon ``i`` of ``ahead``: the level with dead reckoning's lowest error. Per
+    horizon of ``short``: dead reckoning's error with s = 2 and every other forecaster's
+    error at its best level.
 
     Parameters
     ----------
@@ -291,8 +278,6 @@ def forecast_comparison(curves: dict, levels, ahead=(1, 10), short=(1, 10)) -> l
     well as other smoothing functions" for short-term forecasting, their ref. 7).
     Notebook: 04_fig3_forecast.ipynb
     """
-    from fpdtw.paper.figures.forecast import best_level
-
     levels = list(levels)
     s = N.FORECAST_LEVEL
     dr = np.asarray(curves["dead_reckoning"], dtype=float)
@@ -300,11 +285,10 @@ def forecast_comparison(curves: dict, levels, ahead=(1, 10), short=(1, 10)) -> l
     for i in ahead:
         b = best_level(dr, levels, i)
         rows.append(
-            comparison_row(
+            side_by_side(
                 f"best level s, dead reckoning, {i} frame{'s' if i > 1 else ''} ahead",
                 f"s = {s}",
                 f"s = {b}",
-                b == s,
             )
         )
     others = [m for m in curves if m != "dead_reckoning"]
@@ -314,11 +298,10 @@ def forecast_comparison(curves: dict, levels, ahead=(1, 10), short=(1, 10)) -> l
             mine = float(dr[li, i - 1])
             theirs = {m: float(np.min(np.asarray(curves[m])[:, i - 1])) for m in others}
             rows.append(
-                comparison_row(
+                side_by_side(
                     f"dead reckoning (s = {s}) vs the others' best, {i} ahead",
                     "as good (short term)",
                     f"{mine:.3f} vs " + ", ".join(f"{m} {v:.3f}" for m, v in theirs.items()),
-                    all(mine <= v for v in theirs.values()),
                 )
             )
     return rows
@@ -359,13 +342,12 @@ def paper_passes(name: str, metric: str):
 def benchmark_comparison(summary_rows, metric: str) -> list[dict]:
     """Figs. 5 / 6: per FP-DTW algorithm, does its median pass the benchmark, ours vs paper?
 
-    Our side is the verdict of the claims' rule (:mod:`fpdtw.paper.claims.rules`), the same
-    check the claims table uses: the pass "holds" when the median's 95 % interval clears
-    the benchmark (for similarity: the interval of its difference from UTW's median), is
-    "contradicted" when it fails it, "inconclusive" when it straddles it. The row holds
-    ("yes") when that verdict agrees with the paper (:func:`paper_passes`), "no" when it
-    contradicts it, "inconclusive" when ours is; "-" where the paper does not say. The
-    first row shows the benchmark itself.
+    Our side is the claims' check of the pass (:meth:`fpdtw.paper.claims.evidence.Evidence.passes`,
+    decided by :mod:`fpdtw.paper.claims.rules`, as in the claims table): "holds" when the
+    median's 95 % interval clears the benchmark (for similarity: the interval of its
+    difference from UTW's median), "contradicted" when it fails it, "inconclusive" when it
+    straddles it. The paper's side is :func:`paper_passes`. The first row shows the
+    benchmark itself. Claims 1, 2, 2b, 5, 5b and 6 decide what the paper says of them.
 
     Parameters
     ----------
@@ -380,13 +362,11 @@ def benchmark_comparison(summary_rows, metric: str) -> list[dict]:
     Paper: FP-DTW Figs. 5 and 6, Sections 5-7.
     Notebook: 06_fig5_fig6_scores.ipynb
     """
-    from fpdtw.paper.claims.rules import HOLDS, INCONCLUSIVE
-
     rows = []
     if metric == "similarity":
         bench = summary_rows[0]["benchmark"]
         rows.append(
-            comparison_row(
+            side_by_side(
                 "UTW median similarity (the benchmark)",
                 f"{N.TABLE1[N.SAMPLE_RATE_HZ]['UTW']:.3f}",
                 f"{bench:.3f}",
@@ -394,7 +374,7 @@ def benchmark_comparison(summary_rows, metric: str) -> list[dict]:
         )
     else:
         rows.append(
-            comparison_row(
+            side_by_side(
                 "deviation benchmark (150 ms)",
                 f"{N.DEVIATION_BENCHMARK_FRAMES} frames",
                 f"{N.deviation_benchmark_frames(N.SAMPLE_RATE_HZ):g} frames",
@@ -408,20 +388,12 @@ def benchmark_comparison(summary_rows, metric: str) -> list[dict]:
             continue
         paper = paper_passes(name, metric)
         v = r["verdict"]
-        ours = {HOLDS: "yes", INCONCLUSIVE: "inconclusive"}.get(v, "no")
         iv = f"{r['median']:{fmt}} [{r['ci_low']:{fmt}}, {r['ci_high']:{fmt}}]"
-        if paper is None:
-            holds = None
-        elif v == INCONCLUSIVE:
-            holds = INCONCLUSIVE
-        else:
-            holds = paper == (v == HOLDS)
         rows.append(
-            comparison_row(
+            side_by_side(
                 f"{name}: median {word}?",
                 "not stated (not both)" if paper is None else _yes_no(paper),
-                f"{ours} ({iv})",
-                holds,
+                f"{v} ({iv})",
             )
         )
     return rows
@@ -430,27 +402,13 @@ def benchmark_comparison(summary_rows, metric: str) -> list[dict]:
 # -- 07: Table 1 ---------------------------------------------------------------------------
 
 
-def _verdict_holds(paper: bool, verdict: str | None, point: bool):
-    """A comparison row's holds from the claims' verdict of "ours is above" (or, without a
-    verdict, from the point comparison ``point``)."""
-    from fpdtw.paper.claims.rules import HOLDS, INCONCLUSIVE
-
-    if verdict is None:
-        return paper == point
-    if verdict == INCONCLUSIVE:
-        return INCONCLUSIVE
-    return paper == (verdict == HOLDS)
-
-
 def table1_comparison(rows, source: str = "ours") -> list[dict]:
     """Table 1 cell by cell: the paper's median similarity of Method C next to ours.
 
-    Rule: a cell holds when our window is on the same side of UTW's median as the paper's,
-    decided as the claims decide it (:mod:`fpdtw.paper.claims.rules`): with the interval
-    of the difference from UTW's median ("inconclusive" when it straddles 0); the
-    best-window rows hold when the paper's best window beats every other one by the same
-    rule (claim 3). Rows without verdicts (made up in tests) fall back to the medians. The
-    UTW rows only show the two values.
+    Each window's median, on which side of UTW's median it lies and, where the rows carry
+    it, the claims' check that it lies above (:func:`fpdtw.paper.figures.scores.table1_rows`:
+    the interval of the difference from UTW's median); the best window and the check that
+    the paper's best window beats every other one (claim 3 decides the paper's claim).
 
     Parameters
     ----------
@@ -473,28 +431,26 @@ def table1_comparison(rows, source: str = "ours") -> list[dict]:
         ours = next((r for r in rows if r["rate_hz"] == rate and r["source"] == source), None)
         if paper is None or ours is None:
             continue
-        out.append(comparison_row(f"{rate} Hz UTW", f"{paper['UTW']:.3f}", f"{ours['UTW']:.3f}"))
+        out.append(side_by_side(f"{rate} Hz UTW", f"{paper['UTW']:.3f}", f"{ours['UTW']:.3f}"))
         for w in N.WINDOWS:
             p_above = paper[w] > paper["UTW"]
             o_above = ours[f"w{w}"] > ours["UTW"]
             v = ours.get(f"verdict_w{w}")
             side = "above" if o_above else "below"
             out.append(
-                comparison_row(
+                side_by_side(
                     f"{rate} Hz Mc w{w}",
                     f"{paper[w]:.3f} ({'above' if p_above else 'below'} UTW)",
                     f"{ours[f'w{w}']:.3f} ({side} UTW{'' if v is None else ': ' + v})",
-                    _verdict_holds(p_above, v, o_above),
                 )
             )
         v = ours.get("best_verdict")
         out.append(
-            comparison_row(
+            side_by_side(
                 f"{rate} Hz best window",
                 f"w{N.BEST_WINDOW[rate]}",
                 f"w{ours['best_w']}"
                 + ("" if v is None else f" (w{N.BEST_WINDOW[rate]} best: {v})"),
-                _verdict_holds(True, v, ours["best_w"] == N.BEST_WINDOW[rate]),
             )
         )
     return out
@@ -516,13 +472,12 @@ def heatmap_comparison(balance: dict) -> list[dict]:
     """Figs. 7 and 10 in numbers: where each named algorithm's path mass lies.
 
     ``balance`` gives, per algorithm, the share of path frames near the diagonal, below it
-    and above it (:func:`fpdtw.paper.figures.heatmaps.path_balance`). Rules:
+    and above it (:func:`fpdtw.paper.figures.heatmaps.path_balance`). Ours, in words:
 
     * "sticks": more mass below the diagonal band than above it; "skips": more above;
-      "balanced": the smallest ``|below - above|`` of its method's four windows.
-    * Fig. 10, "improves": the share near the diagonal is higher with Type V.
-    * "Mc w80 + Type V balanced like Mc w40": its ``|below - above|`` is no larger than
-      Mc w40's.
+      "balanced": the smallest ``|below - above|`` of its method's four windows;
+    * Fig. 10: whether the share near the diagonal is higher with Type V;
+    * "Mc w80 + Type V balanced like Mc w40": both ``|below - above|``.
 
     Parameters
     ----------
@@ -546,16 +501,13 @@ def heatmap_comparison(balance: dict) -> list[dict]:
             peers = [n for n in _method_windows(name) if n in balance]
             ours = min(peers, key=lambda n: _imbalance(balance[n])) == name
             verdict = "balanced" if ours else "not the most balanced"
-            ok = ours
         else:
             verdict = "sticks" if b["below"] > b["above"] else "skips"
-            ok = verdict == claimed
         rows.append(
-            comparison_row(
+            side_by_side(
                 f"Fig. 7 {name}",
                 claimed,
                 f"{verdict} (below {b['below']:.2f}, above {b['above']:.2f})",
-                ok,
             )
         )
     for name, improves in N.FIG10_TYPEV_IMPROVES.items():
@@ -564,22 +516,20 @@ def heatmap_comparison(balance: dict) -> list[dict]:
             continue
         d0, d1 = balance[name]["diagonal"], balance[tv]["diagonal"]
         rows.append(
-            comparison_row(
+            side_by_side(
                 f"Fig. 10 {name}: Type V improves (near diagonal)",
                 _yes_no(improves),
                 f"{_yes_no(d1 > d0)} ({d0:.2f} -> {d1:.2f})",
-                (d1 > d0) == improves,
             )
         )
     a, b = N.FIG10_BALANCED_LIKE
     if a in balance and b in balance:
         ia, ib = _imbalance(balance[a]), _imbalance(balance[b])
         rows.append(
-            comparison_row(
+            side_by_side(
                 f"Fig. 10 {a} balanced like {b}",
                 "yes",
                 f"abs(below - above) {ia:.3f} vs {ib:.3f}",
-                ia <= ib,
             )
         )
     return rows
@@ -591,8 +541,8 @@ def heatmap_comparison(balance: dict) -> list[dict]:
 def timing_comparison(rows) -> list[dict]:
     """Table 2 cell by cell: the paper's mean time per frame next to ours (measurements).
 
-    Values only (``holds`` "-"): our times come from another implementation on another
-    machine; the claims about them (growth with w, w80 over budget) are claims 4 and 4b.
+    Values only: our times come from another implementation on another machine; the
+    claims about them (growth with w, w80 over budget) are claims 4 and 4b.
 
     Parameters
     ----------
@@ -614,7 +564,7 @@ def timing_comparison(rows) -> list[dict]:
         if "(" in r["algorithm"]:
             continue
         out.append(
-            comparison_row(
+            side_by_side(
                 f"{r['algorithm']}: mean time per frame",
                 f"{r['paper_mean_us']:.0f} us",
                 f"{r['mean_us']:.0f} us (median {r['median_us']:.0f}; "
@@ -631,10 +581,10 @@ def walk_pair_comparison(rows) -> list[dict]:
     """Fig. 8: deviation from DTW (eq. 3) on the walk pair, per algorithm, ours vs paper's.
 
     Our walk pair is not the paper's (the paper's is HDM05 sample 3239, WalkLeftCircle, a
-    class we do not have), so no row can confirm or contradict the paper's number: every
-    row's verdict is "not comparable", and ``ours`` says whether our number lies on the same
-    side of the 18-frame benchmark as the paper's printed one (what we can compare: the
-    algorithm's behaviour on a walk pair). Method C's literal-window rows are set beside the
+    class we do not have), so no row can confirm or contradict the paper's number (claim 8
+    decides it: not comparable); ``ours`` says whether our number lies on the same side of
+    the 18-frame benchmark as the paper's printed one (the algorithm's behaviour on a walk
+    pair). Method C's literal-window rows are set beside the
     paper's number of the same window.
 
     Parameters
@@ -659,11 +609,10 @@ def walk_pair_comparison(rows) -> list[dict]:
         p_ok, o_ok = N.passes_deviation(paper), N.passes_deviation(r["deviation"])
         side = "same side as the paper's" if p_ok == o_ok else "not the paper's side"
         out.append(
-            comparison_row(
+            side_by_side(
                 r["algorithm"],
                 f"{paper:.0f} ({'below' if p_ok else 'above'} 18)",
                 f"{r['deviation']:.1f} ({'below' if o_ok else 'above'} 18: {side})",
-                "not comparable",
             )
         )
     return out
@@ -675,10 +624,10 @@ def walk_pair_comparison(rows) -> list[dict]:
 def typev_comparison(legal: bool, accepted: bool, free_legal: bool, n_states: int) -> list[dict]:
     """Fig. 9: the forward Type V constraint as a state table, and the paths it yields.
 
-    Rules: the constrained path must be a legal Type V path by our state table and by
-    dtw-python's backward Type V pattern ("partly" when only one accepts it); the table
-    needs more than one state (the constraint must be carried from one target frame to the
-    next). Whether unconstrained Method A breaks the constraint is shown only.
+    Ours: the states of the table (more than one carries the constraint from one target
+    frame to the next), whether the constrained path is a legal Type V path by our state
+    table and by dtw-python's backward Type V pattern, and whether unconstrained Method A's
+    is.
 
     Parameters
     ----------
@@ -697,21 +646,17 @@ def typev_comparison(legal: bool, accepted: bool, free_legal: bool, n_states: in
     Notebook: 11_fig9_typev.ipynb
     """
     return [
-        comparison_row(
+        side_by_side(
             "Type V carried between target frames by states",
             "yes, a state table (Fig. 9 iii-iv)",
             f"{n_states} states",
-            n_states > 1,
         ),
-        comparison_row(
+        side_by_side(
             "Ma + Type V map is a legal Type V path",
             "yes (by construction)",
             f"state table {_yes_no(legal)}, dtw-python {_yes_no(accepted)}",
-            _all_some(int(legal) + int(accepted), 2),
         ),
-        comparison_row(
-            "unconstrained Ma is a legal Type V path", "not stated", _yes_no(free_legal)
-        ),
+        side_by_side("unconstrained Ma is a legal Type V path", "not stated", _yes_no(free_legal)),
     ]
 
 
@@ -721,10 +666,10 @@ def typev_comparison(legal: bool, accepted: bool, free_legal: bool, n_states: in
 def opw_fig4_comparison(facts: dict) -> list[dict]:
     """Poster Fig. 4: OPW's deviation from the example warp, DTW, smoothness.
 
-    Rules: the mean deviations lie within the poster's range; the maximum is below 150 ms
-    (the poster's claim about its 121 ms); DTW's mean deviation is below OPW's on every
-    motion; OPW's largest slope change is below DTW's on every motion. Under the plugin
-    reading the poster's DTW is the plugin's baseline (``facts["baseline"]``).
+    The range of OPW's mean deviations, its maximum, whether DTW deviates less than OPW on
+    every motion and whether OPW's largest slope change is below DTW's on every motion
+    (claim P1 decides the poster's claim). Under the plugin reading the poster's DTW is the
+    plugin's baseline (``facts["baseline"]``).
 
     Parameters
     ----------
@@ -744,29 +689,25 @@ def opw_fig4_comparison(facts: dict) -> list[dict]:
     base = facts.get("baseline", "DTW")
     thr = N.PERCEPTUAL_THRESHOLD_MS
     return [
-        comparison_row(
+        side_by_side(
             "OPW mean deviation over the motions",
             f"{plo:.0f}-{phi:.0f} ms",
             f"{lo:.0f}-{hi:.0f} ms",
-            plo <= lo and hi <= phi,
         ),
-        comparison_row(
+        side_by_side(
             f"OPW max deviation below {thr:.0f} ms",
             f"{N.OPW_MAX_DEVIATION_MS:.0f} ms",
             f"{facts['opw_max_ms']:.0f} ms",
-            facts["opw_max_ms"] < thr,
         ),
-        comparison_row(
+        side_by_side(
             f"{base} deviates less than OPW on every motion",
             _yes_no(N.OPW_DTW_BETTER),
             f"{_yes_no(facts['dtw_better_everywhere'])} ({base} {dlo:.0f}-{dhi:.0f} ms)",
-            facts["dtw_better_everywhere"] == N.OPW_DTW_BETTER,
         ),
-        comparison_row(
+        side_by_side(
             f"OPW smoother than {base} on every motion",
             _yes_no(N.OPW_SMOOTHER),
             _yes_no(facts["opw_smoother_everywhere"]),
-            facts["opw_smoother_everywhere"] == N.OPW_SMOOTHER,
         ),
     ]
 
@@ -787,21 +728,19 @@ def live_timing_comparison(step_seconds: dict, fps: float) -> list[dict]:
     Returns
     -------
     rows : list of dict
-        ``holds`` "-": another implementation on another machine (claims 4, 4b compare
-        the growth with w and the budget).
+        Values only: another implementation on another machine (claims 4, 4b decide the
+        growth with w and the budget).
 
     Paper: FP-DTW Table 2 and its text (the 120 Hz budget of 8333 us).
     Notebook: 20_align_a_live_performance.ipynb
     """
-    from fpdtw.registry import resolve
-
     out = []
     for name, steps in step_seconds.items():
         a = resolve(name)
         paper = None if (a.typev or a.options) else N.TABLE2_US.get((a.family, a.w))
         med = float(np.median(np.asarray(steps, dtype=float))) * 1e6
         out.append(
-            comparison_row(
+            side_by_side(
                 f"{name}: time per frame",
                 "not in Table 2" if paper is None else f"{paper:.0f} us (mean)",
                 f"{med:.0f} us (median; budget {1e6 / fps:.0f} us)",
@@ -813,10 +752,9 @@ def live_timing_comparison(step_seconds: dict, fps: float) -> list[dict]:
 def live_comparison(deviations: dict) -> list[dict]:
     """A live replay: each aligner's deviation from DTW on this one pair, against 18 frames.
 
-    Rule: for the configurations the paper recommends (those passing both benchmarks,
-    Section 7, judged by their median over all pairs), "yes" when their deviation on this
-    pair is below 18 frames too; other aligners (e.g. OLTW, not evaluated in the paper) are
-    shown only.
+    Values only: one pair says nothing of a median over all pairs. The paper's column says
+    whether the paper recommends the configuration (it passes both benchmarks, Section 7;
+    claim 2 decides that on our pairs).
 
     Parameters
     ----------
@@ -835,11 +773,10 @@ def live_comparison(deviations: dict) -> list[dict]:
         ok = N.passes_deviation(dev)
         recommended = name in N.PASS_BOTH
         out.append(
-            comparison_row(
+            side_by_side(
                 f"{name}: deviation from DTW",
                 "passes both benchmarks (all pairs)" if recommended else "not in the paper",
                 f"{dev:.1f} frames ({'below' if ok else 'above'} 18, this pair)",
-                ok if recommended else None,
             )
         )
     return out
@@ -847,18 +784,17 @@ def live_comparison(deviations: dict) -> list[dict]:
 
 __all__ = [
     "COLUMNS",
-    "NO_CLAIM",
     "benchmark_comparison",
-    "comparison_row",
     "data_comparison",
     "forecast_comparison",
-    "format_comparison",
+    "format_side_by_side",
     "heatmap_comparison",
     "live_comparison",
     "live_timing_comparison",
     "oedtw_comparison",
     "opw_fig4_comparison",
     "paper_passes",
+    "side_by_side",
     "table1_comparison",
     "timing_comparison",
     "typev_comparison",

@@ -1,0 +1,371 @@
+"""Reporting the claims: as text, as the short table, as files, with the power estimates.
+
+The top of the claims package: it formats what :mod:`fpdtw.paper.claims.evaluation` decided
+(:func:`format_claims`, :func:`format_parts`, :func:`claims_summary`, :func:`short_rows`),
+estimates how many movements an inconclusive check would need (:func:`power_rows`) and
+writes ``figures/claims*.csv|md`` and ``results/<mode>/claims.json`` (:func:`save_claims`).
+``python -m fpdtw.paper.claims verify figures/`` (:mod:`fpdtw.paper.claims.verify`) reads
+those files back.
+
+Paper: FP-DTW Sections 5-7; OPW poster Section 5.
+Notebook: 12_claims.ipynb
+"""
+
+from __future__ import annotations
+
+import json
+import textwrap
+
+import numpy as np
+
+from fpdtw.paper.atomic import write_atomic
+from fpdtw.paper.claims import bootstrap as bs
+from fpdtw.paper.claims import rules as R
+from fpdtw.paper.claims.paper_claims import SHORT
+from fpdtw.paper.claims.types import (
+    CHECK_COLUMNS,
+    COLUMNS,
+    OPW_PLUGIN,
+    OTHER_EVIDENCE,
+    PART_COLUMNS,
+    SEED2_OFFSET,
+)
+from fpdtw.paper.figures.tables import save_table, to_markdown
+from fpdtw.paper.paths import figures_dir, results_dir
+from fpdtw.paper.provenance import versions_line
+
+#: Claims whose pooled intervals get a power estimate (:func:`power_rows`).
+POWER_CLAIMS = ("1", "3")
+POWER_COLUMNS = ("claim", "part", "check", "quantity", "estimate", "low", "high", "threshold",
+                 "relation", "movements", "movements_needed", "to")  # fmt: skip
+
+
+def movement_count(ev) -> int:
+    """Movements (dataset, movement) among an evidence's pairs."""
+    return len({(ev.results.pairs[r]["dataset"], ev.results.pairs[r]["movement"]) for r in ev.rows})
+
+
+def power_rows(checks, movements: int, claims=POWER_CLAIMS) -> list[dict]:
+    """How many movements like ours the pooled intervals would need to decide each
+    inconclusive check of ``claims`` (headline body).
+
+    An interval over ``K`` movements (movements resampled) narrows about as
+    ``1 / sqrt(K)``; with the estimate where it is, the end on the threshold's side clears
+    the threshold at ``K' = K * (h / |estimate - threshold|) ** 2``, ``h`` being that end's
+    distance from the estimate today. ``to`` says which way it would then be decided (the
+    estimate's side: "hold" or "be contradicted"). A rough guide from the bootstrap's
+    spread, not a power analysis: the estimate itself moves with new movements.
+
+    Parameters
+    ----------
+    checks : list of dict
+        Rows of :data:`CHECK_COLUMNS`.
+    movements : int
+        Movements of the headline body (:func:`movement_count`).
+
+    Returns
+    -------
+    rows : list of dict
+        Keys :data:`POWER_COLUMNS`.
+
+    Notebook: 12_claims.ipynb
+    """
+    out = []
+    for c in checks:
+        if c["body"] != "all" or c["claim"] not in claims or c["verdict"] != R.INCONCLUSIVE:
+            continue
+        if c["low"] == "" or c["check"] == 0:
+            continue
+        est, lo, hi, t = (float(c[k]) for k in ("estimate", "low", "high", "threshold"))
+        above = c["relation"].startswith(">")
+        gap = est - t
+        if gap == 0 or not np.isfinite(gap):
+            need, to = float("inf"), "neither (the estimate is on the threshold)"
+        else:
+            # the end between the estimate and the threshold decides
+            h = (est - lo) if gap > 0 else (hi - est)
+            need = movements * (h / abs(gap)) ** 2
+            to = "hold" if (gap > 0) == above else "be contradicted"
+        out.append(
+            {k: c[k] for k in ("claim", "part", "check", "quantity", "estimate", "low", "high",
+                               "threshold", "relation")}
+            | dict(movements=movements,
+                   movements_needed=int(np.ceil(need - 1e-9)) if np.isfinite(need) else "never",
+                   to=to)
+        )  # fmt: skip
+    return out
+
+
+def format_claims(rows, stable=None, width: int = 96) -> str:
+    """The claims as text: the claim, then paper, ours, verdict, reason and the other bodies.
+
+    Deterministic for deterministic rows, so a notebook cell printing it can be compared by
+    nbval.
+
+    Parameters
+    ----------
+    rows : list of dict
+        From :func:`claim_rows` or :func:`build_claims`.
+    stable : bool, optional
+        True: only the deterministic rows; False: only the timing rows; None: all.
+    width : int
+        Line width the text is wrapped to.
+
+    Returns
+    -------
+    text : str
+
+    Notebook: 06_fig5_fig6_scores.ipynb
+    """
+
+    def fill(text, label):
+        return textwrap.fill(
+            str(text), width, initial_indent="    " + label, subsequent_indent=" " * 12
+        )
+
+    out = []
+    for r in rows:
+        if stable is not None and bool(r.get("stable", True)) != stable:
+            continue
+        lines = [textwrap.fill(f"[{r['id']}] {r['claim']}", width, subsequent_indent="    ")]
+        lines.append(fill(r["paper"], "paper:  "))
+        lines.append(fill(r["ours"], "ours:   "))
+        lines.append(fill(f"{r['holds']}: {r['reason']}", "holds?  "))
+        if r.get("interval"):
+            lines.append(fill(r["interval"], "95 %:   "))
+        bodies = [
+            f"{k.replace('_', ' ')} {r[f'holds_{k}']}"
+            for k in OTHER_EVIDENCE
+            if r.get(f"holds_{k}", R.NA) != R.NA
+        ]
+        if bodies:
+            lines.append(fill("; ".join(bodies), "also:   "))
+        if r.get("robustness") and not str(r["robustness"]).startswith(("n/a", "not computed")):
+            lines.append(fill(r["robustness"], "robust: "))
+        if "ours_literal" in r and (r["ours_literal"], r["holds_literal"]) != (
+            r["ours"],
+            r["holds"],
+        ):
+            lines.append(
+                fill(
+                    f"{r['ours_literal']}; holds? {r['holds_literal']}",
+                    "with Method C's literal window: ",
+                )
+            )
+        if r.get("ours_plugin", R.NA) != R.NA and (r["ours_plugin"], r["holds_plugin"]) != (
+            r["ours"],
+            r["holds"],
+        ):
+            lines.append(
+                fill(
+                    f"{r['ours_plugin']}; holds? {r['holds_plugin']}",
+                    "with OPW read as the authors' plugin does it: ",
+                )
+            )
+        out.append("\n".join(lines))
+    return "\n".join(out) if out else "(no claims)"
+
+
+def format_parts(parts, width: int = 110) -> str:
+    """The parts table as text: one line per part with its verdict and interval, then the
+    verdict on the other bodies of evidence where it differs.
+
+    Parameters
+    ----------
+    parts : list of dict
+        Rows of :data:`PART_COLUMNS` (:func:`build_claims` with ``with_parts=True``).
+    width : int
+
+    Returns
+    -------
+    text : str
+        Deterministic for deterministic parts.
+
+    Notebook: 12_claims.ipynb
+    """
+
+    out = []
+    for p in parts:
+        est, lo, hi = p["estimate"], p["ci_low"], p["ci_high"]
+        if est is None:
+            num = ""
+        elif lo is None:
+            num = f" | {est:.4g} vs {p['threshold']:g}"
+        else:
+            num = f" | {est:.4g} [{lo:.4g}, {hi:.4g}] vs {p['threshold']:g}"
+        other = [f"{k.replace('_', ' ')}: {p[f'verdict_{k}']}"
+                 for k in (*OTHER_EVIDENCE, "literal", OPW_PLUGIN)
+                 if p[f"verdict_{k}"] not in (R.NA, p["verdict"])]  # fmt: skip
+        line = f"{p['part']:4s} {p['verdict']:14s} {p['text']}{num}"
+        if other:
+            line += " (" + "; ".join(other) + ")"
+        out.append(textwrap.fill(line, width, subsequent_indent=" " * 20))
+    return "\n".join(out) if out else "(no parts)"
+
+
+def claims_summary(rows) -> str:
+    """How many claims get each verdict: the headline (movements resampled), with the
+    movements fixed, under the other reading of eq. 2, with Method C's literal window, and
+    the OPW poster's claims with OPW's plugin reading.
+
+    Returns
+    -------
+    text : str
+        One line per body, e.g. ``"headline: yes 6, partly 5, no 2, ... (of 17 claims)"``;
+        a body no claim was decided on has no line.
+
+    Notebook: 12_claims.ipynb
+    """
+    lines = []
+    other = next((r.get("eq2_other") for r in rows if r.get("eq2_other", R.NA) != R.NA), None)
+    bodies = (
+        ("holds", "headline (movements resampled)"),
+        ("holds_same_movements", "movements fixed"),
+        ("holds_eq2_other", f"eq. 2 read as {other}"),
+        ("holds_literal", "Method C's literal window"),
+        ("holds_plugin", "OPW plugin reading"),
+    )
+    for col, label in bodies:
+        got = [r[col] for r in rows if r.get(col, R.NA) != R.NA]
+        if not got:
+            continue
+        counts = {v: got.count(v) for v in R.CLAIM_VERDICTS[:-1]}
+        lines.append(
+            f"{label}: " + ", ".join(f"{k} {v}" for k, v in counts.items())
+            + f" (of {len(got)} claims decided)"
+        )  # fmt: skip
+    return "\n".join(lines)
+
+
+#: The bodies of the short table's "A / H / S" column.
+AHS = ("authors_fbx", "hdm05", "paper_shaped")
+#: Columns of ``figures/claims.md``, the short table (``claims.csv`` keeps every column).
+SHORT_COLUMNS = ("id", "claim", "paper", "ours", "verdict", "movements fixed", "A / H / S",
+                 "other eq. 2", "parts")  # fmt: skip
+
+
+def short_rows(rows, parts=None) -> list[dict]:
+    """The short claims table: each claim in at most 12 words, the paper's value, ours, the
+    verdict (movements resampled), with the movements fixed, per dataset and selection (A:
+    the authors' FBX takes, H: HDM05, S: the paper-shaped selection), under the other
+    reading of eq. 2 and each part's verdict.
+
+    Returns
+    -------
+    rows : list of dict
+        Keys :data:`SHORT_COLUMNS`.
+
+    Notebook: 12_claims.ipynb
+    """
+    by_claim = {}
+    for p in parts or []:
+        by_claim.setdefault(p["claim"], []).append(f"{p['part'][len(p['claim']) :]} {p['verdict']}")
+    out = []
+    for r in rows:
+        ahs = " / ".join(r.get(f"holds_{k}", R.NA) for k in AHS)
+        out.append({
+            "id": r["id"], "claim": r.get("short") or SHORT.get(r["id"], r["claim"]),
+            "paper": r["paper"], "ours": r["ours"], "verdict": r["holds"],
+            "movements fixed": r.get("holds_same_movements", R.NA),
+            "A / H / S": ahs if ahs != " / ".join([R.NA] * 3) else R.NA,
+            "other eq. 2": r.get("holds_eq2_other", R.NA),
+            "parts": "; ".join(by_claim.get(r["id"], [])) or "-",
+        })  # fmt: skip
+    return out
+
+
+def bootstrap_note() -> str:
+    """Which question each resampling answers, and the seeds (under every claims table)."""
+
+    return (
+        f"Intervals: {bs.N_RESAMPLES} resamples of a two-stage cluster bootstrap (seed "
+        f"{bs.SEED}; second seed {bs.SEED + SEED2_OFFSET}). The verdict resamples movements "
+        "within each dataset, then motions within each movement: it answers 'would this hold "
+        "for other movements like these, recorded again?'. 'Movements fixed' resamples the "
+        "motions only: 'would it hold for other takes of these movements?'. Monte Carlo "
+        f"errors of the interval ends: batch means over {bs.MC_BATCHES} batches."
+    )
+
+
+def save_claims(rows, mode="full", parts=None, meta=None, checks=None, power=None):
+    """Write ``claims.csv|md``, ``claims_intervals.csv|md`` (parts), ``claims_checks.csv|md``
+    (every check of every part on every body, at full precision), ``claims_power.csv|md``
+    and ``results/<mode>/claims.json``.
+
+    ``claims.md`` is the short table (:func:`short_rows`); ``claims.csv`` has every column
+    (:data:`COLUMNS`). ``python -m fpdtw.paper.claims verify figures/`` recomputes every
+    part and claim verdict from the CSV files alone.
+
+    Parameters
+    ----------
+    rows : list of dict
+        :func:`build_claims` rows.
+    mode : {"full", "smoke"}
+    parts : list of dict, optional
+        The parts table (:func:`build_claims` with ``with_parts=True``).
+    meta : dict, optional
+        Stored in the JSON beside the rows (e.g. the bootstrap's design).
+    checks : list of dict, optional
+        The checks table (:func:`build_claims` with ``with_checks=True``).
+    power : list of dict, optional
+        :func:`power_rows`.
+
+    Returns
+    -------
+    paths : list of Path
+
+    Notebook: 12_claims.ipynb
+    """
+
+    boot = bootstrap_note()
+    note = (
+        f"{R.RULE}\n\n{boot}\n\nComputed with {versions_line()}. The commit and the "
+        "machine that made these figures: ENVIRONMENT.md. Every column: claims.csv; every "
+        "check: claims_checks.csv; `python -m fpdtw.paper.claims verify figures/` recomputes "
+        "every verdict from these files."
+    )
+    out = list(save_table(rows, "claims", columns=COLUMNS, note=note))
+    md = to_markdown(short_rows(rows, parts), SHORT_COLUMNS) + f"\n{note}\n"
+    out[1] = write_atomic(figures_dir() / "claims.md", md.encode())
+    if parts is not None:
+        out += save_table(parts, "claims_intervals", columns=PART_COLUMNS, note=boot,
+                          csvfmt=".17g")  # fmt: skip
+    if checks is not None:
+        out += save_table(checks, "claims_checks", columns=CHECK_COLUMNS, csvfmt=".17g",
+                          floatfmt=".4g", note=f"{R.RULE}\n\n{boot}")  # fmt: skip
+    if power is not None:
+        out += save_table(power, "claims_power", columns=POWER_COLUMNS, note=(
+            "How many movements like ours the pooled interval of each inconclusive check of "
+            "claims 1 and 3 would need to decide it, if its estimate stayed where it is and "
+            "the interval narrowed as 1/sqrt(movements) (fpdtw.paper.claims.report.power_rows)."
+        ))  # fmt: skip
+    doc = {
+        "mode": mode,
+        "claims": rows,
+        "parts": parts or [],
+        "bootstrap": {
+            "resamples": bs.N_RESAMPLES,
+            "seed": bs.SEED,
+            "seed2": bs.SEED + SEED2_OFFSET,
+            "level": bs.LEVEL,
+            "schemes": bs.SCHEMES,
+        },
+        **(meta or {}),
+    }
+    text = json.dumps(doc, indent=1, default=float) + "\n"
+    out.append(write_atomic(results_dir() / mode / "claims.json", text.encode()))
+    return out
+
+
+__all__ = [
+    "POWER_COLUMNS",
+    "SHORT_COLUMNS",
+    "bootstrap_note",
+    "claims_summary",
+    "format_claims",
+    "format_parts",
+    "movement_count",
+    "power_rows",
+    "save_claims",
+    "short_rows",
+]
