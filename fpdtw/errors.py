@@ -80,3 +80,13 @@ class LimitError(FpdtwError, ValueError):
         self.reason = message
         head = f"{', '.join(self.paths)}: " if self.paths else ""
         super().__init__(f"{head}{message}")
+
+
+class ClusterError(FpdtwError, RuntimeError):
+    """A run on a Dask cluster cannot go on.
+
+    The scheduler address is malformed or cannot be reached, a worker runs other code
+    than this process, the cluster lost the workers of a task too often or cancelled
+    it, or a file a worker wrote is not visible here. The message names the address (or
+    the worker, task or file) and what is wrong.
+    """

@@ -213,6 +213,7 @@ def test_a_baseline_in_one_entry_reaches_the_grid_figures_bench_and_claim_b1(mon
     from reference.synthetic import synthetic_pair
 
     from fpdtw.app.bench import bench_baselines
+    from fpdtw.paper.claims import claims_by_id, load_context
     from fpdtw.paper.figures import heatmaps, scores, timing
     from fpdtw.paper.runner import grid
     from fpdtw.paper.runner import run as E
@@ -245,6 +246,10 @@ def test_a_baseline_in_one_entry_reaches_the_grid_figures_bench_and_claim_b1(mon
     I, T, _ = synthetic_pair(80)
     rows = bench_baselines([(I, T)])  # synthetic: no joint positions, so no OPW
     assert [r["name"] for r in rows] == ["OLTW", "Greedy"]
+
+    (b1_claim,) = claims_by_id(["B1"])
+    b1 = b1_claim.assess(load_context(res, mode="toy"))
+    assert b1.ours.startswith("Greedy: similarity "), b1.ours
 
 
 def test_every_name_a_notebook_imports_from_fpdtw_exists():

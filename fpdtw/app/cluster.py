@@ -13,7 +13,7 @@ import uuid
 
 from distributed import Client, KilledWorker, as_completed
 
-from fpdtw.paper.runner.parallel import SCHEDULER_ENV, ClusterError, progress_bar
+from fpdtw.errors import ClusterError
 
 
 def connect(ex):
@@ -44,7 +44,7 @@ def connect(ex):
                 f"cannot reach the Dask scheduler at {ex.address} within "
                 f"{ex.connect_timeout:g} s ({e}); start one there with "
                 f"`dask scheduler` and workers with `dask worker {ex.address}`, or run "
-                f"without --scheduler and {SCHEDULER_ENV} to use this machine's cores"
+                "without --scheduler and FPDTW_SCHEDULER to use this machine's cores"
             ) from None
         ex._own = True
     if not ex._cluster:
@@ -86,7 +86,7 @@ def map_on_cluster(ex, fn, tasks, desc, progress, keys):
         client.submit(fn, *t, key=k, priority=n - i, retries=0)
         for i, (t, k) in enumerate(zip(tasks, keys))
     ]
-    bar = progress_bar(n, desc, progress)
+    bar = ex.progress_bar(n, desc, progress)
     done = 0
     try:
         for fut in as_completed(futures, loop=client.loop):

@@ -33,7 +33,9 @@ import re
 import sys
 from collections.abc import Callable, Iterator, Sequence
 
-from fpdtw.errors import FpdtwError
+from tqdm import tqdm
+
+from fpdtw.errors import ClusterError
 
 #: Environment variable naming the Dask scheduler (``tcp://host:port``) of a run.
 SCHEDULER_ENV = "FPDTW_SCHEDULER"
@@ -44,16 +46,6 @@ CONNECT_TIMEOUT = 20.0
 #: Protocols of a scheduler address.
 SCHEMES = ("tcp", "tls")
 _HOST = re.compile(r"^(\[[0-9A-Fa-f:.%a-zA-Z]+\]|[A-Za-z0-9]([A-Za-z0-9._-]*[A-Za-z0-9])?)$")
-
-
-class ClusterError(FpdtwError, RuntimeError):
-    """A run on a Dask cluster cannot go on.
-
-    The scheduler address is malformed or cannot be reached, a worker runs other code
-    than this process, the cluster lost the workers of a task too often or cancelled
-    it, or a file a worker wrote is not visible here. The message names the address (or
-    the worker, task or file) and what is wrong.
-    """
 
 
 def scheduler_address(text) -> str | None:
@@ -127,19 +119,6 @@ def scheduler_from_env() -> str | None:
         raise ClusterError(f"{SCHEDULER_ENV}: {e}") from None
 
 
-def progress_bar(total: int, desc: str, progress: bool):
-    from tqdm import tqdm
-
-    return tqdm(
-        total=total,
-        desc=desc,
-        disable=not progress,
-        file=sys.stderr,
-        mininterval=1.0,
-        smoothing=0.05,
-    )
-
-
 def _cluster():
     """The optional ``[cluster]`` part (:mod:`fpdtw.app.cluster`), imported only when a run
     is given a scheduler: the reproduction runs without dask installed."""
@@ -201,6 +180,18 @@ class Executor:
             raise TypeError(
                 f"scheduler must be an address string or a distributed.Client, got {scheduler!r}"
             )
+
+    @staticmethod
+    def progress_bar(total: int, desc: str, progress: bool):
+        """The progress bar of a map (stderr; a no-op bar when ``progress`` is False)."""
+        return tqdm(
+            total=total,
+            desc=desc,
+            disable=not progress,
+            file=sys.stderr,
+            mininterval=1.0,
+            smoothing=0.05,
+        )
 
     @property
     def kind(self) -> str:
@@ -301,7 +292,7 @@ class Executor:
         gen = Parallel(n_jobs=self.n_jobs, return_as="generator_unordered", batch_size=1)(
             delayed(fn)(*t) for t in tasks
         )
-        bar = progress_bar(len(tasks), desc, progress)
+        bar = self.progress_bar(len(tasks), desc, progress)
         try:
             for r in gen:
                 bar.update(1)
