@@ -412,7 +412,7 @@ class Evidence:
 
     def band_cells(self, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Per pair, the cells of eq. 1 a band variant's windows compute, from its maps
-        (:func:`fpdtw.plain.band_cells`): its window steps, the cells of those steps without
+        (:func:`fpdtw.online.band.band_cells`): its window steps, the cells of those steps without
         the band and with it, and the sum over the steps of the share of the window's cells
         the band removes (``1 - with / without``).
 
@@ -427,7 +427,7 @@ class Evidence:
 
         Paper: FP-DTW Section 7 (conclusion: a global constraint).
         """
-        from fpdtw.plain import band_cells
+        from fpdtw.online.band import band_cells
         from fpdtw.registry import resolve
 
         key = ("band_cells", name)
