@@ -520,3 +520,28 @@ def test_every_plain_version_line_names_a_plain_function():
     assert set(PAPER_MODULES) <= compiled, sorted(set(PAPER_MODULES) - compiled)
     missing = sorted(set(PAPER_MODULES) - set(named))
     assert not missing, f"compiled, with no 'Plain version: fpdtw.plain.xxx' line: {missing}"
+
+
+def test_twins_take_the_same_arguments():
+    """joint_trajectories (axis "y" or vectors), deviation (frames=) and geo_distance
+    (weights) are called alike in both versions and agree."""
+    from fpdtw.metrics import joint_trajectories
+
+    I, T, _ = synthetic_pair(40, seed=2)
+    bones = np.random.default_rng(3).normal(size=(I.quats.shape[1], 3))
+    for axis in ("y", bones, np.array([0.0, 0.0, 2.0])):
+        np.testing.assert_allclose(plain.joint_trajectories(I.quats, axis),
+                                   joint_trajectories(I.quats, axis), atol=1e-12)  # fmt: skip
+    P_a, P_b = utw_map(I.n_frames - 1, T.n_frames - 1), run_online(MethodC(I, 10), T)[0]
+    for frames in ("printed", "all"):
+        assert plain.deviation(P_a, P_b, frames) == deviation(P_a, P_b, frames)
+    # by hand: |0-0| + |1-3| + |2-2| = 2 over q = 1..2 -> 1.0; over q = 0..2 -> 2/3
+    assert plain.deviation([0, 1, 2], [0, 3, 2]) == 1.0
+    assert plain.deviation([0, 1, 2], [0, 3, 2], frames="all") == pytest.approx(2 / 3)
+    w = np.linspace(0.5, 1.5, I.quats.shape[1])
+    assert geo_distance(I.quats[3], T.quats[7], w) == pytest.approx(
+        plain.geo_distance(I.quats[3], T.quats[7], w), abs=1e-12
+    )
+    assert geo_distance(I.quats[3], T.quats[7], np.ones(len(w))) == pytest.approx(
+        geo_distance(I.quats[3], T.quats[7]), abs=1e-15
+    )
