@@ -195,25 +195,33 @@ def _geo_block(A, B, out):
     return out
 
 
-def geo_distance(qa, qb) -> float:
+def geo_distance(qa, qb, weights=None) -> float:
     """Geodesic distance between two frames.
 
     Parameters
     ----------
     qa, qb : ndarray of float, shape (k, 4)
         Unit quaternions of the k joints of each frame.
+    weights : ndarray of float, shape (k,), optional
+        Per-joint weights (beyond the papers, notebook 16's Q2: ``sum_j w_j (2/pi) arccos
+        |qa_j . qb_j|``, see :func:`fpdtw.weights.joint_weights`); None: eq. 1 as written.
 
     Returns
     -------
     d : float
-        In ``[0, k]``: 0 for identical poses, 1 per joint rotated by pi.
+        In ``[0, k]`` unweighted: 0 for identical poses, 1 per joint rotated by pi.
 
     Plain version: fpdtw.plain.geo_distance.
     Paper: FP-DTW eq. 1.
     """
     qa = np.ascontiguousarray(qa, dtype=np.float64)
     qb = np.ascontiguousarray(qb, dtype=np.float64)
-    return float(_geo_frame(qa, qb))
+    if weights is None:
+        return float(_geo_frame(qa, qb))
+    wts = np.ascontiguousarray(weights, dtype=np.float64)
+    if wts.shape != (qa.shape[0],):
+        raise ValueError(f"expected {qa.shape[0]} weights, got shape {wts.shape}")
+    return float(_geo_frame_w(qa, qb, wts))
 
 
 def geodesic_cost_matrix(QA, QB) -> np.ndarray:
@@ -240,23 +248,6 @@ def geodesic_cost_matrix(QA, QB) -> np.ndarray:
         )
     out = np.empty((QA.shape[0], QB.shape[0]))
     return _geo_block(QA, QB, out)
-
-
-def geodesic_cost_matrix_numpy(QA, QB) -> np.ndarray:
-    """Plain numpy reference of :func:`geodesic_cost_matrix` (for tests).
-
-    The dot product is summed in the same order (w, x, y, z) as the numba
-    kernels: ``arccos`` near 1 turns a last-bit difference in the dot product
-    into ~1e-8 in the cost, so a different summation order (e.g. ``einsum``)
-    would not agree to 1e-9 on identical frames.
-    """
-    QA = np.asarray(QA, dtype=float)[:, None]
-    QB = np.asarray(QB, dtype=float)[None, :]
-    dots = QA[..., 0] * QB[..., 0]
-    for c in (1, 2, 3):
-        dots = dots + QA[..., c] * QB[..., c]
-    dots = np.abs(dots)
-    return (2.0 / np.pi) * np.arccos(np.clip(dots, 0.0, 1.0)).sum(axis=2)
 
 
 @numba.njit(cache=True)

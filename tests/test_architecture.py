@@ -10,8 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fpdtw import registry
-from fpdtw.costs import geodesic_cost_matrix_numpy
+from fpdtw import plain, registry
 from fpdtw.online.base import OnlineAligner
 from fpdtw.paper import figure_map
 from fpdtw.paper.paths import REPO_ROOT
@@ -123,8 +122,6 @@ def test_the_plain_algorithms_live_in_the_package():
     """fpdtw.plain holds the plain versions of the algorithms, the ones the tests compare
     the fast kernels with; tests/reference holds test data only (synthetic motions, edited
     files), no second implementation; the library holds no test data."""
-    from fpdtw import plain
-
     names = set(plain.__all__)
     for f in sorted((REPO_ROOT / "tests" / "reference").glob("*.py")):
         tree = ast.parse(f.read_text())
@@ -171,7 +168,7 @@ class Greedy(OnlineAligner):
     def _step(self, q):
         start = 0 if q == 0 else int(self.M[q - 1])
         rows = self.I.quats[start : start + self.k + 1]
-        return start + int(np.argmin(geodesic_cost_matrix_numpy(rows, self.T_quats[q : q + 1])))
+        return start + int(np.argmin(plain.cost_matrix(rows, self.T_quats[q : q + 1])))
 
 
 def test_adding_an_aligner_is_one_class_and_one_entry(monkeypatch):

@@ -350,3 +350,17 @@ def test_run_pair_is_the_experiment_hook():
     M, seconds = pickle.loads(pickle.dumps(run_pair))(I, T, {"id": 0})
     np.testing.assert_array_equal(M, run_online(OLTW(I), T)[0])
     assert seconds.shape == M.shape == (T.n_frames,)
+
+
+@pytest.mark.parametrize("normalize", [True, False])
+def test_ties_go_to_the_first_cell_in_scan_order_as_the_transcription(normalize):
+    """Equal path costs: a pose held in both motions makes many cells of the newest column
+    and row cost the same; of equal costs the first cell in scan order (the column from its
+    lowest input frame, then the row) wins. A rule that took the last minimum instead gives
+    other decisions here."""
+    I = units([0, 0, 0, 0, 0, 1, 1, 1, 2, 2, 2, 2])
+    T = units([0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 2, 2])
+    M, a = run(I, T, c=4, warmup=False, normalize=normalize)
+    M_ref, log_ref = reference_oltw(geodesic_cost_matrix(I.quats, T.quats), 4, 3, False, normalize)
+    np.testing.assert_array_equal(M, M_ref)
+    assert decisions(a) == log_ref

@@ -260,12 +260,11 @@ def test_the_band_changes_nothing_where_the_map_stays_inside_it():
 
 
 def test_band_rows_masks_a_known_candidate_and_the_band_refuses_type_v():
-    from fpdtw import plain
+    from fpdtw.online.band import band_rows
 
-    np.testing.assert_array_equal(
-        plain.band_rows(100, 5, 221, 120), [False, True, True, True, True]
-    )
-    np.testing.assert_array_equal(plain.band_rows(0, 3, 0, 1), [True, True, False])
+    # |100 + r - 221| <= 120: r = 0 is 121 away (out), r = 1..4 are 120..117 (in)
+    np.testing.assert_array_equal(band_rows(100, 5, 221, 120), [False, True, True, True, True])
+    np.testing.assert_array_equal(band_rows(0, 3, 0, 1), [True, True, False])
     with pytest.raises(AlignmentError, match="Type V"):
         registry.make_online("Mc w40 (band 1 s) + Type V", random_walk_features(50))
     with pytest.raises(AlignmentError, match="Type V"):
@@ -839,3 +838,88 @@ def test_band_cost_pairs_each_band_variant_with_its_base():
     assert rows[0]["base_us"] == pytest.approx(40.0) and rows[0]["band_us"] == pytest.approx(30.0)
     assert rows[0]["ratio"] == pytest.approx(0.75) and rows[1]["ratio"] == pytest.approx(0.5)
     assert band_cost({"online": []}) == []
+
+
+# -- the global band's compiled steps, against the rule written out by hand ----------------
+
+
+def band_snapshots(method, w, band, I, T):
+    from fpdtw.online import MethodB
+
+    cls = {"B": MethodB, "C": MethodC}[method]
+    a = cls(I, w, band=band, record=True)
+    a.reset()
+    snaps = []
+    for frame in T.frames():
+        a.step(frame)
+        snaps.append(a.window_snapshot())
+    return snaps
+
+
+@pytest.mark.parametrize("band", ["1s", "half-w"])
+@pytest.mark.parametrize("method,w", [("B", 10), ("B", 40), ("C", 10), ("C", 40), ("C", 80)])
+def test_the_compiled_band_keeps_the_rows_of_the_rule(method, w, band):
+    """Every window step: the band binds (the map reaches the band's edge), the choice lies
+    inside it, "1s" masks exactly the rows |M_n + r - q| > B of the choosing column and
+    "half-w" computes exactly the rows inside (first = max(0, q - B - M_n))."""
+    I, T = behind_pair()
+    snaps = band_snapshots(method, w, band, I, T)
+    B = w // 2 if band == "half-w" else 120  # the inputs are 120 fps
+    M = np.array([f.M for f in snaps])
+    inside = M < I.n_frames - 1
+    assert np.abs(M - np.arange(T.n_frames))[inside].max() == B  # the band binds
+    col = 1 if method == "B" else 0
+    reach = w if method == "B" else w - 1
+    for f in snaps[1:]:
+        if f.kind != "window":
+            continue
+        assert abs(f.M - f.q) <= B
+        w_i = min(reach, I.n_frames - 1 - f.start)
+        rows = np.arange(f.first, f.w_i + 1)
+        out = np.abs(f.start + rows - f.q) > B
+        if band == "1s":
+            assert (f.first, f.w_i) == (0, w_i)
+            np.testing.assert_array_equal(np.isinf(f.C[:, col]), out)
+        else:
+            first = max(0, f.q - B - f.start)
+            assert (f.first, f.w_i) == (first, min(w_i, f.q + B - f.start))
+            assert not out.any()
+
+
+def test_band_cells_are_the_rows_the_kernels_compute():
+    """band_cells counts, from a band aligner's map alone, the cells its recorded windows
+    hold, and those of the same steps without the band."""
+    from fpdtw.online.band import band_cells
+
+    I, T = behind_pair()
+    for method, w in (("B", 40), ("C", 40), ("C", 80)):
+        snaps = band_snapshots(method, w, "half-w", I, T)
+        win = [f for f in snaps if f.kind == "window"]
+        M = np.array([f.M for f in snaps])
+        q, full, banded = band_cells(M, I.n_frames - 1, w, method)
+        np.testing.assert_array_equal(q, [f.q for f in win])
+        np.testing.assert_array_equal(banded, [f.C.size for f in win])
+        rows = [min(w if method == "B" else w - 1, I.n_frames - 1 - f.start) + 1 for f in win]
+        np.testing.assert_array_equal(full, np.array(rows) * win[0].C.shape[1])
+        assert (banded < full).any() and (banded <= full).all()
+        assert any(f.first == 1 for f in win)  # the map on the band's lower edge: row 0 out
+        _, full1, banded1 = band_cells(M, I.n_frames - 1, w, method, band="1s")
+        np.testing.assert_array_equal(banded1, full1)  # the 1 s band masks: computes all
+
+
+def test_a_clipping_band_with_no_row_inside_raises_as_the_masking_band():
+    """No row of the window inside the band (only possible from M_0 > B + 1: start="best"):
+    the whole window is computed and masked and the step raises."""
+    from fpdtw.online.band import band_half_width, band_window
+
+    I = random_walk_features(200, seed=9)
+    T = I.slice(30, 200)  # T_0 is I_30: M_0 = 30 with start="best", far above q = 3 + 20
+    a = MethodC(I, 40, start="best", band="half-w")
+    with pytest.raises(ValueError, match="no input frame of the window lies inside the band"):
+        run_online(a, T)
+    # by hand: rows from max(0, q - B - M_n) to min(w_i, q + B - M_n)
+    assert band_window(32, 39, 3, 20) is None  # 0 .. -9
+    assert band_window(0, 39, 3, 20) == (0, 23)
+    assert band_window(10, 40, 55, 20) == (25, 40)
+    assert band_half_width("half-w", 41, 120.0) == 20
+    assert band_half_width("1s", 40, 60.0) == 60

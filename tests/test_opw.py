@@ -295,3 +295,44 @@ def test_evaluate_and_runner_hooks(handshake):
     (row,) = bench_online([(I, T)], names=["OPW"])  # the registry builds OPW for the bench
     assert row["name"] == "OPW" and row["frames"] == T.n_frames
     assert row["p95_s"] >= row["median_s"] > 0
+
+
+def test_eq4_and_listing_read_the_recording_at_other_frames_where_the_slope_is_not_1():
+    """eq. 4 reads A at f(t) + i omega; Algorithm 1's lines 2-3 at f(t + i omega)."""
+    from fpdtw import plain
+
+    A = linear(1.0).positions  # A(t) = t, 4 s
+    # slope 2: f(t) = 2 t. t = 0.5, omega = 0.25: eq. 4 at 1.0 + (0, 0.25, 0.5) = 1.0,
+    # 1.25, 1.5; the listing at f(0.5), f(0.75), f(1.0) = 1.0, 1.5, 2.0
+    steep = WarpCurve([0.0, 2.0], [0.0, 4.0])
+    assert steep(0.75) == pytest.approx(1.5)
+    assert plain.opw_times(steep, 0.5, 0.25, "eq4") == pytest.approx([1.0, 1.25, 1.5])
+    assert plain.opw_times(steep, 0.5, 0.25, "listing") == pytest.approx([1.0, 1.5, 2.0])
+    # B = A: b_hat = B(0.5) + (B(0.5) - B(0.25)) = 0.75, so p_i = |0.75 - A(time_i)|
+    _, p4 = plain.opw_step(WarpCurve([0.0, 2.0], [0.0, 4.0]), 0.5, A, A, OMEGA, 0.25, FPS, FPS)
+    _, pl = plain.opw_step(
+        WarpCurve([0.0, 2.0], [0.0, 4.0]), 0.5, A, A, OMEGA, 0.25, FPS, FPS, read_at="listing"
+    )
+    assert p4 == pytest.approx([0.25, 0.5, 0.75]) and pl == pytest.approx([0.25, 0.75, 1.25])
+    # slope 1 (the identity): both read 0.5, 0.75, 1.0
+    same = WarpCurve.identity(4.0)
+    assert plain.opw_times(same, 0.5, 0.25, "eq4") == pytest.approx([0.5, 0.75, 1.0])
+    assert plain.opw_times(same, 0.5, 0.25, "listing") == pytest.approx([0.5, 0.75, 1.0])
+    with pytest.raises(ValueError, match="read_at"):
+        plain.opw_times(same, 0.5, 0.25, "poster")
+
+
+def test_the_aligner_takes_the_read_at_switch_and_defaults_to_eq4():
+    from fpdtw import plain
+    from fpdtw.online.opw import opw_step
+
+    A = linear(1.0).positions
+    for read_at in ("eq4", "listing"):
+        f, g = WarpCurve([0.0, 2.0], [0.0, 4.0]), WarpCurve([0.0, 2.0], [0.0, 4.0])
+        assert opw_step(f, 0.5, A, A, OMEGA, 0.25, FPS, FPS, read_at=read_at) == (
+            plain.opw_step(g, 0.5, A, A, OMEGA, 0.25, FPS, FPS, read_at=read_at)
+        )
+        np.testing.assert_array_equal(f.keys, g.keys)
+    assert OPW(linear(1.0)).read_at == "eq4"
+    with pytest.raises(ValueError, match="read_at"):
+        OPW(linear(1.0), read_at="poster")

@@ -15,7 +15,7 @@ from test_opw import FPS, OMEGA, linear
 
 from fpdtw import plain
 from fpdtw.online.base import run_online
-from fpdtw.online.opw import OPW
+from fpdtw.online.opw import OPW, opw_step
 from fpdtw.paper import catalog
 from fpdtw.paper import opw_eval as oe
 from fpdtw.warpcurve import WarpCurve
@@ -40,7 +40,7 @@ def test_ratio_reference_reads_the_recording_at_t_times_the_global_ratio():
     assert f.n_keys == 3
     # the plugin: r = D_A / x_last = 4 / 2 = 2, A at (0.5 + (0, 1, 2) 0.25) * 2 = 1, 1.5, 2
     # -> costs 0.25, 0.75, 1.25 -> s = 0 (the current sample closest): slow A down
-    s, p = plain.opw_step(f, 0.5, A, A, OMEGA, 0.25, FPS, FPS, reference="ratio")
+    s, p = opw_step(f, 0.5, A, A, OMEGA, 0.25, FPS, FPS, reference="ratio")
     assert s == 0 and p == [0.25, 0.75, 1.25]
     # a key pinned at (0.5, f(0.5)), the last key moved later by 0.25 of the time left:
     # 2 + (2 - 0.5) * 0.25 = 2.375; its value (D_A) never moves
@@ -50,13 +50,13 @@ def test_ratio_reference_reads_the_recording_at_t_times_the_global_ratio():
 def test_readme_direction_is_the_opposite_sign():
     A = linear(1.0).positions
     f = _bent_curve()
-    s, _ = plain.opw_step(f, 0.5, A, A, OMEGA, 0.25, FPS, FPS, "ratio", "readme")
+    s, _ = opw_step(f, 0.5, A, A, OMEGA, 0.25, FPS, FPS, "ratio", "readme")
     assert s == 0  # the same decision ...
     assert f.x[-1] == 2 - 1.5 * 0.25  # ... but the recording speeds up: 1.625
     with pytest.raises(ValueError, match="direction"):
-        plain.opw_step(_bent_curve(), 0.5, A, A, OMEGA, 0.25, FPS, FPS, direction="up")
+        opw_step(_bent_curve(), 0.5, A, A, OMEGA, 0.25, FPS, FPS, direction="up")
     with pytest.raises(ValueError, match="reference"):
-        plain.opw_step(_bent_curve(), 0.5, A, A, OMEGA, 0.25, FPS, FPS, reference="warp")
+        opw_step(_bent_curve(), 0.5, A, A, OMEGA, 0.25, FPS, FPS, reference="warp")
 
 
 def test_ratio_reference_agrees_with_the_curve_until_the_last_key_moves():
@@ -123,7 +123,7 @@ def test_plugin_aligner_is_a_loop_of_the_plain_step():
         if t > prev + 0.04 + 1e-9:  # the plugin's clock
             prev = t
             if t < f.x[-1]:
-                got.append(plain.opw_step(f, t, PA, PB[: q + 1], 0.04, 0.1, 30.0, 30.0, "ratio"))
+                got.append(opw_step(f, t, PA, PB[: q + 1], 0.04, 0.1, 30.0, 30.0, "ratio"))
     assert [s for s, _ in got] == [d.s for d in opw.decisions] and {0, 2} <= {s for s, _ in got}
     np.testing.assert_array_equal(f.keys, opw.curve.keys)
     assert np.diff([d.t for d in opw.decisions]) == pytest.approx(2 / 30.0)  # every 2nd frame

@@ -171,3 +171,28 @@ def test_every_constrained_map_is_legal(seed):
             free, _ = run_online(type(a)(I, a.w), T)
             n_bitten += not is_legal_typev(free, a.m)
     assert n_bitten >= 12  # the unconstrained maps do break Type V: the mask is exercised
+
+
+def test_the_type_v_mask_changes_costs_not_only_the_choice():
+    """Method C's rule (fpdtw.plain.method_c_step): C[r, 0] = +inf for the rows the state
+    does not allow, before the reverse accumulation. A choice-only reading (accumulate the
+    costs as they are, then take the best allowed row) picks another row here.
+
+    State "N" allows rows 1..3. Unmasked, row 3 reaches the corner down column 0:
+    (3,0) -> (4,0) -> (5,1) costs 5 + 0 + 0 = 5; row 2: 1 + 5 = 6; row 1: 0 + 6 = 6 ->
+    row 3. Masked, (4,0) is closed: row 3 goes (3,0) -> (3,1) or (4,1), then down column
+    1 through C[4,1] = 20: 25; row 2: 1 + 20 = 21; row 1: (1,0) -> (2,1) -> (3,1) ->
+    (4,1) -> (5,1) = 0 + 0 + 0 + 20 + 0 = 20 -> row 1."""
+    from fpdtw import plain
+
+    C = np.array([[9, 9], [0, 9], [1, 0], [5, 0], [0, 20], [0, 0]], dtype=float)
+    ok = plain.allowed_rows(plain.type_v_allowed("N"), len(C))
+    np.testing.assert_array_equal(ok, [False, True, True, True, False, False])
+    free = plain.reverse_accumulate(C)[:, 0]
+    np.testing.assert_array_equal(free[1:4], [6, 6, 5])
+    masked_C = C.copy()
+    masked_C[~ok, 0] = np.inf
+    masked = plain.reverse_accumulate(masked_C)[:, 0]
+    np.testing.assert_array_equal(masked[1:4], [20, 21, 25])
+    assert np.argmin(np.where(ok, free, np.inf)) == 3  # choice only
+    assert np.argmin(np.where(ok, masked, np.inf)) == 1  # as implemented

@@ -128,7 +128,6 @@ def _new_band_line(Iq, Isoa, R, D, dl, acc, c, i, q, column, wts):
     ``_geo_frame(Iq[i'], T[q'])``. ``wts``: eq. 1's per-joint weights, or EMPTY for eq. 1
     as written (exactly the unweighted arithmetic).
 
-    Plain version: fpdtw.plain.oltw_evaluate_line.
     """
     lo = max(0, (i if column else q) - c + 1)
     hi = (i if column else q) + 1
@@ -176,7 +175,6 @@ def _best_cell(D, c, i, q, normalize):
 
     The column is scanned first, from its lowest cell; the first minimum wins.
 
-    Plain version: fpdtw.plain.oltw_get_inc (its rule 3).
     """
     best = np.inf
     bi = i
@@ -204,7 +202,6 @@ def _apply(Iq, Isoa, R, D, dl, acc, st, c, inc, wts):
     """Make the increment ``inc`` (a new target column, input row or both), then count
     the run.
 
-    Plain version: fpdtw.plain.oltw_apply.
     """
     if inc == 1 or inc == 3:  # TARGET or BOTH
         st[1] += 1
@@ -232,7 +229,6 @@ def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normaliz
     log : int64 (rows, 7) decisions of this step (see ``_LOG_COLS``).
     wts : float64 (k,) eq. 1's per-joint weights, or EMPTY (0,) for eq. 1 as written.
 
-    Plain version: fpdtw.plain.oltw_step.
     """
     m = Iq.shape[0] - 1
     D, R, dl, acc = _work_views(work, c, Iq.shape[1])
@@ -323,7 +319,6 @@ class OLTW(OnlineAligner):
     name : str
         ``"OLTW"`` (``"OLTW c60"`` etc. for another search width).
 
-    Plain version: fpdtw.plain.oltw (the same maps and decisions, tests/test_plain.py).
 
     Paper: FP-DTW reference 3 (Dixon, DAFx 2005).
     Notebook: 20_align_a_live_performance.ipynb

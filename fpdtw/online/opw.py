@@ -25,6 +25,11 @@ contradicts itself are marked (*):
    ``i = 0, 1, 2`` (``t' = f(t)``; poster eq. 4); A between its frames is the linear
    interpolation of its positions, clamped to ``[0, D_A]`` (*). The cost is eq. 5:
    ``p_i = sum over joints of |b_hat_j - A_j(t' + i omega)|`` (Euclidean).
+   This is the reading of eq. 4 (``read_at="eq4"``, the default). Algorithm 1's lines
+   2-3 take the sample times ``{t - omega, t, t + omega, t + 2 omega}`` and "unwarp" them
+   through ``f``, so line 8 reads A at ``f(t + i omega)`` (``read_at="listing"``). The two
+   agree where the curve's slope is 1 and differ elsewhere
+   (:func:`fpdtw.paper.opw_eval.read_at_table` measures both on the poster's protocol).
 5. ``s = argmin_i p_i`` (eq. 1 / 4). Ties keep the alignment: ``s = 1`` unless ``p_0``
    or ``p_2`` is STRICTLY the smallest cost (*). (Algorithm 1's listing compares
    ``p_1 > p_2 and p_1 > p_3`` with the roles seemingly inverted and adds ``gamma`` to
@@ -84,11 +89,71 @@ import numpy as np
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.online.base import OnlineAligner, check_input
-from fpdtw.plain import interpolate_positions, opw_step
+from fpdtw.plain import OPW_READ_AT, interpolate_positions, opw_times
 from fpdtw.warpcurve import WarpCurve
 
 #: Tolerance when comparing a step time with a frame time (seconds).
 _EPS = 1e-9
+
+
+def opw_step(
+    f, t, A, B, omega, gamma, fps_A, fps_B, reference="curve", direction="code", read_at="eq4"
+):
+    """One OPW step at live time ``t`` with the plugin's options; changes ``f`` in place.
+
+    Parameters
+    ----------
+    f : WarpCurve
+    t, omega, gamma, fps_A, fps_B : float
+    A : ndarray of float, shape (F_A, p, 3)
+        The recording's positions.
+    B : ndarray of float, shape (F_B, p, 3)
+        The live positions received so far.
+    reference : {"curve", "ratio"}
+        ``"curve"``: A read through the curve (:func:`fpdtw.plain.opw_times`, ``read_at``);
+        ``"ratio"`` (the plugin): at ``(t + i omega) r``, ``r = D_A / x_last`` (the
+        recording's duration, the last key's value, over the last key's live time).
+    direction : {"code", "readme"}
+        ``"code"``: ``s = 0`` slows ``A`` down (eq. 1's bullets, the plugin's code);
+        ``"readme"``: ``s = 0`` speeds it up (the plugin's readme).
+    read_at : {"eq4", "listing"}
+        With ``reference="curve"``: ``f(t) + i omega`` (eq. 4, default) or ``f(t + i
+        omega)`` (Algorithm 1, lines 2-3).
+
+    Returns
+    -------
+    s : int
+    p : list of float, length 3
+
+    Plain version: fpdtw.plain.opw_step (``reference="curve"``, ``direction="code"``).
+    Paper: OPW poster Algorithm 1, eqs. 1, 2, 4, 5.
+    """
+    sign = {"code": 1.0, "readme": -1.0}.get(direction)
+    if sign is None:
+        raise ValueError(f"direction must be 'code' or 'readme', got {direction!r}")
+    t_w = f.value(t)
+    x_t = interpolate_positions(B, fps_B, t)
+    x_hat = x_t + (x_t - interpolate_positions(B, fps_B, t - omega))
+    if reference == "curve":
+        times = opw_times(f, t, omega, read_at)
+    elif reference == "ratio":
+        r = f.y[-1] / f.x[-1]
+        times = [(t + i * omega) * r for i in range(3)]
+    else:
+        raise ValueError(f"reference must be 'curve' or 'ratio', got {reference!r}")
+    A_t = [interpolate_positions(A, fps_A, tau) for tau in times]
+    p = [float(np.sqrt(((x_hat - a) ** 2).sum(axis=1)).sum()) for a in A_t]
+    s = 1
+    if p[0] < p[1] and p[0] < p[2]:
+        s = 0
+    elif p[2] < p[1] and p[2] < p[0]:
+        s = 2
+    if s != 1:
+        x_k = f.x[-1]
+        f.add_key(t, t_w)
+        f.move_key(-1, x=x_k - (x_k - t) * gamma * (s - 1) * sign)
+    return s, p
+
 
 #: OPW's readings: name -> the options it sets (module doc).
 READINGS = {
@@ -142,13 +207,17 @@ class OPW(OnlineAligner):
         ``clock="frames"``.
     reference : {"curve", "ratio"}, optional
         Overrides the reading's: where the recording is read
-        (:func:`fpdtw.plain.opw_step`).
+        (:func:`opw_step`).
     clock : {"exact", "frames"}, optional
         Overrides the reading's: steps at ``t = k omega`` (``"exact"``) or at the first
         live frame strictly after the previous step plus ``omega`` (``"frames"``).
     direction : {"code", "readme"}
         ``"code"``: the current sample closest slows the recording down (eq. 1's
         bullets, the plugin's code); ``"readme"``: it speeds it up (the plugin's readme).
+    read_at : {"eq4", "listing"}
+        With ``reference="curve"``, where the recording is read
+        (:func:`fpdtw.plain.opw_times`): ``"eq4"`` (default), ``f(t) + i omega``, the
+        poster's eq. 4; ``"listing"``, ``f(t + i omega)``, Algorithm 1's lines 2-3.
 
     Attributes
     ----------
@@ -157,8 +226,8 @@ class OPW(OnlineAligner):
     decisions : list of OPWDecision
         One per OPW step performed.
 
-    Each step is :func:`fpdtw.plain.opw_step` itself (plain Python and NumPy: a step
-    every 40 ms needs no compiled kernel).
+    Each step is :func:`opw_step` (plain Python and NumPy: a step every 40 ms needs no
+    compiled kernel), which with the poster's options is :func:`fpdtw.plain.opw_step`.
 
     Plain version: fpdtw.plain.opw_step.
     Paper: OPW poster Section 3, eqs. 1, 2, 4, 5, Algorithm 1.
@@ -177,6 +246,7 @@ class OPW(OnlineAligner):
         reference: str | None = None,
         clock: str | None = None,
         direction: str = "code",
+        read_at: str = "eq4",
     ):
         check_input(I, who="OPW")
         if I.positions is None:
@@ -199,7 +269,9 @@ class OPW(OnlineAligner):
         self.reference = READINGS[reading]["reference"] if reference is None else reference
         self.clock = READINGS[reading]["clock"] if clock is None else clock
         self.direction = direction
+        self.read_at = read_at
         for name, value, allowed in (
+            ("read_at", self.read_at, OPW_READ_AT),
             ("reference", self.reference, ("curve", "ratio")),
             ("clock", self.clock, ("exact", "frames")),
             ("direction", self.direction, ("code", "readme")),
@@ -226,7 +298,7 @@ class OPW(OnlineAligner):
         tw = self.curve.value(t)
         s, costs = opw_step(
             self.curve, t, self._PA, self._Tp[: last + 1], self.omega, self.gamma, self.fps_A,
-            self.fps, self.reference, self.direction,
+            self.fps, self.reference, self.direction, self.read_at,
         )  # fmt: skip
         self.decisions.append(OPWDecision(t, tw, tuple(costs), s, self.curve._x[-1]))
 
@@ -267,4 +339,4 @@ class OPW(OnlineAligner):
         }
 
 
-__all__ = ["OPW", "OPWDecision", "READINGS", "interpolate_positions"]
+__all__ = ["OPW", "OPWDecision", "READINGS", "interpolate_positions", "opw_step"]

@@ -364,7 +364,7 @@ def _mask_band(C, nrows, col, q, start, band):
     """Global band (``band > 0``): ``C[r, col] = +inf`` for every row whose input frame
     ``start + r`` lies more than ``band`` frames from the diagonal ``q``.
 
-    Plain version: fpdtw.plain.band_rows.
+    Beyond the papers (notebook 16, Q3); tested in tests/test_open_questions.py.
     """
     if band <= 0:
         return
@@ -380,7 +380,7 @@ def _clip_band(start, nrows, q, band):
     to be masked and refused as by :func:`_mask_band` and :func:`_check_band`) when no row
     lies inside.
 
-    Plain version: fpdtw.plain.band_window.
+    Beyond the papers (notebook 16, Q3); tested in tests/test_open_questions.py.
     """
     lo = max(0, q - band - start)
     hi = min(nrows - 1, q + band - start)
@@ -394,7 +394,7 @@ def _check_band(off, q, start, band):
     """Never a masked candidate: raise when the chosen row lies outside the band (only when
     no row of the window was inside it).
 
-    Plain version: fpdtw.plain.band_rows.
+    Beyond the papers (notebook 16, Q3); tested in tests/test_open_questions.py.
     """
     if band > 0 and abs(start + off - q) > band:
         raise ValueError("global band: no input frame of the window lies inside the band")

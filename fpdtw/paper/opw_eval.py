@@ -69,7 +69,7 @@ class OPWReading:
     Attributes
     ----------
     name : str
-    reference, clock, direction : str
+    reference, clock, direction, read_at : str
         The options of :class:`fpdtw.online.opw.OPW`.
     root_relative : bool
         Positions relative to the root (the poster reading) or in world space (the
@@ -85,10 +85,14 @@ class OPWReading:
     direction: str = "code"
     root_relative: bool = True
     baseline: str = "DTW"
+    read_at: str = "eq4"
 
     def options(self) -> dict:
         """The keyword arguments of :class:`fpdtw.online.opw.OPW`."""
-        return dict(reference=self.reference, clock=self.clock, direction=self.direction)
+        return dict(
+            reference=self.reference, clock=self.clock, direction=self.direction,
+            read_at=self.read_at,
+        )  # fmt: skip
 
 
 #: The two readings of the protocol (module doc).
@@ -1005,6 +1009,55 @@ def fig5_fig6_facts(
 
 
 #: Columns of the readings table (:func:`readings_table`, ``figures/opw_readings``).
+#: The two readings of where OPW reads the recording (:func:`fpdtw.plain.opw_times`).
+READ_AT_READINGS = (
+    OPWReading("poster, eq. 4: f(t) + i omega"),
+    OPWReading("poster, listing: f(t + i omega)", read_at="listing"),
+)
+
+
+def read_at_table(motions=None, offset: float = OFFSET, gamma: float = GAMMA) -> list[dict]:
+    """Both readings of where OPW reads the recording, on the poster's protocol.
+
+    Each of Fig. 4's motions (cropped to 2.5 s) is warped by the example curve (middle
+    key offset by ``offset``) and aligned by OPW under each of :data:`READ_AT_READINGS`;
+    everything else is the poster reading.
+
+    Parameters
+    ----------
+    motions : sequence of OPWMotion, optional
+        Default :data:`FIG4_MOTIONS`.
+    offset, gamma : float
+
+    Returns
+    -------
+    rows : list of dict
+        One per motion and reading: ``read_at``, ``motion``, ``opw_mean_ms`` and
+        ``opw_max_ms`` (deviation from the example curve, :func:`deviation_ms`),
+        ``opw_removed`` (:func:`temporal_difference_removed`) and ``steps_changed`` (OPW's
+        steps with ``s != 1``).
+
+    Paper: OPW poster eq. 4 and Algorithm 1, lines 2-3; Section 4's protocol (Fig. 4).
+    """
+    rows = []
+    for mo in motions or FIG4_MOTIONS:
+        A = load_cropped(mo.dataset, mo.path)
+        g = example_curve(A.duration, offset)
+        B = warp_motion(A, g)
+        for rd in READ_AT_READINGS:
+            opw = run_opw(A, B, OMEGA, gamma, rd)
+            dev = deviation_ms(opw.curve, g)
+            rows.append({
+                "read_at": rd.read_at,
+                "motion": mo.label,
+                "opw_mean_ms": dev["mean"],
+                "opw_max_ms": dev["max"],
+                "opw_removed": temporal_difference_removed(opw.curve, g),
+                "steps_changed": int(sum(d.s != 1 for d in opw.decisions)),
+            })  # fmt: skip
+    return rows
+
+
 READINGS_COLUMNS = ("reading", "motion", "opw_mean_ms", "opw_max_ms", "opw_removed",
                     "best_gamma", "best_gamma_mean_ms", "best_gamma_removed", "baseline",
                     "baseline_mean_ms", "baseline_max_ms", "baseline_removed")  # fmt: skip
@@ -1083,6 +1136,8 @@ __all__ = [
     "fig5_fig6_facts",
     "CROP_S",
     "FIG4_MOTIONS",
+    "READ_AT_READINGS",
+    "read_at_table",
     "GAMMA",
     "HOYET_MS",
     "OFFSET",

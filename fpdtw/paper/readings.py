@@ -507,7 +507,82 @@ def selection_rows(full, study, names=HEADLINE_NAMES) -> list[dict]:
     return out
 
 
+def choice_only_type_v_c(I, T, w: int) -> np.ndarray:
+    """Method C + Type V read as a choice only: the window's costs unmasked, then the
+    lowest ``D[r, 0]`` among the rows the state allows (ties: the lowest row).
+
+    Type V as implemented (:func:`fpdtw.plain.method_c_step`) masks ``C[r, 0]`` of the
+    rows it does not allow before the reverse accumulation, which closes routes of the
+    allowed rows through masked cells; this reading leaves the costs alone.
+
+    Parameters
+    ----------
+    I, T : MotionFeatures
+    w : int
+
+    Returns
+    -------
+    M : ndarray of int64, shape (T.n_frames,)
+
+    Paper: FP-DTW Section 6 (Type V), Algorithm 3.
+    """
+    import dataclasses
+
+    from fpdtw import plain
+    from fpdtw.motion.rig import cost_input
+
+    I = dataclasses.replace(I, quats=cost_input(I.quats, I.rig, T.rig))
+    M, state = [0], plain.TYPE_V_START
+    for _ in range(T.n_frames - 1):
+        allowed = plain.type_v_allowed(state)
+        s = plain.method_c_step(I, T, M, w)  # no mask: the costs as they are
+        if s.kind == "window":
+            ok = plain.allowed_rows(allowed, len(s.score))
+            r = plain.checked_choice(ok, int(np.argmin(np.where(ok, s.score, np.inf))))
+            M.append(M[-1] + r)
+        else:
+            M.append(s.M)
+        state = plain.type_v_next(state, M[-1] - M[-2]) or state
+    return np.array(M, dtype=np.int64)
+
+
+def type_v_mask_changes(pairs, windows=WINDOWS) -> list[dict]:
+    """How many alignment maps Type V's mask changes, against the choice-only reading.
+
+    Parameters
+    ----------
+    pairs : iterable of (MotionFeatures, MotionFeatures)
+        (input, target) pairs.
+    windows : sequence of int
+
+    Returns
+    -------
+    rows : list of dict
+        Per window: ``w``, ``pairs``, ``maps_differ`` (pairs whose Method C + Type V map
+        as implemented differs from :func:`choice_only_type_v_c`'s) and ``frames_differ``
+        (target frames mapped differently, summed over the pairs).
+
+    Paper: FP-DTW Section 6 (Type V), Algorithm 3.
+    """
+    from fpdtw.registry import align, method_c_name
+
+    pairs = list(pairs)
+    rows = []
+    for w in windows:
+        n_maps = n_frames = 0
+        for I, T in pairs:
+            masked = align(method_c_name(w, typev=True), I, T)[0]
+            choice = choice_only_type_v_c(I, T, w)
+            n_maps += int(not np.array_equal(masked, choice))
+            n_frames += int(np.count_nonzero(masked != choice))
+        rows.append({"w": int(w), "pairs": len(pairs), "maps_differ": n_maps,
+                     "frames_differ": n_frames})  # fmt: skip
+    return rows
+
+
 __all__ = [
+    "choice_only_type_v_c",
+    "type_v_mask_changes",
     "HEADLINE_NAMES",
     "PAPER_SIGNATURE",
     "benchmarks",

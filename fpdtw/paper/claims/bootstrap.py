@@ -167,7 +167,7 @@ def resample_weights(
 def _add_pair_weights(W, rows, li, lt, C, live):  # pragma: no cover - compiled
     """``W[b, rows[p]] += C[b, li[p]] * C[b, lt[p]]`` for the resamples ``b`` with ``live[b]``.
 
-    Plain version: fpdtw.plain.pair_weights (one resample, one movement).
+    Tested by tests/test_claims_rules.py (``c_a c_b`` per pair, written out there).
     """
     for b in range(W.shape[0]):
         if live[b]:
@@ -210,7 +210,7 @@ def _weighted_medians(vs, W, order):  # pragma: no cover - compiled
     """Per row of ``W``: the median of the sorted values ``vs`` (pairs ``order``) repeated by
     their weights.
 
-    Plain version: fpdtw.plain.weighted_median (one row).
+    Tested by tests/test_claims_rules.py (the median of the repeated values).
     """
     B = W.shape[0]
     out = np.full(B, np.nan)

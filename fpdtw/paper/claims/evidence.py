@@ -26,11 +26,11 @@ import io
 
 import numpy as np
 
+from fpdtw.online.band import band_cells
 from fpdtw.paper import numbers as N
 from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.claims import bootstrap as bs
 from fpdtw.paper.claims.rules import AllOf, AnyOf, Check
-from fpdtw.plain import band_cells
 from fpdtw.registry import resolve
 
 METRICS = ("similarity", "deviation")
@@ -412,7 +412,7 @@ class Evidence:
 
     def band_cells(self, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Per pair, the cells of eq. 1 a band variant's windows compute, from its maps
-        (:func:`fpdtw.plain.band_cells`): its window steps, the cells of those steps without
+        (:func:`fpdtw.online.band.band_cells`): its window steps, the cells of those steps without
         the band and with it, and the sum over the steps of the share of the window's cells
         the band removes (``1 - with / without``).
 

@@ -1,0 +1,116 @@
+"""The global band of notebook 16 (Q3): the rule its compiled kernels apply, callable.
+
+Beyond the papers (their conclusion, Section 7, suggests a global constraint). The
+aligners of :mod:`fpdtw.online.window` apply the band inside their compiled steps
+(``_mask_band``, ``_clip_band``, ``_check_band``); the functions here call those kernels on
+one window so that a notebook or a count can ask which rows a window keeps, and
+:func:`band_cells` counts, from an aligner's map alone, the cells its windows computed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from fpdtw.online.window import _clip_band, _mask_band
+
+#: Half-width of ``band="1s"`` in seconds (multiplied by the input's frame rate).
+BAND_SECONDS = 1.0
+
+
+def band_half_width(band: str, w: int, fps: float) -> int:
+    """The half-width ``B`` in frames of a band option: ``"1s"``, ``round(fps)``;
+    ``"half-w"``, ``floor(w / 2)``; each at least 1. ``"none"``: 0.
+
+    Paper: FP-DTW Section 7 (conclusion: a global constraint).
+    """
+    if band == "none":
+        return 0
+    if band == "1s":
+        return max(1, int(round(BAND_SECONDS * fps)))
+    if band == "half-w":
+        return max(1, int(w) // 2)
+    raise ValueError(f"band must be 'none', '1s' or 'half-w', got {band!r}")
+
+
+def band_rows(start: int, rows: int, q: int, band: int) -> np.ndarray:
+    """Which rows (offsets from ``M_n = start``) of a window lie inside the band: row ``r``
+    when ``|start + r - q| <= band`` (the compiled ``_mask_band``).
+
+    Parameters
+    ----------
+    start, rows, q : int
+        ``M_n``, the window's rows, the target frame being mapped (``n + 1``).
+    band : int
+        Half-width in frames (> 0).
+
+    Returns
+    -------
+    inside : ndarray of bool, shape (rows,)
+
+    Paper: FP-DTW Section 7 (conclusion: a global constraint).
+    Notebook: 16_open_questions.ipynb
+    """
+    C = np.zeros((int(rows), 1))
+    _mask_band(C, int(rows), 0, int(q), int(start), int(band))
+    return np.isfinite(C[:, 0])
+
+
+def band_window(start: int, w_i: int, q: int, band: int):
+    """The rows of the window ``I_{start}..I_{start + w_i}`` inside the band, as the offsets
+    of the first and the last (the compiled ``_clip_band``); None when none is inside.
+
+    Returns
+    -------
+    rows : tuple of int (first, last), or None
+
+    Paper: FP-DTW Section 7 (conclusion: a global constraint).
+    Notebook: 16_open_questions.ipynb
+    """
+    first, n = _clip_band(int(start), int(w_i) + 1, int(q), int(band))
+    if abs(start + first - q) > band:  # no row inside: the kernel keeps the whole window
+        return None
+    return int(first), int(first + n - 1)
+
+
+def band_cells(M, m: int, w: int, method: str, band: str = "half-w"):
+    """Cells of eq. 1 a band aligner's window computes at each of its window steps, with its
+    band and without it, from its map alone.
+
+    A step at target frame ``q`` (``n = q - 1``) has a window when ``n >= 2`` and ``M_n <
+    m``: ``w_i + 1`` rows (Method B: ``w_i = min(w, m - M_n)``, ``w + 1`` columns; Method
+    C's square window: ``w_i = min(w - 1, m - M_n)``, ``w`` columns). With ``"half-w"``
+    only the rows of :func:`band_window` are computed; ``"1s"`` masks and computes all.
+
+    Parameters
+    ----------
+    M : ndarray of int, shape (n + 1,)
+    m, w : int
+    method : {"B", "C"}
+    band : {"half-w", "1s"}
+
+    Returns
+    -------
+    q, full, banded : ndarray of int64, shape (s,)
+        The window steps' target frames and their cells without and with the band.
+
+    Paper: FP-DTW Section 7 (conclusion: a global constraint).
+    """
+    M = np.asarray(M, dtype=np.int64)
+    B = band_half_width(band, w, 0.0) if band == "half-w" else 0  # "1s" clips nothing
+    reach, cols = (w, w + 1) if method == "B" else (w - 1, w)
+    qs, full, banded = [], [], []
+    for q in range(3, len(M)):  # n = q - 1 >= s = 2
+        start = int(M[q - 1])
+        if start >= m:
+            continue
+        w_i = min(reach, m - start)
+        rows = w_i + 1
+        if band == "half-w" and (r := band_window(start, w_i, q, B)) is not None:
+            rows = r[1] - r[0] + 1
+        qs.append(q)
+        full.append((w_i + 1) * cols)
+        banded.append(rows * cols)
+    return tuple(np.array(x, dtype=np.int64) for x in (qs, full, banded))
+
+
+__all__ = ["BAND_SECONDS", "band_cells", "band_half_width", "band_rows", "band_window"]
