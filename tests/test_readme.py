@@ -383,6 +383,26 @@ def test_the_layout_names_files_that_exist():
     assert named >= 30 and not missing, (named, missing)
 
 
+def test_the_layout_names_every_module_and_folder():
+    """The other way round: every module and folder of fpdtw/, fpdtw/paper/ and fpdtw/app/
+    is an entry of the tree of docs/layout.md (a new module cannot go unlisted)."""
+    text = (REPO_ROOT / "docs" / "layout.md").read_text()
+    tree = re.search(r"^```\n(fpdtw/.*?)^```", text, re.S | re.M).group(1)
+    entries = set()
+    for line in tree.splitlines():
+        m = re.match(r"( *)((?:[\w.]+/?, )*[\w.]+/?)(?:\s{2,}|$)", line)
+        if m and len(m.group(1)) < 20:
+            entries.update(n.rstrip("/") for n in m.group(2).split(", "))
+    unlisted = []
+    for folder in ("fpdtw", "fpdtw/paper", "fpdtw/app"):
+        for p in sorted((REPO_ROOT / folder).iterdir()):
+            if p.name.startswith(("_", ".")):
+                continue
+            if (p.suffix == ".py" or p.is_dir()) and p.name not in entries:
+                unlisted.append(f"{folder}/{p.name}")
+    assert not unlisted, unlisted
+
+
 def test_layer_sizes_count_code_not_docstrings_or_comments():
     L = _layer_sizes()
     source = '''"""Module docstring,
