@@ -39,6 +39,7 @@ import numpy as np
 from fpdtw import limits
 from fpdtw.costs import geodesic_cost_matrix
 from fpdtw.errors import AlignmentError
+from fpdtw.motion.rig import pair_rotations
 
 #: Weight of the diagonal step of each supported step pattern (side steps weigh 1).
 STEP_PATTERNS = {"symmetric1": 1.0, "symmetric2": 2.0}
@@ -356,7 +357,6 @@ def dtw_pair(I, T, step_pattern: str = "symmetric1") -> DTWResult:
             f"input and target have different joints: {I.quats.shape} vs {T.quats.shape}"
         )
     check_dtw_size(I.n_frames, T.n_frames, (I.name, T.name))
-    from fpdtw.motion.rig import pair_rotations
 
     return dtw(geodesic_cost_matrix(*pair_rotations(I, T)), step_pattern)
 

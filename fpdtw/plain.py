@@ -34,6 +34,9 @@ from typing import NamedTuple
 
 import numpy as np
 
+from fpdtw.errors import AlignmentError
+from fpdtw.motion.rig import cost_input
+
 # --- eq. 1: the geodesic distance of two poses -----------------------------------------
 
 
@@ -424,8 +427,6 @@ def checked_choice(ok, r: int) -> int:
         masked: e.g. a one-row window after two holds).
     """
     if not ok[r]:
-        from fpdtw.errors import AlignmentError
-
         raise AlignmentError(
             f"no row of the window is allowed by the Type V state (rows {len(ok)}, chosen {r})"
         )
@@ -633,7 +634,6 @@ def run(step, I, T, w: int, type_v: bool = False) -> np.ndarray:
     Paper: FP-DTW Sections 3 and 6.
     Notebook: 11_fig9_typev.ipynb
     """
-    from fpdtw.motion.rig import cost_input
 
     # motions of two rigs: eq. 1 between the input expressed in the target's rig and the
     # target (fpdtw.motion.rig); the same motion of one rig: the local rotations as they are

@@ -35,8 +35,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from fpdtw.derivative import DerivativeAligner, derivative_features
+from fpdtw.dtw import dtw_pair, utw_map
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import MotionFeatures
+from fpdtw.online import MethodC
+from fpdtw.online.base import run_online
 
 #: Suffix of the Type V constraint in names.
 TYPE_V_SUFFIX = " + Type V"
@@ -45,13 +49,11 @@ DERIVATIVE = "derivative"
 
 
 def _dtw(I: MotionFeatures, T: MotionFeatures):
-    from fpdtw.dtw import dtw_pair
 
     return dtw_pair(I, T).map
 
 
 def _utw(I: MotionFeatures, T: MotionFeatures):
-    from fpdtw.dtw import utw_map
 
     return utw_map(I.n_frames - 1, T.n_frames - 1)
 
@@ -250,15 +252,12 @@ class Algorithm:
             raise AlignmentError(f"{self.name!r} is offline: it has no streaming aligner")
         kw = dict(value=self.value, typev=self.typev, options=self.options)
         if self.derivative:
-            from fpdtw.derivative import DerivativeAligner, derivative_features
-
             inner = self.entry.build(derivative_features(I), cache=None, record=record, **kw)
             return DerivativeAligner(I, inner)
         return self.entry.build(I, cache=cache, record=record, **kw)
 
     def run(self, I: MotionFeatures, T: MotionFeatures):
         """``(M, seconds)``: the map of the pair and, online, the time of each step."""
-        from fpdtw.online.base import run_online
 
         if not self.online:
             return np.asarray(self.entry.build(I, T), dtype=np.int64), None
@@ -410,7 +409,6 @@ def align(name: str, I: MotionFeatures, T: MotionFeatures):
 
 
 def _readings() -> tuple:
-    from fpdtw.online import MethodC
 
     default, others = MethodC.options["window"]
     return (default, *others)

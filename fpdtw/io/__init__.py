@@ -9,6 +9,9 @@ from pathlib import Path
 
 from fpdtw.errors import MotionFormatError
 from fpdtw.io._text import check_input_file
+from fpdtw.io.asfamc import read_amc
+from fpdtw.io.bvh import read_bvh
+from fpdtw.io.fbx import read_fbx
 
 READERS = {".fbx": "fbx", ".amc": "asfamc", ".bvh": "bvh"}
 
@@ -43,15 +46,10 @@ def load_motion(path, **kwargs):
         )
     check_input_file(p)
     if kind == "fbx":
-        from fpdtw.io.fbx import read_fbx
-
         return read_fbx(p, **kwargs)
     if kind == "asfamc":
-        from fpdtw.io.asfamc import read_amc
-
         skeleton = kwargs.pop("skeleton", None)
         return read_amc(p, skeleton, **kwargs)
-    from fpdtw.io.bvh import read_bvh
 
     return read_bvh(p, **kwargs)
 

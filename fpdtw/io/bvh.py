@@ -43,6 +43,7 @@ from fpdtw.errors import MotionFormatError
 from fpdtw.io._text import read_lines
 from fpdtw.motion.joints import find_joint_map
 from fpdtw.motion.motion import Motion, Skeleton
+from fpdtw.motion.rig import rest_rotations
 from fpdtw.motion.rotations import quat_conj, quat_mul, quat_rotate, quat_to_euler, unwrap_degrees
 
 _CHANNELS = {
@@ -589,7 +590,6 @@ def bvh_pose(motion: Motion) -> tuple:
         Degrees, (x, y, z) columns, each joint in its rotation order, unwrapped over time.
     offsets : ndarray of float, shape (J, 3)
     """
-    from fpdtw.motion.rig import rest_rotations
 
     sk = motion.skeleton
     euler = motion.euler.copy()

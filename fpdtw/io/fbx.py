@@ -83,6 +83,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+import pufbx
 
 from fpdtw import limits
 from fpdtw.errors import MotionFormatError
@@ -133,10 +134,6 @@ def read_fbx(path, *, fps=None, name=None) -> Motion:
     p = Path(path)
     if check_input_file(p) == 0:
         raise MotionFormatError(p, "empty file")
-    try:
-        import pufbx
-    except ImportError as exc:  # pragma: no cover - environment problem, not file problem
-        raise ImportError("reading FBX files needs the pufbx package (pip install pufbx)") from exc
     try:
         scene = pufbx.load_fbx(str(p))
     except Exception as exc:  # pufbx.UFBXError and anything else from the C loader

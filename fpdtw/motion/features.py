@@ -21,9 +21,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
-from fpdtw.motion.rig import RigTransform, rig_transform
+from fpdtw.motion.rig import RigTransform, position_scale, rig_transform
 from fpdtw.motion.rig import body_size as _body_size
-from fpdtw.motion.rotations import unwrap_degrees
+from fpdtw.motion.rotations import quat_normalize, quat_to_euler, unwrap_degrees
 
 
 @dataclass(frozen=True)
@@ -155,7 +155,6 @@ class MotionFeatures:
         ``euler`` defaults to the quaternions converted with ``orders``
         (default ``"XYZ"`` for every joint); ``rig`` defaults to None (unknown).
         """
-        from fpdtw.motion.rotations import quat_normalize, quat_to_euler
 
         quats = np.ascontiguousarray(quat_normalize(np.asarray(quats, dtype=np.float64)))
         k = quats.shape[1]
@@ -236,7 +235,6 @@ def pair_features(
 
     Paper: FP-DTW eq. 1 (local rotations, made comparable across rigs); OPW poster eq. 5.
     """
-    from fpdtw.motion.rig import position_scale
 
     I, T = (
         MotionFeatures.from_motion(mo, joints, position_joints, rest_frame=rest, rig=rig)

@@ -24,6 +24,8 @@ import numpy as np
 from fpdtw import limits
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import Frame, MotionFeatures
+from fpdtw.motion.rig import cost_input
+from fpdtw.motion.rotations import check_order
 
 #: Fewest rows kept when a bounded history is compacted (so that the rules of the first
 #: frames, ``q < 16``, never see a compacted row).
@@ -221,8 +223,6 @@ class OnlineAligner(ABC):
         AlignmentError
             Orders that are not one valid rotation order per cost joint.
         """
-        from fpdtw.motion.rig import cost_input
-        from fpdtw.motion.rotations import check_order
 
         I = self.I
         k = np.shape(I.quats)[1]

@@ -53,6 +53,11 @@ from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 
+import jsonschema
+import pooch
+import requests
+from tqdm import tqdm
+
 from fpdtw.errors import DataFetchError, ManifestError
 from fpdtw.paper import paths
 
@@ -261,7 +266,6 @@ def _check_relpath(p: str, file: Path, where: str) -> None:
 
 
 def _parse_manifest(file: Path) -> Manifest:
-    import jsonschema
 
     try:
         raw = tomllib.loads(file.read_text(encoding="utf-8"))
@@ -472,8 +476,6 @@ def _staging(dest: Path) -> Iterator[Path]:
 
 def _download(url: str, tmp: Path, *, progress: bool, what: str) -> None:
     """Download ``url`` into ``tmp`` with pooch; DataFetchError if unavailable."""
-    import pooch
-    import requests
 
     downloader = pooch.HTTPDownloader(progressbar=bool(progress), chunk_size=1 << 20)
     try:
@@ -753,8 +755,6 @@ def fetch_all(
                 todo.append((m, e))
     bar = None
     if progress:
-        from tqdm import tqdm
-
         bar = tqdm(total=len(todo), unit="file", desc="fetch", leave=True)
     try:
         for m, e in todo:

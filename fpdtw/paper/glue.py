@@ -11,6 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from fpdtw.paper.claims import data_counts
+from fpdtw.paper.numbers import DATA
+
 #: The names :func:`data_numbers` returns.
 DATA_NUMBERS = ("motions", "movements", "pairs", "pairs_authors_fbx", "pairs_hdm05",
                 "hdm05_share", "hdm05_clips_min", "hdm05_clips_max", "largest_movement",
@@ -46,7 +49,6 @@ def data_numbers(pairs) -> dict:
         ``hdm05_clips_max`` (clips per HDM05 class); ``largest_movement`` and
         ``largest_movement_share`` (the movement with most pairs, its fraction of them).
     """
-    from fpdtw.paper.claims import data_counts
 
     counts = data_counts(pairs)
     total = counts["total"]
@@ -94,7 +96,6 @@ def data_sentence(pairs) -> str:
     Notebook: 05_run_experiments.ipynb, 06_fig5_fig6_scores.ipynb, 07_table1_60hz.ipynb,
     08_fig7_fig10_heatmaps.ipynb, 09_table2_timing.ipynb
     """
-    from fpdtw.paper.numbers import DATA
 
     n = data_numbers(pairs)
     return (

@@ -44,6 +44,7 @@ from fpdtw.motion.joints import OPW_JOINTS
 from fpdtw.online.base import run_online
 from fpdtw.online.opw import OPW
 from fpdtw.paper import numbers
+from fpdtw.paper.catalog import load
 from fpdtw.warpcurve import WarpCurve
 
 # The poster's protocol (values and sources in :mod:`fpdtw.paper.numbers`):
@@ -265,7 +266,6 @@ def load_cropped(dataset: str, path: str, crop: float | None = CROP_S):
     Paper: OPW poster Section 4 ("cropped at 2.5 seconds").
     Notebook: 13_opw_fig4.ipynb
     """
-    from fpdtw.paper.catalog import load
 
     m = load(dataset, path)
     return m if crop is None else m.crop(0.0, crop)

@@ -21,6 +21,8 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+import pooch
+
 #: Root of the source checkout (the folder holding ``pyproject.toml``).
 REPO_ROOT = Path(__file__).resolve().parents[2]
 
@@ -38,8 +40,6 @@ def data_dir() -> Path:
     if (REPO_ROOT / "pyproject.toml").is_file() and os.access(REPO_ROOT, os.W_OK):
         default = REPO_ROOT / "data_cache"
     else:
-        import pooch
-
         default = Path(pooch.os_cache("fpdtw"))
     return _env_path(DATA_ENV, default)
 

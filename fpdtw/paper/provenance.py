@@ -20,8 +20,12 @@ import sys
 from importlib import metadata
 from pathlib import Path
 
+import numba
+from llvmlite import binding
+
+from fpdtw import __version__
 from fpdtw.paper.atomic import write_atomic
-from fpdtw.paper.paths import REPO_ROOT
+from fpdtw.paper.paths import REPO_ROOT, results_dir
 
 #: The distributions whose versions can change a number we report (those that compute:
 #: arrays, compiled kernels, the FBX reader, the reference DTW) and those that draw.
@@ -94,9 +98,6 @@ def cpu_info() -> dict:
             except ValueError:
                 pass
     try:  # the CPU numba compiles for (what its SIMD code targets)
-        import numba
-        from llvmlite import binding
-
         llvm_cpu = numba.config.CPU_NAME or binding.get_host_cpu_name()
     except ImportError:
         llvm_cpu = None
@@ -115,7 +116,6 @@ def environment(machine: bool = True) -> dict:
     ``packages`` (:func:`package_versions`) and, with ``machine``, ``cpu``
     (:func:`cpu_info`).
     """
-    from fpdtw import __version__
 
     env = {
         "python": platform.python_version(),
@@ -254,8 +254,6 @@ def main(argv=None) -> int:
                 print(f"  {what}: figures/{name}")
         return 1 if res["differ"] or res["missing"] else 0
     if args.markdown:
-        from fpdtw.paper.paths import results_dir
-
         runs = {}
         for mode in ("full", "study", "smoke", "smoke-study"):
             f = results_dir() / mode / "run.json"

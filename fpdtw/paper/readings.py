@@ -24,12 +24,18 @@ Notebook: 15_readings_of_algorithm_3.ipynb
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
+from fpdtw import plain
 from fpdtw.metrics import deviation, similarity_per_axis, step_counts, stick_skip_index
+from fpdtw.motion.rig import cost_input
+from fpdtw.online import MethodC
 from fpdtw.paper import numbers
 from fpdtw.paper.numbers import WINDOWS
-from fpdtw.registry import C_READINGS, method_c_name
+from fpdtw.paper.runner.grid import SILENT_CHOICES, choice_targets, choice_variant
+from fpdtw.registry import C_READINGS, align, method_c_name
 
 #: Rates of the study (Hz) and their name suffixes.
 RATES = {120: "", 60: "@60Hz"}
@@ -274,7 +280,6 @@ def mechanism_profile(pairs, w: int = 40, readings=("literal", "square")) -> dic
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
-    from fpdtw.online import MethodC
 
     pairs = list(pairs)
     out = {}
@@ -403,7 +408,6 @@ def silent_choice_rows(results, features=None) -> tuple[list[dict], list[dict]]:
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
-    from fpdtw.paper.runner.grid import SILENT_CHOICES, choice_targets, choice_variant
 
     bench = benchmarks(results)
     summary, detail = [], []
@@ -526,10 +530,6 @@ def choice_only_type_v_c(I, T, w: int) -> np.ndarray:
 
     Paper: FP-DTW Section 6 (Type V), Algorithm 3.
     """
-    import dataclasses
-
-    from fpdtw import plain
-    from fpdtw.motion.rig import cost_input
 
     I = dataclasses.replace(I, quats=cost_input(I.quats, I.rig, T.rig))
     M, state = [0], plain.TYPE_V_START
@@ -564,7 +564,6 @@ def type_v_mask_changes(pairs, windows=WINDOWS) -> list[dict]:
 
     Paper: FP-DTW Section 6 (Type V), Algorithm 3.
     """
-    from fpdtw.registry import align, method_c_name
 
     pairs = list(pairs)
     rows = []

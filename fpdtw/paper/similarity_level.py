@@ -25,6 +25,7 @@ import json
 from dataclasses import asdict, dataclass
 
 import numpy as np
+from tqdm.auto import tqdm
 
 from fpdtw.metrics import similarity
 from fpdtw.motion.joints import PAPER_JOINTS
@@ -33,6 +34,7 @@ from fpdtw.online.window import SMOOTHING
 from fpdtw.paper import catalog
 from fpdtw.paper import numbers as N
 from fpdtw.paper.atomic import write_atomic
+from fpdtw.paper.figures.paper_vs_ours import side_by_side
 from fpdtw.paper.runner.grid import split_transform
 from fpdtw.paper.runner.results import EQ2_READINGS, RESCORERS, STORED_EQ2, slug
 from fpdtw.paper.runner.run import BASE_FPS
@@ -167,7 +169,6 @@ def rescore(results, readings=READINGS, algorithms=LEVEL_ALGORITHMS, progress=Tr
 
     Paper: FP-DTW eq. 2.
     """
-    from tqdm.auto import tqdm
 
     plan, index, crop = _plan(results)
     used = sorted({i for pair in index for i in pair})
@@ -261,7 +262,6 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
 
     Paper: FP-DTW eq. 2.
     """
-    from tqdm.auto import tqdm
 
     by_name = {r.name: r for r in READINGS}
     if reading not in by_name:
@@ -409,7 +409,6 @@ def level_comparison(rows, dataset: str = "all") -> list[dict]:
     """
     # in the function: fpdtw.paper.runner imports this module, and the figures package
     # imports the runner
-    from fpdtw.paper.figures.paper_vs_ours import side_by_side
 
     out = []
     for r in rows:

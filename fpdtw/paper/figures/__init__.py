@@ -12,35 +12,8 @@
 * :mod:`.facts` — the JSON of facts each figure notebook writes.
 
 Plot functions take ``ax=None`` (or ``axes=None``) and return ``(fig, ax)``; figures are
-saved with :func:`fpdtw.paper.figures.plotting.save_figure`.
+saved with :func:`fpdtw.paper.figures.plotting.save_figure`. Import a module by name
+(``from fpdtw.paper.figures import scores``): the package imports none of them, so that the
+claims can read Table 2's timings (:mod:`.timing`) and write tables (:mod:`.tables`) without
+loading the figures that draw the claims' evidence (:mod:`.scores`).
 """
-
-from fpdtw.paper.figures.facts import facts_path, load_facts, save_facts  # noqa: F401
-from fpdtw.paper.figures.forecast import best_level, forecast_curves, plot_forecast_panels  # noqa: F401
-from fpdtw.paper.figures.heatmaps import (  # noqa: F401
-    heatmap,
-    path_balance,
-    plot_heatmap,
-    plot_heatmap_grid,
-    plot_typev_heatmaps,
-)
-from fpdtw.paper.figures.oedtw import backward_jumps, first_backward_jump, plot_fig1  # noqa: F401
-from fpdtw.paper.figures.opw import (  # noqa: F401
-    plot_curve_construction,
-    plot_deviation,
-    plot_deviation_vs_gamma,
-    plot_deviation_vs_offset,
-    plot_fig4,
-    plot_slope_change,
-    plot_warp_curves,
-)
-from fpdtw.paper.figures.scores import plot_score_boxes, plot_table1, score_summary, table1_rows  # noqa: F401
-from fpdtw.paper.figures.timing import exhausted_fraction, plot_time_vs_w, time_per_frame_rows  # noqa: F401
-from fpdtw.paper.figures.typev import plot_fig9, plot_state_table, table_rows, typev_states  # noqa: F401
-from fpdtw.paper.figures.walk_pair import (  # noqa: F401
-    align_all,
-    load_walk_pair,
-    pair_scores,
-    plot_paths_over_cost,
-)
-from fpdtw.paper.figures.windows import first_leaving, plot_method_b_window, record_steps  # noqa: F401

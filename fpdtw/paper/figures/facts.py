@@ -19,6 +19,7 @@ import numpy as np
 
 from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.paths import results_dir
+from fpdtw.paper.provenance import environment
 
 
 def mode_name(smoke: bool) -> str:
@@ -78,7 +79,6 @@ def save_facts(notebook: str, facts: dict, smoke: bool) -> Path:
     Notebook: 02_fig1_oedtw.ipynb, 03_fig2_fig4_windows.ipynb, 04_fig3_forecast.ipynb,
     10_fig8_walk_pair.ipynb, 11_fig9_typev.ipynb
     """
-    from fpdtw.paper.provenance import environment
 
     path = facts_path(notebook, smoke)
     record = {**_plain(facts), "environment": environment()}

@@ -11,6 +11,8 @@ frame, over every start frame of every motion.
 
 from __future__ import annotations
 
+import matplotlib as mpl
+import matplotlib.pyplot as plt
 import numpy as np
 
 from fpdtw.forecast import forecast_error_curve
@@ -91,7 +93,6 @@ def plot_forecast_error(err, levels, ax=None, title=None, logy=False):
 
     Paper: FP-DTW Fig. 3.
     """
-    import matplotlib as mpl
 
     fig, ax = new_axes(ax, figsize=(5, 4))
     err = np.asarray(err, dtype=float)
@@ -132,7 +133,6 @@ def plot_forecast_panels(curves: dict, levels, axes=None, logy=True):
     Paper: FP-DTW Fig. 3.
     Notebook: 04_fig3_forecast.ipynb
     """
-    import matplotlib.pyplot as plt
 
     titles = dict(FORECAST_PANELS)
     if axes is None:

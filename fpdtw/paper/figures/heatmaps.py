@@ -19,7 +19,9 @@ import numpy as np
 from matplotlib.colors import LogNorm, Normalize
 
 from fpdtw import registry
-from fpdtw.paper.figures.plotting import style_beyond_paper_panel
+from fpdtw.paper.figures.plotting import new_axes, style_beyond_paper_panel
+from fpdtw.paper.figures.timing import last_input_frame
+from fpdtw.paper.runner.results import aggregate_heatmap
 from fpdtw.registry import TYPE_V_SUFFIX
 
 #: The paper's algorithms of its Fig. 7.
@@ -80,7 +82,6 @@ def heatmap(results, name: str, bins: int = 100) -> np.ndarray:
     Paper: FP-DTW Fig. 7.
     Notebook: 08_fig7_fig10_heatmaps.ipynb
     """
-    from fpdtw.paper.runner.results import aggregate_heatmap
 
     # aggregate_heatmap: H[y_bin, x_bin], y = M_q / m (input), x = q / n (target)
     H = np.asarray(aggregate_heatmap(results, name, bins=bins), dtype=np.float64)
@@ -111,7 +112,6 @@ def path_balance(results, name: str, band: float = 0.1) -> dict:
     Paper: FP-DTW Section 5 (reading of Fig. 7).
     Notebook: 08_fig7_fig10_heatmaps.ipynb
     """
-    from fpdtw.paper.figures.timing import last_input_frame
 
     arr = results.get(name)
     m_of = {k: max(v, 1) for k, v in last_input_frame(results, name).items()}
@@ -160,7 +160,6 @@ def plot_heatmap(H, ax=None, *, norm=None, log=True, title=None, cmap="magma", d
 
     Paper: FP-DTW Figs. 7 and 10.
     """
-    from fpdtw.paper.figures.plotting import new_axes
 
     fig, ax = new_axes(ax, figsize=(3, 3))
     H = np.asarray(H, dtype=np.float64)

@@ -9,6 +9,7 @@ picks the frame the figure shows is fixed: the FIRST target frame ``q`` with
 
 from __future__ import annotations
 
+import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.ticker import MaxNLocator
 
@@ -261,7 +262,6 @@ def plot_fig1(oe: OEDTW, q=None, axes=None):
     Paper: FP-DTW Fig. 1.
     Notebook: 02_fig1_oedtw.ipynb
     """
-    import matplotlib.pyplot as plt
 
     E = np.asarray(oe.end_points)
     if q is None:

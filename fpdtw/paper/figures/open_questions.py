@@ -10,11 +10,27 @@ Notebook: 16_open_questions.ipynb
 
 from __future__ import annotations
 
+import matplotlib.pyplot as plt
 import numpy as np
 
-from fpdtw.paper.claims.open import BEST_FIXED, per_movement_windows
+from fpdtw import registry
+from fpdtw.online.base import run_online
+from fpdtw.online.opw import OPW
+from fpdtw.online.opw_adaptive import AdaptiveOPW
+from fpdtw.paper import opw_eval as oe
+from fpdtw.paper.claims.open import BEST_FIXED, band_removed_share, per_movement_windows
 from fpdtw.paper.figures.plotting import new_axes
 from fpdtw.paper.numbers import WINDOWS
+from fpdtw.paper.runner.grid import (
+    BAND_1S,
+    BAND_BASES,
+    BAND_HALF_W,
+    DERIVATIVE_BASES,
+    PAUSE_METHODS,
+    PAUSE_SUFFIX,
+    WEIGHT_BASES,
+)
+from fpdtw.pause import insert_pause, pause_plan, pause_seed
 from fpdtw.period import MAX_PERIOD_S, MIN_PEAK, autocorrelation, dominant_period
 
 _SFX = {120: "", 60: "@60Hz"}
@@ -85,7 +101,6 @@ def _two_axes(axes=None):
     """``(fig, axes)``: the given pair of axes' figure, or a new figure of two panels."""
     if axes is not None:
         return axes[0].figure, axes
-    import matplotlib.pyplot as plt
 
     return plt.subplots(1, 2, figsize=(9, 3.2))
 
@@ -197,7 +212,6 @@ def weight_rows(ev) -> list[dict]:
 
     Notebook: 16_open_questions.ipynb
     """
-    from fpdtw.paper.runner.grid import WEIGHT_BASES
 
     return _variant_rows(ev, WEIGHT_BASES, "weighted joints")
 
@@ -228,8 +242,6 @@ def band_rows(ev) -> list[dict]:
 
     Notebook: 16_open_questions.ipynb
     """
-    from fpdtw.paper.claims.open import band_removed_share
-    from fpdtw.paper.runner.grid import BAND_1S, BAND_BASES, BAND_HALF_W
 
     rows = []
     for n in BAND_BASES:
@@ -260,7 +272,6 @@ def derivative_rows(ev) -> list[dict]:
 
     Notebook: 16_open_questions.ipynb
     """
-    from fpdtw.paper.runner.grid import DERIVATIVE_BASES
 
     return _variant_rows(ev, DERIVATIVE_BASES, "derivative")
 
@@ -295,10 +306,6 @@ def poster_gamma_rows(motions=None) -> list[dict]:
 
     Notebook: 16_open_questions.ipynb
     """
-    from fpdtw.online.base import run_online
-    from fpdtw.online.opw import OPW
-    from fpdtw.online.opw_adaptive import AdaptiveOPW
-    from fpdtw.paper import opw_eval as oe
 
     rows = []
     for mo in motions or oe.FIG4_MOTIONS:
@@ -326,7 +333,6 @@ def pause_rows(ev, methods=None) -> list[dict]:
 
     Notebook: 16_open_questions.ipynb
     """
-    from fpdtw.paper.runner.grid import PAUSE_METHODS, PAUSE_SUFFIX
 
     rows = []
     for n in methods or PAUSE_METHODS:
@@ -387,8 +393,6 @@ def plot_pause_example(I, T, name: str = "Mc w40", ax=None):
 
     Notebook: 16_open_questions.ipynb
     """
-    from fpdtw import registry
-    from fpdtw.pause import insert_pause, pause_plan, pause_seed
 
     fig, ax = new_axes(ax, figsize=(7, 3.2))
     at, L = pause_plan(T.n_frames, T.fps, pause_seed(T.name))

@@ -25,9 +25,13 @@ if os.environ.get("MPLBACKEND") is None and "ipykernel" not in sys.modules:
 
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.patches import Patch
 
+from fpdtw.errors import AlignmentError
 from fpdtw.paper.numbers import PAPER_NAMES  # noqa: E402
 from fpdtw.paper.paths import figures_dir  # noqa: E402
+from fpdtw.registry import name as canonical
+from fpdtw.registry import resolve
 
 _PDF_META = {"CreationDate": None, "ModDate": None, "Creator": None, "Producer": None}
 _PNG_META = {"Software": None}
@@ -93,9 +97,6 @@ def beyond_paper(name: str) -> bool:
     ``"OLTW (weighted joints)"``, ``"Mc w40 (derivative)"``); so is a name the registry
     does not know.
     """
-    from fpdtw.errors import AlignmentError
-    from fpdtw.registry import name as canonical
-    from fpdtw.registry import resolve
 
     base = name.removesuffix(_RATE_SUFFIX)
     if base in PAPER_NAMES:
@@ -111,7 +112,6 @@ def beyond_paper(name: str) -> bool:
 
 def beyond_paper_handle(**kw):
     """A legend entry for the style: a grey hatched patch labelled "beyond the paper"."""
-    from matplotlib.patches import Patch
 
     return Patch(**{**BEYOND_PAPER_PATCH, "label": BEYOND_PAPER_LABEL, **kw})
 

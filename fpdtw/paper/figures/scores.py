@@ -29,6 +29,10 @@ from matplotlib.patches import Patch
 
 from fpdtw import registry
 from fpdtw.paper import numbers
+from fpdtw.paper.claims.evidence import shared_evidence
+from fpdtw.paper.claims.paper_claims import best_window_test
+from fpdtw.paper.claims.rules import evaluate
+from fpdtw.paper.claims.types import reading_alias
 from fpdtw.paper.figures.plotting import beyond_paper_handle, new_axes, style_beyond_paper
 from fpdtw.paper.numbers import FPDTW_NAMES, WINDOWS
 from fpdtw.registry import TYPE_V_SUFFIX, method_c_name
@@ -182,7 +186,6 @@ def score_summary(results, metric: str, names=None, dataset=None) -> list[dict]:
     Paper: FP-DTW Figs. 5 and 6, Section 5 (the median must pass the benchmark).
     Notebook: 06_fig5_fig6_scores.ipynb
     """
-    from fpdtw.paper.claims.evidence import shared_evidence
 
     if names is None:
         have = set(results.algorithms)
@@ -335,8 +338,6 @@ def plot_score_boxes(
         med.set_gid("median")
     bench = benchmark(results, metric)
     if intervals:
-        from fpdtw.paper.claims.evidence import shared_evidence
-
         ev = shared_evidence(results)
         for name, x, w in zip(drawn, pos, widths):
             lo, hi = ev.interval(name, metric)
@@ -441,10 +442,6 @@ def table1_rows(
     Paper: FP-DTW Table 1.
     Notebook: 07_table1_60hz.ipynb
     """
-    from fpdtw.paper.claims.evidence import shared_evidence
-    from fpdtw.paper.claims.paper_claims import best_window_test
-    from fpdtw.paper.claims.rules import evaluate
-    from fpdtw.paper.claims.types import reading_alias
 
     ev = shared_evidence(results)
     if reading != "square":

@@ -21,6 +21,7 @@ import numpy as np
 
 from fpdtw.paper.figures.plotting import new_axes
 from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES, TABLE2_US, WINDOWS
+from fpdtw.paper.paths import results_dir
 from fpdtw.paper.runner.grid import BAND_1S, BAND_BASES, BAND_HALF_W, MC_LITERAL_NAMES
 from fpdtw.registry import baselines, resolve
 
@@ -199,7 +200,6 @@ def load_bench(path=None):
 
     Notebook: 09_table2_timing.ipynb
     """
-    from fpdtw.paper.paths import results_dir
 
     path = results_dir() / "bench.json" if path is None else path
     try:

@@ -10,6 +10,8 @@ vertical, as in every other figure.
 
 from __future__ import annotations
 
+import matplotlib as mpl
+import matplotlib.pyplot as plt
 import numpy as np
 
 from fpdtw.online.typev import TYPE_V, TypeV
@@ -146,7 +148,6 @@ def _draw_local_paths(ax, paths, labels, ticks, title, legend):
     """Local paths (target, input) as coloured lines, slightly apart so that shared
     segments stay visible, on a unit grid with (0, 0) marked by a black square;
     ``legend``: the legend's title and location."""
-    import matplotlib as mpl
 
     cmap = mpl.colormaps["tab10"]
     for k, (P, label) in enumerate(zip(paths, labels, strict=True)):
@@ -296,7 +297,6 @@ def plot_fig9(M, M_free=None, axes=None):
     Paper: FP-DTW Fig. 9.
     Notebook: 11_fig9_typev.ipynb
     """
-    import matplotlib.pyplot as plt
 
     if axes is None:
         fig = plt.figure(figsize=(12, 8.5), layout="constrained")

@@ -18,13 +18,15 @@ every walk pair we have (:func:`walk_pairs`: the six ordered pairs of the author
 
 from __future__ import annotations
 
+import matplotlib.pyplot as plt
 import numpy as np
 
 from fpdtw.metrics import deviation, similarity
 from fpdtw.motion.features import MotionFeatures
-from fpdtw.paper.catalog import load
+from fpdtw.paper.catalog import load, motion_records
 from fpdtw.paper.figures.plotting import new_axes, plot_skeleton
 from fpdtw.paper.numbers import DEVIATION_BENCHMARK_FRAMES, FIG8_DEVIATIONS, WALK_GAIT_HZ
+from fpdtw.period import dominant_period
 from fpdtw.registry import align
 
 #: (dataset, path) of the input and the target motion of the walk pair.
@@ -224,8 +226,6 @@ def plot_joint_curves(
     """
     rows = len(maps) + 1
     if axes is None:
-        import matplotlib.pyplot as plt
-
         fig, axes = plt.subplots(rows, 1, figsize=(7, 1.25 * rows + 0.6), sharex=True)
     else:
         fig = axes[0].figure
@@ -286,7 +286,6 @@ def plot_aligned_poses(mI, mT, maps: dict, frames, axes=None, view=FBX_SIDE_VIEW
     Paper: FP-DTW Fig. 8 (character poses, side elevation).
     Notebook: 10_fig8_walk_pair.ipynb
     """
-    import matplotlib.pyplot as plt
 
     frames = [int(f) for f in frames]
     rows = len(maps) + 1
@@ -352,7 +351,6 @@ def walk_pairs() -> list:
 
     Paper: FP-DTW Section 5, Fig. 8.
     """
-    from fpdtw.paper.catalog import motion_records
 
     ds, movement = WALK_MOVEMENT
     takes = [r for r in motion_records((ds,), available_only=True) if r.movement == movement]
@@ -376,7 +374,6 @@ def gait_cycle(F: MotionFeatures) -> tuple[int, str]:
 
     Paper: FP-DTW Section 4 (walking gait 0.82-0.9 Hz).
     """
-    from fpdtw.period import dominant_period
 
     P = dominant_period(F.quats, F.fps)
     if P is not None:
@@ -404,7 +401,6 @@ def walk_pair_cases(smoke: bool = False, seconds: float = SMOKE_SECONDS,
 
     Notebook: 10_fig8_walk_pair.ipynb
     """
-    from fpdtw.paper.catalog import load
 
     cases = []
     for a, b in walk_pairs():

@@ -33,6 +33,7 @@ import re
 import sys
 from collections.abc import Callable, Iterator, Sequence
 
+from joblib import Parallel, delayed
 from tqdm import tqdm
 
 from fpdtw.errors import ClusterError
@@ -287,7 +288,6 @@ class Executor:
             yield from self._map_dask(fn, tasks, desc, progress, keys)
 
     def _map_joblib(self, fn, tasks, desc, progress):
-        from joblib import Parallel, delayed
 
         gen = Parallel(n_jobs=self.n_jobs, return_as="generator_unordered", batch_size=1)(
             delayed(fn)(*t) for t in tasks

@@ -126,6 +126,7 @@ from fpdtw.paper.runner.selection import (
     format_counts,
     pair_selection,
 )
+from fpdtw.pause import insert_pause
 
 #: Bump when the feature cache or chunk layout, or what this module computes, changes.
 CACHE_FORMAT = 3
@@ -183,8 +184,6 @@ def transform_target(transform, T: MotionFeatures) -> MotionFeatures:
     if transform is None:
         return T
     if transform == "pause":
-        from fpdtw.pause import insert_pause
-
         return insert_pause(T)
     raise AlignmentError(f"unknown target transform {transform!r}")
 
