@@ -458,6 +458,11 @@ class Step(NamedTuple):
         B: the lowest row of the path in each column (``P[1]`` is the choice).
     score : ndarray of float64, shape (w_i + 1,), or None
         C: what the argmin compares per row, ``D[:, 0]``.
+    M_n : int or None
+        A window step: the window's first input frame ``M_n`` (``M - M_n`` is the chosen
+        row); None on warm-up and end steps.
+    q : int or None
+        A window step: the target frame it maps, ``n + 1``; None on warm-up and end steps.
     """
 
     M: int
@@ -468,6 +473,8 @@ class Step(NamedTuple):
     path: np.ndarray | None = None
     P: np.ndarray | None = None
     score: np.ndarray | None = None
+    M_n: int | None = None
+    q: int | None = None
 
 
 def method_a_step(I, T, M, w: int = 2, allowed=None) -> Step:
@@ -505,7 +512,7 @@ def method_a_step(I, T, M, w: int = 2, allowed=None) -> Step:
     # Type V (Section 6): a row the state does not allow is never chosen (its cost is
     # skipped by the argmin); Method A has no accumulation, so only the choice changes
     r = checked_choice(ok, int(np.argmin(np.where(ok, C, np.inf))))
-    return Step(M_n + r, "window", w_i, C[:, None])  # line 10
+    return Step(M_n + r, "window", w_i, C[:, None], M_n=M_n, q=n + 1)  # line 10
 
 
 def method_b_step(I, T, M, w: int, allowed=None) -> Step:
@@ -554,7 +561,7 @@ def method_b_step(I, T, M, w: int, allowed=None) -> Step:
     path = backtrack(D)  # line 15
     P = path_to_map(path, w)  # the overwrite rule: the lowest row of each column
     r = checked_choice(ok, int(P[1]))
-    return Step(M_n + r, "window", w_i, C, D, path, P)  # line 16
+    return Step(M_n + r, "window", w_i, C, D, path, P, M_n=M_n, q=n + 1)  # line 16
 
 
 def method_c_step(I, T, M, w: int, allowed=None) -> Step:
@@ -611,10 +618,10 @@ def method_c_step(I, T, M, w: int, allowed=None) -> Step:
     D = reverse_accumulate(C)  # line 12
     score = D[:, 0].copy()
     r = checked_choice(ok, int(np.argmin(np.where(ok, score, np.inf))))
-    return Step(M_n + r, "window", rows - 1, C, D, score=score)  # line 13
+    return Step(M_n + r, "window", rows - 1, C, D, score=score, M_n=M_n, q=n + 1)  # line 13
 
 
-def run(step, I, T, w: int, type_v: bool = False) -> np.ndarray:
+def run(step, I, T, w: int, type_v: bool = False, steps: list | None = None) -> np.ndarray:
     """A whole target through one method, a step per target frame, from ``M_0 = 0``.
 
     Parameters
@@ -626,6 +633,9 @@ def run(step, I, T, w: int, type_v: bool = False) -> np.ndarray:
     type_v : bool
         The Type V constraint, its state carried from step to step (a hold forced at the
         end of the input, where the constraint cannot hold, leaves the state as it is).
+    steps : list, optional
+        Each step's :class:`Step` is appended to it (``steps[q - 1]`` maps target frame
+        ``q``), for a figure of one step.
 
     Returns
     -------
@@ -641,7 +651,10 @@ def run(step, I, T, w: int, type_v: bool = False) -> np.ndarray:
     M, state = [0], TYPE_V_START
     for _ in range(len(T.quats) - 1):
         allowed = type_v_allowed(state) if type_v else None
-        M.append(step(I, T, M, w, allowed).M)
+        st = step(I, T, M, w, allowed)
+        M.append(st.M)
+        if steps is not None:
+            steps.append(st)
         state = type_v_next(state, M[-1] - M[-2]) or state
     return np.array(M, dtype=np.int64)
 

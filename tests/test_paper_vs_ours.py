@@ -6,7 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fpdtw.online.window import B_CORNER, SMOOTHING, WindowSnapshot
+from fpdtw import plain
+from fpdtw.online.window import B_CORNER, SMOOTHING
 from fpdtw.paper import numbers as N
 from fpdtw.paper.claims.rules import Check
 from fpdtw.paper.figures import paper_vs_ours as C
@@ -65,22 +66,22 @@ def test_oedtw_comparison():
 
 
 def _steps(offset_a=1, offset_b=1, offset_c=2, corner=B_CORNER):
-    a = WindowSnapshot(
-        q=60, kind="window", start=50, w_i=2, offset=offset_a, M=50 + offset_a,
-        C=np.array([[0.3], [0.1], [0.2]]),
+    """Plain steps (fpdtw.plain.Step) with only what windows_comparison reads."""
+    a = plain.Step(
+        50 + offset_a, "window", 2, np.array([[0.3], [0.1], [0.2]]), M_n=50, q=60
     )  # fmt: skip
     D = np.ones((4, 5))
     D[0, 0] = corner
-    b1 = WindowSnapshot(
-        q=5, kind="window", start=3, w_i=3, offset=offset_b, M=3 + offset_b, D=D,
+    b1 = plain.Step(
+        3 + offset_b, "window", 3, D=D, M_n=3, q=5,
         path=np.array([[0, 0], [1, 0], [1, 1], [2, 1], [3, 2], [3, 3], [3, 4]]),
     )  # fmt: skip
-    b2 = WindowSnapshot(
-        q=9, kind="window", start=7, w_i=3, offset=0, M=7, D=D,
+    b2 = plain.Step(
+        7, "window", 3, D=D, M_n=7, q=9,
         path=np.array([[0, 0], [0, 1], [1, 2], [2, 3], [3, 4]]),
     )  # fmt: skip
     Dc = np.array([[3.0, 1.0], [2.0, 1.0], [1.0, 1.0]])
-    c = WindowSnapshot(q=5, kind="window", start=3, w_i=3, offset=offset_c, M=3, D=Dc)
+    c = plain.Step(3 + offset_c, "window", 2, D=Dc, M_n=3, q=5)
     return a, [b1, b2], c
 
 

@@ -17,9 +17,10 @@ import numpy as np
 import pytest
 from reference.synthetic import one_joint_motion, random_walk_features, synthetic_pair
 
+from fpdtw import plain
 from fpdtw.motion.features import MotionFeatures
-from fpdtw.online import MethodA, MethodB, MethodC, run_online
-from fpdtw.online.window import B_CORNER, WindowSnapshot
+from fpdtw.online import MethodA, MethodB, run_online
+from fpdtw.online.window import B_CORNER
 from fpdtw.paper import numbers
 from fpdtw.paper.figures import facts as pf
 from fpdtw.paper.figures import forecast as pfc
@@ -134,63 +135,56 @@ def test_oedtw_real_walk_prefix(walk_short):
 # --- Figs. 2 and 4: windows -------------------------------------------------------------
 
 
-def test_record_steps_matches_run_online():
+def test_plain_run_keeps_the_steps_of_its_map():
     I, T, _ = synthetic_pair(120, k=4, seed=3)
-    M, snaps = pwin.record_steps(MethodB(I, 10, record=True), T)
+    steps = []
+    M = plain.run(plain.method_b_step, I, T, 10, steps=steps)
+    np.testing.assert_array_equal(M, plain.run(plain.method_b_step, I, T, 10))
     M2, _ = run_online(MethodB(I, 10), T)
-    np.testing.assert_array_equal(M, M2)
-    assert len(snaps) == T.n_frames
-    assert [s.q for s in snaps] == list(range(T.n_frames))
-    assert [s.M for s in snaps] == M.tolist()
-    M3, snaps3 = pwin.record_steps(MethodB(I, 10, record=True), T, n_frames=7)
-    assert len(snaps3) == 7 and M3.tolist() == M[:7].tolist()
-    with pytest.raises(ValueError):
-        pwin.record_steps(MethodB(I, 10), T)  # not recording
+    np.testing.assert_array_equal(M, M2)  # the plain steps are the compiled aligner's
+    assert len(steps) == T.n_frames - 1
+    assert [s.M for s in steps] == M[1:].tolist()
+    window = [s for s in steps if s.kind == "window"]
+    assert window and all(s.q == q for q, s in enumerate(steps, 1) if s.kind == "window")
+    assert all(s.M_n == M[s.q - 1] for s in window)
+    assert steps[0].kind == "warmup" and steps[0].M_n is None and steps[0].q is None
 
 
-def snap(q, kind="window", path=None):
-    return WindowSnapshot(q, kind, 0, 3, 0, 0, path=None if path is None else np.array(path))
+def bstep(q, kind="window", path=None):
+    """A plain Method B step with only what first_leaving reads."""
+    if kind != "window":
+        return plain.Step(q, kind)
+    return plain.Step(0, kind, 3, path=None if path is None else np.array(path), M_n=0, q=q)
 
 
 def test_step_rules_hand_checked():
-    snaps = [
-        snap(0, "first"),
-        snap(1, "warmup"),
-        snap(2, "warmup"),
-        snap(3, path=[[0, 0], [0, 1], [1, 2]]),  # leaves via (0, 1)
-        snap(4, path=[[0, 0], [1, 1], [2, 2]]),  # diagonal (only possible w/o D[0,0] = 10000)
-        snap(5, path=[[0, 0], [1, 0], [1, 1]]),  # leaves via (1, 0)
-        snap(6, path=[[0, 0], [0, 1], [0, 2]]),
-        snap(7, "end"),
+    steps = [
+        bstep(1, "warmup"),
+        bstep(2, "warmup"),
+        bstep(3, path=[[0, 0], [0, 1], [1, 2]]),  # leaves via (0, 1)
+        bstep(4, path=[[0, 0], [1, 1], [2, 2]]),  # diagonal (only possible w/o D[0,0] = 10000)
+        bstep(5, path=[[0, 0], [1, 0], [1, 1]]),  # leaves via (1, 0)
+        bstep(6, path=[[0, 0], [0, 1], [0, 2]]),
+        bstep(7, "end"),
     ]
-    assert pwin.first_leaving(snaps, pwin.VIA_INPUT).q == 5
-    assert pwin.first_leaving(snaps, pwin.VIA_TARGET).q == 3
-    assert pwin.first_leaving(snaps, pwin.VIA_TARGET, q_min=4).q == 6
-    assert pwin.first_leaving(snaps, (1, 1)).q == 4
-    assert pwin.first_leaving(snaps, pwin.VIA_INPUT, q_min=6) is None
-    assert pwin.step_at(snaps, 5).q == 5
-    for bad in (1, 7, 8, -1):
-        with pytest.raises(ValueError):
-            pwin.step_at(snaps, bad)
-    facts = pwin.snapshot_facts(snaps[5])
-    assert facts == {
-        "q": 5,
-        "kind": "window",
-        "M_n": 0,
-        "w_i": 3,
-        "offset": 0,
-        "M": 0,
-        "leaves_via": [1, 0],
-    }
+    assert pwin.first_leaving(steps, pwin.VIA_INPUT).q == 5
+    assert pwin.first_leaving(steps, pwin.VIA_TARGET).q == 3
+    assert pwin.first_leaving(steps, pwin.VIA_TARGET, q_min=4).q == 6
+    assert pwin.first_leaving(steps, (1, 1)).q == 4
+    assert pwin.first_leaving(steps, pwin.VIA_INPUT, q_min=6) is None
 
 
 def test_plot_method_a_window_hand_worked():
     # test_methods.test_method_a_hand_worked: M = 0, 2, 2, 4, 5, 5; at q = 3 the window
     # I2..I4 against T = 5 units costs .3, .2, .1 and the choice is +2 -> 4.
-    aligner = MethodA(units([0, 1, 2, 3, 4, 5]), record=True)
-    M, snaps = pwin.record_steps(aligner, units([0, 2, 2, 5, 6, 6]))
+    I, T = units([0, 1, 2, 3, 4, 5]), units([0, 2, 2, 5, 6, 6])
+    steps = []
+    M = plain.run(plain.method_a_step, I, T, 2, steps=steps)
     np.testing.assert_array_equal(M, [0, 2, 2, 4, 5, 5])
-    fig, ax = pwin.plot_method_a_window(snaps, 3, before=3, after=1)
+    a = plain.method_a_step(I, T, M[:3], 2)  # the step that maps T_3
+    assert (a.q, a.M_n, a.M) == (3, 2, 4) == (steps[2].q, steps[2].M_n, steps[2].M)
+    np.testing.assert_array_equal(a.C, steps[2].C)
+    fig, ax = pwin.plot_method_a_window(M, a, before=3, after=1)
     assert len(ax.images) == 1
     grid = ax.images[0].get_array()
     # columns target 0..4, rows input r0 = min(M_0..M_2) - 1 -> 0 .. start + w_i + 1 = 5
@@ -204,14 +198,17 @@ def test_plot_method_a_window_hand_worked():
     np.testing.assert_array_equal(map_line.get_ydata(), [0, 2, 2])
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     assert any("M_{3} = M_{2} + 2 = 4" in s for s in labels)
+    fig, ax = pwin.plot_method_a_window(M[:3], a, before=3)  # the map M_0..M_n alone
+    np.testing.assert_array_equal(ax.lines[0].get_ydata(), [0, 2, 2])
     with pytest.raises(ValueError):
-        pwin.plot_method_a_window(snaps, 5)  # input exhausted: an "end" step
+        pwin.plot_method_a_window(M, steps[4])  # input exhausted: an "end" step
 
 
 def test_plot_method_b_window_artists():
     I, T, _ = synthetic_pair(150, k=4, seed=5)
-    _, snaps = pwin.record_steps(MethodB(I, 10, record=True), T)
-    s = next(x for x in snaps if x.kind == "window")
+    steps = []
+    plain.run(plain.method_b_step, I, T, 10, steps=steps)
+    s = next(x for x in steps if x.kind == "window")
     fig, ax = pwin.plot_method_b_window(s)
     img = ax.images[0].get_array()
     assert img.shape == (s.w_i + 1, 11)
@@ -221,26 +218,30 @@ def test_plot_method_b_window_artists():
     path_line = ax.lines[1]
     np.testing.assert_array_equal(path_line.get_xydata(), s.path[:, ::-1])  # (column, row)
     x = ax.lines[2]
-    assert (x.get_xdata()[0], x.get_ydata()[0]) == (1, s.offset)
-    assert s.offset == s.P[1] == min(r for r, c in s.path if c == 1)  # lowest row in T_{n+1}
+    offset = s.M - s.M_n
+    assert (x.get_xdata()[0], x.get_ydata()[0]) == (1, offset)
+    assert offset == s.P[1] == min(r for r, c in s.path if c == 1)  # lowest row in T_{n+1}
     labels = [t.get_text() for t in ax.get_xticklabels()]
     assert labels[0].startswith("$F_0$") and "T_n" in labels[0] and "T_{n+1}" in labels[1]
     fig, ax = pwin.plot_method_b_window(s, which="C", annotate=False)
     assert not np.ma.is_masked(ax.images[0].get_array()[0, 0]) and not ax.texts
     with pytest.raises(ValueError):
-        pwin.plot_method_b_window(snaps[1])  # warm-up step
+        pwin.plot_method_b_window(steps[0])  # warm-up step
 
 
 def test_plot_method_c_window_artists():
     I, T, _ = synthetic_pair(150, k=4, seed=6)
-    _, snaps = pwin.record_steps(MethodC(I, 10, record=True), T)
-    s = next(x for x in snaps if x.kind == "window")
+    steps = []
+    plain.run(plain.method_c_step, I, T, 10, steps=steps)
+    s = next(x for x in steps if x.kind == "window")
     fig, ax = pwin.plot_method_c_window(s)
     assert ax.images[0].get_array().shape == s.D.shape == (s.w_i + 1, 10) == (10, 10)  # square
     x = ax.lines[0]
-    assert (x.get_xdata()[0], x.get_ydata()[0]) == (0, s.offset)
-    assert s.offset == int(np.argmin(s.D[:, 0]))
+    assert (x.get_xdata()[0], x.get_ydata()[0]) == (0, s.M - s.M_n)
+    assert s.M - s.M_n == int(np.argmin(s.D[:, 0]))
     assert "T_{n+1}" in ax.get_xticklabels()[0].get_text()
+    with pytest.raises(ValueError):
+        pwin.plot_method_c_window(steps[0])  # warm-up step
 
 
 def test_forecast_labels():
@@ -447,9 +448,12 @@ def test_typev_states_hand_checked():
 
 def test_typev_states_match_the_aligner(walk_short):
     I, T = (MotionFeatures.from_motion(m) for m in walk_short)
-    M, snaps = pwin.record_steps(MethodA(I, constraint="typeV", record=True), T)
-    states = pt.typev_states(M)
-    assert [s.state for s in snaps[1:]] == states[1:]
+    aligner = MethodA(I, constraint="typeV", record=True)
+    M, got = [], []
+    for q in range(T.n_frames):
+        M.append(aligner.step(T.frame(q)))
+        got.append(aligner.window_snapshot().state)
+    assert got[1:] == pt.typev_states(M)[1:]
 
 
 def test_table_rows_and_state_table_plot():

@@ -1,7 +1,7 @@
 """Figure code of the FP-DTW paper's figures, one module per figure (or group).
 
 * :mod:`.oedtw` — Fig. 1 (OE-DTW end points jumping backwards);
-* :mod:`.windows` — Figs. 2 and 4 (Method A/B/C windows drawn from real steps);
+* :mod:`.windows` — Figs. 2 and 4 (Method A/B/C windows drawn from the plain steps);
 * :mod:`.forecast` — Fig. 3 (forecast error of smoothing levels vs frames ahead);
 * :mod:`.walk_pair` — Fig. 8 (one walk pair: paths, right-hip curves, poses);
 * :mod:`.typev` — Fig. 9 (the Type V constraint and its state table);

@@ -178,12 +178,12 @@ def windows_comparison(step_a, steps_b, step_c) -> list[dict]:
 
     Parameters
     ----------
-    step_a : WindowSnapshot
-        A Method A window step.
-    steps_b : sequence of WindowSnapshot or None
-        The Method B steps of Fig. 4 (None where no such step was found).
-    step_c : WindowSnapshot
-        A Method C window step.
+    step_a : fpdtw.plain.Step
+        A plain Method A window step (:func:`fpdtw.plain.method_a_step`).
+    steps_b : sequence of fpdtw.plain.Step or None
+        The plain Method B steps of Fig. 4 (None where no such step was found).
+    step_c : fpdtw.plain.Step
+        A plain Method C window step.
 
     Returns
     -------
@@ -199,7 +199,7 @@ def windows_comparison(step_a, steps_b, step_c) -> list[dict]:
         side_by_side(
             "Ma: frames searched (Fig. 2)",
             f"w + 1 = {w + 1}: I_Mn .. I_Mn+{w}",
-            f"{n_a}: I_{step_a.start} .. I_{step_a.start + n_a - 1}",
+            f"{n_a}: I_{step_a.M_n} .. I_{step_a.M_n + n_a - 1}",
         )
     )
     best_a = int(np.argmin(step_a.C[:, 0]))
@@ -207,7 +207,7 @@ def windows_comparison(step_a, steps_b, step_c) -> list[dict]:
         side_by_side(
             "Ma: M_n+1 = M_n + argmin of eq. 1",
             "Algorithm 1",
-            f"offset {step_a.offset}, argmin {best_a}",
+            f"offset {step_a.M - step_a.M_n}, argmin {best_a}",
         )
     )
     found = [s for s in steps_b if s is not None]
@@ -231,7 +231,7 @@ def windows_comparison(step_a, steps_b, step_c) -> list[dict]:
     hits = 0
     for s in found:
         lowest = int(min(r for r, c in s.path if c == 1))
-        hits += s.offset == lowest
+        hits += s.M - s.M_n == lowest
     rows.append(
         side_by_side(
             "Mb: X = lowest input row of the path in column T_n+1",
@@ -245,7 +245,7 @@ def windows_comparison(step_a, steps_b, step_c) -> list[dict]:
         side_by_side(
             "Mc: M_n+1 = M_n + argmin of D over column T_n+1",
             "Algorithm 3",
-            f"offset {step_c.offset}, argmin {best_c}",
+            f"offset {step_c.M - step_c.M_n}, argmin {best_c}",
         )
     )
     return rows

@@ -1,10 +1,12 @@
-"""Figs. 2 and 4: the search windows of Methods A, B and C, drawn from real steps.
+"""Figs. 2 and 4: the search windows of Methods A, B and C, drawn from plain steps.
 
-Each aligner is run frame by frame with ``record=True`` and the
-:class:`~fpdtw.online.window.WindowSnapshot` of every step is kept
-(:func:`record_steps`); the figures draw one real step each, picked by a stated rule:
+Each figure draws one :class:`fpdtw.plain.Step`, what :func:`fpdtw.plain.method_a_step`,
+:func:`~fpdtw.plain.method_b_step` or :func:`~fpdtw.plain.method_c_step` returned for one
+target frame (its cost window ``C``, accumulated ``D``, path and chosen frame ``M``); the
+steps of a whole run are kept with ``plain.run(..., steps=[])``. The notebook picks them by
+a stated rule:
 
-* Fig. 2 (Method A, w = 2): the step at a fixed target frame (:func:`step_at`).
+* Fig. 2 (Method A, w = 2): the step at a target frame the reader chooses.
 * Fig. 4 (Method B): the first window step (after the warm-up) whose back-tracked path
   leaves (0, 0) through (1, 0), and the first through (0, 1) (:func:`first_leaving`).
 * Method C: the step at the same target frame as the first Fig. 4 panel.
@@ -12,9 +14,12 @@ Each aligner is run frame by frame with ``record=True`` and the
 
 from __future__ import annotations
 
+import matplotlib as mpl
 import numpy as np
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch, Rectangle
 
-from fpdtw.online.window import B_CORNER, WindowSnapshot
+from fpdtw.online.window import B_CORNER
 from fpdtw.paper.figures.plotting import new_axes
 
 #: Offsets of the second path cell when Method B's path leaves (0, 0): (row, column).
@@ -22,91 +27,42 @@ VIA_INPUT = (1, 0)  # advance one input frame within F_0 = T_n
 VIA_TARGET = (0, 1)  # hold the input frame into F_1 = T_{n+1}
 
 
-def record_steps(aligner, T, n_frames=None):
-    """Run an aligner frame by frame and keep the snapshot of every step.
-
-    Parameters
-    ----------
-    aligner : WindowAligner
-        Built with ``record=True``; it is reset first.
-    T : MotionFeatures
-        Target motion.
-    n_frames : int, optional
-        Stop after this many target frames (default: all).
-
-    Returns
-    -------
-    M : ndarray of int64, shape (n,)
-        The map.
-    snaps : list of WindowSnapshot
-        ``snaps[q]`` is the step that mapped target frame q.
-
-    Paper: FP-DTW Figs. 2 and 4 (drawn from real steps).
-    Notebook: 03_fig2_fig4_windows.ipynb
-    """
-    if not getattr(aligner, "record", False):
-        raise ValueError("the aligner must be built with record=True")
-    n = T.n_frames if n_frames is None else min(int(n_frames), T.n_frames)
-    aligner.reset()
-    M = np.empty(n, dtype=np.int64)
-    snaps = []
-    for q in range(n):
-        M[q] = aligner.step(T.frame(q))
-        snaps.append(aligner.window_snapshot())
-    return M, snaps
+def _window_step(step, what: str):
+    """``step`` if it is a plain window step (it has a window), else ValueError."""
+    if step is None or step.kind != "window" or step.M_n is None:
+        kind = None if step is None else step.kind
+        raise ValueError(f"a {what} window step is needed, not a {kind!r} step")
+    return step
 
 
-def step_at(snaps, q: int) -> WindowSnapshot:
-    """The snapshot of target frame ``q``; it must be a window step (not warm-up/end).
-
-    Raises
-    ------
-    ValueError
-        ``q`` out of range or not a window step.
-    """
-    q = int(q)
-    if not 0 <= q < len(snaps):
-        raise ValueError(f"target frame {q} not recorded (have 0..{len(snaps) - 1})")
-    s = snaps[q]
-    if s.kind != "window":
-        raise ValueError(f"target frame {q} is a {s.kind!r} step, not a window step")
-    return s
-
-
-def first_leaving(snaps, via, q_min: int = 0):
+def first_leaving(steps, via, q_min: int = 0):
     """The first Method B window step at or after ``q_min`` whose path leaves (0, 0) via ``via``.
 
     Parameters
     ----------
-    snaps : sequence of WindowSnapshot
-        Method B snapshots (``path`` set on window steps).
+    steps : sequence of fpdtw.plain.Step
+        Plain Method B steps (``plain.run(plain.method_b_step, ..., steps=steps)``); warm-up
+        and end steps are skipped.
     via : tuple of int
         :data:`VIA_INPUT` ``(1, 0)`` or :data:`VIA_TARGET` ``(0, 1)``: the path's second
         cell (input offset, forecast column).
     q_min : int
+        The first target frame considered.
 
     Returns
     -------
-    snap : WindowSnapshot or None
+    step : fpdtw.plain.Step or None
 
     Paper: FP-DTW Fig. 4 (two example steps).
     Notebook: 03_fig2_fig4_windows.ipynb
     """
     via = tuple(int(v) for v in via)
-    for s in snaps:
-        if s.q < q_min or s.kind != "window" or s.path is None or len(s.path) < 2:
+    for s in steps:
+        if s.kind != "window" or s.q < q_min or s.path is None or len(s.path) < 2:
             continue
         if tuple(int(v) for v in s.path[1]) == via:
             return s
     return None
-
-
-def snapshot_facts(s: WindowSnapshot) -> dict:
-    """Plain facts of one step: q, kind, window start M_n, w_i, offset, M_{n+1}."""
-    out = {"q": s.q, "kind": s.kind, "M_n": s.start, "w_i": s.w_i, "offset": s.offset, "M": s.M}
-    if s.path is not None and len(s.path) > 1:
-        out["leaves_via"] = [int(v) for v in s.path[1]]
-    return out
 
 
 def _grid(ax, n_rows, n_cols, x0, y0):
@@ -118,19 +74,19 @@ def _grid(ax, n_rows, n_cols, x0, y0):
     ax.set_axisbelow(True)
 
 
-def plot_method_a_window(snaps, q: int, ax=None, before: int = 6, after: int = 1):
-    """Fig. 2: Method A's window at target frame ``q`` on a grid of input x target frames.
+def plot_method_a_window(M, step, ax=None, before: int = 6, after: int = 1):
+    """Fig. 2: one plain Method A step on a grid of input x target frames.
 
     Shows the map so far (target frames ``q - before .. q - 1``), the window cells
-    ``{I_{M_n}..I_{M_n+w_i}}`` in column ``q`` coloured and labelled with their real
-    costs (eq. 1 to ``T_q``), and the chosen cell.
+    ``{I_{M_n}..I_{M_n+w_i}}`` in column ``q`` coloured and labelled with their costs
+    (``step.C``, eq. 1 to ``T_q``), and the chosen cell ``step.M``.
 
     Parameters
     ----------
-    snaps : sequence of WindowSnapshot
-        Method A snapshots from :func:`record_steps` (``snaps[t].M`` is ``M_t``).
-    q : int
-        A window step.
+    M : sequence of int
+        The map ``M_0..M_n`` the step was given (a longer map is cut at ``q = n + 1``).
+    step : fpdtw.plain.Step
+        What ``plain.method_a_step(I, T, M, 2)`` returned: a window step.
     ax : Axes, optional
     before, after : int
         Target frames shown before and after ``q``.
@@ -144,19 +100,18 @@ def plot_method_a_window(snaps, q: int, ax=None, before: int = 6, after: int = 1
     Paper: FP-DTW Fig. 2 (search window of the frame matching algorithm).
     Notebook: 03_fig2_fig4_windows.ipynb
     """
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch
 
-    s = step_at(snaps, q)
+    s = _window_step(step, "Method A")
+    q, start, w_i = int(s.q), int(s.M_n), int(s.w_i)
     fig, ax = new_axes(ax, figsize=(5.5, 6))
     t0 = max(0, q - before)
     t1 = q + after
-    M = np.array([snaps[t].M for t in range(t0, q)], dtype=np.int64)
-    r0 = max(0, int(M.min()) - 1) if M.size else max(0, s.start - 1)
-    r1 = s.start + s.w_i + 1
+    M = np.asarray(M, dtype=np.int64)[t0:q]
+    r0 = max(0, int(M.min()) - 1) if M.size else max(0, start - 1)
+    r1 = start + w_i + 1
     costs = np.asarray(s.C)[:, 0]
     grid = np.full((r1 - r0 + 1, t1 - t0 + 1), np.nan)
-    grid[s.start - r0 : s.start - r0 + s.w_i + 1, q - t0] = costs
+    grid[start - r0 : start - r0 + w_i + 1, q - t0] = costs
     span = max(float(costs.max() - costs.min()), 1e-6)
     im = ax.imshow(
         grid,
@@ -174,23 +129,23 @@ def plot_method_a_window(snaps, q: int, ax=None, before: int = 6, after: int = 1
     if M.size:
         ax.plot(np.arange(t0, q), M, "o-", color="0.3", ms=6, lw=1.2, zorder=3)
         ax.plot([q - 1, q], [M[-1], s.M], "--", color="tab:red", lw=1.2, zorder=3)
-    ax.add_patch(_rect(q, s.start - 0.5, s.w_i + 1, color="tab:blue", lw=2.5))
+    ax.add_patch(_rect(q, start - 0.5, w_i + 1, color="tab:blue", lw=2.5))
     ax.add_patch(_rect(q, s.M - 0.5, 1, color="tab:red", lw=2.0, inset=0.08))
     for r, c in enumerate(costs):
-        ax.text(q, s.start + r, f"{c:.3f}", ha="center", va="center", fontsize=6.5, zorder=4)
+        ax.text(q, start + r, f"{c:.3f}", ha="center", va="center", fontsize=6.5, zorder=4)
     handles = [
         Line2D([], [], marker="o", color="0.3", ms=6, label="map so far $M_t$"),
         Patch(
             fill=False,
             ec="tab:blue",
             lw=2,
-            label=f"window $I_{{{s.start}}}..I_{{{s.start + s.w_i}}}$ ($w$ = {s.w_i})",
+            label=f"window $I_{{{start}}}..I_{{{start + w_i}}}$ ($w$ = {w_i})",
         ),
         Patch(
             fill=False,
             ec="tab:red",
             lw=2,
-            label=f"chosen $M_{{{q}}} = M_{{{q - 1}}} + {s.offset} = {s.M}$",
+            label=f"chosen $M_{{{q}}} = M_{{{q - 1}}} + {s.M - start} = {s.M}$",
         ),
     ]
     ax.set_xlim(t0 - 0.5, t1 + 0.5)
@@ -206,7 +161,6 @@ def plot_method_a_window(snaps, q: int, ax=None, before: int = 6, after: int = 1
 
 
 def _rect(x, y0, height, color, lw=2.0, inset=0.0):
-    from matplotlib.patches import Rectangle
 
     return Rectangle(
         (x - 0.5 + inset, y0 + inset),
@@ -260,7 +214,6 @@ def _mark_x(ax, col, row, label):
 
 
 def _cmap():
-    import matplotlib as mpl
 
     return mpl.colormaps["viridis"].with_extremes(bad="0.92")
 
@@ -279,8 +232,8 @@ def forecast_labels(n_cols: int, with_prev: bool) -> list:
     return out
 
 
-def plot_method_b_window(s: WindowSnapshot, ax=None, which: str = "D", annotate=True):
-    """Fig. 4: one real Method B step: the window's D (or C), its path and the choice X.
+def plot_method_b_window(step, ax=None, which: str = "D", annotate=True):
+    """Fig. 4: one plain Method B step: the window's D (or C), its path and the choice X.
 
     ``D[0, 0]`` (set to 10000 before back-tracking) is left out of the colour scale and
     labelled; the path is drawn from (0, 0) to the far corner; X marks the chosen input
@@ -288,8 +241,8 @@ def plot_method_b_window(s: WindowSnapshot, ax=None, which: str = "D", annotate=
 
     Parameters
     ----------
-    s : WindowSnapshot
-        A Method B window step.
+    step : fpdtw.plain.Step
+        What ``plain.method_b_step`` returned: a window step (``C``, ``D``, ``path``).
     ax : Axes, optional
     which : {"D", "C"}
         Accumulated (default) or local cost as the heat map.
@@ -304,16 +257,16 @@ def plot_method_b_window(s: WindowSnapshot, ax=None, which: str = "D", annotate=
     Paper: FP-DTW Fig. 4 and Algorithm 2.
     Notebook: 03_fig2_fig4_windows.ipynb
     """
-    from matplotlib.patches import Patch
 
-    if s.kind != "window" or s.path is None:
+    s = _window_step(step, "Method B")
+    if s.path is None:
         raise ValueError("a Method B window step (with a path) is needed")
     fig, ax = new_axes(ax, figsize=(6, 5))
     A = s.D if which == "D" else s.C
     mask = np.zeros(A.shape, dtype=bool)
     mask[0, 0] = which == "D"
     label = "accumulated cost D" if which == "D" else "cost C (eq. 1)"
-    _window_heatmap(ax, fig, A, s.start, forecast_labels(A.shape[1], True), mask, label, annotate)
+    _window_heatmap(ax, fig, A, s.M_n, forecast_labels(A.shape[1], True), mask, label, annotate)
     if which == "D":
         ax.text(
             0,
@@ -333,7 +286,8 @@ def plot_method_b_window(s: WindowSnapshot, ax=None, which: str = "D", annotate=
     P = np.asarray(s.path)
     ax.plot(P[:, 1], P[:, 0], "-", color="white", lw=3.2)
     ax.plot(P[:, 1], P[:, 0], ".-", color="tab:red", lw=1.4, ms=5, label="back-tracked path")
-    _mark_x(ax, 1, s.offset, f"X: $M_{{n+1}} = M_n + P_1 = {s.start} + {s.offset} = {s.M}$")
+    off = s.M - s.M_n
+    _mark_x(ax, 1, off, f"X: $M_{{n+1}} = M_n + P_1 = {s.M_n} + {off} = {s.M}$")
     via = tuple(int(v) for v in P[1])
     ax.set_title(
         f"Method B ($w$ = {s.D.shape[1] - 1}), target frame {s.q}: path leaves (0,0) via "
@@ -346,13 +300,14 @@ def plot_method_b_window(s: WindowSnapshot, ax=None, which: str = "D", annotate=
     return fig, ax
 
 
-def plot_method_c_window(s: WindowSnapshot, ax=None, annotate=True):
-    """One real Method C step: the reverse-accumulated D and the argmin of column 0.
+def plot_method_c_window(step, ax=None, annotate=True):
+    """One plain Method C step: the reverse-accumulated D and the argmin of column 0.
 
     Parameters
     ----------
-    s : WindowSnapshot
-        A Method C window step (``D`` accumulated from the far corner back to (0, 0)).
+    step : fpdtw.plain.Step
+        What ``plain.method_c_step`` returned: a window step (``D`` accumulated from the
+        far corner back to (0, 0)).
     ax : Axes, optional
     annotate : bool
 
@@ -365,21 +320,21 @@ def plot_method_c_window(s: WindowSnapshot, ax=None, annotate=True):
     Paper: FP-DTW Algorithm 3 (getReverseTotalCostMatrix, argmin of column 0).
     Notebook: 03_fig2_fig4_windows.ipynb
     """
-    if s.kind != "window" or s.D is None:
-        raise ValueError("a Method C window step is needed")
+    s = _window_step(step, "Method C")
     fig, ax = new_axes(ax, figsize=(6, 5))
     D = np.asarray(s.D)
     _window_heatmap(
         ax,
         fig,
         D,
-        s.start,
+        s.M_n,
         forecast_labels(D.shape[1], False),
         label="reverse-accumulated cost D",
         annotate=annotate,
     )
     nr, nc = D.shape
-    _mark_x(ax, 0, s.offset, f"X: argmin of column 0, $M_{{n+1}} = {s.start} + {s.offset} = {s.M}$")
+    off = s.M - s.M_n
+    _mark_x(ax, 0, off, f"X: argmin of column 0, $M_{{n+1}} = {s.M_n} + {off} = {s.M}$")
     ax.annotate(
         "accumulation\nstarts here",
         (nc - 1, nr - 1),
@@ -407,7 +362,4 @@ __all__ = [
     "plot_method_a_window",
     "plot_method_b_window",
     "plot_method_c_window",
-    "record_steps",
-    "snapshot_facts",
-    "step_at",
 ]
