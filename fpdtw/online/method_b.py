@@ -8,14 +8,7 @@ the ``T_{n+1}`` column.
 
 from __future__ import annotations
 
-import numpy as np
-
-from fpdtw.online.window import (
-    METHOD_B,
-    P_INPUT_FIRST,
-    P_METHOD,
-    ForecastAligner,
-)
+from fpdtw.online.window import METHOD_B, ForecastAligner, StepParams
 
 
 class MethodB(ForecastAligner):
@@ -87,11 +80,9 @@ class MethodB(ForecastAligner):
         **ForecastAligner.options,
     }
 
-    def params(self) -> np.ndarray:
+    def params(self) -> StepParams:
         p = super().params()
-        p[P_METHOD] = METHOD_B
-        p[P_INPUT_FIRST] = self.settings["backtrack"] == "input-first"
-        return p
+        return p._replace(method=METHOD_B, input_first=self.settings["backtrack"] == "input-first")
 
     def _window_record(self, nrows: int, ncols: int, npath: int) -> dict:
         return dict(
