@@ -8,14 +8,7 @@ the ``T_{n+1}`` column.
 
 from __future__ import annotations
 
-import numpy as np
-
-from fpdtw.online.window import (
-    METHOD_B,
-    P_INPUT_FIRST,
-    P_METHOD,
-    ForecastAligner,
-)
+from fpdtw.online.window import METHOD_B, ForecastAligner, StepParams
 
 
 class MethodB(ForecastAligner):
@@ -71,9 +64,6 @@ class MethodB(ForecastAligner):
     record : bool
         Keep a :class:`~fpdtw.online.window.WindowSnapshot` of the last step (C, D, the
         path, P).
-    cache : WindowCache, optional
-        Shared with other B/C aligners stepping over the same target together (speed
-        only; see :class:`~fpdtw.online.window.WindowCache`).
 
     Plain version: fpdtw.plain.method_b_step.
     Paper: FP-DTW Algorithm 2, Fig. 4.
@@ -87,11 +77,9 @@ class MethodB(ForecastAligner):
         **ForecastAligner.options,
     }
 
-    def params(self) -> np.ndarray:
+    def params(self) -> StepParams:
         p = super().params()
-        p[P_METHOD] = METHOD_B
-        p[P_INPUT_FIRST] = self.settings["backtrack"] == "input-first"
-        return p
+        return p._replace(method=METHOD_B, input_first=self.settings["backtrack"] == "input-first")
 
     def _window_record(self, nrows: int, ncols: int, npath: int) -> dict:
         return dict(

@@ -17,8 +17,6 @@ notebook 15 (``window=...``).
 
 from __future__ import annotations
 
-import numpy as np
-
 from fpdtw.online.window import (
     C_LITERAL,
     C_NORMALISED,
@@ -26,11 +24,8 @@ from fpdtw.online.window import (
     C_SQUARE,
     C_SQUARE_TN,
     METHOD_C,
-    P_METHOD,
-    P_READING,
-    P_SHIFT,
-    P_TIES_HIGH,
     ForecastAligner,
+    StepParams,
 )
 
 #: Method C's window readings: option value -> kernel code.
@@ -99,7 +94,7 @@ class MethodC(ForecastAligner):
 
     Parameters
     ----------
-    I, w, constraint, forecast, start, cache
+    I, w, constraint, forecast, start
         As for :class:`~fpdtw.online.method_b.MethodB`; ``w >= 2`` (:attr:`min_w`).
     window : {"square", "literal", "square-tn", "open-end", "normalised"}
         The reading of Algorithm 3's window (above).
@@ -135,14 +130,15 @@ class MethodC(ForecastAligner):
         **ForecastAligner.options,
     }
 
-    def params(self) -> np.ndarray:
-        p = super().params()
+    def params(self) -> StepParams:
         st = self.settings
-        p[P_METHOD] = METHOD_C
-        p[P_READING] = READINGS[st["window"]]
-        p[P_SHIFT] = st["forecast_start"] == "next"
-        p[P_TIES_HIGH] = st["ties"] == "high"
-        return p
+        p = super().params()
+        return p._replace(
+            method=METHOD_C,
+            reading=READINGS[st["window"]],
+            shift=st["forecast_start"] == "next",
+            ties_high=st["ties"] == "high",
+        )
 
     def window_rows(self, start: int) -> int:
         """Number of input rows of the window at ``M_n = start`` (see the readings).

@@ -6,13 +6,15 @@ the paper's notation; ``tests/test_plain.py`` holds the maps equal):
 
 * numba kernels for one step: dead-reckoning forecast -> quaternions -> geodesic cost
   window -> accumulation (forward for B, reverse for C) -> back-tracking (B) or argmin
-  (A, C), all into scratch buffers the aligner preallocates once; :func:`_window_step`
-  is the whole step of any of the three methods;
+  (A, C), all into scratch arrays the aligner allocates once; :func:`_window_step`
+  is the whole step of any of the three methods, called once per target frame by
+  :meth:`WindowAligner._step` with the aligner's arrays and its settings
+  (:class:`StepParams`) as named arguments;
 * :class:`WindowSnapshot`, the debug record of the last step (``record=True``), used to
   draw the paper's Fig. 2 and Fig. 4 from a real run;
-* :class:`WindowAligner`, the common base class: argument checks, the work buffers, the
+* :class:`WindowAligner`, the common base class: argument checks, the scratch arrays, the
   end-of-input rule, the Type V state, the snapshot; :class:`ForecastAligner` adds the
-  warm-up and the shared :class:`WindowCache` of Methods B and C.
+  warm-up of Methods B and C.
 
 Window sizes: the input window is always ``{I_{M_n}..I_{M_n+w_i}}``, ``w_i + 1`` rows
 (``w_i``, everywhere in fpdtw, the offset of the window's last row); Method C's readings
@@ -25,6 +27,8 @@ Its inner loop runs over the forecast frames, stored joint-major as ``F[j, c, co
 (structure of arrays), so that LLVM vectorises it; the ``arccos`` of eq. 1 is
 :func:`fpdtw.costs._acos01`, a branch-free polynomial arccos on [0, 1] (1 ulp from
 ``math.acos``) that vectorises, where libm's ``acos`` is a scalar call five times slower.
+Each aligner computes its own forecast and costs, and receives a frame through
+:meth:`fpdtw.online.base.OnlineAligner.step` (in Python) before its one compiled call.
 """
 
 from __future__ import annotations
@@ -32,16 +36,17 @@ from __future__ import annotations
 import math
 from abc import abstractmethod
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numba
 import numpy as np
 
-from fpdtw.costs import _geo_frame_w, _geo_line, _geo_line_w
+from fpdtw.costs import _geo_frame_w, _geo_line_w
 from fpdtw.dtw import _accumulate
 from fpdtw.errors import AlignmentError
 from fpdtw.forecast import _euler_to_quat, order_codes
 from fpdtw.motion.features import Frame, MotionFeatures
-from fpdtw.online.base import OnlineAligner, check_count, check_input, compiled_frame
+from fpdtw.online.base import OnlineAligner, check_count, check_input
 from fpdtw.online.typev import MAX_ADVANCE, resolve_constraint
 from fpdtw.weights import joint_weights
 
@@ -114,61 +119,6 @@ def _cost_window(Iq, start, nrows, F, ncols, C, wts):
     acc = np.empty(ncols)
     for r in range(nrows):
         _geo_line_w(Iq[start + r], F, 0, ncols, acc, C[r], wts)
-
-
-@numba.njit(cache=True)
-def _fill_shared(Iq, Tq, Te, q, codes, start, nrows, w, c0, C, cF, cG, cN, cMeta, cKey):
-    """Fill ``C[:nrows, c0:c0 + w]`` from a :class:`WindowCache` (computing what it lacks).
-
-    The cache holds the dead-reckoned forecast ``[T_{n+1}, T_{n+1} + delta, ...]`` of step
-    ``cMeta[0]`` (``cMeta[1]`` columns of it in ``cF``) and, per input frame r, the costs
-    ``cG[r, :cN[r]]`` against it. A new step, or other frames than the cached ones at the
-    same step (checked against ``cKey``), empties it first.
-    """
-    k = Tq.shape[1]
-    same = cMeta[0] == q
-    if same:
-        for j in range(k):
-            for a in range(3):
-                if cKey[0, j, a] != Te[q - 1, j, a] or cKey[1, j, a] != Te[q, j, a]:
-                    same = False
-            for a in range(4):
-                if cKey[2, j, a] != Tq[q, j, a]:
-                    same = False
-    if not same:
-        cMeta[0] = q
-        cMeta[1] = 0
-        cN[:] = 0
-        for j in range(k):
-            for a in range(3):
-                cKey[0, j, a] = Te[q - 1, j, a]
-                cKey[1, j, a] = Te[q, j, a]
-            for a in range(4):
-                cKey[2, j, a] = Tq[q, j, a]
-    if cMeta[1] < w:
-        _forecast_columns(Tq, Te, q, cMeta[1], w, codes, cF)
-        cMeta[1] = w
-    acc = np.empty(w)
-    for r in range(nrows):
-        row = start + r
-        if cN[row] < w:
-            _geo_line(Iq[row], cF, cN[row], w, acc, cG[row, cN[row] : w])
-            cN[row] = w
-        for col in range(w):
-            C[r, c0 + col] = cG[row, col]
-
-
-@numba.njit(cache=True)
-def _fill_prev_column(Iq, Tq, q, start, nrows, F1, C):
-    """C[r, 0] = geoDistance(I[start + r], T_n) (Method B's first column), r < nrows."""
-    for j in range(Tq.shape[1]):
-        for a in range(4):
-            F1[j, a, 0] = Tq[q - 1, j, a]
-    tmp = np.empty(1)
-    acc = np.empty(1)
-    for r in range(nrows):
-        _geo_line(Iq[start + r], F1, 0, 1, acc, tmp)
-        C[r, 0] = tmp[0]
 
 
 @numba.njit(cache=True, inline="always")
@@ -270,7 +220,7 @@ def _choose_b(C, nrows, ncols, limit, allow, D, P, path, input_first):
     return P[1], n
 
 
-#: Method C's window readings (``P_READING`` codes of :func:`_window_step`; see MethodC).
+#: Method C's window readings (``reading`` codes of :func:`_window_step`; see MethodC).
 C_SQUARE, C_LITERAL, C_SQUARE_TN, C_OPEN_END, C_NORMALISED = 0, 1, 2, 3, 4
 
 
@@ -335,21 +285,57 @@ def _checked(off, limit, allow):
 
 # --- one whole step of Method A, B or C --------------------------------------------------
 
-#: Entries of an aligner's parameter vector (int64) for :func:`_window_step`.
-P_METHOD, P_W, P_READING, P_SHIFT, P_HOLD, P_TIES_HIGH, P_INPUT_FIRST, P_START_BEST = range(8)
-P_TYPEV, P_SHARED = 8, 9
-#: Half-width in frames of the global band around the diagonal ``M = q`` (0: no band;
-#: beyond the papers, see :class:`ForecastAligner`).
-P_BAND = 10
-#: 1: the aligner weights eq. 1's joints (:func:`fpdtw.weights.joint_weights`; beyond the
-#: papers, see :class:`ForecastAligner`); the weights go to the kernels beside ``prm``.
-P_WEIGHTED = 11
-#: 1: the band clips the window's rows (``band="half-w"``: the rows outside it are not
-#: computed); 0: it masks them (``band="1s"``). See :class:`ForecastAligner`.
-P_BAND_CLIP = 12
-N_PARAMS = 13
-#: Method codes of ``P_METHOD``.
+#: Method codes (``method`` of :func:`_window_step`).
 METHOD_A, METHOD_B, METHOD_C = 0, 1, 2
+
+
+class StepParams(NamedTuple):
+    """An aligner's settings, the last arguments of :func:`_window_step`, in its order.
+
+    Every field is an int (flags 0 or 1), so that every aligner calls the same compiled
+    step.
+
+    Attributes
+    ----------
+    method : int
+        :data:`METHOD_A`, :data:`METHOD_B` or :data:`METHOD_C`.
+    w : int
+        The window size.
+    reading : int
+        Method C's window reading (:data:`C_SQUARE` ...).
+    shift : int
+        1: Method C's forecast starts one frame later (``forecast_start="next"``).
+    hold : int
+        1: zero-order hold instead of dead reckoning (``forecast="hold"``).
+    ties_high : int
+        1: ties go to the highest row (Methods A and C, ``ties="high"``).
+    input_first : int
+        1: Method B's back-track prefers the input step (``backtrack="input-first"``).
+    start_best : int
+        1: ``M_0`` is the best match of ``T_0`` (``start="best"``).
+    typev : int
+        1: the Type V constraint.
+    band : int
+        Half-width in frames of the global band around the diagonal ``M = q`` (0: no band;
+        beyond the papers, see :class:`ForecastAligner`).
+    band_clip : int
+        1: the band clips the window's rows (``band="half-w"``: the rows outside it are not
+        computed); 0: it masks them (``band="1s"``). See :class:`ForecastAligner`.
+    """
+
+    method: int
+    w: int
+    reading: int = 0
+    shift: int = 0
+    hold: int = 0
+    ties_high: int = 0
+    input_first: int = 0
+    start_best: int = 0
+    typev: int = 0
+    band: int = 0
+    band_clip: int = 0
+
+
 #: Kinds of step (``out[0]`` of :func:`_window_step`).
 STEP_FIRST, STEP_WARMUP, STEP_END, STEP_WINDOW = 0, 1, 2, 3
 #: Length of a step's ``out`` record: kind, the window's rows and columns, (B) the path
@@ -417,11 +403,11 @@ def _first_frame(Iq, Tq, w, m, start_best, wts):
 
 
 @numba.njit(cache=True)
-def _allowed_offsets(state, prm, table):
+def _allowed_offsets(state, typev, table):
     """``(limit, allow)`` of :func:`_is_allowed` in Type V state ``state[0]`` (every
-    offset without the constraint)."""
+    offset without the constraint, ``typev = 0``)."""
     allow = np.ones(4, dtype=np.int64)
-    if prm[P_TYPEV] == 0:
+    if typev == 0:
         return np.iinfo(np.int64).max, allow
     for a in range(4):
         allow[a] = 1 if table[state[0], a] >= 0 else 0
@@ -429,81 +415,78 @@ def _allowed_offsets(state, prm, table):
 
 
 @numba.njit(cache=True)
-def _advance_state(state, prm, table, advance):
-    """Type V: the state after an advance (an illegal move is only ever a forced hold at m,
-    which leaves the state as it is)."""
-    if prm[P_TYPEV] != 0 and 0 <= advance <= MAX_ADVANCE and table[state[0], advance] >= 0:
+def _advance_state(state, typev, table, advance):
+    """Type V (``typev`` = 1): the state after an advance (an illegal move is only ever a
+    forced hold at m, which leaves the state as it is)."""
+    if typev != 0 and 0 <= advance <= MAX_ADVANCE and table[state[0], advance] >= 0:
         state[0] = table[state[0], advance]
 
 
 @numba.njit(cache=True)
-def _a_step(Iq, Tq, q, M, state, prm, table, c, out, wts):
+def _a_step(Iq, Tq, q, M, state, table, c, out, wts, w, ties_high, start_best, typev):
     """``M_q`` of a Method A aligner at target frame q: :func:`_window_step` for Method A,
-    with only the arrays it needs (``c`` : float64 (>= w + 1,), the window's costs;
-    ``wts`` : eq. 1's joint weights, empty for none).
+    with only the arrays and settings it needs (``c`` : float64 (>= w + 1,), the window's
+    costs; ``wts`` : eq. 1's joint weights, empty for none).
 
     Plain version: fpdtw.plain.method_a_step.
     """
     m = Iq.shape[0] - 1
-    w = prm[P_W]
     out[1] = 0
     out[2] = 0
     out[3] = 0
     out[4] = 0
     if q == 0:
         out[0] = STEP_FIRST
-        return _first_frame(Iq, Tq, w, m, prm[P_START_BEST] != 0, wts)
+        return _first_frame(Iq, Tq, w, m, start_best != 0, wts)
     start = M[q - 1]
     if start >= m:
         out[0] = STEP_END
         m_next = m
     else:
         out[0] = STEP_WINDOW
-        limit, allow = _allowed_offsets(state, prm, table)
+        limit, allow = _allowed_offsets(state, typev, table)
         nrows = min(w, m - start) + 1
-        off = _choose_a(Iq, Tq[q], start, nrows, limit, allow, c, prm[P_TIES_HIGH] != 0, wts)
+        off = _choose_a(Iq, Tq[q], start, nrows, limit, allow, c, ties_high != 0, wts)
         off = _checked(off, limit, allow)
         out[1] = nrows
         out[2] = 1
         m_next = start + off
-    _advance_state(state, prm, table, m_next - start)
+    _advance_state(state, typev, table, m_next - start)
     return m_next
 
 
 @numba.njit(cache=True)
 def _window_step(
-    Iq, Tq, Te, q, M, state, prm, table, codes, F, C, D, Pcol, path, score,
-    cF, cG, cN, cMeta, cKey, out, wts,
+    Iq, Tq, Te, q, M, state, table, codes, F, C, D, Pcol, path, score, out, wts,
+    method, w, reading, shift, hold, ties_high, input_first, start_best, typev, band, band_clip,
 ):  # fmt: skip
     """``M_q`` of one Method A, B or C aligner at target frame q (frames 0..q received).
 
     ``M[:q]`` is the map so far; ``state[0]`` the Type V state (advanced in place);
-    ``prm`` the aligner's parameter vector (``P_*``); ``table`` the Type V state table;
-    ``F, C, D, Pcol, path, score`` scratch; ``cF..cKey`` a :class:`WindowCache`'s
-    arrays (used when ``prm[P_SHARED]``). ``out`` (``N_OUT``) gets the kind of step, the
-    window's rows and columns, (B) the path length and the offset of the window's first
-    row from ``M_n``, for the debug record. With a clipping band (``prm[P_BAND_CLIP]``)
-    the window's rows are those of :func:`_clip_band`: rows outside the band are not
-    computed, and the window is the same method's on ``I_{M_n + first}..``. ``wts`` : float64
-    (k,) eq. 1's per-joint weights, or EMPTY (0,) for eq. 1 as written (exactly the
-    unweighted arithmetic); an aligner with weights never shares a cache (``prm[P_SHARED]``
-    is 0), whose costs are unweighted.
+    ``table`` the Type V state table; ``F, C, D, Pcol, path, score`` scratch. ``out``
+    (``N_OUT``) gets the kind of step, the window's rows and columns, (B) the path length
+    and the offset of the window's first row from ``M_n``, for the debug record.
+    ``method .. band_clip``: the aligner's settings (:class:`StepParams`). With a clipping
+    band (``band_clip``) the window's rows are those of :func:`_clip_band`: rows outside
+    the band are not computed, and the window is the same method's on
+    ``I_{M_n + first}..``. ``wts`` : float64 (k,) eq. 1's per-joint weights, or EMPTY (0,)
+    for eq. 1 as written (exactly the unweighted arithmetic).
 
     Plain version: fpdtw.plain.method_a_step, fpdtw.plain.method_b_step and
     fpdtw.plain.method_c_step (one step each; fpdtw.plain.run steps through a target).
     """
-    method = prm[P_METHOD]
     if method == METHOD_A:
-        return _a_step(Iq, Tq, q, M, state, prm, table, C[:, 0], out, wts)
+        return _a_step(
+            Iq, Tq, q, M, state, table, C[:, 0], out, wts, w, ties_high, start_best, typev
+        )
     m = Iq.shape[0] - 1
-    w = prm[P_W]
     out[1] = 0
     out[2] = 0
     out[3] = 0
     out[4] = 0
     if q == 0:
         out[0] = STEP_FIRST
-        return _first_frame(Iq, Tq, w, m, prm[P_START_BEST] != 0, wts)
+        return _first_frame(Iq, Tq, w, m, start_best != 0, wts)
     start = M[q - 1]
     if q - 1 < SMOOTHING:
         out[0] = STEP_WARMUP
@@ -513,257 +496,39 @@ def _window_step(
         m_next = m
     else:
         out[0] = STEP_WINDOW
-        limit, allow = _allowed_offsets(state, prm, table)
-        shared = prm[P_SHARED] != 0
-        band = prm[P_BAND]
+        limit, allow = _allowed_offsets(state, typev, table)
         if method == METHOD_B:
             nrows = min(w, m - start) + 1
         else:
             # w_i = min(w - 1, m - M_n) for the square window (w rows), else min(w, m - M_n)
-            nrows = min(w - 1 if prm[P_READING] == C_SQUARE else w, m - start) + 1
+            nrows = min(w - 1 if reading == C_SQUARE else w, m - start) + 1
         first = 0
-        if band > 0 and prm[P_BAND_CLIP] != 0:  # only the rows inside the band
+        if band > 0 and band_clip != 0:  # only the rows inside the band
             first, nrows = _clip_band(start, nrows, q, band)
         s0 = start + first  # the window's first row
         if method == METHOD_B:
             ncols = w + 1
-            if shared:
-                _fill_prev_column(Iq, Tq, q, s0, nrows, F, C)
-                _fill_shared(Iq, Tq, Te, q, codes, s0, nrows, w, 1, C, cF, cG, cN, cMeta, cKey)
-            else:
-                _forecast_window(Tq, Te, q, w, True, codes, F, 0, prm[P_HOLD] != 0)
-                _cost_window(Iq, s0, nrows, F, ncols, C, wts)
+            _forecast_window(Tq, Te, q, w, True, codes, F, 0, hold != 0)
+            _cost_window(Iq, s0, nrows, F, ncols, C, wts)
             _mask_band(C, nrows, 1, q, s0, band)
-            off, npath = _choose_b(
-                C, nrows, ncols, limit, allow, D, Pcol, path, prm[P_INPUT_FIRST] != 0
-            )
+            off, npath = _choose_b(C, nrows, ncols, limit, allow, D, Pcol, path, input_first != 0)
             _check_band(off, q, s0, band)
             out[3] = npath
         else:
-            reading = prm[P_READING]
             with_prev = reading == C_SQUARE_TN
             ncols = w + 1 if with_prev else w
-            if shared:
-                c0 = 0
-                if with_prev:
-                    _fill_prev_column(Iq, Tq, q, s0, nrows, F, C)
-                    c0 = 1
-                _fill_shared(Iq, Tq, Te, q, codes, s0, nrows, w, c0, C, cF, cG, cN, cMeta, cKey)
-            else:
-                _forecast_window(Tq, Te, q, w, with_prev, codes, F, prm[P_SHIFT], prm[P_HOLD] != 0)
-                _cost_window(Iq, s0, nrows, F, ncols, C, wts)
+            _forecast_window(Tq, Te, q, w, with_prev, codes, F, shift, hold != 0)
+            _cost_window(Iq, s0, nrows, F, ncols, C, wts)
             _mask_band(C, nrows, 0, q, s0, band)
-            off = _choose_c(C, nrows, ncols, limit, allow, D, score, reading, prm[P_TIES_HIGH] != 0)
+            off = _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high != 0)
             _check_band(off, q, s0, band)
         off = _checked(off, limit, allow)  # (a band is never combined with Type V: first = 0)
         out[1] = nrows
         out[2] = ncols
         out[4] = first
         m_next = s0 + off
-    _advance_state(state, prm, table, m_next - start)
+    _advance_state(state, typev, table, m_next - start)
     return m_next
-
-
-@numba.njit(cache=True)
-def _run_group(
-    Iq, Tq, Te, codes, params, table, M, F, C, D, Pcol, path, score, cF, cG, cN, cMeta, cKey,
-    wts,
-):  # fmt: skip
-    """Every aligner of ``params`` (one row each) over the whole target, in lockstep.
-
-    ``wts`` (aligners, k): eq. 1's joint weights of the aligners with ``P_WEIGHTED``
-    (the rows of the others are not read: they get an empty slice, eq. 1 as written).
-
-    ``M`` (aligners, frames) receives the maps; each aligner's step only reads the
-    frames up to its own (as when streaming). Scratch buffers are shared: the steps
-    run one after the other.
-    """
-    n = Tq.shape[0]
-    A = params.shape[0]
-    state = np.zeros((A, 1), dtype=np.int64)
-    out = np.zeros(N_OUT, dtype=np.int64)
-    k = Iq.shape[1]
-    for q in range(n):
-        for a in range(A):
-            nw = k if params[a, P_WEIGHTED] != 0 else 0
-            M[a, q] = _window_step(
-                Iq, Tq, Te, q, M[a], state[a], params[a], table, codes, F, C, D, Pcol, path,
-                score, cF, cG, cN, cMeta, cKey, out, wts[a, :nw],
-            )  # fmt: skip
-
-
-# --- one call per streamed frame --------------------------------------------------------
-
-#: Header of an aligner's int64 work buffer (:func:`_work_views`): joints k, window
-#: capacity W = w + 1, number of Type V states.
-_H_K, _H_W, _H_NS = 0, 1, 2
-_HEADER = 3
-
-
-def _work_sizes(k: int, W: int, ns: int) -> tuple:
-    """Lengths of the float64 and int64 work buffers of :func:`_work_views`."""
-    floats = W * W + k * 4 * W + W * W + W + 4 * k + 1 + 12 * k
-    ints = _HEADER + N_PARAMS + 4 * ns + 1 + N_OUT + k + W + 4 * W + 1 + 2
-    return floats, ints
-
-
-@numba.njit(cache=True)
-def _head_views(work, iwork):
-    """The views every method uses, at the start of the two buffers: ``prm``, ``table``,
-    ``tv``, ``out`` and column 0 of ``C`` (all Method A's step needs: one reshape, where
-    each of :func:`_work_views`' reshapes costs about 0.1 us)."""
-    W = iwork[_H_W]
-    ns = iwork[_H_NS]
-    i = _HEADER
-    prm = iwork[i : i + N_PARAMS]
-    i += N_PARAMS
-    table = iwork[i : i + 4 * ns].reshape((ns, 4))
-    i += 4 * ns
-    tv = iwork[i : i + 1]
-    i += 1
-    out = iwork[i : i + N_OUT]
-    return prm, table, tv, out, work[0 : W * W : W]
-
-
-@numba.njit(cache=True)
-def _work_views(work, iwork):
-    """An aligner's scratch, parameters and state as views of two flat buffers.
-
-    ``work`` (float64) holds ``C (W, W), F (k, 4, W), D (W, W), score (W)`` and the
-    placeholder cache arrays ``cF (k, 4, 1), cG (1, 1), cKey (3, k, 4)``; ``iwork``
-    (int64) the header ``k, W, ns``, then ``prm (N_PARAMS), table (ns, 4), tv (1),
-    out (N_OUT)`` (:func:`_head_views`), ``codes (k), Pcol (W), path (2W, 2), cN (1),
-    cMeta (2)``. Two buffers instead of nineteen arrays: a compiled function costs about
-    0.1 us per array argument to call, and :func:`_stream_step` is called once per frame.
-    """
-    k = iwork[_H_K]
-    W = iwork[_H_W]
-    ns = iwork[_H_NS]
-    prm, table, tv, out, _ = _head_views(work, iwork)
-    o = 0
-    C = work[o : o + W * W].reshape((W, W))
-    o += W * W
-    F = work[o : o + k * 4 * W].reshape((k, 4, W))
-    o += k * 4 * W
-    D = work[o : o + W * W].reshape((W, W))
-    o += W * W
-    score = work[o : o + W]
-    o += W
-    cF = work[o : o + 4 * k].reshape((k, 4, 1))
-    o += 4 * k
-    cG = work[o : o + 1].reshape((1, 1))
-    o += 1
-    cKey = work[o : o + 12 * k].reshape((3, k, 4))
-    i = _HEADER + N_PARAMS + 4 * ns + 1 + N_OUT
-    codes = iwork[i : i + k]
-    i += k
-    Pcol = iwork[i : i + W]
-    i += W
-    path = iwork[i : i + 4 * W].reshape((2 * W, 2))
-    i += 4 * W
-    cN = iwork[i : i + 1]
-    i += 1
-    cMeta = iwork[i : i + 2]
-    return F, C, D, score, cF, cG, cKey, prm, table, codes, tv, Pcol, path, out, cN, cMeta
-
-
-@numba.njit(cache=True)
-def _store_frame(k, Tq, Te, q, fq, fe):
-    """Store a streamed frame (quaternions ``fq`` (k, 4), Euler angles ``fe`` (k, 3)) in
-    row ``q`` of ``Tq, Te``; False (nothing stored) for a frame of another shape."""
-    if fq.shape[0] != k or fq.shape[1] != 4 or fe.shape[0] != k or fe.shape[1] != 3:
-        return False
-    for j in range(k):
-        for a in range(4):
-            Tq[q, j, a] = fq[j, a]
-        for a in range(3):
-            Te[q, j, a] = fe[j, a]
-    return True
-
-
-@numba.njit(cache=True)
-def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
-    """Receive one streamed frame: store it in row ``q`` of ``Tq, Te``, run
-    :func:`_window_step`, store ``M[q]``; the whole ``step`` of a B/C aligner in one call.
-
-    ``fq`` (k, 4) and ``fe`` (k, 3) are the frame's quaternions and Euler angles; a frame
-    of another shape changes nothing and returns -1 (the caller then raises). Eq. 1 as
-    written only: an aligner that weights the joints never takes this path (its ``step``
-    takes the general one, :meth:`WindowAligner._step`).
-    """
-    if iwork[_HEADER + P_WEIGHTED] != 0:
-        return -2
-    if not _store_frame(Iq.shape[1], Tq, Te, q, fq, fe):
-        return -1
-    if iwork[_HEADER + P_METHOD] == METHOD_A:
-        prm, table, tv, out, c = _head_views(work, iwork)
-        m = _a_step(Iq, Tq, q, M, tv, prm, table, c, out, work[0:0])
-    else:
-        views = _work_views(work, iwork)
-        F, C, D, score, cF, cG, cKey, prm, table, codes, tv, Pcol, path, out, cN, cMeta = views
-        m = _window_step(
-            Iq, Tq, Te, q, M, tv, prm, table, codes, F, C, D, Pcol, path, score,
-            cF, cG, cN, cMeta, cKey, out, work[0:0],
-        )  # fmt: skip
-    M[q] = m
-    return m
-
-
-# --- costs shared by aligners that step together ---------------------------------------
-
-
-class WindowCache:
-    """Forecast and window costs shared by B/C aligners that step over the same target together.
-
-    At a target frame ``T_{n+1}``, the dead-reckoned forecast ``[T_{n+1}, T_{n+1} + delta,
-    ...]`` is the same for Methods B and C at every window size and reading, and so is
-    the cost (eq. 1) of any input frame against any of its columns. Aligners given the
-    same cache (``cache=`` of :class:`MethodB` and :class:`MethodC`) and fed the same
-    frames in lockstep (:func:`fpdtw.online.base.run_together`) compute each forecast
-    column and each cost cell once per target frame, however many of them need it;
-    each aligner still masks, accumulates and chooses on its own copy of its window.
-    The cached values are computed by the same code as an aligner's own, so maps are
-    identical with and without a cache (tested). The cache checks the frames it is
-    given: fed other frames at the same step, it starts afresh, so sharing is only ever
-    a matter of speed.
-
-    Aligners with a non-default forecast (``forecast="hold"``, ``forecast_start="next"``)
-    do not use it.
-
-    Parameters
-    ----------
-    I : MotionFeatures
-        The input motion of every aligner sharing the cache.
-    w_max : int
-        The largest window among them.
-
-    Attributes
-    ----------
-    F : ndarray of float64, shape (k, 4, w_max)
-        Forecast columns of the cached step.
-    G : ndarray of float64, shape (m + 1, w_max)
-        ``G[r, :N[r]]``: costs of input frame r against them.
-    N : ndarray of int64, shape (m + 1,)
-    meta : ndarray of int64, shape (2,)
-        Cached step q and number of forecast columns filled.
-    key : ndarray of float64, shape (3, k, 4)
-        The frames the cached step was computed from (Euler angles of T_n, T_{n+1}; the
-        quaternion of T_{n+1}).
-    """
-
-    def __init__(self, I: MotionFeatures, w_max: int):
-        self.I = I
-        self.w_max = check_count(w_max, "w_max", "WindowCache")
-        k = np.shape(I.quats)[1]
-        self.F = np.empty((k, 4, self.w_max))
-        self.G = np.empty((I.n_frames, self.w_max))
-        self.N = np.zeros(I.n_frames, dtype=np.int64)
-        self.meta = np.array([-1, 0], dtype=np.int64)
-        self.key = np.zeros((3, k, 4))
-
-    def arrays(self) -> tuple:
-        """``(F, G, N, meta, key)`` for the kernels."""
-        return self.F, self.G, self.N, self.meta, self.key
 
 
 # --- the debug record -----------------------------------------------------------------
@@ -857,10 +622,9 @@ class WindowAligner(OnlineAligner):
     * ``state`` holds the current Type V state (index into ``constraint.states``), None
       without a constraint; ``reset()`` puts it back to the start state.
 
-    The whole step runs in one compiled function, :func:`_window_step`; its scratch
-    arrays, the parameter vector (:meth:`params`) and the Type V state live in two flat
-    buffers (:func:`_work_views`), so that one streamed frame is one compiled call with
-    few arguments (:func:`_stream_step`). Subclasses give their :meth:`params` and
+    The whole step runs in one compiled function, :func:`_window_step`, on scratch arrays
+    each aligner allocates once, its settings (:meth:`params`, a :class:`StepParams`) and
+    its Type V state. Subclasses give their :meth:`params` and
     :meth:`_window_record`.
 
     Parameters
@@ -881,8 +645,6 @@ class WindowAligner(OnlineAligner):
     min_w = 1
     #: ``{option: (default, {other value: label in names})}``, in the order of names.
     options = {"start": ("zero", {"best": "M_0 best match"})}
-    #: A :class:`WindowCache` shared with other aligners (Methods B and C only).
-    cache = None
 
     def __init__(self, I: MotionFeatures, w: int, *, constraint=None, record=False, **options):
         check_count(w, "window w", type(self).__name__, minimum=self.min_w)
@@ -920,44 +682,35 @@ class WindowAligner(OnlineAligner):
 
         k = self._Iq.shape[1]
         W = self.w + 1
-        table = (
+        # the Type V state table (a placeholder without the constraint: never read)
+        self._table = (
             np.zeros((3, 4), dtype=np.int64)
             if self.constraint is None
-            else np.ascontiguousarray(self.constraint.table, dtype=np.int64)
+            else np.array(self.constraint.table, dtype=np.int64)
         )
-        nf, ni = _work_sizes(k, W, table.shape[0])
-        self._work = np.zeros(nf)
-        self._iwork = np.zeros(ni, dtype=np.int64)
-        self._iwork[[_H_K, _H_W, _H_NS]] = k, W, table.shape[0]
-        (
-            self._F, self._C, self._D, self._score, cF, cG, cKey, self._params, self._table,
-            self._codes, self._tv, self._P, self._path, self._out, cN, cMeta,
-        ) = _work_views(self._work, self._iwork)  # fmt: skip
-        self._table[:] = table
-        self._codes[:] = codes
-        cMeta[:] = (-1, 0)
-        self._placeholder = (cF, cG, cN, cMeta, cKey)
+        self._codes = np.array(codes, dtype=np.int64)  # the target's rotation orders
+        self._tv = np.zeros(1, dtype=np.int64)  # the Type V state
+        self._out = np.zeros(N_OUT, dtype=np.int64)  # what the last step did
+        # scratch of one step (see _window_step)
+        self._F = np.zeros((k, 4, W))
+        self._C = np.zeros((W, W))
+        self._D = np.zeros((W, W))
+        self._score = np.zeros(W)
+        self._P = np.zeros(W, dtype=np.int64)
+        self._path = np.zeros((2 * W, 2), dtype=np.int64)
         super().__init__(I)
-        self._configure()
+        # ints, so that every aligner calls the same compiled step
+        self._params = StepParams(*(int(v) for v in self.params()))
         self.name = self._make_name()
 
-    def _configure(self) -> None:
-        """Fill the parameter vector and choose the cache arrays and the one-call path
-        from the aligner's settings (again after a subclass sets :attr:`cache`)."""
-        self._params[:] = self.params()
-        self._cache_arrays = self._placeholder if self.cache is None else self.cache.arrays()
-        # the one-call path: no debug record, no shared cache, eq. 1 unweighted
-        self._lean = not self.record and self.cache is None and self._wts.shape[0] == 0
-
-    def params(self) -> np.ndarray:
-        """This aligner's parameter vector for :func:`_window_step` (int64, ``N_PARAMS``)."""
-        p = np.zeros(N_PARAMS, dtype=np.int64)
-        p[P_W] = self.w
-        p[P_START_BEST] = self.settings["start"] == "best"
-        p[P_TYPEV] = self.constraint is not None
-        p[P_SHARED] = self.cache is not None
-        p[P_WEIGHTED] = self._wts.shape[0] > 0
-        return p
+    def params(self) -> StepParams:
+        """This aligner's settings for :func:`_window_step` (subclasses set the method's)."""
+        return StepParams(
+            method=-1,
+            w=self.w,
+            start_best=self.settings["start"] == "best",
+            typev=self.constraint is not None,
+        )
 
     @classmethod
     def _resolve_options(cls, given: dict) -> dict:
@@ -1026,25 +779,11 @@ class WindowAligner(OnlineAligner):
     def step(self, frame: Frame) -> int:
         """Receive target frame ``T_{n+1}`` and return ``M_{n+1}``.
 
-        The common case (numpy arrays, room in the buffers, no debug record, no shared
-        cache) is one compiled call, :func:`_stream_step`; anything else takes the
-        general path of :meth:`OnlineAligner.step` (same result), after checking the
-        frame's shape.
+        Checks the frame's shape, then takes :meth:`OnlineAligner.step`, which stores the
+        frame and calls :meth:`_step`.
         """
         if self.n_received == 0:
             self._begin_take(frame)
-        i = self.n_received - self._start
-        arrays = compiled_frame(frame, i, self._M.shape[0], self._Tp) if self._lean else None
-        if arrays is not None:
-            fq, fe = arrays
-            m = _stream_step(
-                self._Iq, self._Tq, self._Te, self._M, i, fq, fe, self._work, self._iwork
-            )
-            if m >= 0:
-                self.n_received += 1
-                if self.constraint is not None:
-                    self.state = int(self._tv[0])
-                return m
         k = self._Iq.shape[1]
         if np.shape(frame.quats) != (k, 4) or np.shape(frame.euler) != (k, 3):
             raise AlignmentError(
@@ -1058,8 +797,6 @@ class WindowAligner(OnlineAligner):
         """Eq. 1 against ``Iq``; the forecasts in the target's rotation ``orders``."""
         if Iq is not self._Iq:
             self._Iq = np.ascontiguousarray(Iq, dtype=np.float64)
-            if self.cache is not None:
-                self.cache.meta[0] = -1  # its costs were computed against other rotations
         try:
             self._codes[:] = order_codes(orders)
         except ValueError as e:
@@ -1069,9 +806,9 @@ class WindowAligner(OnlineAligner):
         state = self.state
         m_next = int(
             _window_step(
-                self._Iq, self._Tq, self._Te, q, self._M, self._tv, self._params, self._table,
-                self._codes, self._F, self._C, self._D, self._P, self._path, self._score,
-                *self._cache_arrays, self._out, self._wts,
+                self._Iq, self._Tq, self._Te, q, self._M, self._tv, self._table, self._codes,
+                self._F, self._C, self._D, self._P, self._path, self._score, self._out,
+                self._wts, *self._params,
             )
         )  # fmt: skip
         if self.constraint is not None:
@@ -1115,11 +852,6 @@ class ForecastAligner(WindowAligner):
       from ``M_0 = 0`` and keeps advancing from another ``M_0`` (``start="best"``).
     * ``M_n >= m`` (input exhausted): ``M_{n+1} = m``.
     * Otherwise the method's window.
-    * ``cache``: a :class:`WindowCache` shared with other aligners stepping over the same
-      target together (speed only: the maps are the same).
-
-    :func:`run_group` loops the same compiled step, :func:`_window_step`, over several
-    aligners at once: streaming and batch runs share one implementation.
     """
 
     #: Smoothing window: frames needed before forecasting (dead reckoning: 2).
@@ -1137,9 +869,7 @@ class ForecastAligner(WindowAligner):
     #: Half-width of ``band="1s"``, seconds (120 frames at 120 Hz).
     BAND_SECONDS = 1.0
 
-    def __init__(
-        self, I: MotionFeatures, w: int, *, constraint=None, record=False, cache=None, **options
-    ):
+    def __init__(self, I: MotionFeatures, w: int, *, constraint=None, record=False, **options):
         """Global band (``band="1s"``, beyond the papers): the live take is assumed to last
         as long as the recording, so the uniform-time diagonal is ``M_q = q`` (input rate /
         target rate = 1: every run of this package has both motions at one rate). At every
@@ -1174,104 +904,22 @@ class ForecastAligner(WindowAligner):
 
         Weighted joints (``weights="travel"``, beyond the papers): eq. 1 becomes
         ``sum_j w_j (2/pi) arccos |q_a,j . q_b,j|`` with ``w =``
-        :func:`fpdtw.weights.joint_weights` of the input, computed once here. Such an
-        aligner computes its own costs (a shared :class:`WindowCache` holds unweighted ones,
-        so it is not used) and streams through the general path of :meth:`step`."""
+        :func:`fpdtw.weights.joint_weights` of the input, computed once here."""
         super().__init__(I, w, constraint=constraint, record=record, **options)
         if self.settings.get("band", "none") != "none":
             if self.constraint is not None:
                 raise AlignmentError(f"{self.name}: the global band is not combined with Type V")
             self.history = None
-        if cache is not None:
-            if not isinstance(cache, WindowCache):
-                raise AlignmentError(f"cache must be a WindowCache, got {type(cache).__name__}")
-            if cache.I is not I or cache.w_max < self.w:
-                raise AlignmentError(
-                    f"{self.name}: the cache is for another input or smaller windows "
-                    f"(w_max {cache.w_max} < w {self.w})"
-                )
-            if self.settings.get("forecast", "dead-reckoning") != "dead-reckoning" or (
-                self.settings.get("forecast_start", "T_{n+1}") != "T_{n+1}"
-            ):
-                cache = None  # its forecast is not the shared one
-            if self._wts.shape[0]:
-                cache = None  # the cache's costs are unweighted
-        self.cache = cache
-        self._configure()
 
-    def params(self) -> np.ndarray:
+    def params(self) -> StepParams:
         p = super().params()
-        p[P_HOLD] = self.settings.get("forecast", "dead-reckoning") == "hold"
+        p = p._replace(hold=self.settings.get("forecast", "dead-reckoning") == "hold")
         band = self.settings.get("band", "none")
         if band == "1s":
-            p[P_BAND] = max(1, int(round(self.BAND_SECONDS * self.I.fps)))
+            p = p._replace(band=max(1, int(round(self.BAND_SECONDS * self.I.fps))))
         elif band == "half-w":
-            p[P_BAND] = max(1, self.w // 2)
-            p[P_BAND_CLIP] = 1
+            p = p._replace(band=max(1, self.w // 2), band_clip=1)
         return p
-
-
-def run_group(aligners, T: MotionFeatures) -> list:
-    """Run Method B and C aligners over one target together, in one compiled loop.
-
-    The same steps as streaming each of them (:func:`fpdtw.online.base.run_online`; the
-    maps are equal, tested), without a Python call per frame; aligners given one
-    :class:`WindowCache` share its forecast and costs. Only the maps are returned (with
-    shared work, nothing is timed per aligner).
-
-    Parameters
-    ----------
-    aligners : sequence of ForecastAligner
-        All with the same input motion; those with a cache all with the same one.
-    T : MotionFeatures
-        Target motion with the input's joints.
-
-    Returns
-    -------
-    maps : list of ndarray of int64, shape (n,)
-    """
-    aligners = list(aligners)
-    if not aligners:
-        return []
-    a0 = aligners[0]
-    tables, caches = set(), {}
-    for a in aligners:
-        if not isinstance(a, ForecastAligner) or a.I is not a0.I:
-            raise AlignmentError("run_group needs Method B/C aligners with one input and one cache")
-        if a.cache is not None:
-            caches[id(a.cache)] = a
-        if a.constraint is not None:
-            tables.add(a.constraint.table.tobytes())
-    if len(caches) > 1:
-        raise AlignmentError("run_group needs Method B/C aligners with one input and one cache")
-    if len(tables) > 1:
-        raise AlignmentError("run_group needs one Type V table")
-    holder = next(iter(caches.values()), a0)  # its arrays serve every aligner with P_SHARED
-    k = a0._Iq.shape[1]
-    if np.shape(T.quats)[1:] != (k, 4) or np.shape(T.euler)[1:] != (k, 3):
-        raise AlignmentError(
-            f"target {T.name!r}: expected {k} joints like the input {a0.I.name!r}, got "
-            f"quats {np.shape(T.quats)} and euler {np.shape(T.euler)}"
-        )
-    if T.n_frames:
-        first = T.frame(0)
-        for a in aligners:  # the target's rotation orders and rig, as a stream's first frame
-            a._begin_take(first)
-    W = max(a.w for a in aligners) + 1
-    params = np.stack([a.params() for a in aligners])
-    wts = np.ones((len(aligners), k))
-    for row, a in zip(wts, aligners):
-        if a._wts.shape[0]:
-            row[:] = a._wts
-    table = next((a._table for a in aligners if a.constraint is not None), a0._table)
-    M = np.zeros((len(aligners), T.n_frames), dtype=np.int64)
-    _run_group(
-        a0._Iq, np.ascontiguousarray(T.quats, dtype=np.float64),
-        np.ascontiguousarray(T.euler, dtype=np.float64), a0._codes, params, table, M,
-        np.empty((k, 4, W)), np.empty((W, W)), np.empty((W, W)), np.empty(W, dtype=np.int64),
-        np.empty((2 * W, 2), dtype=np.int64), np.empty(W), *holder._cache_arrays, wts,
-    )  # fmt: skip
-    return list(M)
 
 
 __all__ = [
