@@ -29,6 +29,7 @@ Notebook: 11_fig9_typev.ipynb
 from __future__ import annotations
 
 import importlib
+import inspect
 import re
 from dataclasses import dataclass, field
 
@@ -83,9 +84,11 @@ def online(target: str):
 def window_method(target: str):
     """Builder of an FP-DTW window method (``Class(I, w, constraint=..., **options)``)."""
 
-    def build(I, value, typev=False, options=None, record=False):
+    def build(I, value, typev=False, options=None, cache=None, record=False):
         cls = _import(target)
         opts = dict(options or {})
+        if "cache" in inspect.signature(cls).parameters:
+            opts["cache"] = cache
         return cls(I, value, constraint="typeV" if typev else None, record=record, **opts)
 
     build.target, build.window = target, True
@@ -107,7 +110,7 @@ class Entry:
         Its ``--method`` value on the command line.
     online : bool
     build : callable
-        Online: ``build(I, value=..., typev=..., options=..., record=...)``
+        Online: ``build(I, value=..., typev=..., options=..., cache=..., record=...)``
         returns the aligner; offline: ``build(I, T)`` returns the map.
     param : str or None
         Letter of its numeric parameter in names (``"w"``: window, ``"c"``: band width).
@@ -136,7 +139,7 @@ class Entry:
 
     @property
     def window_method(self) -> bool:
-        """An FP-DTW window method (options in names, snapshots)."""
+        """An FP-DTW window method (options in names, a window cache, snapshots)."""
         return getattr(self.build, "window", False)
 
     @property
@@ -238,15 +241,20 @@ class Algorithm:
         """The window of an FP-DTW method (None for the others)."""
         return self.value if self.entry.param == "w" else None
 
-    def make(self, I: MotionFeatures, *, record=False):
+    @property
+    def shares_window(self) -> bool:
+        """Methods B and C on poses: their window costs can be shared (a WindowCache)."""
+        return self.family in ("B", "C") and not self.derivative
+
+    def make(self, I: MotionFeatures, *, cache=None, record=False):
         """The streaming aligner of an online algorithm, for the input motion ``I``."""
         if not self.online:
             raise AlignmentError(f"{self.name!r} is offline: it has no streaming aligner")
         kw = dict(value=self.value, typev=self.typev, options=self.options)
         if self.derivative:
-            inner = self.entry.build(derivative_features(I), record=record, **kw)
+            inner = self.entry.build(derivative_features(I), cache=None, record=record, **kw)
             return DerivativeAligner(I, inner)
-        return self.entry.build(I, record=record, **kw)
+        return self.entry.build(I, cache=cache, record=record, **kw)
 
     def run(self, I: MotionFeatures, T: MotionFeatures):
         """``(M, seconds)``: the map of the pair and, online, the time of each step."""
@@ -363,7 +371,7 @@ def method_c_name(w: int, window: str = "square", typev: bool = False, **options
     return name("Mc", w, typev, window=window, **options)
 
 
-def make_online(name: str, I: MotionFeatures, *, record=False):
+def make_online(name: str, I: MotionFeatures, *, record=False, cache=None):
     """The streaming aligner called ``name``, for the input motion ``I``.
 
     Parameters
@@ -373,12 +381,15 @@ def make_online(name: str, I: MotionFeatures, *, record=False):
         Input (recorded) motion.
     record : bool
         Keep the last window for inspection (FP-DTW methods only).
+    cache : WindowCache, optional
+        Shared by Methods B and C stepping together (see
+        :class:`fpdtw.online.window.WindowCache`); ignored by the others.
 
     Returns
     -------
     aligner : OnlineAligner
     """
-    return resolve(name).make(I, record=record)
+    return resolve(name).make(I, cache=cache, record=record)
 
 
 def align(name: str, I: MotionFeatures, T: MotionFeatures):

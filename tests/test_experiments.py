@@ -241,7 +241,7 @@ def test_results_of_the_tiny_run(reference):
 
 
 def test_grid_maps_equal_separate_runs(reference):
-    """The grid's maps are those of separate runs."""
+    """B and C share a WindowCache in the grid: their maps are those of separate runs."""
     features = {fps: E.pair_features(reference, fps) for fps in (120.0, 60.0)}
     for name in ALGOS:
         spec = E.resolve_algorithm(name)

@@ -32,7 +32,7 @@ from fpdtw.online.method_a import MethodA
 from fpdtw.online.method_b import MethodB
 from fpdtw.online.method_c import MethodC
 from fpdtw.online.typev import dtw_python_accepts, is_legal_typev, legal_prefix
-from fpdtw.online.window import B_CORNER
+from fpdtw.online.window import B_CORNER, WindowCache, run_group
 from fpdtw.registry import C_READINGS, make_online, method_c_name
 
 INF = math.inf
@@ -621,7 +621,7 @@ def test_literal_window_runs_ahead_on_a_real_take(walk, w):
     assert np.abs(M - truth).mean() > 100
 
 
-LOCKSTEP_NAMES = (
+SHARED_NAMES = (
     [f"Mb w{w}{t}" for w in (10, 40, 80) for t in ("", " + Type V")]
     + [method_c_name(w, r, t) for r in C_READINGS for w in (10, 40, 80) for t in (False, True)]
     + ["Mb w40 (hold forecast)", "Mc w40 (forecast from T_n+2)", "Mc w20 (ties high)"]
@@ -629,15 +629,63 @@ LOCKSTEP_NAMES = (
 )
 
 
-def test_aligners_in_lockstep_give_the_maps_of_separate_runs(squat_pair, walk):
-    """B and C aligners fed the same frames in lockstep (run_together) map exactly as they
-    do alone."""
+def _with_cache(name, I, cache):
+    return make_online(name, I, cache=cache)
+
+
+def test_shared_window_cache_gives_the_same_maps(squat_pair, walk):
+    """B and C aligners sharing a WindowCache in lockstep map exactly as they do alone,
+    streamed frame by frame (run_together) or in one compiled loop (run_group)."""
     X, _, _ = walk
     for I, T in (squat_pair, (X.slice(0, 300), X.slice(20, 330))):
-        alone = [run_online(make_online(name, I), T)[0] for name in LOCKSTEP_NAMES]
-        together = run_together([make_online(n, I) for n in LOCKSTEP_NAMES], T)
-        for name, M0, M1 in zip(LOCKSTEP_NAMES, alone, together):
-            np.testing.assert_array_equal(M1, M0, err_msg=name)
+        alone = [run_online(make_online(name, I), T)[0] for name in SHARED_NAMES]
+        cache = WindowCache(I, 80)
+        shared = run_together([_with_cache(n, I, cache) for n in SHARED_NAMES], T)
+        grouped = run_group([_with_cache(n, I, WindowCache(I, 80)) for n in SHARED_NAMES][:0], T)
+        assert grouped == []
+        cache = WindowCache(I, 80)
+        grouped = run_group([_with_cache(n, I, cache) for n in SHARED_NAMES], T)
+        separate = run_group([make_online(n, I) for n in SHARED_NAMES], T)
+        for name, M0, M1, M2, M3 in zip(SHARED_NAMES, alone, shared, grouped, separate):
+            for M in (M1, M2, M3):
+                np.testing.assert_array_equal(M, M0, err_msg=name)
+
+
+def test_run_group_refuses_what_it_cannot_run(squat_pair):
+    I, T = squat_pair
+    with pytest.raises(AlignmentError, match="one input and one cache"):
+        run_group([MethodC(I, 10), MethodA(I)], T)
+    with pytest.raises(AlignmentError, match="one input and one cache"):
+        run_group(
+            [MethodC(I, 10, cache=WindowCache(I, 10)), MethodB(I, 10, cache=WindowCache(I, 10))], T
+        )
+    with pytest.raises(AlignmentError, match="joints"):
+        run_group(
+            [MethodC(I, 10)], MotionFeatures(T.quats[:, :2], T.euler[:, :2], T.orders[:2], 120.0)
+        )
+
+
+def test_shared_window_cache_is_safe_to_misuse(squat_pair):
+    """Fed different targets at the same steps (not lockstep), a cache starts afresh:
+    speed is all it can change."""
+    I, T = squat_pair
+    T2 = MotionFeatures(T.quats[::-1].copy(), T.euler[::-1].copy(), T.orders, T.fps)
+    cache = WindowCache(I, 40)
+    a, b = _with_cache("Mc w40", I, cache), _with_cache("Mb w40", I, cache)
+    a.reset()
+    b.reset()
+    Ma, Mb = [], []
+    for f1, f2 in zip(T.frames(), T2.frames()):
+        Ma.append(a.step(f1))
+        Mb.append(b.step(f2))
+    np.testing.assert_array_equal(Ma, run_online(MethodC(I, 40), T)[0])
+    np.testing.assert_array_equal(Mb, run_online(MethodB(I, 40), T2)[0])
+    with pytest.raises(AlignmentError, match="another input or smaller windows"):
+        MethodC(I, 80, cache=cache)
+    with pytest.raises(AlignmentError, match="another input"):
+        MethodB(T, 10, cache=cache)
+    with pytest.raises(AlignmentError, match="WindowCache"):
+        MethodB(I, 10, cache=object())
 
 
 def test_bench_online_rows():

@@ -479,6 +479,20 @@ def test_weights_that_zero_every_joint_but_one_follow_that_joint_only(name):
     assert not np.array_equal(registry.align(name, I, noisy)[0], weighted)
 
 
+def test_weighted_aligners_in_a_group_with_a_cache_give_their_streamed_maps():
+    from reference.synthetic import synthetic_pair
+
+    from fpdtw.online.window import WindowCache, run_group
+
+    I, T, _ = synthetic_pair(200, seed=22)
+    names = ["Mb w40", "Mb w40 (weighted joints)", "Mc w40 (weighted joints)", "Mc w40"]
+    cache = WindowCache(I, 40)
+    aligners = [registry.make_online(n, I, cache=cache) for n in names]
+    assert [a.cache is None for a in aligners] == [False, True, True, False]
+    for n, M in zip(names, run_group(aligners, T)):
+        np.testing.assert_array_equal(M, run_online(registry.make_online(n, I), T)[0], err_msg=n)
+
+
 def test_weighted_names_resolve_and_unknown_options_are_refused():
     assert registry.resolve("OLTW (weighted joints)").options == {"weights": "travel"}
     assert registry.resolve("Mc w40 (band 1 s, weighted joints)").options == {
@@ -743,6 +757,7 @@ def test_the_runner_runs_derivative_methods_beside_their_pose_methods():
     T = with_positions(random_walk_features(180, seed=22), 5)
     names = ["Mc w40", "Mc w40 (derivative)", "OPW", "OPW (derivative)"]
     specs = [resolve_algorithm(n) for n in names]
+    assert [s.algorithm.shares_window for s in specs] == [True, False, False, False]
     maps = _pair_maps(specs, I, T, {"id": 0})
     for n in names:
         np.testing.assert_array_equal(maps[n], registry.align(n, I, T)[0])

@@ -234,7 +234,8 @@ def _limit_line(a, B, lo, hi, prev, acc, out):
 
 @numba.njit(cache=True)
 def _replay_window(
-    Iq, Tq, Te, M, p, table, codes, F, C, D, Pcol, path, score, Isoa, reps, rec,
+    Iq, Tq, Te, M, p, table, codes, F, C, D, Pcol, path, score, cF, cG, cN, cMeta, cKey,
+    Isoa, reps, rec,
 ):  # fmt: skip
     """Replay a Method A, B or C aligner over a target along its map ``M``, timing each frame.
 
@@ -249,7 +250,7 @@ def _replay_window(
     """
     n = Tq.shape[0]
     W1 = C.shape[0]
-    state = np.zeros(1, dtype=np.int64)  # Type V's start state
+    state = np.zeros(1, dtype=np.int64)  # Type V's start state, as in run_group
     out = np.zeros(W.N_OUT, dtype=np.int64)
     Cf = np.empty((W1, W1))
     Cl = np.empty((W1, W1))
@@ -263,9 +264,10 @@ def _replay_window(
     for q in range(n):
         t0 = _cycles()
         m_next = W._window_step(
-            Iq, Tq, Te, q, M, state, table, codes, F, C, D, Pcol, path, score, out, unweighted,
+            Iq, Tq, Te, q, M, state, table, codes, F, C, D, Pcol, path, score,
+            cF, cG, cN, cMeta, cKey, out, unweighted,
             p.method, p.w, p.reading, p.shift, p.hold, p.ties_high, p.input_first,
-            p.start_best, p.typev, p.band, p.band_clip,
+            p.start_best, p.typev, p.shared, p.band, p.band_clip,
         )  # fmt: skip
         t1 = _cycles()
         if m_next != M[q]:
@@ -475,12 +477,12 @@ def replay(aligner, T, M) -> np.ndarray | None:
     Te = np.ascontiguousarray(T.euler, dtype=np.float64)
     M = np.ascontiguousarray(M, dtype=np.int64)
     k = Tq.shape[1]
-    if isinstance(a, W.WindowAligner):
+    if isinstance(a, W.WindowAligner) and a.cache is None:
         a.reset()
         reps = window_reps(a.w + 1, 1 if a._params.method == W.METHOD_A else a.w + 1, k)
         q = _replay_window(
             a._Iq, Tq, Te, M, a._params, a._table, a._codes, a._F, a._C, a._D, a._P,
-            a._path, a._score, _soa(a._Iq), reps, rec,
+            a._path, a._score, *a._cache_arrays, _soa(a._Iq), reps, rec,
         )  # fmt: skip
     elif isinstance(a, OEDTW) and a._wd == 1.0 and not a.normalize:
         a.reset()

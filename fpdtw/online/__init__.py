@@ -15,7 +15,7 @@ from fpdtw.online.oedtw import OEDTW
 from fpdtw.online.oltw import OLTW
 from fpdtw.online.opw import OPW, OPWDecision
 from fpdtw.online.typev import TYPE_V, TypeV, is_legal_typev
-from fpdtw.online.window import WindowSnapshot
+from fpdtw.online.window import WindowCache, WindowSnapshot
 
 __all__ = [
     "OEDTW",
@@ -28,6 +28,7 @@ __all__ = [
     "MethodC",
     "OnlineAligner",
     "TypeV",
+    "WindowCache",
     "WindowSnapshot",
     "is_legal_typev",
     "run_online",

@@ -273,8 +273,10 @@ def run_online(aligner: OnlineAligner, T: MotionFeatures, *, reset=True):
 def run_together(aligners, T: MotionFeatures, *, reset=True) -> list:
     """Run several online aligners over one target in lockstep, frame by frame.
 
-    Every aligner receives target frame q before any receives frame q + 1. Each map is
-    the one :func:`run_online` would give (nothing is timed).
+    Every aligner receives target frame q before any receives frame q + 1, so aligners
+    sharing a :class:`~fpdtw.online.window.WindowCache` compute each shared forecast
+    and cost once. Each map is the one :func:`run_online` would give (nothing is timed:
+    with shared work, one aligner's time per frame would include another's).
 
     Parameters
     ----------

@@ -64,6 +64,9 @@ class MethodB(ForecastAligner):
     record : bool
         Keep a :class:`~fpdtw.online.window.WindowSnapshot` of the last step (C, D, the
         path, P).
+    cache : WindowCache, optional
+        Shared with other B/C aligners stepping over the same target together (speed
+        only; see :class:`~fpdtw.online.window.WindowCache`).
 
     Plain version: fpdtw.plain.method_b_step.
     Paper: FP-DTW Algorithm 2, Fig. 4.

@@ -94,7 +94,7 @@ class MethodC(ForecastAligner):
 
     Parameters
     ----------
-    I, w, constraint, forecast, start
+    I, w, constraint, forecast, start, cache
         As for :class:`~fpdtw.online.method_b.MethodB`; ``w >= 2`` (:attr:`min_w`).
     window : {"square", "literal", "square-tn", "open-end", "normalised"}
         The reading of Algorithm 3's window (above).

@@ -22,7 +22,7 @@ class MethodCAuto(MethodC):
     ----------
     I : MotionFeatures
         Input (recorded) motion.
-    constraint, record, **options
+    constraint, record, cache, **options
         As for :class:`~fpdtw.online.method_c.MethodC`.
 
     Attributes
@@ -33,8 +33,10 @@ class MethodCAuto(MethodC):
     Paper: FP-DTW Section 7, Algorithm 3.
     """
 
-    def __init__(self, I: MotionFeatures, *, constraint=None, record=False, **options):
-        super().__init__(I, auto_window(I), constraint=constraint, record=record, **options)
+    def __init__(self, I: MotionFeatures, *, constraint=None, record=False, cache=None, **options):
+        super().__init__(
+            I, auto_window(I), constraint=constraint, record=record, cache=cache, **options
+        )
 
 
 __all__ = ["MethodCAuto"]

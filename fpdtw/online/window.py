@@ -6,15 +6,13 @@ the paper's notation; ``tests/test_plain.py`` holds the maps equal):
 
 * numba kernels for one step: dead-reckoning forecast -> quaternions -> geodesic cost
   window -> accumulation (forward for B, reverse for C) -> back-tracking (B) or argmin
-  (A, C), all into scratch arrays the aligner allocates once; :func:`_window_step`
-  is the whole step of any of the three methods, called once per target frame by
-  :meth:`WindowAligner._step` with the aligner's arrays and its settings
-  (:class:`StepParams`) as named arguments;
+  (A, C), all into scratch buffers the aligner preallocates once; :func:`_window_step`
+  is the whole step of any of the three methods;
 * :class:`WindowSnapshot`, the debug record of the last step (``record=True``), used to
   draw the paper's Fig. 2 and Fig. 4 from a real run;
 * :class:`WindowAligner`, the common base class: argument checks, the scratch arrays, the
   end-of-input rule, the Type V state, the snapshot; :class:`ForecastAligner` adds the
-  warm-up of Methods B and C.
+  warm-up and the shared :class:`WindowCache` of Methods B and C.
 
 Window sizes: the input window is always ``{I_{M_n}..I_{M_n+w_i}}``, ``w_i + 1`` rows
 (``w_i``, everywhere in fpdtw, the offset of the window's last row); Method C's readings
@@ -27,8 +25,6 @@ Its inner loop runs over the forecast frames, stored joint-major as ``F[j, c, co
 (structure of arrays), so that LLVM vectorises it; the ``arccos`` of eq. 1 is
 :func:`fpdtw.costs._acos01`, a branch-free polynomial arccos on [0, 1] (1 ulp from
 ``math.acos``) that vectorises, where libm's ``acos`` is a scalar call five times slower.
-Each aligner computes its own forecast and costs, and receives a frame through
-:meth:`fpdtw.online.base.OnlineAligner.step` (in Python) before its one compiled call.
 """
 
 from __future__ import annotations
@@ -41,7 +37,7 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from fpdtw.costs import _geo_frame_w, _geo_line_w
+from fpdtw.costs import _geo_frame_w, _geo_line, _geo_line_w
 from fpdtw.dtw import _accumulate
 from fpdtw.errors import AlignmentError
 from fpdtw.forecast import _euler_to_quat, order_codes
@@ -119,6 +115,61 @@ def _cost_window(Iq, start, nrows, F, ncols, C, wts):
     acc = np.empty(ncols)
     for r in range(nrows):
         _geo_line_w(Iq[start + r], F, 0, ncols, acc, C[r], wts)
+
+
+@numba.njit(cache=True)
+def _fill_shared(Iq, Tq, Te, q, codes, start, nrows, w, c0, C, cF, cG, cN, cMeta, cKey):
+    """Fill ``C[:nrows, c0:c0 + w]`` from a :class:`WindowCache` (computing what it lacks).
+
+    The cache holds the dead-reckoned forecast ``[T_{n+1}, T_{n+1} + delta, ...]`` of step
+    ``cMeta[0]`` (``cMeta[1]`` columns of it in ``cF``) and, per input frame r, the costs
+    ``cG[r, :cN[r]]`` against it. A new step, or other frames than the cached ones at the
+    same step (checked against ``cKey``), empties it first.
+    """
+    k = Tq.shape[1]
+    same = cMeta[0] == q
+    if same:
+        for j in range(k):
+            for a in range(3):
+                if cKey[0, j, a] != Te[q - 1, j, a] or cKey[1, j, a] != Te[q, j, a]:
+                    same = False
+            for a in range(4):
+                if cKey[2, j, a] != Tq[q, j, a]:
+                    same = False
+    if not same:
+        cMeta[0] = q
+        cMeta[1] = 0
+        cN[:] = 0
+        for j in range(k):
+            for a in range(3):
+                cKey[0, j, a] = Te[q - 1, j, a]
+                cKey[1, j, a] = Te[q, j, a]
+            for a in range(4):
+                cKey[2, j, a] = Tq[q, j, a]
+    if cMeta[1] < w:
+        _forecast_columns(Tq, Te, q, cMeta[1], w, codes, cF)
+        cMeta[1] = w
+    acc = np.empty(w)
+    for r in range(nrows):
+        row = start + r
+        if cN[row] < w:
+            _geo_line(Iq[row], cF, cN[row], w, acc, cG[row, cN[row] : w])
+            cN[row] = w
+        for col in range(w):
+            C[r, c0 + col] = cG[row, col]
+
+
+@numba.njit(cache=True)
+def _fill_prev_column(Iq, Tq, q, start, nrows, F1, C):
+    """C[r, 0] = geoDistance(I[start + r], T_n) (Method B's first column), r < nrows."""
+    for j in range(Tq.shape[1]):
+        for a in range(4):
+            F1[j, a, 0] = Tq[q - 1, j, a]
+    tmp = np.empty(1)
+    acc = np.empty(1)
+    for r in range(nrows):
+        _geo_line(Iq[start + r], F1, 0, 1, acc, tmp)
+        C[r, 0] = tmp[0]
 
 
 @numba.njit(cache=True, inline="always")
@@ -315,6 +366,8 @@ class StepParams(NamedTuple):
         1: ``M_0`` is the best match of ``T_0`` (``start="best"``).
     typev : int
         1: the Type V constraint.
+    shared : int
+        1: the forecast and costs come from a :class:`WindowCache`.
     band : int
         Half-width in frames of the global band around the diagonal ``M = q`` (0: no band;
         beyond the papers, see :class:`ForecastAligner`).
@@ -332,6 +385,7 @@ class StepParams(NamedTuple):
     input_first: int = 0
     start_best: int = 0
     typev: int = 0
+    shared: int = 0
     band: int = 0
     band_clip: int = 0
 
@@ -457,20 +511,24 @@ def _a_step(Iq, Tq, q, M, state, table, c, out, wts, w, ties_high, start_best, t
 
 @numba.njit(cache=True)
 def _window_step(
-    Iq, Tq, Te, q, M, state, table, codes, F, C, D, Pcol, path, score, out, wts,
-    method, w, reading, shift, hold, ties_high, input_first, start_best, typev, band, band_clip,
+    Iq, Tq, Te, q, M, state, table, codes, F, C, D, Pcol, path, score,
+    cF, cG, cN, cMeta, cKey, out, wts,
+    method, w, reading, shift, hold, ties_high, input_first, start_best, typev, shared,
+    band, band_clip,
 ):  # fmt: skip
     """``M_q`` of one Method A, B or C aligner at target frame q (frames 0..q received).
 
     ``M[:q]`` is the map so far; ``state[0]`` the Type V state (advanced in place);
-    ``table`` the Type V state table; ``F, C, D, Pcol, path, score`` scratch. ``out``
-    (``N_OUT``) gets the kind of step, the window's rows and columns, (B) the path length
-    and the offset of the window's first row from ``M_n``, for the debug record.
-    ``method .. band_clip``: the aligner's settings (:class:`StepParams`). With a clipping
-    band (``band_clip``) the window's rows are those of :func:`_clip_band`: rows outside
-    the band are not computed, and the window is the same method's on
-    ``I_{M_n + first}..``. ``wts`` : float64 (k,) eq. 1's per-joint weights, or EMPTY (0,)
-    for eq. 1 as written (exactly the unweighted arithmetic).
+    ``table`` the Type V state table; ``F, C, D, Pcol, path, score`` scratch; ``cF..cKey``
+    a :class:`WindowCache`'s arrays (used when ``shared``). ``out`` (``N_OUT``) gets the
+    kind of step, the window's rows and columns, (B) the path length and the offset of the
+    window's first row from ``M_n``, for the debug record. ``method .. band_clip``: the
+    aligner's settings (:class:`StepParams`). With a clipping band (``band_clip``) the
+    window's rows are those of :func:`_clip_band`: rows outside the band are not computed,
+    and the window is the same method's on ``I_{M_n + first}..``. ``wts`` : float64 (k,)
+    eq. 1's per-joint weights, or EMPTY (0,) for eq. 1 as written (exactly the unweighted
+    arithmetic); an aligner with weights never shares a cache (``shared`` is 0), whose
+    costs are unweighted.
 
     Plain version: fpdtw.plain.method_a_step, fpdtw.plain.method_b_step and
     fpdtw.plain.method_c_step (one step each; fpdtw.plain.run steps through a target).
@@ -508,8 +566,12 @@ def _window_step(
         s0 = start + first  # the window's first row
         if method == METHOD_B:
             ncols = w + 1
-            _forecast_window(Tq, Te, q, w, True, codes, F, 0, hold != 0)
-            _cost_window(Iq, s0, nrows, F, ncols, C, wts)
+            if shared != 0:
+                _fill_prev_column(Iq, Tq, q, s0, nrows, F, C)
+                _fill_shared(Iq, Tq, Te, q, codes, s0, nrows, w, 1, C, cF, cG, cN, cMeta, cKey)
+            else:
+                _forecast_window(Tq, Te, q, w, True, codes, F, 0, hold != 0)
+                _cost_window(Iq, s0, nrows, F, ncols, C, wts)
             _mask_band(C, nrows, 1, q, s0, band)
             off, npath = _choose_b(C, nrows, ncols, limit, allow, D, Pcol, path, input_first != 0)
             _check_band(off, q, s0, band)
@@ -517,8 +579,15 @@ def _window_step(
         else:
             with_prev = reading == C_SQUARE_TN
             ncols = w + 1 if with_prev else w
-            _forecast_window(Tq, Te, q, w, with_prev, codes, F, shift, hold != 0)
-            _cost_window(Iq, s0, nrows, F, ncols, C, wts)
+            if shared != 0:
+                c0 = 0
+                if with_prev:
+                    _fill_prev_column(Iq, Tq, q, s0, nrows, F, C)
+                    c0 = 1
+                _fill_shared(Iq, Tq, Te, q, codes, s0, nrows, w, c0, C, cF, cG, cN, cMeta, cKey)
+            else:
+                _forecast_window(Tq, Te, q, w, with_prev, codes, F, shift, hold != 0)
+                _cost_window(Iq, s0, nrows, F, ncols, C, wts)
             _mask_band(C, nrows, 0, q, s0, band)
             off = _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high != 0)
             _check_band(off, q, s0, band)
@@ -529,6 +598,94 @@ def _window_step(
         m_next = s0 + off
     _advance_state(state, typev, table, m_next - start)
     return m_next
+
+
+@numba.njit(cache=True)
+def _run_group(
+    Iq, Tq, Te, codes, params, table, M, F, C, D, Pcol, path, score, cF, cG, cN, cMeta, cKey,
+    wts, nwts,
+):  # fmt: skip
+    """Every aligner of ``params`` (a typed list of :class:`StepParams`, one each) over the
+    whole target, in lockstep.
+
+    ``wts`` (aligners, k): eq. 1's joint weights of the aligners with ``nwts[a] = k``
+    (the rows of the others, ``nwts[a] = 0``, are not read: they get an empty slice, eq. 1
+    as written).
+
+    ``M`` (aligners, frames) receives the maps; each aligner's step only reads the
+    frames up to its own (as when streaming). Scratch buffers are shared: the steps
+    run one after the other.
+    """
+    n = Tq.shape[0]
+    A = len(params)
+    state = np.zeros((A, 1), dtype=np.int64)
+    out = np.zeros(N_OUT, dtype=np.int64)
+    for q in range(n):
+        for a in range(A):
+            p = params[a]
+            M[a, q] = _window_step(
+                Iq, Tq, Te, q, M[a], state[a], table, codes, F, C, D, Pcol, path,
+                score, cF, cG, cN, cMeta, cKey, out, wts[a, : nwts[a]],
+                p.method, p.w, p.reading, p.shift, p.hold, p.ties_high, p.input_first,
+                p.start_best, p.typev, p.shared, p.band, p.band_clip,
+            )  # fmt: skip
+
+
+# --- costs shared by aligners that step together ---------------------------------------
+
+
+class WindowCache:
+    """Forecast and window costs shared by B/C aligners that step over the same target together.
+
+    At a target frame ``T_{n+1}``, the dead-reckoned forecast ``[T_{n+1}, T_{n+1} + delta,
+    ...]`` is the same for Methods B and C at every window size and reading, and so is
+    the cost (eq. 1) of any input frame against any of its columns. Aligners given the
+    same cache (``cache=`` of :class:`MethodB` and :class:`MethodC`) and fed the same
+    frames in lockstep (:func:`fpdtw.online.base.run_together`) compute each forecast
+    column and each cost cell once per target frame, however many of them need it;
+    each aligner still masks, accumulates and chooses on its own copy of its window.
+    The cached values are computed by the same code as an aligner's own, so maps are
+    identical with and without a cache (tested). The cache checks the frames it is
+    given: fed other frames at the same step, it starts afresh, so sharing is only ever
+    a matter of speed.
+
+    Aligners with a non-default forecast (``forecast="hold"``, ``forecast_start="next"``)
+    do not use it.
+
+    Parameters
+    ----------
+    I : MotionFeatures
+        The input motion of every aligner sharing the cache.
+    w_max : int
+        The largest window among them.
+
+    Attributes
+    ----------
+    F : ndarray of float64, shape (k, 4, w_max)
+        Forecast columns of the cached step.
+    G : ndarray of float64, shape (m + 1, w_max)
+        ``G[r, :N[r]]``: costs of input frame r against them.
+    N : ndarray of int64, shape (m + 1,)
+    meta : ndarray of int64, shape (2,)
+        Cached step q and number of forecast columns filled.
+    key : ndarray of float64, shape (3, k, 4)
+        The frames the cached step was computed from (Euler angles of T_n, T_{n+1}; the
+        quaternion of T_{n+1}).
+    """
+
+    def __init__(self, I: MotionFeatures, w_max: int):
+        self.I = I
+        self.w_max = check_count(w_max, "w_max", "WindowCache")
+        k = np.shape(I.quats)[1]
+        self.F = np.empty((k, 4, self.w_max))
+        self.G = np.empty((I.n_frames, self.w_max))
+        self.N = np.zeros(I.n_frames, dtype=np.int64)
+        self.meta = np.array([-1, 0], dtype=np.int64)
+        self.key = np.zeros((3, k, 4))
+
+    def arrays(self) -> tuple:
+        """``(F, G, N, meta, key)`` for the kernels."""
+        return self.F, self.G, self.N, self.meta, self.key
 
 
 # --- the debug record -----------------------------------------------------------------
@@ -645,6 +802,8 @@ class WindowAligner(OnlineAligner):
     min_w = 1
     #: ``{option: (default, {other value: label in names})}``, in the order of names.
     options = {"start": ("zero", {"best": "M_0 best match"})}
+    #: A :class:`WindowCache` shared with other aligners (Methods B and C only).
+    cache = None
 
     def __init__(self, I: MotionFeatures, w: int, *, constraint=None, record=False, **options):
         check_count(w, "window w", type(self).__name__, minimum=self.min_w)
@@ -698,10 +857,23 @@ class WindowAligner(OnlineAligner):
         self._score = np.zeros(W)
         self._P = np.zeros(W, dtype=np.int64)
         self._path = np.zeros((2 * W, 2), dtype=np.int64)
+        # the cache arrays _window_step takes when no WindowCache is shared (never read)
+        self._placeholder = (
+            np.zeros((k, 4, 1)),
+            np.zeros((1, 1)),
+            np.zeros(1, dtype=np.int64),
+            np.array([-1, 0], dtype=np.int64),
+            np.zeros((3, k, 4)),
+        )
         super().__init__(I)
-        # ints, so that every aligner calls the same compiled step
-        self._params = StepParams(*(int(v) for v in self.params()))
+        self._configure()
         self.name = self._make_name()
+
+    def _configure(self) -> None:
+        """Set the step's settings and choose the cache arrays from the aligner's settings
+        (again after a subclass sets :attr:`cache`)."""
+        self._params = StepParams(*(int(v) for v in self.params()))
+        self._cache_arrays = self._placeholder if self.cache is None else self.cache.arrays()
 
     def params(self) -> StepParams:
         """This aligner's settings for :func:`_window_step` (subclasses set the method's)."""
@@ -710,6 +882,7 @@ class WindowAligner(OnlineAligner):
             w=self.w,
             start_best=self.settings["start"] == "best",
             typev=self.constraint is not None,
+            shared=self.cache is not None,
         )
 
     @classmethod
@@ -797,6 +970,8 @@ class WindowAligner(OnlineAligner):
         """Eq. 1 against ``Iq``; the forecasts in the target's rotation ``orders``."""
         if Iq is not self._Iq:
             self._Iq = np.ascontiguousarray(Iq, dtype=np.float64)
+            if self.cache is not None:
+                self.cache.meta[0] = -1  # its costs were computed against other rotations
         try:
             self._codes[:] = order_codes(orders)
         except ValueError as e:
@@ -807,8 +982,8 @@ class WindowAligner(OnlineAligner):
         m_next = int(
             _window_step(
                 self._Iq, self._Tq, self._Te, q, self._M, self._tv, self._table, self._codes,
-                self._F, self._C, self._D, self._P, self._path, self._score, self._out,
-                self._wts, *self._params,
+                self._F, self._C, self._D, self._P, self._path, self._score,
+                *self._cache_arrays, self._out, self._wts, *self._params,
             )
         )  # fmt: skip
         if self.constraint is not None:
@@ -852,6 +1027,11 @@ class ForecastAligner(WindowAligner):
       from ``M_0 = 0`` and keeps advancing from another ``M_0`` (``start="best"``).
     * ``M_n >= m`` (input exhausted): ``M_{n+1} = m``.
     * Otherwise the method's window.
+    * ``cache``: a :class:`WindowCache` shared with other aligners stepping over the same
+      target together (speed only: the maps are the same).
+
+    :func:`run_group` loops the same compiled step, :func:`_window_step`, over several
+    aligners at once: streaming and batch runs share one implementation.
     """
 
     #: Smoothing window: frames needed before forecasting (dead reckoning: 2).
@@ -869,7 +1049,9 @@ class ForecastAligner(WindowAligner):
     #: Half-width of ``band="1s"``, seconds (120 frames at 120 Hz).
     BAND_SECONDS = 1.0
 
-    def __init__(self, I: MotionFeatures, w: int, *, constraint=None, record=False, **options):
+    def __init__(
+        self, I: MotionFeatures, w: int, *, constraint=None, record=False, cache=None, **options
+    ):
         """Global band (``band="1s"``, beyond the papers): the live take is assumed to last
         as long as the recording, so the uniform-time diagonal is ``M_q = q`` (input rate /
         target rate = 1: every run of this package has both motions at one rate). At every
@@ -904,12 +1086,30 @@ class ForecastAligner(WindowAligner):
 
         Weighted joints (``weights="travel"``, beyond the papers): eq. 1 becomes
         ``sum_j w_j (2/pi) arccos |q_a,j . q_b,j|`` with ``w =``
-        :func:`fpdtw.weights.joint_weights` of the input, computed once here."""
+        :func:`fpdtw.weights.joint_weights` of the input, computed once here. Such an
+        aligner computes its own costs (a shared :class:`WindowCache` holds unweighted ones,
+        so it is not used) and streams through the general path of :meth:`step`."""
         super().__init__(I, w, constraint=constraint, record=record, **options)
         if self.settings.get("band", "none") != "none":
             if self.constraint is not None:
                 raise AlignmentError(f"{self.name}: the global band is not combined with Type V")
             self.history = None
+        if cache is not None:
+            if not isinstance(cache, WindowCache):
+                raise AlignmentError(f"cache must be a WindowCache, got {type(cache).__name__}")
+            if cache.I is not I or cache.w_max < self.w:
+                raise AlignmentError(
+                    f"{self.name}: the cache is for another input or smaller windows "
+                    f"(w_max {cache.w_max} < w {self.w})"
+                )
+            if self.settings.get("forecast", "dead-reckoning") != "dead-reckoning" or (
+                self.settings.get("forecast_start", "T_{n+1}") != "T_{n+1}"
+            ):
+                cache = None  # its forecast is not the shared one
+            if self._wts.shape[0]:
+                cache = None  # the cache's costs are unweighted
+        self.cache = cache
+        self._configure()
 
     def params(self) -> StepParams:
         p = super().params()
@@ -920,6 +1120,71 @@ class ForecastAligner(WindowAligner):
         elif band == "half-w":
             p = p._replace(band=max(1, self.w // 2), band_clip=1)
         return p
+
+
+def run_group(aligners, T: MotionFeatures) -> list:
+    """Run Method B and C aligners over one target together, in one compiled loop.
+
+    The same steps as streaming each of them (:func:`fpdtw.online.base.run_online`; the
+    maps are equal, tested), without a Python call per frame; aligners given one
+    :class:`WindowCache` share its forecast and costs. Only the maps are returned (with
+    shared work, nothing is timed per aligner).
+
+    Parameters
+    ----------
+    aligners : sequence of ForecastAligner
+        All with the same input motion; those with a cache all with the same one.
+    T : MotionFeatures
+        Target motion with the input's joints.
+
+    Returns
+    -------
+    maps : list of ndarray of int64, shape (n,)
+    """
+    aligners = list(aligners)
+    if not aligners:
+        return []
+    a0 = aligners[0]
+    tables, caches = set(), {}
+    for a in aligners:
+        if not isinstance(a, ForecastAligner) or a.I is not a0.I:
+            raise AlignmentError("run_group needs Method B/C aligners with one input and one cache")
+        if a.cache is not None:
+            caches[id(a.cache)] = a
+        if a.constraint is not None:
+            tables.add(a.constraint.table.tobytes())
+    if len(caches) > 1:
+        raise AlignmentError("run_group needs Method B/C aligners with one input and one cache")
+    if len(tables) > 1:
+        raise AlignmentError("run_group needs one Type V table")
+    holder = next(iter(caches.values()), a0)  # its arrays serve every aligner sharing it
+    k = a0._Iq.shape[1]
+    if np.shape(T.quats)[1:] != (k, 4) or np.shape(T.euler)[1:] != (k, 3):
+        raise AlignmentError(
+            f"target {T.name!r}: expected {k} joints like the input {a0.I.name!r}, got "
+            f"quats {np.shape(T.quats)} and euler {np.shape(T.euler)}"
+        )
+    if T.n_frames:
+        first = T.frame(0)
+        for a in aligners:  # the target's rotation orders and rig, as a stream's first frame
+            a._begin_take(first)
+    W = max(a.w for a in aligners) + 1
+    params = numba.typed.List([a._params for a in aligners])
+    wts = np.ones((len(aligners), k))
+    nwts = np.zeros(len(aligners), dtype=np.int64)
+    for i, a in enumerate(aligners):
+        if a._wts.shape[0]:
+            wts[i] = a._wts
+            nwts[i] = k
+    table = next((a._table for a in aligners if a.constraint is not None), a0._table)
+    M = np.zeros((len(aligners), T.n_frames), dtype=np.int64)
+    _run_group(
+        a0._Iq, np.ascontiguousarray(T.quats, dtype=np.float64),
+        np.ascontiguousarray(T.euler, dtype=np.float64), a0._codes, params, table, M,
+        np.empty((k, 4, W)), np.empty((W, W)), np.empty((W, W)), np.empty(W, dtype=np.int64),
+        np.empty((2 * W, 2), dtype=np.int64), np.empty(W), *holder._cache_arrays, wts, nwts,
+    )  # fmt: skip
+    return list(M)
 
 
 __all__ = [

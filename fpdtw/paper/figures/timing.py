@@ -4,7 +4,8 @@
 alone on one core, after a warm-up (``results/bench.json``). These are MEASUREMENTS: they
 change from run to run and between machines, so nothing here is deterministic except
 :func:`exhausted_fraction`, which reads the experiment grid's maps. (The grid itself does not
-time frames.)
+time frames: its Methods B and C share their window costs, see
+:class:`fpdtw.online.window.WindowCache`.)
 
 The paper (Section 5) explains Mc w80's lower-than-expected time by the aligner running out
 of input frames early: once ``M_n = m`` there is nothing left to search. :func:`exhausted_fraction`

@@ -4,9 +4,10 @@ What runs: the pairs of a mode's selection (:mod:`fpdtw.paper.runner.selection`)
 algorithms (:mod:`fpdtw.paper.runner.grid`), by the registry's names
 (:mod:`fpdtw.registry`). Per pair and algorithm: the map ``M`` (target frame -> input
 frame), the similarity (eq. 2) of the warped input and the target and the deviation (eq. 3)
-from the DTW map at the same frame rate (in frames of that rate). Every algorithm runs on
-its own; the grid does not time frames: per-frame latency is what ``make bench`` measures
-(:mod:`fpdtw.app.bench`).
+from the DTW map at the same frame rate (in frames of that rate). Methods B and C of a pair
+run together in one compiled loop sharing one :class:`fpdtw.online.window.WindowCache` (the
+maps are those of separate runs; tested), so the grid does not time frames: per-frame
+latency is what ``make bench`` measures (:mod:`fpdtw.app.bench`).
 
 Files, under ``results_dir()/<mode>/`` (every write atomic: temporary file +
 :func:`os.replace`; ``.npz`` files by :func:`fpdtw.paper.runner.results.save_npz`, byte for
@@ -90,6 +91,7 @@ from fpdtw.errors import AlignmentError, FpdtwError, MotionFormatError
 from fpdtw.metrics import deviation, joint_trajectories, trajectory_scores
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.motion.joints import OPW_JOINTS
+from fpdtw.online.window import WindowCache, run_group
 from fpdtw.paper import catalog, numbers, provenance
 from fpdtw.paper.atomic import TMP_SUFFIX, tmp_path
 from fpdtw.paper.paths import results_dir
@@ -496,8 +498,23 @@ def _chunk_algorithms(path: Path, base_key: str) -> set:
 
 
 def _pair_maps(specs: list, I: MotionFeatures, T: MotionFeatures, info: dict) -> dict:
-    """``{name: M}`` of every spec on one pair at one rate, each algorithm run on its own."""
-    return {s.name: _check_map(s, s.algorithm.run(I, T)[0], I, T, info) for s in specs}
+    """``{name: M}`` of every spec on one pair at one rate.
+
+    Methods B and C run together in one compiled loop (:func:`fpdtw.online.window.run_group`)
+    sharing one :class:`WindowCache` (each forecast and cost cell computed once per target
+    frame; the maps are those of separate runs); every other algorithm runs on its own.
+    """
+    out = {}
+    shared = [s for s in specs if s.algorithm.shares_window]
+    if shared:
+        cache = WindowCache(I, max(s.algorithm.w for s in shared))
+        aligners = [s.algorithm.make(I, cache=cache) for s in shared]
+        for s, M in zip(shared, run_group(aligners, T)):
+            out[s.name] = M
+    for s in specs:
+        if s.name not in out:
+            out[s.name] = s.algorithm.run(I, T)[0]
+    return {name: _check_map(s, out[s.name], I, T, info) for s in specs for name in [s.name]}
 
 
 def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: str) -> dict:
