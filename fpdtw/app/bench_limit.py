@@ -234,7 +234,7 @@ def _limit_line(a, B, lo, hi, prev, acc, out):
 
 @numba.njit(cache=True)
 def _replay_window(
-    Iq, Tq, Te, M, p, table, codes, F, C, D, Pcol, path, score, cF, cG, cN, cMeta, cKey,
+    Iq, Tq, Te, M, prm, table, codes, F, C, D, Pcol, path, score, cF, cG, cN, cMeta, cKey,
     Isoa, reps, rec,
 ):  # fmt: skip
     """Replay a Method A, B or C aligner over a target along its map ``M``, timing each frame.
@@ -244,9 +244,8 @@ def _replay_window(
     limit on the step's own rows: A, its column against ``T_q`` and the argmin
     (:func:`_limit_column`); B and C, the forecast alone and :func:`_limit_window` on the
     step's forecast columns. Checks that the limit's costs equal the step's
-    (``R_SAME``). Returns -1 when the replay reproduced the map. ``p`` : the aligner's
-    :class:`fpdtw.online.window.StepParams`; ``Isoa`` : the input joint-major (Method A);
-    ``rec`` : int64 (n, N_REC).
+    (``R_SAME``). Returns -1 when the replay reproduced the map. ``Isoa`` : the input
+    joint-major (Method A); ``rec`` : int64 (n, N_REC).
     """
     n = Tq.shape[0]
     W1 = C.shape[0]
@@ -257,17 +256,15 @@ def _replay_window(
     Dl = np.empty((W1, W1))
     acc = np.empty(W1)
     cur = np.empty(W1)
-    w = p.w
-    is_a = p.method == W.METHOD_A
-    with_prev = p.method == W.METHOD_B or p.reading == W.C_SQUARE_TN
+    w = prm[W.P_W]
+    is_a = prm[W.P_METHOD] == W.METHOD_A
+    with_prev = prm[W.P_METHOD] == W.METHOD_B or prm[W.P_READING] == W.C_SQUARE_TN
     unweighted = np.empty(0)  # eq. 1 as written
     for q in range(n):
         t0 = _cycles()
         m_next = W._window_step(
-            Iq, Tq, Te, q, M, state, table, codes, F, C, D, Pcol, path, score,
+            Iq, Tq, Te, q, M, state, prm, table, codes, F, C, D, Pcol, path, score,
             cF, cG, cN, cMeta, cKey, out, unweighted,
-            p.method, p.w, p.reading, p.shift, p.hold, p.ties_high, p.input_first,
-            p.start_best, p.typev, p.shared, p.band, p.band_clip,
         )  # fmt: skip
         t1 = _cycles()
         if m_next != M[q]:
@@ -298,7 +295,9 @@ def _replay_window(
                 for c in range(ncols):
                     Cf[r, c] = C[r, c]
             f0 = _cycles()
-            W._forecast_window(Tq, Te, q, w, with_prev, codes, F, p.shift, p.hold != 0)
+            W._forecast_window(
+                Tq, Te, q, w, with_prev, codes, F, prm[W.P_SHIFT], prm[W.P_HOLD] != 0
+            )
             rec[q, R_FORECAST] = _cycles() - f0
             same = 1
             t0 = _cycles()
@@ -479,7 +478,7 @@ def replay(aligner, T, M) -> np.ndarray | None:
     k = Tq.shape[1]
     if isinstance(a, W.WindowAligner) and a.cache is None:
         a.reset()
-        reps = window_reps(a.w + 1, 1 if a._params.method == W.METHOD_A else a.w + 1, k)
+        reps = window_reps(a.w + 1, 1 if a._params[W.P_METHOD] == W.METHOD_A else a.w + 1, k)
         q = _replay_window(
             a._Iq, Tq, Te, M, a._params, a._table, a._codes, a._F, a._C, a._D, a._P,
             a._path, a._score, *a._cache_arrays, _soa(a._Iq), reps, rec,

@@ -7,8 +7,10 @@ input frame of the previous target frame.
 
 from __future__ import annotations
 
+import numpy as np
+
 from fpdtw.motion.features import MotionFeatures
-from fpdtw.online.window import METHOD_A, StepParams, WindowAligner
+from fpdtw.online.window import METHOD_A, P_METHOD, P_TIES_HIGH, WindowAligner
 
 
 class MethodA(WindowAligner):
@@ -57,9 +59,11 @@ class MethodA(WindowAligner):
     def _base_name_for(cls, w: int) -> str:
         return "Ma" if w == 2 else f"Ma w{w}"
 
-    def params(self) -> StepParams:
+    def params(self) -> np.ndarray:
         p = super().params()
-        return p._replace(method=METHOD_A, ties_high=self.settings["ties"] == "high")
+        p[P_METHOD] = METHOD_A
+        p[P_TIES_HIGH] = self.settings["ties"] == "high"
+        return p
 
     def _window_record(self, nrows: int, ncols: int, npath: int) -> dict:
         return dict(C=self._C[:nrows, :1].copy())

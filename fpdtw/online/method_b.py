@@ -8,7 +8,14 @@ the ``T_{n+1}`` column.
 
 from __future__ import annotations
 
-from fpdtw.online.window import METHOD_B, ForecastAligner, StepParams
+import numpy as np
+
+from fpdtw.online.window import (
+    METHOD_B,
+    P_INPUT_FIRST,
+    P_METHOD,
+    ForecastAligner,
+)
 
 
 class MethodB(ForecastAligner):
@@ -80,9 +87,11 @@ class MethodB(ForecastAligner):
         **ForecastAligner.options,
     }
 
-    def params(self) -> StepParams:
+    def params(self) -> np.ndarray:
         p = super().params()
-        return p._replace(method=METHOD_B, input_first=self.settings["backtrack"] == "input-first")
+        p[P_METHOD] = METHOD_B
+        p[P_INPUT_FIRST] = self.settings["backtrack"] == "input-first"
+        return p
 
     def _window_record(self, nrows: int, ncols: int, npath: int) -> dict:
         return dict(

@@ -17,6 +17,8 @@ notebook 15 (``window=...``).
 
 from __future__ import annotations
 
+import numpy as np
+
 from fpdtw.online.window import (
     C_LITERAL,
     C_NORMALISED,
@@ -24,8 +26,11 @@ from fpdtw.online.window import (
     C_SQUARE,
     C_SQUARE_TN,
     METHOD_C,
+    P_METHOD,
+    P_READING,
+    P_SHIFT,
+    P_TIES_HIGH,
     ForecastAligner,
-    StepParams,
 )
 
 #: Method C's window readings: option value -> kernel code.
@@ -130,15 +135,14 @@ class MethodC(ForecastAligner):
         **ForecastAligner.options,
     }
 
-    def params(self) -> StepParams:
-        st = self.settings
+    def params(self) -> np.ndarray:
         p = super().params()
-        return p._replace(
-            method=METHOD_C,
-            reading=READINGS[st["window"]],
-            shift=st["forecast_start"] == "next",
-            ties_high=st["ties"] == "high",
-        )
+        st = self.settings
+        p[P_METHOD] = METHOD_C
+        p[P_READING] = READINGS[st["window"]]
+        p[P_SHIFT] = st["forecast_start"] == "next"
+        p[P_TIES_HIGH] = st["ties"] == "high"
+        return p
 
     def window_rows(self, start: int) -> int:
         """Number of input rows of the window at ``M_n = start`` (see the readings).

@@ -10,7 +10,7 @@ the paper's notation; ``tests/test_plain.py`` holds the maps equal):
   is the whole step of any of the three methods;
 * :class:`WindowSnapshot`, the debug record of the last step (``record=True``), used to
   draw the paper's Fig. 2 and Fig. 4 from a real run;
-* :class:`WindowAligner`, the common base class: argument checks, the scratch arrays, the
+* :class:`WindowAligner`, the common base class: argument checks, the work buffers, the
   end-of-input rule, the Type V state, the snapshot; :class:`ForecastAligner` adds the
   warm-up and the shared :class:`WindowCache` of Methods B and C.
 
@@ -32,7 +32,6 @@ from __future__ import annotations
 import math
 from abc import abstractmethod
 from dataclasses import dataclass
-from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -271,7 +270,7 @@ def _choose_b(C, nrows, ncols, limit, allow, D, P, path, input_first):
     return P[1], n
 
 
-#: Method C's window readings (``reading`` codes of :func:`_window_step`; see MethodC).
+#: Method C's window readings (``P_READING`` codes of :func:`_window_step`; see MethodC).
 C_SQUARE, C_LITERAL, C_SQUARE_TN, C_OPEN_END, C_NORMALISED = 0, 1, 2, 3, 4
 
 
@@ -336,60 +335,21 @@ def _checked(off, limit, allow):
 
 # --- one whole step of Method A, B or C --------------------------------------------------
 
-#: Method codes (``method`` of :func:`_window_step`).
+#: Entries of an aligner's parameter vector (int64) for :func:`_window_step`.
+P_METHOD, P_W, P_READING, P_SHIFT, P_HOLD, P_TIES_HIGH, P_INPUT_FIRST, P_START_BEST = range(8)
+P_TYPEV, P_SHARED = 8, 9
+#: Half-width in frames of the global band around the diagonal ``M = q`` (0: no band;
+#: beyond the papers, see :class:`ForecastAligner`).
+P_BAND = 10
+#: 1: the aligner weights eq. 1's joints (:func:`fpdtw.weights.joint_weights`; beyond the
+#: papers, see :class:`ForecastAligner`); the weights go to the kernels beside ``prm``.
+P_WEIGHTED = 11
+#: 1: the band clips the window's rows (``band="half-w"``: the rows outside it are not
+#: computed); 0: it masks them (``band="1s"``). See :class:`ForecastAligner`.
+P_BAND_CLIP = 12
+N_PARAMS = 13
+#: Method codes of ``P_METHOD``.
 METHOD_A, METHOD_B, METHOD_C = 0, 1, 2
-
-
-class StepParams(NamedTuple):
-    """An aligner's settings, the last arguments of :func:`_window_step`, in its order.
-
-    Every field is an int (flags 0 or 1), so that every aligner calls the same compiled
-    step.
-
-    Attributes
-    ----------
-    method : int
-        :data:`METHOD_A`, :data:`METHOD_B` or :data:`METHOD_C`.
-    w : int
-        The window size.
-    reading : int
-        Method C's window reading (:data:`C_SQUARE` ...).
-    shift : int
-        1: Method C's forecast starts one frame later (``forecast_start="next"``).
-    hold : int
-        1: zero-order hold instead of dead reckoning (``forecast="hold"``).
-    ties_high : int
-        1: ties go to the highest row (Methods A and C, ``ties="high"``).
-    input_first : int
-        1: Method B's back-track prefers the input step (``backtrack="input-first"``).
-    start_best : int
-        1: ``M_0`` is the best match of ``T_0`` (``start="best"``).
-    typev : int
-        1: the Type V constraint.
-    shared : int
-        1: the forecast and costs come from a :class:`WindowCache`.
-    band : int
-        Half-width in frames of the global band around the diagonal ``M = q`` (0: no band;
-        beyond the papers, see :class:`ForecastAligner`).
-    band_clip : int
-        1: the band clips the window's rows (``band="half-w"``: the rows outside it are not
-        computed); 0: it masks them (``band="1s"``). See :class:`ForecastAligner`.
-    """
-
-    method: int
-    w: int
-    reading: int = 0
-    shift: int = 0
-    hold: int = 0
-    ties_high: int = 0
-    input_first: int = 0
-    start_best: int = 0
-    typev: int = 0
-    shared: int = 0
-    band: int = 0
-    band_clip: int = 0
-
-
 #: Kinds of step (``out[0]`` of :func:`_window_step`).
 STEP_FIRST, STEP_WARMUP, STEP_END, STEP_WINDOW = 0, 1, 2, 3
 #: Length of a step's ``out`` record: kind, the window's rows and columns, (B) the path
@@ -457,11 +417,11 @@ def _first_frame(Iq, Tq, w, m, start_best, wts):
 
 
 @numba.njit(cache=True)
-def _allowed_offsets(state, typev, table):
+def _allowed_offsets(state, prm, table):
     """``(limit, allow)`` of :func:`_is_allowed` in Type V state ``state[0]`` (every
-    offset without the constraint, ``typev = 0``)."""
+    offset without the constraint)."""
     allow = np.ones(4, dtype=np.int64)
-    if typev == 0:
+    if prm[P_TYPEV] == 0:
         return np.iinfo(np.int64).max, allow
     for a in range(4):
         allow[a] = 1 if table[state[0], a] >= 0 else 0
@@ -469,82 +429,81 @@ def _allowed_offsets(state, typev, table):
 
 
 @numba.njit(cache=True)
-def _advance_state(state, typev, table, advance):
-    """Type V (``typev`` = 1): the state after an advance (an illegal move is only ever a
-    forced hold at m, which leaves the state as it is)."""
-    if typev != 0 and 0 <= advance <= MAX_ADVANCE and table[state[0], advance] >= 0:
+def _advance_state(state, prm, table, advance):
+    """Type V: the state after an advance (an illegal move is only ever a forced hold at m,
+    which leaves the state as it is)."""
+    if prm[P_TYPEV] != 0 and 0 <= advance <= MAX_ADVANCE and table[state[0], advance] >= 0:
         state[0] = table[state[0], advance]
 
 
 @numba.njit(cache=True)
-def _a_step(Iq, Tq, q, M, state, table, c, out, wts, w, ties_high, start_best, typev):
+def _a_step(Iq, Tq, q, M, state, prm, table, c, out, wts):
     """``M_q`` of a Method A aligner at target frame q: :func:`_window_step` for Method A,
-    with only the arrays and settings it needs (``c`` : float64 (>= w + 1,), the window's
-    costs; ``wts`` : eq. 1's joint weights, empty for none).
+    with only the arrays it needs (``c`` : float64 (>= w + 1,), the window's costs;
+    ``wts`` : eq. 1's joint weights, empty for none).
 
     Plain version: fpdtw.plain.method_a_step.
     """
     m = Iq.shape[0] - 1
+    w = prm[P_W]
     out[1] = 0
     out[2] = 0
     out[3] = 0
     out[4] = 0
     if q == 0:
         out[0] = STEP_FIRST
-        return _first_frame(Iq, Tq, w, m, start_best != 0, wts)
+        return _first_frame(Iq, Tq, w, m, prm[P_START_BEST] != 0, wts)
     start = M[q - 1]
     if start >= m:
         out[0] = STEP_END
         m_next = m
     else:
         out[0] = STEP_WINDOW
-        limit, allow = _allowed_offsets(state, typev, table)
+        limit, allow = _allowed_offsets(state, prm, table)
         nrows = min(w, m - start) + 1
-        off = _choose_a(Iq, Tq[q], start, nrows, limit, allow, c, ties_high != 0, wts)
+        off = _choose_a(Iq, Tq[q], start, nrows, limit, allow, c, prm[P_TIES_HIGH] != 0, wts)
         off = _checked(off, limit, allow)
         out[1] = nrows
         out[2] = 1
         m_next = start + off
-    _advance_state(state, typev, table, m_next - start)
+    _advance_state(state, prm, table, m_next - start)
     return m_next
 
 
 @numba.njit(cache=True)
 def _window_step(
-    Iq, Tq, Te, q, M, state, table, codes, F, C, D, Pcol, path, score,
+    Iq, Tq, Te, q, M, state, prm, table, codes, F, C, D, Pcol, path, score,
     cF, cG, cN, cMeta, cKey, out, wts,
-    method, w, reading, shift, hold, ties_high, input_first, start_best, typev, shared,
-    band, band_clip,
 ):  # fmt: skip
     """``M_q`` of one Method A, B or C aligner at target frame q (frames 0..q received).
 
     ``M[:q]`` is the map so far; ``state[0]`` the Type V state (advanced in place);
-    ``table`` the Type V state table; ``F, C, D, Pcol, path, score`` scratch; ``cF..cKey``
-    a :class:`WindowCache`'s arrays (used when ``shared``). ``out`` (``N_OUT``) gets the
-    kind of step, the window's rows and columns, (B) the path length and the offset of the
-    window's first row from ``M_n``, for the debug record. ``method .. band_clip``: the
-    aligner's settings (:class:`StepParams`). With a clipping band (``band_clip``) the
-    window's rows are those of :func:`_clip_band`: rows outside the band are not computed,
-    and the window is the same method's on ``I_{M_n + first}..``. ``wts`` : float64 (k,)
-    eq. 1's per-joint weights, or EMPTY (0,) for eq. 1 as written (exactly the unweighted
-    arithmetic); an aligner with weights never shares a cache (``shared`` is 0), whose
-    costs are unweighted.
+    ``prm`` the aligner's parameter vector (``P_*``); ``table`` the Type V state table;
+    ``F, C, D, Pcol, path, score`` scratch; ``cF..cKey`` a :class:`WindowCache`'s
+    arrays (used when ``prm[P_SHARED]``). ``out`` (``N_OUT``) gets the kind of step, the
+    window's rows and columns, (B) the path length and the offset of the window's first
+    row from ``M_n``, for the debug record. With a clipping band (``prm[P_BAND_CLIP]``)
+    the window's rows are those of :func:`_clip_band`: rows outside the band are not
+    computed, and the window is the same method's on ``I_{M_n + first}..``. ``wts`` : float64
+    (k,) eq. 1's per-joint weights, or EMPTY (0,) for eq. 1 as written (exactly the
+    unweighted arithmetic); an aligner with weights never shares a cache (``prm[P_SHARED]``
+    is 0), whose costs are unweighted.
 
     Plain version: fpdtw.plain.method_a_step, fpdtw.plain.method_b_step and
     fpdtw.plain.method_c_step (one step each; fpdtw.plain.run steps through a target).
     """
+    method = prm[P_METHOD]
     if method == METHOD_A:
-        return _a_step(
-            Iq, Tq, q, M, state, table, C[:, 0], out, wts, w, ties_high, start_best, typev
-        )
+        return _a_step(Iq, Tq, q, M, state, prm, table, C[:, 0], out, wts)
     m = Iq.shape[0] - 1
+    w = prm[P_W]
     out[1] = 0
     out[2] = 0
     out[3] = 0
     out[4] = 0
     if q == 0:
         out[0] = STEP_FIRST
-        return _first_frame(Iq, Tq, w, m, start_best != 0, wts)
+        return _first_frame(Iq, Tq, w, m, prm[P_START_BEST] != 0, wts)
     start = M[q - 1]
     if q - 1 < SMOOTHING:
         out[0] = STEP_WARMUP
@@ -554,80 +513,82 @@ def _window_step(
         m_next = m
     else:
         out[0] = STEP_WINDOW
-        limit, allow = _allowed_offsets(state, typev, table)
+        limit, allow = _allowed_offsets(state, prm, table)
+        shared = prm[P_SHARED] != 0
+        band = prm[P_BAND]
         if method == METHOD_B:
             nrows = min(w, m - start) + 1
         else:
             # w_i = min(w - 1, m - M_n) for the square window (w rows), else min(w, m - M_n)
-            nrows = min(w - 1 if reading == C_SQUARE else w, m - start) + 1
+            nrows = min(w - 1 if prm[P_READING] == C_SQUARE else w, m - start) + 1
         first = 0
-        if band > 0 and band_clip != 0:  # only the rows inside the band
+        if band > 0 and prm[P_BAND_CLIP] != 0:  # only the rows inside the band
             first, nrows = _clip_band(start, nrows, q, band)
         s0 = start + first  # the window's first row
         if method == METHOD_B:
             ncols = w + 1
-            if shared != 0:
+            if shared:
                 _fill_prev_column(Iq, Tq, q, s0, nrows, F, C)
                 _fill_shared(Iq, Tq, Te, q, codes, s0, nrows, w, 1, C, cF, cG, cN, cMeta, cKey)
             else:
-                _forecast_window(Tq, Te, q, w, True, codes, F, 0, hold != 0)
+                _forecast_window(Tq, Te, q, w, True, codes, F, 0, prm[P_HOLD] != 0)
                 _cost_window(Iq, s0, nrows, F, ncols, C, wts)
             _mask_band(C, nrows, 1, q, s0, band)
-            off, npath = _choose_b(C, nrows, ncols, limit, allow, D, Pcol, path, input_first != 0)
+            off, npath = _choose_b(
+                C, nrows, ncols, limit, allow, D, Pcol, path, prm[P_INPUT_FIRST] != 0
+            )
             _check_band(off, q, s0, band)
             out[3] = npath
         else:
+            reading = prm[P_READING]
             with_prev = reading == C_SQUARE_TN
             ncols = w + 1 if with_prev else w
-            if shared != 0:
+            if shared:
                 c0 = 0
                 if with_prev:
                     _fill_prev_column(Iq, Tq, q, s0, nrows, F, C)
                     c0 = 1
                 _fill_shared(Iq, Tq, Te, q, codes, s0, nrows, w, c0, C, cF, cG, cN, cMeta, cKey)
             else:
-                _forecast_window(Tq, Te, q, w, with_prev, codes, F, shift, hold != 0)
+                _forecast_window(Tq, Te, q, w, with_prev, codes, F, prm[P_SHIFT], prm[P_HOLD] != 0)
                 _cost_window(Iq, s0, nrows, F, ncols, C, wts)
             _mask_band(C, nrows, 0, q, s0, band)
-            off = _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high != 0)
+            off = _choose_c(C, nrows, ncols, limit, allow, D, score, reading, prm[P_TIES_HIGH] != 0)
             _check_band(off, q, s0, band)
         off = _checked(off, limit, allow)  # (a band is never combined with Type V: first = 0)
         out[1] = nrows
         out[2] = ncols
         out[4] = first
         m_next = s0 + off
-    _advance_state(state, typev, table, m_next - start)
+    _advance_state(state, prm, table, m_next - start)
     return m_next
 
 
 @numba.njit(cache=True)
 def _run_group(
     Iq, Tq, Te, codes, params, table, M, F, C, D, Pcol, path, score, cF, cG, cN, cMeta, cKey,
-    wts, nwts,
+    wts,
 ):  # fmt: skip
-    """Every aligner of ``params`` (a typed list of :class:`StepParams`, one each) over the
-    whole target, in lockstep.
+    """Every aligner of ``params`` (one row each) over the whole target, in lockstep.
 
-    ``wts`` (aligners, k): eq. 1's joint weights of the aligners with ``nwts[a] = k``
-    (the rows of the others, ``nwts[a] = 0``, are not read: they get an empty slice, eq. 1
-    as written).
+    ``wts`` (aligners, k): eq. 1's joint weights of the aligners with ``P_WEIGHTED``
+    (the rows of the others are not read: they get an empty slice, eq. 1 as written).
 
     ``M`` (aligners, frames) receives the maps; each aligner's step only reads the
     frames up to its own (as when streaming). Scratch buffers are shared: the steps
     run one after the other.
     """
     n = Tq.shape[0]
-    A = len(params)
+    A = params.shape[0]
     state = np.zeros((A, 1), dtype=np.int64)
     out = np.zeros(N_OUT, dtype=np.int64)
+    k = Iq.shape[1]
     for q in range(n):
         for a in range(A):
-            p = params[a]
+            nw = k if params[a, P_WEIGHTED] != 0 else 0
             M[a, q] = _window_step(
-                Iq, Tq, Te, q, M[a], state[a], table, codes, F, C, D, Pcol, path,
-                score, cF, cG, cN, cMeta, cKey, out, wts[a, : nwts[a]],
-                p.method, p.w, p.reading, p.shift, p.hold, p.ties_high, p.input_first,
-                p.start_best, p.typev, p.shared, p.band, p.band_clip,
+                Iq, Tq, Te, q, M[a], state[a], params[a], table, codes, F, C, D, Pcol, path,
+                score, cF, cG, cN, cMeta, cKey, out, wts[a, :nw],
             )  # fmt: skip
 
 
@@ -780,8 +741,8 @@ class WindowAligner(OnlineAligner):
       without a constraint; ``reset()`` puts it back to the start state.
 
     The whole step runs in one compiled function, :func:`_window_step`, on scratch arrays
-    each aligner allocates once, its settings (:meth:`params`, a :class:`StepParams`) and
-    its Type V state. Subclasses give their :meth:`params` and
+    each aligner allocates once, its parameter vector (:meth:`params`) and its Type V
+    state. Subclasses give their :meth:`params` and
     :meth:`_window_record`.
 
     Parameters
@@ -848,6 +809,7 @@ class WindowAligner(OnlineAligner):
             else np.array(self.constraint.table, dtype=np.int64)
         )
         self._codes = np.array(codes, dtype=np.int64)  # the target's rotation orders
+        self._params = np.zeros(N_PARAMS, dtype=np.int64)
         self._tv = np.zeros(1, dtype=np.int64)  # the Type V state
         self._out = np.zeros(N_OUT, dtype=np.int64)  # what the last step did
         # scratch of one step (see _window_step)
@@ -870,20 +832,20 @@ class WindowAligner(OnlineAligner):
         self.name = self._make_name()
 
     def _configure(self) -> None:
-        """Set the step's settings and choose the cache arrays from the aligner's settings
-        (again after a subclass sets :attr:`cache`)."""
-        self._params = StepParams(*(int(v) for v in self.params()))
+        """Fill the parameter vector and choose the cache arrays from the aligner's
+        settings (again after a subclass sets :attr:`cache`)."""
+        self._params[:] = self.params()
         self._cache_arrays = self._placeholder if self.cache is None else self.cache.arrays()
 
-    def params(self) -> StepParams:
-        """This aligner's settings for :func:`_window_step` (subclasses set the method's)."""
-        return StepParams(
-            method=-1,
-            w=self.w,
-            start_best=self.settings["start"] == "best",
-            typev=self.constraint is not None,
-            shared=self.cache is not None,
-        )
+    def params(self) -> np.ndarray:
+        """This aligner's parameter vector for :func:`_window_step` (int64, ``N_PARAMS``)."""
+        p = np.zeros(N_PARAMS, dtype=np.int64)
+        p[P_W] = self.w
+        p[P_START_BEST] = self.settings["start"] == "best"
+        p[P_TYPEV] = self.constraint is not None
+        p[P_SHARED] = self.cache is not None
+        p[P_WEIGHTED] = self._wts.shape[0] > 0
+        return p
 
     @classmethod
     def _resolve_options(cls, given: dict) -> dict:
@@ -981,9 +943,9 @@ class WindowAligner(OnlineAligner):
         state = self.state
         m_next = int(
             _window_step(
-                self._Iq, self._Tq, self._Te, q, self._M, self._tv, self._table, self._codes,
-                self._F, self._C, self._D, self._P, self._path, self._score,
-                *self._cache_arrays, self._out, self._wts, *self._params,
+                self._Iq, self._Tq, self._Te, q, self._M, self._tv, self._params, self._table,
+                self._codes, self._F, self._C, self._D, self._P, self._path, self._score,
+                *self._cache_arrays, self._out, self._wts,
             )
         )  # fmt: skip
         if self.constraint is not None:
@@ -1111,14 +1073,15 @@ class ForecastAligner(WindowAligner):
         self.cache = cache
         self._configure()
 
-    def params(self) -> StepParams:
+    def params(self) -> np.ndarray:
         p = super().params()
-        p = p._replace(hold=self.settings.get("forecast", "dead-reckoning") == "hold")
+        p[P_HOLD] = self.settings.get("forecast", "dead-reckoning") == "hold"
         band = self.settings.get("band", "none")
         if band == "1s":
-            p = p._replace(band=max(1, int(round(self.BAND_SECONDS * self.I.fps))))
+            p[P_BAND] = max(1, int(round(self.BAND_SECONDS * self.I.fps)))
         elif band == "half-w":
-            p = p._replace(band=max(1, self.w // 2), band_clip=1)
+            p[P_BAND] = max(1, self.w // 2)
+            p[P_BAND_CLIP] = 1
         return p
 
 
@@ -1157,7 +1120,7 @@ def run_group(aligners, T: MotionFeatures) -> list:
         raise AlignmentError("run_group needs Method B/C aligners with one input and one cache")
     if len(tables) > 1:
         raise AlignmentError("run_group needs one Type V table")
-    holder = next(iter(caches.values()), a0)  # its arrays serve every aligner sharing it
+    holder = next(iter(caches.values()), a0)  # its arrays serve every aligner with P_SHARED
     k = a0._Iq.shape[1]
     if np.shape(T.quats)[1:] != (k, 4) or np.shape(T.euler)[1:] != (k, 3):
         raise AlignmentError(
@@ -1169,20 +1132,18 @@ def run_group(aligners, T: MotionFeatures) -> list:
         for a in aligners:  # the target's rotation orders and rig, as a stream's first frame
             a._begin_take(first)
     W = max(a.w for a in aligners) + 1
-    params = numba.typed.List([a._params for a in aligners])
+    params = np.stack([a.params() for a in aligners])
     wts = np.ones((len(aligners), k))
-    nwts = np.zeros(len(aligners), dtype=np.int64)
-    for i, a in enumerate(aligners):
+    for row, a in zip(wts, aligners):
         if a._wts.shape[0]:
-            wts[i] = a._wts
-            nwts[i] = k
+            row[:] = a._wts
     table = next((a._table for a in aligners if a.constraint is not None), a0._table)
     M = np.zeros((len(aligners), T.n_frames), dtype=np.int64)
     _run_group(
         a0._Iq, np.ascontiguousarray(T.quats, dtype=np.float64),
         np.ascontiguousarray(T.euler, dtype=np.float64), a0._codes, params, table, M,
         np.empty((k, 4, W)), np.empty((W, W)), np.empty((W, W)), np.empty(W, dtype=np.int64),
-        np.empty((2 * W, 2), dtype=np.int64), np.empty(W), *holder._cache_arrays, wts, nwts,
+        np.empty((2 * W, 2), dtype=np.int64), np.empty(W), *holder._cache_arrays, wts,
     )  # fmt: skip
     return list(M)
 
