@@ -592,6 +592,81 @@ def _run_group(
             )  # fmt: skip
 
 
+# --- an aligner's work buffers ---------------------------------------------------------
+
+#: Header of an aligner's int64 work buffer (:func:`_work_views`): joints k, window
+#: capacity W = w + 1, number of Type V states.
+_H_K, _H_W, _H_NS = 0, 1, 2
+_HEADER = 3
+
+
+def _work_sizes(k: int, W: int, ns: int) -> tuple:
+    """Lengths of the float64 and int64 work buffers of :func:`_work_views`."""
+    floats = W * W + k * 4 * W + W * W + W + 4 * k + 1 + 12 * k
+    ints = _HEADER + N_PARAMS + 4 * ns + 1 + N_OUT + k + W + 4 * W + 1 + 2
+    return floats, ints
+
+
+@numba.njit(cache=True)
+def _head_views(work, iwork):
+    """The views every method uses, at the start of the two buffers: ``prm``, ``table``,
+    ``tv``, ``out`` and column 0 of ``C`` (all Method A's step needs: one reshape, where
+    each of :func:`_work_views`' reshapes costs about 0.1 us)."""
+    W = iwork[_H_W]
+    ns = iwork[_H_NS]
+    i = _HEADER
+    prm = iwork[i : i + N_PARAMS]
+    i += N_PARAMS
+    table = iwork[i : i + 4 * ns].reshape((ns, 4))
+    i += 4 * ns
+    tv = iwork[i : i + 1]
+    i += 1
+    out = iwork[i : i + N_OUT]
+    return prm, table, tv, out, work[0 : W * W : W]
+
+
+@numba.njit(cache=True)
+def _work_views(work, iwork):
+    """An aligner's scratch, parameters and state as views of two flat buffers.
+
+    ``work`` (float64) holds ``C (W, W), F (k, 4, W), D (W, W), score (W)`` and the
+    placeholder cache arrays ``cF (k, 4, 1), cG (1, 1), cKey (3, k, 4)``; ``iwork``
+    (int64) the header ``k, W, ns``, then ``prm (N_PARAMS), table (ns, 4), tv (1),
+    out (N_OUT)`` (:func:`_head_views`), ``codes (k), Pcol (W), path (2W, 2), cN (1),
+    cMeta (2)``. Two buffers instead of nineteen arrays: a compiled function costs about
+    0.1 us per array argument to call.
+    """
+    k = iwork[_H_K]
+    W = iwork[_H_W]
+    ns = iwork[_H_NS]
+    prm, table, tv, out, _ = _head_views(work, iwork)
+    o = 0
+    C = work[o : o + W * W].reshape((W, W))
+    o += W * W
+    F = work[o : o + k * 4 * W].reshape((k, 4, W))
+    o += k * 4 * W
+    D = work[o : o + W * W].reshape((W, W))
+    o += W * W
+    score = work[o : o + W]
+    o += W
+    cF = work[o : o + 4 * k].reshape((k, 4, 1))
+    o += 4 * k
+    cG = work[o : o + 1].reshape((1, 1))
+    o += 1
+    cKey = work[o : o + 12 * k].reshape((3, k, 4))
+    i = _HEADER + N_PARAMS + 4 * ns + 1 + N_OUT
+    codes = iwork[i : i + k]
+    i += k
+    Pcol = iwork[i : i + W]
+    i += W
+    path = iwork[i : i + 4 * W].reshape((2 * W, 2))
+    i += 4 * W
+    cN = iwork[i : i + 1]
+    i += 1
+    cMeta = iwork[i : i + 2]
+    return F, C, D, score, cF, cG, cKey, prm, table, codes, tv, Pcol, path, out, cN, cMeta
+
+
 # --- costs shared by aligners that step together ---------------------------------------
 
 
@@ -740,9 +815,9 @@ class WindowAligner(OnlineAligner):
     * ``state`` holds the current Type V state (index into ``constraint.states``), None
       without a constraint; ``reset()`` puts it back to the start state.
 
-    The whole step runs in one compiled function, :func:`_window_step`, on scratch arrays
-    each aligner allocates once, its parameter vector (:meth:`params`) and its Type V
-    state. Subclasses give their :meth:`params` and
+    The whole step runs in one compiled function, :func:`_window_step`; its scratch
+    arrays, the parameter vector (:meth:`params`) and the Type V state live in two flat
+    buffers (:func:`_work_views`). Subclasses give their :meth:`params` and
     :meth:`_window_record`.
 
     Parameters
@@ -802,31 +877,23 @@ class WindowAligner(OnlineAligner):
 
         k = self._Iq.shape[1]
         W = self.w + 1
-        # the Type V state table (a placeholder without the constraint: never read)
-        self._table = (
+        table = (
             np.zeros((3, 4), dtype=np.int64)
             if self.constraint is None
-            else np.array(self.constraint.table, dtype=np.int64)
+            else np.ascontiguousarray(self.constraint.table, dtype=np.int64)
         )
-        self._codes = np.array(codes, dtype=np.int64)  # the target's rotation orders
-        self._params = np.zeros(N_PARAMS, dtype=np.int64)
-        self._tv = np.zeros(1, dtype=np.int64)  # the Type V state
-        self._out = np.zeros(N_OUT, dtype=np.int64)  # what the last step did
-        # scratch of one step (see _window_step)
-        self._F = np.zeros((k, 4, W))
-        self._C = np.zeros((W, W))
-        self._D = np.zeros((W, W))
-        self._score = np.zeros(W)
-        self._P = np.zeros(W, dtype=np.int64)
-        self._path = np.zeros((2 * W, 2), dtype=np.int64)
-        # the cache arrays _window_step takes when no WindowCache is shared (never read)
-        self._placeholder = (
-            np.zeros((k, 4, 1)),
-            np.zeros((1, 1)),
-            np.zeros(1, dtype=np.int64),
-            np.array([-1, 0], dtype=np.int64),
-            np.zeros((3, k, 4)),
-        )
+        nf, ni = _work_sizes(k, W, table.shape[0])
+        self._work = np.zeros(nf)
+        self._iwork = np.zeros(ni, dtype=np.int64)
+        self._iwork[[_H_K, _H_W, _H_NS]] = k, W, table.shape[0]
+        (
+            self._F, self._C, self._D, self._score, cF, cG, cKey, self._params, self._table,
+            self._codes, self._tv, self._P, self._path, self._out, cN, cMeta,
+        ) = _work_views(self._work, self._iwork)  # fmt: skip
+        self._table[:] = table
+        self._codes[:] = codes
+        cMeta[:] = (-1, 0)
+        self._placeholder = (cF, cG, cN, cMeta, cKey)
         super().__init__(I)
         self._configure()
         self.name = self._make_name()
