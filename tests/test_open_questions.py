@@ -493,6 +493,19 @@ def test_weighted_aligners_in_a_group_with_a_cache_give_their_streamed_maps():
         np.testing.assert_array_equal(M, run_online(registry.make_online(n, I), T)[0], err_msg=n)
 
 
+def test_the_one_call_streaming_kernel_refuses_weights_instead_of_ignoring_them():
+    from fpdtw.online.window import _stream_step
+
+    I = random_walk_features(60, seed=2)
+    a = registry.make_online("Mc w40 (weighted joints)", I)
+    assert not a._lean  # its step() takes the general path, which weights (tested above)
+    f = I.frame(0)
+    args = (a._Iq, a._Tq, a._Te, a._M, 0, f.quats, f.euler, a._work, a._iwork)
+    assert _stream_step(*args) == -2  # nothing stored, nothing computed
+    b = registry.make_online("Mc w40", I)
+    assert _stream_step(b._Iq, b._Tq, b._Te, b._M, 0, f.quats, f.euler, b._work, b._iwork) == 0
+
+
 def test_weighted_names_resolve_and_unknown_options_are_refused():
     assert registry.resolve("OLTW (weighted joints)").options == {"weights": "travel"}
     assert registry.resolve("Mc w40 (band 1 s, weighted joints)").options == {

@@ -64,6 +64,37 @@ def check_count(value, what: str, who: str, minimum: int = 1) -> int:
     return int(value)
 
 
+def compiled_frame(frame, i: int, capacity: int, Tp):
+    """The arrays of a streamed frame that a compiled step can take, else None.
+
+    A frame takes the compiled path when its quaternions and Euler angles are plain 2-D
+    ndarrays and the map has room for target frame ``i`` (``i < capacity``); its
+    positions, if any, are stored in ``Tp[i]`` (None: positions not kept, and a frame
+    with positions goes the general way). Anything else goes the general way: the
+    caller's own checks of the frame (e.g. the shape check of
+    :meth:`fpdtw.online.window.WindowAligner.step`), then :meth:`OnlineAligner.step`,
+    which stores the frame without checking it. The compiled step itself refuses a
+    frame of another shape (it returns -1 and the caller takes the general way).
+
+    Returns
+    -------
+    (quats, euler) : tuple of ndarray, or None
+    """
+    fq, fe, p = frame.quats, frame.euler, frame.positions
+    if not (
+        i < capacity
+        and type(fq) is np.ndarray
+        and type(fe) is np.ndarray
+        and fq.ndim == 2
+        and fe.ndim == 2
+        and (p is None or Tp is not None)
+    ):
+        return None
+    if p is not None:
+        Tp[i] = p
+    return fq, fe
+
+
 class OnlineAligner(ABC):
     """Base class of online aligners.
 

@@ -41,7 +41,7 @@ from fpdtw.dtw import _accumulate
 from fpdtw.errors import AlignmentError
 from fpdtw.forecast import _euler_to_quat, order_codes
 from fpdtw.motion.features import Frame, MotionFeatures
-from fpdtw.online.base import OnlineAligner, check_count, check_input
+from fpdtw.online.base import OnlineAligner, check_count, check_input, compiled_frame
 from fpdtw.online.typev import MAX_ADVANCE, resolve_constraint
 from fpdtw.weights import joint_weights
 
@@ -592,7 +592,7 @@ def _run_group(
             )  # fmt: skip
 
 
-# --- an aligner's work buffers ---------------------------------------------------------
+# --- one call per streamed frame --------------------------------------------------------
 
 #: Header of an aligner's int64 work buffer (:func:`_work_views`): joints k, window
 #: capacity W = w + 1, number of Type V states.
@@ -634,7 +634,7 @@ def _work_views(work, iwork):
     (int64) the header ``k, W, ns``, then ``prm (N_PARAMS), table (ns, 4), tv (1),
     out (N_OUT)`` (:func:`_head_views`), ``codes (k), Pcol (W), path (2W, 2), cN (1),
     cMeta (2)``. Two buffers instead of nineteen arrays: a compiled function costs about
-    0.1 us per array argument to call.
+    0.1 us per array argument to call, and :func:`_stream_step` is called once per frame.
     """
     k = iwork[_H_K]
     W = iwork[_H_W]
@@ -665,6 +665,48 @@ def _work_views(work, iwork):
     i += 1
     cMeta = iwork[i : i + 2]
     return F, C, D, score, cF, cG, cKey, prm, table, codes, tv, Pcol, path, out, cN, cMeta
+
+
+@numba.njit(cache=True)
+def _store_frame(k, Tq, Te, q, fq, fe):
+    """Store a streamed frame (quaternions ``fq`` (k, 4), Euler angles ``fe`` (k, 3)) in
+    row ``q`` of ``Tq, Te``; False (nothing stored) for a frame of another shape."""
+    if fq.shape[0] != k or fq.shape[1] != 4 or fe.shape[0] != k or fe.shape[1] != 3:
+        return False
+    for j in range(k):
+        for a in range(4):
+            Tq[q, j, a] = fq[j, a]
+        for a in range(3):
+            Te[q, j, a] = fe[j, a]
+    return True
+
+
+@numba.njit(cache=True)
+def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
+    """Receive one streamed frame: store it in row ``q`` of ``Tq, Te``, run
+    :func:`_window_step`, store ``M[q]``; the whole ``step`` of a B/C aligner in one call.
+
+    ``fq`` (k, 4) and ``fe`` (k, 3) are the frame's quaternions and Euler angles; a frame
+    of another shape changes nothing and returns -1 (the caller then raises). Eq. 1 as
+    written only: an aligner that weights the joints never takes this path (its ``step``
+    takes the general one, :meth:`WindowAligner._step`).
+    """
+    if iwork[_HEADER + P_WEIGHTED] != 0:
+        return -2
+    if not _store_frame(Iq.shape[1], Tq, Te, q, fq, fe):
+        return -1
+    if iwork[_HEADER + P_METHOD] == METHOD_A:
+        prm, table, tv, out, c = _head_views(work, iwork)
+        m = _a_step(Iq, Tq, q, M, tv, prm, table, c, out, work[0:0])
+    else:
+        views = _work_views(work, iwork)
+        F, C, D, score, cF, cG, cKey, prm, table, codes, tv, Pcol, path, out, cN, cMeta = views
+        m = _window_step(
+            Iq, Tq, Te, q, M, tv, prm, table, codes, F, C, D, Pcol, path, score,
+            cF, cG, cN, cMeta, cKey, out, work[0:0],
+        )  # fmt: skip
+    M[q] = m
+    return m
 
 
 # --- costs shared by aligners that step together ---------------------------------------
@@ -817,7 +859,8 @@ class WindowAligner(OnlineAligner):
 
     The whole step runs in one compiled function, :func:`_window_step`; its scratch
     arrays, the parameter vector (:meth:`params`) and the Type V state live in two flat
-    buffers (:func:`_work_views`). Subclasses give their :meth:`params` and
+    buffers (:func:`_work_views`), so that one streamed frame is one compiled call with
+    few arguments (:func:`_stream_step`). Subclasses give their :meth:`params` and
     :meth:`_window_record`.
 
     Parameters
@@ -899,10 +942,12 @@ class WindowAligner(OnlineAligner):
         self.name = self._make_name()
 
     def _configure(self) -> None:
-        """Fill the parameter vector and choose the cache arrays from the aligner's
-        settings (again after a subclass sets :attr:`cache`)."""
+        """Fill the parameter vector and choose the cache arrays and the one-call path
+        from the aligner's settings (again after a subclass sets :attr:`cache`)."""
         self._params[:] = self.params()
         self._cache_arrays = self._placeholder if self.cache is None else self.cache.arrays()
+        # the one-call path: no debug record, no shared cache, eq. 1 unweighted
+        self._lean = not self.record and self.cache is None and self._wts.shape[0] == 0
 
     def params(self) -> np.ndarray:
         """This aligner's parameter vector for :func:`_window_step` (int64, ``N_PARAMS``)."""
@@ -981,11 +1026,25 @@ class WindowAligner(OnlineAligner):
     def step(self, frame: Frame) -> int:
         """Receive target frame ``T_{n+1}`` and return ``M_{n+1}``.
 
-        Checks the frame's shape, then takes :meth:`OnlineAligner.step`, which stores the
-        frame and calls :meth:`_step`.
+        The common case (numpy arrays, room in the buffers, no debug record, no shared
+        cache) is one compiled call, :func:`_stream_step`; anything else takes the
+        general path of :meth:`OnlineAligner.step` (same result), after checking the
+        frame's shape.
         """
         if self.n_received == 0:
             self._begin_take(frame)
+        i = self.n_received - self._start
+        arrays = compiled_frame(frame, i, self._M.shape[0], self._Tp) if self._lean else None
+        if arrays is not None:
+            fq, fe = arrays
+            m = _stream_step(
+                self._Iq, self._Tq, self._Te, self._M, i, fq, fe, self._work, self._iwork
+            )
+            if m >= 0:
+                self.n_received += 1
+                if self.constraint is not None:
+                    self.state = int(self._tv[0])
+                return m
         k = self._Iq.shape[1]
         if np.shape(frame.quats) != (k, 4) or np.shape(frame.euler) != (k, 3):
             raise AlignmentError(
