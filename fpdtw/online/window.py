@@ -25,6 +25,21 @@ Its inner loop runs over the forecast frames, stored joint-major as ``F[j, c, co
 (structure of arrays), so that LLVM vectorises it; the ``arccos`` of eq. 1 is
 :func:`fpdtw.costs._acos01`, a branch-free polynomial arccos on [0, 1] (1 ulp from
 ``math.acos``) that vectorises, where libm's ``acos`` is a scalar call five times slower.
+
+Kept because removing them was measured to cost more than 10 % (2026-11-25; each removal
+was a commit of its own, then reverted; the commands are in docs/performance.md):
+
+* the one-call stream path (:func:`_stream_step`): streaming through the general Python
+  step instead made make bench's median step of Ma 1.9 times as long (2.9 to 5.5 us) and
+  of Methods B and C at w = 10 1.08 to 1.19 times (w = 40 and 80: within 4 %); paired
+  runs on one core, five repetitions;
+* the two flat work buffers (:func:`_work_views`) and the int64 parameter vector (``prm``,
+  ``P_*``): the one-call path reads them, passing two buffers instead of nineteen arrays.
+  Removed on top of the stream path's removal they cost nothing measurable; they were not
+  measured with the stream path kept, and stay with it;
+* the window cache shared by the aligners of a pair (:class:`WindowCache`,
+  :func:`run_group`): without it (and the three above) the grid's compute time on 316
+  pairs x 41 algorithms (two workers) was 316-344 s against 135-161 s.
 """
 
 from __future__ import annotations
