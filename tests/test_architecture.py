@@ -18,10 +18,19 @@ from fpdtw.paper.paths import REPO_ROOT
 PKG = REPO_ROOT / "fpdtw"
 
 
-def _imports(path: Path) -> set:
-    """Every fpdtw module a file imports, at any depth (functions included)."""
+def _imports(path: Path, top_only: bool = False) -> set:
+    """Every fpdtw module a file imports, at any depth (functions included), or with
+    ``top_only`` only those imported at module level (not inside a function)."""
+    tree = ast.parse(path.read_text())
+    inner = set()
+    if top_only:
+        for node in ast.walk(tree):
+            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+                inner.update(id(n) for n in ast.walk(node) if n is not node)
     out = set()
-    for node in ast.walk(ast.parse(path.read_text())):
+    for node in ast.walk(tree):
+        if id(node) in inner:
+            continue
         if isinstance(node, ast.Import):
             out.update(a.name for a in node.names if a.name.startswith("fpdtw"))
         elif isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("fpdtw"):
@@ -39,25 +48,6 @@ def _layer(rel: Path) -> str:
 OPTIONAL_PARTS = {"paper": ("fpdtw.app.cluster",)}
 
 
-def _top_level_imports(path: Path) -> set:
-    """The fpdtw modules a file imports at module level (not inside a function)."""
-    tree = ast.parse(path.read_text())
-    inner = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
-            inner.update(id(n) for n in ast.walk(node) if n is not node)
-    out = set()
-    for node in ast.walk(tree):
-        if id(node) in inner:
-            continue
-        if isinstance(node, ast.Import):
-            out.update(a.name for a in node.names if a.name.startswith("fpdtw"))
-        elif isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("fpdtw"):
-            out.add(node.module)
-            out.update(f"{node.module}.{a.name}" for a in node.names)
-    return out
-
-
 def test_nothing_below_imports_the_layers_above():
     """library <- paper <- app: the library imports neither; the paper layer imports no tool
     but the optional parts of OPTIONAL_PARTS, and those only inside a function."""
@@ -66,7 +56,7 @@ def test_nothing_below_imports_the_layers_above():
     for f in sorted(PKG.rglob("*.py")):
         layer = _layer(f.relative_to(PKG))
         optional = OPTIONAL_PARTS.get(layer, ())
-        top = _top_level_imports(f)
+        top = _imports(f, top_only=True)
         for mod in _imports(f):
             if not any(mod == a or mod.startswith(a + ".") for a in above[layer]):
                 continue
@@ -80,8 +70,8 @@ def test_nothing_below_imports_the_layers_above():
 def test_an_optional_part_imported_at_module_level_is_caught(tmp_path):
     f = tmp_path / "parallel.py"
     f.write_text("from fpdtw.app import cluster\n\ndef g():\n    from fpdtw.app import bench\n")
-    assert "fpdtw.app.cluster" in _top_level_imports(f)
-    assert "fpdtw.app.bench" not in _top_level_imports(f)
+    assert "fpdtw.app.cluster" in _imports(f, top_only=True)
+    assert "fpdtw.app.bench" not in _imports(f, top_only=True)
     assert "fpdtw.app.bench" in _imports(f)
 
 
