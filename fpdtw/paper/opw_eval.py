@@ -1038,6 +1038,7 @@ def read_at_table(motions=None, offset: float = OFFSET, gamma: float = GAMMA) ->
         steps with ``s != 1``).
 
     Paper: OPW poster eq. 4 and Algorithm 1, lines 2-3; Section 4's protocol (Fig. 4).
+    Notebook: 13_opw_fig4.ipynb
     """
     rows = []
     for mo in motions or FIG4_MOTIONS:
