@@ -15,7 +15,9 @@ the paper's notation; ``tests/test_plain.py`` holds the maps equal):
   warm-up and the shared :class:`WindowCache` of Methods B and C.
 
 Window sizes: the input window is always ``{I_{M_n}..I_{M_n+w_i}}``, ``w_i + 1`` rows
-(``w_i``, everywhere in fpdtw, the offset of the window's last row); Method C's readings
+(``w_i`` here: the offset of the window's last row, as in Algorithms 1 and 2;
+:func:`fpdtw.plain.method_c_step` writes Algorithm 3's line 6 as printed, ``w_i = w``, and
+names the rows it keeps ``rows``); Method C's readings
 differ in how far it reaches (the default square window: ``w_i = min(w - 1, m - M_n)``,
 ``w`` rows; the literal one: ``w_i = min(w, m - M_n)``; see
 :class:`~fpdtw.online.method_c.MethodC`).
