@@ -65,6 +65,26 @@ def first_leaving(steps, via, q_min: int = 0):
     return None
 
 
+def step_facts(step) -> dict:
+    """What a drawn plain step did, for notebook 03's facts file.
+
+    Parameters
+    ----------
+    step : fpdtw.plain.Step
+
+    Returns
+    -------
+    facts : dict
+        ``q``, ``M_n``, ``w_i`` and ``M`` (int), and ``leaves_via`` (the path's second cell)
+        for a step with a path (Method B).
+
+    Paper: FP-DTW Figs. 2 and 4.
+    Notebook: 03_fig2_fig4_windows.ipynb
+    """
+    out = {k: getattr(step, k) for k in ("q", "M_n", "w_i", "M")}
+    return out if step.path is None else out | {"leaves_via": step.path[1]}
+
+
 def _grid(ax, n_rows, n_cols, x0, y0):
     """Cell borders (minor grid) of a grid whose cell centres are x0.., y0.."""
     ax.set_xticks(np.arange(n_cols + 1) + x0 - 0.5, minor=True)
@@ -362,4 +382,5 @@ __all__ = [
     "plot_method_a_window",
     "plot_method_b_window",
     "plot_method_c_window",
+    "step_facts",
 ]
