@@ -7,6 +7,7 @@ Usage (from each checkout, e.g. one with the optimisation and one without, alter
 
 ``step``: make bench's median step time and step/limit (:func:`fpdtw.app.bench.bench_online`
 with limits) of Methods A, B and C at w = 10, 40, 80 on make bench's pairs.
+The same file runs in a checkout from before the redesign (693a34e): copy it there.
 ``grid``: the experiment grid's compute time (the sum of its work units' seconds, two
 workers) for every default algorithm on 316 pairs (five takes per movement of the full
 selection, the paper-shaped seed), in a fresh results folder.
@@ -20,7 +21,10 @@ import sys
 
 
 def step() -> dict:
-    from fpdtw.app.bench import bench_online, load_bench_pairs
+    try:
+        from fpdtw.app.bench import bench_online, load_bench_pairs
+    except ImportError:  # a checkout from before the tools moved to fpdtw/app (693a34e)
+        from fpdtw.paper.bench import bench_online, load_bench_pairs
 
     names = ["Ma", "Mb w10", "Mb w40", "Mb w80", "Mc w10", "Mc w40", "Mc w80", "Mc w80 + Type V"]
     rows = bench_online(load_bench_pairs(), names, limits=True)
@@ -36,7 +40,15 @@ def step() -> dict:
 def grid(folder: str) -> dict:
     os.environ["FPDTW_RESULTS_DIR"] = folder
     from fpdtw.paper.runner import run as E
-    from fpdtw.paper.runner.grid import default_algorithms
+
+    try:
+        from fpdtw.paper.runner.grid import default_algorithms
+    except ImportError:  # before the registry fed the grid (693a34e)
+        from fpdtw.paper.runner.grid import DEFAULT_ALGORITHMS
+
+        def default_algorithms():
+            return DEFAULT_ALGORITHMS
+
     from fpdtw.paper.runner.selection import PAPER_SHAPED_SEED, Selection
 
     sel = Selection(subsample_takes=5, sample_seed=PAPER_SHAPED_SEED)
