@@ -58,9 +58,6 @@ def _check_cost(C, what="cost matrix", finite=True) -> np.ndarray:
     return C
 
 
-# -- numba kernels -----------------------------------------------------------------------------
-
-
 @numba.njit(cache=True)
 def _accumulate(C, wd, D):
     """Fill ``D`` (same shape as ``C``) with the accumulated cost; ``wd`` = diagonal weight.
@@ -135,28 +132,19 @@ def _path_to_map(path, n1):
     return M
 
 
-# -- public API --------------------------------------------------------------------------------
-
-
 def accumulate(C, step_pattern: str = "symmetric1") -> np.ndarray:
-    """Accumulated cost matrix of classic DTW.
+    """Accumulated cost matrix of classic DTW (AlignmentError: ``C`` not 2-D, empty or not
+    finite, or an unknown step pattern).
 
     Parameters
     ----------
     C : ndarray of float, shape (m + 1, n + 1)
-        Local cost, rows = input frames, columns = target frames.
+        Rows: input frames; columns: target frames.
     step_pattern : {"symmetric1", "symmetric2"}
-        See the module docstring.
 
     Returns
     -------
     D : ndarray of float64, shape (m + 1, n + 1)
-        ``D[0, 0] = C[0, 0]``; ``D[m, n]`` is the DTW distance.
-
-    Raises
-    ------
-    AlignmentError
-        ``C`` not 2-D, empty or not finite; unknown step pattern.
 
     Plain version: fpdtw.plain.accumulate (symmetric1).
     Paper: FP-DTW Section 2, Algorithm 2; Sakoe & Chiba 1978.
@@ -215,11 +203,6 @@ def path_to_map(path, n: int) -> np.ndarray:
     -------
     M : ndarray of int64, shape (n + 1,)
 
-    Raises
-    ------
-    AlignmentError
-        A target frame in ``0..n`` is not on the path, or a cell is negative.
-
     Plain version: fpdtw.plain.path_to_map.
     """
     path = np.asarray(path)
@@ -239,19 +222,8 @@ def path_to_map(path, n: int) -> np.ndarray:
 
 @dataclass(frozen=True)
 class DTWResult:
-    """Result of :func:`dtw`.
-
-    Attributes
-    ----------
-    distance : float
-        ``D[m, n]``, not normalised.
-    D : ndarray of float64, shape (m + 1, n + 1)
-        Accumulated cost matrix.
-    path : ndarray of int64, shape (L, 2)
-        Optimal path, forward order, cells (input frame, target frame).
-    map : ndarray of int64, shape (n + 1,)
-        Lowest input frame per target frame (:func:`path_to_map`).
-    """
+    """Result of :func:`dtw`: ``distance = D[m, n]`` (not normalised), ``D`` (float64,
+    (m + 1, n + 1)), ``path`` (int64, (L, 2)) and its ``map`` (int64, (n + 1,))."""
 
     distance: float
     D: np.ndarray
@@ -290,8 +262,7 @@ def dtw_pair(I, T, step_pattern: str = "symmetric1") -> DTWResult:
     Raises
     ------
     LimitError
-        The two ``(m + 1) x (n + 1)`` matrices would exceed
-        :data:`fpdtw.limits.MAX_MATRIX_BYTES` (checked before allocating).
+        Past :data:`fpdtw.limits.MAX_MATRIX_BYTES`, before allocating.
 
     Paper: FP-DTW eq. 1 and Section 4.
     Notebook: 10_fig8_walk_pair.ipynb

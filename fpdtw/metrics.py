@@ -26,9 +26,6 @@ ONE_FLAT_SCORE = 0.0
 BONE_AXIS = (0.0, 1.0, 0.0)
 
 
-# -- maps --------------------------------------------------------------------------------------
-
-
 def _as_map(M, what="map") -> np.ndarray:
     M = np.asarray(M)
     if M.ndim != 1 or M.shape[0] == 0:
@@ -142,9 +139,6 @@ def stick_skip_index(M, m: int) -> float:
     M = _as_map(M).astype(np.float64)
     n = max(M.size - 1, 1)
     return float(np.median(M / max(m, 1) - np.arange(M.size) / n))
-
-
-# -- Kendall tau-b -----------------------------------------------------------------------------
 
 
 @numba.njit(cache=True)
@@ -281,9 +275,6 @@ def _axis_scores(XA, XT, flat, one_flat, out, variant_a=False, toolkit=False):
     return out
 
 
-# -- similarity --------------------------------------------------------------------------------
-
-
 #: Kendall tau variants of :func:`similarity` (``tau=``).
 TAU_VARIANTS = ("b", "a")
 
@@ -292,16 +283,14 @@ FLAT_RULES = ("zero", "toolkit", "skip")
 
 
 def _axis_vectors(axis, k: int) -> np.ndarray:
-    """The unit vector of each of k joints, shape (k, 3), from ``"y"`` or an array."""
+    """The unit vector of each of k joints, shape (k, 3), from an array (``"y"`` is
+    :func:`joint_trajectories`' own case)."""
     if isinstance(axis, str):
-        if axis != "y":
-            raise AlignmentError(
-                f"axis {axis!r}: give 'y' or each joint's own vectors, shape (k, 3) "
-                "(fpdtw.motion.rig.bone_directions for the bone reading)"
-            )
-        v = np.array(BONE_AXIS)
-    else:
-        v = np.asarray(axis, dtype=np.float64)
+        raise AlignmentError(
+            f"axis {axis!r}: give 'y' or each joint's own vectors, shape (k, 3) "
+            "(fpdtw.motion.rig.bone_directions for the bone reading)"
+        )
+    v = np.asarray(axis, dtype=np.float64)
     v = np.broadcast_to(v, (k, 3)) if v.shape in ((3,), (k, 3)) else None
     if v is None or not np.all(np.isfinite(v)):
         raise AlignmentError(f"axis vectors must be finite, shape (3,) or ({k}, 3)")
