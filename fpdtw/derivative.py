@@ -28,13 +28,7 @@ import numpy as np
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import Frame, MotionFeatures
 from fpdtw.motion.rig import RigTransform
-from fpdtw.motion.rotations import (
-    UnwrapDegrees,
-    quat_conj,
-    quat_mul,
-    quat_to_euler,
-    unwrap_degrees,
-)
+from fpdtw.motion.rotations import UnwrapDegrees, quat_conj, quat_mul, quat_to_euler, unwrap_degrees
 from fpdtw.online.base import OnlineAligner
 
 #: The identity rotation, ``q'_0``.

@@ -285,11 +285,6 @@ def forecast_error_curve(motions_features, method: str, levels, H: int) -> np.nd
     err : ndarray of float64, shape (len(levels), H)
         ``err[l, i - 1]``: mean eq.-1 error of level ``levels[l]`` at ``i`` frames ahead.
 
-    Raises
-    ------
-    ValueError
-        Unknown method, bad level, or no motion long enough for one start frame.
-
     Paper: FP-DTW Fig. 3.
     """
     if method not in FORECASTERS:

@@ -70,12 +70,6 @@ def deviation(P_a, P_b, frames: str = "printed") -> float:
     d : float
         In frames (18 frames = 150 ms at 120 Hz is the paper's benchmark).
 
-    Raises
-    ------
-    AlignmentError
-        Maps of different lengths or not 1-D integer arrays, maps of one frame with
-        ``frames="printed"``, or another ``frames``.
-
     Plain version: fpdtw.plain.deviation.
     Paper: FP-DTW eq. 3.
     Notebook: 06_fig5_fig6_scores.ipynb
@@ -368,12 +362,6 @@ def similarity_per_axis(
     r : ndarray of float64, shape (k, 3)
         ``r[j, a]`` for joint j and axis a (x, y, z).
 
-    Raises
-    ------
-    AlignmentError
-        A map not of the target's length or outside ``0..m``, mismatched joints, an
-        unknown option, or ``skip`` leaving fewer than 2 target frames.
-
     Paper: FP-DTW eq. 2.
     """
     _check_options(tau, flat, skip)
@@ -440,7 +428,7 @@ def similarity(
     * the rotations passed in: local (default) or those of
       :func:`fpdtw.motion.rig.trajectory_rotations`.
 
-    Parameters and errors as :func:`similarity_per_axis`.
+    Parameters as :func:`similarity_per_axis`.
 
     Returns
     -------

@@ -80,9 +80,6 @@ class WarpCurve:
     def n_keys(self) -> int:
         return len(self._x)
 
-    def __len__(self):
-        return len(self._x)
-
     def __repr__(self):
         return f"WarpCurve({self.n_keys} keys, t in [{self._x[0]:g}, {self._x[-1]:g}])"
 

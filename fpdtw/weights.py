@@ -29,11 +29,6 @@ def joint_weights(I) -> np.ndarray:
     -------
     w : ndarray of float64, shape (k,)
 
-    Raises
-    ------
-    AlignmentError
-        Quaternions not of shape (frames, k, 4), or not finite.
-
     Paper: FP-DTW Section 7 (conclusion: weighting joints by pre-processing the recording).
     Notebook: 16_open_questions.ipynb
     """
