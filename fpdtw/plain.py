@@ -1,9 +1,9 @@
 """The papers' equations and algorithms in plain NumPy, line by line in their notation.
 
-What to read beside the papers (the notebooks step through it on real motions): no numba,
-no scratch buffers, one function per equation or algorithm: eq. 1, offline DTW and OE-DTW,
-the forecast, Algorithms 1-3 (Methods A, B and C), the Type V constraint, eqs. 2 and 3, and
-one step of the poster's OPW. The fast kernels (:mod:`fpdtw.costs`, :mod:`fpdtw.dtw`,
+What to read beside the papers, and what the notebooks step through on real motions: no
+numba, no scratch buffers, one function per equation or algorithm (eq. 1, offline DTW and
+OE-DTW, the forecast, Algorithms 1-3 for Methods A, B and C, the Type V constraint, eqs. 2
+and 3, one step of the poster's OPW). The fast kernels (:mod:`fpdtw.costs`, :mod:`fpdtw.dtw`,
 :mod:`fpdtw.online`, :mod:`fpdtw.metrics`) name their plain version ("Plain version:
 fpdtw.plain.xxx"), and ``tests/test_plain.py`` holds the two equal. What neither paper
 describes (OLTW, the global band, Method C's other window readings, ...) is compiled only.

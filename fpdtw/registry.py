@@ -85,12 +85,8 @@ class Entry:
 
     Attributes
     ----------
-    key : str
-        Its name, or the start of its names (``"Mc"`` in ``"Mc w40"``).
-    family : str
-        Short code for tables and plots (``"OE"``, ``"A"``, ``"OLTW"``).
-    cli : str
-        Its ``--method`` value.
+    key, family, cli : str
+        Its name or names' start (``"Mc"``), short code for tables (``"C"``), ``--method``.
     online : bool
     build : callable
         Online: ``build(I, value=..., typev=..., options=..., cache=..., record=...)``
@@ -180,21 +176,9 @@ _PATTERN = re.compile(
 
 @dataclass(frozen=True)
 class Algorithm:
-    """A resolved name: which entry, with which parameter, constraint and options.
-
-    Attributes
-    ----------
-    name : str
-        The name as given.
-    entry : Entry
-    value : int or None
-        The window ``w`` or band width ``c``.
-    typev : bool
-    options : dict
-        Non-default options (``{"window": "literal"}``).
-    derivative : bool
-        Run on derivative motions (:class:`fpdtw.derivative.DerivativeAligner`).
-    """
+    """A resolved name (as given): its entry, ``value`` (the window ``w`` or band width
+    ``c``), Type V, non-default ``options`` (``{"window": "literal"}``) and whether it runs
+    on derivative motions (:class:`fpdtw.derivative.DerivativeAligner`)."""
 
     name: str
     entry: Entry
@@ -353,7 +337,6 @@ def align(name: str, I: MotionFeatures, T: MotionFeatures):
     Returns
     -------
     M : ndarray of int64, shape (n + 1,)
-        Input frame of each target frame.
     seconds : ndarray of float64, shape (n + 1,) or None
         Per-frame processing time (online algorithms only).
 
