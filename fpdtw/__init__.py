@@ -1,30 +1,15 @@
 """fpdtw: online alignment of human motion (FP-DTW, Randall et al. 2023, and OPW).
 
-The public API, by what it holds:
-
-* motions: :class:`Motion`, :class:`Skeleton`, :func:`load_motion`, the joint sets
-  :data:`PAPER_JOINTS` (8) and :data:`OPW_JOINTS` (16), :class:`MotionFeatures`,
-  :class:`LiveTarget` (a motion arriving frame by frame: lost frames, other rates);
-* costs and offline alignment: :func:`geo_distance`, :func:`geodesic_cost_matrix`,
-  :func:`position_cost_matrix`, :func:`dtw`, :func:`dtw_pair`, :func:`utw_map`;
-* online aligners (one streaming interface, :meth:`OnlineAligner.step`):
-  :class:`OEDTW`, :class:`MethodA`, :class:`MethodB`, :class:`MethodC`, :class:`OPW`,
-  :class:`OLTW`, the :class:`TypeV` constraint, :func:`run_online`, and
-  :func:`make_online` / :func:`align` by the paper's names ("Mc w40 + Type V");
-* beyond the papers (the questions they leave open): :func:`dominant_period` and
-  :func:`auto_window` (Method C's window from the input's period, "Mc auto");
-  :func:`joint_weights` (eq. 1's joints weighted by their travel in the recording,
-  "Mc w40 (weighted joints)"); the global bands ("Mc w40 (band 1 s)", which masks, and
-  "Mc w40 (band w/2)", which computes only the window's rows inside it); :class:`AdaptiveOPW`
-  (OPW's gamma from its own decisions); :func:`derivative_features` (derivative motions; any
-  online name with the option ``"derivative"`` runs on them, "OPW (derivative)");
-  :func:`insert_pause` (a held pose inserted in a target);
-* metrics: :func:`similarity` (eq. 2), :func:`deviation` (eq. 3);
-* the OPW warp curve: :class:`WarpCurve`;
-* the papers' equations and algorithms in plain NumPy, line by line: :mod:`fpdtw.plain`
-  (what the notebooks step through; the compiled aligners are tested equal to it);
-* errors: :class:`MotionFormatError`, :class:`DataFetchError`, :class:`ManifestError`,
-  :class:`AlignmentError` (all :class:`FpdtwError`).
+The public API: motions (:class:`Motion`, :func:`load_motion`, :class:`MotionFeatures`,
+:class:`LiveTarget`, the joint sets :data:`PAPER_JOINTS` and :data:`OPW_JOINTS`); costs and
+offline alignment (:func:`geo_distance`, :func:`dtw_pair`, :func:`utw_map`); the online
+aligners behind one streaming interface (:class:`OnlineAligner`, :class:`MethodC`,
+:class:`OPW`, :class:`OLTW`, ...; :func:`make_online` and :func:`align` take the papers'
+names, "Mc w40 + Type V"); the metrics :func:`similarity` (eq. 2) and :func:`deviation`
+(eq. 3); the OPW :class:`WarpCurve`; beyond the papers :func:`auto_window`,
+:func:`joint_weights`, :class:`AdaptiveOPW`, :func:`derivative_features` and
+:func:`insert_pause`; the errors (all :class:`FpdtwError`). :mod:`fpdtw.plain` holds the
+papers' equations and algorithms in plain NumPy, line by line.
 """
 
 from fpdtw import plain
@@ -64,45 +49,11 @@ from fpdtw.weights import joint_weights
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "OEDTW",
-    "OLTW",
-    "OPW",
-    "OPW_JOINTS",
-    "PAPER_JOINTS",
-    "AlignmentError",
-    "DataFetchError",
-    "FpdtwError",
-    "Frame",
-    "LiveTarget",
-    "ManifestError",
-    "MethodA",
-    "MethodB",
-    "MethodC",
-    "Motion",
-    "MotionFeatures",
-    "MotionFormatError",
-    "OnlineAligner",
-    "Skeleton",
-    "TypeV",
-    "WarpCurve",
-    "align",
-    "derivative_features",
-    "deviation",
-    "dtw",
-    "dtw_pair",
-    "geo_distance",
-    "geodesic_cost_matrix",
-    "joint_weights",
-    "load_motion",
-    "make_online",
-    "plain",
-    "position_cost_matrix",
-    "run_online",
-    "similarity",
-    "utw_map",
-    "AdaptiveOPW",
-    "insert_pause",
-    "auto_window",
-    "dominant_period",
-]
+__all__ = ["OEDTW", "OLTW", "OPW", "OPW_JOINTS", "PAPER_JOINTS", "AlignmentError",
+           "DataFetchError", "FpdtwError", "Frame", "LiveTarget", "ManifestError",
+           "MethodA", "MethodB", "MethodC", "Motion", "MotionFeatures",
+           "MotionFormatError", "OnlineAligner", "Skeleton", "TypeV", "WarpCurve",
+           "align", "derivative_features", "deviation", "dtw", "dtw_pair",
+           "geo_distance", "geodesic_cost_matrix", "joint_weights", "load_motion",
+           "make_online", "plain", "position_cost_matrix", "run_online", "similarity",
+           "utw_map", "AdaptiveOPW", "insert_pause", "auto_window", "dominant_period"]  # fmt: skip

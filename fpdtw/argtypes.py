@@ -6,15 +6,19 @@ from __future__ import annotations
 import argparse
 
 
-def positive_int(text: str) -> int:
-    """A whole number >= 1."""
+def _whole(text: str, low: int, what: str, bound: str) -> int:
     try:
         v = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a whole number, got {text!r}") from None
-    if v < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {text!r}")
+        raise argparse.ArgumentTypeError(f"must be {what}, got {text!r}") from None
+    if v < low:
+        raise argparse.ArgumentTypeError(f"must be {bound}, got {text!r}")
     return v
+
+
+def positive_int(text: str) -> int:
+    """A whole number >= 1."""
+    return _whole(text, 1, "a whole number", "at least 1")
 
 
 def positive_float(text: str) -> float:
@@ -30,10 +34,4 @@ def positive_float(text: str) -> float:
 
 def frame_number(text: str) -> int:
     """A whole number >= 0 (a frame of a motion)."""
-    try:
-        v = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a frame number, got {text!r}") from None
-    if v < 0:
-        raise argparse.ArgumentTypeError(f"must be 0 or more, got {text!r}")
-    return v
+    return _whole(text, 0, "a frame number", "0 or more")

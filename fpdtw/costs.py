@@ -1,16 +1,9 @@
-"""Frame-to-frame costs.
+"""Frame-to-frame costs: FP-DTW eq. 1 (geodesic) and OPW poster eq. 5 (positions).
 
-* :func:`geo_distance` / :func:`geodesic_cost_matrix`: FP-DTW eq. 1, the sum over
-  joints of ``(2/pi) * arccos(|q_a . q_b|)`` with the dot product clipped to
-  ``[0, 1]``; quaternions are normalised when features are built.
-* :func:`position_cost_matrix`: OPW poster eq. 5, the sum over joints of the
-  Euclidean distance between joint positions.
-
-The numba kernels (``_geo_frame``, ``_geo_block``) are the building blocks the
-online methods call on their small windows every frame. Their ``arccos`` is
-:func:`_acos01`, a branch-free polynomial that vectorises and stays within 1 ulp of
-libm's ``acos`` (tested), about five times faster; every cost in fpdtw uses it, so
-offline DTW, OE-DTW and the window methods see bit-identical costs.
+Eq. 1 is ``sum_j (2/pi) arccos |q_a . q_b|``, the dot product clipped to [0, 1]. Its
+``arccos`` is :func:`_acos01`, a branch-free polynomial within 1 ulp of libm's (tested),
+about five times faster; every cost in fpdtw uses it, so offline DTW, OE-DTW and the window
+methods see bit-identical costs. The numba kernels are what the online methods call.
 """
 
 from __future__ import annotations
@@ -23,11 +16,9 @@ import numpy as np
 _TWO_OVER_PI = 2.0 / math.pi
 _PI_OVER_2 = math.pi / 2.0
 
-# --- arccos on [0, 1] -------------------------------------------------------------------
 # asin(s) = s + s z P(z), z = s^2 <= 1/4: P interpolates (asin(sqrt z)/sqrt z - 1)/z at the
-# 13 Chebyshev nodes of [0, 1/4] (values from the Taylor series in 50-digit decimals,
-# rounded to float64 monomial coefficients); its error is below 1e-15 relative, which
-# the factor z <= 1/4 and the final "+ s" shrink below 1 ulp of asin.
+# 13 Chebyshev nodes of [0, 1/4] (50-digit Taylor values rounded to float64); its relative
+# error below 1e-15 is shrunk below 1 ulp of asin by the factor z and the final "+ s".
 _P = (
     0.16666666666666669,
     0.07499999999998433,
@@ -80,16 +71,7 @@ def _acos01_array(x, out):
 
 
 def fast_acos(x) -> np.ndarray:
-    """The arccos of every geodesic cost on [0, 1] (for tests and inspection).
-
-    Parameters
-    ----------
-    x : array_like of float, values in [0, 1]
-
-    Returns
-    -------
-    a : ndarray of float64, same shape
-    """
+    """:func:`_acos01` of every value of ``x`` (array_like of float in [0, 1])."""
     x = np.asarray(x, dtype=np.float64)
     flat = np.ascontiguousarray(x.ravel())
     return _acos01_array(flat, np.empty_like(flat)).reshape(x.shape)
@@ -102,10 +84,7 @@ _NO_WEIGHTS = np.empty(0)
 @numba.njit(cache=True, fastmath=False, inline="always")
 def _geo_frame_w(qa, qb, wts):
     """eq. 1 between two frames; qa, qb : float64 (k, 4); ``wts`` : float64 (k,) per-joint
-    weights, or EMPTY (0,) for eq. 1 as written.
-
-    Empty weights take a branch per joint to exactly the unweighted sum (``total +=
-    arccos``); weights multiply each joint's arccos first (``total += wts[j] * arccos``).
+    weights, or EMPTY (0,) for eq. 1 as written (exactly the unweighted sum).
 
     Plain version: fpdtw.plain.geo_distance.
     """
@@ -135,16 +114,10 @@ def _geo_frame(qa, qb):
 
 @numba.njit(cache=True)
 def _geo_line_w(a, B, lo, hi, acc, out, wts):
-    """``out[c] = geoDistance(a, B[:, :, lo + c])`` for ``c < hi - lo``: one frame against
-    a run of frames, eq. 1 weighted by ``wts`` : float64 (k,), or as written when ``wts``
-    is EMPTY (0,).
-
-    a : float64 (k, 4); B : float64 (k, 4, n), frames joint-major (structure of arrays:
-    the loop over frames vectorises); acc : scratch, length >= hi - lo. Joints are summed
-    in order, the dot product in (w, x, y, z) order and ``a``'s factor first, as in
-    :func:`_geo_frame_w` (a product's operands commute exactly): every value is
-    bit-identical to ``_geo_frame_w(a, B[:, :, lo + c], wts)``. The branch on the weights
-    is taken once per joint, outside the vectorised loop over frames.
+    """``out[c] = geoDistance(a, B[:, :, lo + c])`` for ``c < hi - lo``, weighted as
+    :func:`_geo_frame_w`; a : float64 (k, 4); B : float64 (k, 4, n), joint-major (so the
+    loop over frames vectorises); acc : scratch. The same operations in the same order as
+    :func:`_geo_frame_w`, so bit-identical to it.
 
     Plain version: fpdtw.plain.geo_distance.
     """
@@ -203,13 +176,12 @@ def geo_distance(qa, qb, weights=None) -> float:
     qa, qb : ndarray of float, shape (k, 4)
         Unit quaternions of the k joints of each frame.
     weights : ndarray of float, shape (k,), optional
-        Per-joint weights (beyond the papers, notebook 16's Q2: ``sum_j w_j (2/pi) arccos
-        |qa_j . qb_j|``, see :func:`fpdtw.weights.joint_weights`); None: eq. 1 as written.
+        Per-joint weights (:func:`fpdtw.weights.joint_weights`); None: eq. 1 as written.
 
     Returns
     -------
     d : float
-        In ``[0, k]`` unweighted: 0 for identical poses, 1 per joint rotated by pi.
+        In ``[0, k]`` unweighted.
 
     Plain version: fpdtw.plain.geo_distance.
     Paper: FP-DTW eq. 1.
@@ -225,17 +197,8 @@ def geo_distance(qa, qb, weights=None) -> float:
 
 
 def geodesic_cost_matrix(QA, QB) -> np.ndarray:
-    """Geodesic cost between every frame of A and every frame of B.
-
-    Parameters
-    ----------
-    QA : ndarray of float, shape (m, k, 4)
-    QB : ndarray of float, shape (n, k, 4)
-
-    Returns
-    -------
-    C : ndarray of float64, shape (m, n)
-        ``C[i, j] = geoDistance(A_i, B_j)``.
+    """``C[i, j] = geoDistance(QA_i, QB_j)``, float64 (m, n), of quaternions QA (m, k, 4)
+    and QB (n, k, 4).
 
     Plain version: fpdtw.plain.cost_matrix.
     Paper: FP-DTW eq. 1.
@@ -265,17 +228,8 @@ def _pos_block(A, B, out):
 
 
 def position_cost_matrix(PA, PB) -> np.ndarray:
-    """Sum of Euclidean joint-position distances between every pair of frames.
-
-    Parameters
-    ----------
-    PA : ndarray of float, shape (m, k, 3)
-    PB : ndarray of float, shape (n, k, 3)
-        Joint positions (root-relative for OPW).
-
-    Returns
-    -------
-    C : ndarray of float64, shape (m, n)
+    """Sum of Euclidean joint-position distances, float64 (m, n), between every frame of
+    PA (m, k, 3) and of PB (n, k, 3) (root-relative positions for OPW).
 
     Paper: OPW poster eq. 5.
     """

@@ -1,44 +1,19 @@
 """Derivative motions: any online aligner run on frame-to-frame differences (beyond the papers).
 
-The OPW poster's conclusion suggests Keogh and Pazzani's derivative DTW (DDTW, SDM 2001):
-the cost on the frame-to-frame differences of the two series instead of their values. DDTW
-runs DTW UNCHANGED on the derivative estimates of both series. The reading here (committed
-in d1a2385, 2026-11-23, before Q5's first results in 97738ec; docs/history.md):
+The OPW poster's conclusion suggests Keogh and Pazzani's derivative DTW (DDTW, SDM 2001).
+The reading (committed in d1a2385, before Q5's first results in 97738ec; docs/history.md):
 ``"<method> (derivative)"`` runs the method unchanged on the derivative motions of both the
-input and the target stream.
+input and the target stream:
 
-Rotations
-    per cost joint, the backward difference ``q'_t = q_t conj(q_{t-1})``: the rotation that
-    takes frame ``t - 1`` to frame ``t`` (expressed in the joint's parent frame), its sign
-    canonicalised (``w >= 0``).
-Positions
-    ``p'_t = p_t - p_{t-1}`` (the root-relative positions OPW compares).
-First frame
-    ``q'_0 = (1, 0, 0, 0)`` (the identity) and ``p'_0 = 0``: no motion before the first frame.
-Causal
-    the live target's derivative at frame ``n`` uses frames ``n - 1`` and ``n`` only.
-    Keogh and Pazzani's estimate, ``((x_t - x_{t-1}) + (x_{t+1} - x_{t-1}) / 2) / 2``, needs
-    frame ``n + 1``, which a live stream does not have when it must answer frame ``n``; the
-    alternative, their estimate with a lag of one frame, is not implemented.
-Euler angles
-    the Euler angles of ``q'_t`` in the joint's rotation order, unwrapped along time. Methods
-    B and C forecast by dead reckoning on the target's Euler angles
-    (:mod:`fpdtw.forecast`), so their forecast becomes dead reckoning of the DERIVATIVE
-    motion (the rotation per frame is extrapolated linearly in its Euler angles).
-Rig
-    eq. 1 compares the two motions' local rotations, mapped into a common representation
-    ``Delta(t) = A R(t) B`` when their rigs differ (:mod:`fpdtw.motion.rig`). The derivative
-    is taken AFTER that mapping: ``Delta(t) Delta(t-1)^-1 = A (R(t) R(t-1)^-1) A^-1 =
-    A q'_t A^-1``. So the derivative of the raw local rotations carries the rig transform
-    ``(A, A^-1)`` (:func:`derivative_rig`), and :func:`fpdtw.motion.rig.cost_input` then
-    compares the two derivatives exactly as the derivatives of the two common
-    representations, with no change to the aligners. (Differencing the raw rotations and
-    comparing them without the mapping would compare rotations about differently oriented
-    axes across rigs; with the same rig, or an unknown one, both readings coincide.)
+* rotations ``q'_t = q_t conj(q_{t-1})`` per cost joint (``w >= 0``), positions ``p'_t =
+  p_t - p_{t-1}``; at frame 0 the identity and 0;
+* causal: frame ``n`` uses frames ``n - 1`` and ``n`` (Keogh and Pazzani's estimate needs
+  frame ``n + 1``; a lagged version of it is not implemented);
+* Euler angles: those of ``q'_t``, unwrapped, so Methods B and C dead-reckon the derivative;
+* rigs: the derivative of the common representation ``A R(t) B`` is ``A q'_t A^-1``, so the
+  raw derivative carries the rig transform ``(A, A^-1)`` (:func:`derivative_rig`).
 
-Scoring is unchanged: a derivative aligner's map (one input frame per target frame) is scored
-like every other algorithm's, similarity (eq. 2) on the ORIGINAL pair and deviation from DTW
-of the original (pose) pair. Only the aligner sees derivatives.
+Scoring is unchanged: the map is scored on the original pair.
 
 Paper: OPW poster Section 6 (conclusion: derivative DTW); Keogh and Pazzani, SDM 2001.
 Notebook: 16_open_questions.ipynb
@@ -53,13 +28,7 @@ import numpy as np
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import Frame, MotionFeatures
 from fpdtw.motion.rig import RigTransform
-from fpdtw.motion.rotations import (
-    UnwrapDegrees,
-    quat_conj,
-    quat_mul,
-    quat_to_euler,
-    unwrap_degrees,
-)
+from fpdtw.motion.rotations import UnwrapDegrees, quat_conj, quat_mul, quat_to_euler, unwrap_degrees
 from fpdtw.online.base import OnlineAligner
 
 #: The identity rotation, ``q'_0``.
@@ -72,18 +41,8 @@ def _canonical(q: np.ndarray) -> np.ndarray:
 
 
 def derivative_quats(quats) -> np.ndarray:
-    """The backward differences of rotations: ``q'_t = q_t conj(q_{t-1})``, ``q'_0 = 1``.
-
-    Parameters
-    ----------
-    quats : array_like of float64, shape (F, k, 4)
-        Unit quaternions ``(w, x, y, z)`` of k joints over F frames.
-
-    Returns
-    -------
-    dq : ndarray of float64, shape (F, k, 4), C-contiguous
-        The rotation from frame ``t - 1`` to frame ``t`` of each joint, ``w >= 0``; the
-        identity at ``t = 0``.
+    """Backward differences ``q'_t = q_t conj(q_{t-1})`` (``w >= 0``; ``q'_0 = 1``) of unit
+    quaternions of shape (F, k, 4); float64, C-contiguous, the same shape.
 
     Paper: OPW poster Section 6 (derivative DTW, Keogh and Pazzani).
     """
@@ -96,11 +55,8 @@ def derivative_quats(quats) -> np.ndarray:
 
 
 def derivative_rig(rig: RigTransform | None) -> RigTransform | None:
-    """The rig transform of a motion's derivative: ``(A, A^-1)`` of the motion's ``(A, B)``.
-
-    ``A q'_t A^-1`` is the derivative of the common representation ``A R(t) B`` (module
-    docstring). None (unknown rig) stays None.
-    """
+    """The rig transform of a motion's derivative: ``(A, A^-1)`` of the motion's ``(A, B)``
+    (None stays None)."""
     if rig is None:
         return None
     return RigTransform(rig.left, quat_conj(rig.left))
@@ -112,26 +68,17 @@ def _euler(dq: np.ndarray, orders) -> np.ndarray:
 
 
 def derivative_features(F: MotionFeatures) -> MotionFeatures:
-    """The derivative motion of ``F``: frame-to-frame rotations and position differences.
+    """The derivative motion of ``F`` (module docstring): frame-to-frame rotations, their
+    unwrapped Euler angles and position differences, the rig of :func:`derivative_rig`,
+    named ``F.name + " (derivative)"``.
 
     Parameters
     ----------
     F : MotionFeatures
-        A motion's features (F frames, k cost joints, optionally p position joints).
 
     Returns
     -------
     D : MotionFeatures
-        ``quats`` (F, k, 4): ``q'_t = q_t conj(q_{t-1})``, ``w >= 0``, the identity at
-        ``t = 0``; ``euler`` (F, k, 3): their Euler angles in each joint's order, degrees,
-        unwrapped along time; ``positions`` (F, p, 3) or None: ``p'_t = p_t - p_{t-1}``,
-        0 at ``t = 0``; ``rig``: :func:`derivative_rig`; orders, frame rate and body size
-        those of ``F``; name ``F.name + " (derivative)"``.
-
-    Raises
-    ------
-    AlignmentError
-        ``F`` is not MotionFeatures.
 
     Paper: OPW poster Section 6 (derivative DTW, Keogh and Pazzani).
     Notebook: 16_open_questions.ipynb
@@ -158,11 +105,8 @@ def derivative_features(F: MotionFeatures) -> MotionFeatures:
 
 
 class DerivativeFrames:
-    """The derivative of a live stream, one frame at a time (causal: frames n - 1 and n).
-
-    Calling it with the frames of a motion in order returns the frames of
-    :func:`derivative_features` of that motion, bit for bit (stream == batch).
-    """
+    """The derivative of a live stream, one frame at a time: bit for bit the frames of
+    :func:`derivative_features` of the whole motion."""
 
     def __init__(self):
         self.reset()
@@ -191,17 +135,13 @@ class DerivativeFrames:
 
 
 class DerivativeAligner(OnlineAligner):
-    """Any online aligner run on derivative motions (``"<method> (derivative)"``).
-
-    The inner aligner is built on :func:`derivative_features` of the input; each incoming
-    target frame is differenced with the previous one (:class:`DerivativeFrames`) and fed
-    to it. The map is the inner aligner's (input frame of each target frame, the same
-    frame numbers as the original motions).
+    """Any online aligner run on derivative motions (``"<method> (derivative)"``): each
+    target frame is differenced (:class:`DerivativeFrames`) and fed to ``inner``.
 
     Parameters
     ----------
     I : MotionFeatures
-        The input (recorded) motion, its poses.
+        The input motion (poses).
     inner : OnlineAligner
         An aligner built on ``derivative_features(I)``.
 
@@ -256,11 +196,5 @@ class DerivativeAligner(OnlineAligner):
         return self.inner.step(self._diff(self._frame, orders))
 
 
-__all__ = [
-    "IDENTITY",
-    "DerivativeAligner",
-    "DerivativeFrames",
-    "derivative_features",
-    "derivative_quats",
-    "derivative_rig",
-]
+__all__ = ["IDENTITY", "DerivativeAligner", "DerivativeFrames", "derivative_features",
+           "derivative_quats", "derivative_rig"]  # fmt: skip

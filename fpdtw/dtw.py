@@ -1,32 +1,15 @@
 """Offline baselines: classic DTW and uniform time warping (UTW).
 
-Orientation (used everywhere in fpdtw): a cost matrix ``C[i, j]`` has one row
-per INPUT frame ``I_i`` (the recorded motion, ``i = 0..m``) and one column per
-TARGET frame ``T_j`` (the live motion, ``j = 0..n``). A *map* ``M`` is a 1-D int
-array of length ``n + 1``: ``M[q]`` is the input frame mapped to target frame q.
+A cost matrix ``C[i, j]`` has a row per INPUT frame ``I_i`` (``i = 0..m``) and a column
+per TARGET frame ``T_j`` (``j = 0..n``); a map ``M`` (int, length ``n + 1``) holds the
+input frame of each target frame.
 
-Step patterns
--------------
-``"symmetric1"`` (the default) is the textbook recursion of Sakoe & Chiba (1978)
-without slope weights::
-
-    D[i, j] = C[i, j] + min(D[i-1, j-1], D[i-1, j], D[i, j-1])
-
-The FP-DTW paper says "classic DTW" and accumulates Method B's window "in the
-same manner as DTW" without naming weights, so the unweighted form is our
-choice. ``"symmetric2"`` (the diagonal step costs ``2 * C[i, j]``, dtw-python's
-default) is available through ``step_pattern=``. Both start at
-``D[0, 0] = C[0, 0]`` and give the same ``D`` as dtw-python's
-``dtw(C, step_pattern=symmetric1/symmetric2)`` (query = rows = input).
-
-Ties
-----
-The back-track walks from ``(m, n)`` to ``(0, 0)``. At each cell it takes the
-predecessor with the lowest ``D[prev] + w * C[i, j]`` (``w`` the step weight);
-on equal values it prefers, in order, the diagonal ``(i-1, j-1)``, then
-``(i, j-1)`` (same input frame, previous target frame), then ``(i-1, j)``.
-This is dtw-python's rule (its step patterns list the steps in that order and
-its C kernel keeps the first strict minimum), so paths agree with it exactly.
+Reading: the paper's "classic DTW" (and Method B's "in the same manner as DTW") is Sakoe
+and Chiba's recursion without slope weights, ``"symmetric1"`` (the default):
+``D[i, j] = C[i, j] + min(D[i-1, j-1], D[i-1, j], D[i, j-1])``; ``"symmetric2"`` weighs
+the diagonal step 2 (dtw-python's default). ``D`` and the paths equal dtw-python's, ties
+included: the back-track takes the lowest ``D[prev] + w * C[i, j]`` and prefers the
+diagonal, then ``(i, j-1)``, then ``(i-1, j)``.
 """
 
 from __future__ import annotations
@@ -46,13 +29,7 @@ STEP_PATTERNS = {"symmetric1": 1.0, "symmetric2": 2.0}
 
 
 def diagonal_weight(step_pattern: str) -> float:
-    """Diagonal step weight of a step pattern name (``"symmetric1"``: 1, ``"symmetric2"``: 2).
-
-    Raises
-    ------
-    AlignmentError
-        Unknown step pattern.
-    """
+    """Diagonal step weight of a step pattern (AlignmentError if unknown)."""
     try:
         return STEP_PATTERNS[step_pattern]
     except (KeyError, TypeError):
@@ -61,13 +38,11 @@ def diagonal_weight(step_pattern: str) -> float:
         ) from None
 
 
-def _check_d_size(shape, names=None) -> None:
+def _check_d_size(shape) -> None:
     """The accumulated cost matrix of this shape fits :data:`fpdtw.limits.MAX_MATRIX_BYTES`."""
     rows, cols = shape
     limits.check_bytes(
-        8 * rows * cols,
-        names,
-        f"DTW's accumulated cost matrix would be {rows} x {cols} float64",
+        8 * rows * cols, None, f"DTW's accumulated cost matrix would be {rows} x {cols} float64"
     )
 
 
@@ -83,17 +58,12 @@ def _check_cost(C, what="cost matrix", finite=True) -> np.ndarray:
     return C
 
 
-# -- numba kernels -----------------------------------------------------------------------------
-
-
 @numba.njit(cache=True)
 def _accumulate(C, wd, D):
     """Fill ``D`` (same shape as ``C``) with the accumulated cost; ``wd`` = diagonal weight.
 
-    Each cell is ``min(D[i-1, j-1] + wd*c, D[i-1, j] + c, D[i, j-1] + c)``, the
-    same floating-point operations as dtw-python, so ``D`` agrees bit for bit.
-    The running value of the current row stays in a register; rows are
-    contiguous. Methods B's window accumulation is this kernel on its window.
+    Each cell is ``min(D[i-1, j-1] + wd*c, D[i-1, j] + c, D[i, j-1] + c)``, dtw-python's
+    floating-point operations, so ``D`` agrees bit for bit.
 
     Plain version: fpdtw.plain.accumulate.
     """
@@ -117,11 +87,8 @@ def _accumulate(C, wd, D):
 
 @numba.njit(cache=True)
 def _backtrack(D, C, wd, use_c):
-    """Path from ``(m, n)`` back to ``(0, 0)``, returned in forward order, int64 (L, 2).
-
-    With ``use_c`` the candidates are compared as ``D[prev] + w * C[i, j]``
-    (dtw-python's exact rule); without, as ``D[prev]`` (symmetric1 only, where
-    the two orders agree except on rounding ties).
+    """Path from ``(m, n)`` back to ``(0, 0)``, in forward order, int64 (L, 2); with
+    ``use_c`` the steps compare ``D[prev] + w * C[i, j]`` (dtw-python's rule), else ``D[prev]``.
 
     Plain version: fpdtw.plain.backtrack.
     """
@@ -165,34 +132,22 @@ def _path_to_map(path, n1):
     return M
 
 
-# -- public API --------------------------------------------------------------------------------
-
-
 def accumulate(C, step_pattern: str = "symmetric1") -> np.ndarray:
-    """Accumulated cost matrix of classic DTW.
+    """Accumulated cost matrix of classic DTW (AlignmentError: ``C`` not 2-D, empty or not
+    finite, or an unknown step pattern).
 
     Parameters
     ----------
     C : ndarray of float, shape (m + 1, n + 1)
-        Local cost, rows = input frames, columns = target frames.
+        Rows: input frames; columns: target frames.
     step_pattern : {"symmetric1", "symmetric2"}
-        ``"symmetric1"``: ``D[i,j] = C[i,j] + min(D[i-1,j-1], D[i-1,j], D[i,j-1])``
-        (default, unweighted classic DTW); ``"symmetric2"``: the diagonal step
-        adds ``2 * C[i, j]``.
 
     Returns
     -------
     D : ndarray of float64, shape (m + 1, n + 1)
-        ``D[0, 0] = C[0, 0]``; ``D[m, n]`` is the DTW distance.
-
-    Raises
-    ------
-    AlignmentError
-        ``C`` not 2-D, empty or not finite; unknown step pattern.
 
     Plain version: fpdtw.plain.accumulate (symmetric1).
-    Paper: FP-DTW Section 2 / Algorithm 2 ("accumulate in the same manner as DTW"),
-    Sakoe & Chiba 1978.
+    Paper: FP-DTW Section 2, Algorithm 2; Sakoe & Chiba 1978.
     """
     wd = diagonal_weight(step_pattern)
     C = _check_cost(C)
@@ -201,30 +156,24 @@ def accumulate(C, step_pattern: str = "symmetric1") -> np.ndarray:
 
 
 def backtrack(D, C=None, step_pattern: str = "symmetric1") -> np.ndarray:
-    """Optimal warping path through an accumulated cost matrix.
-
-    The back-track starts at ``(m, n)`` and ends at ``(0, 0)``; ties prefer the
-    diagonal, then ``(i, j-1)``, then ``(i-1, j)`` (dtw-python's rule, see the
-    module docstring).
+    """Optimal warping path through an accumulated cost matrix (ties: module docstring).
 
     Parameters
     ----------
     D : ndarray of float, shape (m + 1, n + 1)
         Accumulated cost from :func:`accumulate`.
     C : ndarray of float, shape (m + 1, n + 1), optional
-        The local cost ``D`` was built from. With it the steps are compared
-        exactly as dtw-python does (``D[prev] + w * C[i, j]``); it is required
-        for ``"symmetric2"``.
+        The local cost ``D`` was built from: steps are then compared as dtw-python does;
+        required for ``"symmetric2"``.
     step_pattern : {"symmetric1", "symmetric2"}
 
     Returns
     -------
     path : ndarray of int64, shape (L, 2)
-        Cells ``(i, j)`` = (input frame, target frame) in FORWARD order, from
-        ``(0, 0)`` to ``(m, n)``; each step moves by (1, 1), (0, 1) or (1, 0).
+        Cells (input frame, target frame) from ``(0, 0)`` to ``(m, n)``.
 
     Plain version: fpdtw.plain.backtrack (symmetric1).
-    Paper: FP-DTW Section 3.2 (DTW path plotting, before the Method B overwrite rule).
+    Paper: FP-DTW Section 3.2.
     """
     wd = diagonal_weight(step_pattern)
     # no full finiteness scan: the back-track reads only O(m + n) cells
@@ -240,10 +189,8 @@ def backtrack(D, C=None, step_pattern: str = "symmetric1") -> np.ndarray:
 
 
 def path_to_map(path, n: int) -> np.ndarray:
-    """Turn a warping path into a map target frame -> input frame.
-
-    Where the path holds several input frames for one target frame, the
-    LOWEST is kept (the paper's Method B adaptation and the authors' toolkit).
+    """A warping path's map target frame -> input frame: the LOWEST input frame of each
+    target frame (the paper's Method B rule and the authors' toolkit).
 
     Parameters
     ----------
@@ -255,11 +202,6 @@ def path_to_map(path, n: int) -> np.ndarray:
     Returns
     -------
     M : ndarray of int64, shape (n + 1,)
-
-    Raises
-    ------
-    AlignmentError
-        A target frame in ``0..n`` is not on the path, or a cell is negative.
 
     Plain version: fpdtw.plain.path_to_map.
     """
@@ -280,19 +222,8 @@ def path_to_map(path, n: int) -> np.ndarray:
 
 @dataclass(frozen=True)
 class DTWResult:
-    """Result of :func:`dtw`.
-
-    Attributes
-    ----------
-    distance : float
-        ``D[m, n]``, not normalised.
-    D : ndarray of float64, shape (m + 1, n + 1)
-        Accumulated cost matrix.
-    path : ndarray of int64, shape (L, 2)
-        Optimal path, forward order, cells (input frame, target frame).
-    map : ndarray of int64, shape (n + 1,)
-        Lowest input frame per target frame (:func:`path_to_map`).
-    """
+    """Result of :func:`dtw`: ``distance = D[m, n]`` (not normalised), ``D`` (float64,
+    (m + 1, n + 1)), ``path`` (int64, (L, 2)) and its ``map`` (int64, (n + 1,))."""
 
     distance: float
     D: np.ndarray
@@ -301,17 +232,7 @@ class DTWResult:
 
 
 def dtw(C, step_pattern: str = "symmetric1") -> DTWResult:
-    """Classic DTW over a full cost matrix (the paper's offline baseline).
-
-    Parameters
-    ----------
-    C : ndarray of float, shape (m + 1, n + 1)
-        Rows = input frames, columns = target frames.
-    step_pattern : {"symmetric1", "symmetric2"}
-
-    Returns
-    -------
-    DTWResult
+    """Classic DTW over a full cost matrix ``C`` (float, shape (m + 1, n + 1)).
 
     Paper: FP-DTW Sections 2 and 4 (DTW baseline for eq. 3).
     """
@@ -329,25 +250,19 @@ def dtw_pair(I, T, step_pattern: str = "symmetric1") -> DTWResult:
 
     Parameters
     ----------
-    I : MotionFeatures
-        Input (recorded) motion, ``m + 1`` frames.
-    T : MotionFeatures
-        Target (live) motion, ``n + 1`` frames, same joints. Motions of different rigs
-        are compared in the rig-independent representation
-        (:func:`fpdtw.motion.rig.pair_rotations`), motions of one rig by their local
-        rotations.
+    I, T : MotionFeatures
+        Input (``m + 1`` frames) and target (``n + 1``), the same joints; of different
+        rigs, compared by :func:`fpdtw.motion.rig.pair_rotations`.
     step_pattern : {"symmetric1", "symmetric2"}
 
     Returns
     -------
     DTWResult
-        ``map`` has ``n + 1`` entries in ``0..m``.
 
     Raises
     ------
     LimitError
-        The two ``(m + 1) x (n + 1)`` matrices would exceed
-        :data:`fpdtw.limits.MAX_MATRIX_BYTES` (checked before allocating).
+        Past :data:`fpdtw.limits.MAX_MATRIX_BYTES`, before allocating.
 
     Paper: FP-DTW eq. 1 and Section 4.
     Notebook: 10_fig8_walk_pair.ipynb
@@ -357,28 +272,12 @@ def dtw_pair(I, T, step_pattern: str = "symmetric1") -> DTWResult:
             f"input and target have different joints: {I.quats.shape} vs {T.quats.shape}"
         )
     check_dtw_size(I.n_frames, T.n_frames, (I.name, T.name))
-
     return dtw(geodesic_cost_matrix(*pair_rotations(I, T)), step_pattern)
 
 
 def check_dtw_size(input_frames: int, target_frames: int, names=None) -> None:
-    """Offline DTW of motions this long fits :data:`fpdtw.limits.MAX_MATRIX_BYTES`.
-
-    DTW keeps the cost and the accumulated cost, two float64 matrices of
-    ``input_frames x target_frames`` cells (16 bytes per cell).
-
-    Parameters
-    ----------
-    input_frames, target_frames : int
-    names : str or sequence of str, optional
-        The motions' files or names, for the message.
-
-    Raises
-    ------
-    LimitError
-        Past the limit; the message suggests an online method, a lower frame rate or
-        shorter takes.
-    """
+    """Offline DTW's two float64 matrices of ``input_frames x target_frames`` fit
+    :data:`fpdtw.limits.MAX_MATRIX_BYTES` (LimitError naming ``names`` otherwise)."""
     limits.check_bytes(
         limits.dtw_bytes(input_frames, target_frames),
         names,
@@ -390,26 +289,20 @@ def check_dtw_size(input_frames: int, target_frames: int, names=None) -> None:
 def utw_map(m: int, n: int) -> np.ndarray:
     """Uniform time warping map ``M_q = round(q * m / n)``, q = 0..n.
 
-    Rounding is half-up (``floor(q*m/n + 1/2)``), computed in exact integer
-    arithmetic as ``(2*q*m + n) // (2*n)``; Python's ``round`` would round
-    halves to even. For ``n = 0`` (a single target frame) the map is ``[0]``.
+    Halves round up, in exact integers: ``(2*q*m + n) // (2*n)``; ``n = 0`` gives ``[0]``.
 
     Parameters
     ----------
-    m : int
-        Index of the last input frame (input has ``m + 1`` frames), ``m >= 0``.
-    n : int
-        Index of the last target frame, ``n >= 0``.
+    m, n : int
+        Last input frame and last target frame, both ``>= 0``.
 
     Returns
     -------
     M : ndarray of int64, shape (n + 1,)
-        ``M[0] = 0``, ``M[n] = m`` (for n > 0), non-decreasing.
 
     Paper: FP-DTW Section 4 (UTW benchmark, Fu et al. 2008).
     """
-    m = int(m)
-    n = int(n)
+    m, n = int(m), int(n)
     if m < 0 or n < 0:
         raise AlignmentError(f"utw_map needs m >= 0 and n >= 0, got m={m}, n={n}")
     if n == 0:
@@ -418,15 +311,5 @@ def utw_map(m: int, n: int) -> np.ndarray:
     return (2 * q * m + n) // (2 * n)
 
 
-__all__ = [
-    "DTWResult",
-    "STEP_PATTERNS",
-    "accumulate",
-    "backtrack",
-    "check_dtw_size",
-    "diagonal_weight",
-    "dtw",
-    "dtw_pair",
-    "path_to_map",
-    "utw_map",
-]
+__all__ = ["DTWResult", "STEP_PATTERNS", "accumulate", "backtrack", "check_dtw_size",
+           "diagonal_weight", "dtw", "dtw_pair", "path_to_map", "utw_map"]  # fmt: skip

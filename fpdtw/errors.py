@@ -1,7 +1,5 @@
-"""Exception types, one per family of failure.
-
-Every error a user can provoke with bad input is one of these, and its message
-names the file (and, where there is one, the line or frame) and what is wrong.
+"""Exception types, one per family of failure: every error bad input can provoke is one of
+these, its message naming the file (and line or frame, where there is one) and what is wrong.
 """
 
 from __future__ import annotations
@@ -56,19 +54,15 @@ class AlignmentError(FpdtwError, ValueError):
 
 
 class LimitError(FpdtwError, ValueError):
-    """A size is outside the limits of :mod:`fpdtw.limits` (a frame rate, a frame count
-    after resampling, a matrix or window an aligner would allocate).
-
-    Raised before anything of that size is allocated. The message names the file(s) the
-    size comes from, the number, the limit (and the environment variable that raises
-    it) and the way out.
+    """A size is outside the limits of :mod:`fpdtw.limits`, raised before anything of that
+    size is allocated.
 
     Parameters
     ----------
     paths : str or os.PathLike or sequence of them, or None
         The file(s) (or motion names) the size comes from.
     message : str
-        What is too large or too small, the number, the limit, what to do.
+        The number, the limit (and its environment variable), what to do.
     """
 
     def __init__(self, paths, message):
@@ -83,10 +77,5 @@ class LimitError(FpdtwError, ValueError):
 
 
 class ClusterError(FpdtwError, RuntimeError):
-    """A run on a Dask cluster cannot go on.
-
-    The scheduler address is malformed or cannot be reached, a worker runs other code
-    than this process, the cluster lost the workers of a task too often or cancelled
-    it, or a file a worker wrote is not visible here. The message names the address (or
-    the worker, task or file) and what is wrong.
-    """
+    """A run on a Dask cluster cannot go on (a scheduler unreachable, a worker running other
+    code, a task lost or cancelled, a file a worker wrote not visible here)."""

@@ -1,37 +1,13 @@
 """Forecasting joint rotations: dead reckoning and smoothing (FP-DTW Section 3.2, Fig. 3).
 
-Methods B and C forecast the live (target) motion a few frames ahead with dead
-reckoning on Euler angles (``forecastJoints`` in Algorithms 2 and 3): from the two
-latest frames ``T_n`` and ``T_{n+1}`` (unwrapped, degrees) the velocity is
-``delta = T_{n+1} - T_n`` and the forecast of length ``w`` is::
-
-    [T_{n+1}, T_{n+1} + delta, T_{n+1} + 2 delta, ..., T_{n+1} + (w - 1) delta]
-
-(its first element is the known incoming frame). The forecast Euler angles are turned
-back into quaternions per joint in the joint's own rotation order, for the geodesic
-cost (eq. 1). :func:`euler_to_quat_fast` does that conversion in numba (the window
-methods inline its kernel); the plain NumPy forecast and conversion are
-:func:`fpdtw.plain.forecast_joints` (also importable from here) and
-:func:`fpdtw.plain.euler_to_quat`.
-
-For the paper's Fig. 3 ("performance of different smoothing levels s at predicting i
-frames ahead") there are three forecasters over unwrapped Euler angles, each
-predicting frames ``i = 1..H`` ahead from the frames received so far:
-
-* :func:`dead_reckoning` with smoothing level ``s``: velocity
-  ``(E[-1] - E[-s]) / (s - 1)`` from the ``s`` latest frames (``s = 2``: the two
-  most recent frames, the paper's choice);
-* :func:`exponential_smoothing` (flat forecast of the smoothed level);
-* :func:`holt` (double exponential smoothing: level and trend).
-
-A smoothing level ``s`` maps to ``alpha = 2 / (s + 1)`` (:func:`level_to_alpha`): the
-exponential moving average whose weights have the same centre of mass, ``(s - 1)/2``
-frames back, as an ``s``-frame moving average (the usual "span" convention). ``s = 1``
-gives ``alpha = 1``: no smoothing; Holt with ``alpha = beta = 1`` is exactly 2-frame
-dead reckoning.
-
-:func:`forecast_error_curve` measures the mean geodesic error (eq. 1) of a forecaster
-against the actual frames, vs frames ahead ``i``, over every start frame of every motion.
+Methods B and C forecast the target by dead reckoning on unwrapped Euler angles
+(``forecastJoints``, :func:`fpdtw.plain.forecast_joints`, also importable from here), then
+turn the forecast into quaternions in each joint's rotation order for eq. 1
+(:func:`euler_to_quat_fast`; the window methods inline its kernel). For Fig. 3, three
+forecasters predict ``i = 1..H`` frames ahead: :func:`dead_reckoning`,
+:func:`exponential_smoothing` and :func:`holt`, a smoothing level ``s`` read as ``alpha =
+2 / (s + 1)`` (:func:`level_to_alpha`); :func:`forecast_error_curve` measures their eq. 1
+error.
 """
 
 from __future__ import annotations
@@ -52,32 +28,15 @@ _HALF_RAD_PER_DEG = math.pi / 360.0  # half-angle in radians per degree
 
 
 def order_codes(orders) -> np.ndarray:
-    """Integer codes (indices into :data:`fpdtw.motion.rotations.ORDERS`) of rotation orders.
-
-    Parameters
-    ----------
-    orders : sequence of str, length k
-        One rotation order per joint, e.g. ``("ZXY", "XYZ")``.
-
-    Returns
-    -------
-    codes : ndarray of int64, shape (k,)
-
-    Raises
-    ------
-    ValueError
-        An order is not one of the six Tait-Bryan orders.
-    """
+    """Indices into :data:`fpdtw.motion.rotations.ORDERS` (int64, shape (k,)) of one
+    rotation order per joint, e.g. ``("ZXY", "XYZ")``; ValueError for another order."""
     return np.array([ORDERS.index(check_order(o)) for o in orders], dtype=np.int64)
 
 
 @numba.njit(cache=True, inline="always")
 def _euler_to_quat(ex, ey, ez, code):
-    """Quaternion (w, x, y, z) of Euler angles in degrees (x, y, z) for order ``code``.
-
-    The rotation is ``q = q_a3 * q_a2 * q_a1`` for axes ``a1, a2, a3`` applied in that
-    order; each factor is ``(cos h, sin h * axis)`` with ``h`` half the angle. The sign
-    is not normalised (``w`` may be negative): eq. 1 uses ``|q_a . q_b|``.
+    """Quaternion (w, x, y, z) of Euler angles in degrees (x, y, z) for order ``code``:
+    ``q = q_a3 q_a2 q_a1`` for the axes applied in that order; the sign is not normalised.
     """
     w = 1.0
     x = 0.0
@@ -121,16 +80,15 @@ def euler_to_quat_fast(E, orders) -> np.ndarray:
 
     Parameters
     ----------
-    E : ndarray of float, shape (F, k, 3)
-        Angles in degrees, columns (x, y, z) (any leading shape is flattened to F).
+    E : ndarray of float, shape (..., k, 3)
+        Angles in degrees, columns (x, y, z).
     orders : sequence of str, length k
         Rotation order of each joint.
 
     Returns
     -------
-    Q : ndarray of float64, shape (F, k, 4)
-        Unit quaternions (w, x, y, z); equal to :func:`fpdtw.motion.rotations.euler_to_quat` up
-        to sign (the sign is not normalised).
+    Q : ndarray of float64, shape (..., k, 4)
+        :func:`fpdtw.motion.rotations.euler_to_quat` up to sign.
 
     Plain version: fpdtw.plain.euler_to_quat.
     Paper: FP-DTW Algorithms 2 and 3 (forecastJoints output turned into quaternions).
@@ -153,11 +111,8 @@ def euler_to_quat_fast(E, orders) -> np.ndarray:
 
 
 def level_to_alpha(s) -> float:
-    """Smoothing factor ``alpha = 2 / (s + 1)`` of smoothing level ``s >= 1``.
-
-    The exponential moving average with this alpha has the centre of mass of an
-    ``s``-frame moving average, ``(s - 1) / 2`` frames back.
-    """
+    """Smoothing factor ``alpha = 2 / (s + 1)`` of level ``s >= 1``: the centre of mass
+    of an ``s``-frame moving average, ``(s - 1) / 2`` frames back."""
     s = float(s)
     if not s >= 1:
         raise ValueError(f"smoothing level must be >= 1, got {s}")
@@ -189,11 +144,10 @@ def dead_reckoning(E_hist, s: int, H: int) -> np.ndarray:
     Parameters
     ----------
     E_hist : ndarray of float, shape (t, ...)
-        Unwrapped Euler angles (degrees) of the frames received so far, oldest first.
+        Unwrapped Euler angles (degrees) received so far, oldest first.
     s : int
         Smoothing level, ``s >= 2``: velocity ``v = (E[-1] - E[-s]) / (s - 1)``.
     H : int
-        Horizon.
 
     Returns
     -------
@@ -247,17 +201,15 @@ def _check_factor(x, name):
 
 
 def exponential_smoothing(E_hist, alpha: float, H: int) -> np.ndarray:
-    """Simple exponential smoothing: flat forecast of the smoothed level.
-
-    ``l_0 = E_0``, ``l_t = alpha E_t + (1 - alpha) l_{t-1}``; the forecast for every
-    ``i = 1..H`` is the last level.
+    """Simple exponential smoothing: ``l_0 = E_0``, ``l_t = alpha E_t + (1 - alpha)
+    l_{t-1}``; every ``i = 1..H`` is forecast as the last level.
 
     Parameters
     ----------
     E_hist : ndarray of float, shape (t, ...)
-        Unwrapped Euler angles (degrees), oldest first, ``t >= 1``.
+        As :func:`dead_reckoning`, ``t >= 1``.
     alpha : float
-        Smoothing factor in (0, 1] (see :func:`level_to_alpha`).
+        In (0, 1].
     H : int
 
     Returns
@@ -274,25 +226,21 @@ def exponential_smoothing(E_hist, alpha: float, H: int) -> np.ndarray:
 
 
 def holt(E_hist, alpha: float, beta: float, H: int) -> np.ndarray:
-    """Holt's double exponential smoothing (level and trend).
-
-    ``l_0 = E_0``, ``b_0 = E_1 - E_0``; ``l_t = alpha E_t + (1 - alpha)(l_{t-1} +
-    b_{t-1})``, ``b_t = beta (l_t - l_{t-1}) + (1 - beta) b_{t-1}``; forecast
-    ``l_t + i b_t``, ``i = 1..H``. Exact on a linear sequence for any alpha, beta.
+    """Holt's double exponential smoothing: ``l_0 = E_0``, ``b_0 = E_1 - E_0``; ``l_t =
+    alpha E_t + (1 - alpha)(l_{t-1} + b_{t-1})``, ``b_t = beta (l_t - l_{t-1}) + (1 - beta)
+    b_{t-1}``; forecast ``l_t + i b_t``, ``i = 1..H``.
 
     Parameters
     ----------
     E_hist : ndarray of float, shape (t, ...)
-        As for :func:`exponential_smoothing`, with at least two frames (``t >= 2``).
+        As :func:`dead_reckoning`, ``t >= 2``.
     alpha, beta : float
-        Level and trend smoothing factors in (0, 1].
+        Level and trend factors in (0, 1].
     H : int
-        How many frames ahead.
 
     Returns
     -------
     F : ndarray of float64, shape (H, ...)
-        ``F[i - 1]``: the forecast ``i`` frames ahead.
 
     Paper: FP-DTW Fig. 3 (alternative smoothing function, ref. 7).
     """
@@ -318,35 +266,24 @@ def _geo_rows(Qa, Qb):
 def forecast_error_curve(motions_features, method: str, levels, H: int) -> np.ndarray:
     """Mean geodesic forecast error vs frames ahead, per smoothing level.
 
-    For every motion and every start frame ``t`` (the frames ``0..t`` are known), the
-    forecaster predicts frames ``t + i``, ``i = 1..H``; the error is eq. 1 between the
-    forecast (Euler angles turned into quaternions in each joint's order) and the actual
-    frame ``t + i``. Errors are averaged over all start frames of all motions (each start
-    frame weighs the same). Every level uses the same start frames: ``t`` from
-    ``max(s_max - 1, 1)`` to ``F - 1 - H`` (so every forecaster has its history and
-    every target frame exists).
+    From every start frame ``t`` of every motion, ``max(s_max - 1, 1) <= t <= F - 1 - H``
+    (the same for every level), the forecast of frame ``t + i`` is compared with it by
+    eq. 1; every start frame weighs the same.
 
     Parameters
     ----------
     motions_features : sequence of MotionFeatures
     method : {"dead_reckoning", "exponential", "holt"}
-        ``dead_reckoning``: level ``s`` = frames used for the velocity (s >= 2).
-        ``exponential`` / ``holt``: level ``s`` -> ``alpha = 2 / (s + 1)``; Holt uses
-        ``beta = alpha`` too.
+        ``dead_reckoning``: ``s`` frames for the velocity (s >= 2); the others ``alpha
+        = 2 / (s + 1)`` (Holt: ``beta = alpha`` too).
     levels : sequence of int
         Smoothing levels ``s``.
     H : int
-        Largest number of frames ahead.
 
     Returns
     -------
     err : ndarray of float64, shape (len(levels), H)
         ``err[l, i - 1]``: mean eq.-1 error of level ``levels[l]`` at ``i`` frames ahead.
-
-    Raises
-    ------
-    ValueError
-        Unknown method, bad level, or no motion long enough for one start frame.
 
     Paper: FP-DTW Fig. 3.
     """
@@ -390,15 +327,6 @@ def forecast_error_curve(motions_features, method: str, levels, H: int) -> np.nd
     return total / count
 
 
-__all__ = [
-    "FORECASTERS",
-    "ORDER_AXES",
-    "dead_reckoning",
-    "euler_to_quat_fast",
-    "exponential_smoothing",
-    "forecast_error_curve",
-    "forecast_joints",
-    "holt",
-    "level_to_alpha",
-    "order_codes",
-]
+__all__ = ["FORECASTERS", "ORDER_AXES", "dead_reckoning", "euler_to_quat_fast",
+           "exponential_smoothing", "forecast_error_curve", "forecast_joints", "holt",
+           "level_to_alpha", "order_codes"]  # fmt: skip

@@ -1,15 +1,9 @@
 """Evaluation metrics of the FP-DTW paper: similarity (eq. 2) and deviation (eq. 3).
 
-* :func:`similarity`: warp the input by a map, turn the joints' local rotations
-  into joint trajectories, Kendall tau-b per joint axis between the warped input
-  and the target, mean over the ``3k`` axes.
-* :func:`deviation`: mean absolute difference between two maps over the target frames
-  ``q = 1..n``, in frames.
-
-Kendall tau-b is computed by :func:`kendall_tau_b`, an ``O(n log n)`` numba
-implementation (Knight 1966: sort by ``(x, y)``, count the inversions of ``y``
-by merge sort) that agrees with ``scipy.stats.kendalltau`` (variant ``"b"``);
-scipy also computes a p-value and costs about 100x more per axis.
+:func:`kendall_tau_b` is an ``O(n log n)`` numba kernel (Knight 1966: sort by ``(x, y)``,
+count the inversions of ``y`` by merge sort) that agrees with ``scipy.stats.kendalltau``
+(variant ``"b"``) at about 1/100 of its cost. The readings of eq. 2 are the options of
+:func:`similarity`; docs/eq2_reading.md discusses which rotation turns its vector.
 """
 
 from __future__ import annotations
@@ -32,9 +26,6 @@ ONE_FLAT_SCORE = 0.0
 BONE_AXIS = (0.0, 1.0, 0.0)
 
 
-# -- maps --------------------------------------------------------------------------------------
-
-
 def _as_map(M, what="map") -> np.ndarray:
     M = np.asarray(M)
     if M.ndim != 1 or M.shape[0] == 0:
@@ -46,26 +37,13 @@ def _as_map(M, what="map") -> np.ndarray:
 
 
 def is_monotonic(M) -> bool:
-    """True when the map never goes backwards (``M[q+1] >= M[q]``).
-
-    Parameters
-    ----------
-    M : ndarray of int, shape (n + 1,)
-    """
+    """True when the map ``M`` (int, shape (n + 1,)) never goes backwards."""
     M = _as_map(M)
     return bool(np.all(np.diff(M) >= 0))
 
 
 def in_range(M, m: int) -> bool:
-    """True when every entry of the map is an input frame ``0..m``.
-
-    Parameters
-    ----------
-    M : ndarray of int, shape (n + 1,)
-        A map: ``M[q]`` is the input frame matched to target frame ``q``.
-    m : int
-        Index of the last input frame (the input holds frames ``0..m``).
-    """
+    """True when every entry of the map ``M`` (int, shape (n + 1,)) is in ``0..m``."""
     M = _as_map(M)
     return bool(M.min() >= 0 and M.max() <= m)
 
@@ -78,28 +56,19 @@ DEVIATION_FRAMES = ("printed", "all")
 def deviation(P_a, P_b, frames: str = "printed") -> float:
     """Mean absolute difference between two maps, in frames (eq. 3).
 
-    ``D(P_a, P_b) = sum_{q=1..n} |P_a(q) - P_b(q)| / n``, as the paper prints it: target
-    frame 0, where both maps usually start at input frame 0, is not counted.
-    ``frames="all"`` averages over every target frame instead, ``q = 0..n`` divided by
-    ``n + 1`` (what fpdtw computed before; the two differ by at most a factor
-    ``(n + 1) / n`` when ``P_a(0) = P_b(0)``).
+    Reading: ``sum_{q=1..n} |P_a(q) - P_b(q)| / n`` as printed (frame 0 not counted);
+    ``frames="all"``: over ``q = 0..n``, divided by ``n + 1`` (what fpdtw computed before).
 
     Parameters
     ----------
     P_a, P_b : ndarray of int, shape (n + 1,)
-        Maps target frame -> input frame (e.g. DTW's and an online method's).
+        Maps target frame -> input frame.
     frames : {"printed", "all"}
 
     Returns
     -------
     d : float
         In frames (18 frames = 150 ms at 120 Hz is the paper's benchmark).
-
-    Raises
-    ------
-    AlignmentError
-        Maps of different lengths, empty or not 1-D integer arrays, maps of one frame
-        (``n = 0``: no frame ``q = 1..n``) with ``frames="printed"``, or another ``frames``.
 
     Plain version: fpdtw.plain.deviation.
     Paper: FP-DTW eq. 3.
@@ -125,21 +94,10 @@ def deviation(P_a, P_b, frames: str = "printed") -> float:
 
 
 def step_counts(M, m: int) -> dict:
-    """Counts of the steps ``q = 1..n`` of a map, by what they did.
-
-    Parameters
-    ----------
-    M : ndarray of int, shape (n + 1,)
-    m : int
-        Index of the last input frame.
-
-    Returns
-    -------
-    counts : dict
-        ``steps`` (n), ``exhausted`` (taken after the input ran out, ``M_{q-1} >= m``),
-        ``live`` (taken while input remained), ``holds`` (live steps with
-        ``M_q = M_{q-1}``).
-    """
+    """Counts of the steps ``q = 1..n`` of a map ``M`` (int, shape (n + 1,)) by what they
+    did, ``m`` the last input frame: a dict of ``steps`` (n), ``exhausted`` (taken after
+    the input ran out, ``M_{q-1} >= m``), ``live`` (the others) and ``holds`` (live steps
+    with ``M_q = M_{q-1}``)."""
     M = _as_map(M)
     live = M[:-1] < m
     return dict(
@@ -151,21 +109,13 @@ def step_counts(M, m: int) -> dict:
 
 
 def hold_share(M, m: int) -> float:
-    """Share of steps that hold the input frame while input remains.
-
-    A step ``q = 1..n`` holds when ``M_q = M_{q-1}``; steps taken after the input ran
-    out (``M_{q-1} = m``, where a hold is the only choice) are not counted. ``M`` and
-    ``m`` as in :func:`step_counts`; the share is in [0, 1], 0.0 when no step was taken
-    with input remaining.
-    """
+    """Share of the live steps that hold (:func:`step_counts`); 0.0 without live steps."""
     c = step_counts(M, m)
     return c["holds"] / c["live"] if c["live"] else 0.0
 
 
 def exhausted_share(M, m: int) -> float:
-    """Share of the steps ``q = 1..n`` taken after the input ran out (``M_{q-1} = m``).
-
-    ``M`` and ``m`` as in :func:`step_counts`; the share is in [0, 1].
+    """Share of the steps taken after the input ran out (:func:`step_counts`).
 
     Paper: FP-DTW Section 5 ("running out of input frames, early in the alignment").
     """
@@ -174,21 +124,8 @@ def exhausted_share(M, m: int) -> float:
 
 
 def stick_skip_index(M, m: int) -> float:
-    """Median over target frames of ``M_q / m - q / n``: < 0 sticks, > 0 skips.
-
-    The diagonal of the normalised map square (uniform progress through both motions)
-    scores 0; a map that lags behind it (sticking on input frames, below the diagonal
-    of Fig. 7) is negative, one that runs ahead (skipping) positive.
-
-    Parameters
-    ----------
-    M, m
-        A map and the index of the last input frame, as in :func:`step_counts`.
-
-    Returns
-    -------
-    index : float
-        In [-1, 1].
+    """Median over target frames of ``M_q / m - q / n``, in [-1, 1]: < 0 sticks (below
+    Fig. 7's diagonal), > 0 skips; ``M`` and ``m`` as in :func:`step_counts`.
 
     Paper: FP-DTW Section 5 (reading of Fig. 7: "hot areas under the diagonal indicate
     ... sticking ... above the diagonal ... skipping").
@@ -196,9 +133,6 @@ def stick_skip_index(M, m: int) -> float:
     M = _as_map(M).astype(np.float64)
     n = max(M.size - 1, 1)
     return float(np.median(M / max(m, 1) - np.arange(M.size) / n))
-
-
-# -- Kendall tau-b -----------------------------------------------------------------------------
 
 
 @numba.njit(cache=True)
@@ -217,11 +151,8 @@ def _count_ties(s):
 
 @numba.njit(cache=True)
 def _merge_count(y, buf):
-    """Stable bottom-up merge sort of ``y`` in place; returns the number of inversions.
-
-    An inversion is a pair ``a < b`` with ``y[a] > y[b]`` (strictly), i.e. a
-    discordant pair once the data are sorted by x.
-    """
+    """Stable bottom-up merge sort of ``y`` in place; returns the number of inversions
+    (pairs ``a < b`` with ``y[a] > y[b]``: discordant pairs once sorted by x)."""
     n = y.shape[0]
     swaps = 0
     width = 1
@@ -259,11 +190,8 @@ def _merge_count(y, buf):
 
 @numba.njit(cache=True)
 def _tau(x, y, variant_a):
-    """Kendall tau-b (``variant_a`` False) or tau-a (True) of two float64 vectors.
-
-    tau-b is NaN if either vector is constant; tau-a is ``(concordant - discordant) /
-    (N (N - 1) / 2)``, ties counted as neither. Both are NaN for ``N < 2``.
-    """
+    """Kendall tau-b (``variant_a`` False; NaN if either vector is constant) or tau-a
+    (``(concordant - discordant) / (N (N - 1) / 2)``) of two float64 vectors; NaN for N < 2."""
     n = x.shape[0]
     if n < 2:
         return np.nan
@@ -294,12 +222,6 @@ def _tau(x, y, variant_a):
     return s / math.sqrt(float(n0 - n1) * float(n0 - n2))
 
 
-@numba.njit(cache=True)
-def _tau_b(x, y):
-    """Kendall tau-b of two float64 vectors of equal length; NaN if either is constant."""
-    return _tau(x, y, False)
-
-
 def kendall_tau_b(x, y) -> float:
     """Kendall rank correlation tau-b (ties corrected), ``O(n log n)``.
 
@@ -310,8 +232,7 @@ def kendall_tau_b(x, y) -> float:
     Returns
     -------
     tau : float
-        In ``[-1, 1]``; NaN when ``N < 2`` or either vector is constant (as
-        ``scipy.stats.kendalltau``).
+        NaN when ``N < 2`` or either vector is constant (as ``scipy.stats.kendalltau``).
 
     Plain version: fpdtw.plain.kendall_tau_b.
     Paper: FP-DTW eq. 2 (Kendall tau per joint axis).
@@ -322,16 +243,12 @@ def kendall_tau_b(x, y) -> float:
         raise AlignmentError(
             f"kendall_tau_b needs two 1-D arrays of equal length: {x.shape}, {y.shape}"
         )
-    return float(_tau_b(x, y))
+    return float(_tau(x, y, False))
 
 
 @numba.njit(cache=True)
 def _axis_scores(XA, XT, flat, one_flat, out, variant_a=False, toolkit=False):
-    """Per-axis score; XA, XT (N, k, 3) float64; out (k, 3).
-
-    ``toolkit``: tau whenever either range reaches ``flat``, 1 only when both are below
-    it (an undefined tau then scores ``one_flat``).
-    """
+    """Per-axis score; XA, XT (N, k, 3) float64; out (k, 3) (the rules of :func:`similarity`)."""
     N = XA.shape[0]
     for j in range(XA.shape[1]):
         for a in range(3):
@@ -352,9 +269,6 @@ def _axis_scores(XA, XT, flat, one_flat, out, variant_a=False, toolkit=False):
     return out
 
 
-# -- similarity --------------------------------------------------------------------------------
-
-
 #: Kendall tau variants of :func:`similarity` (``tau=``).
 TAU_VARIANTS = ("b", "a")
 
@@ -363,16 +277,14 @@ FLAT_RULES = ("zero", "toolkit", "skip")
 
 
 def _axis_vectors(axis, k: int) -> np.ndarray:
-    """The unit vector of each of k joints, shape (k, 3), from ``"y"`` or an array."""
+    """The unit vector of each of k joints, shape (k, 3), from an array (``"y"`` is
+    :func:`joint_trajectories`' own case)."""
     if isinstance(axis, str):
-        if axis != "y":
-            raise AlignmentError(
-                f"axis {axis!r}: give 'y' or each joint's own vectors, shape (k, 3) "
-                "(fpdtw.motion.rig.bone_directions for the bone reading)"
-            )
-        v = np.array(BONE_AXIS)
-    else:
-        v = np.asarray(axis, dtype=np.float64)
+        raise AlignmentError(
+            f"axis {axis!r}: give 'y' or each joint's own vectors, shape (k, 3) "
+            "(fpdtw.motion.rig.bone_directions for the bone reading)"
+        )
+    v = np.asarray(axis, dtype=np.float64)
     v = np.broadcast_to(v, (k, 3)) if v.shape in ((3,), (k, 3)) else None
     if v is None or not np.all(np.isfinite(v)):
         raise AlignmentError(f"axis vectors must be finite, shape (3,) or ({k}, 3)")
@@ -388,18 +300,15 @@ def joint_trajectories(quats, axis="y") -> np.ndarray:
     Parameters
     ----------
     quats : ndarray of float, shape (F, k, 4)
-        Rotations (w, x, y, z), unit quaternions: the joints' local rotations (the
-        default reading) or those of another frame
-        (:func:`fpdtw.motion.rig.trajectory_rotations`).
+        Unit quaternions (w, x, y, z): the local rotations (the default reading) or
+        others (:func:`fpdtw.motion.rig.trajectory_rotations`).
     axis : "y" or ndarray of float, shape (3,) or (k, 3)
-        ``"y"``: the unit vector (0, 1, 0) for every joint (the default); or each
-        joint's own vector (normalised), e.g. its bone direction
-        (:func:`fpdtw.motion.rig.bone_directions`).
+        ``"y"``: (0, 1, 0) for every joint; or each joint's own vector, normalised
+        (e.g. :func:`fpdtw.motion.rig.bone_directions`).
 
     Returns
     -------
     X : ndarray of float64, shape (F, k, 3)
-        Unit vectors; ``X[f, j]`` is the direction of joint j's vector at frame f.
 
     Plain version: fpdtw.plain.joint_trajectories.
     Paper: FP-DTW eq. 2 ("the R^3 translation of a one unit length vector along
@@ -423,13 +332,6 @@ def _check_options(tau, flat, skip):
         raise AlignmentError(f"skip must be a non-negative integer, got {skip!r}")
 
 
-def _pair_axes(axis):
-    """(input's, target's) axis argument from ``"y"``, one array or a pair of arrays."""
-    if isinstance(axis, tuple) and len(axis) == 2:
-        return axis
-    return axis, axis
-
-
 def similarity_per_axis(
     I_quats,
     T_quats,
@@ -441,42 +343,24 @@ def similarity_per_axis(
     skip: int = 0,
     axis="y",
 ) -> np.ndarray:
-    """Per-axis scores of :func:`similarity`: Kendall tau of each joint axis.
-
-    The input is warped by the map (``A = I[M]``, one frame per target frame).
-    An axis whose range (max - min) is below :data:`FLAT_RANGE` (0.001) in BOTH
-    ``A`` and ``T`` scores 1 (the paper's rule). Below it in exactly ONE of them
-    tau is undefined (a constant series); we score it :data:`ONE_FLAT_SCORE` (0):
-    a warp that freezes a moving joint gets no credit, and a moving input
-    against a still target is not a match either. The keyword options are the
-    readings of :func:`similarity` (its docstring says which sentence each reads).
+    """Per-axis scores of :func:`similarity`: Kendall tau of each joint axis of the input
+    warped by the map (``A = I[M]``) and the target.
 
     Parameters
     ----------
     I_quats : ndarray of float, shape (m + 1, k, 4)
-        Input motion's local rotations.
     T_quats : ndarray of float, shape (n + 1, k, 4)
-        Target motion's local rotations.
     M : ndarray of int, shape (n + 1,)
         Map target frame -> input frame, entries in ``0..m``.
     one_flat : float
-        Score of an axis flat in exactly one motion (default :data:`ONE_FLAT_SCORE`;
-        NaN marks such axes, e.g. to leave them out of a mean, as notebook 15 does).
+        Score of an axis flat in exactly one motion (NaN marks such axes).
     tau, flat, skip, axis
-        See :func:`similarity`. ``flat="skip"`` sets ``one_flat`` to NaN.
+        See :func:`similarity`; ``flat="skip"`` sets ``one_flat`` to NaN.
 
     Returns
     -------
     r : ndarray of float64, shape (k, 3)
-        ``r[j, a]`` for joint j and axis a (x, y, z), each in ``[-1, 1]`` (NaN for an
-        axis left out).
-
-    Raises
-    ------
-    AlignmentError
-        Map length differs from the target's frame count, entries outside
-        ``0..m``, mismatched joints, an unknown option, or ``skip`` leaving fewer
-        than 2 target frames.
+        ``r[j, a]`` for joint j and axis a (x, y, z).
 
     Paper: FP-DTW eq. 2.
     """
@@ -500,7 +384,7 @@ def similarity_per_axis(
         raise AlignmentError(
             f"skip={skip} leaves {M.shape[0] - skip} of the target's {M.shape[0]} frames"
         )
-    ax_I, ax_T = _pair_axes(axis)
+    ax_I, ax_T = axis if isinstance(axis, tuple) and len(axis) == 2 else (axis, axis)
     XA = joint_trajectories(I_quats[M[skip:]], ax_I)
     XT = joint_trajectories(T_quats[skip:], ax_T)
     return trajectory_scores(XA, XT, one_flat, tau=tau, flat=flat)
@@ -509,24 +393,10 @@ def similarity_per_axis(
 def trajectory_scores(
     XA, XT, one_flat: float = ONE_FLAT_SCORE, *, tau: str = "b", flat: str = "zero"
 ) -> np.ndarray:
-    """Per-axis scores of eq. 2 from joint trajectories already warped and aligned.
-
-    :func:`similarity_per_axis` is ``trajectory_scores(joint_trajectories(I[M]),
-    joint_trajectories(T))``; ``joint_trajectories(I)[M]`` gives the same ``XA``, so a
-    caller scoring many maps of one pair computes each motion's trajectories once.
-
-    Parameters
-    ----------
-    XA, XT : ndarray of float64, shape (n + 1, k, 3)
-        Trajectories of the warped input and of the target.
-    one_flat : float
-    tau : {"b", "a"}
-    flat : {"zero", "toolkit", "skip"}
-        See :func:`similarity`.
-
-    Returns
-    -------
-    r : ndarray of float64, shape (k, 3)
+    """Per-axis scores of eq. 2 from trajectories already warped: ``XA``, ``XT`` (float64,
+    shape (n + 1, k, 3)) -> (k, 3); ``joint_trajectories(I)[M]`` is the warped input's, so
+    many maps of one pair reuse each motion's trajectories. Options as
+    :func:`similarity_per_axis`.
 
     Paper: FP-DTW eq. 2.
     """
@@ -545,38 +415,25 @@ def similarity(
 ) -> float:
     """Similarity of the warped input and the target (mean Kendall tau over 3k axes).
 
-    The defaults are the reading the text supports (bit for bit the scores of every
-    earlier version); each option is one other reading of a sentence of Section 5:
+    An axis flat (range below :data:`FLAT_RANGE`) in both motions scores 1 (the paper's
+    rule). Readings of Section 5, the defaults first:
 
-    * ``tau`` -- "the Kendall Tau rank correlation coefficient": ``"b"`` (default,
-      ties corrected, what ``scipy.stats.kendalltau`` and the authors' toolkit return)
-      or ``"a"`` (``(concordant - discordant) / (N (N - 1) / 2)``, ties count as
-      neither).
-    * ``flat`` -- "if both joint axes have a range less than 0.001, the trajectories
-      are considered identical and given a score of 1": ``"zero"`` (default; an axis
-      flat in exactly one motion scores 0), ``"toolkit"`` (the authors'
-      FBXMotionToolkit, ``similarityTools.measureCorrelationSimilarity``: tau whenever
-      either range reaches 0.001, 1 only when both are below it; a tau undefined
-      because one series is exactly constant scores 0), ``"skip"`` (an axis flat in
-      exactly one motion is left out of the mean, as notebook 15's silent choice).
-    * ``skip`` -- "the similarity ... of the aligned input and target": the first
-      ``skip`` target frames are left out (the online methods' warm-up frames);
-      default 0, every target frame.
-    * ``axis`` -- "a one unit length vector along the joint's orientation": ``"y"``
-      (default, (0, 1, 0) for every joint), or each joint's own vector, shape (k, 3)
-      (both motions) or a pair ``(input's, target's)``, e.g. the bone direction
-      (:func:`fpdtw.motion.rig.bone_directions`: the offset to the joint's child).
-    * the trajectory frame -- "joint trajectories": the rotations passed in; local
-      rotations (today) or global (world) or root-relative ones from
+    * ``tau``: ``"b"`` (ties corrected, as scipy and the authors' toolkit) or ``"a"``.
+    * ``flat``, an axis flat in one motion only: ``"zero"`` scores 0 (tau is undefined);
+      ``"toolkit"`` (the authors' FBXMotionToolkit) takes tau, 0 if undefined; ``"skip"``
+      leaves it out of the mean (notebook 15's choice).
+    * ``skip``: the first ``skip`` target frames left out (default 0).
+    * ``axis``: ``"y"``, (0, 1, 0) for every joint; or each joint's vector, shape (k, 3),
+      or a pair ``(input's, target's)`` (:func:`fpdtw.motion.rig.bone_directions`).
+    * the rotations passed in: local (default) or those of
       :func:`fpdtw.motion.rig.trajectory_rotations`.
 
-    See :func:`similarity_per_axis` for the parameters and the errors.
+    Parameters as :func:`similarity_per_axis`.
 
     Returns
     -------
     r : float
-        In ``[-1, 1]``: 1 for a perfect ordinal match, negative for reversed motion;
-        NaN when ``flat="skip"`` leaves out every axis.
+        In ``[-1, 1]``; NaN when ``flat="skip"`` leaves out every axis.
 
     Plain version: fpdtw.plain.similarity.
     Paper: FP-DTW eq. 2.
@@ -588,23 +445,8 @@ def similarity(
     return float(np.mean(r))
 
 
-__all__ = [
-    "BONE_AXIS",
-    "DEVIATION_FRAMES",
-    "FLAT_RANGE",
-    "FLAT_RULES",
-    "ONE_FLAT_SCORE",
-    "TAU_VARIANTS",
-    "deviation",
-    "exhausted_share",
-    "hold_share",
-    "in_range",
-    "is_monotonic",
-    "joint_trajectories",
-    "kendall_tau_b",
-    "similarity",
-    "similarity_per_axis",
-    "step_counts",
-    "stick_skip_index",
-    "trajectory_scores",
-]
+__all__ = ["BONE_AXIS", "DEVIATION_FRAMES", "FLAT_RANGE", "FLAT_RULES",
+           "ONE_FLAT_SCORE", "TAU_VARIANTS", "deviation", "exhausted_share",
+           "hold_share", "in_range", "is_monotonic", "joint_trajectories",
+           "kendall_tau_b", "similarity", "similarity_per_axis", "step_counts",
+           "stick_skip_index", "trajectory_scores"]  # fmt: skip

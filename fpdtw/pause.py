@@ -1,17 +1,13 @@
 """Targets with a held pose inserted: the OPW poster's "periods of standing still".
 
 The OPW poster's conclusion warns that its method "may not work consistently if there are
-periods of standing still". To measure that on the FP-DTW pairs, a pause is inserted in the
-TARGET (the live take), the input left unchanged. The rule (committed in cbb3316,
-2026-11-23, before Q6's first results in cfc7b1d, and unchanged since; docs/history.md):
-
-* where: a frame ``a`` drawn uniformly from the middle 60 % of the target's frames,
-  ``a`` in ``[ceil(0.2 (F - 1)), floor(0.8 (F - 1))]``;
-* how long: ``L = round(u * fps)`` extra frames, ``u`` uniform in 0.5-2 s;
-* the new target is ``T_0..T_a``, then ``T_a`` repeated ``L`` more times, then
-  ``T_{a+1}..T_{F-1}`` (quaternions, Euler angles and positions alike): ``F + L`` frames;
-* both draws come from one generator seeded by :data:`PAUSE_SEED` and the target's name
-  (:func:`pause_seed`), so a take gets the same pause in every pair it is the target of.
+periods of standing still"; to measure that, a pause is inserted in the TARGET, the input
+left unchanged. The rule (committed in cbb3316, before Q6's first results in cfc7b1d, and
+unchanged since; docs/history.md): frame ``a`` drawn uniformly from the middle 60 % of the
+target, ``[ceil(0.2 (F - 1)), floor(0.8 (F - 1))]``, is repeated ``L = round(u * fps)``
+more times, ``u`` uniform in 0.5-2 s (quaternions, Euler angles and positions alike); both
+draws come from a generator seeded by :data:`PAUSE_SEED` and the target's name, so a take
+gets the same pause in every pair.
 
 Paper: OPW poster Section 6 (conclusion: standing still).
 Notebook: 16_open_questions.ipynb
@@ -41,19 +37,8 @@ def pause_seed(name: str) -> int:
 
 
 def pause_plan(n_frames: int, fps: float, seed: int) -> tuple[int, int]:
-    """Where a pause starts and how many frames it adds (the rule of the module).
-
-    Parameters
-    ----------
-    n_frames : int
-        Frames of the target (at least 2).
-    fps : float
-    seed : int
-
-    Returns
-    -------
-    at, length : int
-        The held frame ``a`` and the extra frames ``L`` (>= 1).
+    """The held frame ``a`` and the extra frames ``L >= 1`` of a pause (the module's rule)
+    in a target of ``n_frames >= 2`` frames.
 
     Paper: OPW poster Section 6.
     Notebook: 16_open_questions.ipynb
@@ -87,7 +72,6 @@ def insert_pause(T, at: int | None = None, length: int | None = None, seed: int 
     Parameters
     ----------
     T : MotionFeatures
-        The target (live) motion.
     at, length : int, optional
         The held frame and the extra frames; default :func:`pause_plan` with ``seed``
         (default :func:`pause_seed` of ``T.name``).
@@ -96,7 +80,7 @@ def insert_pause(T, at: int | None = None, length: int | None = None, seed: int 
     Returns
     -------
     MotionFeatures
-        ``F + length`` frames; its name gets the suffix ``"+pause"``.
+        ``F + length`` frames, named ``T.name + "+pause"``.
 
     Paper: OPW poster Section 6.
     Notebook: 16_open_questions.ipynb
@@ -119,12 +103,5 @@ def insert_pause(T, at: int | None = None, length: int | None = None, seed: int 
     )
 
 
-__all__ = [
-    "PAUSE_SECONDS",
-    "PAUSE_SEED",
-    "PAUSE_SPAN",
-    "hold_frames",
-    "insert_pause",
-    "pause_plan",
-    "pause_seed",
-]
+__all__ = ["PAUSE_SECONDS", "PAUSE_SEED", "PAUSE_SPAN", "hold_frames", "insert_pause",
+           "pause_plan", "pause_seed"]  # fmt: skip

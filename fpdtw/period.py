@@ -1,27 +1,17 @@
 """The dominant period of a motion, and Method C's window from it (an open question).
 
-The FP-DTW paper's conclusion suggests "restricting the size of the forecast window to less
-than half the period of the movement cycle". The recorded input is known in advance, so its
-period can be estimated before the live take starts. The rule (committed in cbb3316,
-2026-11-23, before Q1's first results in cfc7b1d, and unchanged since; docs/history.md):
+FP-DTW's conclusion suggests "restricting the size of the forecast window to less than half
+the period of the movement cycle"; the input is known in advance, so its period can be
+estimated first. The rule (committed in cbb3316, before Q1's first results in cfc7b1d, and
+unchanged since; docs/history.md):
 
-* the joint trajectories of the input (:func:`fpdtw.metrics.joint_trajectories` of its
-  cost joints: 8 joints x 3 axes = 24 series), each with its mean removed; the biased
-  autocorrelations of the 24 series averaged, each weighted by its variance:
-  ``r[k] = sum_axes sum_t x_t x_{t+k} / sum_axes sum_t x_t^2``. The weights: an axis that
-  barely moves (noise, or the second harmonic ``cos(theta)`` of a bone swinging by
-  ``theta``) must not count as much as one that moves; with equal weights a bone swinging
-  with period P gives a local maximum of about 0 at P / 2 (its two axes' autocorrelations
-  cancel there) and the rule below would call the motion acyclic (tested);
-* the period is the lag of the first local maximum (``r[k-1] < r[k] >= r[k+1]``) after
-  the first zero crossing (first lag with ``r <= 0``), searched over lags of
-  :data:`MIN_PERIOD_S` to :data:`MAX_PERIOD_S` seconds (0.25-4 s);
-* acyclic: no zero crossing, no such maximum, or its autocorrelation below
-  :data:`MIN_PEAK` (0.2): no period;
-* the window is the largest integer below half the period, ``w = ceil(P / 2) - 1``
-  (``P`` in frames), clamped to ``[2, 4 s]`` (480 frames at 120 Hz); without a period,
-  the paper's recommended window, :data:`FALLBACK_W` = 40 frames at 120 Hz, scaled by
-  the rate (20 at 60 Hz).
+* ``r[k]``: the biased autocorrelations of the input's joint trajectories (24 series, means
+  removed), summed and divided by their total energy, i.e. weighted by variance (with equal
+  weights a bone swinging with period P cancels to about 0 at P / 2; tested);
+* the period: the lag of the first local maximum of ``r`` after its first zero crossing,
+  within :data:`MIN_PERIOD_S`-:data:`MAX_PERIOD_S`, if at least :data:`MIN_PEAK`; else none;
+* the window: ``ceil(P / 2) - 1`` frames clamped to ``[2, 4 s]``; without a period,
+  :data:`FALLBACK_W` (the paper's 40 at 120 Hz) scaled by the rate.
 
 Paper: FP-DTW Section 7 (conclusion: the window below half the movement's period).
 Notebook: 16_open_questions.ipynb
@@ -47,7 +37,7 @@ MIN_W = 2
 
 
 def autocorrelation(quats) -> np.ndarray:
-    """Mean autocorrelation of a motion's joint trajectories (the rule of the module).
+    """Mean autocorrelation of a motion's joint trajectories (the module's rule).
 
     Parameters
     ----------
@@ -57,8 +47,7 @@ def autocorrelation(quats) -> np.ndarray:
     Returns
     -------
     r : ndarray of float64, shape (F,)
-        ``r[0] = 1``; lag k in frames (the variance-weighted mean of the 24 axes'
-        autocorrelations). All zeros when nothing moves.
+        By lag in frames, ``r[0] = 1``; all zeros when nothing moves.
 
     Paper: FP-DTW Section 7.
     Notebook: 16_open_questions.ipynb
@@ -88,8 +77,7 @@ def dominant_period(quats, fps: float):
     Returns
     -------
     period : int or None
-        Lag in frames of the first local maximum of :func:`autocorrelation` after its
-        first zero crossing, within 0.25-4 s, if its value is at least 0.2.
+        In frames (the module's rule).
 
     Paper: FP-DTW Section 7.
     Notebook: 16_open_questions.ipynb
@@ -109,17 +97,7 @@ def dominant_period(quats, fps: float):
 
 
 def window_from_period(period, fps: float) -> int:
-    """Method C's window from a period in frames (None: the fallback), by the module's rule.
-
-    Parameters
-    ----------
-    period : int or None
-    fps : float
-
-    Returns
-    -------
-    w : int
-        ``ceil(period / 2) - 1`` clamped to ``[2, 4 s]``, or ``round(40 * fps / 120)``.
+    """Method C's window (int) from a period in frames (None: the fallback) at ``fps``.
 
     Paper: FP-DTW Section 7.
     """
@@ -130,11 +108,7 @@ def window_from_period(period, fps: float) -> int:
 
 
 def auto_window(I) -> int:
-    """The window of "Mc auto" for the input motion ``I`` (a MotionFeatures).
-
-    Returns
-    -------
-    w : int
+    """The window (int) of "Mc auto" for the input motion ``I`` (a MotionFeatures).
 
     Paper: FP-DTW Section 7.
     Notebook: 16_open_questions.ipynb
@@ -142,14 +116,5 @@ def auto_window(I) -> int:
     return window_from_period(dominant_period(I.quats, I.fps), I.fps)
 
 
-__all__ = [
-    "FALLBACK_W",
-    "MAX_PERIOD_S",
-    "MIN_PEAK",
-    "MIN_PERIOD_S",
-    "MIN_W",
-    "auto_window",
-    "autocorrelation",
-    "dominant_period",
-    "window_from_period",
-]
+__all__ = ["FALLBACK_W", "MAX_PERIOD_S", "MIN_PEAK", "MIN_PERIOD_S", "MIN_W",
+           "auto_window", "autocorrelation", "dominant_period", "window_from_period"]  # fmt: skip

@@ -1,18 +1,12 @@
 """The papers' equations and algorithms in plain NumPy, line by line in their notation.
 
-This module is what to read beside the papers: no numba, no scratch buffers, no parameter
-vectors; one function per equation or algorithm, written as the paper writes it, and the
-notebooks step through these functions on real motions. It holds the papers' algorithms
-only: eq. 1 (with the per-joint weights of the open questions), offline DTW and OE-DTW,
-the forecast, Algorithms 1-3 (Methods A, B and C, Method C in the text's square window),
-the Type V constraint, eqs. 2 and 3, and one step of the poster's OPW. The library's fast
-kernels (:mod:`fpdtw.costs`, :mod:`fpdtw.dtw`, :mod:`fpdtw.online`, :mod:`fpdtw.metrics`)
-are optimised versions of the same computations: each names its plain version in its
-docstring ("Plain version: fpdtw.plain.xxx"), and ``tests/test_plain.py`` holds the two
-equal (the same maps on every pair of the smoke grid and on the hand-worked cases).
-What neither paper describes (Dixon's OLTW, the global band, the bootstrap, Kendall's
-tau-a, Method C's other window readings, the OPW plugin's options) exists only as the
-compiled code, tested on its own.
+What to read beside the papers, and what the notebooks step through on real motions: no
+numba, no scratch buffers, one function per equation or algorithm (eq. 1, offline DTW and
+OE-DTW, the forecast, Algorithms 1-3 for Methods A, B and C, the Type V constraint, eqs. 2
+and 3, one step of the poster's OPW). The fast kernels (:mod:`fpdtw.costs`, :mod:`fpdtw.dtw`,
+:mod:`fpdtw.online`, :mod:`fpdtw.metrics`) name their plain version ("Plain version:
+fpdtw.plain.xxx"), and ``tests/test_plain.py`` holds the two equal. What neither paper
+describes (OLTW, the global band, Method C's other window readings, ...) is compiled only.
 
 Notation (FP-DTW paper, Section 3): the input ``I = {I_0..I_m}`` (the recording, fully
 known), the target ``T = {T_0..T_n}`` (the live motion, received so far), the incoming
@@ -43,15 +37,13 @@ from fpdtw.motion.rig import cost_input
 def geo_distance(Q_a, Q_b, weights=None):
     """Geodesic distance between poses: ``d = sum_j (2/pi) arccos |Q_j^a . Q_j^b|``.
 
-    With ``weights`` (beyond the papers, notebook 16's Q2): ``d = sum_j w_j (2/pi)
-    arccos |Q_j^a . Q_j^b|`` (see :func:`fpdtw.weights.joint_weights`).
-
     Parameters
     ----------
     Q_a, Q_b : ndarray of float, shape (..., k, 4)
         Unit quaternions of the ``k`` joints (leading axes broadcast).
     weights : ndarray of float, shape (k,), optional
-        Per-joint weights; None: every joint counts 1 (eq. 1 as written).
+        ``w_j`` multiplying each joint's term (beyond the papers,
+        :func:`fpdtw.weights.joint_weights`); None: eq. 1 as written.
 
     Returns
     -------
@@ -133,11 +125,9 @@ def accumulate(C) -> np.ndarray:
 def backtrack(D, C=None) -> np.ndarray:
     """The path back from the far corner of ``D`` to (0, 0), in forward order.
 
-    Each step goes to the neighbour the accumulation came from: the lowest of
-    ``D[i-1, j-1]``, ``D[i, j-1]`` (same input frame, previous target frame) and
-    ``D[i-1, j]``, each plus ``C[i, j]`` when ``C`` is given (the recursion read
-    backwards, dtw-python's rule); on equal values the diagonal, then ``(i, j-1)``.
-    On row 0 only ``(i, j-1)``, on column 0 only ``(i-1, j)``.
+    Each step goes to the lowest of ``D[i-1, j-1]``, ``D[i, j-1]`` and ``D[i-1, j]``, each
+    plus ``C[i, j]`` when ``C`` is given (dtw-python's rule); on equal values the
+    diagonal, then ``(i, j-1)``. On row 0 only ``(i, j-1)``, on column 0 only ``(i-1, j)``.
 
     Parameters
     ----------
@@ -198,9 +188,8 @@ def path_to_map(path, n: int) -> np.ndarray:
 def oe_dtw_end_points(C) -> np.ndarray:
     """Open-end DTW's end point after each target frame: ``e_q = argmin_i D[i, q]``.
 
-    Column ``q`` of the accumulation depends only on the target frames ``0..q``, so
-    accumulating the whole cost matrix once gives what OE-DTW computes one column per
-    arriving frame.
+    Column ``q`` of ``D`` depends only on target frames ``0..q``, so one accumulation gives
+    what OE-DTW computes a column per arriving frame.
 
     Parameters
     ----------
@@ -319,26 +308,21 @@ def euler_to_quat(E, orders) -> np.ndarray:
 
 
 def forward_kinematics(Q, pre, post, offsets, parents, root) -> np.ndarray:
-    """Global joint positions of one frame from its local rotations, joint after joint
-    from the root: the joint's rotation is ``R_j = pre_j Q_j post_j``; a root is at
-    ``p_j = o_j + root`` and turned by ``G_j = R_j``; any other joint is at ``p_j = p_a +
-    G_a o_j G_a^*`` and turned by ``G_j = G_a R_j`` (``a``: its parent).
-
-    ``G_a o_j G_a^*`` is computed as ``o + w t + u x t`` with ``t = 2 u x o`` for ``G_a =
-    (w, u)``.
+    """Global joint positions of one frame from its local rotations, from the root: ``R_j =
+    pre_j Q_j post_j``; a root is at ``p_j = o_j + root``, turned by ``G_j = R_j``; another
+    joint at ``p_j = p_a + G_a o_j G_a^*``, turned by ``G_j = G_a R_j`` (``a``: its parent).
 
     Parameters
     ----------
     Q : ndarray of float, shape (J, 4)
         Local rotations of the joints, unit quaternions ``(w, x, y, z)``.
     pre, post : ndarray of float, shape (J, 4)
-        Each joint's pre- and post-rotation (FBX; the identity for BVH and ASF/AMC).
+        Pre- and post-rotations (FBX; the identity for BVH and ASF/AMC).
     offsets : ndarray of float, shape (J, 3)
-        Each joint's offset ``o_j`` from its parent (a root's from the origin).
+        Offsets ``o_j`` from the parent (a root's from the origin).
     parents : ndarray of int, shape (J,)
         Each joint's parent, an earlier joint; -1 for a root.
     root : ndarray of float, shape (3,)
-        The root translation of the frame.
 
     Returns
     -------
@@ -355,8 +339,8 @@ def forward_kinematics(Q, pre, post, offsets, parents, root) -> np.ndarray:
             P[j], G[j] = offsets[j] + root, R_j
             continue
         w, u = G[a, 0], G[a, 1:]
-        t = 2.0 * np.cross(u, offsets[j])
-        P[j] = P[a] + (offsets[j] + w * t + np.cross(u, t))  # p_a + G_a o_j G_a^*
+        t = 2.0 * np.cross(u, offsets[j])  # G_a o G_a^* = o + w t + u x t, t = 2 u x o
+        P[j] = P[a] + (offsets[j] + w * t + np.cross(u, t))
         G[j] = quat_multiply(G[a], R_j)
     return P
 
@@ -376,11 +360,7 @@ TYPE_V_START = "N"
 
 def type_v_allowed(state: str) -> np.ndarray:
     """The advances 0..3 the forward Type V constraint allows in ``state`` (larger
-    advances never are).
-
-    Returns
-    -------
-    allowed : ndarray of bool, shape (4,)
+    advances never are): ndarray of bool, shape (4,).
 
     Paper: FP-DTW Section 6, Fig. 9 iv.
     Notebook: 11_fig9_typev.ipynb
@@ -398,18 +378,8 @@ def type_v_next(state: str, advance: int):
 
 
 def allowed_rows(allowed, rows: int) -> np.ndarray:
-    """Which rows (offsets from ``M_n``) of a window a Type V state allows.
-
-    Parameters
-    ----------
-    allowed : ndarray of bool, shape (4,), or None
-        :func:`type_v_allowed` of the state; None: no constraint (every row).
-    rows : int
-
-    Returns
-    -------
-    ok : ndarray of bool, shape (rows,)
-    """
+    """Which rows (offsets from ``M_n``) of a window a Type V state allows: bool, shape
+    (rows,); ``allowed`` is :func:`type_v_allowed` of the state, None for every row."""
     ok = np.ones(rows, dtype=bool)
     if allowed is not None:
         ok[:] = False
@@ -418,14 +388,8 @@ def allowed_rows(allowed, rows: int) -> np.ndarray:
 
 
 def checked_choice(ok, r: int) -> int:
-    """Offset ``r`` if the constraint allows it; no method ever picks a masked row.
-
-    Raises
-    ------
-    AlignmentError
-        ``r`` is a row the Type V state does not allow (every row of the window is
-        masked: e.g. a one-row window after two holds).
-    """
+    """Offset ``r`` if the constraint allows it; AlignmentError if not (every row of the
+    window is masked: e.g. a one-row window after two holds)."""
     if not ok[r]:
         raise AlignmentError(
             f"no row of the window is allowed by the Type V state (rows {len(ok)}, chosen {r})"
@@ -446,23 +410,18 @@ class Step(NamedTuple):
     kind : str
         ``"warmup"`` (B, C: ``n < s``), ``"end"`` (the input is exhausted) or ``"window"``.
     w_i : int
-        The window's last row is ``I_{M_n + w_i}`` (``w_i + 1`` rows); 0 without a window.
-        Algorithms 1 and 2: their ``w_i``; Algorithm 3: ``rows - 1`` (see
-        :func:`method_c_step`).
+        The window's last row is ``I_{M_n + w_i}``; 0 without a window (Algorithm 3:
+        ``rows - 1``, see :func:`method_c_step`).
     C, D : ndarray of float64, shape (w_i + 1, columns), or None
-        Cost (eq. 1; rows Type V does not allow are +inf in the column that chooses) and
-        accumulated cost (B: ``D[0, 0]`` set to 10000 after accumulating).
+        Cost (Type V's masked rows +inf in the choosing column) and accumulated cost.
     path : ndarray of int64, shape (L, 2), or None
         B: the back-tracked path.
     P : ndarray of int64, shape (columns,), or None
         B: the lowest row of the path in each column (``P[1]`` is the choice).
     score : ndarray of float64, shape (w_i + 1,), or None
-        C: what the argmin compares per row, ``D[:, 0]``.
-    M_n : int or None
-        A window step: the window's first input frame ``M_n`` (``M - M_n`` is the chosen
-        row); None on warm-up and end steps.
-    q : int or None
-        A window step: the target frame it maps, ``n + 1``; None on warm-up and end steps.
+        C: ``D[:, 0]``, what the argmin compares.
+    M_n, q : int or None
+        A window step's first input frame and the target frame it maps, ``n + 1``.
     """
 
     M: int
@@ -484,7 +443,7 @@ def method_a_step(I, T, M, w: int = 2, allowed=None) -> Step:
     Parameters
     ----------
     I, T : MotionFeatures
-        Input and target; the step reads ``T_{n+1}`` (``T.quats[n + 1]``) only.
+        Input and target (the step reads ``T.quats[n + 1]`` only).
     M : sequence of int, length n + 1
         The map so far, ``M_0..M_n``.
     w : int
@@ -520,14 +479,10 @@ def method_b_step(I, T, M, w: int, allowed=None) -> Step:
 
     Parameters
     ----------
-    I, T : MotionFeatures
-        Input and target; the step reads ``T_n`` and ``T_{n+1}`` only.
-    M : sequence of int, length n + 1
-        The map so far, ``M_0..M_n``.
+    I, T, M, allowed
+        As for :func:`method_a_step` (the step reads ``T_n`` and ``T_{n+1}``).
     w : int
         Forecast window (the paper: 10, 20, 40, 80).
-    allowed : ndarray of bool, shape (4,), or None
-        Type V: :func:`type_v_allowed` of the current state.
 
     Returns
     -------
@@ -567,12 +522,10 @@ def method_b_step(I, T, M, w: int, allowed=None) -> Step:
 def method_c_step(I, T, M, w: int, allowed=None) -> Step:
     """Method C: the reverse-accumulated forecast window; ``n = len(M) - 1``.
 
-    The window is the one Algorithm 3 declares, ``C, D`` of size ``w_i x w`` after line
-    6's ``w_i = w``: ``w`` input rows by ``w`` forecast columns (the library's default
-    reading, :data:`fpdtw.registry.C_READINGS` ``[0]``, ``"square"``). Line 11's range
-    ``{I_{M_n}..I_{M_n+w_i}}`` has ``w_i + 1`` frames; the declared size keeps its first
-    ``w`` (the other readings of the window are the compiled
-    :class:`fpdtw.online.MethodC`'s ``window=`` option, not written out here).
+    Reading: the window is the size Algorithm 3 declares, ``C, D`` of ``w_i x w`` after
+    line 6's ``w_i = w`` (the default, :data:`fpdtw.registry.C_READINGS` ``[0]``,
+    ``"square"``): of line 11's ``w_i + 1`` frames ``{I_{M_n}..I_{M_n+w_i}}`` it keeps the
+    first ``w``. The other readings are :class:`fpdtw.online.MethodC`'s ``window=`` option.
 
     Parameters
     ----------
@@ -583,8 +536,7 @@ def method_c_step(I, T, M, w: int, allowed=None) -> Step:
     -------
     Step
         ``C, D`` of ``rows`` rows by ``w`` columns ``[T_{n+1}, forecasts]`` and ``score =
-        D[:, 0]``; ``M_{n+1} = M_n + argmin`` (the lowest row on ties). ``Step.w_i`` is
-        ``rows - 1``, the offset of the window's last row.
+        D[:, 0]``; ``M_{n+1} = M_n + argmin`` (lowest row on ties); ``w_i = rows - 1``.
 
     Paper: FP-DTW Algorithm 3.
     Notebook: 03_fig2_fig4_windows.ipynb
@@ -611,9 +563,8 @@ def method_c_step(I, T, M, w: int, allowed=None) -> Step:
     C = cost_matrix(I.quats[M_n : M_n + rows], F)  # line 11
     ok = allowed_rows(allowed, rows)
     # Type V mask rule (Section 6): C[r, 0] = +inf for every row r the state does not
-    # allow, BEFORE accumulating. This changes costs, not only the choice: an allowed
-    # row's D[r, 0] may reach the far corner down column 0 through a masked (r + 1, 0);
-    # the mask closes that route (fpdtw.paper.readings.type_v_mask_changes counts it).
+    # allow, BEFORE accumulating: an allowed row's D[r, 0] may no longer reach the far
+    # corner through a masked (r + 1, 0) (fpdtw.paper.readings.type_v_mask_changes).
     C[~ok, 0] = np.inf
     D = reverse_accumulate(C)  # line 12
     score = D[:, 0].copy()
@@ -631,11 +582,10 @@ def run(step, I, T, w: int, type_v: bool = False, steps: list | None = None) -> 
     I, T : MotionFeatures
     w : int
     type_v : bool
-        The Type V constraint, its state carried from step to step (a hold forced at the
-        end of the input, where the constraint cannot hold, leaves the state as it is).
+        The Type V constraint, its state carried from step to step (a step the table does
+        not allow, as a hold forced at the end of the input, leaves it as it is).
     steps : list, optional
-        Each step's :class:`Step` is appended to it (``steps[q - 1]`` maps target frame
-        ``q``), for a figure of one step.
+        Each step's :class:`Step` is appended to it (``steps[q - 1]`` maps frame ``q``).
 
     Returns
     -------
@@ -644,9 +594,7 @@ def run(step, I, T, w: int, type_v: bool = False, steps: list | None = None) -> 
     Paper: FP-DTW Sections 3 and 6.
     Notebook: 11_fig9_typev.ipynb
     """
-
-    # motions of two rigs: eq. 1 between the input expressed in the target's rig and the
-    # target (fpdtw.motion.rig); the same motion of one rig: the local rotations as they are
+    # two rigs: eq. 1 compares the input expressed in the target's rig (fpdtw.motion.rig)
     I = dataclasses.replace(I, quats=cost_input(I.quats, I.rig, T.rig))
     M, state = [0], TYPE_V_START
     for _ in range(len(T.quats) - 1):
@@ -670,8 +618,7 @@ def joint_trajectories(Q, axis="y") -> np.ndarray:
     ----------
     Q : ndarray of float, shape (F, k, 4)
     axis : "y" or ndarray of float, shape (3,) or (k, 3)
-        ``"y"``: the unit vector (0, 1, 0) for every joint (the default); or each joint's
-        own vector, normalised.
+        ``"y"``: (0, 1, 0) for every joint; or each joint's own vector, normalised.
 
     Returns
     -------
@@ -719,7 +666,7 @@ def similarity(I_quats, T_quats, M, *, flat: str = "zero", skip: int = 0, axis="
     ``A_q = I_{M_q}``, over target frames ``q = skip..n``.
 
     An axis whose range is below :data:`FLAT_RANGE` in both motions scores 1 (the paper's
-    rule). In only one of them: 0 (``flat="zero"``, tau is undefined there; our choice),
+    rule). In only one of them (reading): 0 (``flat="zero"``: tau is undefined there),
     left out of the mean (``"skip"``), or tau as computed (``"toolkit"``; 0 if undefined).
 
     Parameters
@@ -728,7 +675,6 @@ def similarity(I_quats, T_quats, M, *, flat: str = "zero", skip: int = 0, axis="
     T_quats : ndarray of float, shape (n + 1, k, 4)
     M : ndarray of int, shape (n + 1,)
     flat : {"zero", "toolkit", "skip"}
-        As :func:`fpdtw.metrics.similarity`'s ``flat=``.
     skip : int
         Target frames left out at the start.
     axis : "y" or ndarray of float, shape (3,) or (k, 3), or a pair (input's, target's)
@@ -767,8 +713,7 @@ def deviation(P_a, P_b, frames: str = "printed") -> float:
     P_a, P_b : ndarray of int, shape (n + 1,)
         Maps of target frames ``q = 0..n``.
     frames : {"printed", "all"}
-        ``"printed"``: eq. 3, frame 0 is not in the sum; ``"all"``: ``q = 0..n`` divided
-        by ``n + 1`` (as :func:`fpdtw.metrics.deviation`'s ``frames=``).
+        ``"printed"``: eq. 3 as printed; ``"all"`` (reading): ``q = 0..n``, over ``n + 1``.
 
     Returns
     -------
@@ -790,20 +735,8 @@ def deviation(P_a, P_b, frames: str = "printed") -> float:
 
 
 def interpolate_positions(P, fps: float, t: float, last: int | None = None) -> np.ndarray:
-    """Positions at time ``t``: linear between the two frames around it, clamped to
-    ``[0, last / fps]``.
-
-    Parameters
-    ----------
-    P : ndarray of float, shape (F, p, 3)
-        Frames ``0..F-1`` at ``fps``.
-    fps, t : float
-    last : int, optional
-        Last usable frame (default ``F - 1``).
-
-    Returns
-    -------
-    pos : ndarray of float64, shape (p, 3)
+    """Positions (p, 3) at time ``t`` of frames ``P`` (F, p, 3) at ``fps``: linear between
+    the two frames around it, clamped to ``[0, last / fps]`` (``last``: default ``F - 1``).
 
     Paper: OPW poster Section 3 (A and B between their samples).
     """
@@ -862,19 +795,16 @@ def opw_step(f, t: float, A, B, omega: float, gamma: float, fps_A: float, fps_B:
     Parameters
     ----------
     f : WarpCurve
-        The warp curve ``t' = f(t)`` so far (live time -> recording time); changed in place.
+        The warp curve ``t' = f(t)`` so far (live -> recording time); changed in place.
     t : float
         Live time of the step (s).
-    A : ndarray of float, shape (F_A, p, 3)
-        The recording's joint positions (the poster's Y).
-    B : ndarray of float, shape (F_B, p, 3)
-        The live motion's joint positions received so far (the poster's X).
+    A, B : ndarray of float, shapes (F_A, p, 3), (F_B, p, 3)
+        Joint positions of the recording (the poster's Y) and of the live motion so far (X).
     omega, gamma : float
         Sample period (s) and warp parameter.
     fps_A, fps_B : float
     read_at : {"eq4", "listing"}
-        Where ``A`` is read (:func:`opw_times`): ``"eq4"`` (default), ``f(t) + i omega``;
-        ``"listing"``, ``f(t + i omega)``.
+        The reading of where ``A`` is read (:func:`opw_times`).
 
     Returns
     -------
@@ -904,36 +834,10 @@ def opw_step(f, t: float, A, B, omega: float, gamma: float, fps_A: float, fps_B:
     return s, p
 
 
-__all__ = [
-    "FLAT_RANGE",
-    "OPW_READ_AT",
-    "TYPE_V_START",
-    "TYPE_V_TABLE",
-    "Step",
-    "accumulate",
-    "allowed_rows",
-    "backtrack",
-    "checked_choice",
-    "cost_matrix",
-    "deviation",
-    "euler_to_quat",
-    "forecast_joints",
-    "forward_kinematics",
-    "geo_distance",
-    "interpolate_positions",
-    "joint_trajectories",
-    "kendall_tau_b",
-    "method_a_step",
-    "method_b_step",
-    "method_c_step",
-    "oe_dtw_end_points",
-    "opw_step",
-    "opw_times",
-    "path_to_map",
-    "quat_multiply",
-    "reverse_accumulate",
-    "run",
-    "similarity",
-    "type_v_allowed",
-    "type_v_next",
-]
+__all__ = ["FLAT_RANGE", "OPW_READ_AT", "TYPE_V_START", "TYPE_V_TABLE", "Step",
+           "accumulate", "allowed_rows", "backtrack", "checked_choice", "cost_matrix",
+           "deviation", "euler_to_quat", "forecast_joints", "forward_kinematics",
+           "geo_distance", "interpolate_positions", "joint_trajectories",
+           "kendall_tau_b", "method_a_step", "method_b_step", "method_c_step",
+           "oe_dtw_end_points", "opw_step", "opw_times", "path_to_map", "quat_multiply",
+           "reverse_accumulate", "run", "similarity", "type_v_allowed", "type_v_next"]  # fmt: skip

@@ -1,27 +1,17 @@
 """One registry: every alignment algorithm by name, and how to run it.
 
-Names follow the FP-DTW paper's figures. Fixed names: ``"DTW"``, ``"UTW"`` (offline),
-``"OE-DTW"``, ``"OPW"``, ``"OLTW"`` (online; ``"OLTW c60"`` sets Dixon's search width).
-The FP-DTW methods: ``"Ma"`` (window 2; ``"Ma w3"``), ``"Mb w40"``, ``"Mc w40"``, the
-constrained variants with the suffix ``" + Type V"``, and any option other than the
-default in brackets before it, by its label in the method's ``options`` table:
-``"Mc w40 (literal window) + Type V"``, ``"Mb w40 (hold forecast)"``; OLTW's one option:
-``"OLTW (weighted joints)"``. Beyond the papers:
-``"Mc auto"`` (Method C with w from the input's period, :mod:`fpdtw.period`) and
-``"OPW adaptive"`` (OPW with gamma from its decisions, :mod:`fpdtw.online.opw_adaptive`).
-Any ONLINE name takes the general option ``"derivative"`` (:data:`DERIVATIVE`): the aligner
-run unchanged on the derivative motions (:mod:`fpdtw.derivative`), ``"OPW (derivative)"``,
-``"Mc w40 (derivative, band 1 s)"``.
+Names follow the papers' figures: ``"DTW"``, ``"UTW"``, ``"OE-DTW"``, ``"OPW"``, ``"OLTW
+c60"`` (Dixon's search width), ``"Ma"``, ``"Mb w40"``, ``"Mc w40"``; the suffix ``" + Type
+V"``; non-default options in brackets by their labels in the class's ``options`` table
+(``"Mc w40 (literal window) + Type V"``, ``"OLTW (weighted joints)"``); beyond the papers
+``"Mc auto"`` and ``"OPW adaptive"``, and for any online name the option ``"derivative"``
+(``"OPW (derivative)"``). :func:`resolve` turns a name into an :class:`Algorithm`,
+:func:`make_online` builds its aligner, :func:`align` runs a pair.
 
-The experiment runner, the command line, the benchmark and the figures all ask this
-module: :func:`resolve` a name into an :class:`Algorithm`, :func:`make_online` its
-streaming aligner, :func:`align` a pair.
-
-Adding an aligner: write its :class:`~fpdtw.online.base.OnlineAligner` subclass (in any
-module) and add one :class:`Entry` line to :data:`ENTRIES` naming it, e.g.
-``Entry("OLTW", "OLTW", "oltw", True, online("fpdtw.online.oltw:OLTW"), "c", 120)``:
-the runner, the command line (``--method oltw``), the benchmark and the figures then
-know it by name.
+Adding an aligner: write its :class:`~fpdtw.online.base.OnlineAligner` subclass and add
+one :class:`Entry` to :data:`ENTRIES`, e.g. ``Entry("OLTW", "OLTW", "oltw", True,
+online("fpdtw.online.oltw:OLTW"), "c", 120)``; the runner, the command line, the benchmark
+and the figures then know it by name.
 
 Notebook: 11_fig9_typev.ipynb
 """
@@ -49,12 +39,10 @@ DERIVATIVE = "derivative"
 
 
 def _dtw(I: MotionFeatures, T: MotionFeatures):
-
     return dtw_pair(I, T).map
 
 
 def _utw(I: MotionFeatures, T: MotionFeatures):
-
     return utw_map(I.n_frames - 1, T.n_frames - 1)
 
 
@@ -65,12 +53,8 @@ def _import(target: str):
 
 
 def online(target: str):
-    """Builder of an online aligner class given as ``"module:Class"``.
-
-    The class is called ``Class(I)``, or ``Class(I, value)`` when the name carries a
-    parameter (``"OLTW c60"``: 60), with the name's options as keywords (a class with an
-    ``options`` table: ``"OLTW (weighted joints)"`` -> ``OLTW(I, weights="travel")``).
-    """
+    """Builder of an online aligner class ``"module:Class"``: ``Class(I)``, or ``Class(I,
+    value)`` for a name with a parameter (``"OLTW c60"``), the name's options as keywords."""
 
     def build(I, value=None, options=None, **_):
         cls = _import(target)
@@ -101,13 +85,8 @@ class Entry:
 
     Attributes
     ----------
-    key : str
-        Its name, or the start of its names (``"Mc"`` in ``"Mc w40"``).
-    family : str
-        Short code used by tables and plots: ``"DTW"``, ``"UTW"``, ``"OE"``, ``"A"``,
-        ``"B"``, ``"C"``, ``"OPW"``, ``"OLTW"``.
-    cli : str
-        Its ``--method`` value on the command line.
+    key, family, cli : str
+        Its name or names' start (``"Mc"``), short code for tables (``"C"``), ``--method``.
     online : bool
     build : callable
         Online: ``build(I, value=..., typev=..., options=..., cache=..., record=...)``
@@ -121,9 +100,7 @@ class Entry:
     about : str
         One line for ``fpdtw --help``.
     baseline : bool
-        An online method beyond the FP-DTW paper that runs on its pairs beside the paper's
-        (OPW, OLTW): the experiment grid, Figs. 5-7, Table 2's benchmark and claim B1 take
-        every such entry (:func:`baselines`).
+        An online method beyond the FP-DTW paper run on its pairs (:func:`baselines`).
     """
 
     key: str
@@ -180,14 +157,9 @@ _BY_KEY = {e.key: e for e in ENTRIES}
 
 
 def baselines() -> tuple:
-    """The names of the online baselines beyond the FP-DTW paper (:attr:`Entry.baseline`),
-    in registry order: what the grid, Figs. 5-7, Table 2's benchmark and claim B1 add to
-    the paper's algorithms. Read from :data:`ENTRIES` at each call.
-
-    Returns
-    -------
-    names : tuple of str
-        ``("OPW", "OLTW")`` with the built-in entries.
+    """The names of the :attr:`Entry.baseline` entries in registry order (``("OPW",
+    "OLTW")``), read from :data:`ENTRIES` at each call: what the grid, Figs. 5-7, Table 2's
+    benchmark and claim B1 add to the paper's algorithms.
 
     Paper: none (the FP-DTW paper's ref. 3 and the OPW poster, run on its pairs).
     Notebook: 05_run_experiments.ipynb
@@ -204,22 +176,9 @@ _PATTERN = re.compile(
 
 @dataclass(frozen=True)
 class Algorithm:
-    """A resolved name: which entry, with which parameter, constraint and options.
-
-    Attributes
-    ----------
-    name : str
-        The name as given.
-    entry : Entry
-    value : int or None
-        The window ``w`` or band width ``c``.
-    typev : bool
-    options : dict
-        Non-default options of an FP-DTW method (``{"window": "literal"}``).
-    derivative : bool
-        The general option ``"derivative"``: the aligner runs on derivative motions
-        (:class:`fpdtw.derivative.DerivativeAligner`).
-    """
+    """A resolved name (as given): its entry, ``value`` (the window ``w`` or band width
+    ``c``), Type V, non-default ``options`` (``{"window": "literal"}``) and whether it runs
+    on derivative motions (:class:`fpdtw.derivative.DerivativeAligner`)."""
 
     name: str
     entry: Entry
@@ -258,7 +217,6 @@ class Algorithm:
 
     def run(self, I: MotionFeatures, T: MotionFeatures):
         """``(M, seconds)``: the map of the pair and, online, the time of each step."""
-
         if not self.online:
             return np.asarray(self.entry.build(I, T), dtype=np.int64), None
         M, seconds = run_online(self.make(I), T)
@@ -282,10 +240,8 @@ def _general(entry: Entry, text: str, name: str) -> tuple:
 
 
 def _options(entry: Entry, text: str, name: str) -> dict:
-    """The options named in brackets, by the labels of the aligner class's ``options``
-    table: the window methods', or one a non-window class defines itself (OLTW's
-    ``"weighted joints"``; not one it inherits, as ``"Mc auto"`` would from Method C).
-    The general option ``"derivative"`` is taken out before (:func:`_general`)."""
+    """The options in brackets, by the labels of the class's ``options`` table: a window
+    method's, or one a class defines itself (not inherits: ``"Mc auto"``)."""
     cls = entry.aligner_class
     own = cls is not None and "options" in vars(cls)
     if not (entry.window_method or own):
@@ -348,11 +304,8 @@ def by_cli(method: str) -> Entry:
 
 
 def name(key: str, value=None, typev: bool = False, **options) -> str:
-    """The canonical name of a configuration.
-
-    ``name("Mc", 40, window="literal")`` -> ``"Mc w40 (literal window)"``;
-    ``name("Ma")`` -> ``"Ma"``; ``name("OLTW", 60)`` -> ``"OLTW c60"``.
-    """
+    """The canonical name of a configuration: ``name("Mc", 40, window="literal")`` ->
+    ``"Mc w40 (literal window)"``, ``name("OLTW", 60)`` -> ``"OLTW c60"``."""
     entry = _BY_KEY.get(key)
     if entry is None:
         raise AlignmentError(f"unknown algorithm {key!r}")
@@ -372,23 +325,9 @@ def method_c_name(w: int, window: str = "square", typev: bool = False, **options
 
 
 def make_online(name: str, I: MotionFeatures, *, record=False, cache=None):
-    """The streaming aligner called ``name``, for the input motion ``I``.
-
-    Parameters
-    ----------
-    name : str
-    I : MotionFeatures
-        Input (recorded) motion.
-    record : bool
-        Keep the last window for inspection (FP-DTW methods only).
-    cache : WindowCache, optional
-        Shared by Methods B and C stepping together (see
-        :class:`fpdtw.online.window.WindowCache`); ignored by the others.
-
-    Returns
-    -------
-    aligner : OnlineAligner
-    """
+    """The streaming aligner called ``name`` for the input ``I``; ``record`` keeps the last
+    window (FP-DTW methods), ``cache`` (:class:`fpdtw.online.window.WindowCache`) is shared
+    by Methods B and C stepping together."""
     return resolve(name).make(I, cache=cache, record=record)
 
 
@@ -398,7 +337,6 @@ def align(name: str, I: MotionFeatures, T: MotionFeatures):
     Returns
     -------
     M : ndarray of int64, shape (n + 1,)
-        Input frame of each target frame.
     seconds : ndarray of float64, shape (n + 1,) or None
         Per-frame processing time (online algorithms only).
 
@@ -408,28 +346,9 @@ def align(name: str, I: MotionFeatures, T: MotionFeatures):
     return resolve(name).run(I, T)
 
 
-def _readings() -> tuple:
+#: Method C's readings of Algorithm 3's window, the default first (:class:`fpdtw.online.MethodC`).
+C_READINGS = (MethodC.options["window"][0], *MethodC.options["window"][1])
 
-    default, others = MethodC.options["window"]
-    return (default, *others)
-
-
-#: Method C's readings of Algorithm 3's window, the default first (see
-#: :class:`fpdtw.online.MethodC`).
-C_READINGS = _readings()
-
-__all__ = [
-    "C_READINGS",
-    "DERIVATIVE",
-    "ENTRIES",
-    "TYPE_V_SUFFIX",
-    "Algorithm",
-    "Entry",
-    "align",
-    "baselines",
-    "by_cli",
-    "make_online",
-    "method_c_name",
-    "name",
-    "resolve",
-]
+__all__ = ["C_READINGS", "DERIVATIVE", "ENTRIES", "TYPE_V_SUFFIX", "Algorithm", "Entry",
+           "align", "baselines", "by_cli", "make_online", "method_c_name", "name",
+           "resolve"]  # fmt: skip

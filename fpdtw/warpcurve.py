@@ -1,46 +1,16 @@
 """Time-warp curve of the OPW poster: a piecewise cubic Bezier through keys (an "F-curve").
 
-The curve maps LIVE time ``t`` (the motion being captured, the poster's B / X, on the
-x-axis) to WARPED time ``t' = f(t)`` in the RECORDING (the poster's A / Y, on the
-y-axis). It passes through its keys ``(x_i, y_i)`` (``x`` strictly increasing); between
-two keys it is one cubic Bezier segment (poster eq. 3)::
+``t' = f(t)`` maps LIVE time (the poster's B / X) to time in the RECORDING (A / Y). Between
+keys ``(x_i, y_i)`` it is one cubic Bezier segment (poster eq. 3) with ``P1 = P0 + (h/3,
+m_i h/3)`` and ``P2 = P3 - (h/3, m_{i+1} h/3)``, ``h = x_{i+1} - x_i``: one slope ``m_i``
+per key (tangents parallel, Fig. 2), and ``x`` linear in ``u``, so no root finding.
+Outside the keys ``f`` is clamped to ``y_0`` / ``y_{K-1}``.
 
-    B(u) = (1-u)^3 P0 + 3u(1-u)^2 P1 + 3u^2(1-u) P2 + u^3 P3,   u in [0, 1]
-
-with ``P0 = (x_i, y_i)``, ``P3 = (x_{i+1}, y_{i+1})`` and control points placed
-automatically, as MotionBuilder places an F-curve's (poster Section 3, Fig. 2)::
-
-    h  = x_{i+1} - x_i
-    P1 = P0 + (h/3, m_i h/3)
-    P2 = P3 - (h/3, m_{i+1} h/3)
-
-Each key has ONE slope ``m_i`` shared by the segments on both of its sides, so the
-left and right tangents at a key are parallel (G1, poster Fig. 2; in fact C1 as a
-function of t). Because the control points split ``[x_i, x_{i+1}]`` in thirds, the
-x-coordinate of a segment is LINEAR in ``u`` (``x(u) = x_i + u h``): evaluating the
-curve at a time ``t`` needs no root finding, ``u = (t - x_i) / h``. The segment is
-then the cubic Hermite interpolant with end slopes ``m_i, m_{i+1}``.
-
-Slopes (our automatic rule; the poster's MotionBuilder rule is not published):
-
-* interior key: the Catmull-Rom / central finite difference
-  ``c_i = (y_{i+1} - y_{i-1}) / (x_{i+1} - x_{i-1})`` (MotionBuilder's "auto" tangent
-  is also the direction between the neighbouring keys), LIMITED so that the curve is
-  monotonic whenever its keys are (Fritsch & Carlson 1980): with the secants
-  ``d_{i-1}, d_i`` of the two neighbouring segments, ``m_i = 0`` if they differ in sign
-  or one is zero, else ``m_i = sign(c_i) * min(|c_i|, 3 min(|d_{i-1}|, |d_i|))``.
-  Then every segment has ``m_i / d_i`` and ``m_{i+1} / d_i`` in ``[0, 3]``, the
-  Fritsch-Carlson square in which a cubic Hermite segment is monotonic.
-* first / last key: the secant of its only segment (``m_0 = d_0``,
-  ``m_{K-1} = d_{K-2}``), so a two-key curve is exactly the straight line through its
-  keys (the identity curve is ``t' = t`` everywhere, poster Table 1 row 1).
-
-Outside ``[x_0, x_{K-1}]`` the curve is clamped: ``f(t) = y_0`` before the first key,
-``y_{K-1}`` after the last (the recording holds its first / last pose).
-
-Keys can be added and moved while the curve is being built (OPW does this online);
-every change of the keys recomputes the slopes (O(K)), so an added key also changes the
-slopes of its neighbours, as auto tangents in an F-curve editor do.
+Reading (the poster's MotionBuilder rule is not published): an interior key's slope is the
+central difference ``(y_{i+1} - y_{i-1}) / (x_{i+1} - x_{i-1})`` limited as Fritsch and
+Carlson (1980) do, so the curve is monotonic where its keys are (0 where the neighbouring
+secants differ in sign, at most 3 times the smaller one); an end key's is its segment's
+secant, so two keys give a straight line. Every change of the keys recomputes the slopes.
 """
 
 from __future__ import annotations
@@ -56,16 +26,9 @@ class WarpCurve:
     Parameters
     ----------
     x : array_like of float, shape (K,)
-        Key times on the live (target) axis, strictly increasing, K >= 2.
+        Key times (live axis), strictly increasing, K >= 2.
     y : array_like of float, shape (K,)
-        Key values on the warped (recording) axis.
-
-    Attributes
-    ----------
-    keys : ndarray of float64, shape (K, 2)
-        The keys ``(x_i, y_i)`` (a copy).
-    slopes : ndarray of float64, shape (K,)
-        The slope ``m_i = dy/dx`` of the curve at each key.
+        Key values (recording axis).
 
     Paper: OPW poster Section 3, eq. 3, Fig. 2, Table 1.
     Notebook: 13_opw_fig4.ipynb
@@ -86,7 +49,6 @@ class WarpCurve:
         self._y = y
         self._m = None
 
-    # ------------------------------------------------------------------ constructors
     @classmethod
     def identity(cls, duration: float) -> WarpCurve:
         """The straight line ``t' = t`` from ``(0, 0)`` to ``(duration, duration)``."""
@@ -99,9 +61,9 @@ class WarpCurve:
         """An independent copy."""
         return WarpCurve(self._x, self._y)
 
-    # ------------------------------------------------------------------ keys
     @property
     def keys(self) -> np.ndarray:
+        """The keys ``(x_i, y_i)``, float64 (K, 2), a copy."""
         return np.column_stack([self._x, self._y])
 
     @property
@@ -118,20 +80,11 @@ class WarpCurve:
     def n_keys(self) -> int:
         return len(self._x)
 
-    def __len__(self):
-        return len(self._x)
-
     def __repr__(self):
         return f"WarpCurve({self.n_keys} keys, t in [{self._x[0]:g}, {self._x[-1]:g}])"
 
     def add_key(self, x: float, y: float) -> int:
-        """Insert a key; returns its index.
-
-        Raises
-        ------
-        ValueError
-            A key at the same time exists already, or a value is not finite.
-        """
+        """Insert a key; returns its index (ValueError: a key at that time, or not finite)."""
         x, y = float(x), float(y)
         if not (np.isfinite(x) and np.isfinite(y)):
             raise ValueError("key time and value must be finite")
@@ -144,13 +97,8 @@ class WarpCurve:
         return i
 
     def move_key(self, i: int, x: float | None = None, y: float | None = None) -> None:
-        """Move key ``i`` (negative indices count from the end) to a new time and/or value.
-
-        Raises
-        ------
-        ValueError
-            The new time would not lie strictly between the neighbouring keys.
-        """
+        """Move key ``i`` (negative: from the end) to a new time and/or value; ValueError
+        unless the time stays strictly between the neighbouring keys."""
         K = len(self._x)
         if not -K <= i < K:
             raise IndexError(f"key index {i} out of range for {K} keys")
@@ -172,9 +120,9 @@ class WarpCurve:
             self._y[i] = y
         self._m = None
 
-    # ------------------------------------------------------------------ slopes
     @property
     def slopes(self) -> np.ndarray:
+        """The slope ``m_i = dy/dx`` at each key, float64 (K,)."""
         return np.asarray(self._slopes())
 
     def _slopes(self) -> list:
@@ -183,13 +131,7 @@ class WarpCurve:
         return self._m
 
     def control_points(self) -> np.ndarray:
-        """Bezier control points of every segment.
-
-        Returns
-        -------
-        P : ndarray of float64, shape (K - 1, 4, 2)
-            ``P[k] = (P0, P1, P2, P3)`` of segment k, each ``(x, y)``.
-        """
+        """Bezier control points, float64 (K - 1, 4, 2): ``(P0, P1, P2, P3)`` per segment."""
         x = np.asarray(self._x)
         y = np.asarray(self._y)
         m = np.asarray(self._slopes())
@@ -201,7 +143,6 @@ class WarpCurve:
         P[:, 3, 0], P[:, 3, 1] = x[1:], y[1:]
         return P
 
-    # ------------------------------------------------------------------ evaluation
     def value(self, t: float) -> float:
         """``f(t)`` for one time (fast scalar path, used every frame by OPW)."""
         xs, ys = self._x, self._y
@@ -220,17 +161,7 @@ class WarpCurve:
         return v * v * v * p0 + 3.0 * u * v * v * p1 + 3.0 * u * u * v * p2 + u * u * u * p3
 
     def __call__(self, t):
-        """Evaluate ``f`` at times ``t`` (scalar or array, seconds).
-
-        Parameters
-        ----------
-        t : float or array_like of float, shape (N,)
-
-        Returns
-        -------
-        t_warped : float or ndarray of float64, shape (N,)
-            Clamped to ``y_0`` / ``y_{K-1}`` outside the keys.
-        """
+        """``f(t)`` for a time or an array of times (seconds)."""
         if np.ndim(t) == 0:
             return self.value(float(t))
         t = np.asarray(t, dtype=float)
@@ -238,8 +169,7 @@ class WarpCurve:
         return v**3 * p0 + 3.0 * u * v * v * p1 + 3.0 * u * u * v * p2 + u**3 * p3
 
     def _segments(self, t):
-        """For times ``t`` (array): the Bezier parameter ``u``, ``1 - u``, the segment
-        width ``h`` and the control values ``(P0, P1, P2, P3)`` of each time's segment."""
+        """Per time of ``t`` (array): ``u``, ``1 - u``, ``h`` and its segment's control values."""
         x = np.asarray(self._x)
         y = np.asarray(self._y)
         m = np.asarray(self._slopes())
@@ -260,7 +190,7 @@ class WarpCurve:
 
 
 def _auto_slopes(x, y) -> list:
-    """Slopes at the keys: limited Catmull-Rom inside, secants at the ends (module doc)."""
+    """Slopes at the keys: limited central differences inside, secants at the ends."""
     K = len(x)
     d = [(y[i + 1] - y[i]) / (x[i + 1] - x[i]) for i in range(K - 1)]
     m = [0.0] * K

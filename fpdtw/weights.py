@@ -1,10 +1,9 @@
 """Per-joint weights of eq. 1 from the recorded motion (an open question, notebook 16).
 
 FP-DTW's conclusion suggests pre-processing the recorded motion to weight its joints. The
-rule here (committed in 0b05346, 2026-11-23, before Q2's first results in 97738ec, and
-unchanged since; docs/history.md): each joint's weight is
-proportional to how far it turns over the whole INPUT ``I`` (known in advance), measured
-with eq. 1's own per-joint angle on the cost features' quaternions ``I.quats``.
+rule (committed in 0b05346, before Q2's first results in 97738ec, and unchanged since;
+docs/history.md): each joint's weight is proportional to how far it turns over the whole
+INPUT, measured with eq. 1's own per-joint angle.
 """
 
 from __future__ import annotations
@@ -17,11 +16,9 @@ from fpdtw.errors import AlignmentError
 def joint_weights(I) -> np.ndarray:
     """Weights of eq. 1's joints: each joint's total angular travel in the input motion.
 
-    ``travel_j = sum_{t >= 1} (2/pi) arccos |q_{t,j} . q_{t-1,j}|`` over the input's
-    frames (the quaternions eq. 1 compares, ``I.quats``), and ``w = travel / mean(travel)``
-    (mean 1). A still input (every travel zero) gets ``w = 1`` for every joint. There is
-    no floor: a joint that never moves gets weight 0 and no longer counts in the cost.
-    Eq. 1 becomes ``d = sum_j w_j (2/pi) arccos |q_{a,j} . q_{b,j}|``.
+    ``travel_j = sum_{t >= 1} (2/pi) arccos |q_{t,j} . q_{t-1,j}|`` over ``I.quats`` and
+    ``w = travel / mean(travel)``; a still input gets 1 for every joint. No floor: a joint
+    that never moves gets weight 0.
 
     Parameters
     ----------
@@ -31,12 +28,6 @@ def joint_weights(I) -> np.ndarray:
     Returns
     -------
     w : ndarray of float64, shape (k,)
-        Non-negative, mean 1.
-
-    Raises
-    ------
-    AlignmentError
-        Quaternions not of shape (frames, k, 4), or not finite.
 
     Paper: FP-DTW Section 7 (conclusion: weighting joints by pre-processing the recording).
     Notebook: 16_open_questions.ipynb
