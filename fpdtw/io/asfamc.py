@@ -45,25 +45,11 @@ def complete_order(applied: str) -> str:
 
 @dataclass(frozen=True, eq=False)
 class AsfSkeleton:
-    """A parsed ASF file: the :class:`~fpdtw.motion.Skeleton` plus what the AMC reader needs.
-
-    Attributes
-    ----------
-    skeleton : Skeleton
-        Joints ``("root", bones...)`` depth first in ``:hierarchy`` order, rest-aligned.
-    dofs : tuple of tuple of str, length J
-        Rotational dofs of each joint in file order (``()`` for the root and dof-less bones).
-    root_order : tuple of str
-        The AMC root channels in order, e.g. ``("TX", "TY", "TZ", "RX", "RY", "RZ")``.
-    directions : ndarray of float, shape (J, 3)
-        Unit bone directions at rest (zero for the root).
-    lengths : ndarray of float, shape (J,)
-        Bone lengths in file units (zero for the root).
-    angle_unit : str
-        ``"deg"`` or ``"rad"``.
-    length_scale : float
-        The ASF ``:units length``.
-    path : str
+    """A parsed ASF file: the rest-aligned ``skeleton`` (``("root", bones...)`` depth first in
+    ``:hierarchy`` order) plus what the AMC reader needs: ``dofs`` (each joint's rotational
+    dofs in file order), ``root_order`` (the AMC root channels), unit bone ``directions``
+    (J, 3) and ``lengths`` (J,) at rest (zero for the root), ``angle_unit`` ("deg" or "rad"),
+    ``length_scale`` (``:units length``) and ``path``.
     """
 
     skeleton: Skeleton
@@ -114,13 +100,9 @@ def _order(path, letters, line, what):
 
 def read_asf(path) -> AsfSkeleton:
     """Read an Acclaim ASF skeleton file (the rest-aligned model of the module docstring).
-
-    Raises
-    ------
-    MotionFormatError
-        Missing sections or fields, bad numbers, unknown or duplicate bones, translation or
-        length dofs, a hierarchy that does not reach every bone exactly once (naming the
-        file and line).
+    MotionFormatError, naming the file and line, for missing sections or fields, bad
+    numbers, unknown or duplicate bones, translation or length dofs, or a hierarchy that
+    does not reach every bone exactly once.
     """
     path = Path(path)
     lines = read_lines(path)
@@ -541,31 +523,14 @@ def _amc_fast(lines, layout, width):
 
 
 def read_amc(path, skeleton_or_asf_path=None, *, fps=None, name=None) -> Motion:
-    """Read an Acclaim AMC motion on its ASF skeleton.
+    """Read an Acclaim AMC motion on its ASF skeleton (``source="asf"``).
 
-    Parameters
-    ----------
-    path : str or os.PathLike
-    skeleton_or_asf_path : AsfSkeleton or str or os.PathLike, optional
-        Default: :func:`find_asf`.
-    fps : float, optional
-        Default from the file name (:func:`amc_fps`).
-    name : str, optional
-        Default the file stem.
-
-    Returns
-    -------
-    motion : Motion
-        ``source="asf"``; ``euler`` (F, J, 3) the AMC values in degrees in (x, y, z) columns,
-        ``root_translation`` (F, 3) the AMC ``TX TY TZ``.
-
-    Raises
-    ------
-    MotionFormatError
-        Empty file, no frames, a frame missing a bone (every frame must list every bone with
-        dofs), a bad or missing value, an unknown or dof-less or repeated bone, frame numbers
-        not consecutive, unknown keywords, a rate or frame count outside
-        :mod:`fpdtw.limits` (naming the file, line and frame).
+    ``skeleton_or_asf_path``: an :class:`AsfSkeleton` or its file (default :func:`find_asf`);
+    ``fps``: default from the name (:func:`amc_fps`); ``name``: default the file stem.
+    ``euler`` (F, J, 3) holds the AMC values in degrees, ``root_translation`` ``TX TY TZ``.
+    MotionFormatError, naming the file, line and frame, for an empty file, no frames, a
+    frame missing a bone with dofs, a bad value, an unknown, dof-less or repeated bone,
+    frame numbers not consecutive, unknown keywords, or limits (:mod:`fpdtw.limits`).
     """
     path = Path(path)
     if fps is None:

@@ -214,13 +214,10 @@ def is_header_end(text: str) -> bool:
 
 
 class BVHHeader:
-    """What a BVH file says before its first motion line, and how to read a motion line.
-
-    The one parser of BVH headers and motion lines, for :func:`read_bvh` and ``fpdtw serve``
-    alike: a take streamed and the same file read give identical frames, errors and limits.
-    Attributes: ``path`` (None for a stream), ``joints``, ``skeleton``, ``joint_map``,
-    ``n_channels``, ``frames`` (``Frames:``; None in a stream), ``fps``, ``end_line`` (the
-    ``Frame Time:`` line's number).
+    """What a BVH file says before its first motion line, and how to read a motion line: the
+    one parser of :func:`read_bvh` and ``fpdtw serve``, so a streamed take and the same file
+    give identical frames, errors and limits. ``frames`` is None in a stream; ``end_line`` is
+    the ``Frame Time:`` line's number.
     """
 
     def __init__(self, path, joints, frames, fps, end_line):
@@ -355,18 +352,11 @@ def _is_number(token: str) -> bool:
 
 
 def parse_bvh_header(lines, path=None, *, stream: bool = False) -> BVHHeader:
-    """Parse a BVH header: HIERARCHY, MOTION, ``Frames:`` and ``Frame Time:``.
-
-    ``lines``: at least through ``Frame Time:``; ``path``: named in errors (None: a stream,
-    where ``Frames:`` may be missing and is ignored).
-
-    Raises
-    ------
-    MotionFormatError
-        No MOTION section, bad or unbalanced braces, bad CHANNELS, more channels than
-        :data:`fpdtw.limits.MAX_CHANNELS`, a missing or malformed ``Frames:`` (files) or
-        ``Frame Time:``, a frame time <= 0, a rate or ``Frames:`` outside
-        :mod:`fpdtw.limits` (naming the file and line).
+    """Parse a BVH header (HIERARCHY, MOTION, ``Frames:``, ``Frame Time:``) from ``lines``;
+    ``path``: named in errors; ``stream``: ``Frames:`` may be missing and is ignored.
+    MotionFormatError (naming the file and line) for no MOTION, bad braces or CHANNELS, too
+    many channels, a missing or malformed ``Frames:`` or ``Frame Time:``, a frame time <= 0,
+    a rate or ``Frames:`` outside :mod:`fpdtw.limits`.
     """
     motion_at = next(
         (i for i, s in enumerate(lines) if s.split()[:1] and s.split()[0].upper() == "MOTION"),
@@ -415,15 +405,10 @@ def parse_bvh_header(lines, path=None, *, stream: bool = False) -> BVHHeader:
 
 
 def read_bvh(path, *, name=None) -> Motion:
-    """Read a BVH motion file (``source="bvh"``; joint names resolved with the ASF naming, CMU's
-    BVH keeping the ASF bone names, or the FBX naming if that resolves more).
-
-    Raises
-    ------
-    MotionFormatError
-        Everything :func:`parse_bvh_header` refuses, an empty file, ``Frames:`` not matching
-        the data lines, a bad motion line, varying non-root position channels (naming the
-        file, line and 0-based frame).
+    """Read a BVH motion file (``source="bvh"``; joint names by the ASF naming, which CMU's BVH
+    keeps, or the FBX naming if that resolves more). MotionFormatError (naming the file,
+    line and 0-based frame) for what :func:`parse_bvh_header` refuses, an empty file,
+    ``Frames:`` not matching the data lines, a bad motion line, varying non-root positions.
     """
     path = Path(path)
     lines = read_lines(path)
@@ -543,12 +528,10 @@ def bvh_lines(motion: Motion, *, precision: int = 6) -> tuple[list[str], list[st
 
 
 def write_bvh(motion: Motion, path, *, precision: int = 6) -> Path:
-    """Write a motion as a BVH file (overwritten); returns its path.
-
-    Every joint gets three rotation channels in its order (listed outermost first), the root
-    also ``Xposition Yposition Zposition``, leaves a zero ``End Site``; joints are written
-    depth first, resting as :func:`bvh_pose` says, so forward kinematics of the file equals
-    that of ``motion``. MotionFormatError for a joint name BVH cannot hold.
+    """Write a motion as a BVH file (overwritten) and return its path: three rotation channels
+    per joint in its order, the root's position channels, a zero ``End Site`` per leaf,
+    depth first, resting as :func:`bvh_pose` says (forward kinematics equal to ``motion``'s).
+    MotionFormatError for a joint name BVH cannot hold.
     """
     path = Path(path)
     try:

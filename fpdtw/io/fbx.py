@@ -50,26 +50,10 @@ _BONE = 5  # ufbx_element_type UFBX_ELEMENT_BONE
 
 
 def read_fbx(path, *, fps=None, name=None) -> Motion:
-    """Read one FBX take (binary or ASCII).
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-    fps : float, optional
-        Frame rate used only when no curve has two keys (else it must match the grid's).
-    name : str, optional
-        Default the file stem.
-
-    Returns
-    -------
-    motion : Motion
-        ``source="fbx"``; ``root_translation`` in file units.
-
-    Raises
-    ------
-    MotionFormatError
-        A missing, empty, truncated or non-FBX file, no animation, no skeleton, or anything
-        the module docstring lists as rejected (naming the file and what is wrong).
+    """Read one FBX take (binary or ASCII; ``source="fbx"``, lengths in file units). ``fps`` is
+    used only when no curve has two keys (else it must match the grid's); ``name`` defaults
+    to the file stem. MotionFormatError, naming the file, for a missing, empty, truncated or
+    non-FBX file, no animation, no skeleton, or anything the module docstring rejects.
     """
     p = Path(path)
     if check_input_file(p) == 0:

@@ -21,21 +21,10 @@ from fpdtw.motion.rotations import quat_normalize, quat_to_euler, unwrap_degrees
 
 @dataclass(frozen=True)
 class Frame:
-    """One frame of a motion as an online aligner receives it.
-
-    Attributes
-    ----------
-    quats : ndarray of float, shape (k, 4)
-        Local rotations of the k cost joints, unit quaternions (w, x, y, z).
-    euler : ndarray of float, shape (k, 3)
-        The same as Euler angles in degrees (x, y, z), unwrapped over the frames so far.
-    positions : ndarray of float, shape (p, 3) or None
-        Root-relative joint positions (OPW only).
-    orders : tuple of str or None
-        Rotation order of each joint (None: the input motion's).
-    rig : RigTransform or None
-        The rig of the frame's motion (None: the input motion's). A take's frames share the
-        orders and rig of its first frame.
+    """One frame as an online aligner receives it: ``quats`` (k, 4) of the k cost joints,
+    ``euler`` (k, 3) the same in degrees unwrapped over the frames so far, ``positions``
+    (p, 3) root-relative (OPW) or None, its ``orders`` and ``rig`` (None: the input
+    motion's; a take's frames share those of its first).
     """
 
     quats: np.ndarray
@@ -49,22 +38,11 @@ class Frame:
 class MotionFeatures:
     """Feature arrays of a whole motion.
 
-    Attributes
-    ----------
-    quats : ndarray of float64, shape (F, k, 4)
-        C-contiguous unit quaternions of the k cost joints.
-    euler : ndarray of float64, shape (F, k, 3)
-        Euler angles in degrees, unwrapped along time.
-    orders : tuple of str, length k
-        Rotation order of each joint (for the forecasts' quaternions).
-    fps : float
-    positions : ndarray of float64, shape (F, p, 3) or None
-        Root-relative positions of the position joints.
-    name : str
-    rig : RigTransform or None
-        :func:`fpdtw.motion.rig.rig_transform` (None: unknown, taken to be the other's).
-    body_size : float or None
-        :func:`fpdtw.motion.rig.body_size` in the positions' unit (None without positions).
+    ``quats`` (F, k, 4) and ``euler`` (F, k, 3; degrees, unwrapped) of the k cost joints,
+    their ``orders`` (for the forecasts), ``fps``, root-relative ``positions`` (F, p, 3) or
+    None, ``name``, ``rig`` (:func:`fpdtw.motion.rig.rig_transform`; None: unknown, taken to
+    be the other's) and ``body_size`` (:func:`fpdtw.motion.rig.body_size`; None without
+    positions).
     """
 
     quats: np.ndarray
@@ -87,21 +65,9 @@ class MotionFeatures:
         rig=None,
         position_scale: float = 1.0,
     ):
-        """Cut the features out of a :class:`~fpdtw.motion.Motion`.
-
-        Parameters
-        ----------
-        motion : Motion
-        joints : sequence of str
-            Cost joints (canonical names), default the paper's 8.
-        position_joints : sequence of str or None
-            Joints whose root-relative positions to include; None skips forward kinematics.
-        rest_frame : int, optional
-            Frame taken as the rest pose for the rig transform (default: the rig's own).
-        rig : RigTransform, optional
-            The rig transform to carry (default: computed from ``motion``).
-        position_scale : float
-            Factor applied to the positions and the body size.
+        """Cut the features out of a :class:`~fpdtw.motion.Motion`: its cost ``joints`` (default
+        the paper's 8), the root-relative positions of ``position_joints`` (None: no forward
+        kinematics) times ``position_scale``; ``rig`` (default: computed, with ``rest_frame``).
         """
         quats = np.ascontiguousarray(motion.rotations(joints), dtype=np.float64)
         euler = np.ascontiguousarray(unwrap_degrees(motion.eulers(joints), axis=0))

@@ -118,22 +118,9 @@ def _frame_positions(quats, pre, post, offsets, parents, root, pos, rot):
 
 
 def frame_positions(skeleton, quats, root_translation, joints=None, root_relative=True):
-    """Joint positions of one frame, bit for bit ``Motion.positions(joints, root_relative)``.
-
-    Parameters
-    ----------
-    skeleton : Skeleton
-    quats : ndarray of float64, shape (J, 4)
-        Local rotations of the frame.
-    root_translation : ndarray of float64, shape (3,)
-    joints : ndarray of int, optional
-        Skeleton indices of the joints to return (default: all).
-    root_relative : bool
-        Subtract the root's position.
-
-    Returns
-    -------
-    positions : ndarray of float64, shape (len(joints), 3)
+    """Positions (len(joints), 3) of one frame from its local rotations ``quats`` (J, 4) and
+    ``root_translation`` (3,): bit for bit ``Motion.positions(joints, root_relative)``.
+    ``joints``: skeleton indices (default all).
 
     Paper: OPW poster eq. 5 (poses compared by root-relative joint positions).
     """

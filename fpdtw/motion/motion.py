@@ -74,30 +74,13 @@ def joint_quats(euler, orders) -> np.ndarray:
 
 
 def blend_poses(q0, q1, e0, e1, r0, r1, a, orders, joints=None):
-    """Poses a fraction ``a`` (N,) of the way from one pose to another (:meth:`Motion.retime`,
-    and the live target between two frames).
+    """Poses a fraction ``a`` (N,) of the way between two poses, as :meth:`Motion.retime` and the
+    live target make them: ``(q, euler, r)``.
 
-    Rotations by slerp, root translation linearly, Euler angles from the slerped quaternions
-    on the branch nearest the linear interpolation of the two poses' own angles (continuous);
-    each row computed on its own.
-
-    Parameters
-    ----------
-    q0, q1 : ndarray of float, shape (N, J, 4)
-    e0, e1 : ndarray of float, shape (N, J, 3)
-        Euler angles (degrees) of the same poses.
-    r0, r1 : ndarray of float, shape (N, 3)
-        Root translations.
-    a : ndarray of float, shape (N,)
-    orders : sequence of str, length J
-    joints : ndarray of int, optional
-        The joints whose Euler angles to compute (default: all).
-
-    Returns
-    -------
-    q : ndarray of float64, shape (N, J, 4)
-    euler : ndarray of float64, shape (N, len(joints), 3)
-    r : ndarray of float64, shape (N, 3)
+    Rotations ``q0, q1`` (N, J, 4) by slerp, root translations ``r0, r1`` (N, 3) linearly,
+    Euler angles (N, len(joints), 3) from the slerped quaternions in ``orders``, on the branch
+    nearest the linear interpolation of ``e0, e1`` (N, J, 3) (so they stay continuous); each
+    row computed on its own. ``joints``: whose Euler angles (default all).
     """
     q = quat_slerp(q0, q1, a[:, None] * np.ones(q0.shape[1]))
     r = (1 - a)[:, None] * r0 + a[:, None] * r1
@@ -133,19 +116,10 @@ EXACT_FRAMES = 1e-6
 class Skeleton:
     """Joint hierarchy with rest offsets.
 
-    Parameters
-    ----------
-    joint_names : tuple of str, length J
-        Parents before children.
-    parents : ndarray of int, shape (J,)
-        -1 for the root (exactly one, listed first).
-    offsets : ndarray of float, shape (J, 3)
-        Translation of each joint from its parent, in the parent's frame.
-    rotation_orders : tuple of str, length J
-    pre_rotations, post_rotations : ndarray of float, shape (J, 4)
-        Fixed rotations before/after the animated one (default identity).
-    units : str
-        Length unit, for information.
+    ``joint_names`` (J,) parents first; ``parents`` (J,) int, -1 for the root (one, first);
+    ``offsets`` (J, 3) from the parent, in its frame; ``rotation_orders`` (J,);
+    ``pre_rotations``, ``post_rotations`` (J, 4): fixed rotations around the animated one
+    (default identity); ``units``: the length unit, for information.
     """
 
     joint_names: tuple
@@ -198,30 +172,14 @@ class Skeleton:
 class Motion:
     """A motion clip: local joint rotations over time on a skeleton.
 
-    Parameters
-    ----------
-    name : str
-    fps : float
-    skeleton : Skeleton
-    euler : ndarray of float, shape (F, J, 3)
-        Local Euler angles in degrees, (x, y, z) columns, in each joint's order.
-    root_translation : ndarray of float, shape (F, 3)
-        Added to the root's offset.
-    quats : ndarray of float, shape (F, J, 4), optional
-        Unit quaternions; computed from ``euler`` when omitted.
-    source : str
-        ``"fbx"``, ``"asf"`` or ``"bvh"`` (which joint maps come first).
-    path : str
-        File it was read from (named in errors).
-    joint_map : dict of str to str, optional
-        Canonical joint name -> skeleton joint name (default:
-        :func:`fpdtw.motion.joints.find_joint_map`).
+    ``euler`` (F, J, 3): local Euler angles in degrees, (x, y, z) columns, each joint in its
+    order; ``root_translation`` (F, 3), added to the root's offset; ``quats`` (F, J, 4),
+    computed from ``euler`` when omitted; ``source``: ``"fbx"``, ``"asf"`` or ``"bvh"`` (whose
+    joint maps come first); ``path``: named in errors; ``joint_map``: canonical name ->
+    skeleton name (default :func:`fpdtw.motion.joints.find_joint_map`).
 
-    Raises
-    ------
-    MotionFormatError
-        Shapes that do not fit, no frames, a frame rate that is not positive, a non-finite
-        value, or a magnitude beyond :data:`fpdtw.limits.MAX_ABS_VALUE`.
+    MotionFormatError for shapes that do not fit, no frames, a rate that is not positive, a
+    non-finite value or one beyond :data:`fpdtw.limits.MAX_ABS_VALUE`.
     """
 
     name: str
@@ -435,11 +393,9 @@ class Motion:
         )
 
     def resample(self, fps: float) -> Motion:
-        """Resample to another frame rate: frame ``k`` at ``k / fps`` s, up to the last frame's
-        time (120 -> 60 Hz keeps every second frame exactly).
-
-        LimitError for a rate outside :func:`fpdtw.limits.fps_range` or a result beyond
-        :data:`fpdtw.limits.MAX_FRAMES` (or of one frame from two or more), before allocating.
+        """Resample to rate ``fps``: frame ``k`` at ``k / fps`` s, up to the last frame's time
+        (120 -> 60 Hz keeps every second frame). LimitError, before allocating, for a rate
+        outside :func:`fpdtw.limits.fps_range` or a result beyond the frame limits.
 
         Paper: FP-DTW Table 1.
         """

@@ -156,10 +156,9 @@ def common_rotations(motion, joints=PAPER_JOINTS, rest_frame=None) -> np.ndarray
 
 
 def cost_input(I_quats, rig_I, rig_T) -> np.ndarray:
-    """The input's rotations (m + 1, k, 4) as eq. 1 compares them with a target of rig ``rig_T``.
-
-    ``I_quats`` itself when a rig is unknown (None) or both are the same (eq. 1 on raw local
-    rotations, as the papers); else expressed in the target's rig (C-contiguous).
+    """The input's rotations (m + 1, k, 4) as eq. 1 compares them with a target of rig ``rig_T``:
+    ``I_quats`` itself when a rig is unknown (None) or both are the same (eq. 1 on the raw
+    local rotations, as the papers), else expressed in the target's rig.
 
     Paper: FP-DTW eq. 1.
     """

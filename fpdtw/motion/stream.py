@@ -43,32 +43,12 @@ def _same_rate(a: float, b: float) -> bool:
 class LiveTarget:
     """The target motion of a live alignment, built from frames as they arrive.
 
-    Parameters
-    ----------
-    skeleton : Skeleton
-        The streamed skeleton (the features come from it, never from the input's).
-    fps : float
-        The target's own frame rate.
-    rate : float
-        Ticks per second: the input's frame rate.
-    joint_map : dict of str to str, optional
-        Canonical joint name -> the skeleton's (default: names as given).
-    joints : sequence of str
-        Cost joints (default the paper's 8).
-    position_joints : sequence of str, optional
-        Joints whose root-relative positions the frames carry (OPW).
-    gap : {"slerp", "hold"}
-    input_body_size : float, optional
-        The input's body size: positions are rescaled by
-        :func:`fpdtw.motion.rig.position_scale` against the streamed skeleton's.
-    where : str, optional
-        What errors name (a file, or None: a stream).
-
-    Raises
-    ------
-    MotionFormatError
-        A joint missing from the skeleton, or an offset beyond
-        :data:`fpdtw.limits.MAX_ABS_VALUE`.
+    ``skeleton``: the streamed one (the features come from it); ``fps``: its frame rate;
+    ``rate``: ticks per second, the input's rate; ``joint_map``: canonical -> its names;
+    ``joints``: cost joints; ``position_joints``: whose root-relative positions the frames
+    carry (OPW), rescaled by :func:`fpdtw.motion.rig.position_scale` of ``input_body_size``
+    and the skeleton's; ``gap``: "slerp" or "hold"; ``where``: what errors name (None: a
+    stream). MotionFormatError for a joint the skeleton lacks or an implausible offset.
     """
 
     def __init__(
@@ -191,30 +171,13 @@ class LiveTarget:
     def push(
         self, euler, root_translation, t: float, *, arrival=False, line=None, frame=None
     ) -> list:
-        """Receive the next frame; return the ticks it completes.
+        """Receive the next frame; return the ticks it completes, ``[(tick, Frame, filled)]``.
 
-        Parameters
-        ----------
-        euler : ndarray of float, shape (J, 3)
-            Local Euler angles (degrees, (x, y, z), each joint in the skeleton's order).
-        root_translation : ndarray of float, shape (3,)
-        t : float
-            Its capture or arrival time (s), on a clock the take's frames share.
-        arrival : bool
-            ``t`` is an arrival time: frames that arrived together are consecutive.
-        line, frame : int, optional
-            Named by errors.
-
-        Returns
-        -------
-        ticks : list of (int, Frame, bool)
-            Tick index, its frame, whether it was filled (inside a gap); possibly empty.
-
-        Raises
-        ------
-        MotionFormatError
-            A value beyond :data:`fpdtw.limits.MAX_ABS_VALUE`, a time not after the previous
-            frame's, a gap beyond :data:`fpdtw.limits.MAX_GAP_S`, or too many ticks.
+        ``euler`` (J, 3): local Euler angles in degrees; ``root_translation`` (3,); ``t``: its
+        capture time, or with ``arrival`` its arrival time (frames that arrived together are
+        consecutive); ``line``, ``frame``: named in errors. MotionFormatError for a value beyond
+        :data:`fpdtw.limits.MAX_ABS_VALUE`, a time not after the previous, a gap beyond
+        :data:`fpdtw.limits.MAX_GAP_S`, or too many ticks.
         """
         euler = np.asarray(euler, dtype=float).reshape(self.skeleton.n_joints, 3)
         r = np.asarray(root_translation, dtype=float).reshape(3)

@@ -55,25 +55,13 @@ def band_window(start: int, w_i: int, q: int, band: int):
 
 
 def band_cells(M, m: int, w: int, method: str, band: str = "half-w"):
-    """Cells of eq. 1 computed at each window step of a band aligner's map, with and without
-    its band.
+    """``(q, full, banded)`` (int64 each): the window steps of a band aligner's map ``M`` and
+    the cells of eq. 1 each computes without and with its band.
 
     A step at ``q`` has a window when ``n = q - 1 >= 2`` and ``M_n < m``: Method B,
     ``min(w, m - M_n) + 1`` rows by ``w + 1`` columns; Method C's square window,
     ``min(w - 1, m - M_n) + 1`` rows by ``w``. ``"half-w"`` computes only the rows of
     :func:`band_window`; ``"1s"`` masks, so computes all.
-
-    Parameters
-    ----------
-    M : ndarray of int, shape (n + 1,)
-    m, w : int
-    method : {"B", "C"}
-    band : {"half-w", "1s"}
-
-    Returns
-    -------
-    q, full, banded : ndarray of int64, shape (s,)
-        The window steps' target frames and their cells without and with the band.
 
     Paper: FP-DTW Section 7 (conclusion: a global constraint).
     """

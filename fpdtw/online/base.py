@@ -69,20 +69,13 @@ def compiled_frame(frame, i: int, capacity: int, Tp):
 
 
 class OnlineAligner(ABC):
-    """Base class of online aligners: subclasses implement :meth:`_step`.
+    """Base class of online aligners (``I``: the input motion); subclasses implement :meth:`_step`.
 
-    The base class keeps the received frames (``T_quats``, ``T_euler``, ``T_positions``) and
-    the map so far (``M``). An aligner whose steps read only the last :attr:`history` frames
-    keeps, once its buffers hold :data:`fpdtw.limits.HISTORY_FRAMES` rows, only the latest
-    ``max(history, 16)`` (compacted in place: memory bounded by the window); the arrays then
-    start at :attr:`history_start`. ``history = None`` or ``record=True`` keeps every frame.
-    :meth:`_step`'s ``q`` is the new frame's ROW in the buffers (its frame number until the
-    first compaction).
-
-    Parameters
-    ----------
-    I : MotionFeatures
-        Input (prerecorded) motion, fully known.
+    It keeps the received frames (``T_quats``, ``T_euler``, ``T_positions``) and the map
+    (``M``). With a bounded :attr:`history`, once the buffers hold
+    :data:`fpdtw.limits.HISTORY_FRAMES` rows only the latest ``max(history, 16)`` are kept
+    (from :attr:`history_start` on); ``history = None`` or ``record=True`` keeps all.
+    :meth:`_step`'s ``q`` is the new frame's ROW in the buffers.
     """
 
     #: Short name used in results and figures (e.g. ``"Mc w40"``).
@@ -219,22 +212,8 @@ class OnlineAligner(ABC):
 
 
 def run_online(aligner: OnlineAligner, T: MotionFeatures, *, reset=True):
-    """Run an online aligner over a whole target motion, frame by frame.
-
-    Parameters
-    ----------
-    aligner : OnlineAligner
-    T : MotionFeatures
-        Target motion; its frames are fed one at a time.
-    reset : bool
-        Reset the aligner first.
-
-    Returns
-    -------
-    M : ndarray of int64, shape (n,)
-        Input frame mapped to each target frame.
-    seconds : ndarray of float64, shape (n,)
-        Wall time of each ``step`` call.
+    """Run an online aligner over target ``T`` frame by frame (``reset`` first): ``(M, seconds)``,
+    the int64 map (n,) and each ``step`` call's wall time (n,).
     """
     if reset:
         aligner.reset()

@@ -11,21 +11,11 @@ from fpdtw.online.window import METHOD_A, P_METHOD, P_TIES_HIGH, WindowAligner
 class MethodA(WindowAligner):
     """Method A (Algorithm 1): frame matching in a small forward window.
 
-    ``M_{n+1} = M_n + argmin_i geoDistance(I_{M_n + i}, T_{n+1})`` over the ``w_i + 1``
-    frames ``I_{M_n}..I_{M_n + w_i}``, ``w_i = min(w, m - M_n)`` (one target column, no
-    path). Silent choices of the paper: ``M_0 = 0``; ties take the lowest ``i``
-    (``ties="high"``: the highest). Default ``w = 2`` (the paper's, like a Type I
-    constraint). Type V skips the offsets its state does not allow (advance 1 always is).
-
-    Parameters
-    ----------
-    I : MotionFeatures
-        Input (recorded) motion.
-    w : int
-        Window size, default 2.
-    constraint : None, "typeV" or TypeV
-    record : bool
-        Keep a :class:`~fpdtw.online.window.WindowSnapshot` of the last step.
+    ``M_{n+1} = M_n + argmin_i geoDistance(I_{M_n + i}, T_{n+1})`` over ``I_{M_n}..I_{M_n +
+    w_i}``, ``w_i = min(w, m - M_n)`` (one target column, no path). Silent choices of the
+    paper: ``M_0 = 0`` (``start="best"``); ties the lowest ``i`` (``ties="high"``). Default
+    ``w = 2`` (the paper's, like a Type I constraint); Type V as in
+    :class:`~fpdtw.online.window.WindowAligner`.
 
     Plain version: fpdtw.plain.method_a_step.
     Paper: FP-DTW Algorithm 1.

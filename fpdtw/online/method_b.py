@@ -10,34 +10,19 @@ from fpdtw.online.window import METHOD_B, P_INPUT_FIRST, P_METHOD, ForecastAlign
 class MethodB(ForecastAligner):
     """Method B (Algorithm 2): DTW path through a forecast window.
 
-    After the warm-up (:class:`~fpdtw.online.window.ForecastAligner`): the ``w_i + 1``
-    input rows ``I_{M_n}..I_{M_n + w_i}``, ``w_i = min(w, m - M_n)``, against ``w + 1``
-    columns ``[T_n, T_{n+1}, T_{n+1} + delta, ..., T_{n+1} + (w - 1) delta]`` (dead
-    reckoning, ``delta = T_{n+1} - T_n`` in unwrapped Euler angles); eq. 1 costs, symmetric
-    DTW accumulation from (0, 0), then ``D[0, 0] = 10000`` (after accumulating: it only
-    steers the back-track into (0, 0) through (1, 0) or (0, 1)); back-track from the far
-    corner with the overwrite rule, ``M_{n+1} = M_n + P_1``, the LOWEST row the path visits
-    in column ``T_{n+1}``. Type V sets ``C[r, 1] = +inf`` on the rows its state forbids.
+    After the warm-up (:class:`~fpdtw.online.window.ForecastAligner`): rows ``I_{M_n}..I_{M_n +
+    w_i}``, ``w_i = min(w, m - M_n)``, against ``w + 1`` columns ``[T_n, T_{n+1}, T_{n+1} +
+    delta, ..., T_{n+1} + (w - 1) delta]`` (dead reckoning on unwrapped Euler angles); eq. 1
+    costs, symmetric DTW from (0, 0), then ``D[0, 0] = 10000`` (after accumulating: it only
+    steers the back-track into (0, 0) through (1, 0) or (0, 1)); back-track with the
+    overwrite rule; ``M_{n+1} = M_n + P_1``, the LOWEST row the path visits in column
+    ``T_{n+1}``. Type V sets ``C[r, 1] = +inf`` on the rows its state forbids.
 
-    Silent choices of the paper (notebook 15 measures each): ``M_0 = 0`` (``start="best"``);
-    back-track ties take the diagonal, then the step back one target frame (``backtrack=
-    "input-first"``: one input frame first; the two tie at (1, 1) for an input aligned to
-    itself, where advancing keeps the identity map); dead reckoning (``forecast="hold"``).
-
-    Parameters
-    ----------
-    I : MotionFeatures
-        Input (recorded) motion.
-    w : int
-        Forecast window size (the paper: 10, 20, 40, 80).
-    constraint : None, "typeV" or TypeV
-    forecast : {"dead-reckoning", "hold"}
-    backtrack : {"target-first", "input-first"}
-    start : {"zero", "best"}
-    record : bool
-        Keep a :class:`~fpdtw.online.window.WindowSnapshot` of the last step.
-    cache : WindowCache, optional
-        Shared with other B/C aligners stepping over the same target (speed only).
+    Silent choices (notebook 15 measures each): ``M_0 = 0`` (``start="best"``); back-track
+    ties take the diagonal, then the step back one target frame (``backtrack="input-first"``:
+    one input frame; at (1, 1) the two tie for an input aligned to itself, and advancing
+    keeps the identity map); dead reckoning (``forecast="hold"``). ``w``: the paper's 10,
+    20, 40 or 80; ``cache``: a shared :class:`~fpdtw.online.window.WindowCache`.
 
     Plain version: fpdtw.plain.method_b_step.
     Paper: FP-DTW Algorithm 2, Fig. 4.

@@ -36,41 +36,25 @@ READINGS = {
 class MethodC(ForecastAligner):
     """Method C (Algorithm 3): reverse-accumulated forecast window.
 
-    After the warm-up (:class:`~fpdtw.online.window.ForecastAligner`; ``M_n = m`` maps to
-    ``m``, the case every reading gives): ``F = [T_{n+1}, T_{n+1} + delta, ...,
-    T_{n+1} + (w - 1) delta]`` (``w`` columns), eq. 1 costs against the window's input rows,
-    ``D`` = REVERSE accumulation from the far corner, ``M_{n+1} = M_n + argmin_i D[i, 0]``;
-    ties the lowest ``i`` (a silent choice; ``ties="high"``). Type V sets ``C[r, 0] = +inf``
-    on the rows its state forbids.
+    After the warm-up (:class:`~fpdtw.online.window.ForecastAligner`): ``w`` columns ``[T_{n+1},
+    T_{n+1} + delta, ...]``, eq. 1 costs against the window's rows, REVERSE accumulation from
+    the far corner, ``M_{n+1} = M_n + argmin_i D[i, 0]``, ties the lowest ``i`` (a silent
+    choice; ``ties="high"``). Type V sets ``C[r, 0] = +inf`` on the rows its state forbids.
 
-    The window (``window=``). Algorithm 3 declares ``C, D`` of size ``w_i x w`` but fills
-    them from ``{I_{M_n}..I_{M_n+w_i}}``, ``w_i + 1`` rows; against ``w`` columns with the
-    path pinned to the far corner, a hold then pays one extra cell and the method almost
-    never holds.
+    The window (``window=``). Algorithm 3 declares ``C, D`` of size ``w_i x w`` but fills them
+    from ``{I_{M_n}..I_{M_n+w_i}}``, ``w_i + 1`` rows; with the path pinned to the far corner
+    a hold then pays one extra cell, and the method almost never holds.
 
-    ``"square"`` (default)
-        The declared size: ``w`` rows by ``w`` columns, ``w_i = min(w - 1, m - M_n)`` (the
-        end test read as keeping the last row inside the input, or ``m`` is never reached).
-    ``"literal"``
-        The range as written: ``w_i = min(w, m - M_n)``, ``w_i + 1`` rows by ``w`` columns.
-    ``"square-tn"``
-        Method B's columns ``[T_n, T_{n+1}, ...]``, argmin over the ``T_n`` column.
-    ``"open-end"``
-        The literal window, the path free to end in any row of the last column.
-    ``"normalised"``
-        The literal window with symmetric2 weights, ``D[r, 0]`` divided by its paths'
-        weight ``(w_i + 1 - r) + w``.
+    * ``"square"`` (default): the declared size, ``w`` rows, ``w_i = min(w - 1, m - M_n)``
+      (the end test read as keeping the last row inside the input, or ``m`` is never reached);
+    * ``"literal"``: the range as written, ``w_i = min(w, m - M_n)``, ``w_i + 1`` rows;
+    * ``"square-tn"``: Method B's columns ``[T_n, T_{n+1}, ...]``, argmin in ``T_n``'s;
+    * ``"open-end"``: literal, the path free to end in any row of the last column;
+    * ``"normalised"``: literal, symmetric2 weights, ``D[r, 0]`` over its paths' weight.
 
-    Other silent choices (notebook 15): ``forecast="hold"``; ``forecast_start="next"``
-    (``F`` starts at the first prediction); ``start="best"``.
-
-    Parameters
-    ----------
-    I, w, constraint, forecast, start, record, cache
-        As for :class:`~fpdtw.online.method_b.MethodB`; ``w >= 2``.
-    window : {"square", "literal", "square-tn", "open-end", "normalised"}
-    forecast_start : {"T_{n+1}", "next"}
-    ties : {"low", "high"}
+    Other silent choices (notebook 15): ``forecast="hold"``, ``forecast_start="next"`` (``F``
+    from the first prediction), ``start="best"``. Other arguments as
+    :class:`~fpdtw.online.method_b.MethodB`'s; ``w >= 2``.
 
     Plain version: fpdtw.plain.method_c_step.
     Paper: FP-DTW Algorithm 3, Section 3.3.

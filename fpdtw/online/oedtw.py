@@ -69,16 +69,9 @@ def _oe_step(Isoa, Tq, cols, q, wd, norm_offset, c):
 
 class OEDTW(OnlineAligner):
     """Open-end DTW: ``step`` returns the best end point ``e_q`` (not monotonic).
-
-    Parameters
-    ----------
-    I : MotionFeatures
-        Input (recorded) motion, ``m + 1`` frames.
-    step_pattern : {"symmetric1", "symmetric2"}
-        DTW recursion, as in :func:`fpdtw.dtw.accumulate`.
-    normalize : bool
-        Divide by ``(q + 1) + (i + 1)`` before the argmin, as dtw-python's
-        ``open_end=True`` does (``"symmetric2"`` only).
+    ``step_pattern``: "symmetric1" or "symmetric2" (:func:`fpdtw.dtw.accumulate`);
+    ``normalize``: divide by ``(q + 1) + (i + 1)`` first, as dtw-python's ``open_end=True``
+    (symmetric2 only).
 
     Plain version: fpdtw.plain.oe_dtw_end_points (symmetric1, not normalised).
     Paper: FP-DTW Section 2 and Fig. 1 (Tormene et al. 2009).
@@ -153,11 +146,8 @@ class OEDTW(OnlineAligner):
         return self._cols[: self.n_received].T.copy()
 
     def path(self, q: int | None = None) -> np.ndarray:
-        """Partial alignment path of target frame ``q`` (default the last; negative from the end).
-
-        Back-tracks the stored columns from ``e_q`` with :func:`fpdtw.dtw.backtrack`'s ties: the
-        path of :func:`fpdtw.dtw.dtw` on ``C[:e_q + 1, :q + 1]``, int64 (L, 2) cells (input
-        frame, target frame) from ``(0, 0)`` to ``(e_q, q)``.
+        """Partial alignment path (L, 2) of target frame ``q`` (default the last), from ``(0, 0)``
+        to ``(e_q, q)``: :func:`fpdtw.dtw.dtw`'s path on ``C[:e_q + 1, :q + 1]``.
 
         Paper: FP-DTW Fig. 1 (paths for consecutive target frames).
         """

@@ -63,11 +63,9 @@ def _work_views(work, c, k):
 
 @numba.njit(cache=True)
 def _new_band_line(Iq, Isoa, R, D, dl, acc, c, i, q, column, wts):
-    """Evaluate the new line at the corner (i, q): target column q (``column``) or input row i.
-
-    ``D`` is a ring: cell (i', q') lives at ``D[i' % c, q' % c]``; the line's first cell has
-    one predecessor only (outside the band is unreachable). Its local costs (eq. 1, ``wts``
-    or empty) come first in one vectorised pass, bit-identical to ``_geo_frame``.
+    """Evaluate the new line at the corner (i, q): target column q (``column``) or input row i,
+    in the ring ``D`` (cell (i', q') at ``D[i' % c, q' % c]``; outside the band unreachable),
+    its eq. 1 costs first in one vectorised pass, bit-identical to ``_geo_frame``.
     """
     lo = max(0, (i if column else q) - c + 1)
     hi = (i if column else q) + 1
@@ -152,10 +150,7 @@ def _apply(Iq, Isoa, R, D, dl, acc, st, c, inc, wts):
 @numba.njit(cache=True)
 def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normalize, log, wts):
     """Receive target frame ``q_new``; grow the matrix; return (M_q, number of log rows).
-
-    ``Tq``: the target frames kept (frame q' in row ``q' - base``); ``st`` (5,): corner i,
-    corner q, previous increment, run count, pending increment; ``log`` (rows, 7): this
-    step's decisions; ``wts``: eq. 1's joint weights, or empty.
+    ``st`` (5,): corner i, corner q, previous increment, run count, pending increment.
     """
     m = Iq.shape[0] - 1
     D, R, dl, acc = _work_views(work, c, Iq.shape[1])
@@ -215,25 +210,12 @@ def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normaliz
 class OLTW(OnlineAligner):
     """Dixon's on-line time warping behind the streaming interface (module docstring).
 
-    Parameters
-    ----------
-    I : MotionFeatures
-        Input (recorded) motion, fully known.
-    c : int
-        Search width (band) in frames, >= 2; default 120.
-    max_run_count : int
-        Dixon's MaxRunCount, >= 1 (default 3).
-    warmup : bool
-        BOTH until the band is full (Dixon's start; False: the argmin at once).
-    normalize : bool
-        Compare path costs divided by ``1 + i + q`` (default True).
-    constraint : None
-        For the common constructor signature; anything else is an error.
-    record : bool
-        Keep every decision (:attr:`decisions`) and the on-line path (:attr:`path`).
-    weights : {"none", "travel"}
-        ``"travel"``: eq. 1 weighted by :func:`fpdtw.weights.joint_weights` (beyond the
-        papers, notebook 16's Q2).
+    ``c``: the search width in frames (>= 2, default 120); ``max_run_count``: Dixon's
+    MaxRunCount (default 3); ``warmup``: BOTH until the band is full (False: the argmin at
+    once); ``normalize``: compare costs divided by ``1 + i + q``; ``constraint``: None only
+    (the common signature); ``record``: keep :attr:`decisions` and :attr:`path`;
+    ``weights="travel"``: eq. 1 weighted by :func:`fpdtw.weights.joint_weights` (beyond the
+    papers, notebook 16's Q2).
 
     Paper: FP-DTW reference 3 (Dixon, DAFx 2005).
     Notebook: 20_align_a_live_performance.ipynb
@@ -344,8 +326,7 @@ class OLTW(OnlineAligner):
 
 
 def run_pair(I: MotionFeatures, T: MotionFeatures, pair_info=None, *, c: int = 120):
-    """``(M, seconds)`` of OLTW over one pair: a picklable hook for
-    :func:`fpdtw.paper.runner.run.register_algorithm`.
+    """``(M, seconds)`` of OLTW over one pair: a picklable hook for ``register_algorithm``.
 
     Paper: FP-DTW reference 3 (Dixon 2005); the evaluation of Section 4.
     """

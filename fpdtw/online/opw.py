@@ -49,23 +49,10 @@ _EPS = 1e-9
 def opw_step(
     f, t, A, B, omega, gamma, fps_A, fps_B, reference="curve", direction="code", read_at="eq4"
 ):
-    """One OPW step at live time ``t`` (module docstring); changes ``f`` in place.
+    """One OPW step at live time ``t``, changing ``f`` in place: ``(s, [p_0, p_1, p_2])``.
 
-    Parameters
-    ----------
-    f : WarpCurve
-    t, omega, gamma, fps_A, fps_B : float
-    A, B : ndarray of float, shape (frames, p, 3)
-        The recording's positions; the live positions received so far.
-    reference : {"curve", "ratio"}
-    direction : {"code", "readme"}
-    read_at : {"eq4", "listing"}
-        With ``reference="curve"`` (:func:`fpdtw.plain.opw_times`).
-
-    Returns
-    -------
-    s : int
-    p : list of float, length 3
+    ``A`` (F_A, p, 3): the recording's positions; ``B`` (F_B, p, 3): the live ones so far;
+    ``reference``, ``direction``, ``read_at``: the readings of the module docstring.
 
     Plain version: fpdtw.plain.opw_step (``reference="curve"``, ``direction="code"``).
     Paper: OPW poster Algorithm 1, eqs. 1, 2, 4, 5.
@@ -121,29 +108,12 @@ class OPWDecision:
 class OPW(OnlineAligner):
     """On-line Predictive Warping (poster Algorithm 1) behind the online interface.
 
-    Parameters
-    ----------
-    I : MotionFeatures
-        The recording A, WITH ``positions`` (``position_joints=OPW_JOINTS``).
-    omega : float
-        Step period in live time (s); the poster's 0.04.
-    gamma : float
-        Warp parameter, ``0 < gamma < 1``; the poster's 5 %.
-    fps : float, optional
-        Frame rate of the live frames; default the recording's.
-    reading : {"poster", "plugin"}
-        Sets ``reference`` and ``clock`` (module docstring).
-    reference : {"curve", "ratio"}, optional
-    clock : {"exact", "frames"}, optional
-        Override the reading's.
-    direction : {"code", "readme"}
-    read_at : {"eq4", "listing"}
-
-    Attributes
-    ----------
-    curve : WarpCurve
-        The time-warp curve so far (live time -> recording time).
-    decisions : list of OPWDecision
+    ``I``: the recording, WITH ``positions`` (``position_joints=OPW_JOINTS``); ``omega``:
+    the step period (s; the poster's 0.04); ``gamma``: the warp parameter in (0, 1) (the
+    poster's 5 %); ``fps``: the live frames' rate (default the recording's); ``reading``:
+    ``"poster"`` or ``"plugin"``, whose ``reference`` and ``clock`` may be overridden;
+    ``direction``, ``read_at``: the other switches of the module docstring. ``curve`` is the
+    warp curve so far, ``decisions`` the :class:`OPWDecision` of every step.
 
     Plain version: fpdtw.plain.opw_step.
     Paper: OPW poster Section 3, eqs. 1, 2, 4, 5, Algorithm 1.

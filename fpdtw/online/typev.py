@@ -35,11 +35,8 @@ MAX_ADVANCE = 3
 
 
 class TypeV:
-    """The forward Type V constraint as a state table.
-
-    ``states`` (names) and ``meanings``; ``table[state, advance]`` (int64, (3, 4)): the next
-    state, or -1 if not allowed; ``start``: the state before target frame 1; ``name``: the
-    suffix in aligner names.
+    """The forward Type V constraint: ``states`` and ``meanings``, ``table[state, advance]``
+    (int64 (3, 4): the next state, -1 if not allowed), ``start`` and ``name``.
 
     Plain version: fpdtw.plain.type_v_allowed, fpdtw.plain.type_v_next.
     Paper: FP-DTW Section 6, Fig. 9 iv.
@@ -166,12 +163,10 @@ def lowest_cells(M) -> np.ndarray:
 
 
 def dtw_python_accepts(M) -> bool:
-    """Ask dtw-python whether ``M`` is the forward reading of a Type V path.
-
-    On the rectangle ``[0..q] x [0..M_q]`` each target row's :func:`lowest_cells` costs 0,
-    every other cell 1; accepted when the ``rabinerJuangStepPattern(5, "c")`` path costs 0
-    and its highest cell in every row is ``M``. Sound (dtw-python's paths are made of the
-    pattern's steps) and complete (a zero-cost path's lowest cells fix its highest ones).
+    """Ask dtw-python whether ``M`` is the forward reading of a Type V path: on ``[0..q] x
+    [0..M_q]`` the :func:`lowest_cells` cost 0, the rest 1; accepted when the
+    ``rabinerJuangStepPattern(5, "c")`` path costs 0 with ``M`` as its highest cell per row
+    (sound: its paths are the pattern's steps; complete: lowest cells fix the highest).
 
     Paper: FP-DTW Section 6 (Type V, Rabiner and Juang's local continuity constraint).
     Notebook: 11_fig9_typev.ipynb

@@ -48,8 +48,7 @@ B_CORNER = 10000.0
 @numba.njit(cache=True)
 def _forecast_columns(Tq, Te, q, first, last, codes, F, c0=0, shift=0, hold=False):
     """Fill ``F[j, :, c0 + i]``, i = first..last-1, with the frame ``i + shift`` ahead of
-    T_{n+1} = T[q]: T_{n+1} itself at 0 (or always, with ``hold``), else dead reckoning
-    ``T_{n+1} + i (T_{n+1} - T_n)`` in Euler angles, as quaternions.
+    T_{n+1} = T[q]: T_{n+1} itself at 0 (always with ``hold``), else dead reckoning.
 
     Plain version: fpdtw.plain.forecast_joints, then fpdtw.plain.euler_to_quat.
     """
@@ -153,7 +152,7 @@ def _fill_prev_column(Iq, Tq, q, start, nrows, F1, C):
 
 @numba.njit(cache=True, inline="always")
 def _is_allowed(r, limit, allow):
-    """Offset r allowed? ``limit``: the largest allowed; ``allow[0..3]``: per offset.
+    """Offset r allowed (``limit``: the largest allowed; ``allow``: offsets 0..3)?
 
     Plain version: fpdtw.plain.allowed_rows.
     """
@@ -166,10 +165,9 @@ def _is_allowed(r, limit, allow):
 
 @numba.njit(cache=True)
 def _accumulate_reverse(C, nrows, ncols, D, open_end=False, wd=1.0):
-    """Reverse accumulation from the far corner back to (0, 0):
-    ``D[i, j] = min(D[i+1, j+1] + wd C, min(D[i+1, j], D[i, j+1]) + C)`` (symmetric1 with
-    ``wd = 1``, dtw-python's symmetric2 with 2); ``open_end``: the path may end in any row of
-    the last column (Tormene et al.'s open end, time reversed).
+    """Reverse accumulation from the far corner back to (0, 0), symmetric1 (``wd = 1``) or
+    dtw-python's symmetric2 (``wd = 2``); ``open_end``: the path may end in any row of the
+    last column (Tormene et al.'s open end, time reversed).
 
     Plain version: fpdtw.plain.reverse_accumulate.
     """
@@ -187,11 +185,9 @@ def _accumulate_reverse(C, nrows, ncols, D, open_end=False, wd=1.0):
 
 @numba.njit(cache=True)
 def _backtrack_lowest(D, nrows, ncols, P, path, input_first=False):
-    """Method B's back-track from the far corner to (0, 0) with the overwrite rule.
-
-    Ties: the diagonal, then the target step (``input_first``: the input step). ``P[c]``
-    ends as the lowest row visited in column c; ``path`` gets the cells, far corner first;
-    returns their number.
+    """Method B's back-track from the far corner to (0, 0) with the overwrite rule: ties take
+    the diagonal, then the target step (``input_first``: the input step); ``P[c]`` ends as
+    the lowest row visited in column c; returns the number of cells in ``path``.
 
     Plain version: fpdtw.plain.backtrack, then fpdtw.plain.path_to_map (the lowest rows).
     """
@@ -418,10 +414,9 @@ def _window_step(
 ):  # fmt: skip
     """``M_q`` of one Method A, B or C aligner at target frame q (frames 0..q received).
 
-    ``M[:q]``: the map so far; ``state[0]``: the Type V state (advanced in place); ``prm``:
-    the parameter vector (``P_*``); ``F..score``: scratch; ``cF..cKey``: a
-    :class:`WindowCache`'s arrays (with ``prm[P_SHARED]``); ``out``: the step's record
-    (``N_OUT``); ``wts`` (k,): eq. 1's joint weights, or empty for eq. 1 as written.
+    ``M[:q]``: the map so far; ``state[0]``: the Type V state; ``prm``: the ``P_*`` vector;
+    ``cF..cKey``: a :class:`WindowCache` (with ``P_SHARED``); ``out``: the step's record;
+    ``wts``: eq. 1's joint weights, or empty for eq. 1 as written; the rest scratch.
 
     Plain version: fpdtw.plain.method_a_step, fpdtw.plain.method_b_step and
     fpdtw.plain.method_c_step (one step each; fpdtw.plain.run steps through a target).
@@ -602,10 +597,8 @@ def _store_frame(k, Tq, Te, q, fq, fe):
 
 @numba.njit(cache=True)
 def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
-    """The whole ``step`` in one call: store the frame in row ``q``, step, store ``M[q]``.
-
-    Returns -1 for a frame of another shape (nothing changed) and -2 for weighted joints:
-    the caller then takes the general path.
+    """The whole ``step`` in one call: store the frame in row ``q``, step, store ``M[q]``; -1 for
+    a frame of another shape, -2 for weighted joints (the caller takes the general path).
     """
     if iwork[_HEADER + P_WEIGHTED] != 0:
         return -2
@@ -628,18 +621,10 @@ def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
 class WindowCache:
     """Forecast and window costs shared by B/C aligners stepping over one target together.
 
-    The dead-reckoned forecast at a target frame, and each cost cell against it, is the same
-    for Methods B and C at every window and reading: aligners given one cache and fed the
-    same frames in lockstep (:func:`fpdtw.online.base.run_together`, :func:`run_group`)
-    compute each once. Other frames at the same step empty it, so maps are the same with
-    and without it (tested). Aligners with another forecast or weighted joints ignore it.
-
-    Parameters
-    ----------
-    I : MotionFeatures
-        The input motion of every aligner sharing the cache.
-    w_max : int
-        The largest window among them.
+    The forecast at a target frame, and each cost cell against it, is the same for Methods B
+    and C at every window and reading: aligners given one cache (of input ``I``, windows up
+    to ``w_max``) and fed the same frames in lockstep compute each once. Other frames at the
+    same step empty it: the maps are the same with or without it (tested).
     """
 
     def __init__(self, I: MotionFeatures, w_max: int):
@@ -661,32 +646,14 @@ class WindowCache:
 class WindowSnapshot:
     """What one step of a window method did (``record=True``).
 
-    Attributes
-    ----------
-    q : int
-        Target frame mapped by this step (the paper's ``n + 1``).
-    kind : str
-        ``"first"`` (q = 0), ``"warmup"`` (B/C: ``n < s``), ``"end"`` (input exhausted) or
-        ``"window"``.
-    start, w_i, offset, M : int
-        ``M_n`` (-1 for q = 0); the rows are ``I_{M_n + first}..I_{M_n + w_i}``;
-        ``M_{n+1} - M_n``; ``M_{n+1}``.
-    C, D : ndarray of float64, shape (rows, ncols), or None
-        Costs (eq. 1; columns A: ``T_{n+1}``, B: ``T_n, T_{n+1}``, forecasts, C: ``T_{n+1}``,
-        forecasts; Type V-masked cells +inf, but Method A's) and their accumulation (B:
-        forward, then ``D[0, 0] = 10000``; C: reverse).
-    path : ndarray of int64, shape (L, 2), or None
-        B: the back-tracked path from (0, 0) to the far corner.
-    P : ndarray of int64, shape (ncols,), or None
-        B: the lowest row of the path in each column (``P[1]`` is the choice).
-    allowed : ndarray of bool, shape (4,), or None
-        Type V: offsets 0..3 allowed in this step's state.
-    state : str or None
-        Type V state before the step.
-    score : ndarray of float64, shape (rows,), or None
-        C: what the argmin compares per row.
-    first : int
-        The first row's offset from ``M_n`` (0 but under ``band="half-w"``).
+    ``q``: the target frame mapped (``n + 1``); ``kind``: ``"first"``, ``"warmup"``,
+    ``"end"`` (input exhausted) or ``"window"``; ``start`` = ``M_n`` (-1 at q = 0);
+    the rows are ``I_{M_n + first}..I_{M_n + w_i}``; ``offset`` = ``M_{n+1} - M_n``; ``M`` =
+    ``M_{n+1}``. ``C``, ``D`` (rows, ncols): the costs (eq. 1; Type V-masked cells +inf, but
+    Method A's) and their accumulation (B: ``D[0, 0]`` then 10000; C: reverse); ``path``
+    (L, 2) and ``P`` (ncols,): Method B's path and lowest row per column (``P[1]`` is the
+    choice); ``score`` (rows,): what Method C's argmin compares; ``allowed`` (4,) and
+    ``state``: Type V's offsets and state before the step.
 
     Paper: FP-DTW Fig. 2 (window), Fig. 4 (Method B's path and choice).
     """
@@ -708,26 +675,15 @@ class WindowSnapshot:
 
 
 class WindowAligner(OnlineAligner):
-    """Common base of Methods A, B and C.
+    """Common base of Methods A, B and C (``I``: the input motion; ``w``: the window in frames).
 
     ``M_0 = 0``, or with ``start="best"`` the best match of ``T_0`` among ``I_0..I_w`` (a
     silent choice of the paper, switchable for notebook 15). The input window shrinks at the
     end of the input. ``constraint="typeV"`` masks the offsets the Type V state does not
     allow (:mod:`fpdtw.online.typev`); once the input is exhausted the hold at ``m`` is
-    forced whatever the state. A non-default option is named in brackets (``"Mc w40
+    forced whatever the state. Non-default ``options`` are named in brackets (``"Mc w40
     (literal window)"``). ``record=True`` keeps a :class:`WindowSnapshot` of the last step
     in ``last_window``. Subclasses give :meth:`params` and :meth:`_window_record`.
-
-    Parameters
-    ----------
-    I : MotionFeatures
-        Input (recorded) motion.
-    w : int
-        Window size in frames, >= :attr:`min_w`.
-    constraint : None, "typeV" or TypeV
-    record : bool
-    **options
-        The method's options (:attr:`options`), e.g. ``window="literal"``.
     """
 
     #: Method letter in names ("Ma", "Mb", "Mc").
@@ -944,11 +900,8 @@ class WindowAligner(OnlineAligner):
 
 
 class ForecastAligner(WindowAligner):
-    """Common base of Methods B and C: warm-up, end of input, then a forecast window.
-
-    Warm-up, ``n < s`` (``s = 2``): ``M_{n+1} = min(M_n + 1, m)`` (the paper's ``n + 1``
-    from ``M_0 = 0``). ``M_n >= m``: ``M_{n+1} = m``. ``cache``: a shared
-    :class:`WindowCache` (speed only).
+    """Common base of Methods B and C: warm-up ``n < s`` (``s = 2``): ``M_{n+1} = min(M_n + 1,
+    m)`` (the paper's ``n + 1`` from ``M_0 = 0``); ``M_n >= m``: ``m``; else the window.
     """
 
     #: Smoothing window: frames needed before forecasting (dead reckoning: 2).
@@ -1007,21 +960,8 @@ class ForecastAligner(WindowAligner):
 
 
 def run_group(aligners, T: MotionFeatures) -> list:
-    """Run Method B and C aligners over one target in one compiled loop.
-
-    The maps of streaming each (tested), without a Python call per frame; aligners given one
-    :class:`WindowCache` share its work.
-
-    Parameters
-    ----------
-    aligners : sequence of ForecastAligner
-        All with the same input motion; those with a cache all with the same one.
-    T : MotionFeatures
-        Target motion with the input's joints.
-
-    Returns
-    -------
-    maps : list of ndarray of int64, shape (n,)
+    """Maps (int64 (n,) each) of Method B and C aligners of one input over target ``T``, in one
+    compiled loop: those of streaming each (tested), without a Python call per frame.
     """
     aligners = list(aligners)
     if not aligners:
