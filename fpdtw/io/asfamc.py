@@ -324,6 +324,8 @@ def read_asf(path) -> AsfSkeleton:
 _HDM_RE = re.compile(r"^HDM_([A-Za-z0-9]+)_")
 _CMU_RE = re.compile(r"^(\d+)_\d+$")
 _FPS_RE = re.compile(r"_\d+_(\d+)$")
+#: AMC header keywords -> the angle unit they set (None: none).
+_AMC_KEYWORDS = {":DEGREES": "deg", ":RADIANS": "rad", ":FULLY-SPECIFIED": None}
 
 
 def find_asf(amc_path) -> Path:
@@ -397,12 +399,9 @@ def _amc_checked(path, lines, asf, layout, width):
             if frame_no is not None:
                 raise MotionFormatError(path, f"keyword {tok[0]!r} after the first frame", line=ln)
             key = tok[0].upper()
-            if key == ":DEGREES":
-                unit = "deg"
-            elif key == ":RADIANS":
-                unit = "rad"
-            elif key != ":FULLY-SPECIFIED":
+            if key not in _AMC_KEYWORDS:
                 raise MotionFormatError(path, f"unknown AMC keyword {tok[0]!r}", line=ln)
+            unit = _AMC_KEYWORDS[key] or unit
             continue
         if len(tok) == 1 and tok[0].isdigit():
             number = int(tok[0])
@@ -476,12 +475,9 @@ def _amc_fast(lines, layout, width):
         s = lines[i].strip()
         if s and s[0] == ":":
             key = s.split()[0].upper()
-            if key == ":DEGREES":
-                unit = "deg"
-            elif key == ":RADIANS":
-                unit = "rad"
-            elif key != ":FULLY-SPECIFIED":
+            if key not in _AMC_KEYWORDS:
                 return None
+            unit = _AMC_KEYWORDS[key] or unit
         elif s and s[0] != "#":
             break
         i += 1

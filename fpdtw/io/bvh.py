@@ -23,6 +23,7 @@ import numpy as np
 from fpdtw import limits
 from fpdtw.errors import MotionFormatError
 from fpdtw.io._text import read_lines
+from fpdtw.io.asfamc import complete_order
 from fpdtw.motion.joints import find_joint_map
 from fpdtw.motion.motion import Motion, Skeleton
 from fpdtw.motion.rig import rest_rotations
@@ -34,11 +35,6 @@ _CHANNELS = {
     for kind in ("position", "rotation")
 }
 _AXIS_NAME = "XYZ"
-
-
-def _complete_order(applied: str) -> str:
-    """Present axes in applied order, then the missing ones in X, Y, Z order."""
-    return applied + "".join(a for a in "XYZ" if a not in applied)
 
 
 def _fps_from_frame_time(ft: float) -> float:
@@ -241,7 +237,7 @@ class BVHHeader:
                 else:
                     pos.append((col, j, axis))
                 col += 1
-            orders.append(_complete_order(applied))
+            orders.append(complete_order(applied))
         self._rot = np.array(rot, dtype=np.int64).reshape(-1, 3)
         self._trans = np.array(trans, dtype=np.int64).reshape(-1, 2)
         self._pos = np.array(pos, dtype=np.int64).reshape(-1, 3)
@@ -435,10 +431,10 @@ def read_bvh(path, *, name=None) -> Motion:
     return header.motion(np.stack(rows), name or path.stem, str(path))
 
 
-def _snap_identity(q, tol=1e-12):
-    """Unit quaternions (N, 4) within ``tol`` of the identity set to it exactly."""
+def _snap_identity(q):
+    """Unit quaternions (N, 4) within 1e-12 of the identity set to it exactly."""
     q = np.array(q, dtype=float)
-    near = 1.0 - np.abs(q[:, 0]) < tol
+    near = 1.0 - np.abs(q[:, 0]) < 1e-12
     q[near] = (1.0, 0.0, 0.0, 0.0)
     return q
 

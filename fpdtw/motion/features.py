@@ -63,11 +63,10 @@ class MotionFeatures:
         *,
         rest_frame=None,
         rig=None,
-        position_scale: float = 1.0,
     ):
         """Cut the features out of a :class:`~fpdtw.motion.Motion`: its cost ``joints`` (default
         the paper's 8), the root-relative positions of ``position_joints`` (None: no forward
-        kinematics) times ``position_scale``; ``rig`` (default: computed, with ``rest_frame``).
+        kinematics); ``rig`` (default: computed, with ``rest_frame``).
         """
         quats = np.ascontiguousarray(motion.rotations(joints), dtype=np.float64)
         euler = np.ascontiguousarray(unwrap_degrees(motion.eulers(joints), axis=0))
@@ -77,9 +76,6 @@ class MotionFeatures:
         if position_joints is not None:
             pos = np.ascontiguousarray(motion.positions(position_joints, root_relative=True))
             size = _body_size(motion)
-            if position_scale != 1.0:
-                pos = pos * float(position_scale)
-                size = size * float(position_scale)
         orders = motion.rotation_orders(joints)
         return cls(quats, euler, orders, motion.fps, pos, motion.name, rig, size)
 
@@ -126,15 +122,8 @@ class MotionFeatures:
     def slice(self, a: int, b: int) -> MotionFeatures:
         """Frames ``a`` to ``b - 1``."""
         pos = None if self.positions is None else self.positions[a:b]
-        return MotionFeatures(
-            self.quats[a:b].copy(),
-            self.euler[a:b].copy(),
-            self.orders,
-            self.fps,
-            pos,
-            self.name,
-            self.rig,
-            self.body_size,
+        return dataclasses.replace(
+            self, quats=self.quats[a:b].copy(), euler=self.euler[a:b].copy(), positions=pos
         )
 
 

@@ -110,8 +110,12 @@ _FIRST_BY_SOURCE = {
 }
 
 
-def _strip_namespace(name: str) -> str:
-    return name.rsplit(":", 1)[-1]
+def _by_bare_name(joint_names) -> dict:
+    """The skeleton's joint names by name without namespace and case (the first wins)."""
+    bare = {}
+    for n in joint_names:
+        bare.setdefault(n.rsplit(":", 1)[-1].lower(), n)
+    return bare
 
 
 def resolve_joint_map(joint_names, naming):
@@ -120,9 +124,7 @@ def resolve_joint_map(joint_names, naming):
     """
     if isinstance(naming, str):
         naming = NAMINGS[naming]
-    bare = {}
-    for n in joint_names:
-        bare.setdefault(_strip_namespace(n).lower(), n)
+    bare = _by_bare_name(joint_names)
     out = {}
     for canon, candidates in naming.items():
         for cand in candidates:
@@ -194,12 +196,10 @@ def builtin_joint_map(name: str) -> dict:
 
 def _apply(joint_map: dict, joint_names) -> dict:
     """The entries of a map whose rig name the skeleton has (namespaces ignored)."""
-    bare = {}
-    for n in joint_names:
-        bare.setdefault(_strip_namespace(n).lower(), n)
+    bare = _by_bare_name(joint_names)
     out = {}
     for canon, own in joint_map.items():
-        hit = bare.get(_strip_namespace(own).lower())
+        hit = bare.get(own.rsplit(":", 1)[-1].lower())
         if hit is not None:
             out[canon] = hit
     return out

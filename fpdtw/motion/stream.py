@@ -133,11 +133,6 @@ class LiveTarget:
                 frame=frame,
             )
 
-    @property
-    def last_slot(self) -> int | None:
-        """Slot of the latest frame received (None before the first)."""
-        return None if self._cur is None else self._cur[0]
-
     def _slot(self, t, line, frame, arrival) -> int:
         if self._cur is None:
             return 0

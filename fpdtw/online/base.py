@@ -26,8 +26,8 @@ from fpdtw.motion.rotations import check_order
 _MIN_KEEP = 16
 
 
-def check_input(I, min_frames: int = 1, who: str = "") -> None:
-    """Refuse (AlignmentError naming ``who``) an input that is not MotionFeatures or too short."""
+def check_input(I, who: str = "") -> None:
+    """Refuse (AlignmentError naming ``who``) an input that is not MotionFeatures or empty."""
     who = f"{who}: " if who else ""
     if not isinstance(I, MotionFeatures):
         raise AlignmentError(
@@ -35,11 +35,6 @@ def check_input(I, min_frames: int = 1, who: str = "") -> None:
         )
     if I.n_frames == 0:
         raise AlignmentError(f"{who}input motion {I.name or '(unnamed)'!r} has no frames")
-    if I.n_frames < min_frames:
-        raise AlignmentError(
-            f"{who}input motion {I.name or '(unnamed)'!r} has {I.n_frames} frame(s); "
-            f"at least {min_frames} needed"
-        )
 
 
 def check_count(value, what: str, who: str, minimum: int = 1) -> int:

@@ -45,7 +45,7 @@ INC_NAMES = {NONE: "none", TARGET: "target", INPUT: "input", BOTH: "both"}
 BY_ARGMIN, BY_WARMUP, BY_RUNCOUNT = 0, 1, 2
 
 # state vector slots
-_I, _Q, _PREV, _RUN, _PEND = 0, 1, 2, 3, 4
+_I, _Q, _PEND = 0, 1, 4
 # decision log columns (see OLTW.decisions)
 _LOG_COLS = 7
 

@@ -123,7 +123,7 @@ def legal_prefix(M, m=None) -> int:
     return M.shape[0] if hit.size == 0 else int(hit[0]) + 1
 
 
-def typev_violation(M, m=None, tv: TypeV = TYPE_V):
+def typev_violation(M, m=None):
     """First target frame (int) at which map ``M`` breaks forward Type V, or None.
 
     Only the frames up to the first mapped to ``m`` are checked; the path may start at any
@@ -132,12 +132,9 @@ def typev_violation(M, m=None, tv: TypeV = TYPE_V):
     M = np.asarray(M, dtype=np.int64)
     if M.ndim != 1:
         raise ValueError(f"expected a 1-d map, got shape {M.shape}")
-    n = legal_prefix(M, m)
-    if n == 0:
-        return None
-    state = tv.start
-    for q in range(1, n):
-        state = tv.next_state(state, int(M[q] - M[q - 1]))
+    state = TYPE_V.start
+    for q in range(1, legal_prefix(M, m)):
+        state = TYPE_V.next_state(state, int(M[q] - M[q - 1]))
         if state < 0:
             return q
     return None
