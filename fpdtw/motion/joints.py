@@ -94,8 +94,7 @@ NAMINGS = {"asf": ASF_NAMES, "bvh": ASF_NAMES, "fbx": FBX_NAMES}
 #: Every canonical joint a joint map may name (the OPW joints include the paper's 8).
 ALL_JOINTS = OPW_JOINTS
 
-#: The built-in joint maps (``fpdtw/motion/joint_maps/<name>.csv``), in the order tried
-#: after the source format's own (``_FIRST_BY_SOURCE``).
+#: The built-in joint maps (``joint_maps/<name>.csv``), tried after the source format's own.
 BUILTIN_JOINT_MAPS = (
     "authors_fbx",
     "mixamo",

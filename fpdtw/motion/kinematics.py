@@ -17,8 +17,7 @@ import numpy as np
 
 from fpdtw.motion.rotations import ORDERS, check_order
 
-#: ``_AXES[code]``: the axes (0 = X, 1 = Y, 2 = Z) of rotation order ``ORDERS[code]``, in
-#: the order they are applied.
+#: ``_AXES[code]``: the axes (0 = X, 1 = Y, 2 = Z) of ``ORDERS[code]`` in the order applied.
 _AXES = np.array([["XYZ".index(a) for a in o] for o in ORDERS], dtype=np.int64)
 _RAD_PER_DEG = math.pi / 180.0
 

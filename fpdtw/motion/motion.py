@@ -107,8 +107,7 @@ def sample_points(x, n: int):
     return i0, i1, a
 
 
-#: A resampled frame within this many frames of a source frame IS that source frame
-#: (its rotations and Euler angles copied exactly; :meth:`Motion.retime`).
+#: A resampled frame within this many frames of a source frame IS that frame (copied exactly).
 EXACT_FRAMES = 1e-6
 
 

@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from fpdtw.online.window import _clip_band, _mask_band
+from fpdtw.online.window import ForecastAligner, _clip_band, _mask_band
 
-#: Half-width of ``band="1s"`` in seconds (multiplied by the input's frame rate).
-BAND_SECONDS = 1.0
+#: Half-width of ``band="1s"`` in seconds (times the input's frame rate): the aligners'.
+BAND_SECONDS = ForecastAligner.BAND_SECONDS
 
 
 def band_half_width(band: str, w: int, fps: float) -> int:

@@ -21,8 +21,7 @@ from fpdtw.motion.features import Frame, MotionFeatures
 from fpdtw.motion.rig import cost_input
 from fpdtw.motion.rotations import check_order
 
-#: Fewest rows kept when a bounded history is compacted (so that the rules of the first
-#: frames, ``q < 16``, never see a compacted row).
+#: Fewest rows kept when compacting (the rules of the first frames, ``q < 16``, see none).
 _MIN_KEEP = 16
 
 
@@ -75,8 +74,7 @@ class OnlineAligner(ABC):
 
     #: Short name used in results and figures (e.g. ``"Mc w40"``).
     name = "online"
-    #: Earlier target frames (and map entries) a step reads besides the newest: rows
-    #: ``q - history .. q``. None: any earlier frame, so every frame is kept.
+    #: Earlier target frames a step reads besides the newest (None: any, so all are kept).
     history: int | None = None
 
     #: Rotation orders of the target's cost joints (of the current take's first frame).
@@ -204,6 +202,16 @@ class OnlineAligner(ABC):
     @abstractmethod
     def _step(self, q: int) -> int:
         """Map the new target frame, stored in row ``q`` of the buffers, to an input frame."""
+
+
+class JointMajorInput:
+    """Mixin of aligners that keep the input for eq. 1 C-contiguous (``_Iq``, (m + 1, k, 4))
+    and joint-major (``_Isoa``, (k, 4, m + 1)), as compared with the take's rig."""
+
+    def _use_input(self, Iq, orders) -> None:
+        if Iq is not getattr(self, "_Iq", None):
+            self._Iq = np.ascontiguousarray(Iq, dtype=np.float64)
+            self._Isoa = np.ascontiguousarray(self._Iq.transpose(1, 2, 0))
 
 
 def run_online(aligner: OnlineAligner, T: MotionFeatures, *, reset=True):

@@ -18,7 +18,7 @@ from fpdtw.costs import _geo_block, _geo_line
 from fpdtw.dtw import _backtrack, diagonal_weight
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import MotionFeatures
-from fpdtw.online.base import OnlineAligner
+from fpdtw.online.base import JointMajorInput, OnlineAligner
 
 
 @numba.njit(cache=True)
@@ -67,7 +67,7 @@ def _oe_step(Isoa, Tq, cols, q, wd, norm_offset, c):
     return _oe_column(Isoa, Tq[q], prev, cols[q], q == 0, wd, norm_offset, c)
 
 
-class OEDTW(OnlineAligner):
+class OEDTW(JointMajorInput, OnlineAligner):
     """Open-end DTW: ``step`` returns the best end point ``e_q`` (not monotonic).
     ``step_pattern``: "symmetric1" or "symmetric2" (:func:`fpdtw.dtw.accumulate`);
     ``normalize``: divide by ``(q + 1) + (i + 1)`` first, as dtw-python's ``open_end=True``
@@ -89,8 +89,7 @@ class OEDTW(OnlineAligner):
                 f"{step_pattern!r} is not normalisable"
             )
         super().__init__(I)
-        self._Iq = np.ascontiguousarray(I.quats, dtype=np.float64)
-        self._Isoa = np.ascontiguousarray(self._Iq.transpose(1, 2, 0))  # (k, 4, m+1)
+        self._use_input(I.quats, I.orders)
         self._c = np.empty(I.n_frames)
 
     def reset(self) -> None:
@@ -118,12 +117,6 @@ class OEDTW(OnlineAligner):
             hint="OE-DTW's memory grows with target x input frames: use a method with a "
             "bounded window (a, b, c, oltw) for long takes, or shorter takes",
         )
-
-    def _use_input(self, Iq, orders) -> None:
-        """Eq. 1 against ``Iq`` (the input as compared with this take's rig)."""
-        if Iq is not self._Iq:
-            self._Iq = np.ascontiguousarray(Iq, dtype=np.float64)
-            self._Isoa = np.ascontiguousarray(self._Iq.transpose(1, 2, 0))
 
     def _step(self, q: int) -> int:
         if q == self._cols.shape[0]:

@@ -34,7 +34,7 @@ from fpdtw import limits
 from fpdtw.costs import _geo_frame_w, _geo_line_w
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import MotionFeatures
-from fpdtw.online.base import OnlineAligner, check_count, check_input, run_online
+from fpdtw.online.base import JointMajorInput, OnlineAligner, check_count, check_input, run_online
 from fpdtw.weights import joint_weights
 
 #: Increment codes.
@@ -80,8 +80,7 @@ def _new_band_line(Iq, Isoa, R, D, dl, acc, c, i, q, column, wts):
         else:  # the run of slots wraps around the ring
             _geo_line_w(Iq[i], R, s0, c, acc, dl, wts)
             _geo_line_w(Iq[i], R, 0, s1 + 1, acc, dl[c - s0 :], wts)
-    # ring slots: of the line's running index k and of k - 1 (advanced without a modulo
-    # per cell), and of its fixed index and that minus one
+    # ring slots of the running index k, of k - 1 (no modulo per cell), of the fixed index and -1
     s = lo % c
     sp = (lo - 1) % c
     f = (q if column else i) % c
@@ -207,7 +206,7 @@ def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normaliz
     return st[0], n
 
 
-class OLTW(OnlineAligner):
+class OLTW(JointMajorInput, OnlineAligner):
     """Dixon's on-line time warping behind the streaming interface (module docstring).
 
     ``c``: the search width in frames (>= 2, default 120); ``max_run_count``: Dixon's
@@ -261,8 +260,7 @@ class OLTW(OnlineAligner):
         if weights == "travel":
             self.name += " (weighted joints)"
         self._wts = joint_weights(I) if weights == "travel" else np.empty(0)
-        self._Iq = np.ascontiguousarray(I.quats, dtype=np.float64)
-        self._Isoa = np.ascontiguousarray(self._Iq.transpose(1, 2, 0))  # (k, 4, m+1)
+        self._use_input(I.quats, I.orders)
         self._log = np.zeros((self.max_run_count + 4, _LOG_COLS), dtype=np.int64)
         super().__init__(I)
 
@@ -275,12 +273,6 @@ class OLTW(OnlineAligner):
         self._D[:] = np.inf
         self._st = np.zeros(5, dtype=np.int64)
         self._decisions = []
-
-    def _use_input(self, Iq, orders) -> None:
-        """Eq. 1 against ``Iq`` (the input as compared with this take's rig)."""
-        if Iq is not self._Iq:
-            self._Iq = np.ascontiguousarray(Iq, dtype=np.float64)
-            self._Isoa = np.ascontiguousarray(self._Iq.transpose(1, 2, 0))
 
     def _step(self, q: int) -> int:
         m, n = _oltw_step(
