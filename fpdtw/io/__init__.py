@@ -14,11 +14,11 @@ READERS = {".fbx": "fbx", ".amc": "asfamc", ".bvh": "bvh"}
 
 
 def load_motion(path, **kwargs):
-    """Read a ``.fbx``, ``.amc`` (skeleton ``.asf`` found next to it, or ``skeleton=``) or
-    ``.bvh`` motion file; ``kwargs`` go to the format's reader (``fps=``, ``name=``).
+    """Read a ``.fbx``, ``.amc`` or ``.bvh`` motion file with the reader of its extension.
 
-    MotionFormatError for an unknown extension, a file :func:`check_input_file` refuses, or
-    one the reader rejects (a rate or frame count outside :mod:`fpdtw.limits` included).
+    ``kwargs`` go to the reader (``fps=``, ``name=``; ``skeleton=`` for AMC, else the
+    ``.asf`` next to it). MotionFormatError for an unknown extension, a file
+    :func:`check_input_file` refuses, or one the reader rejects.
     """
     p = Path(path)
     kind = READERS.get(p.suffix.lower())

@@ -19,9 +19,10 @@ _BOMS = (
 
 
 def check_input_file(path: Path) -> int:
-    """Size in bytes of a motion file about to be read whole; MotionFormatError for no such
-    file, a directory, not a regular file (a FIFO would block), unreadable, or larger than
-    :data:`fpdtw.limits.MAX_FILE_BYTES`.
+    """Size in bytes of a motion file about to be read whole.
+
+    MotionFormatError for no such file, a directory, not a regular file (a FIFO would
+    block), unreadable, or larger than :data:`fpdtw.limits.MAX_FILE_BYTES`.
     """
     try:
         st = os.stat(path)
@@ -38,9 +39,11 @@ def check_input_file(path: Path) -> int:
 
 
 def decode_text(data: bytes) -> str:
-    """Text of a motion file: a UTF-8 or UTF-16 byte-order mark selects the encoding (dropped);
-    else latin-1, which never fails (HDM05 headers hold umlauts), as for UTF-8 that does not
-    decode after its mark. UnicodeDecodeError for a UTF-16 mark followed by other bytes.
+    """Text of a motion file, by its byte-order mark, else latin-1.
+
+    A UTF-8 or UTF-16 mark selects the encoding (and is dropped); latin-1 never fails
+    (HDM05 headers hold umlauts), also for UTF-8 that does not decode after its mark.
+    UnicodeDecodeError for a UTF-16 mark followed by other bytes.
     """
     for bom, encoding in _BOMS:
         if data.startswith(bom):

@@ -37,19 +37,23 @@ DEFAULT_AMC_FPS = 120.0
 
 
 def complete_order(applied: str) -> str:
-    """Rotation order from the axes present (applied order), the missing ones appended in X, Y,
-    Z order (a zero angle goes anywhere): ``"XZ"`` -> ``"XZY"``, ``""`` -> ``"XYZ"``.
+    """Rotation order from the axes present, the missing ones appended in X, Y, Z order.
+
+    A missing axis has a zero angle, so it may go anywhere: ``"XZ"`` -> ``"XZY"``, ``""``
+    -> ``"XYZ"``.
     """
     return applied + "".join(a for a in "XYZ" if a not in applied)
 
 
 @dataclass(frozen=True, eq=False)
 class AsfSkeleton:
-    """A parsed ASF file: the rest-aligned ``skeleton`` (``("root", bones...)`` depth first in
-    ``:hierarchy`` order) plus what the AMC reader needs: ``dofs`` (each joint's rotational
-    dofs in file order), ``root_order`` (the AMC root channels), unit bone ``directions``
-    (J, 3) and ``lengths`` (J,) at rest (zero for the root), ``angle_unit`` ("deg" or "rad"),
-    ``length_scale`` (``:units length``) and ``path``.
+    """A parsed ASF file: the :class:`~fpdtw.motion.Skeleton` plus what the AMC reader needs.
+
+    ``skeleton``: rest-aligned, ``("root", bones...)`` depth first in ``:hierarchy`` order;
+    ``dofs``: each joint's rotational dofs in file order; ``root_order``: the AMC root
+    channels; ``directions`` (J, 3) and ``lengths`` (J,): unit bone directions and lengths
+    at rest (zero for the root); ``angle_unit`` ("deg" or "rad"); ``length_scale``
+    (``:units length``); ``path``.
     """
 
     skeleton: Skeleton
@@ -100,6 +104,7 @@ def _order(path, letters, line, what):
 
 def read_asf(path) -> AsfSkeleton:
     """Read an Acclaim ASF skeleton file (the rest-aligned model of the module docstring).
+
     MotionFormatError, naming the file and line, for missing sections or fields, bad
     numbers, unknown or duplicate bones, translation or length dofs, or a hierarchy that
     does not reach every bone exactly once.
@@ -329,9 +334,11 @@ _AMC_KEYWORDS = {":DEGREES": "deg", ":RADIANS": "rad", ":FULLY-SPECIFIED": None}
 
 
 def find_asf(amc_path) -> Path:
-    """The skeleton file of an AMC file: ``HDM_<actor>.asf`` for ``HDM_<actor>_...amc``, then
-    ``<subject>.asf`` for ``<subject>_<take>.amc``, in its folder or a parent; else the only
-    ``.asf`` in its folder; else MotionFormatError saying where it looked.
+    """The skeleton file of an AMC file, by the HDM05 or CMU layout.
+
+    ``HDM_<actor>.asf`` for ``HDM_<actor>_...amc``, then ``<subject>.asf`` for
+    ``<subject>_<take>.amc``, in its folder or a parent; else the only ``.asf`` in its
+    folder; else MotionFormatError saying where it looked.
     """
     amc_path = Path(amc_path)
     stem = amc_path.stem
@@ -465,7 +472,8 @@ def _amc_checked(path, lines, asf, layout, width):
 
 
 def _amc_fast(lines, layout, width):
-    """Vectorised parse of a regular AMC file (the same bones in the same order every frame):
+    """Vectorised parse of a regular AMC file (the same bones in the same order every frame).
+
     ``(data, unit)`` as :func:`_amc_checked`, or None to let it find what is wrong.
     """
     unit = None

@@ -210,10 +210,11 @@ def is_header_end(text: str) -> bool:
 
 
 class BVHHeader:
-    """What a BVH file says before its first motion line, and how to read a motion line: the
-    one parser of :func:`read_bvh` and ``fpdtw serve``, so a streamed take and the same file
-    give identical frames, errors and limits. ``frames`` is None in a stream; ``end_line`` is
-    the ``Frame Time:`` line's number.
+    """What a BVH file says before its first motion line, and how to read a motion line.
+
+    The one parser of :func:`read_bvh` and ``fpdtw serve``: a streamed take and the same
+    file give identical frames, errors and limits. ``frames`` is None in a stream;
+    ``end_line`` is the ``Frame Time:`` line's number.
     """
 
     def __init__(self, path, joints, frames, fps, end_line):
@@ -250,8 +251,10 @@ class BVHHeader:
         self.joint_map, _ = find_joint_map(self.skeleton.joint_names, "bvh")
 
     def parse_line(self, text: str, line: int, frame: int) -> np.ndarray:
-        """The values (n_channels,) of one motion line; MotionFormatError for a missing, extra,
-        non-numeric or non-finite value, naming ``line`` and ``frame`` (0-based).
+        """The values (n_channels,) of one motion line.
+
+        MotionFormatError for a missing, extra, non-numeric or non-finite value, naming ``line``
+        and ``frame`` (0-based).
         """
         toks = text.split()
         if len(toks) != self.n_channels:
@@ -277,9 +280,7 @@ class BVHHeader:
         return values
 
     def split(self, data: np.ndarray):
-        """Euler angles (F, J, 3; degrees, x, y, z) and root translation (F, 3) of motion lines
-        ``data`` (F, n_channels); missing channels zero.
-        """
+        """Euler angles (F, J, 3) and root translation (F, 3) of motion lines (F, n_channels)."""
         F = data.shape[0]
         euler = np.zeros((F, len(self.joints), 3))
         trans = np.zeros((F, 3))
@@ -296,9 +297,10 @@ class BVHHeader:
         return dataclasses.replace(self.skeleton, offsets=offsets)
 
     def check_positions(self, data: np.ndarray, first: np.ndarray, lines=None, frame0=0):
-        """MotionFormatError unless the non-root position channels of ``data`` equal those of
-        ``first``; it names the first differing line when given ``lines`` (a stream), else the
-        CHANNELS line.
+        """Refuse non-root position channels of ``data`` that differ from those of ``first``.
+
+        The MotionFormatError names the first differing line when given ``lines`` (a stream),
+        else the CHANNELS line.
         """
         if not len(self._pos):
             return
@@ -348,7 +350,8 @@ def _is_number(token: str) -> bool:
 
 
 def parse_bvh_header(lines, path=None, *, stream: bool = False) -> BVHHeader:
-    """Parse a BVH header (HIERARCHY, MOTION, ``Frames:``, ``Frame Time:``) from ``lines``;
+    """Parse a BVH header: HIERARCHY, MOTION, ``Frames:`` and ``Frame Time:``.
+
     ``path``: named in errors; ``stream``: ``Frames:`` may be missing and is ignored.
     MotionFormatError (naming the file and line) for no MOTION, bad braces or CHANNELS, too
     many channels, a missing or malformed ``Frames:`` or ``Frame Time:``, a frame time <= 0,
@@ -401,10 +404,12 @@ def parse_bvh_header(lines, path=None, *, stream: bool = False) -> BVHHeader:
 
 
 def read_bvh(path, *, name=None) -> Motion:
-    """Read a BVH motion file (``source="bvh"``; joint names by the ASF naming, which CMU's BVH
-    keeps, or the FBX naming if that resolves more). MotionFormatError (naming the file,
-    line and 0-based frame) for what :func:`parse_bvh_header` refuses, an empty file,
-    ``Frames:`` not matching the data lines, a bad motion line, varying non-root positions.
+    """Read a BVH motion file (``source="bvh"``).
+
+    Joint names are resolved by the ASF naming (CMU's BVH keeps it), or the FBX naming if
+    that finds more. MotionFormatError (naming the file, line and 0-based frame) for what
+    :func:`parse_bvh_header` refuses, an empty file, ``Frames:`` not matching the data
+    lines, a bad motion line, or varying non-root position channels.
     """
     path = Path(path)
     lines = read_lines(path)
@@ -440,14 +445,13 @@ def _snap_identity(q):
 
 
 def bvh_pose(motion: Motion) -> tuple:
-    """Euler angles (F, J, 3; degrees, unwrapped) and offsets (J, 3) of a motion in a BVH
-    skeleton (at rest every rotation zero, world-aligned axes).
+    """Euler angles (F, J, 3; degrees, unwrapped) and offsets (J, 3) of a motion as BVH.
 
-    A skeleton with pre/post rotations rests in the pose they give (global rest rotations
-    ``G^0``, :func:`fpdtw.motion.rig.rest_rotations`); as BVH each joint turns by
-    ``Delta_j = G_p^0 pre_j R_j post_j (G_j^0)^-1`` and each offset is ``G_p^0 offset_j``, so
-    the file rests in the motion's pose and forward kinematics gives the same positions.
-    Without pre/post rotations the motion's own angles and offsets are returned.
+    A BVH skeleton rests with zero rotations in world-aligned axes. A skeleton with pre/post
+    rotations rests in the pose they give (global rest rotations ``G^0``,
+    :func:`fpdtw.motion.rig.rest_rotations`): each joint turns by ``Delta_j = G_p^0 pre_j R_j
+    post_j (G_j^0)^-1`` and its offset is ``G_p^0 offset_j``, so the file rests in the
+    motion's pose with the same forward kinematics. Without them: the motion's own.
     """
 
     sk = motion.skeleton
@@ -477,9 +481,10 @@ def bvh_euler(motion: Motion) -> np.ndarray:
 
 
 def bvh_lines(motion: Motion, *, precision: int = 6) -> tuple[list[str], list[str]]:
-    """A motion as a BVH file's lines: the header (``HIERARCHY`` through ``Frame Time:``) and one
-    motion line per frame (``precision`` decimals); what :func:`write_bvh` writes and
-    ``fpdtw stream`` sends. MotionFormatError for a joint name BVH cannot hold.
+    """A motion as the lines of a BVH file: header (through ``Frame Time:``) and motion lines.
+
+    What :func:`write_bvh` writes and ``fpdtw stream`` sends; ``precision``: decimals.
+    MotionFormatError for a joint name BVH cannot hold.
     """
     sk = motion.skeleton
     for n in sk.joint_names:
@@ -524,10 +529,11 @@ def bvh_lines(motion: Motion, *, precision: int = 6) -> tuple[list[str], list[st
 
 
 def write_bvh(motion: Motion, path, *, precision: int = 6) -> Path:
-    """Write a motion as a BVH file (overwritten) and return its path: three rotation channels
-    per joint in its order, the root's position channels, a zero ``End Site`` per leaf,
-    depth first, resting as :func:`bvh_pose` says (forward kinematics equal to ``motion``'s).
-    MotionFormatError for a joint name BVH cannot hold.
+    """Write a motion as a BVH file (overwritten) and return its path.
+
+    Three rotation channels per joint in its order, the root's position channels, a zero
+    ``End Site`` per leaf, depth first, resting as :func:`bvh_pose` says: forward kinematics
+    of the file equals the motion's. MotionFormatError for a joint name BVH cannot hold.
     """
     path = Path(path)
     try:

@@ -50,10 +50,12 @@ _BONE = 5  # ufbx_element_type UFBX_ELEMENT_BONE
 
 
 def read_fbx(path, *, fps=None, name=None) -> Motion:
-    """Read one FBX take (binary or ASCII; ``source="fbx"``, lengths in file units). ``fps`` is
-    used only when no curve has two keys (else it must match the grid's); ``name`` defaults
-    to the file stem. MotionFormatError, naming the file, for a missing, empty, truncated or
-    non-FBX file, no animation, no skeleton, or anything the module docstring rejects.
+    """Read one FBX take (binary or ASCII) as a motion (``source="fbx"``, file units).
+
+    ``fps`` is used only when no curve has two keys (else it must match the grid's);
+    ``name`` defaults to the file stem. MotionFormatError, naming the file, for a missing,
+    empty, truncated or non-FBX file, no animation, no skeleton, or anything the module
+    docstring rejects.
     """
     p = Path(path)
     if check_input_file(p) == 0:
@@ -340,8 +342,10 @@ def _angle(a, b):
 
 
 def _rotation_curves(nodes, orders, pre, post, Q, values, sampled, p):
-    """Euler angles (F, J, 3) of each joint's Lcl Rotation curve node: the one whose angles give
-    ufbx's evaluated ``Q[:, j] = pre_j R(angles) post_j`` at every frame.
+    """Euler angles (F, J, 3) of each joint's Lcl Rotation curve node.
+
+    The one whose angles give ufbx's evaluated ``Q[:, j] = pre_j R(angles) post_j`` at every
+    frame.
     """
     F, J = Q.shape[:2]
     cand = [i for i, s in enumerate(sampled) if s is not None]

@@ -21,10 +21,11 @@ from fpdtw.motion.rotations import quat_normalize, quat_to_euler, unwrap_degrees
 
 @dataclass(frozen=True)
 class Frame:
-    """One frame as an online aligner receives it: ``quats`` (k, 4) of the k cost joints,
-    ``euler`` (k, 3) the same in degrees unwrapped over the frames so far, ``positions``
-    (p, 3) root-relative (OPW) or None, its ``orders`` and ``rig`` (None: the input
-    motion's; a take's frames share those of its first).
+    """One frame of a motion as an online aligner receives it.
+
+    ``quats`` (k, 4) of the k cost joints; ``euler`` (k, 3) the same in degrees, unwrapped
+    over the frames so far; ``positions`` (p, 3) root-relative (OPW) or None; ``orders`` and
+    ``rig`` (None: the input motion's; a take's frames share those of its first).
     """
 
     quats: np.ndarray
@@ -64,9 +65,11 @@ class MotionFeatures:
         rest_frame=None,
         rig=None,
     ):
-        """Cut the features out of a :class:`~fpdtw.motion.Motion`: its cost ``joints`` (default
-        the paper's 8), the root-relative positions of ``position_joints`` (None: no forward
-        kinematics); ``rig`` (default: computed, with ``rest_frame``).
+        """Cut the features out of a :class:`~fpdtw.motion.Motion`.
+
+        ``joints``: the cost joints (default the paper's 8); ``position_joints``: whose
+        root-relative positions to include (None: no forward kinematics); ``rig``: default
+        computed, from ``rest_frame`` if given.
         """
         quats = np.ascontiguousarray(motion.rotations(joints), dtype=np.float64)
         euler = np.ascontiguousarray(unwrap_degrees(motion.eulers(joints), axis=0))
@@ -90,8 +93,9 @@ class MotionFeatures:
     def from_arrays(
         cls, quats, euler=None, orders=None, fps=120.0, positions=None, name="", rig=None
     ):
-        """Features from raw arrays (tests, synthetic data): ``euler`` defaults to the quaternions
-        in ``orders`` (default ``"XYZ"``), ``rig`` to None.
+        """Features from raw arrays (tests, synthetic data).
+
+        ``euler`` defaults to the quaternions in ``orders`` (default ``"XYZ"``); ``rig`` to None.
         """
 
         quats = np.ascontiguousarray(quat_normalize(np.asarray(quats, dtype=np.float64)))

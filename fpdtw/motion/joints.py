@@ -118,8 +118,10 @@ def _by_bare_name(joint_names) -> dict:
 
 
 def resolve_joint_map(joint_names, naming):
-    """Canonical name -> the skeleton's joint name, for every name found among the candidates
-    of ``naming`` (a dict or a key of :data:`NAMINGS`; namespaces and case ignored).
+    """Canonical name -> skeleton joint name, by the candidates of ``naming``.
+
+    ``naming``: a dict of candidates or a key of :data:`NAMINGS`; namespaces and case are
+    ignored; names without a match are left out.
     """
     if isinstance(naming, str):
         naming = NAMINGS[naming]
@@ -205,13 +207,12 @@ def _apply(joint_map: dict, joint_names) -> dict:
 
 
 def find_joint_map(joint_names, source: str = "", maps=()) -> tuple:
-    """The joint map of a skeleton and which one it is (``"user map 1"``, a built-in name or
-    ``"usual names"``).
+    """The joint map of a skeleton, and which one it is.
 
-    The first of ``maps`` (the user's) whose every joint the skeleton has; else the first
-    built-in map (the ``source`` format's first) with all of :data:`ALL_JOINTS`, else with
-    the 8 cost joints; else the usual names (:data:`NAMINGS`) that find the most joints.
-    Names match without case and namespace (``mixamorig:Hips`` is ``Hips``).
+    The first of ``maps`` (the user's) whose every joint the skeleton has (``"user map
+    1"``); else the first built-in map (the ``source`` format's first) with all of
+    :data:`ALL_JOINTS`, else with the 8 cost joints; else the usual names (:data:`NAMINGS`)
+    that find the most (``"usual names"``). Names match without case and namespace.
     """
     for i, m in enumerate(maps):
         jm = _apply(m, joint_names)
@@ -232,8 +233,10 @@ def find_joint_map(joint_names, source: str = "", maps=()) -> tuple:
 
 
 def missing_joints_message(missing, have, what: str = "") -> str:
-    """The message for joints no map finds: the joints ``missing`` (ours), those the skeleton
-    has, what they are for, and the way out (``--joint-map``).
+    """The message for joints no joint map finds.
+
+    It names the joints ``missing`` (ours), those the skeleton ``have``, what they are for,
+    and the way out (``--joint-map``).
     """
     what = f" ({what})" if what else ""
     s = "s" if len(missing) > 1 else ""

@@ -24,8 +24,7 @@ _RAD_PER_DEG = math.pi / 180.0
 
 @numba.njit(cache=True, fastmath=False)
 def _frame_quats(E, codes, axes, out):
-    """out[j] = unit quaternion (w >= 0) of E[j] (degrees) in order codes[j], each elementary
-    rotation composed on the left as scipy does.
+    """out[j] = unit quaternion (w >= 0) of E[j] (degrees) in order codes[j], as scipy does.
 
     Plain version: fpdtw.plain.euler_to_quat (which leaves the sign as it comes).
     """
@@ -60,8 +59,10 @@ def order_codes(orders) -> np.ndarray:
 
 
 def frame_quats(euler, codes) -> np.ndarray:
-    """Local rotations (J, 4), ``w >= 0``, of one frame's Euler angles ``euler`` (J, 3, degrees)
-    in the orders :func:`order_codes` gives: bit for bit :func:`fpdtw.motion.motion.joint_quats`.
+    """Local rotations (J, 4), ``w >= 0``, of one frame's Euler angles ``euler`` (J, 3).
+
+    ``codes``: :func:`order_codes` of the joints' orders. Bit for bit
+    :func:`fpdtw.motion.motion.joint_quats`.
     """
     E = np.ascontiguousarray(euler, dtype=np.float64)
     out = np.empty((E.shape[0], 4))
@@ -117,9 +118,10 @@ def _frame_positions(quats, pre, post, offsets, parents, root, pos, rot):
 
 
 def frame_positions(skeleton, quats, root_translation, joints=None, root_relative=True):
-    """Positions (len(joints), 3) of one frame from its local rotations ``quats`` (J, 4) and
-    ``root_translation`` (3,): bit for bit ``Motion.positions(joints, root_relative)``.
-    ``joints``: skeleton indices (default all).
+    """Joint positions (len(joints), 3) of one frame, by forward kinematics.
+
+    From its local rotations ``quats`` (J, 4) and ``root_translation`` (3,); ``joints``:
+    skeleton indices (default all). Bit for bit ``Motion.positions(joints, root_relative)``.
 
     Paper: OPW poster eq. 5 (poses compared by root-relative joint positions).
     """

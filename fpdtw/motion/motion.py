@@ -40,8 +40,10 @@ _AXIS = {"X": 0, "Y": 1, "Z": 2}
 
 
 def _euler_near(q, order, ref):
-    """Euler angles of ``q`` (N, 4) in ``order`` on the branch nearest ``ref`` (N, 3): of the two
-    triples ``(a, b, c)`` and ``(a + 180, 180 - b, c + 180)``, each up to multiples of 360.
+    """Euler angles of ``q`` (N, 4) in ``order`` on the branch nearest ``ref`` (N, 3).
+
+    Of the triples ``(a, b, c)`` and ``(a + 180, 180 - b, c + 180)``, each up to multiples
+    of 360.
     """
     e = quat_to_euler(q, order)
     cols = [_AXIS[c] for c in order]
@@ -61,8 +63,9 @@ def _euler_near(q, order, ref):
 
 
 def joint_quats(euler, orders) -> np.ndarray:
-    """Local rotations (F, J, 4), ``w >= 0``, of Euler angles ``euler`` (F, J, 3, degrees), each
-    joint in its own rotation order: the same for any F (motions and streamed frames alike).
+    """Local rotations (F, J, 4), ``w >= 0``, from Euler angles (F, J, 3), per joint order.
+
+    The same for any number of frames: motions and streamed frames alike compute them here.
     """
     euler = np.asarray(euler, dtype=float)
     q = np.empty(euler.shape[:2] + (4,))
@@ -74,13 +77,12 @@ def joint_quats(euler, orders) -> np.ndarray:
 
 
 def blend_poses(q0, q1, e0, e1, r0, r1, a, orders, joints=None):
-    """Poses a fraction ``a`` (N,) of the way between two poses, as :meth:`Motion.retime` and the
-    live target make them: ``(q, euler, r)``.
+    """Poses a fraction ``a`` (N,) of the way between two poses: ``(q, euler, r)``.
 
-    Rotations ``q0, q1`` (N, J, 4) by slerp, root translations ``r0, r1`` (N, 3) linearly,
-    Euler angles (N, len(joints), 3) from the slerped quaternions in ``orders``, on the branch
-    nearest the linear interpolation of ``e0, e1`` (N, J, 3) (so they stay continuous); each
-    row computed on its own. ``joints``: whose Euler angles (default all).
+    As :meth:`Motion.retime` and the live target make them: rotations ``q0, q1`` (N, J, 4)
+    by slerp, root translations ``r0, r1`` (N, 3) linearly, Euler angles (N, len(joints), 3)
+    from the slerped quaternions in ``orders``, on the branch nearest the linear
+    interpolation of ``e0, e1`` (N, J, 3), so they stay continuous. Each row on its own.
     """
     q = quat_slerp(q0, q1, a[:, None] * np.ones(q0.shape[1]))
     r = (1 - a)[:, None] * r0 + a[:, None] * r1
@@ -98,8 +100,9 @@ def blend_poses(q0, q1, e0, e1, r0, r1, a, orders, joints=None):
 
 
 def sample_points(x, n: int):
-    """``(i0, i1, a)``: the frames either side of positions ``x`` (N,) in frames of an
-    ``n``-frame motion (within 1e-9 below a frame counts as it) and the fraction between.
+    """The frames either side of positions ``x`` (N,), in frames, and the fraction between.
+
+    Returns ``(i0, i1, a)`` for an ``n``-frame motion; within 1e-9 below a frame counts as it.
     """
     i0 = np.minimum(np.floor(x + 1e-9).astype(np.int64), n - 1)
     i1 = np.minimum(i0 + 1, n - 1)
@@ -278,9 +281,10 @@ class Motion:
         return self.require_joints(joints)
 
     def require_joints(self, joints=PAPER_JOINTS, what: str = "") -> np.ndarray:
-        """Skeleton indices (int64) of ``joints`` (canonical or own names), or a MotionFormatError
-        naming the file, every joint missing, those the skeleton has and ``--joint-map``;
-        ``what`` says what the joints are for.
+        """Skeleton indices (int64) of ``joints``, by canonical or own names.
+
+        Else a MotionFormatError naming the file, every joint missing, those the skeleton has
+        and ``--joint-map``; ``what`` says what the joints are for.
         """
         names = self.skeleton.joint_names
         own = [self.joint_map.get(name, name) for name in joints]
@@ -312,9 +316,7 @@ class Motion:
         return tuple(self.skeleton.rotation_orders[i] for i in self.joint_indices(joints))
 
     def forward_kinematics(self):
-        """Global joint positions (F, J, 3) and orientations (F, J, 4; each joint's frame after its
-        post rotation).
-        """
+        """Global joint positions (F, J, 3) and orientations (F, J, 4)."""
         sk = self.skeleton
         F, J = self.n_frames, sk.n_joints
         pos = np.empty((F, J, 3))
@@ -367,8 +369,10 @@ class Motion:
         return q, r
 
     def retime(self, t, fps=None, name=None) -> Motion:
-        """A new motion whose frame ``k`` is this one at time ``t[k]`` (s), by :func:`blend_poses`;
-        where ``t`` falls on a frame, its angles and quaternions exactly.
+        """A new motion whose frame ``k`` is this one at time ``t[k]`` (s).
+
+        Poses by :func:`blend_poses`; where ``t`` falls on a frame, its angles and quaternions
+        exactly.
         """
         t = np.asarray(t, dtype=float)
         x = np.clip(t, 0.0, self.duration) * self.fps
@@ -392,9 +396,10 @@ class Motion:
         )
 
     def resample(self, fps: float) -> Motion:
-        """Resample to rate ``fps``: frame ``k`` at ``k / fps`` s, up to the last frame's time
-        (120 -> 60 Hz keeps every second frame). LimitError, before allocating, for a rate
-        outside :func:`fpdtw.limits.fps_range` or a result beyond the frame limits.
+        """Resample to the frame rate ``fps`` (frame ``k`` at ``k / fps`` s).
+
+        Up to the last frame's time; 120 -> 60 Hz keeps every second frame. LimitError, before
+        allocating, for a rate outside :func:`fpdtw.limits.fps_range` or too many frames.
 
         Paper: FP-DTW Table 1.
         """

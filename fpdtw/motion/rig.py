@@ -37,8 +37,9 @@ POSITION_RULES = ("auto", "raw", "body-size")
 
 @dataclass(frozen=True, eq=False)
 class RigTransform:
-    """The fixed quaternions per cost joint, ``left`` ``A_j`` and ``right`` ``B_j`` (k, 4), that
-    map its animated rotation into the common representation ``Delta_j = A_j R_j B_j``.
+    """The two fixed quaternions per cost joint that map it into the common representation.
+
+    ``left`` ``A_j`` and ``right`` ``B_j`` (k, 4): ``Delta_j = A_j R_j B_j``.
 
     Paper: FP-DTW eq. 1 (its local rotations, made comparable across rigs).
     """
@@ -101,9 +102,7 @@ def _check_rest_frame(motion, rest_frame):
 
 
 def global_rotations(skeleton, quats) -> np.ndarray:
-    """Global rotations (..., J, 4) from animated ones ``quats`` (..., J, 4):
-    ``G_j = G_p pre_j R_j post_j``, as :meth:`fpdtw.motion.Motion.forward_kinematics`.
-    """
+    """Global rotations (..., J, 4) from animated ones: ``G_j = G_p pre_j R_j post_j``."""
     quats = np.asarray(quats, dtype=float)
     G = np.empty(quats.shape)
     sk = skeleton
@@ -115,9 +114,7 @@ def global_rotations(skeleton, quats) -> np.ndarray:
 
 
 def rest_rotations(motion, rest_frame=None) -> np.ndarray:
-    """Global rotations ``G^0`` (J, 4) at the rest pose: zero animated rotations, or frame
-    ``rest_frame`` (MotionFormatError, naming the file, if it is not a frame).
-    """
+    """Global rotations ``G^0`` (J, 4) at the rest pose: the rig's own, or frame ``rest_frame``."""
     k = _check_rest_frame(motion, rest_frame)
     J = motion.skeleton.n_joints
     R = np.tile(_IDENTITY, (J, 1)) if k is None else motion.quats[k]
@@ -125,17 +122,13 @@ def rest_rotations(motion, rest_frame=None) -> np.ndarray:
 
 
 def rig_transform(motion, joints=PAPER_JOINTS, rest_frame=None) -> RigTransform:
-    """The :class:`RigTransform` of the cost ``joints`` of a motion's rig (rest as in
-    :func:`rest_rotations`); MotionFormatError for a missing joint or a bad rest frame.
-    """
+    """The :class:`RigTransform` of a motion's cost ``joints`` (rest: :func:`rest_rotations`)."""
     idx = motion.joint_indices(joints)
     return skeleton_rig(motion.skeleton, idx, rest_rotations(motion, rest_frame))
 
 
 def skeleton_rig(skeleton, joints, rest=None) -> RigTransform:
-    """The :class:`RigTransform` of the joints (indices) of a skeleton; ``rest``: ``G^0`` (J, 4)
-    (default: zero animated rotations).
-    """
+    """The :class:`RigTransform` of ``joints`` (indices) of a skeleton at rest ``rest`` (J, 4)."""
     sk = skeleton
     G0 = global_rotations(sk, np.tile(_IDENTITY, (sk.n_joints, 1))) if rest is None else rest
     left, right = [], []
@@ -156,7 +149,8 @@ def common_rotations(motion, joints=PAPER_JOINTS, rest_frame=None) -> np.ndarray
 
 
 def cost_input(I_quats, rig_I, rig_T) -> np.ndarray:
-    """The input's rotations (m + 1, k, 4) as eq. 1 compares them with a target of rig ``rig_T``:
+    """The input's rotations (m + 1, k, 4) as eq. 1 compares them with a target of rig ``rig_T``.
+
     ``I_quats`` itself when a rig is unknown (None) or both are the same (eq. 1 on the raw
     local rotations, as the papers), else expressed in the target's rig.
 
@@ -195,9 +189,10 @@ def skeleton_body_size(skeleton, head: int, left_ankle: int, right_ankle: int) -
 
 
 def body_size(motion) -> float:
-    """A body's length along its skeleton: root to head plus root to ankle (both legs' mean),
-    summed over the bone offsets, in the motion's unit; MotionFormatError without a head or
-    an ankle.
+    """A body's length along its skeleton, in the motion's unit, whatever the pose.
+
+    Root to head plus root to ankle (both legs' mean), summed over the bone offsets;
+    MotionFormatError without a head or an ankle.
     """
     idx = motion.require_joints(("head", "left_ankle", "right_ankle"), "a body's size")
     return skeleton_body_size(motion.skeleton, *idx)
@@ -256,8 +251,10 @@ def trajectory_rotations(motion, frame: str = "local", joints=PAPER_JOINTS) -> n
 
 
 def bone_directions(motion, joints=PAPER_JOINTS) -> np.ndarray:
-    """Each joint's bone direction (k, 3): the unit offset to its child with the longest
-    offset, in the joint's own axes; MotionFormatError for a joint without one.
+    """Each joint's bone direction (k, 3), in the joint's own axes.
+
+    The unit offset to its child with the longest offset; MotionFormatError for a joint
+    without one.
 
     Paper: FP-DTW eq. 2 ("a one unit length vector along the joint's orientation",
     read as the bone).

@@ -25,9 +25,7 @@ def check_order(order: str) -> str:
 
 
 def euler_to_quat(euler, order="XYZ"):
-    """Unit quaternions (..., 4), ``w >= 0``, of Euler angles ``euler`` (..., 3; degrees about
-    X, Y, Z) in rotation ``order``.
-    """
+    """Unit quaternions (..., 4), ``w >= 0``, of Euler angles (..., 3) in rotation ``order``."""
     order = check_order(order)
     e = np.asarray(euler, dtype=float)
     shape = e.shape[:-1]
@@ -39,9 +37,7 @@ def euler_to_quat(euler, order="XYZ"):
 
 
 def quat_to_euler(q, order="XYZ"):
-    """Euler angles (..., 3; degrees, x, y, z columns, each in (-180, 180]) of quaternions
-    (..., 4) in rotation ``order``; :func:`unwrap_degrees` them before differencing.
-    """
+    """Euler angles (..., 3; degrees, each in (-180, 180]) of quaternions in rotation ``order``."""
     order = check_order(order)
     q = np.asarray(q, dtype=float)
     shape = q.shape[:-1]
@@ -59,8 +55,10 @@ def unwrap_degrees(angles, axis=0):
 
 
 class UnwrapDegrees:
-    """:func:`unwrap_degrees` along time, one frame at a time: called with ``a[0], a[1], ...``
-    it returns ``unwrap_degrees(a, axis=0)[k]`` bit for bit (numpy.unwrap's operations).
+    """:func:`unwrap_degrees` along time, one frame at a time, bit for bit.
+
+    Called with ``a[0], a[1], ...`` it returns ``unwrap_degrees(a, axis=0)[k]``
+    (numpy.unwrap's operations).
     """
 
     _PERIOD = 2 * np.pi
@@ -146,9 +144,7 @@ def quat_to_matrix(q):
 
 
 def quat_slerp(q0, q1, t):
-    """Spherical linear interpolation along the shortest arc from ``q0`` to ``q1`` (..., 4) at
-    ``t`` in [0, 1] (shape (...) or scalar).
-    """
+    """Spherical linear interpolation from ``q0`` to ``q1`` (..., 4) at ``t``, shortest arc."""
     q0 = quat_normalize(q0)
     q1 = quat_normalize(q1)
     t = np.asarray(t, dtype=float)[..., None]
@@ -165,8 +161,6 @@ def quat_slerp(q0, q1, t):
 
 
 def geodesic_angle(a, b):
-    """Rotation angle between unit quaternions, ``2 arccos |a . b|`` in [0, pi] (eq. 1's cost
-    is this divided by pi).
-    """
+    """Rotation angle in [0, pi] between unit quaternions, ``2 arccos |a . b|`` (eq. 1 / pi)."""
     d = np.abs(np.sum(quat_normalize(a) * quat_normalize(b), axis=-1))
     return 2.0 * np.arccos(np.clip(d, 0.0, 1.0))

@@ -36,10 +36,6 @@ GAP_PERIODS = 1.5
 GAP_RULES = ("slerp", "hold")
 
 
-def _same_rate(a: float, b: float) -> bool:
-    return abs(a - b) <= 1e-9 * max(a, b)
-
-
 class LiveTarget:
     """The target motion of a live alignment, built from frames as they arrive.
 
@@ -68,7 +64,7 @@ class LiveTarget:
             raise ValueError(f"gap must be one of {GAP_RULES}, got {gap!r}")
         self.skeleton, self.fps, self.rate = skeleton, float(fps), float(rate)
         self.gap, self.where = gap, where
-        self.same_rate = _same_rate(self.fps, self.rate)
+        self.same_rate = abs(self.fps - self.rate) <= 1e-9 * max(self.fps, self.rate)
         jm = joint_map or {}
         cost = self._indices(joints, jm, "the 8 joints FP-DTW compares")
         self._pos_joints = None
@@ -159,10 +155,6 @@ class LiveTarget:
         step = round(periods) if periods > GAP_PERIODS else 1
         return self._cur[0] + max(step, 1)
 
-    def _x(self, k: int) -> float:
-        """Where tick ``k`` falls, in slots."""
-        return float(k) if self.same_rate else (k / self.rate) * self.fps
-
     def push(
         self, euler, root_translation, t: float, *, arrival=False, line=None, frame=None
     ) -> list:
@@ -209,7 +201,7 @@ class LiveTarget:
         out = []
         k = self.n_ticks
         while True:
-            x = self._x(k)
+            x = float(k) if self.same_rate else (k / self.rate) * self.fps  # tick k, in slots
             if self.same_rate:
                 ok = k <= slot
             else:

@@ -15,8 +15,9 @@ BAND_SECONDS = ForecastAligner.BAND_SECONDS
 
 
 def band_half_width(band: str, w: int, fps: float) -> int:
-    """Half-width ``B`` in frames: ``"1s"``, ``round(fps)``; ``"half-w"``, ``floor(w / 2)``
-    (each at least 1); ``"none"``, 0.
+    """Half-width ``B`` in frames of a band option (``"none"``: 0).
+
+    ``"1s"``: ``round(fps)``; ``"half-w"``: ``floor(w / 2)``; each at least 1.
 
     Paper: FP-DTW Section 7 (conclusion: a global constraint).
     """
@@ -30,8 +31,9 @@ def band_half_width(band: str, w: int, fps: float) -> int:
 
 
 def band_rows(start: int, rows: int, q: int, band: int) -> np.ndarray:
-    """Which rows (offsets from ``M_n = start``) of a window lie inside the band,
-    ``|start + r - q| <= band``: bool array (rows,).
+    """Which rows of a window lie inside the band: bool (rows,).
+
+    Row ``r`` (offset from ``M_n = start``) when ``|start + r - q| <= band``.
 
     Paper: FP-DTW Section 7 (conclusion: a global constraint).
     Notebook: 16_open_questions.ipynb
@@ -42,8 +44,9 @@ def band_rows(start: int, rows: int, q: int, band: int) -> np.ndarray:
 
 
 def band_window(start: int, w_i: int, q: int, band: int):
-    """``(first, last)`` offsets of the rows of ``I_{start}..I_{start + w_i}`` inside the band,
-    or None when none is.
+    """Offsets ``(first, last)`` of the rows of ``I_{start}..I_{start + w_i}`` inside the band.
+
+    None when no row is inside.
 
     Paper: FP-DTW Section 7 (conclusion: a global constraint).
     Notebook: 16_open_questions.ipynb
@@ -55,11 +58,11 @@ def band_window(start: int, w_i: int, q: int, band: int):
 
 
 def band_cells(M, m: int, w: int, method: str, band: str = "half-w"):
-    """``(q, full, banded)`` (int64 each): the window steps of a band aligner's map ``M`` and
-    the cells of eq. 1 each computes without and with its band.
+    """The cells of eq. 1 a band aligner's windows compute, with and without its band.
 
-    A step at ``q`` has a window when ``n = q - 1 >= 2`` and ``M_n < m``: Method B,
-    ``min(w, m - M_n) + 1`` rows by ``w + 1`` columns; Method C's square window,
+    From its map ``M``: ``(q, full, banded)``, int64 each, the window steps' target frames
+    and cells. A step at ``q`` has a window when ``n = q - 1 >= 2`` and ``M_n < m``: Method
+    B, ``min(w, m - M_n) + 1`` rows by ``w + 1`` columns; Method C's square window,
     ``min(w - 1, m - M_n) + 1`` rows by ``w``. ``"half-w"`` computes only the rows of
     :func:`band_window`; ``"1s"`` masks, so computes all.
 

@@ -44,8 +44,10 @@ def check_count(value, what: str, who: str, minimum: int = 1) -> int:
 
 
 def compiled_frame(frame, i: int, capacity: int, Tp):
-    """``(quats, euler)`` of a frame a compiled step can take (plain 2-D ndarrays, room for
-    row ``i``; its positions stored in ``Tp[i]``), else None: the general path.
+    """``(quats, euler)`` of a streamed frame a compiled step can take, else None.
+
+    Plain 2-D ndarrays and room for row ``i`` (its positions stored in ``Tp[i]``); None
+    sends the frame the general way.
     """
     fq, fe, p = frame.quats, frame.euler, frame.positions
     if not (
@@ -120,8 +122,7 @@ class OnlineAligner(ABC):
 
     @property
     def M(self) -> np.ndarray:
-        """The map so far: ``M[q]`` is the input frame of target frame
-        ``history_start + q``."""
+        """The map so far: ``M[q]`` is the input frame of target frame ``history_start + q``."""
         return self._M[: self.n_received - self._start]
 
     def _buffers(self):
@@ -155,9 +156,10 @@ class OnlineAligner(ABC):
         self._start += shift
 
     def _begin_take(self, frame: Frame) -> None:
-        """The first frame of a take: adopt its rotation orders (:attr:`T_orders`, for the
-        forecasts) and its rig (:func:`fpdtw.motion.rig.cost_input` decides what eq. 1
-        compares), passed to :meth:`_use_input`. AlignmentError for bad orders.
+        """The first frame of a take: adopt its rotation orders and rig.
+
+        :attr:`T_orders` serve the forecasts; the rig decides what eq. 1 compares
+        (:func:`fpdtw.motion.rig.cost_input`, to :meth:`_use_input`). AlignmentError for bad orders.
         """
 
         I = self.I
@@ -205,8 +207,10 @@ class OnlineAligner(ABC):
 
 
 class JointMajorInput:
-    """Mixin of aligners that keep the input for eq. 1 C-contiguous (``_Iq``, (m + 1, k, 4))
-    and joint-major (``_Isoa``, (k, 4, m + 1)), as compared with the take's rig."""
+    """Mixin: the input for eq. 1 kept C-contiguous and joint-major.
+
+    ``_Iq`` (m + 1, k, 4) and ``_Isoa`` (k, 4, m + 1), as compared with the take's rig.
+    """
 
     def _use_input(self, Iq, orders) -> None:
         if Iq is not getattr(self, "_Iq", None):
@@ -215,8 +219,9 @@ class JointMajorInput:
 
 
 def run_online(aligner: OnlineAligner, T: MotionFeatures, *, reset=True):
-    """Run an online aligner over target ``T`` frame by frame (``reset`` first): ``(M, seconds)``,
-    the int64 map (n,) and each ``step`` call's wall time (n,).
+    """Run an online aligner over target ``T`` frame by frame: ``(M, seconds)``.
+
+    The int64 map (n,) and each ``step`` call's wall time (n,); ``reset``: reset first.
     """
     if reset:
         aligner.reset()

@@ -14,8 +14,10 @@ from fpdtw.period import auto_window
 
 
 class MethodCAuto(MethodC):
-    """:class:`~fpdtw.online.method_c.MethodC` with ``w = auto_window(I)`` (fallback 40 frames
-    at 120 Hz); the other arguments as MethodC's.
+    """Method C whose ``w`` is :func:`fpdtw.period.auto_window` of the input.
+
+    Fallback 40 frames at 120 Hz; the other arguments as
+    :class:`~fpdtw.online.method_c.MethodC`'s.
 
     Paper: FP-DTW Section 7, Algorithm 3.
     """

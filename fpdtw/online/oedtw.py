@@ -23,10 +23,11 @@ from fpdtw.online.base import JointMajorInput, OnlineAligner
 
 @numba.njit(cache=True)
 def _oe_column(Isoa, t, prev, cur, first, wd, norm_offset, c):
-    """Accumulated column ``cur`` of a new target frame ``t`` (k, 4) from ``prev``; returns the
-    end point: argmin of ``cur`` (lowest i on ties), or with ``norm_offset >= 0`` of
-    ``cur[i] / (norm_offset + i)`` (dtw-python's N+M normalisation). ``Isoa``: the input
-    joint-major (k, 4, m+1); ``c``: scratch.
+    """Accumulated column ``cur`` of a new target frame ``t`` (k, 4); returns the end point.
+
+    From ``prev``; the end point is the argmin of ``cur`` (lowest i on ties), or with
+    ``norm_offset >= 0`` of ``cur[i] / (norm_offset + i)`` (dtw-python's N+M normalisation).
+    ``Isoa``: the input joint-major (k, 4, m+1); ``c``: scratch.
     """
     m1 = cur.shape[0]
     _geo_line(t, Isoa, 0, m1, c, c)  # c[i] = geoDistance(I_i, t) (eq. 1)
@@ -69,9 +70,10 @@ def _oe_step(Isoa, Tq, cols, q, wd, norm_offset, c):
 
 class OEDTW(JointMajorInput, OnlineAligner):
     """Open-end DTW: ``step`` returns the best end point ``e_q`` (not monotonic).
+
     ``step_pattern``: "symmetric1" or "symmetric2" (:func:`fpdtw.dtw.accumulate`);
-    ``normalize``: divide by ``(q + 1) + (i + 1)`` first, as dtw-python's ``open_end=True``
-    (symmetric2 only).
+    ``normalize``: divide by ``(q + 1) + (i + 1)`` first, as dtw-python's
+    ``open_end=True`` (symmetric2 only).
 
     Plain version: fpdtw.plain.oe_dtw_end_points (symmetric1, not normalised).
     Paper: FP-DTW Section 2 and Fig. 1 (Tormene et al. 2009).
@@ -139,8 +141,9 @@ class OEDTW(JointMajorInput, OnlineAligner):
         return self._cols[: self.n_received].T.copy()
 
     def path(self, q: int | None = None) -> np.ndarray:
-        """Partial alignment path (L, 2) of target frame ``q`` (default the last), from ``(0, 0)``
-        to ``(e_q, q)``: :func:`fpdtw.dtw.dtw`'s path on ``C[:e_q + 1, :q + 1]``.
+        """Partial alignment path (L, 2) of target frame ``q`` (default the last).
+
+        From ``(0, 0)`` to ``(e_q, q)``: :func:`fpdtw.dtw.dtw`'s path on ``C[:e_q + 1, :q + 1]``.
 
         Paper: FP-DTW Fig. 1 (paths for consecutive target frames).
         """

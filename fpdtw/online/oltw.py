@@ -52,8 +52,10 @@ _LOG_COLS = 7
 
 @numba.njit(cache=True)
 def _work_views(work, c, k):
-    """OLTW's float64 scratch as views of one buffer: the band ``D`` (c, c), the last c target
-    frames joint-major ``R`` (k, 4, c) (frame q' in slot ``q' % c``), ``d`` (c) and ``acc`` (c).
+    """OLTW's float64 scratch as views of one buffer.
+
+    The band ``D`` (c, c), the last c target frames joint-major ``R`` (k, 4, c) (frame q' in
+    slot ``q' % c``), ``d`` (c) and ``acc`` (c).
     """
     D = work[: c * c].reshape((c, c))
     R = work[c * c : c * c + 4 * k * c].reshape((k, 4, c))
@@ -63,9 +65,10 @@ def _work_views(work, c, k):
 
 @numba.njit(cache=True)
 def _new_band_line(Iq, Isoa, R, D, dl, acc, c, i, q, column, wts):
-    """Evaluate the new line at the corner (i, q): target column q (``column``) or input row i,
-    in the ring ``D`` (cell (i', q') at ``D[i' % c, q' % c]``; outside the band unreachable),
-    its eq. 1 costs first in one vectorised pass, bit-identical to ``_geo_frame``.
+    """Evaluate the new line at the corner (i, q): target column q (``column``) or input row i.
+
+    In the ring ``D`` (cell (i', q') at ``D[i' % c, q' % c]``; outside the band unreachable);
+    its eq. 1 costs first, in one vectorised pass, bit-identical to ``_geo_frame``.
     """
     lo = max(0, (i if column else q) - c + 1)
     hi = (i if column else q) + 1
@@ -149,6 +152,7 @@ def _apply(Iq, Isoa, R, D, dl, acc, st, c, inc, wts):
 @numba.njit(cache=True)
 def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normalize, log, wts):
     """Receive target frame ``q_new``; grow the matrix; return (M_q, number of log rows).
+
     ``st`` (5,): corner i, corner q, previous increment, run count, pending increment.
     """
     m = Iq.shape[0] - 1
@@ -296,8 +300,10 @@ class OLTW(JointMajorInput, OnlineAligner):
 
     @property
     def decisions(self) -> np.ndarray:
-        """Every GetInc decision (``record=True``), int64 (N, 7): target frame, corner ``i``,
-        corner ``q``, increment, reason (``BY_*``), argmin cell ``i*, q*`` (-1 if none).
+        """Every GetInc decision so far (``record=True``), int64 (N, 7).
+
+        Columns: target frame, corner ``i``, corner ``q``, increment, reason (``BY_*``), argmin
+        cell ``i*``, ``q*`` (-1 if none).
         """
         if not self.record:
             raise AlignmentError("decisions are kept only with record=True")

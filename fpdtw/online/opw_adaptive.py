@@ -36,8 +36,9 @@ def next_gamma(gamma: float, decisions) -> float:
 
 
 class AdaptiveOPW(OPW):
-    """OPW (poster reading) whose gamma follows :func:`next_gamma` from the next step on;
-    arguments as :class:`~fpdtw.online.opw.OPW`'s, ``gammas`` the gamma of each step.
+    """OPW (poster reading) whose gamma follows :func:`next_gamma` from the next step on.
+
+    Arguments as :class:`~fpdtw.online.opw.OPW`'s; ``gammas``: the gamma of each step.
 
     Paper: OPW poster Section 6, Algorithm 1.
     """

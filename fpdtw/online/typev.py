@@ -35,8 +35,10 @@ MAX_ADVANCE = 3
 
 
 class TypeV:
-    """The forward Type V constraint: ``states`` and ``meanings``, ``table[state, advance]``
-    (int64 (3, 4): the next state, -1 if not allowed), ``start`` and ``name``.
+    """The forward Type V constraint as a state table.
+
+    ``states`` and ``meanings``; ``table[state, advance]`` (int64 (3, 4)): the next state,
+    -1 if not allowed; ``start``; ``name``, the suffix in aligner names.
 
     Plain version: fpdtw.plain.type_v_allowed, fpdtw.plain.type_v_next.
     Paper: FP-DTW Section 6, Fig. 9 iv.
@@ -150,8 +152,10 @@ def is_legal_typev(M, m=None) -> bool:
 
 
 def lowest_cells(M) -> np.ndarray:
-    """Lowest input cell of each target row read forward from ``M``: ``M_{t-1} + 1`` after an
-    advance, ``M_t`` on a hold."""
+    """Lowest input cell of each target row of the path read forward from ``M``.
+
+    ``M_{t-1} + 1`` after an advance, ``M_t`` on a hold.
+    """
     M = np.asarray(M, dtype=np.int64)
     L = M.copy()
     adv = np.diff(M) > 0
@@ -160,8 +164,9 @@ def lowest_cells(M) -> np.ndarray:
 
 
 def dtw_python_accepts(M) -> bool:
-    """Ask dtw-python whether ``M`` is the forward reading of a Type V path: on ``[0..q] x
-    [0..M_q]`` the :func:`lowest_cells` cost 0, the rest 1; accepted when the
+    """Ask dtw-python whether ``M`` is the forward reading of a Type V path.
+
+    On ``[0..q] x [0..M_q]`` the :func:`lowest_cells` cost 0, the rest 1; accepted when the
     ``rabinerJuangStepPattern(5, "c")`` path costs 0 with ``M`` as its highest cell per row
     (sound: its paths are the pattern's steps; complete: lowest cells fix the highest).
 

@@ -47,8 +47,9 @@ B_CORNER = 10000.0
 
 @numba.njit(cache=True)
 def _forecast_columns(Tq, Te, q, first, last, codes, F, c0=0, shift=0, hold=False):
-    """Fill ``F[j, :, c0 + i]``, i = first..last-1, with the frame ``i + shift`` ahead of
-    T_{n+1} = T[q]: T_{n+1} itself at 0 (always with ``hold``), else dead reckoning.
+    """Fill ``F[j, :, c0 + i]``, i = first..last-1, with the frame ``i + shift`` ahead of T[q].
+
+    T_{n+1} = T[q] itself at 0 (always with ``hold``), else dead reckoning.
 
     Plain version: fpdtw.plain.forecast_joints, then fpdtw.plain.euler_to_quat.
     """
@@ -75,8 +76,9 @@ def _forecast_columns(Tq, Te, q, first, last, codes, F, c0=0, shift=0, hold=Fals
 
 @numba.njit(cache=True)
 def _forecast_window(Tq, Te, q, w, with_prev, codes, F, shift=0, hold=False):
-    """Fill ``F`` (k, 4, ncols) with the step's target window; return ncols. ``with_prev``
-    (B, C's "square-tn"): T_n first; ``shift = 1``: start at the first forecast.
+    """Fill ``F`` (k, 4, ncols) with the step's target window; return ncols.
+
+    ``with_prev`` (B, C's "square-tn"): T_n first; ``shift = 1``: from the first forecast.
     """
     c0 = 0
     if with_prev:
@@ -101,8 +103,9 @@ def _cost_window(Iq, start, nrows, F, ncols, C, wts):
 
 @numba.njit(cache=True)
 def _fill_shared(Iq, Tq, Te, q, codes, start, nrows, w, c0, C, cF, cG, cN, cMeta, cKey):
-    """Fill ``C[:nrows, c0:c0 + w]`` from a :class:`WindowCache`, computing what it lacks (a
-    new step, or other frames at the same step per ``cKey``, empties it first).
+    """Fill ``C[:nrows, c0:c0 + w]`` from a :class:`WindowCache`, computing what it lacks.
+
+    A new step, or other frames at the same step (``cKey``), empties it first.
     """
     k = Tq.shape[1]
     same = cMeta[0] == q
@@ -165,9 +168,10 @@ def _is_allowed(r, limit, allow):
 
 @numba.njit(cache=True)
 def _accumulate_reverse(C, nrows, ncols, D, open_end=False, wd=1.0):
-    """Reverse accumulation from the far corner back to (0, 0), symmetric1 (``wd = 1``) or
-    dtw-python's symmetric2 (``wd = 2``); ``open_end``: the path may end in any row of the
-    last column (Tormene et al.'s open end, time reversed).
+    """Reverse accumulation from the far corner back to (0, 0).
+
+    Symmetric1 (``wd = 1``) or dtw-python's symmetric2 (``wd = 2``); ``open_end``: the path
+    may end in any row of the last column (Tormene et al.'s open end, time reversed).
 
     Plain version: fpdtw.plain.reverse_accumulate.
     """
@@ -185,9 +189,10 @@ def _accumulate_reverse(C, nrows, ncols, D, open_end=False, wd=1.0):
 
 @numba.njit(cache=True)
 def _backtrack_lowest(D, nrows, ncols, P, path, input_first=False):
-    """Method B's back-track from the far corner to (0, 0) with the overwrite rule: ties take
-    the diagonal, then the target step (``input_first``: the input step); ``P[c]`` ends as
-    the lowest row visited in column c; returns the number of cells in ``path``.
+    """Method B's back-track from the far corner to (0, 0) with the overwrite rule.
+
+    Ties: the diagonal, then the target step (``input_first``: the input step). ``P[c]``
+    ends as the lowest row visited in column c; returns the number of cells in ``path``.
 
     Plain version: fpdtw.plain.backtrack, then fpdtw.plain.path_to_map (the lowest rows).
     """
@@ -222,8 +227,9 @@ def _backtrack_lowest(D, nrows, ncols, P, path, input_first=False):
 
 @numba.njit(cache=True)
 def _choose_b(C, nrows, ncols, limit, allow, D, P, path, input_first):
-    """Method B on a filled window: Type V mask, accumulate, D[0, 0] = 10000, back-track;
-    returns (P_1, path length).
+    """Method B on a filled window: returns (P_1, path length).
+
+    Type V mask, accumulate, ``D[0, 0] = 10000``, back-track.
 
     Plain version: fpdtw.plain.method_b_step (lines 13-16).
     """
@@ -242,8 +248,10 @@ C_SQUARE, C_LITERAL, C_SQUARE_TN, C_OPEN_END, C_NORMALISED = 0, 1, 2, 3, 4
 
 @numba.njit(cache=True)
 def _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high):
-    """Method C on a filled window: Type V mask, reverse accumulation (by ``reading``), argmin
-    of column 0; ties low, or high with ``ties_high``. Returns the offset, -1 if none allowed.
+    """Method C on a filled window: returns the chosen offset, -1 if no row is allowed.
+
+    Type V mask, reverse accumulation (by ``reading``), argmin of column 0; ties low, or
+    high with ``ties_high``.
 
     Plain version: fpdtw.plain.method_c_step (lines 12-13).
     """
@@ -267,8 +275,10 @@ def _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high):
 
 @numba.njit(cache=True)
 def _choose_a(Iq, t, start, nrows, limit, allow, c, ties_high, wts):
-    """Method A: ``c[r]`` = eq. 1 of I[start + r] and t, then the argmin over the allowed rows
-    (ties as :func:`_choose_c`); -1 if none is allowed.
+    """Method A's window: returns the chosen offset, -1 if no row is allowed.
+
+    ``c[r]`` = eq. 1 of I[start + r] and t; the argmin over the allowed rows (ties as
+    :func:`_choose_c`).
 
     Plain version: fpdtw.plain.method_a_step (lines 7-10).
     """
@@ -325,8 +335,9 @@ def _mask_band(C, nrows, col, q, start, band):
 
 @numba.njit(cache=True)
 def _clip_band(start, nrows, q, band):
-    """``(first, rows)`` of the window inside the band; ``(0, nrows)`` when no row is (then
-    masked, and refused by :func:`_check_band`).
+    """``(first, rows)``: the rows of the window inside the band.
+
+    ``(0, nrows)`` when no row is (then masked, and refused by :func:`_check_band`).
     """
     lo = max(0, q - band - start)
     hi = min(nrows - 1, q + band - start)
@@ -498,8 +509,9 @@ def _run_group(
     Iq, Tq, Te, codes, params, table, M, F, C, D, Pcol, path, score, cF, cG, cN, cMeta, cKey,
     wts,
 ):  # fmt: skip
-    """Every aligner of ``params`` (one row each) over the whole target, in lockstep; the
-    scratch is shared (the steps run in turn). ``M`` (aligners, frames) gets the maps.
+    """Every aligner of ``params`` (one row each) over the whole target, in lockstep.
+
+    The scratch is shared (the steps run in turn); ``M`` (aligners, frames) gets the maps.
     """
     n = Tq.shape[0]
     A = params.shape[0]
@@ -529,8 +541,9 @@ def _work_sizes(k: int, W: int, ns: int) -> tuple:
 
 @numba.njit(cache=True)
 def _head_views(work, iwork):
-    """``prm, table, tv, out`` and column 0 of ``C``: all Method A needs, in one reshape (each
-    of :func:`_work_views`' costs about 0.1 us).
+    """``prm, table, tv, out`` and column 0 of ``C``: all Method A needs, in one reshape.
+
+    Each of :func:`_work_views`' reshapes costs about 0.1 us.
     """
     W = iwork[_H_W]
     ns = iwork[_H_NS]
@@ -547,9 +560,10 @@ def _head_views(work, iwork):
 
 @numba.njit(cache=True)
 def _work_views(work, iwork):
-    """An aligner's scratch, parameters and state as views of two flat buffers, ``work``
-    (float64) and ``iwork`` (int64, after the header ``k, W, ns``): a compiled call costs
-    about 0.1 us per array argument, and :func:`_stream_step` runs once per frame.
+    """An aligner's scratch, parameters and state as views of two flat buffers.
+
+    ``work`` (float64) and ``iwork`` (int64, after the header ``k, W, ns``): a compiled call
+    costs about 0.1 us per array argument, and :func:`_stream_step` runs once per frame.
     """
     k = iwork[_H_K]
     W = iwork[_H_W]
@@ -597,8 +611,10 @@ def _store_frame(k, Tq, Te, q, fq, fe):
 
 @numba.njit(cache=True)
 def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
-    """The whole ``step`` in one call: store the frame in row ``q``, step, store ``M[q]``; -1 for
-    a frame of another shape, -2 for weighted joints (the caller takes the general path).
+    """The whole ``step`` in one call: store the frame in row ``q``, step, store ``M[q]``.
+
+    -1 for a frame of another shape, -2 for weighted joints: the caller takes the general
+    path.
     """
     if iwork[_HEADER + P_WEIGHTED] != 0:
         return -2
@@ -786,8 +802,9 @@ class WindowAligner(OnlineAligner):
 
     @classmethod
     def name_for(cls, w: int, typev: bool = False, **options) -> str:
-        """The name of a configuration: ``MethodC.name_for(40, window="literal")`` is
-        ``"Mc w40 (literal window)"``; ``typev`` adds ``" + Type V"``.
+        """The name of a configuration, e.g. ``"Mc w40 (literal window)"``.
+
+        ``MethodC.name_for(40, window="literal")``; ``typev`` adds ``" + Type V"``.
         """
         settings = cls._resolve_options(options)
         labels = [
@@ -822,8 +839,10 @@ class WindowAligner(OnlineAligner):
         return self.last_window
 
     def step(self, frame: Frame) -> int:
-        """Receive ``T_{n+1}``, return ``M_{n+1}``: one compiled call (:func:`_stream_step`) in
-        the common case, else the general path after checking the frame's shape.
+        """Receive ``T_{n+1}``, return ``M_{n+1}``.
+
+        One compiled call (:func:`_stream_step`) in the common case, else the general path after
+        checking the frame's shape.
         """
         if self.n_received == 0:
             self._begin_take(frame)
@@ -900,8 +919,10 @@ class WindowAligner(OnlineAligner):
 
 
 class ForecastAligner(WindowAligner):
-    """Common base of Methods B and C: warm-up ``n < s`` (``s = 2``): ``M_{n+1} = min(M_n + 1,
-    m)`` (the paper's ``n + 1`` from ``M_0 = 0``); ``M_n >= m``: ``m``; else the window.
+    """Common base of Methods B and C: warm-up, end of input, then a forecast window.
+
+    Warm-up ``n < s`` (``s = 2``): ``M_{n+1} = min(M_n + 1, m)`` (the paper's ``n + 1``
+    from ``M_0 = 0``); ``M_n >= m``: ``m``.
     """
 
     #: Smoothing window: frames needed before forecasting (dead reckoning: 2).
@@ -918,12 +939,14 @@ class ForecastAligner(WindowAligner):
     def __init__(
         self, I: MotionFeatures, w: int, *, constraint=None, record=False, cache=None, **options
     ):
-        """Beyond the papers (notebook 16). Bands around the diagonal ``M_q = q``: ``"1s"`` masks
-        the rows more than ``round(1 s x fps)`` frames away in the column that decides the step;
-        ``"half-w"`` (``B = max(1, floor(w / 2))``, chosen on 2026-11-24 after the 1 s band's
-        results, before any run of it) does not compute them, the conclusion's global constraint.
-        A step with no row inside the band raises ValueError; a band with Type V is refused.
-        ``weights="travel"``: eq. 1 weighted by :func:`fpdtw.weights.joint_weights` of the input.
+        """Options beyond the papers (notebook 16): a global band, weighted joints.
+
+        Bands around the diagonal ``M_q = q``: ``"1s"`` masks the rows more than ``round(1 s x
+        fps)`` frames away in the column that decides the step; ``"half-w"`` (``B = max(1,
+        floor(w / 2))``, chosen on 2026-11-24 after the 1 s band's results, before any run of
+        it) does not compute them, the conclusion's global constraint. A step with no row inside
+        the band raises ValueError; a band with Type V is refused. ``weights="travel"``: eq. 1
+        weighted by :func:`fpdtw.weights.joint_weights` of the input.
         """
         super().__init__(I, w, constraint=constraint, record=record, **options)
         if self.settings.get("band", "none") != "none":
@@ -960,8 +983,10 @@ class ForecastAligner(WindowAligner):
 
 
 def run_group(aligners, T: MotionFeatures) -> list:
-    """Maps (int64 (n,) each) of Method B and C aligners of one input over target ``T``, in one
-    compiled loop: those of streaming each (tested), without a Python call per frame.
+    """Run Method B and C aligners of one input over target ``T`` in one compiled loop.
+
+    Their maps (int64 (n,) each), those of streaming each (tested), without a Python call
+    per frame.
     """
     aligners = list(aligners)
     if not aligners:
