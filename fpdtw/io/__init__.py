@@ -1,7 +1,4 @@
-"""Motion file readers (FBX via ufbx, ASF/AMC, BVH), all returning a :class:`~fpdtw.motion.Motion`.
-
-:func:`load_motion` picks the reader from the file extension.
-"""
+"""Motion file readers (FBX via ufbx, ASF/AMC, BVH), each giving a :class:`~fpdtw.motion.Motion`."""
 
 from __future__ import annotations
 
@@ -17,26 +14,11 @@ READERS = {".fbx": "fbx", ".amc": "asfamc", ".bvh": "bvh"}
 
 
 def load_motion(path, **kwargs):
-    """Read a motion file of any supported format.
+    """Read a ``.fbx``, ``.amc`` or ``.bvh`` motion file with the reader of its extension.
 
-    Parameters
-    ----------
-    path : str or os.PathLike
-        ``.fbx``, ``.amc`` (skeleton ``.asf`` found next to it, or pass
-        ``skeleton=``) or ``.bvh``.
-    **kwargs
-        Passed to the format's reader (e.g. ``fps=``, ``name=``).
-
-    Returns
-    -------
-    motion : Motion
-
-    Raises
-    ------
-    MotionFormatError
-        Unknown extension, no such file, a directory or other non-regular file, a file
-        larger than :data:`fpdtw.limits.MAX_FILE_BYTES`, or a file the reader rejects
-        (including a frame rate or frame count outside :mod:`fpdtw.limits`).
+    ``kwargs`` go to the reader (``fps=``, ``name=``; ``skeleton=`` for AMC, else the
+    ``.asf`` next to it). MotionFormatError for an unknown extension, a file
+    :func:`check_input_file` refuses, or one the reader rejects.
     """
     p = Path(path)
     kind = READERS.get(p.suffix.lower())

@@ -1,5 +1,4 @@
-"""Shared helpers of the readers: the file checks every reader makes, and text decoding
-(ASF/AMC, BVH)."""
+"""The file checks every reader makes, and text decoding (ASF/AMC, BVH)."""
 
 from __future__ import annotations
 
@@ -22,11 +21,8 @@ _BOMS = (
 def check_input_file(path: Path) -> int:
     """Size in bytes of a motion file about to be read whole.
 
-    Raises
-    ------
-    MotionFormatError
-        No such file, a directory, not a regular file (a FIFO would block the reader),
-        not readable, or larger than :data:`fpdtw.limits.MAX_FILE_BYTES`.
+    MotionFormatError for no such file, a directory, not a regular file (a FIFO would
+    block), unreadable, or larger than :data:`fpdtw.limits.MAX_FILE_BYTES`.
     """
     try:
         st = os.stat(path)
@@ -43,14 +39,11 @@ def check_input_file(path: Path) -> int:
 
 
 def decode_text(data: bytes) -> str:
-    """Text of a motion file: a leading UTF-8 or UTF-16 byte-order mark selects (and is
-    dropped from) the encoding; otherwise latin-1, which never fails (HDM05 headers hold
-    umlauts). UTF-8 after its mark that does not decode is read as latin-1.
+    """Text of a motion file, by its byte-order mark, else latin-1.
 
-    Raises
-    ------
-    UnicodeDecodeError
-        A UTF-16 byte-order mark followed by bytes that are not UTF-16.
+    A UTF-8 or UTF-16 mark selects the encoding (and is dropped); latin-1 never fails
+    (HDM05 headers hold umlauts), also for UTF-8 that does not decode after its mark.
+    UnicodeDecodeError for a UTF-16 mark followed by other bytes.
     """
     for bom, encoding in _BOMS:
         if data.startswith(bom):
@@ -65,8 +58,7 @@ def decode_text(data: bytes) -> str:
 
 
 def read_lines(path: Path) -> list[str]:
-    """Lines of a text motion file (see :func:`decode_text`), after
-    :func:`check_input_file`."""
+    """Lines of a text motion file (:func:`decode_text`), after :func:`check_input_file`."""
     check_input_file(path)
     try:
         data = path.read_bytes()

@@ -1,45 +1,16 @@
 """Acclaim ASF (skeleton) and AMC (motion) readers, as used by HDM05 and CMU.
 
-Model
------
-An ASF file describes *bones*. Each bone has a unit ``direction`` and a
-``length`` in world coordinates of the rest pose, and a local coordinate system
-given by its ``axis`` angles: ``C_j``, a rotation built from the axis angles in
-the axis order (``axis 0 0 20 XYZ`` gives ``C = Rz(20) Ry(0) Rx(0)``). The AMC
-file gives, per frame, each bone's rotation ``M_j`` in that local system, as
-Euler angles composed in dof order (``dof rx ry rz`` -> order ``"XYZ"``, i.e.
-``M = Rz Ry Rx``; a missing dof is a zero angle).
-
-The Acclaim rule ``F_j = F_p C_p^-1 C_j M_j`` (``F`` the bone's local frame in
-world coordinates, ``F = C`` at rest) is rewritten in a **rest-pose-aligned**
-frame ``G_j = F_j C_j^-1``, which is the identity in the rest pose::
-
-    G_j = G_p * C_j M_j C_j^-1
-
-so that in :class:`fpdtw.motion.Skeleton` terms (``G_j = G_p T(offset_j) pre_j
-R_j post_j``):
-
-* joint ``j`` is bone ``j`` placed at the **start** of the bone (the joint that
-  moves it: ``lfemur`` is the hip, ``ltibia`` the knee); joint 0 is ``root``;
-* ``offset_j`` = parent bone's ``direction * length`` (in the rest-aligned frame
-  of the parent, which is world-aligned in the rest pose); the children of the
-  root get a zero offset, the root's own offset is the ASF ``:root position``;
-* ``pre_j = C_j``, ``post_j = C_j^-1``, ``R_j`` = the AMC rotation ``M_j``;
-* the root: ``C_root`` from ``:root orientation`` in the ``:root axis`` order
-  (identity in HDM05 and CMU), ``R_root`` from the AMC root rotation values in
-  the rotation order of ``:root order`` (``RX RY RZ`` -> ``"XYZ"``), translation
-  from the AMC ``TX TY TZ`` values (FK adds ``:root position``).
-
-With all AMC values zero, forward kinematics reproduces the ASF rest pose: each
-bone's end is its start plus ``direction * length``.
-
-Units
------
-Lengths and translations stay in the file's unit (``:units length s``: HDM05
-and CMU use ``s = 0.45``, where 1 unit = 1/0.45 inch = 0.05644 m by the CMU
-convention; see :attr:`AsfSkeleton.meters_per_unit`). Angles are converted to
-degrees: ASF angles follow ``:units angle deg|rad``; AMC values follow the AMC
-``:DEGREES`` / ``:RADIANS`` header (the ASF angle unit if it has neither).
+An ASF bone has a unit ``direction``, a ``length`` and an axis frame ``C_j`` (``axis 0 0
+20 XYZ``: ``C = Rz(20) Ry(0) Rx(0)``); an AMC frame gives each bone's rotation ``M_j`` in
+that frame, Euler angles in dof order (``dof rx ry rz``: order ``"XYZ"``; a missing dof
+is zero). The Acclaim rule ``F_j = F_p C_p^-1 C_j M_j`` is read in the rest-aligned frame
+``G_j = F_j C_j^-1 = G_p C_j M_j C_j^-1``: joint ``j`` is bone ``j`` at its START (joint 0
+the root), ``offset_j`` = the parent bone's ``direction * length`` (zero under the root;
+the root's own: ``:root position``), ``pre_j = C_j``, ``post_j = C_j^-1``, ``R_j = M_j``;
+the root's translation is the AMC ``TX TY TZ``. All-zero AMC values give the ASF rest
+pose. Lengths stay in the file's unit (HDM05 and CMU: ``:units length 0.45``, 1 unit =
+1/0.45 inch); angles become degrees (ASF by ``:units angle``, AMC by its ``:DEGREES`` /
+``:RADIANS`` header, else the ASF's).
 """
 
 from __future__ import annotations
@@ -66,11 +37,10 @@ DEFAULT_AMC_FPS = 120.0
 
 
 def complete_order(applied: str) -> str:
-    """Rotation order from the axes present, in applied order, missing axes appended.
+    """Rotation order from the axes present, the missing ones appended in X, Y, Z order.
 
-    A missing axis has a zero angle, so where it goes does not change the
-    rotation; appending the missing axes in X, Y, Z order makes the result
-    deterministic: ``"XZ"`` -> ``"XZY"``, ``"Y"`` -> ``"YXZ"``, ``""`` -> ``"XYZ"``.
+    A missing axis has a zero angle, so it may go anywhere: ``"XZ"`` -> ``"XZY"``, ``""``
+    -> ``"XYZ"``.
     """
     return applied + "".join(a for a in "XYZ" if a not in applied)
 
@@ -79,26 +49,11 @@ def complete_order(applied: str) -> str:
 class AsfSkeleton:
     """A parsed ASF file: the :class:`~fpdtw.motion.Skeleton` plus what the AMC reader needs.
 
-    Attributes
-    ----------
-    skeleton : Skeleton
-        Joints ``("root", bones...)`` parents first (depth-first in ``:hierarchy``
-        order), rest-aligned model (see module docstring).
-    dofs : tuple of tuple of str, length J
-        Rotational dofs of each joint in file order, e.g. ``("rx", "ry", "rz")``;
-        ``()`` for the root and for bones without dofs.
-    root_order : tuple of str
-        The AMC root channels in order, e.g. ``("TX", "TY", "TZ", "RX", "RY", "RZ")``.
-    directions : ndarray of float, shape (J, 3)
-        Unit bone directions in the rest pose (zero for the root).
-    lengths : ndarray of float, shape (J,)
-        Bone lengths in file units (zero for the root).
-    angle_unit : str
-        ``"deg"`` or ``"rad"`` (the ASF ``:units angle``).
-    length_scale : float
-        The ASF ``:units length`` value.
-    path : str
-        File it was read from.
+    ``skeleton``: rest-aligned, ``("root", bones...)`` depth first in ``:hierarchy`` order;
+    ``dofs``: each joint's rotational dofs in file order; ``root_order``: the AMC root
+    channels; ``directions`` (J, 3) and ``lengths`` (J,): unit bone directions and lengths
+    at rest (zero for the root); ``angle_unit`` ("deg" or "rad"); ``length_scale``
+    (``:units length``); ``path``.
     """
 
     skeleton: Skeleton
@@ -116,23 +71,10 @@ class AsfSkeleton:
         return 0.0254 / self.length_scale
 
     def bone_ends(self, positions: np.ndarray) -> np.ndarray:
-        """End point of each bone in the rest pose, given the bone starts.
-
-        Parameters
-        ----------
-        positions : ndarray of float, shape (..., J, 3)
-            Joint (bone start) positions in the rest pose (e.g. forward
-            kinematics of an all-zero frame).
-
-        Returns
-        -------
-        ends : ndarray of float, shape (..., J, 3)
-            ``start + direction * length`` per bone (the root's end is its start).
-        """
+        """Bone ends at rest, ``start + direction * length``, from the starts (..., J, 3)."""
         return positions + self.directions * self.lengths[:, None]
 
 
-# ---------------------------------------------------------------------- helpers
 def _floats(path, tokens, line, what, count=None):
     if count is not None and len(tokens) != count:
         raise MotionFormatError(
@@ -160,28 +102,12 @@ def _order(path, letters, line, what):
     return o
 
 
-# ---------------------------------------------------------------------- ASF
 def read_asf(path) -> AsfSkeleton:
-    """Read an Acclaim ASF skeleton file.
+    """Read an Acclaim ASF skeleton file (the rest-aligned model of the module docstring).
 
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The ``.asf`` file.
-
-    Returns
-    -------
-    asf : AsfSkeleton
-        ``asf.skeleton`` is the :class:`~fpdtw.motion.Skeleton` (rest-aligned
-        model, see the module docstring); ``asf.dofs`` and ``asf.root_order``
-        give the AMC layout.
-
-    Raises
-    ------
-    MotionFormatError
-        Missing sections or fields, bad numbers, unknown or duplicate bones,
-        translation/length dofs (unsupported), a hierarchy that does not reach
-        every bone exactly once. The message names the file and line.
+    MotionFormatError, naming the file and line, for missing sections or fields, bad
+    numbers, unknown or duplicate bones, translation or length dofs, or a hierarchy that
+    does not reach every bone exactly once.
     """
     path = Path(path)
     lines = read_lines(path)
@@ -400,24 +326,19 @@ def read_asf(path) -> AsfSkeleton:
     )
 
 
-# ---------------------------------------------------------------------- AMC
 _HDM_RE = re.compile(r"^HDM_([A-Za-z0-9]+)_")
 _CMU_RE = re.compile(r"^(\d+)_\d+$")
 _FPS_RE = re.compile(r"_\d+_(\d+)$")
+#: AMC header keywords -> the angle unit they set (None: none).
+_AMC_KEYWORDS = {":DEGREES": "deg", ":RADIANS": "rad", ":FULLY-SPECIFIED": None}
 
 
 def find_asf(amc_path) -> Path:
     """The skeleton file of an AMC file, by the HDM05 or CMU layout.
 
-    In this order: ``HDM_<actor>.asf`` (file ``HDM_<actor>_...amc``) in the
-    AMC's folder or any parent folder; ``<subject>.asf`` (file
-    ``<subject>_<take>.amc``) in the folder or a parent; the only ``.asf`` in the
-    AMC's folder.
-
-    Raises
-    ------
-    MotionFormatError
-        If none is found (the message lists where it looked).
+    ``HDM_<actor>.asf`` for ``HDM_<actor>_...amc``, then ``<subject>.asf`` for
+    ``<subject>_<take>.amc``, in its folder or a parent; else the only ``.asf`` in its
+    folder; else MotionFormatError saying where it looked.
     """
     amc_path = Path(amc_path)
     stem = amc_path.stem
@@ -454,15 +375,7 @@ def amc_fps(path) -> float:
 
 
 def _amc_checked(path, lines, asf, layout, width):
-    """Parse AMC frames line by line, raising a precise error on the first problem.
-
-    Returns
-    -------
-    data : ndarray of float, shape (F, width)
-        Values of each frame in ``layout`` columns.
-    unit : str or None
-        ``"deg"``/``"rad"`` from the header, None if it has neither.
-    """
+    """Parse AMC frames line by line, erring precisely on the first problem: (data, unit)."""
     sk = asf.skeleton
     dofless = {sk.joint_names[j] for j in range(1, sk.n_joints) if not asf.dofs[j]}
     rows = []
@@ -493,12 +406,9 @@ def _amc_checked(path, lines, asf, layout, width):
             if frame_no is not None:
                 raise MotionFormatError(path, f"keyword {tok[0]!r} after the first frame", line=ln)
             key = tok[0].upper()
-            if key == ":DEGREES":
-                unit = "deg"
-            elif key == ":RADIANS":
-                unit = "rad"
-            elif key != ":FULLY-SPECIFIED":
+            if key not in _AMC_KEYWORDS:
                 raise MotionFormatError(path, f"unknown AMC keyword {tok[0]!r}", line=ln)
+            unit = _AMC_KEYWORDS[key] or unit
             continue
         if len(tok) == 1 and tok[0].isdigit():
             number = int(tok[0])
@@ -562,11 +472,9 @@ def _amc_checked(path, lines, asf, layout, width):
 
 
 def _amc_fast(lines, layout, width):
-    """Vectorised parse of a regular AMC file (every frame lists the same bones in the
-    same order, one bone per line, no comments after the header).
+    """Vectorised parse of a regular AMC file (the same bones in the same order every frame).
 
-    Returns ``(data, unit)`` as :func:`_amc_checked`, or None when the file is not
-    regular or anything looks wrong, so that the checked parser can report it.
+    ``(data, unit)`` as :func:`_amc_checked`, or None to let it find what is wrong.
     """
     unit = None
     i = 0
@@ -575,12 +483,9 @@ def _amc_fast(lines, layout, width):
         s = lines[i].strip()
         if s and s[0] == ":":
             key = s.split()[0].upper()
-            if key == ":DEGREES":
-                unit = "deg"
-            elif key == ":RADIANS":
-                unit = "rad"
-            elif key != ":FULLY-SPECIFIED":
+            if key not in _AMC_KEYWORDS:
                 return None
+            unit = _AMC_KEYWORDS[key] or unit
         elif s and s[0] != "#":
             break
         i += 1
@@ -622,37 +527,14 @@ def _amc_fast(lines, layout, width):
 
 
 def read_amc(path, skeleton_or_asf_path=None, *, fps=None, name=None) -> Motion:
-    """Read an Acclaim AMC motion on its ASF skeleton.
+    """Read an Acclaim AMC motion on its ASF skeleton (``source="asf"``).
 
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The ``.amc`` file.
-    skeleton_or_asf_path : AsfSkeleton or str or os.PathLike, optional
-        The skeleton, or its ``.asf`` file; found with :func:`find_asf` if omitted.
-    fps : float, optional
-        Frame rate; default from the file name (:func:`amc_fps`).
-    name : str, optional
-        Motion name; default the file stem.
-
-    Returns
-    -------
-    motion : Motion
-        ``source="asf"``; ``euler`` (F, J, 3) holds the AMC values in degrees in
-        (x, y, z) columns (missing dofs and dof-less bones zero),
-        ``root_translation`` (F, 3) the AMC ``TX TY TZ``.
-
-    Raises
-    ------
-    MotionFormatError
-        Empty file, no frames, a frame missing a bone (e.g. a truncated last
-        frame), a bone line with a missing or extra value, a non-numeric or
-        non-finite value, an unknown bone, a bone the skeleton gives no dofs,
-        a repeated bone in a frame, frame numbers that are not consecutive,
-        unknown ``:`` keywords, a frame rate or frame count outside
-        :mod:`fpdtw.limits`. The message names the file, line and frame number.
-        Every frame must list every bone that has dofs, whether or not the file says
-        ``:FULLY-SPECIFIED`` (partial frames are not supported).
+    ``skeleton_or_asf_path``: an :class:`AsfSkeleton` or its file (default :func:`find_asf`);
+    ``fps``: default from the name (:func:`amc_fps`); ``name``: default the file stem.
+    ``euler`` (F, J, 3) holds the AMC values in degrees, ``root_translation`` ``TX TY TZ``.
+    MotionFormatError, naming the file, line and frame, for an empty file, no frames, a
+    frame missing a bone with dofs, a bad value, an unknown, dof-less or repeated bone,
+    frame numbers not consecutive, unknown keywords, or limits (:mod:`fpdtw.limits`).
     """
     path = Path(path)
     if fps is None:

@@ -1,32 +1,14 @@
 """Biovision BVH reader and writer.
 
-Model
------
-A BVH joint has an ``OFFSET`` from its parent and a list of ``CHANNELS``. Its
-local transform is ``T(offset) * R`` with ``R`` composed from the rotation
-channels **as listed, outermost first**: ``Zrotation Yrotation Xrotation`` means
-``R = Rz Ry Rx``, i.e. our rotation order ``"XYZ"`` (the order in which the
-rotations are applied, see :mod:`fpdtw.motion.rotations`). In
-:class:`fpdtw.motion.Skeleton` terms: offsets as in the file, identity pre/post
-rotations.
-
-* Joints with fewer than 3 rotation channels: the missing angles are zero; the
-  order is the present axes in applied order followed by the missing axes in
-  X, Y, Z order (``Zrotation Xrotation`` -> ``"XZY"``), which gives the same
-  rotation wherever a zero-angle axis goes.
-* Root position channels become ``Motion.root_translation``; the root's
-  ``OFFSET`` stays in ``Skeleton.offsets`` and forward kinematics adds the two
-  (the usual rule, e.g. Meredith & Maddock, "Motion capture file formats
-  explained"). Blender and the ``bvhio`` package instead take the root position
-  channels as the absolute position, ignoring the root OFFSET; the two agree
-  whenever the root OFFSET is zero, as in the CMU files.
-* Non-root position channels are supported only when constant over all
-  frames: their value then *replaces* the joint's OFFSET (how Blender and
-  ``bvhio`` read them; exporters that key every joint write the offset there).
-  Position channels that vary raise :class:`~fpdtw.errors.MotionFormatError`.
-* ``End Site`` blocks are not joints; their offsets are checked and dropped.
-* The frame rate is ``1 / Frame Time``, snapped to the nearest integer when the
-  printed frame time is that integer rate rounded (``0.033333`` -> 30 Hz).
+A joint's local transform is ``T(OFFSET) * R``, ``R`` composed from its rotation channels
+as listed, outermost first: ``Zrotation Yrotation Xrotation`` is order ``"XYZ"``
+(identity pre/post rotations). Missing rotation channels are zero (order completed as
+:func:`~fpdtw.io.asfamc.complete_order`). Root position channels become
+``Motion.root_translation``, added to the root OFFSET (the usual rule; Blender and
+``bvhio`` ignore the OFFSET, the same whenever it is zero, as in CMU's files). Non-root
+position channels must be constant: their value replaces the OFFSET (as Blender and
+``bvhio`` read them). ``End Site`` offsets are checked and dropped. The frame rate
+``1 / Frame Time`` snaps to an integer rate printed rounded (``0.033333`` -> 30 Hz).
 """
 
 from __future__ import annotations
@@ -41,6 +23,7 @@ import numpy as np
 from fpdtw import limits
 from fpdtw.errors import MotionFormatError
 from fpdtw.io._text import read_lines
+from fpdtw.io.asfamc import complete_order
 from fpdtw.motion.joints import find_joint_map
 from fpdtw.motion.motion import Motion, Skeleton
 from fpdtw.motion.rig import rest_rotations
@@ -52,11 +35,6 @@ _CHANNELS = {
     for kind in ("position", "rotation")
 }
 _AXIS_NAME = "XYZ"
-
-
-def _complete_order(applied: str) -> str:
-    """Present axes in applied order, then the missing ones in X, Y, Z order."""
-    return applied + "".join(a for a in "XYZ" if a not in applied)
 
 
 def _fps_from_frame_time(ft: float) -> float:
@@ -79,8 +57,7 @@ class _Joint:
 
 
 def check_start(token: str, path, line: int) -> None:
-    """The first word of a BVH file must be HIERARCHY (MotionFormatError otherwise); a
-    stream reader checks it on the first line, before the rest of the header arrives."""
+    """MotionFormatError unless a BVH file's first word is HIERARCHY (a stream checks it early)."""
     if token.upper() != "HIERARCHY":
         raise MotionFormatError(path, f"file must start with HIERARCHY, got {token!r}", line=line)
 
@@ -228,40 +205,16 @@ def _is_key(text: str, key: str) -> bool:
 
 
 def is_header_end(text: str) -> bool:
-    """True for the ``Frame Time:`` line, the last line of a BVH header (a stream reader
-    reads lines until this one)."""
+    """True for the ``Frame Time:`` line, the last of a BVH header."""
     return _is_key(text.strip(), "frame time")
 
 
 class BVHHeader:
     """What a BVH file says before its first motion line, and how to read a motion line.
 
-    The one parser of BVH headers and motion lines: :func:`read_bvh` reads a file through
-    it, and ``fpdtw serve`` (:mod:`fpdtw.app.serve`) a streamed take line by line, so that
-    a take sent over the network and the same file read from disk give identical frames,
-    errors and limits.
-
-    Attributes
-    ----------
-    path : str or None
-        The file (or None for a stream) named in errors.
-    joints : list of _Joint
-        Joints, parents first, with their OFFSET, CHANNELS and line numbers.
-    skeleton : Skeleton
-        Hierarchy, OFFSETs as listed (non-root position channels replace them: see
-        :meth:`skeleton_for`), rotation orders from the channel order.
-    joint_map : dict of str to str
-        Canonical joint name -> joint name (the ASF naming, or the FBX naming if that
-        resolves more joints).
-    n_channels : int
-        Values per motion line.
-    frames : int or None
-        ``Frames:`` as declared (None in a stream, where it is ignored).
-    fps : float
-        ``1 / Frame Time`` (snapped to an integer rate when the frame time is that rate
-        rounded).
-    end_line : int
-        Line number (1-based) of the ``Frame Time:`` line; motion lines follow it.
+    The one parser of :func:`read_bvh` and ``fpdtw serve``: a streamed take and the same
+    file give identical frames, errors and limits. ``frames`` is None in a stream;
+    ``end_line`` is the ``Frame Time:`` line's number.
     """
 
     def __init__(self, path, joints, frames, fps, end_line):
@@ -285,7 +238,7 @@ class BVHHeader:
                 else:
                     pos.append((col, j, axis))
                 col += 1
-            orders.append(_complete_order(applied))
+            orders.append(complete_order(applied))
         self._rot = np.array(rot, dtype=np.int64).reshape(-1, 3)
         self._trans = np.array(trans, dtype=np.int64).reshape(-1, 2)
         self._pos = np.array(pos, dtype=np.int64).reshape(-1, 3)
@@ -297,28 +250,11 @@ class BVHHeader:
         )
         self.joint_map, _ = find_joint_map(self.skeleton.joint_names, "bvh")
 
-    # -- one motion line -----------------------------------------------------------------
     def parse_line(self, text: str, line: int, frame: int) -> np.ndarray:
-        """The values of one motion line.
+        """The values (n_channels,) of one motion line.
 
-        Parameters
-        ----------
-        text : str
-            The line (surrounding white space ignored).
-        line : int
-            Its line number (1-based), for errors.
-        frame : int
-            Its frame number (0-based: the first motion line is frame 0), for errors.
-
-        Returns
-        -------
-        values : ndarray of float64, shape (n_channels,)
-
-        Raises
-        ------
-        MotionFormatError
-            A missing or extra value, a non-numeric or non-finite value (naming the
-            line and frame).
+        MotionFormatError for a missing, extra, non-numeric or non-finite value, naming ``line``
+        and ``frame`` (0-based).
         """
         toks = text.split()
         if len(toks) != self.n_channels:
@@ -343,21 +279,8 @@ class BVHHeader:
             )
         return values
 
-    # -- channels -> Euler angles, translation, offsets -----------------------------------
     def split(self, data: np.ndarray):
-        """Euler angles and root translation of motion lines.
-
-        Parameters
-        ----------
-        data : ndarray of float, shape (F, n_channels)
-
-        Returns
-        -------
-        euler : ndarray of float64, shape (F, J, 3)
-            Degrees, (x, y, z) columns (missing rotation channels: zero).
-        trans : ndarray of float64, shape (F, 3)
-            Root position channels (missing: zero).
-        """
+        """Euler angles (F, J, 3) and root translation (F, 3) of motion lines (F, n_channels)."""
         F = data.shape[0]
         euler = np.zeros((F, len(self.joints), 3))
         trans = np.zeros((F, 3))
@@ -366,8 +289,7 @@ class BVHHeader:
         return euler, trans
 
     def skeleton_for(self, first: np.ndarray) -> Skeleton:
-        """The skeleton with each non-root position channel's value in the first motion
-        line ``first`` (n_channels,) as its joint's offset (see the module docstring)."""
+        """The skeleton with the first line's non-root position channels as offsets."""
         if not len(self._pos):
             return self.skeleton
         offsets = self.skeleton.offsets.copy()
@@ -375,11 +297,10 @@ class BVHHeader:
         return dataclasses.replace(self.skeleton, offsets=offsets)
 
     def check_positions(self, data: np.ndarray, first: np.ndarray, lines=None, frame0=0):
-        """Non-root position channels of ``data`` (F, n_channels) must equal those of the
-        first motion line ``first``; MotionFormatError otherwise.
+        """Refuse non-root position channels of ``data`` that differ from those of ``first``.
 
-        ``lines`` (F,) are the line numbers of ``data`` in a stream: the error names the
-        first line that differs; without them (a file) it names the CHANNELS line.
+        The MotionFormatError names the first differing line when given ``lines`` (a stream),
+        else the CHANNELS line.
         """
         if not len(self._pos):
             return
@@ -431,28 +352,10 @@ def _is_number(token: str) -> bool:
 def parse_bvh_header(lines, path=None, *, stream: bool = False) -> BVHHeader:
     """Parse a BVH header: HIERARCHY, MOTION, ``Frames:`` and ``Frame Time:``.
 
-    Parameters
-    ----------
-    lines : sequence of str
-        The file's lines (at least through ``Frame Time:``; the motion lines after it are
-        not read).
-    path : str or os.PathLike, optional
-        The file, named in errors (None: a stream; errors name lines only).
-    stream : bool
-        A streamed take: the ``Frames:`` line may be missing and its value is ignored.
-
-    Returns
-    -------
-    header : BVHHeader
-
-    Raises
-    ------
-    MotionFormatError
-        No MOTION section, bad or unbalanced braces, a CHANNELS count that does not match
-        the names listed, unknown or repeated channels, more channels than
-        :data:`fpdtw.limits.MAX_CHANNELS`, a missing or malformed ``Frames:`` (files) or
-        ``Frame Time:``, ``Frame Time`` <= 0, a frame rate or ``Frames:`` outside
-        :mod:`fpdtw.limits`. The message names the file and line.
+    ``path``: named in errors; ``stream``: ``Frames:`` may be missing and is ignored.
+    MotionFormatError (naming the file and line) for no MOTION, bad braces or CHANNELS, too
+    many channels, a missing or malformed ``Frames:`` or ``Frame Time:``, a frame time <= 0,
+    a rate or ``Frames:`` outside :mod:`fpdtw.limits`.
     """
     motion_at = next(
         (i for i, s in enumerate(lines) if s.split()[:1] and s.split()[0].upper() == "MOTION"),
@@ -501,34 +404,12 @@ def parse_bvh_header(lines, path=None, *, stream: bool = False) -> BVHHeader:
 
 
 def read_bvh(path, *, name=None) -> Motion:
-    """Read a BVH motion file.
+    """Read a BVH motion file (``source="bvh"``).
 
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The ``.bvh`` file.
-    name : str, optional
-        Motion name; default the file stem.
-
-    Returns
-    -------
-    motion : Motion
-        ``source="bvh"``; ``euler`` (F, J, 3) the rotation channels in degrees
-        in (x, y, z) columns, rotation order per joint from its channel order;
-        ``root_translation`` (F, 3) the root position channels. Joint names are
-        resolved with the ASF naming (CMU BVH files keep the ASF bone names;
-        the root is ``hip``), or the FBX naming if that resolves more joints.
-
-    Raises
-    ------
-    MotionFormatError
-        Empty file, no MOTION section, bad or unbalanced braces, a CHANNELS count
-        that does not match the names listed, unknown or repeated channels,
-        ``Frames:`` not matching the number of data lines, a data line with a
-        missing or extra value, a non-numeric or non-finite value, ``Frame
-        Time`` <= 0, position channels on a non-root joint that vary over time,
-        a frame rate (``1 / Frame Time``), ``Frames:`` or channel count outside
-        :mod:`fpdtw.limits`. The message names the file, line and (0-based) frame.
+    Joint names are resolved by the ASF naming (CMU's BVH keeps it), or the FBX naming if
+    that finds more. MotionFormatError (naming the file, line and 0-based frame) for what
+    :func:`parse_bvh_header` refuses, an empty file, ``Frames:`` not matching the data
+    lines, a bad motion line, or varying non-root position channels.
     """
     path = Path(path)
     lines = read_lines(path)
@@ -555,40 +436,22 @@ def read_bvh(path, *, name=None) -> Motion:
     return header.motion(np.stack(rows), name or path.stem, str(path))
 
 
-def _snap_identity(q, tol=1e-12):
-    """Unit quaternions (N, 4) within ``tol`` of the identity set to it exactly."""
+def _snap_identity(q):
+    """Unit quaternions (N, 4) within 1e-12 of the identity set to it exactly."""
     q = np.array(q, dtype=float)
-    near = 1.0 - np.abs(q[:, 0]) < tol
+    near = 1.0 - np.abs(q[:, 0]) < 1e-12
     q[near] = (1.0, 0.0, 0.0, 0.0)
     return q
 
 
 def bvh_pose(motion: Motion) -> tuple:
-    """Euler angles and offsets of a motion in a BVH skeleton (rest = zero rotations).
+    """Euler angles (F, J, 3; degrees, unwrapped) and offsets (J, 3) of a motion as BVH.
 
-    A BVH skeleton rests with every rotation zero, its bones along the offsets, in
-    world-aligned axes. A skeleton with pre/post rotations (ASF ``axis``, FBX pre-rotations)
-    rests with zero animated rotations in the pose its pre/post rotations give (the
-    authors' FBX rig: a T-pose), with global rest rotations ``G^0``
-    (:func:`fpdtw.motion.rig.rest_rotations`). Written as BVH, each joint turns by its
-    rotation away from that rest, in world-aligned axes relative to its parent's,
-    ``Delta_j = G_p^0 pre_j R_j post_j (G_j^0)^-1`` (:mod:`fpdtw.motion.rig`), and each
-    offset is the rest pose's, ``G_p^0 offset_j``: the file rests in the same pose as the
-    motion, forward kinematics gives the same positions, and its rotations are the
-    motion's rig-independent ones. For ASF skeletons ``G^0`` is the identity (the axis
-    frames cancel at rest) and this is ``C M C^-1`` with the offsets unchanged.
-    Rest rotations within 1e-12 of the identity are taken as it. Without pre/post
-    rotations the motion's own Euler angles and offsets are returned unchanged.
-
-    Parameters
-    ----------
-    motion : Motion
-
-    Returns
-    -------
-    euler : ndarray of float, shape (F, J, 3)
-        Degrees, (x, y, z) columns, each joint in its rotation order, unwrapped over time.
-    offsets : ndarray of float, shape (J, 3)
+    A BVH skeleton rests with zero rotations in world-aligned axes. A skeleton with pre/post
+    rotations rests in the pose they give (global rest rotations ``G^0``,
+    :func:`fpdtw.motion.rig.rest_rotations`): each joint turns by ``Delta_j = G_p^0 pre_j R_j
+    post_j (G_j^0)^-1`` and its offset is ``G_p^0 offset_j``, so the file rests in the
+    motion's pose with the same forward kinematics. Without them: the motion's own.
     """
 
     sk = motion.skeleton
@@ -613,43 +476,15 @@ def bvh_pose(motion: Motion) -> tuple:
 
 
 def bvh_euler(motion: Motion) -> np.ndarray:
-    """Euler angles of a motion in a BVH skeleton (:func:`bvh_pose`'s angles).
-
-    Parameters
-    ----------
-    motion : Motion
-
-    Returns
-    -------
-    euler : ndarray of float, shape (F, J, 3)
-        Degrees, (x, y, z) columns, each joint in its rotation order.
-    """
+    """Euler angles (F, J, 3) of a motion in a BVH skeleton (:func:`bvh_pose`'s)."""
     return bvh_pose(motion)[0]
 
 
 def bvh_lines(motion: Motion, *, precision: int = 6) -> tuple[list[str], list[str]]:
-    """A motion as the lines of a BVH file: the header and one motion line per frame.
+    """A motion as the lines of a BVH file: header (through ``Frame Time:``) and motion lines.
 
-    What :func:`write_bvh` writes (it joins these lines), and what ``fpdtw stream`` sends
-    for a take that is not a BVH file (or at another frame rate).
-
-    Parameters
-    ----------
-    motion : Motion
-    precision : int
-        Decimals of the motion values.
-
-    Returns
-    -------
-    header : list of str
-        ``HIERARCHY`` through ``Frame Time:`` (no newlines).
-    lines : list of str
-        One motion line per frame.
-
-    Raises
-    ------
-    MotionFormatError
-        A joint name BVH cannot hold (empty, whitespace, braces).
+    What :func:`write_bvh` writes and ``fpdtw stream`` sends; ``precision``: decimals.
+    MotionFormatError for a joint name BVH cannot hold.
     """
     sk = motion.skeleton
     for n in sk.joint_names:
@@ -694,34 +529,11 @@ def bvh_lines(motion: Motion, *, precision: int = 6) -> tuple[list[str], list[st
 
 
 def write_bvh(motion: Motion, path, *, precision: int = 6) -> Path:
-    """Write a motion as a BVH file.
+    """Write a motion as a BVH file (overwritten) and return its path.
 
-    Every joint gets three rotation channels in its rotation order (listed
-    outermost first, so order ``"XYZ"`` is written ``Zrotation Yrotation
-    Xrotation``); the root also gets ``Xposition Yposition Zposition`` (its
-    translation; the root OFFSET is the skeleton's root offset). Leaf joints get
-    a zero-length ``End Site``. Skeletons with pre/post rotations (ASF, FBX) are
-    written resting in their own rest pose, each joint turning away from it in
-    world-aligned axes (:func:`bvh_pose`), so forward kinematics of the written file
-    equals that of ``motion``. Joints are written depth first,
-    which may reorder joints of a skeleton listed otherwise.
-
-    Parameters
-    ----------
-    motion : Motion
-    path : str or os.PathLike
-        Output ``.bvh`` file (overwritten).
-    precision : int
-        Decimals of the motion values.
-
-    Returns
-    -------
-    path : Path
-
-    Raises
-    ------
-    MotionFormatError
-        A joint name BVH cannot hold (empty, whitespace, braces).
+    Three rotation channels per joint in its order, the root's position channels, a zero
+    ``End Site`` per leaf, depth first, resting as :func:`bvh_pose` says: forward kinematics
+    of the file equals the motion's. MotionFormatError for a joint name BVH cannot hold.
     """
     path = Path(path)
     try:

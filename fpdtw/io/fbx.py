@@ -1,80 +1,24 @@
 """Read FBX motion files (the authors' dataset) into a :class:`~fpdtw.motion.Motion`.
 
-The file is parsed by ufbx (github.com/ufbx/ufbx, C) through its Python binding
-**pufbx 0.1.0** (PyPI ``pufbx``, github.com/Owca-Xsido/pufbx, vendors ufbx 0.21.2).
+Parsed by ufbx through **pufbx 0.1.0** (vendors ufbx 0.21.2), the one binding that
+exposes rotation orders, node properties, keyframes and ufbx's animation baking (pyufbx
+0.0.7 exposes none of these; the tests use it to cross-check the frame rate). Its gaps,
+worked around: no ``Scene.settings``, so the frame rate is the keyframe grid's (every
+joint is keyed at every 1/120 s; tested against pyufbx's time mode); no link from a
+curve node to its property, so each joint's ``Lcl Rotation`` curves are the ones whose
+angles, with the joint's pre/post rotation, reproduce ufbx's own evaluation
+(``bake_anim``) at every frame to 1e-6 rad (different curves that tie are an error);
+``bake_anim`` leaks about 2 MB per read (read each file once).
 
-Why pufbx and not pyufbx
-------------------------
-Both bindings (pufbx 0.1.0; pyufbx 0.0.7, which also vendors ufbx 0.21.2) load all 48
-takes of the authors' dataset, and both give the node hierarchy with names and parents
-and the anim stack's time span. Only pufbx gives what a motion needs:
-
-* pyufbx 0.0.7 exposes no rotation order, no pre/post rotation, no keyframe values
-  (``AnimCurve`` has only counts and ranges) and no way to evaluate the animation, so
-  it cannot read the motion at all; it does expose the scene settings (frame rate
-  120, time mode ``UFBX_TIME_MODE_120_FPS``, unit 0.01 m), which the tests use as an
-  independent cross-check.
-* pufbx 0.1.0 exposes rotation orders, node properties (``PreRotation``,
-  ``PostRotation``, ``Lcl Translation`` ...), the raw keyframes of every animation
-  curve and ufbx's own animation baking (``bake_anim``), evaluated local transforms.
-
-Both are single-author alpha packages (pufbx: one release, 0.1.0, 2026-04-19, "about
-35 % of ufbx wrapped"; pyufbx: releases 0.0.3 to 0.0.7). pufbx is the only one that
-reads the data, so it is the one used; the gaps of pufbx 0.1.0 and how this module
-works around them:
-
-* ``Scene.settings`` is missing from pufbx 0.1.0 (it raises): no time mode.
-  The frame rate is taken from the **keyframe grid** (the spacing of the curves'
-  keys: the dataset is "resampled to populate redundant axes with frames", every
-  joint has a key at every 1/120 s). The tests check it against the time mode read
-  by pyufbx (120 Hz in all 48 files).
-* The link from an animation curve node to the node and property it drives
-  (``ufbx_anim_prop.element``) is not exposed. Each joint's ``Lcl Rotation`` curve
-  node is therefore identified by value: it is the curve node whose Euler angles,
-  composed with the joint's pre/post rotation in its rotation order, reproduce the
-  local rotation that ufbx itself evaluates for that joint (``bake_anim``) at every
-  frame (to 1e-6 rad; between ufbx's baked keys, if any frame lacks one, rotations
-  are slerped and translations interpolated linearly, as baked keys are meant to be
-  read). Ties between curve nodes holding identical values are
-  harmless; ties with different values raise :class:`MotionFormatError`. (In the
-  dataset the curve nodes are stored as T, R, S triples in node order; the tests
-  check that this independent association gives the same angles.)
-* ``bake_anim`` never frees the baked animation (pufbx 0.1.0 does not call
-  ``ufbx_free_baked_anim``): each read leaks roughly 2 MB. Read each file once and
-  keep the :class:`Motion` (or cache it) when many files are processed.
-* ``Node.rotation_order`` emits a Cython ``UserWarning`` (silenced here), and
-  ``AnimCurve.name`` prints a debug line to stdout (never called here).
-
-What is read
-------------
-* **Skeleton**: the bone (``LimbNode``) nodes, from the one bone whose parent is not a
-  bone (the authors' rig: ``Hips``, 33 bones under two empty nodes ``char1`` >
-  ``Solving``), depth first, parents before children. Rotation order from the node
-  (``RotationOrder``), pre rotation = ``PreRotation`` (Euler XYZ), post rotation =
-  inverse of ``PostRotation`` (Euler XYZ), as ufbx composes them:
-  ``T * Rpre * R * Rpost^-1``. Offsets = the joints' animated local translation as
-  ufbx evaluates it (constant in the file; a non-root joint whose translation varies
-  by more than 1e-6 of the largest offset raises). This is not always the node's
-  static ``Lcl Translation`` property: in 24 of the 48 takes the stored rig pose has
-  bone offsets up to 0.28 cm different from the animation's. The root's offset is
-  zero: its ``Lcl Translation`` is the per-frame root translation.
-* **Frames**: the anim stack's take range [``time_begin``, ``time_end``] sampled on
-  the key grid, ``round((end - begin) * fps) + 1`` frames. (The authors' exports
-  carry one extra key at t = 0, a copy of frame 1 outside the take; it is not a
-  frame of the motion.)
-* **Angles**: the keyframe values of each joint's ``Lcl Rotation`` curves, in
-  degrees, columns x, y, z, in the joint's own order, exactly as stored (not
-  re-derived from matrices, so values beyond 180 stay as the animator keyed them).
-* **Units and nodes above the skeleton**: lengths are in the file's units
-  (centimetres for the authors' dataset, ``UnitScaleFactor`` 1); ufbx is not asked
-  to convert units or axes. Nodes above the skeleton root must have an identity
-  transform at every frame (true for all 48 takes); otherwise the file is rejected,
-  since positions are expressed in the skeleton root's parent space.
-
-Unsupported, rejected with :class:`MotionFormatError`: animated scaling, several
-animation layers, spherical rotation order, rotation curves not keyed at every frame
-of the take (unless constant), and anything that makes a non-root bone's local
-translation vary (pivots with rotation, translated joints).
+Read: the bone nodes depth first from the one bone whose parent is not a bone, with
+their rotation order, ``PreRotation`` and inverse ``PostRotation`` (ufbx's
+``T * Rpre * R * Rpost^-1``); offsets = the animated local translation as ufbx evaluates
+it (in 24 of 48 takes up to 0.28 cm from the static ``Lcl Translation``), the root's
+zero; frames: the take's range on the key grid (the authors' extra key at t = 0 is not a
+frame); angles: the keyed ``Lcl Rotation`` values as stored, in degrees; lengths in file
+units. Rejected (MotionFormatError): nodes above the skeleton that move, animated
+scaling, several animation layers, spherical rotation orders, rotation curves not keyed
+at every frame (unless constant), non-root bones whose translation varies.
 """
 
 from __future__ import annotations
@@ -106,30 +50,12 @@ _BONE = 5  # ufbx_element_type UFBX_ELEMENT_BONE
 
 
 def read_fbx(path, *, fps=None, name=None) -> Motion:
-    """Read one FBX take.
+    """Read one FBX take (binary or ASCII) as a motion (``source="fbx"``, file units).
 
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The ``.fbx`` file (binary or ASCII).
-    fps : float, optional
-        Frame rate to use only when the file has none, i.e. when no curve has two
-        keys. If the file's keys lie on a grid, a different ``fps`` is an error.
-    name : str, optional
-        Motion name (default: the file stem).
-
-    Returns
-    -------
-    motion : Motion
-        ``source="fbx"``; ``euler`` of shape (F, J, 3) in degrees, ``quats`` of shape
-        (F, J, 4), ``root_translation`` of shape (F, 3) in file units.
-
-    Raises
-    ------
-    MotionFormatError
-        Missing, empty, truncated or non-FBX file; no animation; no skeleton; or a
-        feature listed as unsupported in the module docstring. The message names the
-        file and what is wrong.
+    ``fps`` is used only when no curve has two keys (else it must match the grid's);
+    ``name`` defaults to the file stem. MotionFormatError, naming the file, for a missing,
+    empty, truncated or non-FBX file, no animation, no skeleton, or anything the module
+    docstring rejects.
     """
     p = Path(path)
     if check_input_file(p) == 0:
@@ -152,7 +78,6 @@ def _msg(exc) -> str:
 
 
 def _read_scene(pufbx, scene, p, fps, name) -> Motion:
-    # ---------------------------------------------------------------- skeleton
     nodes, parents, above = _skeleton_nodes(scene, p)
     names = [n.name for n in nodes]
     orders, pre, post = [], [], []
@@ -163,7 +88,6 @@ def _read_scene(pufbx, scene, p, fps, name) -> Motion:
         post.append(q_post)
     pre, post = np.array(pre), np.array(post)
 
-    # --------------------------------------------------------------- animation
     stacks = scene.anim_stacks
     if len(stacks) == 0:
         raise MotionFormatError(p, "no animation (the file has no animation stack)")
@@ -216,7 +140,6 @@ def _read_scene(pufbx, scene, p, fps, name) -> Motion:
             "units); fpdtw skeletons have fixed bone offsets",
         )
 
-    # ------------------------------------------------- Lcl Rotation curves per joint
     sampled = [_sample_value(vc, d, t0, fps, F) for vc, d in zip(curves, defaults)]
     euler = _rotation_curves(nodes, orders, pre, post, Q, values, sampled, p)
 
@@ -242,10 +165,8 @@ def _read_scene(pufbx, scene, p, fps, name) -> Motion:
     )
 
 
-# --------------------------------------------------------------------- skeleton
 def _skeleton_nodes(scene, p):
-    """Bone nodes depth first from the single skeleton root, their parents, and the
-    non-root nodes above the skeleton root (nearest first)."""
+    """Bone nodes depth first from the skeleton root, their parents, and the nodes above it."""
     bones = [n for n in scene.nodes if int(n.attrib_type) == _BONE]
     if not bones:
         raise MotionFormatError(p, "no skeleton (the file has no bone / LimbNode nodes)")
@@ -301,7 +222,6 @@ def _node_rotation_setup(node, p):
     return UFBX_ROTATION_ORDERS[code], pre, post
 
 
-# -------------------------------------------------------------------- time grid
 def _keys(curve):
     """(times, values, flat) of a curve; ``flat`` = constant between its keys."""
     if curve is None:
@@ -369,9 +289,8 @@ def _sample_value(curves3, default, t0, fps, F):
     return None if any(c is None for c in cols) else np.stack(cols, axis=1)
 
 
-# --------------------------------------------------------- ufbx's own evaluation
 def _bake(pufbx, scene, stack, fps, t0, F, p):
-    """ufbx's local (T (F,3), Q (F,4) wxyz, S (F,3)) of every animated node, by typed id."""
+    """ufbx's local (T (F, 3), Q (F, 4) wxyz, S (F, 3)) of every animated node, by typed id."""
     try:
         baked = pufbx.bake_anim(scene, stack.anim, resample_rate=float(fps))
     except Exception as exc:
@@ -387,8 +306,7 @@ def _bake(pufbx, scene, stack, fps, t0, F, p):
 
 
 def _fill(times, vals, t0, fps, F, rotation=False):
-    """Baked keys on the F frames: a key's own value where one falls on a frame, else
-    interpolated as ufbx's baked keys are meant to be (linear; slerp for rotations)."""
+    """Baked keys on the F frames; between keys linear (slerp for rotations), as ufbx means."""
     times = np.asarray(times, dtype=float)
     if len(times) == 1:
         return np.repeat(vals[:1], F, axis=0)
@@ -423,12 +341,11 @@ def _angle(a, b):
     return 2.0 * np.arccos(np.clip(d, 0.0, 1.0))
 
 
-# ------------------------------------------------------------ curve association
 def _rotation_curves(nodes, orders, pre, post, Q, values, sampled, p):
     """Euler angles (F, J, 3) of each joint's Lcl Rotation curve node.
 
-    The curve node of joint j is the one whose angles give ufbx's evaluated local
-    rotation Q[:, j] = pre_j * R(angles) * post_j at every frame (see module docs).
+    The one whose angles give ufbx's evaluated ``Q[:, j] = pre_j R(angles) post_j`` at every
+    frame.
     """
     F, J = Q.shape[:2]
     cand = [i for i, s in enumerate(sampled) if s is not None]

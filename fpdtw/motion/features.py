@@ -1,16 +1,9 @@
 """Per-frame features the aligners consume.
 
-An aligner never sees a :class:`~fpdtw.motion.Motion` frame by frame; it sees
-:class:`Frame` records cut from a :class:`MotionFeatures`: the 8 paper joints'
-local rotations (quaternions, for eq. 1), their Euler angles unwrapped over time
-(for dead reckoning), and optionally joint positions (for the OPW poster's eq. 5).
-
-Orders and rig travel with the motion: every :class:`MotionFeatures` and every
-:class:`Frame` cut from it carries its own rotation orders (the forecasts of Methods B and
-C turn the TARGET's dead-reckoned Euler angles into quaternions in the target's orders)
-and its :class:`~fpdtw.motion.rig.RigTransform` (how its local rotations map into the
-rig-independent representation, :mod:`fpdtw.motion.rig`). A frame without them (None)
-is taken to share the input motion's orders and rig.
+An aligner sees :class:`Frame` records cut from a :class:`MotionFeatures`: the cost
+joints' local rotations (eq. 1), their Euler angles unwrapped over time (dead reckoning)
+and optionally joint positions (the OPW poster's eq. 5). Each carries its rotation orders
+and its :class:`~fpdtw.motion.rig.RigTransform`; None means the input motion's.
 """
 
 from __future__ import annotations
@@ -30,23 +23,9 @@ from fpdtw.motion.rotations import quat_normalize, quat_to_euler, unwrap_degrees
 class Frame:
     """One frame of a motion as an online aligner receives it.
 
-    Attributes
-    ----------
-    quats : ndarray of float, shape (k, 4)
-        Local rotations of the k cost joints, unit quaternions (w, x, y, z).
-    euler : ndarray of float, shape (k, 3)
-        The same rotations as Euler angles in degrees (x, y, z), unwrapped over
-        the frames received so far.
-    positions : ndarray of float, shape (p, 3) or None
-        Root-relative joint positions (OPW only).
-    orders : tuple of str, length k, or None
-        Rotation order of each joint's Euler angles; None: the input motion's orders.
-    rig : RigTransform or None
-        The rig of the motion the frame comes from (:mod:`fpdtw.motion.rig`); None: the
-        input motion's rig.
-
-    The frames of one take share the orders and rig of its first frame (an aligner reads
-    them there).
+    ``quats`` (k, 4) of the k cost joints; ``euler`` (k, 3) the same in degrees, unwrapped
+    over the frames so far; ``positions`` (p, 3) root-relative (OPW) or None; ``orders`` and
+    ``rig`` (None: the input motion's; a take's frames share those of its first).
     """
 
     quats: np.ndarray
@@ -60,28 +39,11 @@ class Frame:
 class MotionFeatures:
     """Feature arrays of a whole motion.
 
-    Attributes
-    ----------
-    quats : ndarray of float64, shape (F, k, 4)
-        C-contiguous unit quaternions of the k cost joints.
-    euler : ndarray of float64, shape (F, k, 3)
-        Euler angles in degrees, unwrapped along time.
-    orders : tuple of str, length k
-        Rotation order of each joint (needed to turn forecast Euler angles back
-        into quaternions).
-    fps : float
-        Frame rate in Hz.
-    positions : ndarray of float64, shape (F, p, 3) or None
-        Root-relative positions of the position joints (OPW's 16 by default).
-    name : str
-        Motion name.
-    rig : RigTransform or None
-        How the cost joints' rotations map into the rig-independent representation
-        (:func:`fpdtw.motion.rig.rig_transform`); None: unknown, taken to be the other
-        motion's (eq. 1 then compares the raw local rotations).
-    body_size : float or None
-        The body's length along its skeleton (:func:`fpdtw.motion.rig.body_size`), in the
-        positions' unit; None when there are no positions.
+    ``quats`` (F, k, 4) and ``euler`` (F, k, 3; degrees, unwrapped) of the k cost joints,
+    their ``orders`` (for the forecasts), ``fps``, root-relative ``positions`` (F, p, 3) or
+    None, ``name``, ``rig`` (:func:`fpdtw.motion.rig.rig_transform`; None: unknown, taken to
+    be the other's) and ``body_size`` (:func:`fpdtw.motion.rig.body_size`; None without
+    positions).
     """
 
     quats: np.ndarray
@@ -102,27 +64,12 @@ class MotionFeatures:
         *,
         rest_frame=None,
         rig=None,
-        position_scale: float = 1.0,
     ):
         """Cut the features out of a :class:`~fpdtw.motion.Motion`.
 
-        Parameters
-        ----------
-        motion : Motion
-        joints : sequence of str
-            Cost joints (canonical names), default the paper's 8.
-        position_joints : sequence of str or None
-            Joints whose root-relative positions to include (e.g.
-            :data:`fpdtw.motion.joints.OPW_JOINTS`); None skips forward kinematics.
-        rest_frame : int, optional
-            Frame of ``motion`` taken as its rest pose for the rig transform (default: the
-            rig's own rest; :func:`fpdtw.motion.rig.rest_rotations`).
-        rig : RigTransform, optional
-            The rig transform to carry (e.g. computed on the motion before resampling);
-            default :func:`fpdtw.motion.rig.rig_transform` of ``motion``.
-        position_scale : float
-            Factor applied to the positions and the body size
-            (:func:`fpdtw.motion.rig.position_scale`).
+        ``joints``: the cost joints (default the paper's 8); ``position_joints``: whose
+        root-relative positions to include (None: no forward kinematics); ``rig``: default
+        computed, from ``rest_frame`` if given.
         """
         quats = np.ascontiguousarray(motion.rotations(joints), dtype=np.float64)
         euler = np.ascontiguousarray(unwrap_degrees(motion.eulers(joints), axis=0))
@@ -132,15 +79,11 @@ class MotionFeatures:
         if position_joints is not None:
             pos = np.ascontiguousarray(motion.positions(position_joints, root_relative=True))
             size = _body_size(motion)
-            if position_scale != 1.0:
-                pos = pos * float(position_scale)
-                size = size * float(position_scale)
         orders = motion.rotation_orders(joints)
         return cls(quats, euler, orders, motion.fps, pos, motion.name, rig, size)
 
     def scaled_positions(self, scale: float) -> MotionFeatures:
-        """These features with the positions (and body size) multiplied by ``scale``
-        (:func:`fpdtw.motion.rig.position_scale`); the same object when ``scale`` is 1."""
+        """These features with positions and body size times ``scale`` (self when 1)."""
         if scale == 1.0 or self.positions is None:
             return self
         size = None if self.body_size is None else self.body_size * float(scale)
@@ -150,10 +93,9 @@ class MotionFeatures:
     def from_arrays(
         cls, quats, euler=None, orders=None, fps=120.0, positions=None, name="", rig=None
     ):
-        """Build features from raw arrays (tests, synthetic data).
+        """Features from raw arrays (tests, synthetic data).
 
-        ``euler`` defaults to the quaternions converted with ``orders``
-        (default ``"XYZ"`` for every joint); ``rig`` defaults to None (unknown).
+        ``euler`` defaults to the quaternions in ``orders`` (default ``"XYZ"``); ``rig`` to None.
         """
 
         quats = np.ascontiguousarray(quat_normalize(np.asarray(quats, dtype=np.float64)))
@@ -184,15 +126,8 @@ class MotionFeatures:
     def slice(self, a: int, b: int) -> MotionFeatures:
         """Frames ``a`` to ``b - 1``."""
         pos = None if self.positions is None else self.positions[a:b]
-        return MotionFeatures(
-            self.quats[a:b].copy(),
-            self.euler[a:b].copy(),
-            self.orders,
-            self.fps,
-            pos,
-            self.name,
-            self.rig,
-            self.body_size,
+        return dataclasses.replace(
+            self, quats=self.quats[a:b].copy(), euler=self.euler[a:b].copy(), positions=pos
         )
 
 
@@ -208,30 +143,9 @@ def pair_features(
 ) -> tuple:
     """The features of an (input, target) pair, ready to align whatever their rigs.
 
-    Each motion carries its own rotation orders and rig transform
-    (:mod:`fpdtw.motion.rig`): the aligners compare the two by their local rotations when
-    the rigs are the same, else in the rig-independent representation. With positions,
-    the target's are multiplied by :func:`fpdtw.motion.rig.position_scale` (1 unless the
-    two bodies' sizes say their length units differ).
-
-    Parameters
-    ----------
-    input_motion, target_motion : Motion
-    joints : sequence of str
-        Cost joints (default the paper's 8).
-    position_joints : sequence of str, optional
-        Joints whose root-relative positions to include (OPW: ``OPW_JOINTS``).
-    rest_frames : (int or None, int or None)
-        Frame of each motion to take as its rest pose (default: its rig's own rest).
-    rigs : (RigTransform or None, RigTransform or None)
-        Rig transforms computed beforehand (e.g. before resampling); they override
-        ``rest_frames``.
-    positions : {"auto", "raw", "body-size"}
-        :func:`fpdtw.motion.rig.position_scale`'s rule.
-
-    Returns
-    -------
-    I, T : MotionFeatures
+    With positions, the target's are rescaled by :func:`fpdtw.motion.rig.position_scale`
+    (rule ``positions``: "auto", "raw" or "body-size"). ``rest_frames`` and ``rigs`` (one
+    per motion) are passed to :meth:`MotionFeatures.from_motion`. Returns ``(I, T)``.
 
     Paper: FP-DTW eq. 1 (local rotations, made comparable across rigs); OPW poster eq. 5.
     """

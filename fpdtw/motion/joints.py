@@ -1,26 +1,10 @@
 """Canonical joint names and how each data source names them.
 
-The FP-DTW paper (Section 4) uses 8 joints for its cost and similarity metric:
-both hips, knees, shoulders and elbows. The OPW poster (eq. 5) uses the positions
-of 16 joints. Each source names its joints differently; a *joint map* resolves a
-canonical name to the first candidate the skeleton actually has.
-
-For rotations, the joint named here is the one whose local rotation moves the
-limb: "left_hip" is the thigh joint (ASF ``lfemur``), "left_knee" the shin joint
-(``ltibia``), "left_shoulder" the upper arm (``lhumerus``, not the clavicle),
-"left_elbow" the forearm (``lradius``). For positions, a joint's position is the
-origin of that joint, i.e. the anatomical hip, knee, shoulder, elbow.
-
-Joint maps are small CSV files, ``joint,name`` (our joint -> the rig's joint), one row
-per joint, ``#`` comments allowed. Built in (:data:`BUILTIN_JOINT_MAPS`, files in
-``fpdtw/motion/joint_maps/``): the authors' FBX rig, Mixamo, Acclaim ASF/AMC (HDM05, CMU),
-CMU BVH with the ASF names and CMU BVH with MotionBuilder-style names. A motion's joint
-map is the first of the maps a user gives (:func:`read_joint_map`, ``--joint-map``), then
-of the built-in ones, under which the skeleton has every joint of :data:`ALL_JOINTS`
-(:func:`find_joint_map`); failing that the first under which it has the 8 cost joints,
-and failing that each joint's usual names (:data:`NAMINGS`), which may leave joints
-unresolved: asking for them then raises an error naming the file, the joints missing and
-the joints the skeleton has (:func:`missing_joints_message`).
+The FP-DTW paper compares 8 joints (Section 4: hips, knees, shoulders, elbows), the OPW
+poster the positions of 16 (eq. 5). A rotation joint is the one that moves the limb
+("left_hip" is ASF ``lfemur``, "left_shoulder" the upper arm, not the clavicle). Joint
+maps are CSV files ``joint,name`` (our joint -> the rig's); :func:`find_joint_map` picks a
+user's, then a built-in one (``fpdtw/motion/joint_maps/``), then the usual names.
 """
 
 from __future__ import annotations
@@ -85,9 +69,7 @@ ASF_NAMES = {
     "right_wrist": ("rwrist", "rhand"),
 }
 
-#: Naming of common FBX / MotionBuilder / Mixamo style rigs. The authors' rig
-#: (matRandall/Mocap_SinglePersonActions) is covered by the first candidates;
-#: see fpdtw.io.fbx for what its skeleton holds.
+#: Naming of common FBX / MotionBuilder / Mixamo rigs (the authors' rig: the first candidates).
 FBX_NAMES = {
     "center_hip": ("Hips", "Pelvis", "Root"),
     "left_hip": ("LeftUpLeg", "LeftThigh", "LeftHip", "L_Thigh"),
@@ -112,8 +94,7 @@ NAMINGS = {"asf": ASF_NAMES, "bvh": ASF_NAMES, "fbx": FBX_NAMES}
 #: Every canonical joint a joint map may name (the OPW joints include the paper's 8).
 ALL_JOINTS = OPW_JOINTS
 
-#: The built-in joint maps (files ``fpdtw/motion/joint_maps/<name>.csv``), in the order
-#: :func:`find_joint_map` tries them; by source format, the format's own maps come first.
+#: The built-in joint maps (``joint_maps/<name>.csv``), tried after the source format's own.
 BUILTIN_JOINT_MAPS = (
     "authors_fbx",
     "mixamo",
@@ -128,30 +109,23 @@ _FIRST_BY_SOURCE = {
 }
 
 
-def _strip_namespace(name: str) -> str:
-    return name.rsplit(":", 1)[-1]
+def _by_bare_name(joint_names) -> dict:
+    """The skeleton's joint names by name without namespace and case (the first wins)."""
+    bare = {}
+    for n in joint_names:
+        bare.setdefault(n.rsplit(":", 1)[-1].lower(), n)
+    return bare
 
 
 def resolve_joint_map(joint_names, naming):
-    """Map canonical names to the skeleton's own joint names.
+    """Canonical name -> skeleton joint name, by the candidates of ``naming``.
 
-    Parameters
-    ----------
-    joint_names : sequence of str
-        The skeleton's joint names (namespaces such as ``"mixamorig:"`` ignored).
-    naming : dict of str to tuple of str, or str
-        Candidates per canonical name, or a key of :data:`NAMINGS`.
-
-    Returns
-    -------
-    joint_map : dict of str to str
-        Canonical name -> skeleton joint name, for every canonical name found.
+    ``naming``: a dict of candidates or a key of :data:`NAMINGS`; namespaces and case are
+    ignored; names without a match are left out.
     """
     if isinstance(naming, str):
         naming = NAMINGS[naming]
-    bare = {}
-    for n in joint_names:
-        bare.setdefault(_strip_namespace(n).lower(), n)
+    bare = _by_bare_name(joint_names)
     out = {}
     for canon, candidates in naming.items():
         for cand in candidates:
@@ -199,24 +173,10 @@ def _parse_joint_map(text: str, where) -> dict:
 
 
 def read_joint_map(path) -> dict:
-    """Read a joint map CSV: ``joint,name`` (our joint -> the rig's joint name).
+    """Read a joint map CSV ``joint,name``: ``{our joint: the rig's joint name}``.
 
-    Parameters
-    ----------
-    path : str or os.PathLike
-
-    Returns
-    -------
-    joint_map : dict of str to str
-        Our joint names (those of :data:`ALL_JOINTS`) -> the rig's names.
-
-    Raises
-    ------
-    MotionFormatError
-        A missing or unreadable file, no ``joint,name`` header, a row without two
-        cells, an unknown joint, a joint mapped twice (naming the file and line).
-    OSError
-        The file cannot be read.
+    MotionFormatError for a file that is not UTF-8 text, no ``joint,name`` header, a row
+    without two cells, an unknown joint or a joint mapped twice (naming the file and line).
     """
     p = Path(path)
     try:
@@ -237,44 +197,22 @@ def builtin_joint_map(name: str) -> dict:
 
 def _apply(joint_map: dict, joint_names) -> dict:
     """The entries of a map whose rig name the skeleton has (namespaces ignored)."""
-    bare = {}
-    for n in joint_names:
-        bare.setdefault(_strip_namespace(n).lower(), n)
+    bare = _by_bare_name(joint_names)
     out = {}
     for canon, own in joint_map.items():
-        hit = bare.get(_strip_namespace(own).lower())
+        hit = bare.get(own.rsplit(":", 1)[-1].lower())
         if hit is not None:
             out[canon] = hit
     return out
 
 
 def find_joint_map(joint_names, source: str = "", maps=()) -> tuple:
-    """The joint map of a skeleton: the first map under which it has all its joints.
+    """The joint map of a skeleton, and which one it is.
 
-    First the ``maps`` a user gives (e.g. ``--joint-map``): the first whose every joint
-    the skeleton has wins. Then the built-in maps, those of the source format first: the
-    first under which the skeleton has every joint of :data:`ALL_JOINTS` wins; else the
-    first under which it has the 8 cost joints (:data:`PAPER_JOINTS`); else the usual
-    names of the formats (:func:`resolve_joint_map` with :data:`NAMINGS`: the naming that
-    finds most joints, the source's first on a tie), which may leave joints unresolved.
-    Names are matched without case and without a namespace (``mixamorig:Hips`` is
-    ``Hips``).
-
-    Parameters
-    ----------
-    joint_names : sequence of str
-        The skeleton's joint names.
-    source : str
-        ``"fbx"``, ``"asf"`` or ``"bvh"`` (decides which built-in maps come first).
-    maps : sequence of dict
-        Joint maps given by the user, tried first.
-
-    Returns
-    -------
-    joint_map : dict of str to str
-        Canonical name -> the skeleton's joint name, for every joint found.
-    label : str
-        Which map: ``"user map 1"``, a built-in map's name, or ``"usual names"``.
+    The first of ``maps`` (the user's) whose every joint the skeleton has (``"user map
+    1"``); else the first built-in map (the ``source`` format's first) with all of
+    :data:`ALL_JOINTS`, else with the 8 cost joints; else the usual names (:data:`NAMINGS`)
+    that find the most (``"usual names"``). Names match without case and namespace.
     """
     for i, m in enumerate(maps):
         jm = _apply(m, joint_names)
@@ -295,17 +233,10 @@ def find_joint_map(joint_names, source: str = "", maps=()) -> tuple:
 
 
 def missing_joints_message(missing, have, what: str = "") -> str:
-    """The message of a rig whose joints cannot be found: the joints missing, the joints
-    the skeleton has, and the way out (``--joint-map``).
+    """The message for joints no joint map finds.
 
-    Parameters
-    ----------
-    missing : sequence of str
-        Our joint names not found.
-    have : sequence of str
-        The skeleton's own joint names.
-    what : str
-        What the joints are for (e.g. "the 8 joints FP-DTW compares").
+    It names the joints ``missing`` (ours), those the skeleton ``have``, what they are for,
+    and the way out (``--joint-map``).
     """
     what = f" ({what})" if what else ""
     s = "s" if len(missing) > 1 else ""

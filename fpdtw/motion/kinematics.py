@@ -1,15 +1,11 @@
 """One frame at a time, compiled: the rotations and joint positions of a streamed frame.
 
-A :class:`~fpdtw.motion.Motion` computes its rotations (from Euler angles, through scipy)
-and its joint positions (forward kinematics, one joint after another in NumPy) for all its
-frames at once; on a single frame the per-call overhead of either (tens of microseconds per
-call) would cost a streamed frame milliseconds. The kernels here do the same for one frame
-in compiled loops, operation for operation as their twins (the same products, sums, sines
-and cosines in the same order, no fused multiply-add), so that they return the same numbers
-bit for bit. The twins, which the tests hold them equal to on real motions and random
-angles: :func:`fpdtw.motion.motion.joint_quats` (scipy's ``Rotation.from_euler``) for
+A :class:`~fpdtw.motion.Motion` computes rotations (scipy) and positions (NumPy forward
+kinematics) for all its frames at once, at tens of microseconds per call. These kernels
+do one frame operation for operation as their twins (same products and order, no fused
+multiply-add), so bit for bit: :func:`fpdtw.motion.motion.joint_quats` for
 :func:`frame_quats`, :meth:`~fpdtw.motion.Motion.forward_kinematics` for
-:func:`frame_positions`.
+:func:`frame_positions` (tested on real motions and random angles).
 """
 
 from __future__ import annotations
@@ -21,16 +17,14 @@ import numpy as np
 
 from fpdtw.motion.rotations import ORDERS, check_order
 
-#: ``_AXES[code]``: the axes (0 = X, 1 = Y, 2 = Z) of rotation order ``ORDERS[code]``, in
-#: the order they are applied.
+#: ``_AXES[code]``: the axes (0 = X, 1 = Y, 2 = Z) of ``ORDERS[code]`` in the order applied.
 _AXES = np.array([["XYZ".index(a) for a in o] for o in ORDERS], dtype=np.int64)
 _RAD_PER_DEG = math.pi / 180.0
 
 
 @numba.njit(cache=True, fastmath=False)
 def _frame_quats(E, codes, axes, out):
-    """out[j] = unit quaternion (w, x, y, z), w >= 0, of E[j] (degrees) in order codes[j]:
-    the product of the elementary rotations, each composed on the left as scipy does.
+    """out[j] = unit quaternion (w >= 0) of E[j] (degrees) in order codes[j], as scipy does.
 
     Plain version: fpdtw.plain.euler_to_quat (which leaves the sign as it comes).
     """
@@ -65,22 +59,10 @@ def order_codes(orders) -> np.ndarray:
 
 
 def frame_quats(euler, codes) -> np.ndarray:
-    """Local rotations of one frame from its Euler angles, each joint in its own order.
+    """Local rotations (J, 4), ``w >= 0``, of one frame's Euler angles ``euler`` (J, 3).
 
-    The same numbers, bit for bit, as :func:`fpdtw.motion.motion.joint_quats` gives for
-    that frame.
-
-    Parameters
-    ----------
-    euler : ndarray of float64, shape (J, 3)
-        Degrees, (x, y, z) columns.
-    codes : ndarray of int64, shape (J,)
-        :func:`order_codes` of the joints' rotation orders.
-
-    Returns
-    -------
-    quats : ndarray of float64, shape (J, 4)
-        Unit quaternions ``(w, x, y, z)`` with ``w >= 0``.
+    ``codes``: :func:`order_codes` of the joints' orders. Bit for bit
+    :func:`fpdtw.motion.motion.joint_quats`.
     """
     E = np.ascontiguousarray(euler, dtype=np.float64)
     out = np.empty((E.shape[0], 4))
@@ -136,25 +118,10 @@ def _frame_positions(quats, pre, post, offsets, parents, root, pos, rot):
 
 
 def frame_positions(skeleton, quats, root_translation, joints=None, root_relative=True):
-    """Joint positions of one frame by forward kinematics.
+    """Joint positions (len(joints), 3) of one frame, by forward kinematics.
 
-    The same numbers, bit for bit, as
-    ``Motion.positions(joints, root_relative)`` gives for that frame of a motion.
-
-    Parameters
-    ----------
-    skeleton : Skeleton
-    quats : ndarray of float64, shape (J, 4)
-        Local rotations of the frame, unit quaternions ``(w, x, y, z)``.
-    root_translation : ndarray of float64, shape (3,)
-    joints : ndarray of int, optional
-        Skeleton indices of the joints to return (default: all).
-    root_relative : bool
-        Subtract the root's position.
-
-    Returns
-    -------
-    positions : ndarray of float64, shape (len(joints), 3)
+    From its local rotations ``quats`` (J, 4) and ``root_translation`` (3,); ``joints``:
+    skeleton indices (default all). Bit for bit ``Motion.positions(joints, root_relative)``.
 
     Paper: OPW poster eq. 5 (poses compared by root-relative joint positions).
     """

@@ -1,17 +1,13 @@
 """One motion type for every source format.
 
-A :class:`Motion` holds per-frame *local* joint rotations as unit quaternions and
-the Euler angles they came from (with each joint's rotation order), the root
-translation, and a :class:`Skeleton` (parents, offsets, fixed pre/post rotations)
-from which forward kinematics gives joint positions.
-
-Forward kinematics, for joint ``j`` with parent ``p``::
+A :class:`Motion` holds per-frame LOCAL joint rotations (quaternions, and the Euler angles
+they came from in each joint's order), the root translation and a :class:`Skeleton`.
+Forward kinematics, joint ``j`` with parent ``p``::
 
     G_j = G_p * T(offset_j) * pre_j * R_j(t) * post_j
 
-where ``R_j(t)`` is the local rotation of frame ``t``. The root's translation is
-``offset_root + root_translation[t]``. ASF ``axis`` rotations and FBX pre/post
-rotations live in ``pre``/``post``; BVH has identity there.
+the root at ``offset_root + root_translation[t]``. ASF ``axis`` and FBX pre/post
+rotations live in ``pre``/``post``; BVH has the identity there.
 """
 
 from __future__ import annotations
@@ -44,11 +40,10 @@ _AXIS = {"X": 0, "Y": 1, "Z": 2}
 
 
 def _euler_near(q, order, ref):
-    """Euler angles of ``q`` (N, 4) in ``order``, on the branch nearest ``ref`` (N, 3).
+    """Euler angles of ``q`` (N, 4) in ``order`` on the branch nearest ``ref`` (N, 3).
 
-    A Tait-Bryan rotation has two angle triples (a, b, c) and (a + 180, 180 - b,
-    c + 180) (angles listed in the order's axis sequence), each defined up to
-    multiples of 360 degrees; pick the triple and multiples closest to ``ref``.
+    Of the triples ``(a, b, c)`` and ``(a + 180, 180 - b, c + 180)``, each up to multiples
+    of 360.
     """
     e = quat_to_euler(q, order)
     cols = [_AXIS[c] for c in order]
@@ -68,20 +63,9 @@ def _euler_near(q, order, ref):
 
 
 def joint_quats(euler, orders) -> np.ndarray:
-    """Local rotations from Euler angles, each joint in its own rotation order.
+    """Local rotations (F, J, 4), ``w >= 0``, from Euler angles (F, J, 3), per joint order.
 
-    Parameters
-    ----------
-    euler : ndarray of float, shape (F, J, 3)
-        Degrees, (x, y, z) columns.
-    orders : sequence of str, length J
-        Rotation order of each joint.
-
-    Returns
-    -------
-    quats : ndarray of float64, shape (F, J, 4)
-        Unit quaternions ``(w, x, y, z)`` with ``w >= 0``, the same for any number of
-        frames ``F`` (every :class:`Motion` and every streamed frame computes them here).
+    The same for any number of frames: motions and streamed frames alike compute them here.
     """
     euler = np.asarray(euler, dtype=float)
     q = np.empty(euler.shape[:2] + (4,))
@@ -93,32 +77,12 @@ def joint_quats(euler, orders) -> np.ndarray:
 
 
 def blend_poses(q0, q1, e0, e1, r0, r1, a, orders, joints=None):
-    """Poses a fraction ``a`` of the way from one pose to another, as :meth:`Motion.retime`
-    makes them (and the live target, :mod:`fpdtw.motion.stream`, between two frames).
+    """Poses a fraction ``a`` (N,) of the way between two poses: ``(q, euler, r)``.
 
-    Rotations by slerp (shortest arc), root translation linearly, Euler angles recomputed
-    from the slerped quaternions in each joint's order, on the branch nearest the linear
-    interpolation of the two poses' own angles (so that they stay continuous). Every row
-    is computed on its own: the result does not depend on which rows are computed together.
-
-    Parameters
-    ----------
-    q0, q1 : ndarray of float, shape (N, J, 4)
-    e0, e1 : ndarray of float, shape (N, J, 3)
-        Euler angles (degrees) of the same poses.
-    r0, r1 : ndarray of float, shape (N, 3)
-        Root translations.
-    a : ndarray of float, shape (N,)
-        Fractions in [0, 1].
-    orders : sequence of str, length J
-    joints : ndarray of int, optional
-        The joints whose Euler angles to compute (default: all).
-
-    Returns
-    -------
-    q : ndarray of float64, shape (N, J, 4)
-    euler : ndarray of float64, shape (N, len(joints), 3)
-    r : ndarray of float64, shape (N, 3)
+    As :meth:`Motion.retime` and the live target make them: rotations ``q0, q1`` (N, J, 4)
+    by slerp, root translations ``r0, r1`` (N, 3) linearly, Euler angles (N, len(joints), 3)
+    from the slerped quaternions in ``orders``, on the branch nearest the linear
+    interpolation of ``e0, e1`` (N, J, 3), so they stay continuous. Each row on its own.
     """
     q = quat_slerp(q0, q1, a[:, None] * np.ones(q0.shape[1]))
     r = (1 - a)[:, None] * r0 + a[:, None] * r1
@@ -136,21 +100,9 @@ def blend_poses(q0, q1, e0, e1, r0, r1, a, orders, joints=None):
 
 
 def sample_points(x, n: int):
-    """Where frame positions ``x`` fall between the frames of an ``n``-frame motion.
+    """The frames either side of positions ``x`` (N,), in frames, and the fraction between.
 
-    Parameters
-    ----------
-    x : ndarray of float, shape (N,)
-        Positions in frames (time times frame rate), within ``[0, n - 1]``.
-    n : int
-
-    Returns
-    -------
-    i0, i1 : ndarray of int64, shape (N,)
-        The frames on either side (``i1 = i0 + 1`` except at the last frame); a position
-        within 1e-9 below a frame counts as that frame.
-    a : ndarray of float64, shape (N,)
-        The fraction of the way from ``i0`` to ``i1``, in [0, 1].
+    Returns ``(i0, i1, a)`` for an ``n``-frame motion; within 1e-9 below a frame counts as it.
     """
     i0 = np.minimum(np.floor(x + 1e-9).astype(np.int64), n - 1)
     i1 = np.minimum(i0 + 1, n - 1)
@@ -158,8 +110,7 @@ def sample_points(x, n: int):
     return i0, i1, a
 
 
-#: A resampled frame within this many frames of a source frame IS that source frame
-#: (its rotations and Euler angles copied exactly; :meth:`Motion.retime`).
+#: A resampled frame within this many frames of a source frame IS that frame (copied exactly).
 EXACT_FRAMES = 1e-6
 
 
@@ -167,21 +118,10 @@ EXACT_FRAMES = 1e-6
 class Skeleton:
     """Joint hierarchy with rest offsets.
 
-    Parameters
-    ----------
-    joint_names : tuple of str, length J
-        Joint names, parents before children.
-    parents : ndarray of int, shape (J,)
-        Parent index of each joint, -1 for the root (exactly one root).
-    offsets : ndarray of float, shape (J, 3)
-        Translation of each joint from its parent, in the parent's frame.
-    rotation_orders : tuple of str, length J
-        Euler rotation order of each joint (see :mod:`fpdtw.motion.rotations`).
-    pre_rotations, post_rotations : ndarray of float, shape (J, 4)
-        Fixed rotations before/after the animated local rotation (identity if
-        omitted).
-    units : str
-        Length unit of offsets and translations, for information.
+    ``joint_names`` (J,) parents first; ``parents`` (J,) int, -1 for the root (one, first);
+    ``offsets`` (J, 3) from the parent, in its frame; ``rotation_orders`` (J,);
+    ``pre_rotations``, ``post_rotations`` (J, 4): fixed rotations around the animated one
+    (default identity); ``units``: the length unit, for information.
     """
 
     joint_names: tuple
@@ -234,36 +174,14 @@ class Skeleton:
 class Motion:
     """A motion clip: local joint rotations over time on a skeleton.
 
-    Parameters
-    ----------
-    name : str
-        Clip name (file stem).
-    fps : float
-        Frame rate in Hz.
-    skeleton : Skeleton
-        Hierarchy, offsets, rotation orders.
-    euler : ndarray of float, shape (F, J, 3)
-        Local Euler angles in degrees, columns (x, y, z), in each joint's order.
-    root_translation : ndarray of float, shape (F, 3)
-        Root position per frame (added to the root's offset).
-    quats : ndarray of float, shape (F, J, 4), optional
-        Local rotations as unit quaternions ``(w, x, y, z)``; computed from
-        ``euler`` when omitted.
-    source : str
-        ``"fbx"``, ``"asf"`` or ``"bvh"``: which naming the joint map uses.
-    path : str
-        File it was read from (for error messages).
-    joint_map : dict of str to str, optional
-        Canonical joint name -> skeleton joint name; when omitted, the first built-in
-        joint map the skeleton fits (:func:`fpdtw.motion.joints.find_joint_map`, the
-        maps of ``source``'s format first).
+    ``euler`` (F, J, 3): local Euler angles in degrees, (x, y, z) columns, each joint in its
+    order; ``root_translation`` (F, 3), added to the root's offset; ``quats`` (F, J, 4),
+    computed from ``euler`` when omitted; ``source``: ``"fbx"``, ``"asf"`` or ``"bvh"`` (whose
+    joint maps come first); ``path``: named in errors; ``joint_map``: canonical name ->
+    skeleton name (default :func:`fpdtw.motion.joints.find_joint_map`).
 
-    Raises
-    ------
-    MotionFormatError
-        Shapes that do not fit, no frames, a frame rate that is not positive, a
-        non-finite value, or an angle, translation or offset larger in magnitude
-        than :data:`fpdtw.limits.MAX_ABS_VALUE` (the message names ``path``).
+    MotionFormatError for shapes that do not fit, no frames, a rate that is not positive, a
+    non-finite value or one beyond :data:`fpdtw.limits.MAX_ABS_VALUE`.
     """
 
     name: str
@@ -330,7 +248,6 @@ class Motion:
                 frame=k if frames else None,
             )
 
-    # ------------------------------------------------------------------ basics
     @property
     def n_frames(self) -> int:
         return self.euler.shape[0]
@@ -359,36 +276,15 @@ class Motion:
         """Copy with some fields replaced (like :func:`dataclasses.replace`)."""
         return dataclasses.replace(self, **changes)
 
-    # -------------------------------------------------------------- selection
     def joint_indices(self, joints=PAPER_JOINTS) -> np.ndarray:
-        """Skeleton indices of joints given by canonical or own names.
-
-        Raises
-        ------
-        MotionFormatError
-            If a joint is not in this skeleton (the message lists what is).
-        """
+        """Skeleton indices of joints given by canonical or own names (:meth:`require_joints`)."""
         return self.require_joints(joints)
 
     def require_joints(self, joints=PAPER_JOINTS, what: str = "") -> np.ndarray:
-        """Skeleton indices of joints, or an error naming every joint missing.
+        """Skeleton indices (int64) of ``joints``, by canonical or own names.
 
-        Parameters
-        ----------
-        joints : sequence of str
-            Canonical or own names.
-        what : str
-            What the joints are for, in the message (e.g. "the 8 joints FP-DTW compares").
-
-        Returns
-        -------
-        idx : ndarray of int64, shape (len(joints),)
-
-        Raises
-        ------
-        MotionFormatError
-            Naming the file, the joints not found, the joints the skeleton has and the
-            way out (a joint map, ``--joint-map``).
+        Else a MotionFormatError naming the file, every joint missing, those the skeleton has
+        and ``--joint-map``; ``what`` says what the joints are for.
         """
         names = self.skeleton.joint_names
         own = [self.joint_map.get(name, name) for name in joints]
@@ -400,29 +296,12 @@ class Motion:
         return np.asarray([names.index(o) for o in own], dtype=np.int64)
 
     def with_joint_map(self, *maps) -> Motion:
-        """This motion with the first of ``maps`` its skeleton fits as its joint map.
-
-        Parameters
-        ----------
-        *maps : dict of str to str
-            Joint maps (our joint -> the rig's name, e.g. from
-            :func:`fpdtw.motion.joints.read_joint_map`), tried first; then the built-in
-            maps (:func:`fpdtw.motion.joints.find_joint_map`).
-
-        Returns
-        -------
-        motion : Motion
-        """
+        """This motion with the first of ``maps`` (then the built-in maps) its skeleton fits."""
         jm, _ = find_joint_map(self.skeleton.joint_names, self.source or "fbx", maps)
         return self.replace(joint_map=jm)
 
     def rotations(self, joints=PAPER_JOINTS) -> np.ndarray:
-        """Local rotations of the chosen joints.
-
-        Returns
-        -------
-        q : ndarray of float, shape (F, k, 4)
-            Unit quaternions ``(w, x, y, z)``.
+        """Local rotations (F, k, 4) of the chosen joints.
 
         Paper: FP-DTW Section 4 (8 joints); the input of eq. 1.
         """
@@ -436,16 +315,8 @@ class Motion:
         """Rotation orders of the chosen joints."""
         return tuple(self.skeleton.rotation_orders[i] for i in self.joint_indices(joints))
 
-    # --------------------------------------------------------------- kinematics
     def forward_kinematics(self):
-        """Global joint positions and orientations.
-
-        Returns
-        -------
-        positions : ndarray of float, shape (F, J, 3)
-        orientations : ndarray of float, shape (F, J, 4)
-            Global rotation of each joint's frame (after its post rotation).
-        """
+        """Global joint positions (F, J, 3) and orientations (F, J, 4)."""
         sk = self.skeleton
         F, J = self.n_frames, sk.n_joints
         pos = np.empty((F, J, 3))
@@ -462,19 +333,7 @@ class Motion:
         return pos, quat_normalize(rot)
 
     def positions(self, joints=OPW_JOINTS, root_relative=True) -> np.ndarray:
-        """Global positions of the chosen joints by forward kinematics.
-
-        Parameters
-        ----------
-        joints : sequence of str
-            Canonical or own joint names.
-        root_relative : bool
-            Subtract the root position of each frame (the poster's eq. 5 compares
-            poses relative to the root).
-
-        Returns
-        -------
-        P : ndarray of float, shape (F, k, 3)
+        """Global positions (F, k, 3) of the chosen joints, relative to the root's by default.
 
         Paper: OPW poster eq. 5.
         """
@@ -484,7 +343,6 @@ class Motion:
             out = out - pos[:, :1]
         return out
 
-    # ------------------------------------------------------------ time changes
     def crop(self, start=0.0, stop=None) -> Motion:
         """Frames with ``start <= t <= stop`` (seconds; ``stop=None`` = to the end)."""
         t = self.times
@@ -503,20 +361,7 @@ class Motion:
         )
 
     def sample(self, t) -> tuple:
-        """Local rotations and root translation at arbitrary times.
-
-        Parameters
-        ----------
-        t : array_like of float, shape (N,)
-            Times in seconds, clipped to ``[0, duration]``.
-
-        Returns
-        -------
-        quats : ndarray of float, shape (N, J, 4)
-            Slerp between neighbouring frames.
-        root_translation : ndarray of float, shape (N, 3)
-            Linear interpolation.
-        """
+        """Rotations (slerp) and root translation (linear) at times ``t`` (s, clipped)."""
         t = np.clip(np.asarray(t, dtype=float), 0.0, self.duration)
         i0, i1, a = sample_points(t * self.fps, self.n_frames)
         q = quat_slerp(self.quats[i0], self.quats[i1], a[:, None] * np.ones(self.quats.shape[1]))
@@ -524,19 +369,10 @@ class Motion:
         return q, r
 
     def retime(self, t, fps=None, name=None) -> Motion:
-        """A new motion whose frame ``k`` is this motion at time ``t[k]``.
+        """A new motion whose frame ``k`` is this one at time ``t[k]`` (s).
 
-        Rotations by slerp, translation linearly; Euler angles recomputed from
-        the quaternions in each joint's order, on the branch nearest the linear
-        interpolation of the input's own angles, so that they stay continuous;
-        where ``t`` falls on an input frame, angles and quaternions are the input's.
-
-        Parameters
-        ----------
-        t : array_like of float, shape (N,)
-            Source times in seconds.
-        fps : float, optional
-            Frame rate of the result (default: this motion's).
+        Poses by :func:`blend_poses`; where ``t`` falls on a frame, its angles and quaternions
+        exactly.
         """
         t = np.asarray(t, dtype=float)
         x = np.clip(t, 0.0, self.duration) * self.fps
@@ -560,29 +396,10 @@ class Motion:
         )
 
     def resample(self, fps: float) -> Motion:
-        """Resample to another frame rate (slerp for rotations).
+        """Resample to the frame rate ``fps`` (frame ``k`` at ``k / fps`` s).
 
-        Frame ``k`` of the result is this motion at ``k / fps`` seconds, up to the
-        last frame time. Table 1 of the FP-DTW paper resamples 120 Hz to 60 Hz,
-        which keeps every second frame exactly.
-
-        Parameters
-        ----------
-        fps : float
-            New frame rate in Hz, within :func:`fpdtw.limits.fps_range`.
-
-        Returns
-        -------
-        motion : Motion
-            ``floor(duration * fps) + 1`` frames.
-
-        Raises
-        ------
-        LimitError
-            ``fps`` outside the plausible range, or a result of more than
-            :data:`fpdtw.limits.MAX_FRAMES` frames, or of one frame from a motion of
-            two or more (checked before anything is allocated; the message names the
-            motion's file).
+        Up to the last frame's time; 120 -> 60 Hz keeps every second frame. LimitError, before
+        allocating, for a rate outside :func:`fpdtw.limits.fps_range` or too many frames.
 
         Paper: FP-DTW Table 1.
         """

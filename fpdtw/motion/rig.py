@@ -1,53 +1,18 @@
 """A pose that means the same on every rig: rotations away from the rest pose, in world axes.
 
-Eq. 1 compares the LOCAL rotations of 8 joints, and what a local rotation means depends on
-the rig: an AMC value ``M`` turns the bone in its ASF axis frame ``C`` (relative to the
-parent it is ``C M C^-1``); an FBX local rotation sits between the node's pre- and
-post-rotations (``pre R post``); a BVH channel turns the joint in axes aligned with the
-world at the rest pose (zero rotations, the offsets). The same pose on two rigs whose bones
-are oriented differently at rest has different local rotations.
+Eq. 1 compares LOCAL rotations, whose meaning depends on the rig (ASF axis frames, FBX
+pre/post rotations, BVH world-aligned axes). For joint ``j`` with parent ``p``, rest
+global rotations ``G^0`` and local rotation ``L_j(t)``::
 
-The common representation. For joint ``j`` with parent ``p``, rest-pose global rotations
-``G_p^0``, ``G_j^0`` and local rotation ``L_j(t)`` (FBX ``pre_j R_j(t) post_j``, ASF
-``C_j M_j(t) C_j^-1``, BVH ``R_j(t)``)::
+    Delta_j(t) = G_p^0 L_j(t) (G_j^0)^-1 = A_j R_j(t) B_j
 
-    Delta_j(t) = G_p^0 L_j(t) (G_j^0)^-1 = W_p(t)^-1 W_j(t),   W_j(t) = G_j(t) (G_j^0)^-1
-
-the rotation of the bone away from its rest orientation, in world-aligned axes, relative to
-its parent's. ``W_j(t)`` is the world rotation that takes bone ``j`` from its rest
-orientation to its orientation at ``t``; a rig that orients the bone's own axes otherwise
-(``G_j -> G_j X_j`` at rest and in motion) has the same ``W_j``, so two rigs whose rest poses
-have the same SHAPE (both in a T-pose, facing the same way, the same up axis) give the same
-``Delta`` for the same pose. With ``R_j(t)`` the animated rotation
-(:attr:`fpdtw.motion.Motion.quats`), ``Delta_j(t) = A_j R_j(t) B_j`` with two fixed
-quaternions per joint, ``A_j = G_p^0 pre_j`` and ``B_j = post_j (G_j^0)^-1``
-(:class:`RigTransform`).
-
-Same rig, same eq. 1. Two motions of one rig (the same ``A`` and ``B``) have
-``Delta_I^-1 Delta_T = B^-1 (R_I^-1 R_T) B``: conjugation keeps angles, so eq. 1 on
-``Delta`` is eq. 1 on the local rotations, exactly in exact arithmetic. The aligners compare
-the raw local rotations whenever both motions carry the same transform (every cost joint's
-``A`` and ``B`` exactly equal: every pair of the papers, whose maps stay bit for bit those of
-eq. 1 on local rotations) and the common representation otherwise. Computing it: multiplying
-two quaternions on the same side by one unit quaternion keeps their 4-D dot product, so
-``|Delta_I . Delta_T| = |(A_T^-1 A_I R_I B_I B_T^-1) . R_T|``: the INPUT's rotations are
-expressed once in the target's rig (:func:`cost_input`) and the target's frames, and the
-forecasts dead-reckoned from its own Euler angles in its own rotation orders (Algorithms 2
-and 3 extrapolate Euler angles, which conjugation does not preserve), are used as received.
-
-Rest pose. By default the rig's own: zero animated rotations (BVH: the offsets; ASF: zero
-AMC values in the axis frames; FBX: the pre/post rotations with zero ``Lcl Rotation``,
-the T-pose of the authors' MotionBuilder rig; a bind pose stored in FBX ``Pose`` nodes is
-not read). ``rest_frame=k`` takes frame ``k`` of the motion instead, e.g. a calibration
-T-pose of a motion whose rig rests in an A-pose. Limits: rest poses of different shapes (an
-A-pose against a T-pose) compare the arms off by the angle between them, unless a rest
-frame is given; the world axes must agree (the same up axis and facing at rest); a joint
-is compared relative to its own parent, so rigs whose hierarchies differ above a cost joint
-(a clavicle in one, none in the other) compare different relative rotations.
-
-Positions (OPW's eq. 5) are compared in each motion's units; :func:`position_scale`
-rescales the target's when two bodies differ in size by more than a unit mismatch could
-not explain (:data:`POSITION_UNIT_RATIO`).
+(``A_j = G_p^0 pre_j``, ``B_j = post_j (G_j^0)^-1``: :class:`RigTransform`) is the bone's
+rotation away from its rest orientation in world axes, the same on rigs whose rest poses
+have the same shape. For one rig, conjugation keeps angles: eq. 1 on ``Delta`` is eq. 1
+on the local rotations, so motions of one rig (every pair of the papers) are compared by
+their raw local rotations, and others with the input expressed in the target's rig
+(:func:`cost_input`). The rest pose is the rig's own (zero animated rotations), or a
+frame (``rest_frame``). docs/align.md gives the limits and measurements.
 """
 
 from __future__ import annotations
@@ -62,10 +27,8 @@ from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize
 
 _IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
 
-#: Bodies whose sizes (:func:`body_size`) differ by less than this factor are taken to be
-#: measured in one length unit: their positions are compared as they are (the poster's
-#: eq. 5). Adults differ by less (1.5 m and 2 m: 1.33); different units by more (inch and
-#: cm: 2.54, cm and m: 100, the ASF unit of HDM05, 1/0.45 inch, and cm: 5.6).
+#: Bodies whose sizes differ by less than this factor share a length unit: adults differ by
+#: less (1.5 m and 2 m: 1.33), units by more (inch and cm: 2.54; HDM05's ASF unit and cm: 5.6).
 POSITION_UNIT_RATIO = 1.5
 
 #: Rules of :func:`position_scale`: ``"auto"`` (default), ``"raw"``, ``"body-size"``.
@@ -74,15 +37,9 @@ POSITION_RULES = ("auto", "raw", "body-size")
 
 @dataclass(frozen=True, eq=False)
 class RigTransform:
-    """The two fixed quaternions per cost joint that map its animated rotation into the
-    common representation: ``Delta_j(t) = A_j R_j(t) B_j``.
+    """The two fixed quaternions per cost joint that map it into the common representation.
 
-    Attributes
-    ----------
-    left : ndarray of float64, shape (k, 4)
-        ``A_j = G_p^0 pre_j`` (unit quaternions ``(w, x, y, z)``).
-    right : ndarray of float64, shape (k, 4)
-        ``B_j = post_j (G_j^0)^-1``.
+    ``left`` ``A_j`` and ``right`` ``B_j`` (k, 4): ``Delta_j = A_j R_j B_j``.
 
     Paper: FP-DTW eq. 1 (its local rotations, made comparable across rigs).
     """
@@ -105,8 +62,7 @@ class RigTransform:
 
     @classmethod
     def identity(cls, k: int) -> RigTransform:
-        """The transform of a rig whose local rotations already are the common
-        representation (a BVH rig resting with zero rotations in world-aligned axes)."""
+        """The transform of a rig whose local rotations are already the common ones."""
         q = np.tile(_IDENTITY, (k, 1))
         return cls(q, q.copy())
 
@@ -119,12 +75,11 @@ class RigTransform:
         )
 
     def to_common(self, quats) -> np.ndarray:
-        """``Delta = A R B`` of animated rotations ``quats`` (F, k, 4), unit quaternions."""
+        """``Delta = A R B`` of animated rotations ``quats`` (F, k, 4)."""
         return quat_normalize(quat_mul(quat_mul(self.left, np.asarray(quats, float)), self.right))
 
     def expressed_in(self, quats, other: RigTransform) -> np.ndarray:
-        """Rotations ``quats`` (F, k, 4) of this rig as rotations of rig ``other`` with the
-        same common representation: ``(A_o^-1 A) R (B B_o^-1)``."""
+        """Rotations of this rig as rotations of rig ``other``: ``(A_o^-1 A) R (B B_o^-1)``."""
         P = quat_mul(quat_conj(other.left), self.left)
         S = quat_mul(self.right, quat_conj(other.right))
         return quat_normalize(quat_mul(quat_mul(P, np.asarray(quats, float)), S))
@@ -147,21 +102,7 @@ def _check_rest_frame(motion, rest_frame):
 
 
 def global_rotations(skeleton, quats) -> np.ndarray:
-    """Global rotations of every joint from its animated rotations.
-
-    ``G_j = G_p pre_j R_j post_j`` (the root: ``pre R post``), as
-    :meth:`fpdtw.motion.Motion.forward_kinematics` composes them.
-
-    Parameters
-    ----------
-    skeleton : Skeleton
-    quats : ndarray of float, shape (..., J, 4)
-        Animated rotations ``R`` of every joint.
-
-    Returns
-    -------
-    G : ndarray of float64, shape (..., J, 4)
-    """
+    """Global rotations (..., J, 4) from animated ones: ``G_j = G_p pre_j R_j post_j``."""
     quats = np.asarray(quats, dtype=float)
     G = np.empty(quats.shape)
     sk = skeleton
@@ -173,24 +114,7 @@ def global_rotations(skeleton, quats) -> np.ndarray:
 
 
 def rest_rotations(motion, rest_frame=None) -> np.ndarray:
-    """Global rotations of every joint at the rest pose, ``G^0``.
-
-    Parameters
-    ----------
-    motion : Motion
-    rest_frame : int, optional
-        Frame of the motion to take as its rest pose (default: the rig's own rest, zero
-        animated rotations).
-
-    Returns
-    -------
-    G0 : ndarray of float64, shape (J, 4)
-
-    Raises
-    ------
-    MotionFormatError
-        ``rest_frame`` is not a frame of the motion (naming its file).
-    """
+    """Global rotations ``G^0`` (J, 4) at the rest pose: the rig's own, or frame ``rest_frame``."""
     k = _check_rest_frame(motion, rest_frame)
     J = motion.skeleton.n_joints
     R = np.tile(_IDENTITY, (J, 1)) if k is None else motion.quats[k]
@@ -198,47 +122,13 @@ def rest_rotations(motion, rest_frame=None) -> np.ndarray:
 
 
 def rig_transform(motion, joints=PAPER_JOINTS, rest_frame=None) -> RigTransform:
-    """The :class:`RigTransform` of the cost joints of a motion's rig.
-
-    ``A_j = G_p^0 pre_j`` and ``B_j = post_j (G_j^0)^-1``, with ``G^0`` from
-    :func:`rest_rotations` (the root's parent: the identity).
-
-    Parameters
-    ----------
-    motion : Motion
-    joints : sequence of str
-        Cost joints (canonical or own names), default the paper's 8.
-    rest_frame : int, optional
-        See :func:`rest_rotations`.
-
-    Returns
-    -------
-    rig : RigTransform
-
-    Raises
-    ------
-    MotionFormatError
-        A joint the skeleton does not have, or a rest frame outside the motion.
-    """
+    """The :class:`RigTransform` of a motion's cost ``joints`` (rest: :func:`rest_rotations`)."""
     idx = motion.joint_indices(joints)
     return skeleton_rig(motion.skeleton, idx, rest_rotations(motion, rest_frame))
 
 
 def skeleton_rig(skeleton, joints, rest=None) -> RigTransform:
-    """The :class:`RigTransform` of some joints of a skeleton.
-
-    Parameters
-    ----------
-    skeleton : Skeleton
-    joints : ndarray of int, shape (k,)
-        Skeleton indices of the cost joints.
-    rest : ndarray of float, shape (J, 4), optional
-        Global rest rotations ``G^0`` (default: those of zero animated rotations).
-
-    Returns
-    -------
-    rig : RigTransform
-    """
+    """The :class:`RigTransform` of ``joints`` (indices) of a skeleton at rest ``rest`` (J, 4)."""
     sk = skeleton
     G0 = global_rotations(sk, np.tile(_IDENTITY, (sk.n_joints, 1))) if rest is None else rest
     left, right = [], []
@@ -251,18 +141,7 @@ def skeleton_rig(skeleton, joints, rest=None) -> RigTransform:
 
 
 def common_rotations(motion, joints=PAPER_JOINTS, rest_frame=None) -> np.ndarray:
-    """The rig-independent rotations ``Delta_j(t)`` of the chosen joints.
-
-    Parameters
-    ----------
-    motion : Motion
-    joints : sequence of str
-    rest_frame : int, optional
-        See :func:`rest_rotations`.
-
-    Returns
-    -------
-    Delta : ndarray of float64, shape (F, k, 4)
+    """The rig-independent rotations ``Delta_j(t)`` (F, k, 4) of the chosen joints.
 
     Paper: FP-DTW eq. 1 (its local rotations, made comparable across rigs).
     """
@@ -270,22 +149,10 @@ def common_rotations(motion, joints=PAPER_JOINTS, rest_frame=None) -> np.ndarray
 
 
 def cost_input(I_quats, rig_I, rig_T) -> np.ndarray:
-    """The input's rotations as eq. 1 compares them with a target of rig ``rig_T``.
+    """The input's rotations (m + 1, k, 4) as eq. 1 compares them with a target of rig ``rig_T``.
 
-    ``I_quats`` itself when either rig is unknown (None) or both are the same
-    (:meth:`RigTransform.same_as`): eq. 1 on the raw local rotations, as the papers
-    compute it. Otherwise the input's rotations expressed in the target's rig,
-    ``(A_T^-1 A_I) R_I (B_I B_T^-1)``, whose eq. 1 distance to the target's raw rotations
-    is that of the two motions' common representations (module docstring).
-
-    Parameters
-    ----------
-    I_quats : ndarray of float64, shape (m + 1, k, 4)
-    rig_I, rig_T : RigTransform or None
-
-    Returns
-    -------
-    quats : ndarray of float64, shape (m + 1, k, 4), C-contiguous
+    ``I_quats`` itself when a rig is unknown (None) or both are the same (eq. 1 on the raw
+    local rotations, as the papers), else expressed in the target's rig.
 
     Paper: FP-DTW eq. 1.
     """
@@ -300,13 +167,12 @@ def cost_input(I_quats, rig_I, rig_T) -> np.ndarray:
 
 
 def pair_rotations(I, T) -> tuple:
-    """``(I_quats, T_quats)`` of two :class:`~fpdtw.motion.MotionFeatures` as eq. 1
-    compares them (:func:`cost_input`): what the offline algorithms (DTW) use."""
+    """``(I_quats, T_quats)`` of two MotionFeatures as eq. 1 compares them (:func:`cost_input`)."""
     return cost_input(I.quats, I.rig, T.rig), T.quats
 
 
 def _chain_length(skeleton, j: int) -> float:
-    """Length of the bones from the root to joint ``j`` (sum of the offsets' norms)."""
+    """Length of the bones from the root to joint ``j``."""
     total = 0.0
     while skeleton.parents[j] >= 0:
         total += float(np.linalg.norm(skeleton.offsets[j]))
@@ -315,7 +181,7 @@ def _chain_length(skeleton, j: int) -> float:
 
 
 def skeleton_body_size(skeleton, head: int, left_ankle: int, right_ankle: int) -> float:
-    """:func:`body_size` of a skeleton, given the indices of its head and ankles."""
+    """:func:`body_size` of a skeleton, given its head's and ankles' indices."""
     size = _chain_length(skeleton, head) + 0.5 * (
         _chain_length(skeleton, left_ankle) + _chain_length(skeleton, right_ankle)
     )
@@ -323,48 +189,21 @@ def skeleton_body_size(skeleton, head: int, left_ankle: int, right_ankle: int) -
 
 
 def body_size(motion) -> float:
-    """The length of a body along its skeleton: root to head plus root to ankle (the
-    mean of both legs), summed over the bone offsets, whatever the pose.
+    """A body's length along its skeleton, in the motion's unit, whatever the pose.
 
-    Parameters
-    ----------
-    motion : Motion
-
-    Returns
-    -------
-    size : float
-        In the motion's length unit (0 for a skeleton without length).
-
-    Raises
-    ------
-    MotionFormatError
-        The skeleton lacks the head or an ankle (see the joint maps).
+    Root to head plus root to ankle (both legs' mean), summed over the bone offsets;
+    MotionFormatError without a head or an ankle.
     """
     idx = motion.require_joints(("head", "left_ankle", "right_ankle"), "a body's size")
     return skeleton_body_size(motion.skeleton, *idx)
 
 
 def position_scale(input_size, target_size, rule: str = "auto") -> float:
-    """The factor the target's positions are multiplied by before OPW compares them
-    with the input's (eq. 5 of the poster).
+    """The factor the target's positions are multiplied by before OPW's eq. 5.
 
-    * ``"auto"`` (default): 1 when the two bodies' sizes (:func:`body_size`) differ by
-      less than a factor :data:`POSITION_UNIT_RATIO`, or either is unknown (the poster's
-      raw positions, in what is then taken to be one length unit), else
-      ``input_size / target_size`` (different length units: the target rescaled to the
-      input's body size);
-    * ``"raw"``: always 1;
-    * ``"body-size"``: ``input_size / target_size`` (1 if either is unknown).
-
-    Parameters
-    ----------
-    input_size, target_size : float or None
-        :func:`body_size` of each motion (:attr:`MotionFeatures.body_size`).
-    rule : str
-
-    Returns
-    -------
-    scale : float
+    ``"auto"``: 1 when the body sizes differ by less than :data:`POSITION_UNIT_RATIO` or one
+    is unknown (the poster's raw positions), else ``input_size / target_size`` (other length
+    units); ``"raw"``: 1; ``"body-size"``: ``input_size / target_size`` (1 if unknown).
 
     Paper: OPW poster eq. 5 (root-relative joint positions).
     """
@@ -383,31 +222,11 @@ TRAJECTORY_FRAMES = ("local", "transform", "global", "root")
 
 
 def trajectory_rotations(motion, frame: str = "local", joints=PAPER_JOINTS) -> np.ndarray:
-    """Rotations whose joint trajectories eq. 2 compares, in one of three frames.
+    """Rotations (F, k, 4) whose joint trajectories eq. 2 compares, in one of four frames.
 
-    ``"local"``: the animated local rotations ``R_j`` (:meth:`fpdtw.motion.Motion.rotations`,
-    what eq. 2 reads by default); ``"transform"``: the joint's whole local transform
-    ``pre_j R_j post_j`` (FBX: with the node's pre/post-rotations, what the FBX SDK's local
-    transform evaluation returns; ASF: ``C M C^-1`` in the parent's axes; BVH: ``R``, the
-    same as ``"local"``); ``"global"``: each joint's world rotation ``G_j``
-    (:func:`global_rotations`: pre/post rotations and every ancestor included);
-    ``"root"``: relative to the root joint's world rotation, ``G_root^-1 G_j`` (the
-    body's turning and leaning removed).
-
-    Parameters
-    ----------
-    motion : Motion
-    frame : {"local", "transform", "global", "root"}
-    joints : sequence of str
-
-    Returns
-    -------
-    Q : ndarray of float64, shape (F, k, 4)
-
-    Raises
-    ------
-    MotionFormatError
-        An unknown frame (naming the motion's file) or a missing joint.
+    ``"local"`` (the default reading): the animated rotations ``R_j``; ``"transform"``:
+    ``pre_j R_j post_j``; ``"global"``: the world rotation ``G_j``; ``"root"``:
+    ``G_root^-1 G_j``. MotionFormatError for another frame or a missing joint.
 
     Paper: FP-DTW eq. 2 ("joint trajectories"; the frame is not stated).
     """
@@ -432,24 +251,10 @@ def trajectory_rotations(motion, frame: str = "local", joints=PAPER_JOINTS) -> n
 
 
 def bone_directions(motion, joints=PAPER_JOINTS) -> np.ndarray:
-    """Each joint's bone direction: the unit offset to its child, in the joint's own axes.
+    """Each joint's bone direction (k, 3), in the joint's own axes.
 
-    A joint with several children takes the one with the longest offset (the limb, not
-    a twist or end-site helper).
-
-    Parameters
-    ----------
-    motion : Motion
-    joints : sequence of str
-
-    Returns
-    -------
-    v : ndarray of float64, shape (k, 3)
-
-    Raises
-    ------
-    MotionFormatError
-        A joint without a child at a non-zero offset (naming the motion's file).
+    The unit offset to its child with the longest offset; MotionFormatError for a joint
+    without one.
 
     Paper: FP-DTW eq. 2 ("a one unit length vector along the joint's orientation",
     read as the bone).

@@ -1,16 +1,10 @@
 """Rotations: unit quaternions and Euler angles.
 
-Conventions (used everywhere in fpdtw):
-
-* Quaternions are ``(w, x, y, z)``, Hamilton product, unit norm, and act on
-  column vectors: ``v' = q v q*``.
-* Euler angles are stored in **degrees** as ``(x, y, z)`` columns, whatever the
-  rotation order.
-* A rotation order is a string of the three axes in the order in which they are
-  **applied to a vector** (extrinsic / "static" order, the FBX ``eEulerXYZ`` and
-  ASF ``axis XYZ`` convention): ``"XYZ"`` means ``R = Rz @ Ry @ Rx``. A BVH joint
-  whose channels read ``Zrotation Yrotation Xrotation`` therefore has order
-  ``"XYZ"`` (BVH lists channels outermost first).
+Quaternions are ``(w, x, y, z)``, Hamilton product, acting as ``v' = q v q*``. Euler
+angles are stored in degrees as ``(x, y, z)`` columns whatever the order. A rotation
+order lists the axes in the order they are APPLIED (extrinsic; FBX ``eEulerXYZ``, ASF
+``axis XYZ``): ``"XYZ"`` is ``R = Rz Ry Rx``, which BVH writes ``Zrotation Yrotation
+Xrotation`` (outermost first).
 """
 
 from __future__ import annotations
@@ -31,20 +25,7 @@ def check_order(order: str) -> str:
 
 
 def euler_to_quat(euler, order="XYZ"):
-    """Convert Euler angles to unit quaternions.
-
-    Parameters
-    ----------
-    euler : array_like of float, shape (..., 3)
-        Angles in degrees about X, Y and Z (in that column order).
-    order : str
-        Rotation order, axes in the order they are applied (``"XYZ"``: R = Rz Ry Rx).
-
-    Returns
-    -------
-    q : ndarray of float, shape (..., 4)
-        Unit quaternions ``(w, x, y, z)`` with ``w >= 0``.
-    """
+    """Unit quaternions (..., 4), ``w >= 0``, of Euler angles (..., 3) in rotation ``order``."""
     order = check_order(order)
     e = np.asarray(euler, dtype=float)
     shape = e.shape[:-1]
@@ -56,21 +37,7 @@ def euler_to_quat(euler, order="XYZ"):
 
 
 def quat_to_euler(q, order="XYZ"):
-    """Convert unit quaternions to Euler angles (degrees, columns x, y, z).
-
-    Parameters
-    ----------
-    q : array_like of float, shape (..., 4)
-        Quaternions ``(w, x, y, z)``.
-    order : str
-        Rotation order (see module docstring).
-
-    Returns
-    -------
-    euler : ndarray of float, shape (..., 3)
-        Angles in degrees, each in (-180, 180]; use :func:`unwrap_degrees` along
-        time before differencing.
-    """
+    """Euler angles (..., 3; degrees, each in (-180, 180]) of quaternions in rotation ``order``."""
     order = check_order(order)
     q = np.asarray(q, dtype=float)
     shape = q.shape[:-1]
@@ -88,12 +55,10 @@ def unwrap_degrees(angles, axis=0):
 
 
 class UnwrapDegrees:
-    """:func:`unwrap_degrees` along time, one frame at a time.
+    """:func:`unwrap_degrees` along time, one frame at a time, bit for bit.
 
-    Calling it with frames ``a[0], a[1], ...`` in order returns ``unwrap_degrees(a,
-    axis=0)[k]`` for each, bit for bit: the same operations as ``numpy.unwrap`` (its
-    running sum of corrections is a sequential sum), for a motion whose frames arrive one
-    by one.
+    Called with ``a[0], a[1], ...`` it returns ``unwrap_degrees(a, axis=0)[k]``
+    (numpy.unwrap's operations).
     """
 
     _PERIOD = 2 * np.pi
@@ -179,19 +144,7 @@ def quat_to_matrix(q):
 
 
 def quat_slerp(q0, q1, t):
-    """Spherical linear interpolation, shortest arc.
-
-    Parameters
-    ----------
-    q0, q1 : array_like of float, shape (..., 4)
-        End quaternions.
-    t : array_like of float, shape (...) or scalar
-        Interpolation parameter in [0, 1].
-
-    Returns
-    -------
-    q : ndarray of float, shape (..., 4)
-    """
+    """Spherical linear interpolation from ``q0`` to ``q1`` (..., 4) at ``t``, shortest arc."""
     q0 = quat_normalize(q0)
     q1 = quat_normalize(q1)
     t = np.asarray(t, dtype=float)[..., None]
@@ -208,10 +161,6 @@ def quat_slerp(q0, q1, t):
 
 
 def geodesic_angle(a, b):
-    """Rotation angle in radians between unit quaternions, in [0, pi].
-
-    ``2 * arccos(|a . b|)``; the FP-DTW cost (eq. 1) uses ``(2/pi) arccos|a.b|``,
-    i.e. this angle divided by pi.
-    """
+    """Rotation angle in [0, pi] between unit quaternions, ``2 arccos |a . b|`` (eq. 1 / pi)."""
     d = np.abs(np.sum(quat_normalize(a) * quat_normalize(b), axis=-1))
     return 2.0 * np.arccos(np.clip(d, 0.0, 1.0))

@@ -1,54 +1,18 @@
 """A motion that arrives one frame at a time: the live target of an online alignment.
 
-An online aligner takes one target frame per frame of the INPUT (the recording): that is
-how ``fpdtw align`` compares two takes, the target resampled to the input's frame rate
-first. A capture system sends frames at its own rate, on its own clock, and sometimes
-loses some. :class:`LiveTarget` turns the frames as they arrive into exactly those
-input-rate frames ("ticks"), causally, and cuts the aligners' features out of each.
-
-Slots (which frame of the capture a received frame is). The first frame is slot 0.
-Each later frame comes ``dt`` seconds after the previous one received, by its capture time
-when the sender gives one, else by its arrival time. With the target's frame period
-``P = 1 / fps``:
-
-* ``dt <= 1.5 P``: the next slot. Jitter, late and bunched frames never lose or merge a
-  frame.
-* ``dt > 1.5 P`` (a GAP): ``round(dt / P) - 1`` frames were lost and the frame takes slot
-  ``previous + round(dt / P)``: the frame numbers after a gap stay those of the capture,
-  so the map is never shifted by the frames missing.
-
-Ticks (the input-rate frames the aligner steps on). Tick ``k`` is the target at time
-``k / rate`` after the first frame, ``x_k = (k / rate) * fps`` in slots, exactly where
-:meth:`Motion.resample` puts frame ``k`` of the resampled target (at equal rates, tick
-``k`` is slot ``k``). A tick that falls on a received frame (within
-:data:`~fpdtw.motion.motion.EXACT_FRAMES`) is that frame; one between two received
-consecutive slots is interpolated between them by :func:`~fpdtw.motion.motion.blend_poses`
-(rotations by slerp, root translation linearly), as :meth:`Motion.resample` does. A tick
-is computed as soon as the frame that closes its interval has arrived, never later: the
-resampling adds at most one TARGET period of delay to a tick (33 ms at 30 Hz; 0 at equal
-rates), and the tick answered for a frame is at most one INPUT period before that frame.
-
-Dropped frames (the ticks inside a gap, "filled"). The aligners need one frame per tick,
-so every tick inside a gap is filled when the frame that ends the gap arrives, by the
-rule ``gap``:
-
-* ``"slerp"`` (default): interpolated between the frames on both sides of the gap, at
-  its fraction of the way through the gap (rotations by slerp, root translation
-  linearly). A short gap in a human motion is closer to the straight path between its
-  ends than to a pause; it is what a capture system's own gap filling does, and the
-  aligner sees no frozen pose followed by a jump, which the forecasts of Methods B and C
-  and OPW's prediction would extrapolate as a stop.
-* ``"hold"``: the frame before the gap, repeated (a frozen pose until the next frame),
-  kept for comparison.
-
-A filled tick keeps its own index (the tick it fills), so after a gap of ``g`` lost frames
-the next answered index jumps by ``g + 1`` and every index still names the same moment
-(and row) as in the offline map of the complete take. A take streamed without loss gives
-the frames, features and map of ``fpdtw align INPUT TAKE`` bit for bit; the one
-exception is a tick that falls within ``EXACT_FRAMES`` AFTER a received frame at another
-rate, whose root translation offline interpolation moves by at most ``1e-6`` of a frame
-towards the next frame: here it is the received frame's (its rotations are the frame's in
-both).
+:class:`LiveTarget` turns captured frames, as they arrive, into frames at the INPUT's
+rate ("ticks"), causally. Slots: frame 0 is slot 0; a frame ``dt`` after the previous one
+(capture time, else arrival) takes the next slot, or after a GAP (``dt > 1.5 P``, ``P``
+the frame period) slot ``previous + round(dt / P)``, so that frame numbers stay the
+capture's. Tick ``k`` is the target at ``k / rate`` s, where :meth:`Motion.resample` puts
+it: a received frame when it falls on one (within
+:data:`~fpdtw.motion.motion.EXACT_FRAMES`), else blended between the two received
+consecutive slots (:func:`~fpdtw.motion.motion.blend_poses`) as soon as the later one is
+in (at most one target period of delay). Ticks inside a gap are filled when it ends:
+``gap="slerp"`` (default) interpolates across it, ``"hold"`` repeats the frame before
+it. A take streamed without loss gives the frames and map of ``fpdtw align`` bit for bit
+(but a tick just after a received frame at another rate, whose root translation moves by
+at most 1e-6 of a frame offline). docs/live.md says why and measures both gap rules.
 """
 
 from __future__ import annotations
@@ -72,43 +36,15 @@ GAP_PERIODS = 1.5
 GAP_RULES = ("slerp", "hold")
 
 
-def _same_rate(a: float, b: float) -> bool:
-    return abs(a - b) <= 1e-9 * max(a, b)
-
-
 class LiveTarget:
     """The target motion of a live alignment, built from frames as they arrive.
 
-    Parameters
-    ----------
-    skeleton : Skeleton
-        The streamed skeleton (its own joints, offsets and rotation orders: the features
-        come from it, never from the input's).
-    fps : float
-        The target's own frame rate (BVH ``1 / Frame Time``).
-    rate : float
-        Ticks per second: the input's frame rate.
-    joint_map : dict of str to str, optional
-        Canonical joint name -> the skeleton's joint name (default: names as given).
-    joints : sequence of str
-        Cost joints (default the paper's 8).
-    position_joints : sequence of str, optional
-        Joints whose root-relative positions the frames carry (OPW: ``OPW_JOINTS``).
-    gap : str
-        Rule for the ticks inside a gap: ``"slerp"`` or ``"hold"`` (module docstring).
-    input_body_size : float, optional
-        The input's body size (:attr:`MotionFeatures.body_size`): the positions are
-        multiplied by :func:`fpdtw.motion.rig.position_scale` of it and the streamed
-        skeleton's (:attr:`body_size`), 1 when the two are within a factor of
-        :data:`~fpdtw.motion.rig.POSITION_UNIT_RATIO` or it is not given.
-    where : str, optional
-        What errors name (a file, or None: a stream, whose errors name lines).
-
-    Raises
-    ------
-    MotionFormatError
-        The skeleton lacks a joint of ``joints`` or ``position_joints``, or has an offset
-        beyond :data:`fpdtw.limits.MAX_ABS_VALUE`.
+    ``skeleton``: the streamed one (the features come from it); ``fps``: its frame rate;
+    ``rate``: ticks per second, the input's rate; ``joint_map``: canonical -> its names;
+    ``joints``: cost joints; ``position_joints``: whose root-relative positions the frames
+    carry (OPW), rescaled by :func:`fpdtw.motion.rig.position_scale` of ``input_body_size``
+    and the skeleton's; ``gap``: "slerp" or "hold"; ``where``: what errors name (None: a
+    stream). MotionFormatError for a joint the skeleton lacks or an implausible offset.
     """
 
     def __init__(
@@ -128,12 +64,11 @@ class LiveTarget:
             raise ValueError(f"gap must be one of {GAP_RULES}, got {gap!r}")
         self.skeleton, self.fps, self.rate = skeleton, float(fps), float(rate)
         self.gap, self.where = gap, where
-        self.same_rate = _same_rate(self.fps, self.rate)
+        self.same_rate = abs(self.fps - self.rate) <= 1e-9 * max(self.fps, self.rate)
         jm = joint_map or {}
         cost = self._indices(joints, jm, "the 8 joints FP-DTW compares")
         self._pos_joints = None
-        #: The streamed body's size (:func:`fpdtw.motion.rig.body_size`) in the stream's
-        #: units, None without positions.
+        #: The streamed body's size in its units (None without positions).
         self.body_size = None
         #: The factor applied to the positions (1 unless the bodies' units differ).
         self.position_scale = 1.0
@@ -153,8 +88,7 @@ class LiveTarget:
         self._codes = order_codes(self._orders)
         #: Rotation order of each cost joint (the streamed skeleton's).
         self.orders = tuple(skeleton.rotation_orders[j] for j in cost)
-        #: How the cost joints' rotations map into the rig-independent representation
-        #: (:mod:`fpdtw.motion.rig`; the streamed skeleton's rest: zero rotations).
+        #: The cost joints' :class:`~fpdtw.motion.rig.RigTransform` (rest: zero rotations).
         self.rig = skeleton_rig(skeleton, cost)
         # the limits of a take are those in force when it starts
         self._big = float(limits.get("max_abs_value"))
@@ -195,12 +129,6 @@ class LiveTarget:
                 frame=frame,
             )
 
-    # -- time -------------------------------------------------------------------------
-    @property
-    def last_slot(self) -> int | None:
-        """Slot of the latest frame received (None before the first)."""
-        return None if self._cur is None else self._cur[0]
-
     def _slot(self, t, line, frame, arrival) -> int:
         if self._cur is None:
             return 0
@@ -227,43 +155,16 @@ class LiveTarget:
         step = round(periods) if periods > GAP_PERIODS else 1
         return self._cur[0] + max(step, 1)
 
-    def _x(self, k: int) -> float:
-        """Where tick ``k`` falls, in slots (as ``Motion.resample`` puts it)."""
-        return float(k) if self.same_rate else (k / self.rate) * self.fps
-
-    # -- frames -----------------------------------------------------------------------
     def push(
         self, euler, root_translation, t: float, *, arrival=False, line=None, frame=None
     ) -> list:
-        """Receive the next frame; return the ticks it completes, with their features.
+        """Receive the next frame; return the ticks it completes, ``[(tick, Frame, filled)]``.
 
-        Parameters
-        ----------
-        euler : ndarray of float, shape (J, 3)
-            Local Euler angles of the frame (degrees, (x, y, z) columns, each joint in the
-            skeleton's rotation order).
-        root_translation : ndarray of float, shape (3,)
-        t : float
-            Its time in seconds (capture time, or arrival time), on any clock that the
-            frames of this take share.
-        arrival : bool
-            ``t`` is an arrival time: frames that arrived at the same time are consecutive
-            (a capture time must increase from frame to frame).
-        line, frame : int, optional
-            Its line and frame number in a stream, named by errors.
-
-        Returns
-        -------
-        ticks : list of (int, Frame, bool)
-            Tick index, its frame as an aligner receives it, and whether it was filled
-            (inside a gap); in order, possibly empty (a target faster than the rate).
-
-        Raises
-        ------
-        MotionFormatError
-            A value beyond :data:`fpdtw.limits.MAX_ABS_VALUE`, a time not after the
-            previous frame's, a gap longer than :data:`fpdtw.limits.MAX_GAP_S`, or more
-            ticks than :data:`fpdtw.limits.MAX_FRAMES`.
+        ``euler`` (J, 3): local Euler angles in degrees; ``root_translation`` (3,); ``t``: its
+        capture time, or with ``arrival`` its arrival time (frames that arrived together are
+        consecutive); ``line``, ``frame``: named in errors. MotionFormatError for a value beyond
+        :data:`fpdtw.limits.MAX_ABS_VALUE`, a time not after the previous, a gap beyond
+        :data:`fpdtw.limits.MAX_GAP_S`, or too many ticks.
         """
         euler = np.asarray(euler, dtype=float).reshape(self.skeleton.n_joints, 3)
         r = np.asarray(root_translation, dtype=float).reshape(3)
@@ -300,7 +201,7 @@ class LiveTarget:
         out = []
         k = self.n_ticks
         while True:
-            x = self._x(k)
+            x = float(k) if self.same_rate else (k / self.rate) * self.fps  # tick k, in slots
             if self.same_rate:
                 ok = k <= slot
             else:

@@ -1,25 +1,23 @@
-"""The global band of notebook 16 (Q3): the rule its compiled kernels apply, callable.
+"""The global band of notebook 16 (Q3; beyond the papers, whose Section 7 suggests one).
 
-Beyond the papers (their conclusion, Section 7, suggests a global constraint). The
-aligners of :mod:`fpdtw.online.window` apply the band inside their compiled steps
-(``_mask_band``, ``_clip_band``, ``_check_band``); the functions here call those kernels on
-one window so that a notebook or a count can ask which rows a window keeps, and
-:func:`band_cells` counts, from an aligner's map alone, the cells its windows computed.
+The window aligners apply it inside their compiled steps; these functions call the same
+kernels on one window, and :func:`band_cells` counts from a map the cells a band saves.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from fpdtw.online.window import _clip_band, _mask_band
+from fpdtw.online.window import ForecastAligner, _clip_band, _mask_band
 
-#: Half-width of ``band="1s"`` in seconds (multiplied by the input's frame rate).
-BAND_SECONDS = 1.0
+#: Half-width of ``band="1s"`` in seconds (times the input's frame rate): the aligners'.
+BAND_SECONDS = ForecastAligner.BAND_SECONDS
 
 
 def band_half_width(band: str, w: int, fps: float) -> int:
-    """The half-width ``B`` in frames of a band option: ``"1s"``, ``round(fps)``;
-    ``"half-w"``, ``floor(w / 2)``; each at least 1. ``"none"``: 0.
+    """Half-width ``B`` in frames of a band option (``"none"``: 0).
+
+    ``"1s"``: ``round(fps)``; ``"half-w"``: ``floor(w / 2)``; each at least 1.
 
     Paper: FP-DTW Section 7 (conclusion: a global constraint).
     """
@@ -33,19 +31,9 @@ def band_half_width(band: str, w: int, fps: float) -> int:
 
 
 def band_rows(start: int, rows: int, q: int, band: int) -> np.ndarray:
-    """Which rows (offsets from ``M_n = start``) of a window lie inside the band: row ``r``
-    when ``|start + r - q| <= band`` (the compiled ``_mask_band``).
+    """Which rows of a window lie inside the band: bool (rows,).
 
-    Parameters
-    ----------
-    start, rows, q : int
-        ``M_n``, the window's rows, the target frame being mapped (``n + 1``).
-    band : int
-        Half-width in frames (> 0).
-
-    Returns
-    -------
-    inside : ndarray of bool, shape (rows,)
+    Row ``r`` (offset from ``M_n = start``) when ``|start + r - q| <= band``.
 
     Paper: FP-DTW Section 7 (conclusion: a global constraint).
     Notebook: 16_open_questions.ipynb
@@ -56,12 +44,9 @@ def band_rows(start: int, rows: int, q: int, band: int) -> np.ndarray:
 
 
 def band_window(start: int, w_i: int, q: int, band: int):
-    """The rows of the window ``I_{start}..I_{start + w_i}`` inside the band, as the offsets
-    of the first and the last (the compiled ``_clip_band``); None when none is inside.
+    """Offsets ``(first, last)`` of the rows of ``I_{start}..I_{start + w_i}`` inside the band.
 
-    Returns
-    -------
-    rows : tuple of int (first, last), or None
+    None when no row is inside.
 
     Paper: FP-DTW Section 7 (conclusion: a global constraint).
     Notebook: 16_open_questions.ipynb
@@ -73,25 +58,13 @@ def band_window(start: int, w_i: int, q: int, band: int):
 
 
 def band_cells(M, m: int, w: int, method: str, band: str = "half-w"):
-    """Cells of eq. 1 a band aligner's window computes at each of its window steps, with its
-    band and without it, from its map alone.
+    """The cells of eq. 1 a band aligner's windows compute, with and without its band.
 
-    A step at target frame ``q`` (``n = q - 1``) has a window when ``n >= 2`` and ``M_n <
-    m``: ``w_i + 1`` rows (Method B: ``w_i = min(w, m - M_n)``, ``w + 1`` columns; Method
-    C's square window: ``w_i = min(w - 1, m - M_n)``, ``w`` columns). With ``"half-w"``
-    only the rows of :func:`band_window` are computed; ``"1s"`` masks and computes all.
-
-    Parameters
-    ----------
-    M : ndarray of int, shape (n + 1,)
-    m, w : int
-    method : {"B", "C"}
-    band : {"half-w", "1s"}
-
-    Returns
-    -------
-    q, full, banded : ndarray of int64, shape (s,)
-        The window steps' target frames and their cells without and with the band.
+    From its map ``M``: ``(q, full, banded)``, int64 each, the window steps' target frames
+    and cells. A step at ``q`` has a window when ``n = q - 1 >= 2`` and ``M_n < m``: Method
+    B, ``min(w, m - M_n) + 1`` rows by ``w + 1`` columns; Method C's square window,
+    ``min(w - 1, m - M_n) + 1`` rows by ``w``. ``"half-w"`` computes only the rows of
+    :func:`band_window`; ``"1s"`` masks, so computes all.
 
     Paper: FP-DTW Section 7 (conclusion: a global constraint).
     """

@@ -1,17 +1,11 @@
-"""The one streaming interface every online aligner implements.
-
-Construct an aligner with the input (recorded) motion's features and its
-parameters, then feed the target (live) motion one frame at a time::
+"""The one streaming interface every online aligner implements::
 
     aligner = MethodC(input_features, w=40)
     for frame in target_features.frames():
         m = aligner.step(frame)      # input frame mapped to this target frame
 
-``step`` returns ``M_{n+1}`` before the next target frame exists: an online
-aligner keeps only the frames it has been given (and, for the methods whose steps read
-only the newest frames, only the latest of those: memory proportional to the window).
-:func:`run_online` does this over a whole target and also returns the per-frame
-processing times.
+``step`` returns ``M_{n+1}`` before the next target frame exists. :func:`run_online`
+does this over a whole target and times each step.
 """
 
 from __future__ import annotations
@@ -27,19 +21,12 @@ from fpdtw.motion.features import Frame, MotionFeatures
 from fpdtw.motion.rig import cost_input
 from fpdtw.motion.rotations import check_order
 
-#: Fewest rows kept when a bounded history is compacted (so that the rules of the first
-#: frames, ``q < 16``, never see a compacted row).
+#: Fewest rows kept when compacting (the rules of the first frames, ``q < 16``, see none).
 _MIN_KEEP = 16
 
 
-def check_input(I, min_frames: int = 1, who: str = "") -> None:
-    """Refuse an input motion that is not :class:`MotionFeatures` or is too short.
-
-    Raises
-    ------
-    AlignmentError
-        Naming the aligner (``who``) and the motion.
-    """
+def check_input(I, who: str = "") -> None:
+    """Refuse (AlignmentError naming ``who``) an input that is not MotionFeatures or empty."""
     who = f"{who}: " if who else ""
     if not isinstance(I, MotionFeatures):
         raise AlignmentError(
@@ -47,38 +34,20 @@ def check_input(I, min_frames: int = 1, who: str = "") -> None:
         )
     if I.n_frames == 0:
         raise AlignmentError(f"{who}input motion {I.name or '(unnamed)'!r} has no frames")
-    if I.n_frames < min_frames:
-        raise AlignmentError(
-            f"{who}input motion {I.name or '(unnamed)'!r} has {I.n_frames} frame(s); "
-            f"at least {min_frames} needed"
-        )
 
 
 def check_count(value, what: str, who: str, minimum: int = 1) -> int:
-    """``value`` as an int, or an :class:`AlignmentError` unless it is an int >= minimum.
-
-    Booleans are refused (``True`` is an int to Python, never a window size here).
-    """
+    """``value`` as an int, or AlignmentError unless it is an int >= minimum (not a bool)."""
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < minimum:
         raise AlignmentError(f"{who}: {what} must be an int >= {minimum}, got {value!r}")
     return int(value)
 
 
 def compiled_frame(frame, i: int, capacity: int, Tp):
-    """The arrays of a streamed frame that a compiled step can take, else None.
+    """``(quats, euler)`` of a streamed frame a compiled step can take, else None.
 
-    A frame takes the compiled path when its quaternions and Euler angles are plain 2-D
-    ndarrays and the map has room for target frame ``i`` (``i < capacity``); its
-    positions, if any, are stored in ``Tp[i]`` (None: positions not kept, and a frame
-    with positions goes the general way). Anything else goes the general way: the
-    caller's own checks of the frame (e.g. the shape check of
-    :meth:`fpdtw.online.window.WindowAligner.step`), then :meth:`OnlineAligner.step`,
-    which stores the frame without checking it. The compiled step itself refuses a
-    frame of another shape (it returns -1 and the caller takes the general way).
-
-    Returns
-    -------
-    (quats, euler) : tuple of ndarray, or None
+    Plain 2-D ndarrays and room for row ``i`` (its positions stored in ``Tp[i]``); None
+    sends the frame the general way.
     """
     fq, fe, p = frame.quats, frame.euler, frame.positions
     if not (
@@ -96,38 +65,18 @@ def compiled_frame(frame, i: int, capacity: int, Tp):
 
 
 class OnlineAligner(ABC):
-    """Base class of online aligners.
+    """Base class of online aligners (``I``: the input motion); subclasses implement :meth:`_step`.
 
-    Subclasses implement :meth:`_step` (and may override :meth:`reset`). The base
-    class stores the received frames (``self.T_quats``, ``self.T_euler``,
-    ``self.T_positions``, in buffers grown in place, only frames already received) and
-    the map so far (``self.M``).
-
-    History. An aligner whose steps read only the newest target frames declares how many
-    earlier ones it reads in :attr:`history`. Such an aligner keeps every frame
-    received until its buffers hold :data:`fpdtw.limits.HISTORY_FRAMES` rows (4096 by
-    default, env ``FPDTW_HISTORY_FRAMES``), then only the latest ``max(history, 16)``
-    (the buffers are compacted in place), so that a stream of any length runs in memory
-    proportional to the window. ``T_quats``, ``T_euler``, ``T_positions`` and ``M`` then
-    hold the frames from :attr:`history_start` on. Aligners with ``history = None``
-    (OE-DTW, whose ``path()`` reads every frame, and OPW) and aligners built with
-    ``record=True`` keep everything.
-
-    Contract of :meth:`_step` (``q`` below): ``q`` is the ROW of the new frame in the
-    buffers ``_Tq``, ``_Te``, ``_Tp`` and ``_M``; rows before it hold the frames before
-    it. Until the first compaction the row is the frame number; after it, ``q >= 16``
-    and the frame number is ``history_start + q`` (``n_received - 1``).
-
-    Parameters
-    ----------
-    I : MotionFeatures
-        Input (prerecorded) motion, fully known.
+    It keeps the received frames (``T_quats``, ``T_euler``, ``T_positions``) and the map
+    (``M``). With a bounded :attr:`history`, once the buffers hold
+    :data:`fpdtw.limits.HISTORY_FRAMES` rows only the latest ``max(history, 16)`` are kept
+    (from :attr:`history_start` on); ``history = None`` or ``record=True`` keeps all.
+    :meth:`_step`'s ``q`` is the new frame's ROW in the buffers.
     """
 
     #: Short name used in results and figures (e.g. ``"Mc w40"``).
     name = "online"
-    #: Earlier target frames (and map entries) a step reads besides the newest: rows
-    #: ``q - history .. q``. None: any earlier frame, so every frame is kept.
+    #: Earlier target frames a step reads besides the newest (None: any, so all are kept).
     history: int | None = None
 
     #: Rotation orders of the target's cost joints (of the current take's first frame).
@@ -151,7 +100,6 @@ class OnlineAligner(ABC):
         self._history_rows = int(limits.get("history_frames"))
         self.n_received = 0
 
-    # -- frames received so far -------------------------------------------------
     @property
     def history_start(self) -> int:
         """Frame number of the first target frame still kept (0 unless compacted)."""
@@ -174,8 +122,7 @@ class OnlineAligner(ABC):
 
     @property
     def M(self) -> np.ndarray:
-        """The map so far: ``M[q]`` is the input frame of target frame
-        ``history_start + q``."""
+        """The map so far: ``M[q]`` is the input frame of target frame ``history_start + q``."""
         return self._M[: self.n_received - self._start]
 
     def _buffers(self):
@@ -190,7 +137,7 @@ class OnlineAligner(ABC):
             setattr(self, name, new)
 
     def _keep_rows(self) -> int | None:
-        """Rows to keep when compacting, or None when this aligner keeps everything."""
+        """Rows to keep when compacting, or None to keep everything."""
         if self.history is None or getattr(self, "record", False):
             return None
         return max(int(self.history), _MIN_KEEP)
@@ -209,19 +156,10 @@ class OnlineAligner(ABC):
         self._start += shift
 
     def _begin_take(self, frame: Frame) -> None:
-        """The first frame of a take: adopt the target's rotation orders and rig.
+        """The first frame of a take: adopt its rotation orders and rig.
 
-        The frame's ``orders`` (None: the input's) become :attr:`T_orders`, which the
-        forecasts of Methods B and C use to turn the target's Euler angles into
-        quaternions; its ``rig`` decides how eq. 1 compares the two motions
-        (:func:`fpdtw.motion.rig.cost_input`: the raw local rotations when both rigs are
-        the same or either is unknown, else the input expressed in the target's rig),
-        passed to :meth:`_use_input`.
-
-        Raises
-        ------
-        AlignmentError
-            Orders that are not one valid rotation order per cost joint.
+        :attr:`T_orders` serve the forecasts; the rig decides what eq. 1 compares
+        (:func:`fpdtw.motion.rig.cost_input`, to :meth:`_use_input`). AlignmentError for bad orders.
         """
 
         I = self.I
@@ -242,8 +180,7 @@ class OnlineAligner(ABC):
         self._use_input(Iq, self.T_orders)
 
     def _use_input(self, Iq, orders) -> None:  # noqa: B027 - a hook, not abstract
-        """Use the input rotations ``Iq`` (m + 1, k, 4) for eq. 1 and the target's rotation
-        ``orders`` from now on (aligners that keep copies of them override this)."""
+        """Use input rotations ``Iq`` (m + 1, k, 4) and the target's ``orders`` from now on."""
 
     def step(self, frame: Frame) -> int:
         """Receive target frame ``T_{n+1}`` and return ``M_{n+1}``."""
@@ -269,23 +206,22 @@ class OnlineAligner(ABC):
         """Map the new target frame, stored in row ``q`` of the buffers, to an input frame."""
 
 
+class JointMajorInput:
+    """Mixin: the input for eq. 1 kept C-contiguous and joint-major.
+
+    ``_Iq`` (m + 1, k, 4) and ``_Isoa`` (k, 4, m + 1), as compared with the take's rig.
+    """
+
+    def _use_input(self, Iq, orders) -> None:
+        if Iq is not getattr(self, "_Iq", None):
+            self._Iq = np.ascontiguousarray(Iq, dtype=np.float64)
+            self._Isoa = np.ascontiguousarray(self._Iq.transpose(1, 2, 0))
+
+
 def run_online(aligner: OnlineAligner, T: MotionFeatures, *, reset=True):
-    """Run an online aligner over a whole target motion, frame by frame.
+    """Run an online aligner over target ``T`` frame by frame: ``(M, seconds)``.
 
-    Parameters
-    ----------
-    aligner : OnlineAligner
-    T : MotionFeatures
-        Target motion; its frames are fed one at a time.
-    reset : bool
-        Reset the aligner first.
-
-    Returns
-    -------
-    M : ndarray of int64, shape (n,)
-        Input frame mapped to each target frame.
-    seconds : ndarray of float64, shape (n,)
-        Wall time of each ``step`` call (``time.perf_counter``).
+    The int64 map (n,) and each ``step`` call's wall time (n,); ``reset``: reset first.
     """
     if reset:
         aligner.reset()
@@ -302,23 +238,11 @@ def run_online(aligner: OnlineAligner, T: MotionFeatures, *, reset=True):
 
 
 def run_together(aligners, T: MotionFeatures, *, reset=True) -> list:
-    """Run several online aligners over one target in lockstep, frame by frame.
+    """Run several online aligners over one target in lockstep (nothing timed).
 
-    Every aligner receives target frame q before any receives frame q + 1, so aligners
-    sharing a :class:`~fpdtw.online.window.WindowCache` compute each shared forecast
-    and cost once. Each map is the one :func:`run_online` would give (nothing is timed:
-    with shared work, one aligner's time per frame would include another's).
-
-    Parameters
-    ----------
-    aligners : sequence of OnlineAligner
-    T : MotionFeatures
-    reset : bool
-
-    Returns
-    -------
-    maps : list of ndarray of int64, shape (n,)
-        One per aligner, in order.
+    Every aligner gets frame q before any gets q + 1, so aligners sharing a
+    :class:`~fpdtw.online.window.WindowCache` compute shared work once; each map is the one
+    :func:`run_online` gives. Returns one int64 map (n,) per aligner, in order.
     """
     aligners = list(aligners)
     if reset:

@@ -1,9 +1,7 @@
-"""Method C with its window set from the input's dominant period ("Mc auto").
+"""Method C with its window from the input's dominant period ("Mc auto"; beyond the papers).
 
-An answer to an open question of the FP-DTW paper (its conclusion: the forecast window below
-half the period of the movement cycle): the window is :func:`fpdtw.period.auto_window` of
-the recorded input, fixed before the first target frame arrives; everything else is
-:class:`~fpdtw.online.method_c.MethodC` with that window.
+The FP-DTW conclusion's open question (the window below half the movement's period):
+``w`` is :func:`fpdtw.period.auto_window` of the recording, fixed before the first frame.
 
 Paper: FP-DTW Section 7 (conclusion) and Algorithm 3.
 """
@@ -18,17 +16,8 @@ from fpdtw.period import auto_window
 class MethodCAuto(MethodC):
     """Method C whose ``w`` is :func:`fpdtw.period.auto_window` of the input.
 
-    Parameters
-    ----------
-    I : MotionFeatures
-        Input (recorded) motion.
-    constraint, record, cache, **options
-        As for :class:`~fpdtw.online.method_c.MethodC`.
-
-    Attributes
-    ----------
-    w : int
-        The window chosen from the input's period (or the fallback, 40 frames at 120 Hz).
+    Fallback 40 frames at 120 Hz; the other arguments as
+    :class:`~fpdtw.online.method_c.MethodC`'s.
 
     Paper: FP-DTW Section 7, Algorithm 3.
     """

@@ -1,20 +1,11 @@
 """Open-end DTW (OE-DTW, Tormene et al. 2009), computed incrementally.
 
-After each target frame ``T_q`` OE-DTW reports the best end point in the input:
-the input frame ``e_q`` where the cheapest alignment of the whole target prefix
-``T_0..T_q`` with some input prefix ``I_0..I_e`` ends. It is the open-end
-variant of the offline DTW of :mod:`fpdtw.dtw` (same orientation: rows = input
-frames ``i = 0..m``, columns = target frames), and it keeps exactly one column
-of the accumulated cost matrix ``D[:, q]`` per frame: a new target frame costs
-``O(m)`` (its geodesic cost column plus the DTW recursion down the column).
-
-Nothing stops ``e_q`` from moving backwards between consecutive frames: the
-FP-DTW paper's Fig. 1 shows this. To draw it, :meth:`OEDTW.path` back-tracks the
-partial alignment path ending at ``(e_q, q)``; for that the aligner stores every
-accumulated column it has computed (``O(m * frames)`` float64 memory, 8 MB for a
-1000 x 1000 pair; bounded by :data:`fpdtw.limits.MAX_MATRIX_BYTES`, past which ``step``
-raises :class:`~fpdtw.errors.LimitError`) and recomputes the few local costs the
-back-track compares.
+After each target frame ``T_q``, the input frame ``e_q`` where the cheapest alignment of
+the whole prefix ``T_0..T_q`` with some ``I_0..I_e`` ends: the open-end variant of
+:mod:`fpdtw.dtw` (rows = input frames), one accumulated column per frame, ``O(m)``. The
+end points may move backwards (the FP-DTW paper's Fig. 1); to draw that, every column is
+kept for :meth:`OEDTW.path` (``O(m x frames)`` memory, bounded by
+:data:`fpdtw.limits.MAX_MATRIX_BYTES`).
 """
 
 from __future__ import annotations
@@ -27,19 +18,16 @@ from fpdtw.costs import _geo_block, _geo_line
 from fpdtw.dtw import _backtrack, diagonal_weight
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import MotionFeatures
-from fpdtw.online.base import OnlineAligner
+from fpdtw.online.base import JointMajorInput, OnlineAligner
 
 
 @numba.njit(cache=True)
 def _oe_column(Isoa, t, prev, cur, first, wd, norm_offset, c):
-    """Accumulated cost column of one new target frame; returns the best end point.
+    """Accumulated column ``cur`` of a new target frame ``t`` (k, 4); returns the end point.
 
-    Isoa : float64 (k, 4, m+1) input quaternions (joint-major); t : float64 (k, 4)
-    the new target frame; prev : the previous column (ignored when ``first``);
-    cur : output; c : scratch for the cost column.
-    ``norm_offset < 0``: end point = argmin of ``cur`` (lowest i on ties);
-    otherwise argmin of ``cur[i] / (norm_offset + i)`` (dtw-python's N+M
-    normalisation with ``norm_offset = q + 2``).
+    From ``prev``; the end point is the argmin of ``cur`` (lowest i on ties), or with
+    ``norm_offset >= 0`` of ``cur[i] / (norm_offset + i)`` (dtw-python's N+M normalisation).
+    ``Isoa``: the input joint-major (k, 4, m+1); ``c``: scratch.
     """
     m1 = cur.shape[0]
     _geo_line(t, Isoa, 0, m1, c, c)  # c[i] = geoDistance(I_i, t) (eq. 1)
@@ -75,31 +63,17 @@ def _oe_column(Isoa, t, prev, cur, first, wd, norm_offset, c):
 
 @numba.njit(cache=True)
 def _oe_step(Isoa, Tq, cols, q, wd, norm_offset, c):
-    """:func:`_oe_column` for target frame ``q``: ``Tq[q]`` against the input, column ``q``
-    of ``cols`` from column ``q - 1``."""
+    """:func:`_oe_column` of target frame ``q``: column ``q`` of ``cols`` from column ``q - 1``."""
     prev = cols[q - 1] if q > 0 else cols[0]
     return _oe_column(Isoa, Tq[q], prev, cols[q], q == 0, wd, norm_offset, c)
 
 
-class OEDTW(OnlineAligner):
-    """Open-end DTW: best end point in the input after every target frame.
+class OEDTW(JointMajorInput, OnlineAligner):
+    """Open-end DTW: ``step`` returns the best end point ``e_q`` (not monotonic).
 
-    ``step`` returns the end point ``e_q``; the sequence of end points is the
-    map this aligner produces (:attr:`end_points`). It is not monotonic.
-
-    Parameters
-    ----------
-    I : MotionFeatures
-        Input (recorded) motion, ``m + 1`` frames.
-    step_pattern : {"symmetric1", "symmetric2"}
-        DTW recursion, as in :func:`fpdtw.dtw.accumulate` (default
-        ``"symmetric1"``, unweighted classic DTW).
-    normalize : bool
-        False (default): the end point is the argmin of the accumulated column,
-        ``e_q = argmin_i D[i, q]`` (lowest i on ties). True: divide by the
-        path-length normaliser ``(q + 1) + (i + 1)`` first, as dtw-python's
-        ``open_end=True`` does for ``"symmetric2"`` (Tormene et al.); only
-        allowed with ``"symmetric2"`` (``"symmetric1"`` is not normalisable).
+    ``step_pattern``: "symmetric1" or "symmetric2" (:func:`fpdtw.dtw.accumulate`);
+    ``normalize``: divide by ``(q + 1) + (i + 1)`` first, as dtw-python's
+    ``open_end=True`` (symmetric2 only).
 
     Plain version: fpdtw.plain.oe_dtw_end_points (symmetric1, not normalised).
     Paper: FP-DTW Section 2 and Fig. 1 (Tormene et al. 2009).
@@ -117,8 +91,7 @@ class OEDTW(OnlineAligner):
                 f"{step_pattern!r} is not normalisable"
             )
         super().__init__(I)
-        self._Iq = np.ascontiguousarray(I.quats, dtype=np.float64)
-        self._Isoa = np.ascontiguousarray(self._Iq.transpose(1, 2, 0))  # (k, 4, m+1)
+        self._use_input(I.quats, I.orders)
         self._c = np.empty(I.n_frames)
 
     def reset(self) -> None:
@@ -129,15 +102,14 @@ class OEDTW(OnlineAligner):
 
     @staticmethod
     def column_bytes(input_frames: int, target_frames: int) -> int:
-        """Bytes of the accumulated columns OE-DTW stores for a target of this length
-        (the store starts with 256 columns and doubles)."""
+        """Bytes of the columns kept for a target of this length (256 columns, doubling)."""
         cap = 256
         while cap < target_frames:
             cap *= 2
         return 8 * cap * int(input_frames)
 
     def _check_columns(self, n: int) -> None:
-        """``n`` stored columns fit :data:`fpdtw.limits.MAX_MATRIX_BYTES` (LimitError)."""
+        """``n`` stored columns fit :data:`fpdtw.limits.MAX_MATRIX_BYTES` (else LimitError)."""
         m1 = self.I.n_frames
         limits.check_bytes(
             8 * n * m1,
@@ -147,12 +119,6 @@ class OEDTW(OnlineAligner):
             hint="OE-DTW's memory grows with target x input frames: use a method with a "
             "bounded window (a, b, c, oltw) for long takes, or shorter takes",
         )
-
-    def _use_input(self, Iq, orders) -> None:
-        """Eq. 1 against ``Iq`` (the input as compared with this take's rig)."""
-        if Iq is not self._Iq:
-            self._Iq = np.ascontiguousarray(Iq, dtype=np.float64)
-            self._Isoa = np.ascontiguousarray(self._Iq.transpose(1, 2, 0))
 
     def _step(self, q: int) -> int:
         if q == self._cols.shape[0]:
@@ -164,7 +130,6 @@ class OEDTW(OnlineAligner):
         # rows of the stored arrays are taken inside the kernel: fewer Python-side views
         return _oe_step(self._Isoa, self._Tq, self._cols, q, self._wd, offset, self._c)
 
-    # -- inspection --------------------------------------------------------------------------
     @property
     def end_points(self) -> np.ndarray:
         """End point ``e_q`` of every target frame received so far, int64 (n + 1,)."""
@@ -172,31 +137,13 @@ class OEDTW(OnlineAligner):
 
     @property
     def D(self) -> np.ndarray:
-        """Accumulated cost so far, float64 (m + 1, n + 1): ``D[i, q]`` (a copy).
-
-        Equal to :func:`fpdtw.dtw.accumulate` of the full cost matrix restricted
-        to the target frames received so far.
-        """
+        """A copy of the accumulated cost so far, ``D[i, q]``, float64 (m + 1, n + 1)."""
         return self._cols[: self.n_received].T.copy()
 
     def path(self, q: int | None = None) -> np.ndarray:
-        """Partial alignment path of target frame ``q``, ending at ``(e_q, q)``.
+        """Partial alignment path (L, 2) of target frame ``q`` (default the last).
 
-        Back-tracks the stored accumulated columns from the end point ``e_q``
-        chosen at frame ``q`` with the tie rule of :func:`fpdtw.dtw.backtrack`;
-        the result equals :func:`fpdtw.dtw.dtw` of the cost sub-matrix
-        ``C[:e_q + 1, :q + 1]``.
-
-        Parameters
-        ----------
-        q : int, optional
-            Target frame (default: the last one received); negative counts from
-            the end.
-
-        Returns
-        -------
-        path : ndarray of int64, shape (L, 2)
-            Cells (input frame, target frame) from ``(0, 0)`` to ``(e_q, q)``.
+        From ``(0, 0)`` to ``(e_q, q)``: :func:`fpdtw.dtw.dtw`'s path on ``C[:e_q + 1, :q + 1]``.
 
         Paper: FP-DTW Fig. 1 (paths for consecutive target frames).
         """

@@ -1,75 +1,25 @@
-"""Dixon's on-line time warping (OLTW), the FP-DTW paper's reference 3, as an online aligner.
+"""Dixon's on-line time warping (OLTW; DAFx 2005, the FP-DTW paper's ref. 3) as an aligner.
 
-S. Dixon, "Live tracking of musical performances using on-line time warping", DAFx 2005.
-OLTW grows a DTW accumulated-cost matrix one row or one column at a time, only inside a
-band of ``c`` cells behind the current corner, and decides after every growth step
-which way to grow next. It needs no forecast and no look-ahead.
+OLTW grows a DTW matrix one row or column at a time, inside a band of ``c`` cells behind
+the corner, deciding after each growth which way to grow next (no forecast). Dixon's live
+``u`` (his "rows", ``t``) is the TARGET here (``q``), his reference ``v`` (``j``) the
+INPUT (``i``): his ``Row``/``Column``/``Both`` are ``TARGET``/``INPUT``/``BOTH``.
+``GetInc``: BOTH while ``q + 1 < c`` (``warmup=False`` skips it); after more than
+``max_run_count`` equal increments, the other one; else the lowest-cost cell of the
+newest column and row: the corner -> BOTH, an earlier input frame -> TARGET, an earlier
+target frame -> INPUT. GetInc is called once per loop (his pseudocode calls it three
+times; every implementation we know calls it once).
 
-Names. Dixon aligns a live sequence ``u`` (index ``t``, his "rows") to a reference ``v``
-(index ``j``, his "columns"). Here the live sequence is the TARGET ``T`` (index ``q``)
-and the reference is the recorded INPUT ``I`` (index ``i``), so:
-
-=================  ==================================  ==========================
-Dixon              meaning                             here
-=================  ==================================  ==========================
-``Row``            ``t <- t + 1``: read a live frame   ``TARGET`` (``q <- q + 1``)
-``Column``         ``j <- j + 1``                      ``INPUT`` (``i <- i + 1``)
-``Both``           both                                ``BOTH``
-``c``              search width                        ``c``
-``MaxRunCount``    longest run of one increment        ``max_run_count``
-=================  ==================================  ==========================
-
-The algorithm (Dixon's Fig. 1, as implemented here):
-
-* Start with the corner ``(i, q) = (0, 0)``, ``D[0, 0] = d(I_0, T_0)``.
-* Repeat: ``inc = GetInc(i, q)``; if ``inc`` is TARGET or BOTH, wait for the next target
-  frame, then ``q <- q + 1`` and evaluate the new column ``(i', q)`` for the ``c`` input
-  frames ``i' = i - c + 1 .. i``; if ``inc`` is INPUT or BOTH, ``i <- i + 1`` and
-  evaluate the new row ``(i, q')`` for ``q' = q - c + 1 .. q``. Then ``runCount <-
-  runCount + 1`` if ``inc`` equals the previous non-BOTH increment, else 1, and the
-  previous increment becomes ``inc`` unless ``inc`` is BOTH. (Dixon's pseudocode calls
-  GetInc three times per loop; like every implementation we know, we call it once per
-  loop and use that result three times.)
-* ``GetInc(i, q)``: (1) BOTH while the band is not yet full (Dixon: ``t < c`` with his
-  1-based ``t``, i.e. ``q + 1 < c``); switchable with ``warmup=False``. (2) If
-  ``runCount > MaxRunCount``: TARGET if the previous increment was INPUT, else INPUT
-  (Dixon: "if previous == Row return Column else return Row"). (3) Otherwise the cell of
-  lowest path cost among the newest column ``(i', q)`` and the newest row ``(i, q')``
-  (inside the band): the corner itself -> BOTH; a cell of the newest column with
-  ``i' < i`` (the new target frame matches an earlier input frame: the input is ahead)
-  -> TARGET; a cell of the newest row with ``q' < q`` (the newest input frame matches an
-  earlier target frame: the input is behind) -> INPUT.
-
-Choices where the paper is silent or could not be re-checked here (marked * below):
-
-* Local cost: FP-DTW eq. 1 (the geodesic distance of :mod:`fpdtw.costs`) between the
-  8 joints' rotations.
-* Step weights: ``D[i, q] = min(D[i-1, q] + d, D[i, q-1] + d, D[i-1, q-1] + 2 d)``, the
-  diagonal step counted twice (Dixon 2005, Section 2, as we read it; pymatchmaker's
-  implementation of the paper does the same). With these weights every path from
-  ``(0, 0)`` to ``(i, q)`` has total weight ``1 + i + q``.
-* (*) Path costs are compared normalised, ``D[i, q] / (1 + i + q)`` (mean cost per unit
-  of path weight): raw costs grow with path length, so the cells nearest the origin would
-  always win. ``normalize=False`` compares raw costs.
-* (*) Band: the computed cells are the ``c x c`` block behind the corner; a predecessor
-  outside it counts as unreachable.
-* (*) Ties in the argmin: the first strict minimum, scanning the newest target column
-  by increasing input frame, then the newest input row by increasing target frame
-  (pymatchmaker's order).
-* (*) End of the input: once ``i = m`` an INPUT or BOTH becomes TARGET (the map holds at
-  ``m``); the run count counts the increment actually made.
-* Streaming: after target frame ``q`` arrives, OLTW applies the increment that was
-  waiting for it, then keeps growing along the input (INPUT increments, at most
-  ``max_run_count + 1`` in a row) until GetInc asks for TARGET or BOTH; that increment
-  waits for frame ``q + 1`` (never read before it arrives). ``M_q`` is the input index of
-  the corner when the step returns: the last point of Dixon's on-line path in target
-  frame ``q``. It never decreases.
-* Defaults: ``c = 120`` (one second at 120 Hz; Dixon's ``c = 500`` frames is 10 s of
-  audio at his 20 ms hop, longer than most of our takes), ``max_run_count = 3`` (Dixon's).
-
-Cost per frame: one or two rows/columns of ``c`` geodesic costs, each line's costs in one
-vectorised pass (the input and the last ``c`` target frames are kept joint-major), and an
-argmin over ``2c`` cells, in numba.
+Choices (* where Dixon is silent): eq. 1 as local cost; ``D = min(D[i-1, q] + d,
+D[i, q-1] + d, D[i-1, q-1] + 2 d)`` (Dixon's weights, as pymatchmaker reads them);
+(*) costs compared normalised, ``D / (1 + i + q)`` (``normalize=False``: raw); (*) cells
+outside the ``c x c`` block behind the corner are unreachable; (*) ties: the first
+minimum, the newest column by increasing ``i`` then the newest row by increasing ``q``
+(pymatchmaker's order); (*) once ``i = m`` every increment is TARGET (hold at ``m``).
+Streaming: a frame applies the increment waiting for it, then INPUT increments until
+GetInc asks for TARGET or BOTH, which waits for the next frame; ``M_q`` is the corner's
+input index then (never decreasing). Defaults ``c = 120`` (1 s at 120 Hz; Dixon's 500 is
+10 s of his audio) and ``max_run_count = 3`` (Dixon's).
 
 Paper: FP-DTW reference 3 (Dixon 2005), an extra online baseline.
 Notebook: 20_align_a_live_performance.ipynb
@@ -84,10 +34,10 @@ from fpdtw import limits
 from fpdtw.costs import _geo_frame_w, _geo_line_w
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import MotionFeatures
-from fpdtw.online.base import OnlineAligner, check_count, check_input, run_online
+from fpdtw.online.base import JointMajorInput, OnlineAligner, check_count, check_input, run_online
 from fpdtw.weights import joint_weights
 
-#: Increment codes (Dixon's names in brackets).
+#: Increment codes.
 NONE, TARGET, INPUT, BOTH = 0, 1, 2, 3
 #: Printable names of the increment codes.
 INC_NAMES = {NONE: "none", TARGET: "target", INPUT: "input", BOTH: "both"}
@@ -95,17 +45,18 @@ INC_NAMES = {NONE: "none", TARGET: "target", INPUT: "input", BOTH: "both"}
 BY_ARGMIN, BY_WARMUP, BY_RUNCOUNT = 0, 1, 2
 
 # state vector slots
-_I, _Q, _PREV, _RUN, _PEND = 0, 1, 2, 3, 4
-# decision log columns: target frame received, corner i, corner q, increment, reason,
-# argmin cell (i*, q*) (-1 when no argmin was computed)
+_I, _Q, _PEND = 0, 1, 4
+# decision log columns (see OLTW.decisions)
 _LOG_COLS = 7
 
 
 @numba.njit(cache=True)
 def _work_views(work, c, k):
-    """OLTW's float64 scratch as views of one buffer: the band ``D`` (c, c), the last c
-    target frames joint-major ``R`` (k, 4, c) (frame q' in slot ``q' % c``), a line's
-    local costs ``d`` (c) and the cost kernel's scratch ``acc`` (c)."""
+    """OLTW's float64 scratch as views of one buffer.
+
+    The band ``D`` (c, c), the last c target frames joint-major ``R`` (k, 4, c) (frame q' in
+    slot ``q' % c``), ``d`` (c) and ``acc`` (c).
+    """
     D = work[: c * c].reshape((c, c))
     R = work[c * c : c * c + 4 * k * c].reshape((k, 4, c))
     o = c * c + 4 * k * c
@@ -114,20 +65,10 @@ def _work_views(work, c, k):
 
 @numba.njit(cache=True)
 def _new_band_line(Iq, Isoa, R, D, dl, acc, c, i, q, column, wts):
-    """Evaluate the new line of the band at the corner (i, q): target column q (``column``
-    true; cells (i', q), i' = max(0, i - c + 1) .. i) or input row i (cells (i, q'),
-    q' = max(0, q - c + 1) .. q).
+    """Evaluate the new line at the corner (i, q): target column q (``column``) or input row i.
 
-    D is the (c, c) ring buffer: cell (i', q') lives at ``D[i' % c, q' % c]``; every cell
-    of the ``c x c`` block behind the corner is computed, cells outside it are unreachable,
-    so the line's first cell has one predecessor only (its target step in a new column,
-    its input step in a new row). The line's local costs (eq. 1) are computed first, in
-    one vectorised pass (:func:`fpdtw.costs._geo_line`): target frame q against the input
-    joint-major ``Isoa`` (k, 4, m + 1), or input frame i against the last c target frames
-    ``R`` (k, 4, c), frame q' in slot ``q' % c``; values bit-identical to
-    ``_geo_frame(Iq[i'], T[q'])``. ``wts``: eq. 1's per-joint weights, or EMPTY for eq. 1
-    as written (exactly the unweighted arithmetic).
-
+    In the ring ``D`` (cell (i', q') at ``D[i' % c, q' % c]``; outside the band unreachable);
+    its eq. 1 costs first, in one vectorised pass, bit-identical to ``_geo_frame``.
     """
     lo = max(0, (i if column else q) - c + 1)
     hi = (i if column else q) + 1
@@ -142,8 +83,7 @@ def _new_band_line(Iq, Isoa, R, D, dl, acc, c, i, q, column, wts):
         else:  # the run of slots wraps around the ring
             _geo_line_w(Iq[i], R, s0, c, acc, dl, wts)
             _geo_line_w(Iq[i], R, 0, s1 + 1, acc, dl[c - s0 :], wts)
-    # ring slots: of the line's running index k and of k - 1 (advanced without a modulo
-    # per cell), and of its fixed index and that minus one
+    # ring slots of the running index k, of k - 1 (no modulo per cell), of the fixed index and -1
     s = lo % c
     sp = (lo - 1) % c
     f = (q if column else i) % c
@@ -156,8 +96,7 @@ def _new_band_line(Iq, Isoa, R, D, dl, acc, c, i, q, column, wts):
         else:
             r, cq, rp, pc = f, s, fp, sp
         if k > lo:
-            # Dixon's weights: input and target steps add d, the diagonal 2 d. The line's
-            # previous cell (x, kept in a register) is the input step in a column, the
+            # the line's previous cell (x, in a register) is the input step in a column, the
             # target step in a row; a minimum of three is exact in any order
             x = min(min(x + d, (D[r, pc] if column else D[rp, cq]) + d), D[rp, pc] + 2.0 * d)
         elif column:
@@ -171,11 +110,7 @@ def _new_band_line(Iq, Isoa, R, D, dl, acc, c, i, q, column, wts):
 
 @numba.njit(cache=True)
 def _best_cell(D, c, i, q, normalize):
-    """Lowest (normalised) path cost among the newest target column and input row.
-
-    The column is scanned first, from its lowest cell; the first minimum wins.
-
-    """
+    """Lowest (normalised) cost in the newest column, then row; the first minimum wins."""
     best = np.inf
     bi = i
     bq = q
@@ -199,10 +134,7 @@ def _best_cell(D, c, i, q, normalize):
 
 @numba.njit(cache=True)
 def _apply(Iq, Isoa, R, D, dl, acc, st, c, inc, wts):
-    """Make the increment ``inc`` (a new target column, input row or both), then count
-    the run.
-
-    """
+    """Make the increment ``inc`` (target column, input row or both), then count the run."""
     if inc == 1 or inc == 3:  # TARGET or BOTH
         st[1] += 1
         _new_band_line(Iq, Isoa, R, D, dl, acc, c, st[0], st[1], True, wts)
@@ -221,14 +153,7 @@ def _apply(Iq, Isoa, R, D, dl, acc, st, c, inc, wts):
 def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normalize, log, wts):
     """Receive target frame ``q_new``; grow the matrix; return (M_q, number of log rows).
 
-    Iq : float64 (m + 1, k, 4) the input; Isoa : the same joint-major (k, 4, m + 1).
-    Tq : the target frames kept, frame q' in row ``q' - base``; only ``q_new`` is read,
-    and copied into the ring of the last c frames (:func:`_work_views`).
-    work : float64 scratch of :func:`_work_views`.
-    st : int64 (5,) state: corner i, corner q, previous increment, run count, pending.
-    log : int64 (rows, 7) decisions of this step (see ``_LOG_COLS``).
-    wts : float64 (k,) eq. 1's per-joint weights, or EMPTY (0,) for eq. 1 as written.
-
+    ``st`` (5,): corner i, corner q, previous increment, run count, pending increment.
     """
     m = Iq.shape[0] - 1
     D, R, dl, acc = _work_views(work, c, Iq.shape[1])
@@ -285,48 +210,22 @@ def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normaliz
     return st[0], n
 
 
-class OLTW(OnlineAligner):
-    """Dixon's on-line time warping behind the streaming interface.
+class OLTW(JointMajorInput, OnlineAligner):
+    """Dixon's on-line time warping behind the streaming interface (module docstring).
 
-    See the module docstring for the algorithm and every choice made.
-
-    Parameters
-    ----------
-    I : MotionFeatures
-        Input (recorded) motion, fully known.
-    c : int
-        Search width (band) in frames, >= 2; default 120 (1 s at 120 Hz).
-    max_run_count : int
-        Dixon's MaxRunCount, >= 1: after more than this many equal increments in a row
-        the other direction is forced. Default 3 (Dixon's).
-    warmup : bool
-        Dixon's start rule, BOTH until the band is full (``q + 1 < c``). Default True;
-        False starts with the argmin at once (as pymatchmaker's frame tracker does).
-    normalize : bool
-        Compare path costs divided by the path weight ``1 + i + q`` (default True).
-    constraint : None
-        Accepted for the common constructor signature ``cls(I, w, constraint=...)`` of
-        :mod:`fpdtw.app.bench`; OLTW has no local constraint (anything but None is an error).
-    record : bool
-        Keep every decision (:attr:`decisions`) and the on-line path (:attr:`path`).
-    weights : {"none", "travel"}
-        ``"travel"`` (beyond the papers, notebook 16's Q2; name ``"OLTW (weighted
-        joints)"``): eq. 1 becomes ``sum_j w_j (2/pi) arccos |q_a,j . q_b,j|`` with ``w =``
-        :func:`fpdtw.weights.joint_weights` of the input, computed once here.
-
-    Attributes
-    ----------
-    name : str
-        ``"OLTW"`` (``"OLTW c60"`` etc. for another search width).
-
+    ``c``: the search width in frames (>= 2, default 120); ``max_run_count``: Dixon's
+    MaxRunCount (default 3); ``warmup``: BOTH until the band is full (False: the argmin at
+    once); ``normalize``: compare costs divided by ``1 + i + q``; ``constraint``: None only
+    (the common signature); ``record``: keep :attr:`decisions` and :attr:`path`;
+    ``weights="travel"``: eq. 1 weighted by :func:`fpdtw.weights.joint_weights` (beyond the
+    papers, notebook 16's Q2).
 
     Paper: FP-DTW reference 3 (Dixon, DAFx 2005).
     Notebook: 20_align_a_live_performance.ipynb
     """
 
     name = "OLTW"
-    #: ``{option: (default, {other value: label in names})}``, as the window methods'
-    #: (:attr:`fpdtw.online.window.WindowAligner.options`): ``"OLTW (weighted joints)"``.
+    #: As :attr:`fpdtw.online.window.WindowAligner.options`: ``"OLTW (weighted joints)"``.
     options = {"weights": ("none", {"travel": "weighted joints"})}
 
     def __init__(
@@ -365,8 +264,7 @@ class OLTW(OnlineAligner):
         if weights == "travel":
             self.name += " (weighted joints)"
         self._wts = joint_weights(I) if weights == "travel" else np.empty(0)
-        self._Iq = np.ascontiguousarray(I.quats, dtype=np.float64)
-        self._Isoa = np.ascontiguousarray(self._Iq.transpose(1, 2, 0))  # (k, 4, m+1)
+        self._use_input(I.quats, I.orders)
         self._log = np.zeros((self.max_run_count + 4, _LOG_COLS), dtype=np.int64)
         super().__init__(I)
 
@@ -380,12 +278,6 @@ class OLTW(OnlineAligner):
         self._st = np.zeros(5, dtype=np.int64)
         self._decisions = []
 
-    def _use_input(self, Iq, orders) -> None:
-        """Eq. 1 against ``Iq`` (the input as compared with this take's rig)."""
-        if Iq is not self._Iq:
-            self._Iq = np.ascontiguousarray(Iq, dtype=np.float64)
-            self._Isoa = np.ascontiguousarray(self._Iq.transpose(1, 2, 0))
-
     def _step(self, q: int) -> int:
         m, n = _oltw_step(
             self._Iq, self._Isoa, self._Tq, self.history_start, self.n_received - 1,
@@ -396,7 +288,6 @@ class OLTW(OnlineAligner):
             self._decisions.append(self._log[:n].copy())
         return int(m)
 
-    # -- inspection --------------------------------------------------------------------
     @property
     def corner(self) -> tuple:
         """The current corner ``(i, q)`` of the computed matrix."""
@@ -411,10 +302,8 @@ class OLTW(OnlineAligner):
     def decisions(self) -> np.ndarray:
         """Every GetInc decision so far (``record=True``), int64 (N, 7).
 
-        Columns: target frame being processed, corner ``i``, corner ``q`` when deciding,
-        increment (:data:`TARGET`, :data:`INPUT`, :data:`BOTH`), reason
-        (:data:`BY_ARGMIN`, :data:`BY_WARMUP`, :data:`BY_RUNCOUNT`), argmin cell ``i*``,
-        ``q*`` (-1 when no argmin was computed).
+        Columns: target frame, corner ``i``, corner ``q``, increment, reason (``BY_*``), argmin
+        cell ``i*``, ``q*`` (-1 if none).
         """
         if not self.record:
             raise AlignmentError("decisions are kept only with record=True")
@@ -424,14 +313,7 @@ class OLTW(OnlineAligner):
 
     @property
     def path(self) -> np.ndarray:
-        """Dixon's on-line path (``record=True``): the corner after every increment.
-
-        Returns
-        -------
-        path : ndarray of int64, shape (L, 2)
-            Cells ``(i, q)`` from ``(0, 0)``; the increments already applied (the one
-            waiting for the next target frame is not included).
-        """
+        """Dixon's on-line path (``record=True``): the corner after each increment, (L, 2)."""
         dec = self.decisions
         pts = [(0, 0)] if self.n_received else []
         for i, q, inc in zip(dec[:, 1], dec[:, 2], dec[:, 3]):
@@ -442,16 +324,7 @@ class OLTW(OnlineAligner):
 
 
 def run_pair(I: MotionFeatures, T: MotionFeatures, pair_info=None, *, c: int = 120):
-    """OLTW over one (input, target) pair: ``(M, seconds)`` (the experiment-grid hook).
-
-    For :func:`fpdtw.paper.runner.run.register_algorithm` (``register_algorithm("OLTW",
-    run_pair)``): a module-level function, so it pickles to worker processes.
-
-    Returns
-    -------
-    M : ndarray of int64, shape (n + 1,)
-    seconds : ndarray of float64, shape (n + 1,)
-        Per-frame step times.
+    """``(M, seconds)`` of OLTW over one pair: a picklable hook for ``register_algorithm``.
 
     Paper: FP-DTW reference 3 (Dixon 2005); the evaluation of Section 4.
     """

@@ -1,20 +1,10 @@
 """OPW with gamma adapted by a feedback loop on its own decisions ("OPW adaptive").
 
-The OPW poster's conclusion suggests adjusting gamma "by a feedback loop measuring the
-alignment as it is built". The rule (committed in 64f220a, 2026-11-23, before Q4's first
-results in 81545c1, and unchanged since; docs/history.md):
-gamma starts at :data:`GAMMA_START` (5 %, the poster's); after each OPW decision ``s``
-(direction ``s - 1``: -1 slow the recording down, 0 keep, +1 speed it up):
-
-* a keep (direction 0) changes nothing;
-* if the last :data:`RUN` (3) decisions all have the same non-zero direction (the warp is
-  too timid: it keeps correcting the same way), ``gamma *= 1.5``, at most :data:`GAMMA_MAX`
-  (30 %);
-* otherwise, if the last two NON-ZERO decisions have opposite signs (it overshoots),
-  ``gamma /= 1.5``, at least :data:`GAMMA_MIN` (1 %).
-
-Everything else is :class:`~fpdtw.online.opw.OPW` (the poster reading), a subclass: the new
-gamma is used from the next step on.
+The poster's conclusion suggests adjusting gamma "by a feedback loop measuring the
+alignment as it is built". The rule, committed in 64f220a before Q4's first results in
+81545c1 (docs/history.md): gamma starts at 5 %; after a non-zero decision (direction
+``s - 1``), ``gamma *= 1.5`` (at most 30 %) if the last 3 all had that direction, else
+``gamma /= 1.5`` (at least 1 %) if the last two non-zero ones differ in sign.
 
 Paper: OPW poster Section 6 (conclusion: gamma by a feedback loop).
 Notebook: 16_open_questions.ipynb
@@ -29,18 +19,7 @@ GAMMA_START, GAMMA_MIN, GAMMA_MAX, FACTOR, RUN = 0.05, 0.01, 0.30, 1.5, 3
 
 
 def next_gamma(gamma: float, decisions) -> float:
-    """gamma after the latest of ``decisions`` (the rule of the module).
-
-    Parameters
-    ----------
-    gamma : float
-        gamma before it.
-    decisions : sequence of int
-        OPW's decisions ``s`` (0, 1, 2) so far, the latest last.
-
-    Returns
-    -------
-    gamma : float
+    """gamma after the latest of ``decisions`` (OPW's ``s``, latest last; the module's rule).
 
     Paper: OPW poster Section 6.
     Notebook: 16_open_questions.ipynb
@@ -57,19 +36,9 @@ def next_gamma(gamma: float, decisions) -> float:
 
 
 class AdaptiveOPW(OPW):
-    """OPW (poster reading) whose gamma follows :func:`next_gamma` after every decision.
+    """OPW (poster reading) whose gamma follows :func:`next_gamma` from the next step on.
 
-    Parameters
-    ----------
-    I : MotionFeatures
-        The recording, with positions.
-    omega, fps, reading, **options
-        As for :class:`~fpdtw.online.opw.OPW`; gamma starts at :data:`GAMMA_START`.
-
-    Attributes
-    ----------
-    gammas : list of float
-        gamma used at each step.
+    Arguments as :class:`~fpdtw.online.opw.OPW`'s; ``gammas``: the gamma of each step.
 
     Paper: OPW poster Section 6, Algorithm 1.
     """

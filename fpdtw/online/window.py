@@ -1,47 +1,24 @@
 """Shared machinery of the FP-DTW window methods A, B and C (Algorithms 1-3), compiled.
 
-The optimised version of :func:`fpdtw.plain.method_a_step`, :func:`~fpdtw.plain.method_b_step`
-and :func:`~fpdtw.plain.method_c_step` (read those first: the same steps, line by line in
-the paper's notation; ``tests/test_plain.py`` holds the maps equal):
+The optimised twin of :func:`fpdtw.plain.method_a_step`, ``method_b_step`` and
+``method_c_step`` (read those first; ``tests/test_plain.py`` holds the maps equal): numba
+kernels for one step, :func:`_window_step` being the whole step of any method;
+:class:`WindowSnapshot`, the debug record behind Figs. 2 and 4; the base classes
+:class:`WindowAligner` and :class:`ForecastAligner`.
 
-* numba kernels for one step: dead-reckoning forecast -> quaternions -> geodesic cost
-  window -> accumulation (forward for B, reverse for C) -> back-tracking (B) or argmin
-  (A, C), all into scratch buffers the aligner preallocates once; :func:`_window_step`
-  is the whole step of any of the three methods;
-* :class:`WindowSnapshot`, the debug record of the last step (``record=True``), used to
-  draw the paper's Fig. 2 and Fig. 4 from a real run;
-* :class:`WindowAligner`, the common base class: argument checks, the work buffers, the
-  end-of-input rule, the Type V state, the snapshot; :class:`ForecastAligner` adds the
-  warm-up and the shared :class:`WindowCache` of Methods B and C.
+Window rows are ``I_{M_n}..I_{M_n+w_i}``: ``w_i`` is the last row's offset here (not
+everywhere: :func:`fpdtw.plain.method_c_step` writes Algorithm 3's line 6 as printed).
+Method C's square window has ``w_i = min(w - 1, m - M_n)``, the literal one
+``min(w, m - M_n)`` (:class:`~fpdtw.online.method_c.MethodC`).
 
-Window sizes: the input window is always ``{I_{M_n}..I_{M_n+w_i}}``, ``w_i + 1`` rows
-(``w_i`` here: the offset of the window's last row, as in Algorithms 1 and 2;
-:func:`fpdtw.plain.method_c_step` writes Algorithm 3's line 6 as printed, ``w_i = w``, and
-names the rows it keeps ``rows``); Method C's readings
-differ in how far it reaches (the default square window: ``w_i = min(w - 1, m - M_n)``,
-``w`` rows; the literal one: ``w_i = min(w, m - M_n)``; see
-:class:`~fpdtw.online.method_c.MethodC`).
-
-Speed. The ``(w_i + 1) x w`` geodesic cost window, recomputed every frame, dominates.
-Its inner loop runs over the forecast frames, stored joint-major as ``F[j, c, col]``
-(structure of arrays), so that LLVM vectorises it; the ``arccos`` of eq. 1 is
-:func:`fpdtw.costs._acos01`, a branch-free polynomial arccos on [0, 1] (1 ulp from
-``math.acos``) that vectorises, where libm's ``acos`` is a scalar call five times slower.
-
-Kept because removing them was measured to cost more than 10 % (2026-11-25; each removal
-was a commit of its own, then reverted; the commands are in docs/performance.md):
-
-* the one-call stream path (:func:`_stream_step`): streaming through the general Python
-  step instead made make bench's median step of Ma 1.9 times as long (2.9 to 5.5 us) and
-  of Methods B and C at w = 10 1.08 to 1.19 times (w = 40 and 80: within 4 %); paired
-  runs on one core, five repetitions;
-* the two flat work buffers (:func:`_work_views`) and the int64 parameter vector (``prm``,
-  ``P_*``): the one-call path reads them, passing two buffers instead of nineteen arrays.
-  Removed on top of the stream path's removal they cost nothing measurable; they were not
-  measured with the stream path kept, and stay with it;
-* the window cache shared by the aligners of a pair (:class:`WindowCache`,
-  :func:`run_group`): without it (and the three above) the grid's compute time on 316
-  pairs x 41 algorithms (two workers) was 316-344 s against 135-161 s.
+Speed: the cost window dominates; its inner loop runs over joint-major forecast columns
+(``F[j, c, col]``) so that LLVM vectorises it, with the branch-free arccos of
+:func:`fpdtw.costs._acos01`. Kept because removing each cost more than 10 % (2026-11-25,
+one commit each, reverted; docs/performance.md): the one-call stream path
+(:func:`_stream_step`; without it Ma's median step went from 2.9 to 5.5 us, B and C at
+w = 10 1.08-1.19x); the two flat work buffers and the int64 parameter vector it reads
+(not measured apart from it); the window cache of a pair's aligners (:class:`WindowCache`,
+:func:`run_group`; without all of these the grid took 316-344 s against 135-161 s).
 """
 
 from __future__ import annotations
@@ -67,17 +44,12 @@ _TWO_OVER_PI = 2.0 / math.pi
 #: ``D[0, 0]`` is set to this before Method B back-tracks (Algorithm 2).
 B_CORNER = 10000.0
 
-# --- one step's kernels ----------------------------------------------------------------
-
 
 @numba.njit(cache=True)
 def _forecast_columns(Tq, Te, q, first, last, codes, F, c0=0, shift=0, hold=False):
-    """Fill ``F[j, :, c0 + i]`` for i = first..last-1 with the frame ``i + shift`` frames
-    ahead of T_{n+1} (= T[q]).
+    """Fill ``F[j, :, c0 + i]``, i = first..last-1, with the frame ``i + shift`` ahead of T[q].
 
-    A frame 0 ahead is T_{n+1} itself (its received quaternion); a frame ``i >= 1`` ahead
-    is T_{n+1} + i * (T_{n+1} - T_n) in Euler angles (dead reckoning), as quaternions, or
-    T_{n+1} itself when ``hold`` (zero-order hold).
+    T_{n+1} = T[q] itself at 0 (always with ``hold``), else dead reckoning.
 
     Plain version: fpdtw.plain.forecast_joints, then fpdtw.plain.euler_to_quat.
     """
@@ -104,12 +76,9 @@ def _forecast_columns(Tq, Te, q, first, last, codes, F, c0=0, shift=0, hold=Fals
 
 @numba.njit(cache=True)
 def _forecast_window(Tq, Te, q, w, with_prev, codes, F, shift=0, hold=False):
-    """Fill ``F[j, :, col]`` (k, 4, ncols) with the target window of the step at q.
+    """Fill ``F`` (k, 4, ncols) with the step's target window; return ncols.
 
-    with_prev (Method B; Method C's "square-tn" reading): col 0 = T_n (= T[q-1]), then
-    the ``w`` columns of :func:`_forecast_columns` (``shift = 0`` starts with T_{n+1}
-    itself, the paper's column ``T_{n+1}``; ``shift = 1`` with the first forecast).
-    Returns the number of columns.
+    ``with_prev`` (B, C's "square-tn"): T_n first; ``shift = 1``: from the first forecast.
     """
     c0 = 0
     if with_prev:
@@ -123,8 +92,7 @@ def _forecast_window(Tq, Te, q, w, with_prev, codes, F, shift=0, hold=False):
 
 @numba.njit(cache=True)
 def _cost_window(Iq, start, nrows, F, ncols, C, wts):
-    """C[r, col] = geoDistance(I[start + r], F[:, :, col]) (eq. 1), r < nrows, col < ncols;
-    ``wts``: per-joint weights, or empty for eq. 1 as written.
+    """C[r, col] = eq. 1 of I[start + r] and F[:, :, col] (``wts`` empty: unweighted).
 
     Plain version: fpdtw.plain.cost_matrix.
     """
@@ -135,12 +103,9 @@ def _cost_window(Iq, start, nrows, F, ncols, C, wts):
 
 @numba.njit(cache=True)
 def _fill_shared(Iq, Tq, Te, q, codes, start, nrows, w, c0, C, cF, cG, cN, cMeta, cKey):
-    """Fill ``C[:nrows, c0:c0 + w]`` from a :class:`WindowCache` (computing what it lacks).
+    """Fill ``C[:nrows, c0:c0 + w]`` from a :class:`WindowCache`, computing what it lacks.
 
-    The cache holds the dead-reckoned forecast ``[T_{n+1}, T_{n+1} + delta, ...]`` of step
-    ``cMeta[0]`` (``cMeta[1]`` columns of it in ``cF``) and, per input frame r, the costs
-    ``cG[r, :cN[r]]`` against it. A new step, or other frames than the cached ones at the
-    same step (checked against ``cKey``), empties it first.
+    A new step, or other frames at the same step (``cKey``), empties it first.
     """
     k = Tq.shape[1]
     same = cMeta[0] == q
@@ -177,7 +142,7 @@ def _fill_shared(Iq, Tq, Te, q, codes, start, nrows, w, c0, C, cF, cG, cN, cMeta
 
 @numba.njit(cache=True)
 def _fill_prev_column(Iq, Tq, q, start, nrows, F1, C):
-    """C[r, 0] = geoDistance(I[start + r], T_n) (Method B's first column), r < nrows."""
+    """C[r, 0] = eq. 1 of I[start + r] and T_n (Method B's first column)."""
     for j in range(Tq.shape[1]):
         for a in range(4):
             F1[j, a, 0] = Tq[q - 1, j, a]
@@ -190,7 +155,7 @@ def _fill_prev_column(Iq, Tq, q, start, nrows, F1, C):
 
 @numba.njit(cache=True, inline="always")
 def _is_allowed(r, limit, allow):
-    """Offset r allowed? ``limit`` = largest allowed offset; allow[0..3] per offset.
+    """Offset r allowed (``limit``: the largest allowed; ``allow``: offsets 0..3)?
 
     Plain version: fpdtw.plain.allowed_rows.
     """
@@ -203,15 +168,10 @@ def _is_allowed(r, limit, allow):
 
 @numba.njit(cache=True)
 def _accumulate_reverse(C, nrows, ncols, D, open_end=False, wd=1.0):
-    """Reverse accumulation from the far corner (nrows-1, ncols-1) back to (0, 0).
+    """Reverse accumulation from the far corner back to (0, 0).
 
-    ``D[i, j] = min(D[i+1, j+1] + wd C[i, j], min(D[i+1, j], D[i, j+1]) + C[i, j])``:
-    symmetric1 with ``wd = 1`` (the same as ``C[i, j] + min(...)``: adding ``C[i, j]`` keeps
-    the order of the three), the symmetric2 weights with ``wd = 2``, which give every path
-    from ``(r, 0)`` to the corner the same total weight ``(nrows - r) + ncols - 1``
-    (dtw-python's normalizable ``symmetric2``). ``open_end``: the path may end in ANY row
-    of the last column, ``D[r, ncols-1] = C[r, ncols-1]`` (Tormene et al.'s open-end DTW
-    with the time axis reversed).
+    Symmetric1 (``wd = 1``) or dtw-python's symmetric2 (``wd = 2``); ``open_end``: the path
+    may end in any row of the last column (Tormene et al.'s open end, time reversed).
 
     Plain version: fpdtw.plain.reverse_accumulate.
     """
@@ -229,15 +189,10 @@ def _accumulate_reverse(C, nrows, ncols, D, open_end=False, wd=1.0):
 
 @numba.njit(cache=True)
 def _backtrack_lowest(D, nrows, ncols, P, path, input_first=False):
-    """Method B's back-track (plotPath) from (nrows-1, ncols-1) to (0, 0) with the
-    overwrite rule.
+    """Method B's back-track from the far corner to (0, 0) with the overwrite rule.
 
-    Steps: diagonal (r-1, c-1), target (r, c-1), input (r-1, c); ties prefer the
-    diagonal, then the target step (which keeps the higher input frame), or with
-    ``input_first`` the input step. On row 0 only target steps, on column 0 only input
-    steps. ``P[c]`` ends as the lowest row the path visits in column c (a step back one
-    input frame on the same column overwrites it). ``path`` gets the cells from the far
-    corner back to (0, 0); returns their number.
+    Ties: the diagonal, then the target step (``input_first``: the input step). ``P[c]``
+    ends as the lowest row visited in column c; returns the number of cells in ``path``.
 
     Plain version: fpdtw.plain.backtrack, then fpdtw.plain.path_to_map (the lowest rows).
     """
@@ -272,9 +227,9 @@ def _backtrack_lowest(D, nrows, ncols, P, path, input_first=False):
 
 @numba.njit(cache=True)
 def _choose_b(C, nrows, ncols, limit, allow, D, P, path, input_first):
-    """Method B on a filled window: Type V mask, accumulate, D[0, 0] = 10000, back-track.
+    """Method B on a filled window: returns (P_1, path length).
 
-    Returns (P_1, path length).
+    Type V mask, accumulate, ``D[0, 0] = 10000``, back-track.
 
     Plain version: fpdtw.plain.method_b_step (lines 13-16).
     """
@@ -293,12 +248,10 @@ C_SQUARE, C_LITERAL, C_SQUARE_TN, C_OPEN_END, C_NORMALISED = 0, 1, 2, 3, 4
 
 @numba.njit(cache=True)
 def _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high):
-    """Method C on a filled window: Type V mask, reverse accumulation, argmin of column 0.
+    """Method C on a filled window: returns the chosen offset, -1 if no row is allowed.
 
-    The accumulation is pinned to the far corner, open in the last column
-    (:data:`C_OPEN_END`) or symmetric2 (:data:`C_NORMALISED`); ``score[r] = D[r, 0]``, or
-    ``D[r, 0] / ((nrows - r) + ncols)`` for :data:`C_NORMALISED`. Ties: the lowest row,
-    or the highest with ``ties_high``. Returns the chosen offset, -1 if no row is allowed.
+    Type V mask, reverse accumulation (by ``reading``), argmin of column 0; ties low, or
+    high with ``ties_high``.
 
     Plain version: fpdtw.plain.method_c_step (lines 12-13).
     """
@@ -322,9 +275,10 @@ def _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high):
 
 @numba.njit(cache=True)
 def _choose_a(Iq, t, start, nrows, limit, allow, c, ties_high, wts):
-    """Method A's window: ``c[r] = geoDistance(I[start + r], t)`` (eq. 1) for
-    ``r < nrows``, and the argmin over the allowed rows (ties: the lowest row, or the
-    highest with ``ties_high``). Returns the chosen offset, -1 if no row is allowed.
+    """Method A's window: returns the chosen offset, -1 if no row is allowed.
+
+    ``c[r]`` = eq. 1 of I[start + r] and t; the argmin over the allowed rows (ties as
+    :func:`_choose_c`).
 
     Plain version: fpdtw.plain.method_a_step (lines 7-10).
     """
@@ -340,8 +294,7 @@ def _choose_a(Iq, t, start, nrows, limit, allow, c, ties_high, wts):
 
 @numba.njit(cache=True)
 def _checked(off, limit, allow):
-    """``off`` if the constraint allows it: no method ever picks a masked candidate
-    (``off = -1``: no row of the window was allowed).
+    """``off``, or AlignmentError when no row was allowed: a masked row is never picked.
 
     Plain version: fpdtw.plain.checked_choice.
     """
@@ -350,27 +303,21 @@ def _checked(off, limit, allow):
     return off
 
 
-# --- one whole step of Method A, B or C --------------------------------------------------
-
 #: Entries of an aligner's parameter vector (int64) for :func:`_window_step`.
 P_METHOD, P_W, P_READING, P_SHIFT, P_HOLD, P_TIES_HIGH, P_INPUT_FIRST, P_START_BEST = range(8)
 P_TYPEV, P_SHARED = 8, 9
-#: Half-width in frames of the global band around the diagonal ``M = q`` (0: no band;
-#: beyond the papers, see :class:`ForecastAligner`).
+#: Half-width of the global band around ``M = q`` (0: none; see :class:`ForecastAligner`).
 P_BAND = 10
-#: 1: the aligner weights eq. 1's joints (:func:`fpdtw.weights.joint_weights`; beyond the
-#: papers, see :class:`ForecastAligner`); the weights go to the kernels beside ``prm``.
+#: 1: eq. 1's joints weighted (the weights go to the kernels beside ``prm``).
 P_WEIGHTED = 11
-#: 1: the band clips the window's rows (``band="half-w"``: the rows outside it are not
-#: computed); 0: it masks them (``band="1s"``). See :class:`ForecastAligner`.
+#: 1: the band clips the window's rows (``"half-w"``); 0: it masks them (``"1s"``).
 P_BAND_CLIP = 12
 N_PARAMS = 13
 #: Method codes of ``P_METHOD``.
 METHOD_A, METHOD_B, METHOD_C = 0, 1, 2
 #: Kinds of step (``out[0]`` of :func:`_window_step`).
 STEP_FIRST, STEP_WARMUP, STEP_END, STEP_WINDOW = 0, 1, 2, 3
-#: Length of a step's ``out`` record: kind, the window's rows and columns, (B) the path
-#: length, and the offset of the window's first row from ``M_n`` (0 but under a clipping band).
+#: Length of ``out``: kind, rows, columns, (B) path length, offset of the first row.
 N_OUT = 5
 #: Frames needed before forecasting (dead reckoning on two frames).
 SMOOTHING = 2
@@ -378,11 +325,7 @@ SMOOTHING = 2
 
 @numba.njit(cache=True)
 def _mask_band(C, nrows, col, q, start, band):
-    """Global band (``band > 0``): ``C[r, col] = +inf`` for every row whose input frame
-    ``start + r`` lies more than ``band`` frames from the diagonal ``q``.
-
-    Beyond the papers (notebook 16, Q3); tested in tests/test_open_questions.py.
-    """
+    """Global band (beyond the papers): ``C[r, col] = +inf`` where ``|start + r - q| > band``."""
     if band <= 0:
         return
     for r in range(nrows):
@@ -392,12 +335,9 @@ def _mask_band(C, nrows, col, q, start, band):
 
 @numba.njit(cache=True)
 def _clip_band(start, nrows, q, band):
-    """The rows of a window ``I_{start}..I_{start + nrows - 1}`` inside the band, as
-    ``(first, rows)``: offsets ``first..first + rows - 1``; ``(0, nrows)`` (the whole window,
-    to be masked and refused as by :func:`_mask_band` and :func:`_check_band`) when no row
-    lies inside.
+    """``(first, rows)``: the rows of the window inside the band.
 
-    Beyond the papers (notebook 16, Q3); tested in tests/test_open_questions.py.
+    ``(0, nrows)`` when no row is (then masked, and refused by :func:`_check_band`).
     """
     lo = max(0, q - band - start)
     hi = min(nrows - 1, q + band - start)
@@ -408,19 +348,14 @@ def _clip_band(start, nrows, q, band):
 
 @numba.njit(cache=True)
 def _check_band(off, q, start, band):
-    """Never a masked candidate: raise when the chosen row lies outside the band (only when
-    no row of the window was inside it).
-
-    Beyond the papers (notebook 16, Q3); tested in tests/test_open_questions.py.
-    """
+    """Raise when the chosen row lies outside the band (no row of the window was inside)."""
     if band > 0 and abs(start + off - q) > band:
         raise ValueError("global band: no input frame of the window lies inside the band")
 
 
 @numba.njit(cache=True)
 def _first_frame(Iq, Tq, w, m, start_best, wts):
-    """``M_0``: 0, or the best match (eq. 1, weighted by ``wts`` unless empty) of T_0
-    among I_0..I_w."""
+    """``M_0``: 0, or with ``start_best`` the best match (eq. 1) of T_0 among I_0..I_w."""
     if not start_best:
         return 0
     best = 0
@@ -435,8 +370,7 @@ def _first_frame(Iq, Tq, w, m, start_best, wts):
 
 @numba.njit(cache=True)
 def _allowed_offsets(state, prm, table):
-    """``(limit, allow)`` of :func:`_is_allowed` in Type V state ``state[0]`` (every
-    offset without the constraint)."""
+    """``(limit, allow)`` of :func:`_is_allowed` in Type V state ``state[0]``."""
     allow = np.ones(4, dtype=np.int64)
     if prm[P_TYPEV] == 0:
         return np.iinfo(np.int64).max, allow
@@ -447,17 +381,14 @@ def _allowed_offsets(state, prm, table):
 
 @numba.njit(cache=True)
 def _advance_state(state, prm, table, advance):
-    """Type V: the state after an advance (an illegal move is only ever a forced hold at m,
-    which leaves the state as it is)."""
+    """Type V: the state after an advance (a forced hold at m leaves it as it is)."""
     if prm[P_TYPEV] != 0 and 0 <= advance <= MAX_ADVANCE and table[state[0], advance] >= 0:
         state[0] = table[state[0], advance]
 
 
 @numba.njit(cache=True)
 def _a_step(Iq, Tq, q, M, state, prm, table, c, out, wts):
-    """``M_q`` of a Method A aligner at target frame q: :func:`_window_step` for Method A,
-    with only the arrays it needs (``c`` : float64 (>= w + 1,), the window's costs;
-    ``wts`` : eq. 1's joint weights, empty for none).
+    """:func:`_window_step` for Method A, with only the arrays it needs.
 
     Plain version: fpdtw.plain.method_a_step.
     """
@@ -494,17 +425,9 @@ def _window_step(
 ):  # fmt: skip
     """``M_q`` of one Method A, B or C aligner at target frame q (frames 0..q received).
 
-    ``M[:q]`` is the map so far; ``state[0]`` the Type V state (advanced in place);
-    ``prm`` the aligner's parameter vector (``P_*``); ``table`` the Type V state table;
-    ``F, C, D, Pcol, path, score`` scratch; ``cF..cKey`` a :class:`WindowCache`'s
-    arrays (used when ``prm[P_SHARED]``). ``out`` (``N_OUT``) gets the kind of step, the
-    window's rows and columns, (B) the path length and the offset of the window's first
-    row from ``M_n``, for the debug record. With a clipping band (``prm[P_BAND_CLIP]``)
-    the window's rows are those of :func:`_clip_band`: rows outside the band are not
-    computed, and the window is the same method's on ``I_{M_n + first}..``. ``wts`` : float64
-    (k,) eq. 1's per-joint weights, or EMPTY (0,) for eq. 1 as written (exactly the
-    unweighted arithmetic); an aligner with weights never shares a cache (``prm[P_SHARED]``
-    is 0), whose costs are unweighted.
+    ``M[:q]``: the map so far; ``state[0]``: the Type V state; ``prm``: the ``P_*`` vector;
+    ``cF..cKey``: a :class:`WindowCache` (with ``P_SHARED``); ``out``: the step's record;
+    ``wts``: eq. 1's joint weights, or empty for eq. 1 as written; the rest scratch.
 
     Plain version: fpdtw.plain.method_a_step, fpdtw.plain.method_b_step and
     fpdtw.plain.method_c_step (one step each; fpdtw.plain.run steps through a target).
@@ -588,12 +511,7 @@ def _run_group(
 ):  # fmt: skip
     """Every aligner of ``params`` (one row each) over the whole target, in lockstep.
 
-    ``wts`` (aligners, k): eq. 1's joint weights of the aligners with ``P_WEIGHTED``
-    (the rows of the others are not read: they get an empty slice, eq. 1 as written).
-
-    ``M`` (aligners, frames) receives the maps; each aligner's step only reads the
-    frames up to its own (as when streaming). Scratch buffers are shared: the steps
-    run one after the other.
+    The scratch is shared (the steps run in turn); ``M`` (aligners, frames) gets the maps.
     """
     n = Tq.shape[0]
     A = params.shape[0]
@@ -609,16 +527,13 @@ def _run_group(
             )  # fmt: skip
 
 
-# --- one call per streamed frame --------------------------------------------------------
-
-#: Header of an aligner's int64 work buffer (:func:`_work_views`): joints k, window
-#: capacity W = w + 1, number of Type V states.
+#: Header of the int64 work buffer: joints k, window capacity W = w + 1, Type V states.
 _H_K, _H_W, _H_NS = 0, 1, 2
 _HEADER = 3
 
 
 def _work_sizes(k: int, W: int, ns: int) -> tuple:
-    """Lengths of the float64 and int64 work buffers of :func:`_work_views`."""
+    """Lengths of the float64 and int64 work buffers."""
     floats = W * W + k * 4 * W + W * W + W + 4 * k + 1 + 12 * k
     ints = _HEADER + N_PARAMS + 4 * ns + 1 + N_OUT + k + W + 4 * W + 1 + 2
     return floats, ints
@@ -626,9 +541,10 @@ def _work_sizes(k: int, W: int, ns: int) -> tuple:
 
 @numba.njit(cache=True)
 def _head_views(work, iwork):
-    """The views every method uses, at the start of the two buffers: ``prm``, ``table``,
-    ``tv``, ``out`` and column 0 of ``C`` (all Method A's step needs: one reshape, where
-    each of :func:`_work_views`' reshapes costs about 0.1 us)."""
+    """``prm, table, tv, out`` and column 0 of ``C``: all Method A needs, in one reshape.
+
+    Each of :func:`_work_views`' reshapes costs about 0.1 us.
+    """
     W = iwork[_H_W]
     ns = iwork[_H_NS]
     i = _HEADER
@@ -646,12 +562,8 @@ def _head_views(work, iwork):
 def _work_views(work, iwork):
     """An aligner's scratch, parameters and state as views of two flat buffers.
 
-    ``work`` (float64) holds ``C (W, W), F (k, 4, W), D (W, W), score (W)`` and the
-    placeholder cache arrays ``cF (k, 4, 1), cG (1, 1), cKey (3, k, 4)``; ``iwork``
-    (int64) the header ``k, W, ns``, then ``prm (N_PARAMS), table (ns, 4), tv (1),
-    out (N_OUT)`` (:func:`_head_views`), ``codes (k), Pcol (W), path (2W, 2), cN (1),
-    cMeta (2)``. Two buffers instead of nineteen arrays: a compiled function costs about
-    0.1 us per array argument to call, and :func:`_stream_step` is called once per frame.
+    ``work`` (float64) and ``iwork`` (int64, after the header ``k, W, ns``): a compiled call
+    costs about 0.1 us per array argument, and :func:`_stream_step` runs once per frame.
     """
     k = iwork[_H_K]
     W = iwork[_H_W]
@@ -686,8 +598,7 @@ def _work_views(work, iwork):
 
 @numba.njit(cache=True)
 def _store_frame(k, Tq, Te, q, fq, fe):
-    """Store a streamed frame (quaternions ``fq`` (k, 4), Euler angles ``fe`` (k, 3)) in
-    row ``q`` of ``Tq, Te``; False (nothing stored) for a frame of another shape."""
+    """Store a streamed frame in row ``q`` of ``Tq, Te``; False (none stored) for another shape."""
     if fq.shape[0] != k or fq.shape[1] != 4 or fe.shape[0] != k or fe.shape[1] != 3:
         return False
     for j in range(k):
@@ -700,13 +611,10 @@ def _store_frame(k, Tq, Te, q, fq, fe):
 
 @numba.njit(cache=True)
 def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
-    """Receive one streamed frame: store it in row ``q`` of ``Tq, Te``, run
-    :func:`_window_step`, store ``M[q]``; the whole ``step`` of a B/C aligner in one call.
+    """The whole ``step`` in one call: store the frame in row ``q``, step, store ``M[q]``.
 
-    ``fq`` (k, 4) and ``fe`` (k, 3) are the frame's quaternions and Euler angles; a frame
-    of another shape changes nothing and returns -1 (the caller then raises). Eq. 1 as
-    written only: an aligner that weights the joints never takes this path (its ``step``
-    takes the general one, :meth:`WindowAligner._step`).
+    -1 for a frame of another shape, -2 for weighted joints: the caller takes the general
+    path.
     """
     if iwork[_HEADER + P_WEIGHTED] != 0:
         return -2
@@ -726,46 +634,13 @@ def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
     return m
 
 
-# --- costs shared by aligners that step together ---------------------------------------
-
-
 class WindowCache:
-    """Forecast and window costs shared by B/C aligners that step over the same target together.
+    """Forecast and window costs shared by B/C aligners stepping over one target together.
 
-    At a target frame ``T_{n+1}``, the dead-reckoned forecast ``[T_{n+1}, T_{n+1} + delta,
-    ...]`` is the same for Methods B and C at every window size and reading, and so is
-    the cost (eq. 1) of any input frame against any of its columns. Aligners given the
-    same cache (``cache=`` of :class:`MethodB` and :class:`MethodC`) and fed the same
-    frames in lockstep (:func:`fpdtw.online.base.run_together`) compute each forecast
-    column and each cost cell once per target frame, however many of them need it;
-    each aligner still masks, accumulates and chooses on its own copy of its window.
-    The cached values are computed by the same code as an aligner's own, so maps are
-    identical with and without a cache (tested). The cache checks the frames it is
-    given: fed other frames at the same step, it starts afresh, so sharing is only ever
-    a matter of speed.
-
-    Aligners with a non-default forecast (``forecast="hold"``, ``forecast_start="next"``)
-    do not use it.
-
-    Parameters
-    ----------
-    I : MotionFeatures
-        The input motion of every aligner sharing the cache.
-    w_max : int
-        The largest window among them.
-
-    Attributes
-    ----------
-    F : ndarray of float64, shape (k, 4, w_max)
-        Forecast columns of the cached step.
-    G : ndarray of float64, shape (m + 1, w_max)
-        ``G[r, :N[r]]``: costs of input frame r against them.
-    N : ndarray of int64, shape (m + 1,)
-    meta : ndarray of int64, shape (2,)
-        Cached step q and number of forecast columns filled.
-    key : ndarray of float64, shape (3, k, 4)
-        The frames the cached step was computed from (Euler angles of T_n, T_{n+1}; the
-        quaternion of T_{n+1}).
+    The forecast at a target frame, and each cost cell against it, is the same for Methods B
+    and C at every window and reading: aligners given one cache (of input ``I``, windows up
+    to ``w_max``) and fed the same frames in lockstep compute each once. Other frames at the
+    same step empty it: the maps are the same with or without it (tested).
     """
 
     def __init__(self, I: MotionFeatures, w_max: int):
@@ -783,52 +658,18 @@ class WindowCache:
         return self.F, self.G, self.N, self.meta, self.key
 
 
-# --- the debug record -----------------------------------------------------------------
-
-
 @dataclass
 class WindowSnapshot:
     """What one step of a window method did (``record=True``).
 
-    Attributes
-    ----------
-    q : int
-        Target frame mapped by this step (the paper's ``n + 1``).
-    kind : str
-        ``"first"`` (q = 0, M_0 = 0), ``"warmup"`` (B/C: ``n < s``), ``"end"`` (input
-        exhausted: ``M_n = m``, hold at m) or ``"window"``.
-    start : int
-        Window start ``M_n`` (-1 for q = 0).
-    w_i : int
-        The window's input rows are ``I_{M_n}..I_{M_n + w_i}`` (``w_i + 1`` rows, for
-        every method and reading; 0 without a window); under ``band="half-w"``
-        ``I_{M_n + first}..I_{M_n + w_i}`` (``w_i - first + 1`` rows).
-    offset : int
-        Chosen offset, ``M_{n+1} - M_n``.
-    M : int
-        ``M_{n+1}``.
-    C : ndarray of float64, shape (w_i - first + 1, ncols) or None
-        Cost window (eq. 1); rows = input frames ``M_n + first + r``, columns = target window:
-        A: ``[T_{n+1}]``; B: ``[T_n, T_{n+1}, forecasts]`` (w + 1); C: ``[T_{n+1},
-        forecasts]`` (w; w + 1 with ``T_n`` first for the "square-tn" reading). Cells
-        masked by Type V are +inf (B and C; Method A records its costs unmasked).
-    D : ndarray of float64, same shape, or None
-        B: forward accumulation with ``D[0, 0]`` then set to 10000 (it was ``C[0, 0]``);
-        C: reverse accumulation.
-    path : ndarray of int64, shape (L, 2) or None
-        B: the back-tracked path, (row, column) cells from (0, 0) to the far corner.
-    P : ndarray of int64, shape (ncols,) or None
-        B: lowest row of the path in each column (``P[1]`` is the choice).
-    allowed : ndarray of bool, shape (4,) or None
-        Type V: offsets 0..3 allowed in this step's state (offsets > 3 never are).
-    state : str or None
-        Type V state before the step.
-    score : ndarray of float64, shape (w_i - first + 1,) or None
-        C: what the argmin compares per row, ``D[r, 0]`` (normalised reading:
-        divided by the paths' weight).
-    first : int
-        Offset from ``M_n`` of the window's first row: 0, but under ``band="half-w"`` when
-        ``I_{M_n}`` lies outside the band (its rows are not computed).
+    ``q``: the target frame mapped (``n + 1``); ``kind``: ``"first"``, ``"warmup"``,
+    ``"end"`` (input exhausted) or ``"window"``; ``start`` = ``M_n`` (-1 at q = 0);
+    the rows are ``I_{M_n + first}..I_{M_n + w_i}``; ``offset`` = ``M_{n+1} - M_n``; ``M`` =
+    ``M_{n+1}``. ``C``, ``D`` (rows, ncols): the costs (eq. 1; Type V-masked cells +inf, but
+    Method A's) and their accumulation (B: ``D[0, 0]`` then 10000; C: reverse); ``path``
+    (L, 2) and ``P`` (ncols,): Method B's path and lowest row per column (``P[1]`` is the
+    choice); ``score`` (rows,): what Method C's argmin compares; ``allowed`` (4,) and
+    ``state``: Type V's offsets and state before the step.
 
     Paper: FP-DTW Fig. 2 (window), Fig. 4 (Method B's path and choice).
     """
@@ -849,47 +690,16 @@ class WindowSnapshot:
     first: int = 0
 
 
-# --- the common aligner ---------------------------------------------------------------
-
-
 class WindowAligner(OnlineAligner):
-    """Common base of Methods A, B and C.
+    """Common base of Methods A, B and C (``I``: the input motion; ``w``: the window in frames).
 
-    Common rules (each method's docstring repeats the ones it uses and states its
-    window's shape):
-
-    * First target frame: ``M_0 = 0`` (both motions start aligned, DTW's boundary
-      condition); ``start="best"`` instead maps ``T_0`` to its best match (eq. 1) among
-      ``I_0..I_w`` (a silent choice of the paper, kept switchable for notebook 15).
-    * Window sizes are in frames; the input window ``I_{M_n}..I_{M_n+w_i}`` shrinks at
-      the end of the input.
-    * ``constraint="typeV"``: before choosing, offsets the Type V state table
-      (:mod:`fpdtw.online.typev`) does not allow are masked; the state advances with
-      every step (warm-up included). When the input is exhausted the only choice is a
-      hold at ``m``, whatever the state (the constraint cannot hold there).
-    * Options (keyword arguments listed in each class's :attr:`options`): a value other
-      than the default is named in brackets, e.g. ``"Mc w40 (literal window)"``.
-    * ``record=True`` keeps a :class:`WindowSnapshot` of the last step in
-      ``last_window`` (off by default: it copies the window every frame).
-    * ``state`` holds the current Type V state (index into ``constraint.states``), None
-      without a constraint; ``reset()`` puts it back to the start state.
-
-    The whole step runs in one compiled function, :func:`_window_step`; its scratch
-    arrays, the parameter vector (:meth:`params`) and the Type V state live in two flat
-    buffers (:func:`_work_views`), so that one streamed frame is one compiled call with
-    few arguments (:func:`_stream_step`). Subclasses give their :meth:`params` and
-    :meth:`_window_record`.
-
-    Parameters
-    ----------
-    I : MotionFeatures
-        Input (recorded) motion.
-    w : int
-        Window size in frames, >= 1.
-    constraint : None, "typeV" or TypeV
-    record : bool
-    **options
-        The method's options (see :attr:`options`), e.g. ``window="literal"``.
+    ``M_0 = 0``, or with ``start="best"`` the best match of ``T_0`` among ``I_0..I_w`` (a
+    silent choice of the paper, switchable for notebook 15). The input window shrinks at the
+    end of the input. ``constraint="typeV"`` masks the offsets the Type V state does not
+    allow (:mod:`fpdtw.online.typev`); once the input is exhausted the hold at ``m`` is
+    forced whatever the state. Non-default ``options`` are named in brackets (``"Mc w40
+    (literal window)"``). ``record=True`` keeps a :class:`WindowSnapshot` of the last step
+    in ``last_window``. Subclasses give :meth:`params` and :meth:`_window_record`.
     """
 
     #: Method letter in names ("Ma", "Mb", "Mc").
@@ -928,7 +738,7 @@ class WindowAligner(OnlineAligner):
         except ValueError as e:
             raise AlignmentError(f"input motion {I.name!r}: {e}") from None
         self._Iq = np.ascontiguousarray(I.quats, dtype=np.float64)
-        # eq. 1's joint weights (option weights="travel"), EMPTY for eq. 1 as written
+        # EMPTY weights: eq. 1 as written, exactly
         self._wts = (
             joint_weights(I) if self.settings.get("weights", "none") == "travel" else np.empty(0)
         )
@@ -959,15 +769,14 @@ class WindowAligner(OnlineAligner):
         self.name = self._make_name()
 
     def _configure(self) -> None:
-        """Fill the parameter vector and choose the cache arrays and the one-call path
-        from the aligner's settings (again after a subclass sets :attr:`cache`)."""
+        """Fill the parameter vector; choose the cache arrays and the one-call path."""
         self._params[:] = self.params()
         self._cache_arrays = self._placeholder if self.cache is None else self.cache.arrays()
         # the one-call path: no debug record, no shared cache, eq. 1 unweighted
         self._lean = not self.record and self.cache is None and self._wts.shape[0] == 0
 
     def params(self) -> np.ndarray:
-        """This aligner's parameter vector for :func:`_window_step` (int64, ``N_PARAMS``)."""
+        """This aligner's parameter vector (int64, ``N_PARAMS``)."""
         p = np.zeros(N_PARAMS, dtype=np.int64)
         p[P_W] = self.w
         p[P_START_BEST] = self.settings["start"] == "best"
@@ -993,20 +802,9 @@ class WindowAligner(OnlineAligner):
 
     @classmethod
     def name_for(cls, w: int, typev: bool = False, **options) -> str:
-        """The name of a configuration, e.g. ``MethodC.name_for(40, window="literal")``
-        -> ``"Mc w40 (literal window)"``; options at their default are not named.
+        """The name of a configuration, e.g. ``"Mc w40 (literal window)"``.
 
-        Parameters
-        ----------
-        w : int
-        typev : bool
-            With the Type V constraint (suffix ``" + Type V"``).
-        **options
-            See :attr:`options`.
-
-        Returns
-        -------
-        name : str
+        ``MethodC.name_for(40, window="literal")``; ``typev`` adds ``" + Type V"``.
         """
         settings = cls._resolve_options(options)
         labels = [
@@ -1041,12 +839,10 @@ class WindowAligner(OnlineAligner):
         return self.last_window
 
     def step(self, frame: Frame) -> int:
-        """Receive target frame ``T_{n+1}`` and return ``M_{n+1}``.
+        """Receive ``T_{n+1}``, return ``M_{n+1}``.
 
-        The common case (numpy arrays, room in the buffers, no debug record, no shared
-        cache) is one compiled call, :func:`_stream_step`; anything else takes the
-        general path of :meth:`OnlineAligner.step` (same result), after checking the
-        frame's shape.
+        One compiled call (:func:`_stream_step`) in the common case, else the general path after
+        checking the frame's shape.
         """
         if self.n_received == 0:
             self._begin_take(frame)
@@ -1109,10 +905,8 @@ class WindowAligner(OnlineAligner):
     def _window_record(self, nrows: int, ncols: int, npath: int) -> dict:
         """The arrays of the debug record of a window step (``record=True``)."""
 
-    # -- helpers for subclasses ----------------------------------------------------------
     def _snap(self, q, kind, start, w_i, m_next, state=None, **arrays):
-        """Keep the debug record of a step; ``state``: the Type V state before it
-        (default: the current one)."""
+        """Keep the debug record of a step; ``state``: the Type V state before it."""
         allowed = None
         if self.constraint is not None:
             state = self.state if state is None else state
@@ -1127,25 +921,13 @@ class WindowAligner(OnlineAligner):
 class ForecastAligner(WindowAligner):
     """Common base of Methods B and C: warm-up, end of input, then a forecast window.
 
-    * Warm-up, ``n < s`` (``s = 2``, dead reckoning on two frames): ``M_{n+1} = n + 1``
-      (the paper), clipped to ``m``; written ``min(M_n + 1, m)``, which is the same
-      from ``M_0 = 0`` and keeps advancing from another ``M_0`` (``start="best"``).
-    * ``M_n >= m`` (input exhausted): ``M_{n+1} = m``.
-    * Otherwise the method's window.
-    * ``cache``: a :class:`WindowCache` shared with other aligners stepping over the same
-      target together (speed only: the maps are the same).
-
-    :func:`run_group` loops the same compiled step, :func:`_window_step`, over several
-    aligners at once: streaming and batch runs share one implementation.
+    Warm-up ``n < s`` (``s = 2``): ``M_{n+1} = min(M_n + 1, m)`` (the paper's ``n + 1``
+    from ``M_0 = 0``); ``M_n >= m``: ``m``.
     """
 
     #: Smoothing window: frames needed before forecasting (dead reckoning: 2).
     s = SMOOTHING
-    #: Options of Methods B and C (beyond :attr:`WindowAligner.options`): ``band="1s"`` and
-    #: ``band="half-w"``, the global band of the FP-DTW paper's conclusion (an open
-    #: question, notebook 16).
-    #: ``weights="travel"``: eq. 1's joints weighted by their travel in the input
-    #: (:func:`fpdtw.weights.joint_weights`; an open question, notebook 16).
+    #: Beyond the papers (notebook 16): the conclusion's global band; weighted joints.
     options = {
         **WindowAligner.options,
         "band": ("none", {"1s": "band 1 s", "half-w": "band w/2"}),
@@ -1157,43 +939,15 @@ class ForecastAligner(WindowAligner):
     def __init__(
         self, I: MotionFeatures, w: int, *, constraint=None, record=False, cache=None, **options
     ):
-        """Global band (``band="1s"``, beyond the papers): the live take is assumed to last
-        as long as the recording, so the uniform-time diagonal is ``M_q = q`` (input rate /
-        target rate = 1: every run of this package has both motions at one rate). At every
-        window step, candidates whose input frame lies more than ``B`` = round(1 s x the
-        input's rate) frames from ``q`` are masked (cost +inf in the column that decides the
-        step, as Type V masks: column ``T_{n+1}`` of Method B's path, column 0 of Method C),
-        so the map picks the best candidate inside the band: a map that would leave it is
-        kept at most on its edge. A masked candidate is never picked: if no row of the
-        window were inside the band the step raises ValueError; that cannot happen without
-        Type V (``M_n`` within the band at ``q - 1`` leaves row 0 or row 1 within it at
-        ``q``), and a band with Type V is refused. Warm-up and the forced hold at ``m``
-        once the input is exhausted are as without the band. A band aligner keeps every
-        target frame (its step reads the frame number ``q``).
+        """Options beyond the papers (notebook 16): a global band, weighted joints.
 
-        The band of half the window (``band="half-w"``, names ``"Mc w40 (band w/2)"``;
-        beyond the papers): half-width ``B = max(1, floor(w / 2))`` frames around the same
-        diagonal, and the window's rows outside it are NOT COMPUTED: the window's row range
-        is clipped to the band, ``I_{M_n + first}..I_{M_n + w_i'}`` with ``first = max(0, q -
-        B - M_n)`` and ``w_i' = min(w_i, q + B - M_n)``, and the method runs unchanged on
-        that smaller window (Method B's path starts at its first row; the chosen row is
-        ``M_n + first + P_1``, or Method C's argmin from there). Fewer rows, fewer cells of
-        eq. 1 per frame: the global constraint of the paper's conclusion, which "would
-        restrict the area in which a path can be plotted within the cost matrix, reducing
-        the number of cells which need to be calculated". If no row of the window lies in
-        the band the step is the 1 s band's: the whole window computed and masked, and
-        ValueError (:func:`_check_band`); without Type V that needs a map already outside
-        the band, which the band never makes (``M_0 = 0`` starts on the diagonal): only
-        ``start="best"`` with ``M_0 > B + 1`` can. The rule ``w / 2`` was chosen on
-        2026-11-24, after the 1 s band's results were seen (inconclusive: a 1 s band barely
-        binds a window of 40 frames, and masking computes every cell anyway) and before any
-        run of this band.
-
-        Weighted joints (``weights="travel"``, beyond the papers): eq. 1 becomes
-        ``sum_j w_j (2/pi) arccos |q_a,j . q_b,j|`` with ``w =``
-        :func:`fpdtw.weights.joint_weights` of the input, computed once here. Such an
-        aligner computes its own costs (a shared :class:`WindowCache` holds unweighted ones,
-        so it is not used) and streams through the general path of :meth:`step`."""
+        Bands around the diagonal ``M_q = q``: ``"1s"`` masks the rows more than ``round(1 s x
+        fps)`` frames away in the column that decides the step; ``"half-w"`` (``B = max(1,
+        floor(w / 2))``, chosen on 2026-11-24 after the 1 s band's results, before any run of
+        it) does not compute them, the conclusion's global constraint. A step with no row inside
+        the band raises ValueError; a band with Type V is refused. ``weights="travel"``: eq. 1
+        weighted by :func:`fpdtw.weights.joint_weights` of the input.
+        """
         super().__init__(I, w, constraint=constraint, record=record, **options)
         if self.settings.get("band", "none") != "none":
             if self.constraint is not None:
@@ -1229,23 +983,10 @@ class ForecastAligner(WindowAligner):
 
 
 def run_group(aligners, T: MotionFeatures) -> list:
-    """Run Method B and C aligners over one target together, in one compiled loop.
+    """Run Method B and C aligners of one input over target ``T`` in one compiled loop.
 
-    The same steps as streaming each of them (:func:`fpdtw.online.base.run_online`; the
-    maps are equal, tested), without a Python call per frame; aligners given one
-    :class:`WindowCache` share its forecast and costs. Only the maps are returned (with
-    shared work, nothing is timed per aligner).
-
-    Parameters
-    ----------
-    aligners : sequence of ForecastAligner
-        All with the same input motion; those with a cache all with the same one.
-    T : MotionFeatures
-        Target motion with the input's joints.
-
-    Returns
-    -------
-    maps : list of ndarray of int64, shape (n,)
+    Their maps (int64 (n,) each), those of streaming each (tested), without a Python call
+    per frame.
     """
     aligners = list(aligners)
     if not aligners:
