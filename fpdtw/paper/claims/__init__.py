@@ -21,7 +21,6 @@ from fpdtw.paper.claims.contexts import (
     claim_contexts,
     data_counts,
     load_context,
-    oedtw_backward_jumps,
     open_evidence,
     paper_shaped_rows,
 )
@@ -91,7 +90,6 @@ __all__ = [
     "format_parts",
     "load_context",
     "movement_count",
-    "oedtw_backward_jumps",
     "open_claim_rows",
     "open_evidence",
     "open_mode",

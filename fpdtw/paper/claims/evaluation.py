@@ -340,7 +340,7 @@ def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None, with_pa
         return [by[i] for i in ids]
     subset = claims_by_id(ids)
     if facts is not None:
-        ctx = ClaimContext.from_facts(mode, "square", **dict(facts))
+        ctx = ClaimContext.from_facts(mode, **dict(facts))
         out, parts = evaluate_claims(subset, claim_contexts(ctx))
     else:
         out, parts = build_claims(mode, results, claims=subset, robustness=False, with_parts=True)
