@@ -33,6 +33,24 @@ from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES, TYPE_V, WINDOWS
 # Each assessment returns an Assessment, or a string: why the claim could not be computed.
 
 
+def _on_pairs(*names):
+    """An assessment ``f(ev)`` on the pairs, run once ``ctx.ev`` has every name's results."""
+    return lambda f: lambda ctx: missing(ctx.ev, names) or f(ctx.ev)
+
+
+def _on_facts(key: str, json_name: str):
+    """An assessment ``f(d)`` of the notebook facts ``ctx.<key>`` (from ``json_name``)."""
+
+    def wrap(f):
+        def assess(ctx):
+            d = getattr(ctx, key)
+            return f"{json_name} absent" if d is None else f(d)
+
+        return assess
+
+    return wrap
+
+
 def _names(xs) -> str:
     return ", ".join(xs) if xs else "none"
 
@@ -47,11 +65,9 @@ def _both_by_median(ev, name) -> bool:
     return _point_pass(ev, name, "similarity") and _point_pass(ev, name, "deviation")
 
 
-def _claim1(ctx):
+@_on_pairs("UTW", *FPDTW_NAMES)
+def _claim1(ev):
     names = list(FPDTW_NAMES)
-    if why := missing(ctx.ev, ["UTW", *names]):
-        return why
-    ev = ctx.ev
     by_median = [
         n for n in names if _point_pass(ev, n, "similarity") or _point_pass(ev, n, "deviation")
     ]
@@ -63,22 +79,17 @@ def _claim1(ctx):
     return Assessment(f"pass either (by medians): {_names(by_median)}", parts)
 
 
-def _claim2(ctx):
+@_on_pairs("UTW", *N.PASS_BOTH)
+def _claim2(ev):
     names = list(N.PASS_BOTH)
-    if why := missing(ctx.ev, ["UTW", *names]):
-        return why
-    ev = ctx.ev
     by_median = [n for n in names if _both_by_median(ev, n)]
     parts = [Part(f"{n} passes both benchmarks", ev.passes_both(n)) for n in names]
     return Assessment(f"pass both (by medians): {_names(by_median)}", parts)
 
 
-def _claim2b(ctx):
-    names = list(FPDTW_NAMES + FPDTW_TYPEV_NAMES)
-    if why := missing(ctx.ev, ["UTW", *names]):
-        return why
-    ev = ctx.ev
-    others = [n for n in names if n not in N.PASS_BOTH]
+@_on_pairs("UTW", *FPDTW_NAMES, *FPDTW_TYPEV_NAMES)
+def _claim2b(ev):
+    others = [n for n in FPDTW_NAMES + FPDTW_TYPEV_NAMES if n not in N.PASS_BOTH]
     by_median = [n for n in others if _both_by_median(ev, n)]
     part = Part(
         "no FP-DTW algorithm other than the three named passes both benchmarks",
@@ -96,11 +107,8 @@ def best_window_test(ev, rate):
     return AllOf(*[ev.better(f"Mc w{best}{sfx}", f"Mc w{w}{sfx}", "similarity") for w in others])
 
 
-def _claim3(ctx):
-    names = [f"Mc w{w}{s}" for w in WINDOWS for s in ("", "@60Hz")]
-    if why := missing(ctx.ev, names):
-        return why
-    ev = ctx.ev
+@_on_pairs(*(f"Mc w{w}{s}" for w in WINDOWS for s in ("", "@60Hz")))
+def _claim3(ev):
     best = {}
     for rate, sfx in ((120, ""), (60, "@60Hz")):
         med = {w: ev.median(f"Mc w{w}{sfx}", "similarity") for w in WINDOWS}
@@ -162,11 +170,9 @@ def _claim4b(ctx):
     return Assessment(ours + " (this machine; budget 8333 us)", parts)
 
 
-def _claim4c(ctx):
+@_on_pairs(*(n for n in FPDTW_NAMES if n != "Ma"))
+def _claim4c(ev):
     cand = [n for n in FPDTW_NAMES if n != "Ma"]
-    if why := missing(ctx.ev, cand):
-        return why
-    ev = ctx.ev
     counts = {n: ev.exhausted_counts(n) for n in cand}
     share = {n: c[0].sum() / c[1].sum() for n, c in counts.items()}
     top = max(cand, key=lambda n: share[n])
@@ -187,11 +193,9 @@ def _claim4c(ctx):
     return Assessment(ours, [part])
 
 
-def _claim5(ctx):
+@_on_pairs(*FPDTW_NAMES)
+def _claim5(ev):
     names = list(FPDTW_NAMES)
-    if why := missing(ctx.ev, names):
-        return why
-    ev = ctx.ev
     cut = len(names) - len(names) // 3 + 1  # 9 algorithms: rank 7 or worse
     parts, words = [], []
     for metric in ("similarity", "deviation"):
@@ -201,11 +205,9 @@ def _claim5(ctx):
     return Assessment("Ma ranks " + ", ".join(words), parts)
 
 
-def _claim5b(ctx):
+@_on_pairs(*(f"Mb w{w}" for w in WINDOWS))
+def _claim5b(ev):
     names = [f"Mb w{w}" for w in WINDOWS]
-    if why := missing(ctx.ev, names):
-        return why
-    ev = ctx.ev
     parts = []
     for metric, verb in (("similarity", "rises"), ("deviation", "falls")):
         tests = [ev.better(b, a, metric) for a, b in zip(names, names[1:])]
@@ -217,10 +219,8 @@ def _claim5b(ctx):
     return Assessment(f"similarity {s}; deviation {d}", parts)
 
 
-def _claim6(ctx):
-    if why := missing(ctx.ev, [*FPDTW_NAMES, *FPDTW_TYPEV_NAMES]):
-        return why
-    ev = ctx.ev
+@_on_pairs(*FPDTW_NAMES, *FPDTW_TYPEV_NAMES)
+def _claim6(ev):
     ab = [n for n in FPDTW_NAMES if not n.startswith("Mc")]
     c_yes = [n for n in N.TYPEV_IMPROVED if n.startswith("Mc")]
     c_no = [n for n in FPDTW_NAMES if n.startswith("Mc") and n not in c_yes]
@@ -240,11 +240,10 @@ def _claim6(ctx):
     return Assessment(f"improved (by medians): {_names(both)}", parts)
 
 
-def _claim7(ctx):
-    if why := missing(ctx.ev, ["OE-DTW"]):
-        return why
-    back = ctx.ev.backward_jumps("OE-DTW")
-    c = ctx.ev.share(
+@_on_pairs("OE-DTW")
+def _claim7(ev):
+    back = ev.backward_jumps("OE-DTW")
+    c = ev.share(
         "share of pairs whose OE-DTW end point moves backwards", back, np.ones_like(back), 0.0
     )
     ours = f"{int(back.sum())} of {back.size} pairs ({c.estimate:.0%}) have a backward jump"
@@ -360,10 +359,8 @@ def example_base_ms() -> float:
     return float(1000.0 * np.abs(t - g(t)).mean())
 
 
-def _claim_p1(ctx):
-    d = ctx.opw_fig4
-    if d is None:
-        return f"{OPW_FIG4_JSON} absent"
+@_on_facts("opw_fig4", OPW_FIG4_JSON)
+def _claim_p1(d):
     (lo, hi), mx, (dlo, dhi) = d["opw_mean_ms_range"], d["opw_max_ms"], d["dtw_mean_ms_range"]
     base = d.get("baseline", "DTW")
     ours = f"mean {lo:.0f}-{hi:.0f} ms, max {mx:.0f} ms ({base} mean {dlo:.0f}-{dhi:.0f} ms)"
@@ -388,10 +385,8 @@ def _near(quantity, ours, paper, tol):
                  above=False, digits=0, strict=False)  # fmt: skip
 
 
-def _claim_p2(ctx):
-    d = ctx.opw_fig56
-    if d is None:
-        return f"{OPW_FIG56_JSON} absent"
+@_on_facts("opw_fig56", OPW_FIG56_JSON)
+def _claim_p2(d):
     mean = d["removed_gamma5_mean_over_offsets"]
     lo, hi = d["removed_gamma5_range_over_offsets"]
     ours = (
@@ -421,10 +416,8 @@ def _claim_p2(ctx):
     return Assessment(ours, parts)
 
 
-def _claim_p3(ctx):
-    d = ctx.opw_fig56
-    if d is None:
-        return f"{OPW_FIG56_JSON} absent"
+@_on_facts("opw_fig56", OPW_FIG56_JSON)
+def _claim_p3(d):
     g, r = d["best_gamma"], d["removed_best_gamma"]
     parts = [
         Part("the best gamma is 15 % (within 5 points)",
@@ -436,10 +429,8 @@ def _claim_p3(ctx):
     return Assessment(f"gamma {100 * g:.0f} %, {100 * r:.0f} % removed", parts)
 
 
-def _claim_p4(ctx):
-    d = ctx.opw_fig56
-    if d is None:
-        return f"{OPW_FIG56_JSON} absent"
+@_on_facts("opw_fig56", OPW_FIG56_JSON)
+def _claim_p4(d):
     mx = d["largest_offset_max_below_150ms_s"]
     mean = d["largest_offset_mean_below_150ms_s"]
     ours = f"{1000 * mx:.0f} ms (max), {1000 * mean:.0f} ms (mean; the largest offset tried)"
