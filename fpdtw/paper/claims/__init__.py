@@ -1,20 +1,11 @@
 """The papers' claims, checked against our results: parts, intervals, verdicts.
 
-The modules, bottom to top (a module imports only those above it in this list):
-
-* :mod:`~fpdtw.paper.claims.rules`: the one set of rules (checks, parts, claim verdicts);
-* :mod:`~fpdtw.paper.claims.bootstrap`: intervals for medians over pairs that share motions;
-* :mod:`~fpdtw.paper.claims.evidence`: per-pair values, medians and checks of a run;
-* :mod:`~fpdtw.paper.claims.types`: a claim, its context and assessment, the table's columns;
-* :mod:`~fpdtw.paper.claims.open`: the questions beyond the papers (Q rows) and their parts;
-* :mod:`~fpdtw.paper.claims.paper_claims`: the papers' claims (FP-DTW, OPW poster) and the
-  claims table's rows (:data:`CLAIMS`);
-* :mod:`~fpdtw.paper.claims.contexts`: the contexts a claim is decided on, loaded from a run;
-* :mod:`~fpdtw.paper.claims.robustness`: each verdict under the documented readings;
-* :mod:`~fpdtw.paper.claims.evaluation`: every claim on every body of evidence, part by part;
-* :mod:`~fpdtw.paper.claims.report`: the claims as text, as tables and as files;
-* :mod:`~fpdtw.paper.claims.verify`: every verdict again from the committed files
-  (``python -m fpdtw.paper.claims verify figures/``).
+Bottom to top (a module imports only those before it): :mod:`.rules` (checks, parts,
+verdicts), :mod:`.bootstrap` (intervals), :mod:`.evidence` (per-pair values and checks of a
+run), :mod:`.types` (claim, context, columns), :mod:`.open` (the Q rows),
+:mod:`.paper_claims` (:data:`CLAIMS`), :mod:`.contexts` (the bodies of evidence),
+:mod:`.robustness`, :mod:`.evaluation` (every claim on every body), :mod:`.report` (text,
+tables, files) and :mod:`.verify` (``python -m fpdtw.paper.claims verify figures/``).
 """
 
 from fpdtw.paper.claims.contexts import (

@@ -125,22 +125,9 @@ def _add_pair_weights(W, rows, li, lt, C, live):  # pragma: no cover - compiled
 
 
 def weighted_medians(values, W, cols=None) -> np.ndarray:
-    """The median of ``values`` under each row of weights, as if each pair were repeated.
-
-    ``np.median`` of the values repeated by their integer weights; non-finite values get no
-    weight; a resample with no weight left gives NaN.
-
-    Parameters
-    ----------
-    values : ndarray of float, shape (P,)
-    W : ndarray of int, shape (B, P_all)
-    cols : ndarray of int, shape (P,), optional
-        The columns of ``W`` holding the weights of ``values`` (default: all, in order).
-
-    Returns
-    -------
-    medians : ndarray of float64, shape (B,)
-    """
+    """Per row of the integer weights ``W`` (B, P_all), ``np.median`` of ``values`` (P,)
+    repeated by their weights in the columns ``cols`` (default: all): float64 (B,).
+    Non-finite values get no weight; a resample with no weight left gives NaN."""
     values = np.asarray(values, dtype=np.float64)
     W = np.atleast_2d(W)
     cols = np.arange(W.shape[1]) if cols is None else np.asarray(cols, dtype=np.int64)

@@ -107,14 +107,12 @@ def paper_shaped_rows(results, mode: str = "full"):
     path = results_dir() / study_mode(mode == "smoke") / "pairs.json"
     if not path.is_file():
         return None
-    key = {
-        (p["dataset"], p["movement"], p["input"], p["target"]): i
-        for i, p in enumerate(results.pairs)
-    }
-    rows = [
-        key.get((p["dataset"], p["movement"], p["input"], p["target"]))
-        for p in load_json(path)["pairs"]
-    ]
+
+    def key(p):
+        return p["dataset"], p["movement"], p["input"], p["target"]
+
+    row = {key(p): i for i, p in enumerate(results.pairs)}
+    rows = [row.get(key(p)) for p in load_json(path)["pairs"]]
     return np.array(sorted(r for r in rows if r is not None), dtype=np.int64)
 
 

@@ -212,23 +212,12 @@ def build_claims(mode="full", results=None, claims=None, *, robustness=True, wit
 
 
 def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None, with_parts=False):
-    """The rows of the claims table a notebook is evidence for, in the order of ``ids``,
-    decided as in ``figures/claims.md`` (without the robustness column).
+    """The rows of the claims table a notebook is evidence for, in the order of ``ids``
+    (claim ids of :data:`CLAIMS`), decided as in ``figures/claims.md`` (no robustness).
 
-    Parameters
-    ----------
-    ids : sequence of str
-        Claim ids of :data:`CLAIMS` (KeyError for an unknown id).
-    mode : {"full", "smoke"}
-    results : fpdtw.paper.runner.Results, optional
-        The experiment results (default: ``load_results(mode)``, unless ``rows`` or ``facts``
-        is given).
-    rows : list of dict, optional
-        A claims table already built (:func:`build_claims`): its rows are picked.
-    facts : dict, optional
-        A notebook's own facts instead of results (:meth:`ClaimContext.from_facts`).
-    with_parts : bool
-        Return the claims' parts too (not with ``rows``), as ``(rows, parts)``.
+    Decided on ``results`` (default ``load_results(mode)``) or on a notebook's own
+    ``facts`` (:meth:`ClaimContext.from_facts`), or picked from ``rows``, a table already
+    built. ``with_parts`` (not with ``rows``): return ``(rows, parts)``.
 
     Paper: FP-DTW Sections 5-7; OPW poster Section 5.
     Notebook: 06_fig5_fig6_scores.ipynb

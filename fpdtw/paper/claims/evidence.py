@@ -69,25 +69,15 @@ def missing(ev, names, absent: str = "no experiment results") -> str | None:
 
 
 class Evidence:
-    """Per-pair values of some pairs of a run, with medians and bootstrap replicates.
+    """Per-pair values of some pairs of a run (``rows``: indices into ``results.pairs``,
+    default all), with medians and bootstrap replicates (``scheme``, ``n_resamples``,
+    ``seed``).
 
-    Parameters
-    ----------
-    results : fpdtw.paper.runner.run.Results
-    rows : sequence of int, optional
-        Indices into ``results.pairs`` (default: every pair).
-    scheme : {"movements", "motions"}
-    n_resamples, seed : int
-    alias : dict, optional
-        A claim's name -> the results it stands for under a reading (``"Mc w40"`` ->
-        ``"Mc w40 (literal window)"``).
-    values : callable, optional
-        ``values(result_name, metric) -> ndarray (P,) or None``: per-pair values computed
-        another way (a reading of eq. 2 or 3), in ``results.pairs`` order; None: the stored.
-    label : str
-        This body of data in words (``"all pairs"``, ``"hdm05"``...).
-
-    :meth:`restrict` and :meth:`reading` derive evidence that shares these bootstrap weights.
+    ``alias``: a claim's name -> the results it stands for under a reading (``"Mc w40"`` ->
+    ``"Mc w40 (literal window)"``); ``values(result_name, metric)``: per-pair values (P,)
+    computed another way (a reading of eq. 2 or 3), in ``results.pairs`` order, or None for
+    the stored ones; ``label``: this body of data in words. :meth:`restrict` and
+    :meth:`reading` derive evidence that shares these bootstrap weights.
 
     Notebook: 12_claims.ipynb
     """
