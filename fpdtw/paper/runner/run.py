@@ -430,15 +430,11 @@ def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: s
                 runs += 1
     ids = np.array([p["id"] for p in pairs], dtype=np.int32)
     for s in specs:
-        pre = s.slug + "."
-        maps = per[s.name]["maps"]
-        arrays[pre + "pair_id"] = ids
-        arrays[pre + "offsets"] = np.concatenate([[0], np.cumsum([len(M) for M in maps])]).astype(
-            np.int64
-        )
-        arrays[pre + "maps"] = np.concatenate(maps).astype(np.int32)
-        arrays[pre + "similarity"] = np.array(per[s.name]["sim"], dtype=np.float64)
-        arrays[pre + "deviation"] = np.array(per[s.name]["dev"], dtype=np.float64)
+        maps, sim, dev = per[s.name]["maps"], per[s.name]["sim"], per[s.name]["dev"]
+        offsets = np.concatenate([[0], np.cumsum([len(M) for M in maps])]).astype(np.int64)
+        values = (ids, offsets, np.concatenate(maps).astype(np.int32),
+                  np.array(sim, dtype=np.float64), np.array(dev, dtype=np.float64))  # fmt: skip
+        arrays.update({f"{s.slug}.{k}": v for k, v in zip(_FIELDS, values)})
     meta = {
         "unit": unit["id"],
         "base_key": base_key,
@@ -447,13 +443,8 @@ def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: s
     }
     arrays[_META] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
     save_npz(path, **arrays)
-    return {
-        "unit": unit["id"],
-        "pairs": len(pairs),
-        "runs": runs,
-        "seconds": time.perf_counter() - t0,
-        "worker": _worker_name(),
-    }
+    took = time.perf_counter() - t0
+    return dict(unit=unit["id"], pairs=len(pairs), runs=runs, seconds=took, worker=_worker_name())
 
 
 #: The arrays of an algorithm's results, in file order (chunks and ``algorithms/*.npz``).
@@ -524,10 +515,7 @@ def summarize(results: Results) -> dict:
             "fps": fps,
             "online": results.is_online(name),
             "n_pairs": int(sim.shape[0]),
-            "similarity_median": s["median"],
-            "similarity_mean": s["mean"],
-            "similarity_q1": s["q1"],
-            "similarity_q3": s["q3"],
+            **{f"similarity_{k}": v for k, v in s.items()},  # median, mean, q1, q3
             "deviation_median": d["median"],
             "deviation_mean": d["mean"],
             "frac_above_utw_median": None if u is None else float(np.mean(sim > u)),
@@ -573,12 +561,7 @@ def _pairs_json(mode, plan, feature_files) -> dict:
         (m, m60), (n, n60) = frames[p["input_index"]], frames[p["target_index"]]
         q.update(m=int(m), n=int(n), m60=int(m60), n60=int(n60))
         pairs.append(q)
-    return {
-        "mode": mode,
-        "selection": plan.selection.as_dict(),
-        "counts": plan.counts,
-        "pairs": pairs,
-    }
+    return dict(mode=mode, selection=plan.selection.as_dict(), counts=plan.counts, pairs=pairs)
 
 
 def _compute(executor: Executor, mode, plan, specs, out: Path, base_key, progress, say, phases):
@@ -664,29 +647,13 @@ def run_experiments(
 ) -> Results:
     """Run the algorithms over every pair of a mode, resumably, and write the result files.
 
-    Parameters
-    ----------
-    mode : str
-        A mode of :data:`SELECTIONS`, or any folder name with ``selection``; results go to
-        ``<results>/<mode>``.
-    algorithms : sequence of str, optional
-        Registry names (default :func:`~fpdtw.paper.runner.grid.mode_algorithms`); results
-        of other algorithms already in the folder (same pairs and code) are kept.
-    n_jobs : int
-        joblib processes (1: this process).
-    progress : bool
-        Print the selection and show progress bars.
-    selection : Selection, optional
-        Overrides the mode's selection (tests: a tiny subset).
-    results : path-like, optional
-        The results root (default :func:`fpdtw.paper.paths.results_dir`); on a cluster, a
-        folder every worker sees at the same path.
-    scheduler : str or distributed.Client, optional
-        A Dask scheduler (address or client): the units run on that cluster. Default
-        ``FPDTW_SCHEDULER`` if set, else joblib; ``"local"``: joblib whatever it says.
-    connect_timeout : float
-        Seconds to wait for the scheduler to answer.
-
+    ``mode``: a mode of :data:`SELECTIONS` (or any folder name with a ``selection``);
+    ``algorithms``: registry names (default :func:`~fpdtw.paper.runner.grid.mode_algorithms`),
+    other algorithms' results already in the folder are kept; ``n_jobs``: joblib processes;
+    ``progress``: print the selection and show progress bars; ``results``: the results root
+    (default :func:`fpdtw.paper.paths.results_dir`; on a cluster, a folder every worker sees
+    at the same path); ``scheduler``: a Dask scheduler address or client (default
+    ``FPDTW_SCHEDULER`` if set, else joblib; ``"local"``: joblib whatever it says).
     ClusterError: a malformed or unreachable scheduler, a worker with other fpdtw code, a
     task whose workers kept dying, files the workers wrote that are not visible here.
 
