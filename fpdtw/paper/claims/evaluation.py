@@ -41,12 +41,8 @@ def _interval_text(parts, labels) -> str:
         if c is None:
             out.append(f"{label}: {p.verdict}")
             continue
-        d, sg = c.digits, c.signed
-        if c.interval:
-            ci = f" [{R._fmt(c.low, d, sg)}, {R._fmt(c.high, d, sg)}]"
-            out.append(f"{label}: {R._fmt(c.estimate, d, sg)}{ci} vs {c.threshold:g}")
-        else:
-            out.append(f"{label}: {R._fmt(c.estimate, d, sg)} vs {c.threshold:g} (no resampling)")
+        point = "" if c.interval else " (no resampling)"
+        out.append(f"{label}: {c.value_text()} vs {c.threshold:g}{point}")
     return "; ".join(out)
 
 

@@ -127,11 +127,15 @@ class Check:
             rel = "<"
         if v != INCONCLUSIVE and (v == CONTRADICTED) == self.strict:
             rel += "="
-        d = self.digits
-        est = _fmt(self.estimate, d, self.signed)
-        ci = f" [{_fmt(self.low, d, self.signed)}, {_fmt(self.high, d, self.signed)}]"
-        thr = f"{self.threshold:g}"
-        return f"{self.quantity} {est}{ci if self.interval else ''} {rel} {thr}"
+        return f"{self.quantity} {self.value_text()} {rel} {self.threshold:g}"
+
+    def value_text(self) -> str:
+        """The estimate and, with an interval, ``[low, high]``: ``"13.5 [12.1, 14.9]"``."""
+        d, sg = self.digits, self.signed
+        est = _fmt(self.estimate, d, sg)
+        if not self.interval:
+            return est
+        return f"{est} [{_fmt(self.low, d, sg)}, {_fmt(self.high, d, sg)}]"
 
 
 def point(quantity: str, value: float, threshold: float, **kw) -> Check:
