@@ -1,27 +1,17 @@
 """The papers' claims, checked against our results: parts, intervals, verdicts.
 
-The modules, bottom to top (a module imports only those above it in this list):
-
-* :mod:`~fpdtw.paper.claims.rules`: the one set of rules (checks, parts, claim verdicts);
-* :mod:`~fpdtw.paper.claims.bootstrap`: intervals for medians over pairs that share motions;
-* :mod:`~fpdtw.paper.claims.evidence`: per-pair values, medians and checks of a run;
-* :mod:`~fpdtw.paper.claims.types`: a claim, its context and assessment, the table's columns;
-* :mod:`~fpdtw.paper.claims.open`: the questions beyond the papers (Q rows) and their parts;
-* :mod:`~fpdtw.paper.claims.paper_claims`: the papers' claims (FP-DTW, OPW poster) and the
-  claims table's rows (:data:`CLAIMS`);
-* :mod:`~fpdtw.paper.claims.contexts`: the contexts a claim is decided on, loaded from a run;
-* :mod:`~fpdtw.paper.claims.robustness`: each verdict under the documented readings;
-* :mod:`~fpdtw.paper.claims.evaluation`: every claim on every body of evidence, part by part;
-* :mod:`~fpdtw.paper.claims.report`: the claims as text, as tables and as files;
-* :mod:`~fpdtw.paper.claims.verify`: every verdict again from the committed files
-  (``python -m fpdtw.paper.claims verify figures/``).
+Bottom to top (a module imports only those before it): :mod:`.rules` (checks, parts,
+verdicts), :mod:`.bootstrap` (intervals), :mod:`.evidence` (per-pair values and checks of a
+run), :mod:`.types` (claim, context, columns), :mod:`.open` (the Q rows),
+:mod:`.paper_claims` (:data:`CLAIMS`), :mod:`.contexts` (the bodies of evidence),
+:mod:`.robustness`, :mod:`.evaluation` (every claim on every body), :mod:`.report` (text,
+tables, files) and :mod:`.verify` (``python -m fpdtw.paper.claims verify figures/``).
 """
 
 from fpdtw.paper.claims.contexts import (
     claim_contexts,
     data_counts,
     load_context,
-    oedtw_backward_jumps,
     open_evidence,
     paper_shaped_rows,
 )
@@ -62,43 +52,11 @@ from fpdtw.paper.claims.types import (
 )
 
 __all__ = [
-    "BODIES",
-    "CHECK_COLUMNS",
-    "CLAIMS",
-    "COLUMNS",
-    "FIG8_JSON",
-    "LEGEND",
-    "OPW_FIG4_JSON",
-    "OPW_FIG56_JSON",
-    "PART_COLUMNS",
-    "POWER_COLUMNS",
-    "QUESTION_IDS",
-    "READINGS",
-    "RULE",
-    "SHORT",
-    "SHORT_COLUMNS",
-    "Assessment",
-    "Claim",
-    "ClaimContext",
-    "build_claims",
-    "claim_contexts",
-    "claim_rows",
-    "claims_by_id",
-    "claims_summary",
-    "data_counts",
-    "evaluate_claims",
-    "format_claims",
-    "format_parts",
-    "load_context",
-    "movement_count",
-    "oedtw_backward_jumps",
-    "open_claim_rows",
-    "open_evidence",
-    "open_mode",
-    "opw_reading",
-    "paper_shaped_rows",
-    "power_rows",
-    "reading_alias",
-    "save_claims",
-    "short_rows",
-]
+    "BODIES", "CHECK_COLUMNS", "CLAIMS", "COLUMNS", "FIG8_JSON", "LEGEND", "OPW_FIG4_JSON",
+    "OPW_FIG56_JSON", "PART_COLUMNS", "POWER_COLUMNS", "QUESTION_IDS", "READINGS", "RULE", "SHORT",
+    "SHORT_COLUMNS", "Assessment", "Claim", "ClaimContext", "build_claims", "claim_contexts",
+    "claim_rows", "claims_by_id", "claims_summary", "data_counts", "evaluate_claims",
+    "format_claims", "format_parts", "load_context", "movement_count", "open_claim_rows",
+    "open_evidence", "open_mode", "opw_reading", "paper_shaped_rows", "power_rows",
+    "reading_alias", "save_claims", "short_rows"
+]  # fmt: skip

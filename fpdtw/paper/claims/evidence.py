@@ -1,19 +1,11 @@
 """What the claims read from the experiment results: per-pair values, medians, intervals.
 
-:class:`Evidence` is one body of data a verdict can be made on: some (or all) pairs of a
-run, one bootstrap scheme (:mod:`fpdtw.paper.claims.bootstrap`), one reading of the
-algorithms' names (Method C's window, a silent choice) and, for the readings of the
-metrics, per-pair values computed another way. It gives each algorithm's median and its
-bootstrap replicates, and builds the :class:`~fpdtw.paper.claims.rules.Check` objects the
-claims are made of:
-
-* :meth:`Evidence.passes` -- an algorithm passes a benchmark: its median similarity minus
-  UTW's median (paired: the same resampled pairs) above 0, or its median deviation below
-  150 ms (18 frames at 120 Hz, 9 at 60 Hz);
-* :meth:`Evidence.better` -- one algorithm's median above (similarity) or below
-  (deviation) another's, on the same pairs;
-* :meth:`Evidence.rank` -- an algorithm's rank among several, per resample;
-* :meth:`Evidence.share` -- a share counted over frames or pairs (a ratio of sums).
+:class:`Evidence` is one body of data a verdict is made on: some (or all) pairs of a run,
+one bootstrap scheme (:mod:`~fpdtw.paper.claims.bootstrap`), one reading of the algorithms'
+names and of the metrics. It gives each algorithm's median and bootstrap replicates, and the
+:class:`~fpdtw.paper.claims.rules.Check` objects the claims are made of (:meth:`~Evidence.passes`:
+a benchmark, paper Section 5; :meth:`~Evidence.better`, :meth:`~Evidence.rank`,
+:meth:`~Evidence.share`).
 
 Paper: FP-DTW Sections 4-6 (the medians over pairs, the two benchmarks).
 Notebook: 12_claims.ipynb
@@ -46,8 +38,7 @@ def _digest(*parts: bytes) -> str:
 
 
 def _cached(folder, key: str, compute) -> np.ndarray:
-    """``compute()`` once per key: read from ``folder/<key>.npy`` when there, else computed
-    and written (atomically). ``folder`` None: no disk cache."""
+    """``compute()`` once per key, kept in ``folder/<key>.npy`` (None: no disk cache)."""
     if folder is None:
         return compute()
     path = folder / f"{key}.npy"
@@ -56,7 +47,6 @@ def _cached(folder, key: str, compute) -> np.ndarray:
     except (FileNotFoundError, ValueError, OSError):
         pass
     out = compute()
-
     buf = io.BytesIO()
     np.save(buf, out, allow_pickle=False)
     folder.mkdir(parents=True, exist_ok=True)
@@ -64,48 +54,30 @@ def _cached(folder, key: str, compute) -> np.ndarray:
     return out
 
 
-_UNIT = {"similarity": "", "deviation": " frames"}
+def _check(quantity: str, estimate: float, replicates, threshold: float, **kw) -> Check:
+    """A check whose interval and Monte Carlo errors come from bootstrap replicates."""
+    lo, hi, lo_se, hi_se = bs.interval_error(replicates)
+    return Check(quantity, estimate, lo, hi, threshold, low_se=lo_se, high_se=hi_se, **kw)
 
 
-def _ci(replicates) -> tuple[float, float, float, float]:
-    """Interval ends and their Monte Carlo errors (:func:`bootstrap.interval_error`)."""
-    return bs.interval_error(replicates)
-
-
-def rate_of(name: str) -> int:
-    """120, or 60 for a name ending in ``"@60Hz"``."""
-    return 60 if name.endswith("@60Hz") else 120
-
-
-def utw_of(name: str) -> str:
-    """UTW at the rate of ``name``: ``"UTW"`` or ``"UTW@60Hz"``."""
-    return "UTW@60Hz" if rate_of(name) == 60 else "UTW"
+def missing(ev, names, absent: str = "no experiment results") -> str | None:
+    """None when ``ev`` has the results of every name, else why not (``absent``: no ``ev``)."""
+    if ev is None:
+        return absent
+    gone = [n for n in names if not ev.has(n)]
+    return f"no results for {', '.join(gone)}" if gone else None
 
 
 class Evidence:
-    """Per-pair values of some pairs of a run, with medians and bootstrap replicates.
+    """Per-pair values of some pairs of a run (``rows``: indices into ``results.pairs``,
+    default all), with medians and bootstrap replicates (``scheme``, ``n_resamples``,
+    ``seed``).
 
-    Parameters
-    ----------
-    results : fpdtw.paper.runner.run.Results
-    rows : sequence of int, optional
-        Indices into ``results.pairs`` (default: every pair).
-    scheme : {"movements", "motions"}
-        Bootstrap scheme (:data:`fpdtw.paper.claims.bootstrap.SCHEMES`).
-    n_resamples, seed : int
-    alias : dict, optional
-        A claim's name -> the results it stands for under a reading (e.g. ``"Mc w40"`` ->
-        ``"Mc w40 (literal window)"``).
-    values : callable, optional
-        ``values(result_name, metric) -> ndarray (P,) or None``: per-pair values of a metric
-        computed another way (a reading of eq. 2 or 3), in ``results.pairs`` order; None
-        keeps the stored ones.
-    label : str
-        What this body of data is, in words (``"all pairs"``, ``"hdm05"``...).
-
-    :meth:`restrict` and :meth:`reading` derive evidence that shares these bootstrap weights
-    (a dataset's pairs are a stratum of the resampling, so the weights of its columns are a
-    bootstrap of that dataset alone).
+    ``alias``: a claim's name -> the results it stands for under a reading (``"Mc w40"`` ->
+    ``"Mc w40 (literal window)"``); ``values(result_name, metric)``: per-pair values (P,)
+    computed another way (a reading of eq. 2 or 3), in ``results.pairs`` order, or None for
+    the stored ones; ``label``: this body of data in words. :meth:`restrict` and
+    :meth:`reading` derive evidence that shares these bootstrap weights.
 
     Notebook: 12_claims.ipynb
     """
@@ -170,8 +142,6 @@ class Evidence:
             label=label,
         )
 
-    # -- data ---------------------------------------------------------------------------------
-
     @property
     def design(self) -> bs.PairDesign:
         if self._design is None:
@@ -180,8 +150,8 @@ class Evidence:
 
     @property
     def weights_key(self) -> str:
-        """What decides the bootstrap weights of these pairs (design, scheme, resamples,
-        seed), as a hex digest: the key of the on-disk cache of replicates."""
+        """Digest of what decides the bootstrap weights (design, scheme, resamples, seed): the
+        key of the on-disk cache of replicates."""
         if self._key is None:
             d = self.design
             parts = [a.tobytes() for a in (d.dataset, d.movement, d.input, d.target)]
@@ -191,8 +161,8 @@ class Evidence:
 
     @property
     def weights(self) -> np.ndarray:
-        """Bootstrap weights, shape (n_resamples, P_all) (computed once, on first need;
-        :attr:`cols` are this evidence's columns)."""
+        """Bootstrap weights, shape (n_resamples, P_all), computed on first need (:attr:`cols`
+        are this evidence's columns)."""
         if self._owner is not None:
             return self._owner.weights
         if self._W is None:
@@ -244,11 +214,8 @@ class Evidence:
         return float(np.median(v)) if v.size else float("nan")
 
     def replicates(self, name: str, metric: str) -> np.ndarray:
-        """The median on every bootstrap resample, shape (n_resamples,).
-
-        Kept on disk beside the results (``<results folder>/bootstrap/``), keyed by the
-        weights and the values, so that every notebook reading the same run reuses them.
-        """
+        """The median on every bootstrap resample, shape (n_resamples,), kept on disk beside
+        the results (``<results folder>/bootstrap/``) for every notebook reading the run."""
         key = ("reps", name, metric)
         if key not in self._cache:
             v = self.values(name, metric)
@@ -260,8 +227,7 @@ class Evidence:
         return self._cache[key]
 
     def ratio_replicates(self, numerator, denominator) -> np.ndarray:
-        """``sum(w * numerator) / sum(w * denominator)`` on every resample (cached on disk as
-        :meth:`replicates`)."""
+        """``sum(w * numerator) / sum(w * denominator)`` on every resample (cached on disk)."""
         num = np.asarray(numerator, dtype=np.float64)
         den = np.asarray(denominator, dtype=np.float64)
         key = _digest(self.weights_key.encode(), b"ratio", num.tobytes(), den.tobytes())
@@ -280,208 +246,132 @@ class Evidence:
     # -- checks -------------------------------------------------------------------------------
 
     def passes(self, name: str, metric: str) -> Check:
-        """``name`` passes the benchmark of ``metric`` (paper Section 5).
-
-        Similarity: median minus UTW's median (same pairs, same resamples) above 0.
-        Deviation: median below 150 ms in frames of the algorithm's rate.
-        """
+        """``name`` passes the benchmark of ``metric`` (paper Section 5): median similarity
+        minus UTW's (same pairs, same resamples) above 0, or median deviation below 150 ms in
+        frames of the algorithm's rate."""
+        rate = 60 if name.endswith("@60Hz") else 120
         if metric == "similarity":
-            u = utw_of(name)
+            u = "UTW@60Hz" if rate == 60 else "UTW"
             est = self.median(name, metric) - self.median(u, metric)
-            ci = _ci(self.replicates(name, metric) - self.replicates(u, metric))
-            return Check(
-                f"{name} median similarity minus UTW's", est, *ci[:2], 0.0, above=True,
-                signed=True, low_se=ci[2], high_se=ci[3],
-            )  # fmt: skip
-        thr = N.deviation_benchmark_frames(rate_of(name))
-        ci = _ci(self.replicates(name, metric))
-        return Check(
-            f"{name} median deviation, frames",
-            self.median(name, metric),
-            *ci[:2],
-            thr,
-            above=False,
-            digits=1,
-            low_se=ci[2],
-            high_se=ci[3],
-        )
+            reps = self.replicates(name, metric) - self.replicates(u, metric)
+            return _check(f"{name} median similarity minus UTW's", est, reps, 0.0, signed=True)
+        return _check(f"{name} median deviation, frames", self.median(name, metric),
+                      self.replicates(name, metric), N.deviation_benchmark_frames(rate),
+                      above=False, digits=1)  # fmt: skip
 
     def passes_either(self, name: str):
         """``name`` passes at least one of the two benchmarks."""
-
         return AnyOf(self.passes(name, "similarity"), self.passes(name, "deviation"))
 
     def passes_both(self, name: str):
         """``name`` passes both benchmarks."""
-
         return AllOf(self.passes(name, "similarity"), self.passes(name, "deviation"))
 
     def better(self, a: str, b: str, metric: str) -> Check:
-        """``a`` is better than ``b`` on the same pairs: higher median similarity, or lower
-        median deviation (difference of the two medians, paired resamples)."""
+        """``a`` is better than ``b`` on the same pairs: the difference of their medians above
+        0 (similarity) or below 0 (deviation), paired resamples."""
         est = self.median(a, metric) - self.median(b, metric)
-        ci = _ci(self.replicates(a, metric) - self.replicates(b, metric))
-        return Check(
-            f"median {metric} of {a} minus {b}",
-            est,
-            *ci[:2],
-            0.0,
-            above=metric == "similarity",
-            signed=True,
-            digits=3 if metric == "similarity" else 1,
-            low_se=ci[2],
-            high_se=ci[3],
-        )
+        reps = self.replicates(a, metric) - self.replicates(b, metric)
+        sim = metric == "similarity"
+        return _check(f"median {metric} of {a} minus {b}", est, reps, 0.0, above=sim,
+                      signed=True, digits=3 if sim else 1)  # fmt: skip
 
-    def ranks(self, names, metric: str) -> tuple[np.ndarray, np.ndarray]:
-        """Rank (1 = best) of each name by median, on the data and on every resample.
+    def improves(self, a: str, b: str):
+        """``a`` improves on ``b``: median similarity higher AND median deviation lower."""
+        return AllOf(self.better(a, b, "similarity"), self.better(a, b, "deviation"))
 
-        Returns
-        -------
-        rank : ndarray of int, shape (len(names),)
-        rank_reps : ndarray of int, shape (len(names), n_resamples)
-        """
+    def rank(self, name: str, names, metric: str, worst_from: int) -> Check:
+        """``name`` ranks ``worst_from`` or worse (1 = best) among ``names`` by median
+        ``metric``, on the data and on every resample."""
+        names = list(names)
         sign = -1.0 if metric == "similarity" else 1.0  # rank 1: highest similarity
         est = sign * np.array([self.median(n, metric) for n in names])
         reps = sign * np.stack([self.replicates(n, metric) for n in names])
         rank = 1 + np.sum(est[None, :] < est[:, None], axis=1)
         rank_reps = 1 + np.sum(reps[None, :, :] < reps[:, None, :], axis=1)
-        return rank, rank_reps
-
-    def rank(self, name: str, names, metric: str, worst_from: int) -> Check:
-        """``name`` ranks ``worst_from`` or worse among ``names`` by median ``metric``."""
-        names = list(names)
-        rank, reps = self.ranks(names, metric)
         i = names.index(name)
-        ci = _ci(reps[i])
-        return Check(
-            f"rank of {name} (of {len(names)}) by median {metric}",
-            float(rank[i]),
-            *ci[:2],
-            worst_from - 0.5,
-            above=True,
-            digits=0,
-            low_se=ci[2],
-            high_se=ci[3],
-        )
+        return _check(f"rank of {name} (of {len(names)}) by median {metric}", float(rank[i]),
+                      rank_reps[i], worst_from - 0.5, digits=0)  # fmt: skip
 
-    def share(
-        self, quantity: str, numerator, denominator, threshold: float, above: bool = True
-    ) -> Check:
-        """A share summed over pairs (e.g. frames with the input exhausted / all frames)."""
+    def share(self, quantity: str, numerator, denominator, threshold: float) -> Check:
+        """A share summed over pairs (e.g. frames with the input exhausted / all frames)
+        above ``threshold``."""
         num = np.asarray(numerator, dtype=np.float64)
         den = np.asarray(denominator, dtype=np.float64)
         est = float(num.sum() / den.sum()) if den.sum() > 0 else float("nan")
-        lo, hi, lo_se, hi_se = _ci(self.ratio_replicates(num, den))
-        return Check(quantity, est, lo, hi, threshold, above=above, low_se=lo_se, high_se=hi_se)
+        return _check(quantity, est, self.ratio_replicates(num, den), threshold)
 
-    def share_difference(self, quantity: str, a, b, threshold: float = 0.0) -> Check:
-        """Difference of two shares of the same pairs: ``a`` and ``b`` are
-        ``(numerator, denominator)`` per pair; paired resamples."""
+    def share_difference(self, quantity: str, a, b) -> Check:
+        """Two shares of the same pairs, ``a`` and ``b`` each ``(numerator, denominator)`` per
+        pair: their difference above 0 (paired resamples)."""
         (na, da), (nb, db) = ((np.asarray(x, dtype=np.float64) for x in y) for y in (a, b))
         est = float(na.sum() / da.sum() - nb.sum() / db.sum())
         reps = self.ratio_replicates(na, da) - self.ratio_replicates(nb, db)
-        lo, hi, lo_se, hi_se = _ci(reps)
-        return Check(
-            quantity, est, lo, hi, threshold, above=True, signed=True, low_se=lo_se, high_se=hi_se
-        )
+        return _check(quantity, est, reps, 0.0, signed=True)
 
     # -- per pair, from the maps ---------------------------------------------------------------
 
-    def exhausted_counts(self, name: str) -> tuple[np.ndarray, np.ndarray]:
-        """Per pair: target frames processed with the input exhausted, and all frames q >= 1.
+    def _maps(self, name: str):
+        """``(M, m)`` of every pair of this evidence: its map and last input frame."""
+        src = self.source(name)
+        arr = self.results.get(src)
+        m_all, _ = self.results.frames(src)
+        m_of = {int(p["id"]): int(m_all[i]) for i, p in enumerate(self.results.pairs)}
+        pos = {int(pid): k for k, pid in enumerate(arr["pair_id"])}
+        for pid in self._pair_ids:
+            yield arr.map(pos[int(pid)]), m_of[int(pid)]
 
-        A frame ``q >= 1`` counts when ``M_{q-1} >= m`` (as
-        :func:`fpdtw.paper.figures.timing.exhausted_fraction`).
-        """
+    def exhausted_counts(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        """Per pair: target frames ``q >= 1`` processed with the input exhausted
+        (``M_{q-1} >= m``, as :func:`fpdtw.paper.figures.timing.exhausted_fraction`), and all
+        frames ``q >= 1``."""
         key = ("exhausted", name)
         if key not in self._cache:
-            src = self.source(name)
-            arr = self.results.get(src)
-            m_all, _ = self.results.frames(src)
-            m_of = {int(p["id"]): int(m_all[i]) for i, p in enumerate(self.results.pairs)}
-            pos = {int(pid): k for k, pid in enumerate(arr["pair_id"])}
-            ex = np.zeros(self.n_pairs)
-            fr = np.zeros(self.n_pairs)
-            for j, pid in enumerate(self._pair_ids):
-                M = arr.map(pos[int(pid)])
-                ex[j] = np.count_nonzero(M[:-1] >= m_of[int(pid)])
-                fr[j] = M.size - 1
-            self._cache[key] = (ex, fr)
+            counts = [(np.count_nonzero(M[:-1] >= m), M.size - 1) for M, m in self._maps(name)]
+            self._cache[key] = tuple(np.array(counts, dtype=np.float64).T.copy())
         return self._cache[key]
 
     def band_cells(self, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """Per pair, the cells of eq. 1 a band variant's windows compute, from its maps
-        (:func:`fpdtw.online.band.band_cells`): its window steps, the cells of those steps without
-        the band and with it, and the sum over the steps of the share of the window's cells
-        the band removes (``1 - with / without``).
-
-        Parameters
-        ----------
-        name : str
-            A Method B or C name with a band option (``"Mc w40 (band w/2)"``).
-
-        Returns
-        -------
-        steps, full, banded, removed : ndarray of float64, shape (P,)
+        """Per pair, from the maps of a band variant of Method B or C (``"Mc w40 (band
+        w/2)"``, :func:`fpdtw.online.band.band_cells`): its window steps, their cells without
+        and with the band, and the sum over steps of the share the band removes; each
+        float64 of shape (P,).
 
         Paper: FP-DTW Section 7 (conclusion: a global constraint).
         """
-
         key = ("band_cells", name)
         if key not in self._cache:
-            src = self.source(name)
-            a = resolve(src.partition("@")[0])
+            a = resolve(self.source(name).partition("@")[0])
             band = a.options.get("band", "none")
             if a.family not in ("B", "C") or band == "none" or "window" in a.options:
                 raise ValueError(f"{name!r}: not a band variant of Method B or C (square window)")
-            arr = self.results.get(src)
-            m_all, _ = self.results.frames(src)
-            m_of = {int(p["id"]): int(m_all[i]) for i, p in enumerate(self.results.pairs)}
-            pos = {int(pid): k for k, pid in enumerate(arr["pair_id"])}
-            out = np.zeros((4, self.n_pairs))
-            for j, pid in enumerate(self._pair_ids):
-                M = arr.map(pos[int(pid)])
-                _, full, banded = band_cells(M, m_of[int(pid)], a.w, a.family, band)
-                out[:, j] = (full.size, full.sum(), banded.sum(), np.sum(1.0 - banded / full))
-            self._cache[key] = tuple(out)
+            out = []
+            for M, m in self._maps(name):
+                _, full, banded = band_cells(M, m, a.w, a.family, band)
+                out.append((full.size, full.sum(), banded.sum(), np.sum(1.0 - banded / full)))
+            self._cache[key] = tuple(np.array(out, dtype=np.float64).T.copy())
         return self._cache[key]
 
-    def backward_jumps(self, name: str = "OE-DTW") -> np.ndarray:
+    def backward_jumps(self, name: str) -> np.ndarray:
         """Per pair: 1 when the map moves backwards at least once (``M_{q+1} < M_q``)."""
-        src = self.source(name)
-        arr = self.results.get(src)
-        pos = {int(pid): k for k, pid in enumerate(arr["pair_id"])}
         return np.array(
-            [
-                float(np.any(np.diff(arr.map(pos[int(p)]).astype(np.int64)) < 0))
-                for p in self._pair_ids
-            ]
+            [float(np.any(np.diff(M.astype(np.int64)) < 0)) for M, _ in self._maps(name)]
         )
 
 
 _SHARED: dict = {}
 
 
-def shared_evidence(results, dataset=None, scheme: str = "movements") -> Evidence:
-    """The evidence of a run's pairs (or one dataset's), made once per run and reused.
-
-    Figures, tables and claims of one notebook then read the same medians and the same
-    bootstrap replicates, so they cannot disagree.
-
-    Parameters
-    ----------
-    results : fpdtw.paper.runner.run.Results
-    dataset : str, optional
-        Only this dataset's pairs (a stratum of the resampling: the weights are shared).
-    scheme : {"movements", "motions"}
-    """
-    key = (id(results), scheme)
+def shared_evidence(results, dataset=None) -> Evidence:
+    """The evidence of a run's pairs (or of one dataset's: a stratum, the weights shared),
+    made once per run, so that a notebook's figures, tables and claims read the same
+    medians and replicates."""
+    key = id(results)
     hit = _SHARED.get(key)
     if hit is None or hit[0] is not results:
         if len(_SHARED) > 8:  # a long session: forget older runs
             _SHARED.clear()
-        hit = (results, Evidence(results, scheme=scheme), {})
+        hit = (results, Evidence(results), {})
         _SHARED[key] = hit
     _, ev, subsets = hit
     if dataset is None:
@@ -492,6 +382,3 @@ def shared_evidence(results, dataset=None, scheme: str = "movements") -> Evidenc
             raise ValueError(f"no pairs of dataset {dataset!r} in the results")
         subsets[dataset] = ev.restrict(ds == dataset, dataset)
     return subsets[dataset]
-
-
-__all__ = ["METRICS", "Evidence", "rate_of", "shared_evidence", "utw_of"]

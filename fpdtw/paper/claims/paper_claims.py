@@ -1,15 +1,10 @@
 """The papers' claims: each claim of the FP-DTW paper and the OPW poster as a row of data.
 
-Each claim of :data:`CLAIMS` (a :class:`~fpdtw.paper.claims.types.Claim`) holds its id, the
-claim in words, the paper's value (from :mod:`fpdtw.paper.numbers`) and an *assessment*
-that reads our results from a :class:`~fpdtw.paper.claims.types.ClaimContext` and returns
-our value in words and the claim's **parts**: atomic statements, each decided by a check
-(a number with its 95 % interval against a threshold) or marked not comparable. The rules
-that turn parts into verdicts live in :mod:`fpdtw.paper.claims.rules`. The assessments of
-the questions beyond the papers (the Q rows) live in :mod:`fpdtw.paper.claims.open`.
-
-Nothing here loads results: :mod:`fpdtw.paper.claims.contexts` makes the contexts and
-:mod:`fpdtw.paper.claims.evaluation` decides the claims on them.
+Each :class:`~fpdtw.paper.claims.types.Claim` of :data:`CLAIMS` holds its id, the claim in
+words, the paper's value (:mod:`fpdtw.paper.numbers`) and an assessment that reads our
+results from a :class:`~fpdtw.paper.claims.types.ClaimContext` and returns our value in words
+and the claim's parts. The questions beyond the papers (Q rows) are assessed in
+:mod:`fpdtw.paper.claims.open`; nothing here loads results.
 
 Paper: FP-DTW Sections 5-7; OPW poster Section 5.
 """
@@ -21,6 +16,7 @@ import numpy as np
 from fpdtw import registry
 from fpdtw.paper import numbers as N
 from fpdtw.paper import opw_eval
+from fpdtw.paper.claims.evidence import missing
 from fpdtw.paper.claims.open import (
     assess_q1,
     assess_q2,
@@ -29,26 +25,34 @@ from fpdtw.paper.claims.open import (
     assess_q5,
     assess_q6,
 )
-from fpdtw.paper.claims.rules import AllOf, Check, Not, Part
+from fpdtw.paper.claims.rules import AllOf, Not, Part, point
 from fpdtw.paper.claims.types import FIG8_JSON, OPW_FIG4_JSON, OPW_FIG56_JSON, Assessment, Claim
 from fpdtw.paper.figures.timing import growth_ratio
 from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES, TYPE_V, WINDOWS
 
+# Each assessment returns an Assessment, or a string: why the claim could not be computed.
+
+
+def _on_pairs(*names):
+    """An assessment ``f(ev)`` on the pairs, run once ``ctx.ev`` has every name's results."""
+    return lambda f: lambda ctx: missing(ctx.ev, names) or f(ctx.ev)
+
+
+def _on_facts(key: str, json_name: str):
+    """An assessment ``f(d)`` of the notebook facts ``ctx.<key>`` (from ``json_name``)."""
+
+    def wrap(f):
+        def assess(ctx):
+            d = getattr(ctx, key)
+            return f"{json_name} absent" if d is None else f(d)
+
+        return assess
+
+    return wrap
+
 
 def _names(xs) -> str:
     return ", ".join(xs) if xs else "none"
-
-
-# -- assessments: our value and the parts of each claim ------------------------------------------
-# Each returns an Assessment, or a string: why the claim could not be computed.
-
-
-def _need(ctx, *names):
-    """None when the context has every name's results, else why not."""
-    if ctx.ev is None:
-        return "no experiment results"
-    missing = [n for n in names if not ctx.ev.has(n)]
-    return f"no results for {', '.join(missing)}" if missing else None
 
 
 def _point_pass(ev, name, metric) -> bool:
@@ -57,46 +61,35 @@ def _point_pass(ev, name, metric) -> bool:
     return c.estimate > c.threshold if c.above else c.estimate < c.threshold
 
 
-def _claim1(ctx):
+def _both_by_median(ev, name) -> bool:
+    return _point_pass(ev, name, "similarity") and _point_pass(ev, name, "deviation")
+
+
+@_on_pairs("UTW", *FPDTW_NAMES)
+def _claim1(ev):
     names = list(FPDTW_NAMES)
-    if why := _need(ctx, "UTW", *names):
-        return why
-    ev = ctx.ev
     by_median = [
         n for n in names if _point_pass(ev, n, "similarity") or _point_pass(ev, n, "deviation")
-    ]  # noqa: E501
+    ]
     named = list(N.PASS_EITHER_UNCONSTRAINED)
     parts = [Part(f"{n} passes a benchmark", ev.passes_either(n)) for n in named]
     others = [n for n in names if n not in named]
-    parts.append(
-        Part(
-            "no other unconstrained FP-DTW algorithm passes one",
-            AllOf(*[Not(ev.passes_either(n)) for n in others]),
-        )
-    )
+    parts.append(Part("no other unconstrained FP-DTW algorithm passes one",
+                      AllOf(*[Not(ev.passes_either(n)) for n in others])))  # fmt: skip
     return Assessment(f"pass either (by medians): {_names(by_median)}", parts)
 
 
-def _claim2(ctx):
+@_on_pairs("UTW", *N.PASS_BOTH)
+def _claim2(ev):
     names = list(N.PASS_BOTH)
-    if why := _need(ctx, "UTW", *names):
-        return why
-    ev = ctx.ev
     by_median = [n for n in names if _both_by_median(ev, n)]
     parts = [Part(f"{n} passes both benchmarks", ev.passes_both(n)) for n in names]
     return Assessment(f"pass both (by medians): {_names(by_median)}", parts)
 
 
-def _both_by_median(ev, name) -> bool:
-    return _point_pass(ev, name, "similarity") and _point_pass(ev, name, "deviation")
-
-
-def _claim2b(ctx):
-    names = list(FPDTW_NAMES + FPDTW_TYPEV_NAMES)
-    if why := _need(ctx, "UTW", *names):
-        return why
-    ev = ctx.ev
-    others = [n for n in names if n not in N.PASS_BOTH]
+@_on_pairs("UTW", *FPDTW_NAMES, *FPDTW_TYPEV_NAMES)
+def _claim2b(ev):
+    others = [n for n in FPDTW_NAMES + FPDTW_TYPEV_NAMES if n not in N.PASS_BOTH]
     by_median = [n for n in others if _both_by_median(ev, n)]
     part = Part(
         "no FP-DTW algorithm other than the three named passes both benchmarks",
@@ -107,31 +100,23 @@ def _claim2b(ctx):
 
 def best_window_test(ev, rate):
     """The paper's best window of Method C at ``rate`` beats every other window: its median
-    similarity minus each other's, on the same pairs, above 0 (Table 1).
-    """
+    similarity minus each other's, on the same pairs, above 0 (Table 1)."""
     best = N.BEST_WINDOW[rate]
     sfx = "" if rate == 120 else "@60Hz"
     others = [w for w in WINDOWS if w != best]
     return AllOf(*[ev.better(f"Mc w{best}{sfx}", f"Mc w{w}{sfx}", "similarity") for w in others])
 
 
-def _best_part(ev, rate):
-    best = N.BEST_WINDOW[rate]
-    return Part(f"at {rate} Hz Mc w{best} has the highest median similarity",
-                best_window_test(ev, rate))  # fmt: skip
-
-
-def _claim3(ctx):
-    names = [f"Mc w{w}{s}" for w in WINDOWS for s in ("", "@60Hz")]
-    if why := _need(ctx, *names):
-        return why
-    ev = ctx.ev
+@_on_pairs(*(f"Mc w{w}{s}" for w in WINDOWS for s in ("", "@60Hz")))
+def _claim3(ev):
     best = {}
     for rate, sfx in ((120, ""), (60, "@60Hz")):
         med = {w: ev.median(f"Mc w{w}{sfx}", "similarity") for w in WINDOWS}
         best[rate] = max(WINDOWS, key=lambda w: (med[w], -w))
     ours = f"best w (by medians): {best[120]} at 120 Hz, {best[60]} at 60 Hz"
-    return Assessment(ours, [_best_part(ev, 120), _best_part(ev, 60)])
+    parts = [Part(f"at {rate} Hz Mc w{N.BEST_WINDOW[rate]} has the highest median similarity",
+                  best_window_test(ev, rate)) for rate in (120, 60)]  # fmt: skip
+    return Assessment(ours, parts)
 
 
 def _timing_by(ctx):
@@ -147,34 +132,16 @@ def _claim4(ctx):
         if not all((m, w) in by for w in WINDOWS):
             return f"Method {m} not timed at every w"
         t = [by[(m, w)]["median_us"] for w in WINDOWS]
-        steps = [
-            Check(
-                f"median us of M{m.lower()} w{b} minus w{a}",
-                t[i + 1] - t[i],
-                threshold=0.0,
-                interval=False,
-                signed=True,
-                digits=1,
-            )
-            for i, (a, b) in enumerate(zip(WINDOWS, WINDOWS[1:]))
-        ]
+        steps = [point(f"median us of M{m.lower()} w{b} minus w{a}", t[i + 1] - t[i], 0.0,
+                       signed=True, digits=1)
+                 for i, (a, b) in enumerate(zip(WINDOWS, WINDOWS[1:]))]  # fmt: skip
         ratio = growth_ratio(ctx.timing_rows(), m, key="median_us")
-        parts.append(
-            Part(f"Method {m}'s median time per frame grows at every window step", AllOf(*steps))
-        )
-        parts.append(
-            Part(
-                f"Method {m}'s w80/w10 time ratio is at least 8",
-                Check(
-                    f"M{m.lower()} w80/w10 median time ratio",
-                    ratio,
-                    threshold=8.0,
-                    interval=False,
-                    digits=1,
-                    strict=False,
-                ),
-            )
-        )
+        parts += [
+            Part(f"Method {m}'s median time per frame grows at every window step", AllOf(*steps)),
+            Part(f"Method {m}'s w80/w10 time ratio is at least 8",
+                 point(f"M{m.lower()} w80/w10 median time ratio", ratio, 8.0, digits=1,
+                       strict=False)),
+        ]  # fmt: skip
         mean = growth_ratio(ctx.timing_rows(), m, key="mean_us")
         words.append(f"M{m.lower()} {ratio:.1f}x (means {mean:.1f}x)")
     return Assessment("w80/w10 (medians): " + ", ".join(words), parts)
@@ -185,20 +152,13 @@ def _claim4b(ctx):
     if ("B", 80) not in plain or ("C", 80) not in plain:
         return "no times of the plain (unoptimised) steps: make bench"
     parts = [
-        Part(
-            f"without further optimisation, M{m.lower()} w80's mean time per frame is above "
-            "the 120 Hz budget",
-            Check(
-                f"M{m.lower()} w80 plain NumPy step, mean us per frame",
-                plain[(m, 80)]["mean_us"],
-                threshold=N.BUDGET_120HZ_US,
-                interval=False,
-                digits=0,
-            ),
-            note=f"the paper's: {N.TABLE2_US[(m, 80)]:.0f} us on its machine",
-        )
+        Part(f"without further optimisation, M{m.lower()} w80's mean time per frame is above "
+             "the 120 Hz budget",
+             point(f"M{m.lower()} w80 plain NumPy step, mean us per frame",
+                   plain[(m, 80)]["mean_us"], N.BUDGET_120HZ_US, digits=0),
+             note=f"the paper's: {N.TABLE2_US[(m, 80)]:.0f} us on its machine")
         for m in ("B", "C")
-    ]
+    ]  # fmt: skip
     ours = "unoptimised (plain NumPy): " + ", ".join(
         f"M{m.lower()} w80 {plain[(m, 80)]['mean_us']:.0f} us" for m in "BC"
     )
@@ -210,11 +170,9 @@ def _claim4b(ctx):
     return Assessment(ours + " (this machine; budget 8333 us)", parts)
 
 
-def _claim4c(ctx):
+@_on_pairs(*(n for n in FPDTW_NAMES if n != "Ma"))
+def _claim4c(ev):
     cand = [n for n in FPDTW_NAMES if n != "Ma"]
-    if why := _need(ctx, *cand):
-        return why
-    ev = ctx.ev
     counts = {n: ev.exhausted_counts(n) for n in cand}
     share = {n: c[0].sum() / c[1].sum() for n, c in counts.items()}
     top = max(cand, key=lambda n: share[n])
@@ -235,11 +193,9 @@ def _claim4c(ctx):
     return Assessment(ours, [part])
 
 
-def _claim5(ctx):
+@_on_pairs(*FPDTW_NAMES)
+def _claim5(ev):
     names = list(FPDTW_NAMES)
-    if why := _need(ctx, *names):
-        return why
-    ev = ctx.ev
     cut = len(names) - len(names) // 3 + 1  # 9 algorithms: rank 7 or worse
     parts, words = [], []
     for metric in ("similarity", "deviation"):
@@ -249,11 +205,9 @@ def _claim5(ctx):
     return Assessment("Ma ranks " + ", ".join(words), parts)
 
 
-def _claim5b(ctx):
+@_on_pairs(*(f"Mb w{w}" for w in WINDOWS))
+def _claim5b(ev):
     names = [f"Mb w{w}" for w in WINDOWS]
-    if why := _need(ctx, *names):
-        return why
-    ev = ctx.ev
     parts = []
     for metric, verb in (("similarity", "rises"), ("deviation", "falls")):
         tests = [ev.better(b, a, metric) for a, b in zip(names, names[1:])]
@@ -265,31 +219,18 @@ def _claim5b(ctx):
     return Assessment(f"similarity {s}; deviation {d}", parts)
 
 
-def _improves(ev, base):
-    return AllOf(
-        ev.better(base + TYPE_V, base, "similarity"), ev.better(base + TYPE_V, base, "deviation")
-    )
-
-
-def _claim6(ctx):
-    if why := _need(ctx, *FPDTW_NAMES, *FPDTW_TYPEV_NAMES):
-        return why
-    ev = ctx.ev
+@_on_pairs(*FPDTW_NAMES, *FPDTW_TYPEV_NAMES)
+def _claim6(ev):
     ab = [n for n in FPDTW_NAMES if not n.startswith("Mc")]
     c_yes = [n for n in N.TYPEV_IMPROVED if n.startswith("Mc")]
     c_no = [n for n in FPDTW_NAMES if n.startswith("Mc") and n not in c_yes]
     parts = [
-        Part(
-            "Type V improves every Method A and B algorithm (median similarity up and median "
-            "deviation down)",
-            AllOf(*[_improves(ev, n) for n in ab]),
-        ),
-        *[Part(f"Type V improves {n}", _improves(ev, n)) for n in c_yes],
-        Part(
-            f"Type V does not improve {', '.join(c_no)}",
-            AllOf(*[Not(_improves(ev, n)) for n in c_no]),
-        ),
-    ]
+        Part("Type V improves every Method A and B algorithm (median similarity up and median "
+             "deviation down)", AllOf(*[ev.improves(n + TYPE_V, n) for n in ab])),
+        *[Part(f"Type V improves {n}", ev.improves(n + TYPE_V, n)) for n in c_yes],
+        Part(f"Type V does not improve {', '.join(c_no)}",
+             AllOf(*[Not(ev.improves(n + TYPE_V, n)) for n in c_no])),
+    ]  # fmt: skip
     both = [
         n
         for n in FPDTW_NAMES
@@ -299,25 +240,15 @@ def _claim6(ctx):
     return Assessment(f"improved (by medians): {_names(both)}", parts)
 
 
-def _claim7(ctx):
-    if why := _need(ctx, "OE-DTW"):
-        return why
-    ev = ctx.ev
+@_on_pairs("OE-DTW")
+def _claim7(ev):
     back = ev.backward_jumps("OE-DTW")
     c = ev.share(
         "share of pairs whose OE-DTW end point moves backwards", back, np.ones_like(back), 0.0
     )
     ours = f"{int(back.sum())} of {back.size} pairs ({c.estimate:.0%}) have a backward jump"
-    return Assessment(
-        ours,
-        [
-            Part(
-                "OE-DTW's end point moves backwards between consecutive "
-                "target frames (in some pairs)",
-                c,
-            )
-        ],
-    )
+    text = "OE-DTW's end point moves backwards between consecutive target frames (in some pairs)"
+    return Assessment(ours, [Part(text, c)])
 
 
 _FIG8_BELOW = [n for n, v in N.FIG8_DEVIATIONS.items() if v < N.DEVIATION_BENCHMARK_FRAMES]
@@ -338,12 +269,9 @@ def _claim8(ctx):
         )
     ev = ctx.ev
     if ev is not None and ev.has(*N.FIG8_DEVIATIONS):
-        walk = [
-            i
-            for i, r in enumerate(ev.rows)
-            if ev.results.pairs[r]["dataset"] == "authors_fbx"
-            and ev.results.pairs[r]["movement"] == "Walk"
-        ]
+        pairs = [ev.results.pairs[r] for r in ev.rows]
+        walk = [i for i, p in enumerate(pairs)
+                if p["dataset"] == "authors_fbx" and p["movement"] == "Walk"]  # fmt: skip
         if walk:
             w = ev.restrict(np.array(walk), "the authors' walk pairs")
             words.append(
@@ -372,8 +300,8 @@ def _claim8b(ctx):
         n, k = int(c["pairs"]), int(c["holds"])
         parts.append(Part(
             f"{statement}, on most of our walk pairs",
-            Check(f"share of walk pairs where '{statement}' holds", k / n if n else float("nan"),
-                  threshold=0.5, interval=False, digits=2),
+            point(f"share of walk pairs where '{statement}' holds", k / n if n else float("nan"),
+                  0.5, digits=2),
             note="the rule of each statement: fpdtw.paper.figures.walk_pair.FIG8_STATEMENT_RULES",
         ))  # fmt: skip
         words.append(f"{statement}: {k} of {n}")
@@ -419,84 +347,46 @@ STAND_IN = (
 )
 
 
-def example_base_ms(offset: float | None = None) -> float:
-    """The example warp curve's mean ``|t - g(t)|`` in ms: the temporal difference that the
-    removed share of :func:`fpdtw.paper.opw_eval.temporal_difference_removed` divides by.
-
-    ``removed = 1 - mean deviation / base``, so a mean deviation fixes the removed share.
+def example_base_ms() -> float:
+    """The example warp curve's mean ``|t - g(t)|`` in ms at the poster's offset: what the
+    removed share of :func:`fpdtw.paper.opw_eval.temporal_difference_removed` divides by
+    (``removed = 1 - mean deviation / base``).
 
     Paper: OPW poster Section 5 (Figs. 4, 5).
     """
-    g = opw_eval.example_curve(offset=opw_eval.OFFSET if offset is None else offset)
+    g = opw_eval.example_curve(offset=opw_eval.OFFSET)
     t = opw_eval.sample_times(g.x[-1], opw_eval.SAMPLE_RATE)
     return float(1000.0 * np.abs(t - g(t)).mean())
 
 
-def _claim_p1(ctx):
-    d = ctx.opw_fig4
-    if d is None:
-        return f"{OPW_FIG4_JSON} absent"
+@_on_facts("opw_fig4", OPW_FIG4_JSON)
+def _claim_p1(d):
     (lo, hi), mx, (dlo, dhi) = d["opw_mean_ms_range"], d["opw_max_ms"], d["dtw_mean_ms_range"]
     base = d.get("baseline", "DTW")
     ours = f"mean {lo:.0f}-{hi:.0f} ms, max {mx:.0f} ms ({base} mean {dlo:.0f}-{dhi:.0f} ms)"
     pmin, pmax = N.OPW_MEAN_DEVIATION_MS
     parts = [
-        Part(
-            f"OPW's mean deviation is {pmin:.0f}-{pmax:.0f} ms on each of the three motions",
-            AllOf(
-                Check(
-                    "smallest OPW mean deviation of a motion, ms",
-                    lo,
-                    threshold=pmin,
-                    interval=False,
-                    digits=0,
-                    strict=False,
-                ),
-                Check(
-                    "largest OPW mean deviation of a motion, ms",
-                    hi,
-                    threshold=pmax,
-                    above=False,
-                    interval=False,
-                    digits=0,
-                    strict=False,
-                ),
-            ),
-            note=STAND_IN,
-        ),  # fmt: skip
-        Part(
-            "OPW's maximum deviation is below the 150 ms perceptual threshold",
-            Check(
-                "OPW max deviation, ms",
-                mx,
-                threshold=N.PERCEPTUAL_THRESHOLD_MS,
-                above=False,
-                interval=False,
-                digits=0,
-            ),
-            note=STAND_IN,
-        ),
-    ]
+        Part(f"OPW's mean deviation is {pmin:.0f}-{pmax:.0f} ms on each of the three motions",
+             AllOf(point("smallest OPW mean deviation of a motion, ms", lo, pmin, digits=0,
+                         strict=False),
+                   point("largest OPW mean deviation of a motion, ms", hi, pmax, above=False,
+                         digits=0, strict=False)),
+             note=STAND_IN),
+        Part("OPW's maximum deviation is below the 150 ms perceptual threshold",
+             point("OPW max deviation, ms", mx, N.PERCEPTUAL_THRESHOLD_MS, above=False, digits=0),
+             note=STAND_IN),
+    ]  # fmt: skip
     return Assessment(ours, parts)
 
 
-def _near(quantity, ours, paper, tol, digits=0, scale=100.0):
-    """``|ours - paper| <= tol`` as a check (in percentage points when ``scale`` is 100)."""
-    return Check(
-        f"|{quantity} - {scale * paper:.0f}|",
-        scale * abs(ours - paper),
-        threshold=scale * tol,
-        above=False,
-        interval=False,
-        digits=digits,
-        strict=False,
-    )
+def _near(quantity, ours, paper, tol):
+    """``|ours - paper| <= tol`` as a check, in percentage points."""
+    return point(f"|{quantity} - {100.0 * paper:.0f}|", 100.0 * abs(ours - paper), 100.0 * tol,
+                 above=False, digits=0, strict=False)  # fmt: skip
 
 
-def _claim_p2(ctx):
-    d = ctx.opw_fig56
-    if d is None:
-        return f"{OPW_FIG56_JSON} absent"
+@_on_facts("opw_fig56", OPW_FIG56_JSON)
+def _claim_p2(d):
     mean = d["removed_gamma5_mean_over_offsets"]
     lo, hi = d["removed_gamma5_range_over_offsets"]
     ours = (
@@ -512,93 +402,52 @@ def _claim_p2(ctx):
         f"{pmin:.0f}-{pmax:.0f} ms (P1) means {100 * (1 - pmax / base):.0f}-"
         f"{100 * (1 - pmin / base):.0f} % removed there"
     )
+    every = [_near(f"removed share at offset {r['offset_s']:.2f} s, points", r["removed"],
+                   target, tol) for r in per_offset]  # fmt: skip
     parts = [
-        Part(
-            "with gamma 5 % OPW removes about 70 % of the temporal difference (within 10 "
-            "points, mean over offsets)",
-            _near("removed share at gamma 5 %, points", mean, target, tol),
-            note=STAND_IN,
-        ),
-        Part(
-            "consistently: at every offset of Fig. 5 the removed share is within 10 points of 70 %",
-            AllOf(
-                *[
-                    _near(
-                        f"removed share at offset {r['offset_s']:.2f} s, points",
-                        r["removed"],
-                        target,
-                        tol,
-                    )
-                    for r in per_offset
-                ]
-            )
-            if per_offset
-            else None,
-            note=arithmetic if per_offset else "no per-offset rows in the facts",
-        ),  # fmt: skip
-    ]
+        Part("with gamma 5 % OPW removes about 70 % of the temporal difference (within 10 "
+             "points, mean over offsets)",
+             _near("removed share at gamma 5 %, points", mean, target, tol), note=STAND_IN),
+        Part("consistently: at every offset of Fig. 5 the removed share is within 10 points of "
+             "70 %",
+             AllOf(*every) if every else None,
+             note=arithmetic if every else "no per-offset rows in the facts"),
+    ]  # fmt: skip
     return Assessment(ours, parts)
 
 
-def _claim_p3(ctx):
-    d = ctx.opw_fig56
-    if d is None:
-        return f"{OPW_FIG56_JSON} absent"
+@_on_facts("opw_fig56", OPW_FIG56_JSON)
+def _claim_p3(d):
     g, r = d["best_gamma"], d["removed_best_gamma"]
     parts = [
-        Part(
-            "the best gamma is 15 % (within 5 points)",
-            _near("best gamma, points", g, N.OPW_BEST_GAMMA, 0.05),
-            note=STAND_IN,
-        ),
-        Part(
-            "it removes about 77 % (within 10 points)",
-            _near("removed share at the best gamma, points", r, N.OPW_REMOVED_BEST_GAMMA, 0.10),
-            note=STAND_IN,
-        ),
-    ]
+        Part("the best gamma is 15 % (within 5 points)",
+             _near("best gamma, points", g, N.OPW_BEST_GAMMA, 0.05), note=STAND_IN),
+        Part("it removes about 77 % (within 10 points)",
+             _near("removed share at the best gamma, points", r, N.OPW_REMOVED_BEST_GAMMA, 0.10),
+             note=STAND_IN),
+    ]  # fmt: skip
     return Assessment(f"gamma {100 * g:.0f} %, {100 * r:.0f} % removed", parts)
 
 
-def _claim_p4(ctx):
-    d = ctx.opw_fig56
-    if d is None:
-        return f"{OPW_FIG56_JSON} absent"
+@_on_facts("opw_fig56", OPW_FIG56_JSON)
+def _claim_p4(d):
     mx = d["largest_offset_max_below_150ms_s"]
     mean = d["largest_offset_mean_below_150ms_s"]
     ours = f"{1000 * mx:.0f} ms (max), {1000 * mean:.0f} ms (mean; the largest offset tried)"
     parts = [
-        Part(
-            f"OPW copes with {1000 * N.OPW_OFFSET_MAX_OK_S:.0f} ms by its maximum deviation",
-            Check(
-                "largest offset with max deviation below 150 ms, ms",
-                1000 * mx,
-                threshold=1000 * N.OPW_OFFSET_MAX_OK_S,
-                interval=False,
-                digits=0,
-                strict=False,
-            ),
-            note=STAND_IN,
-        ),
-        Part(
-            f"OPW copes with {1000 * N.OPW_OFFSET_MEAN_OK_S:.0f} ms by its mean deviation",
-            Check(
-                "largest offset with mean deviation below 150 ms, ms",
-                1000 * mean,
-                threshold=1000 * N.OPW_OFFSET_MEAN_OK_S,
-                interval=False,
-                digits=0,
-                strict=False,
-            ),
-            note=STAND_IN,
-        ),
-    ]
+        Part(f"OPW copes with {1000 * paper:.0f} ms by its {by} deviation",
+             point(f"largest offset with {short} deviation below 150 ms, ms", 1000 * value,
+                   1000 * paper, digits=0, strict=False),
+             note=STAND_IN)
+        for by, short, value, paper in (("maximum", "max", mx, N.OPW_OFFSET_MAX_OK_S),
+                                        ("mean", "mean", mean, N.OPW_OFFSET_MEAN_OK_S))
+    ]  # fmt: skip
     return Assessment(ours, parts)
 
 
 def _claim_b1(ctx):
-    """Claim B1: each online baseline of the registry (:func:`fpdtw.registry.baselines`)
-    that the run has, against the two benchmarks."""
+    """Claim B1: each online baseline of the registry that the run has, against the two
+    benchmarks (no parts: not a claim of the papers)."""
     have = [n for n in registry.baselines() if ctx.ev is not None and ctx.ev.has(n, "UTW")]
     if not have:
         return "not computed"
@@ -761,13 +610,10 @@ SHORT = {
 }
 
 
-def claims_by_id(ids, claims=None) -> list:
+def claims_by_id(ids) -> list:
     """The :class:`Claim` objects of ``ids``, in that order (KeyError names an unknown id)."""
-    by = {c.id: c for c in (CLAIMS if claims is None else claims)}
+    by = {c.id: c for c in CLAIMS}
     missing = [i for i in ids if str(i) not in by]
     if missing:
         raise KeyError(f"no claims {missing} in the table (ids: {', '.join(by)})")
     return [by[str(i)] for i in ids]
-
-
-__all__ = ["CLAIMS", "SHORT", "STAND_IN", "best_window_test", "claims_by_id", "example_base_ms"]

@@ -1,11 +1,9 @@
 """Reporting the claims: as text, as the short table, as files, with the power estimates.
 
-The top of the claims package: it formats what :mod:`fpdtw.paper.claims.evaluation` decided
-(:func:`format_claims`, :func:`format_parts`, :func:`claims_summary`, :func:`short_rows`),
-estimates how many movements an inconclusive check would need (:func:`power_rows`) and
-writes ``figures/claims*.csv|md`` and ``results/<mode>/claims.json`` (:func:`save_claims`).
-``python -m fpdtw.paper.claims verify figures/`` (:mod:`fpdtw.paper.claims.verify`) reads
-those files back.
+Formats what :mod:`~fpdtw.paper.claims.evaluation` decided, estimates how many movements an
+inconclusive check would need (:func:`power_rows`) and writes ``figures/claims*.csv|md`` and
+``results/<mode>/claims.json`` (:func:`save_claims`), which ``python -m fpdtw.paper.claims
+verify figures/`` reads back.
 
 Paper: FP-DTW Sections 5-7; OPW poster Section 5.
 Notebook: 12_claims.ipynb
@@ -45,34 +43,21 @@ def movement_count(ev) -> int:
     return len({(ev.results.pairs[r]["dataset"], ev.results.pairs[r]["movement"]) for r in ev.rows})
 
 
-def power_rows(checks, movements: int, claims=POWER_CLAIMS) -> list[dict]:
-    """How many movements like ours the pooled intervals would need to decide each
-    inconclusive check of ``claims`` (headline body).
+def power_rows(checks, movements: int) -> list[dict]:
+    """How many movements like ours (``movements`` today) the pooled intervals would need to
+    decide each inconclusive check of :data:`POWER_CLAIMS` (rows of :data:`CHECK_COLUMNS`,
+    headline body); rows of :data:`POWER_COLUMNS`.
 
-    An interval over ``K`` movements (movements resampled) narrows about as
-    ``1 / sqrt(K)``; with the estimate where it is, the end on the threshold's side clears
-    the threshold at ``K' = K * (h / |estimate - threshold|) ** 2``, ``h`` being that end's
-    distance from the estimate today. ``to`` says which way it would then be decided (the
-    estimate's side: "hold" or "be contradicted"). A rough guide from the bootstrap's
-    spread, not a power analysis: the estimate itself moves with new movements.
-
-    Parameters
-    ----------
-    checks : list of dict
-        Rows of :data:`CHECK_COLUMNS`.
-    movements : int
-        Movements of the headline body (:func:`movement_count`).
-
-    Returns
-    -------
-    rows : list of dict
-        Keys :data:`POWER_COLUMNS`.
+    An interval narrows about as ``1 / sqrt(K)`` over ``K`` movements: with the estimate where
+    it is, the end on the threshold's side clears it at ``K' = K * (h / |estimate -
+    threshold|) ** 2``, ``h`` that end's distance from the estimate. A rough guide from the
+    bootstrap's spread, not a power analysis: the estimate itself moves with new movements.
 
     Notebook: 12_claims.ipynb
     """
     out = []
     for c in checks:
-        if c["body"] != "all" or c["claim"] not in claims or c["verdict"] != R.INCONCLUSIVE:
+        if c["body"] != "all" or c["claim"] not in POWER_CLAIMS or c["verdict"] != R.INCONCLUSIVE:
             continue
         if c["low"] == "" or c["check"] == 0:
             continue
@@ -82,13 +67,11 @@ def power_rows(checks, movements: int, claims=POWER_CLAIMS) -> list[dict]:
         if gap == 0 or not np.isfinite(gap):
             need, to = float("inf"), "neither (the estimate is on the threshold)"
         else:
-            # the end between the estimate and the threshold decides
-            h = (est - lo) if gap > 0 else (hi - est)
+            h = (est - lo) if gap > 0 else (hi - est)  # the end between estimate and threshold
             need = movements * (h / abs(gap)) ** 2
             to = "hold" if (gap > 0) == above else "be contradicted"
         out.append(
-            {k: c[k] for k in ("claim", "part", "check", "quantity", "estimate", "low", "high",
-                               "threshold", "relation")}
+            {k: c[k] for k in POWER_COLUMNS[:9]}
             | dict(movements=movements,
                    movements_needed=int(np.ceil(need - 1e-9)) if np.isfinite(need) else "never",
                    to=to)
@@ -96,38 +79,28 @@ def power_rows(checks, movements: int, claims=POWER_CLAIMS) -> list[dict]:
     return out
 
 
-def format_claims(rows, stable=None, width: int = 96) -> str:
-    """The claims as text: the claim, then paper, ours, verdict, reason and the other bodies.
+#: The other readings :func:`format_claims` shows where they change ours or the verdict.
+_READINGS = (("literal", "with Method C's literal window: "),
+             ("plugin", "with OPW read as the authors' plugin does it: "))  # fmt: skip
 
-    Deterministic for deterministic rows, so a notebook cell printing it can be compared by
-    nbval.
 
-    Parameters
-    ----------
-    rows : list of dict
-        From :func:`claim_rows` or :func:`build_claims`.
-    stable : bool, optional
-        True: only the deterministic rows; False: only the timing rows; None: all.
-    width : int
-        Line width the text is wrapped to.
-
-    Returns
-    -------
-    text : str
+def format_claims(rows, stable=None) -> str:
+    """The claims as text: the claim, then paper, ours, verdict, reason and the other bodies
+    (deterministic for deterministic rows). ``stable``: True only the deterministic rows,
+    False only the timing rows, None all.
 
     Notebook: 06_fig5_fig6_scores.ipynb
     """
 
     def fill(text, label):
-        return textwrap.fill(
-            str(text), width, initial_indent="    " + label, subsequent_indent=" " * 12
-        )
+        return textwrap.fill(str(text), 96, initial_indent="    " + label,
+                             subsequent_indent=" " * 12)  # fmt: skip
 
     out = []
     for r in rows:
         if stable is not None and bool(r.get("stable", True)) != stable:
             continue
-        lines = [textwrap.fill(f"[{r['id']}] {r['claim']}", width, subsequent_indent="    ")]
+        lines = [textwrap.fill(f"[{r['id']}] {r['claim']}", 96, subsequent_indent="    ")]
         lines.append(fill(r["paper"], "paper:  "))
         lines.append(fill(r["ours"], "ours:   "))
         lines.append(fill(f"{r['holds']}: {r['reason']}", "holds?  "))
@@ -142,48 +115,20 @@ def format_claims(rows, stable=None, width: int = 96) -> str:
             lines.append(fill("; ".join(bodies), "also:   "))
         if r.get("robustness") and not str(r["robustness"]).startswith(("n/a", "not computed")):
             lines.append(fill(r["robustness"], "robust: "))
-        if "ours_literal" in r and (r["ours_literal"], r["holds_literal"]) != (
-            r["ours"],
-            r["holds"],
-        ):
-            lines.append(
-                fill(
-                    f"{r['ours_literal']}; holds? {r['holds_literal']}",
-                    "with Method C's literal window: ",
-                )
-            )
-        if r.get("ours_plugin", R.NA) != R.NA and (r["ours_plugin"], r["holds_plugin"]) != (
-            r["ours"],
-            r["holds"],
-        ):
-            lines.append(
-                fill(
-                    f"{r['ours_plugin']}; holds? {r['holds_plugin']}",
-                    "with OPW read as the authors' plugin does it: ",
-                )
-            )
+        for key, label in _READINGS:
+            ours = r.get(f"ours_{key}", R.NA)
+            if ours != R.NA and (ours, r[f"holds_{key}"]) != (r["ours"], r["holds"]):
+                lines.append(fill(f"{ours}; holds? {r[f'holds_{key}']}", label))
         out.append("\n".join(lines))
     return "\n".join(out) if out else "(no claims)"
 
 
-def format_parts(parts, width: int = 110) -> str:
-    """The parts table as text: one line per part with its verdict and interval, then the
-    verdict on the other bodies of evidence where it differs.
-
-    Parameters
-    ----------
-    parts : list of dict
-        Rows of :data:`PART_COLUMNS` (:func:`build_claims` with ``with_parts=True``).
-    width : int
-
-    Returns
-    -------
-    text : str
-        Deterministic for deterministic parts.
+def format_parts(parts) -> str:
+    """The parts table as text (deterministic for deterministic parts): one line per part with
+    its verdict and interval, then its verdict on the other bodies where it differs.
 
     Notebook: 12_claims.ipynb
     """
-
     out = []
     for p in parts:
         est, lo, hi = p["estimate"], p["ci_low"], p["ci_high"]
@@ -199,20 +144,14 @@ def format_parts(parts, width: int = 110) -> str:
         line = f"{p['part']:4s} {p['verdict']:14s} {p['text']}{num}"
         if other:
             line += " (" + "; ".join(other) + ")"
-        out.append(textwrap.fill(line, width, subsequent_indent=" " * 20))
+        out.append(textwrap.fill(line, 110, subsequent_indent=" " * 20))
     return "\n".join(out) if out else "(no parts)"
 
 
 def claims_summary(rows) -> str:
-    """How many claims get each verdict: the headline (movements resampled), with the
-    movements fixed, under the other reading of eq. 2, with Method C's literal window, and
-    the OPW poster's claims with OPW's plugin reading.
-
-    Returns
-    -------
-    text : str
-        One line per body, e.g. ``"headline: yes 6, partly 5, no 2, ... (of 17 claims)"``;
-        a body no claim was decided on has no line.
+    """How many claims get each verdict, one line per body a claim was decided on (the
+    headline, the movements fixed, the other eq. 2, Method C's literal window, OPW's plugin
+    reading): ``"headline ...: yes 6, partly 5, ... (of 17 claims decided)"``.
 
     Notebook: 12_claims.ipynb
     """
@@ -245,15 +184,9 @@ SHORT_COLUMNS = ("id", "claim", "paper", "ours", "verdict", "movements fixed", "
 
 
 def short_rows(rows, parts=None) -> list[dict]:
-    """The short claims table: each claim in at most 12 words, the paper's value, ours, the
-    verdict (movements resampled), with the movements fixed, per dataset and selection (A:
-    the authors' FBX takes, H: HDM05, S: the paper-shaped selection), under the other
-    reading of eq. 2 and each part's verdict.
-
-    Returns
-    -------
-    rows : list of dict
-        Keys :data:`SHORT_COLUMNS`.
+    """The short claims table (:data:`SHORT_COLUMNS`): each claim in at most 12 words, the
+    paper's value, ours, the verdicts (A: the authors' FBX takes, H: HDM05, S: the
+    paper-shaped selection) and each part's verdict.
 
     Notebook: 12_claims.ipynb
     """
@@ -276,7 +209,6 @@ def short_rows(rows, parts=None) -> list[dict]:
 
 def bootstrap_note() -> str:
     """Which question each resampling answers, and the seeds (under every claims table)."""
-
     return (
         f"Intervals: {bs.N_RESAMPLES} resamples of a two-stage cluster bootstrap (seed "
         f"{bs.SEED}; second seed {bs.SEED + SEED2_OFFSET}). The verdict resamples movements "
@@ -288,35 +220,13 @@ def bootstrap_note() -> str:
 
 
 def save_claims(rows, mode="full", parts=None, meta=None, checks=None, power=None):
-    """Write ``claims.csv|md``, ``claims_intervals.csv|md`` (parts), ``claims_checks.csv|md``
-    (every check of every part on every body, at full precision), ``claims_power.csv|md``
-    and ``results/<mode>/claims.json``.
-
-    ``claims.md`` is the short table (:func:`short_rows`); ``claims.csv`` has every column
-    (:data:`COLUMNS`). ``python -m fpdtw.paper.claims verify figures/`` recomputes every
-    part and claim verdict from the CSV files alone.
-
-    Parameters
-    ----------
-    rows : list of dict
-        :func:`build_claims` rows.
-    mode : {"full", "smoke"}
-    parts : list of dict, optional
-        The parts table (:func:`build_claims` with ``with_parts=True``).
-    meta : dict, optional
-        Stored in the JSON beside the rows (e.g. the bootstrap's design).
-    checks : list of dict, optional
-        The checks table (:func:`build_claims` with ``with_checks=True``).
-    power : list of dict, optional
-        :func:`power_rows`.
-
-    Returns
-    -------
-    paths : list of Path
+    """Write ``claims.csv`` (every column) and ``claims.md`` (:func:`short_rows`), and, when
+    given, the ``parts`` (``claims_intervals``), the ``checks`` (``claims_checks``, full
+    precision) and the ``power`` rows (``claims_power``), then ``results/<mode>/claims.json``
+    (with ``meta``); returns the paths written.
 
     Notebook: 12_claims.ipynb
     """
-
     boot = bootstrap_note()
     note = (
         f"{R.RULE}\n\n{boot}\n\nComputed with {versions_line()}. The commit and the "
@@ -355,17 +265,3 @@ def save_claims(rows, mode="full", parts=None, meta=None, checks=None, power=Non
     text = json.dumps(doc, indent=1, default=float) + "\n"
     out.append(write_atomic(results_dir() / mode / "claims.json", text.encode()))
     return out
-
-
-__all__ = [
-    "POWER_COLUMNS",
-    "SHORT_COLUMNS",
-    "bootstrap_note",
-    "claims_summary",
-    "format_claims",
-    "format_parts",
-    "movement_count",
-    "power_rows",
-    "save_claims",
-    "short_rows",
-]

@@ -1,17 +1,10 @@
 """Does a verdict survive the paper's open readings? Each claim under every documented choice.
 
-The paper leaves choices open that our implementation had to make (notebook 15 measures
-each): how Algorithm 3's window is read, and silent choices of the methods and the metrics
-(:data:`fpdtw.paper.runner.grid.SILENT_CHOICES`). The study run (mode ``"study"``, the
-paper-shaped selection) holds every alternative for every FP-DTW configuration at 120 Hz.
-:func:`robustness` decides every claim that rests on the pairs once with our choices and
-once under each alternative (one change at a time, the same pairs, intervals and rules)
-and reports, per claim, the share of alternatives under which the verdict stands and the
-ones that flip it.
-
-An alternative a claim cannot be decided under (its runs do not exist, e.g. the silent
-choices at 60 Hz for Table 1, or OE-DTW, which the study does not run) is listed as not
-run, not counted.
+The study run (the paper-shaped selection) holds every reading of Algorithm 3's window and
+of the paper's silent choices (:data:`fpdtw.paper.runner.grid.SILENT_CHOICES`, notebook 15).
+:func:`robustness` decides every claim on the pairs with our choices and under each
+alternative (one change at a time, the same pairs, intervals and rules); an alternative
+whose runs do not exist (e.g. OE-DTW, not in the study) is listed as not run, not counted.
 
 Paper: FP-DTW Algorithms 1-3, Sections 4-6 (the choices they leave open).
 """
@@ -20,8 +13,6 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass, field
-
-from tqdm.auto import tqdm
 
 from fpdtw.paper.claims.evidence import Evidence
 from fpdtw.paper.claims.rules import NA
@@ -35,19 +26,9 @@ from fpdtw.registry import C_READINGS
 
 @dataclass(frozen=True)
 class Alternative:
-    """One documented reading other than ours.
-
-    Attributes
-    ----------
-    key : str
-        ``"window: literal"``, ``"forecast"``, ...
-    label : str
-        In words, as the robustness column shows it.
-    alias : dict
-        A claim's name -> the results of that name under the alternative.
-    metric : str or None
-        A metric-side choice (:func:`fpdtw.paper.readings.choice_values`), or None.
-    """
+    """One documented reading other than ours: its key (``"window: literal"``), its label in
+    the robustness column, and a claim's name -> the results under it (``alias``) or a
+    metric-side choice (``metric``, :func:`~fpdtw.paper.readings.choice_values`)."""
 
     key: str
     label: str
@@ -57,7 +38,6 @@ class Alternative:
 
 def alternatives() -> list[Alternative]:
     """Every reading and silent choice of notebook 15, as alternatives to ours."""
-
     out = [
         Alternative(f"window: {r}", f"Method C's {r} window", reading_alias(r))
         for r in C_READINGS
@@ -76,11 +56,8 @@ def alternatives() -> list[Alternative]:
 
 
 def _metric_values(results, key, features):
-    """``values(name, metric)`` of :class:`Evidence` for a metric-side choice (cached).
-
-    ``features``: rate (120 or 60) -> ``features(k)``.
-    """
-
+    """``values(name, metric)`` of :class:`Evidence` for a metric-side choice (cached);
+    ``features``: rate (120 or 60) -> ``features(k)``."""
     cache = {}
 
     def values(name, metric):
@@ -103,44 +80,22 @@ def _study_features(study):
     return at
 
 
-def robustness(claims, mode: str = "full", study=None, features=None, progress=False) -> dict:
-    """Per claim: under how many documented readings its verdict stands, and which flip it.
-
-    Parameters
-    ----------
-    claims : sequence of Claim
-    mode : {"full", "smoke"}
-        Reads the study run of this mode (``"study"`` or ``"smoke-study"``) unless ``study``
-        is given.
-    study : fpdtw.paper.runner.run.Results, optional
-    features : callable, optional
-        ``features(rate) -> (k -> (I, T))``: the study's pairs at 120 or 60 Hz (default:
-        from its feature cache).
-    progress : bool
-        Show a progress bar over the alternatives.
-
-    Returns
-    -------
-    out : dict
-        Claim id -> text, e.g. ``"yes under ours; stands under 10 of 11 readings (not under:
-        forecast hold -> partly); not run: ..."``. Claims not decided on the pairs are
-        absent; {} when there is no study run.
-    """
-
-    if study is None:
-        try:
-            study = load_results(study_mode(mode == "smoke"))
-        except FileNotFoundError:
-            return {}
+def robustness(claims, mode: str = "full") -> dict:
+    """Per claim on the pairs: its verdict on the study run of ``mode`` and under how many
+    documented readings it stands, e.g. ``"yes on the paper-shaped selection; stands under 10
+    of 11 readings (not under: forecast hold -> partly); not run: ..."`` ({} without a study
+    run)."""
+    try:
+        study = load_results(study_mode(mode == "smoke"))
+    except FileNotFoundError:
+        return {}
     base = Evidence(study, label="paper-shaped selection")
     ctx0 = ClaimContext(mode=mode, ev=base)
     todo = [c for c in claims if c.pairs and not c.beyond and not c.question]
     ours = {c.id: c.evaluate(ctx0)["holds"] for c in todo}
-    alts = alternatives()
     verdicts = {c.id: [] for c in todo}
-    if progress:
-        alts = tqdm(alts, desc="readings")
-    for alt in alts:
+    features = None
+    for alt in alternatives():
         values = None
         if alt.metric is not None:
             if features is None:
@@ -167,6 +122,3 @@ def robustness(claims, mode: str = "full", study=None, features=None, progress=F
             text += "; not run: " + ", ".join(not_run)
         out[c.id] = text
     return out
-
-
-__all__ = ["Alternative", "alternatives", "robustness"]

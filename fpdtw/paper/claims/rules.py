@@ -1,54 +1,32 @@
-"""The one set of rules that turns numbers into verdicts: checks, parts and claims.
+"""The rules that turn numbers into verdicts: checks, parts and claims.
 
-A claim of a paper is split into **parts**, each an atomic statement that can be tested
-("Mc w40 passes a benchmark"; "no other unconstrained FP-DTW algorithm passes one"). A part
-is a small logical formula of **checks**; a check is one number (with its 95 % interval)
-against one threshold. The rules are :data:`RULE` (printed under every claims table). They
-were chosen in f88f748 (2026-11-23), after the claims tables of the first full runs had been
-committed, and extended on 2026-11-24 (the second seed, the rule text in full) after a
-reviewer's reading of those tables; ``docs/history.md`` says which results had been seen:
-
-* a :class:`Check` that says "estimate above threshold" **holds** when its whole interval
-  lies above the threshold, is **contradicted** when its whole interval lies at or below
-  it, and is **inconclusive** when the interval straddles it (and likewise for "below").
-  A check without an interval (a timing, the OPW poster's deterministic protocol) is
-  decided by its point value. A check whose value could not be computed is inconclusive.
-* :class:`AllOf`, :class:`AnyOf` and :class:`Not` combine checks by Kleene's three-valued
-  logic: holds = true, contradicted = false, inconclusive = unknown. ``AllOf`` holds when
-  every item holds and is contradicted when any item is; ``AnyOf`` holds when any item
-  holds and is contradicted when every item is; ``Not`` swaps holds and contradicted.
-* a :class:`Part` may instead be **not comparable**: our data cannot test it (another
-  sample than the paper's; a number that depends on data we do not have), with a note why.
-* a part decided on resampled pairs is decided again with a second bootstrap seed; where
-  the two seeds give different verdicts it is **on the threshold** (counted as
-  inconclusive).
-* a claim's verdict follows from its parts' verdicts (:func:`claim_verdict`): every part
-  holds: **yes**; none holds and at least one is contradicted: **no**; none holds and none
-  is contradicted: **inconclusive**; every part not comparable: **not comparable**;
-  otherwise **partly**, and the reason names the parts that do not hold and the checks that
-  make them fail (:func:`claim_reason`).
+A claim is split into **parts** (atomic statements); a part is decided by a :class:`Check`
+(one number, with its 95 % interval, against one threshold) or a formula of checks
+(:class:`AllOf`, :class:`AnyOf`, :class:`Not`: Kleene's three-valued logic), or is not
+comparable. :data:`RULE`, printed under every claims table, states the whole rule. Chosen in
+f88f748 (2026-11-23) after the first full runs' claims tables; extended on 2026-11-24 (the
+second seed, the full rule text) after a reviewer's reading of them (docs/history.md).
 
 Paper: FP-DTW Section 5 (the pass rule of the two benchmarks).
 """
 
 from __future__ import annotations
 
+import itertools
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 #: Verdicts of a check or a part.
 HOLDS = "holds"
 CONTRADICTED = "contradicted"
 INCONCLUSIVE = "inconclusive"
 NOT_COMPARABLE = "not comparable"
+ON_THRESHOLD = "on the threshold"
 
 #: Verdicts of a claim ("n/a": not computed, or not a claim of the papers).
 YES, NO, PARTLY, NA = "yes", "no", "partly", "n/a"
 CLAIM_VERDICTS = (YES, PARTLY, NO, INCONCLUSIVE, NOT_COMPARABLE, NA)
-
-ON_THRESHOLD = "on the threshold"
-PART_VERDICTS = (HOLDS, CONTRADICTED, INCONCLUSIVE, NOT_COMPARABLE, ON_THRESHOLD)
 
 #: The whole rule, printed under every claims table (README, ARTIFACT, book, figures/).
 RULE = (
@@ -86,29 +64,11 @@ def _fmt(x: float, digits: int, sign: bool = False) -> str:
 class Check:
     """One number against one threshold: the atom of every verdict.
 
-    Attributes
-    ----------
-    quantity : str
-        What the estimate is, in words (``"median deviation of Mc w20, frames"``).
-    estimate : float
-        The value on the data (e.g. a median over the pairs).
-    low, high : float
-        Its 95 % interval (ignored when ``interval`` is False).
-    threshold : float
-    above : bool
-        The statement: ``estimate > threshold`` (True) or ``estimate < threshold`` (False).
-    interval : bool
-        False for a value without resampling (timings, the OPW protocol): decided by the
-        point value alone.
-    digits : int
-        Decimals shown.
-    signed : bool
-        Show a sign (differences).
-    strict : bool
-        True: "above" means ``> threshold``; False: ``>= threshold`` ("at least").
-    low_se, high_se : float
-        Monte Carlo standard errors of the interval ends (batch means over the bootstrap
-        replicates; NaN when not estimated).
+    ``above``: the statement is ``estimate > threshold`` (else ``<``); ``strict`` False makes
+    it ``>=`` (``<=``). ``interval`` False: a point value (timings, the OPW protocol), decided
+    by ``estimate`` alone; else by the 95 % interval ``[low, high]``. ``digits`` and ``signed``
+    are for display; ``low_se``, ``high_se`` are the Monte Carlo standard errors of the
+    interval ends (NaN when not estimated).
     """
 
     quantity: str
@@ -133,7 +93,7 @@ class Check:
 
     @property
     def verdict(self) -> str:
-        """holds / contradicted / inconclusive, by the rule of the module docstring."""
+        """holds / contradicted / inconclusive (:data:`RULE`)."""
         lo, hi = self.bounds
         if not (math.isfinite(lo) and math.isfinite(hi) and math.isfinite(self.estimate)):
             return INCONCLUSIVE
@@ -145,8 +105,8 @@ class Check:
         return HOLDS if ok else CONTRADICTED if bad else INCONCLUSIVE
 
     def mc_margin(self) -> float:
-        """How many Monte Carlo standard errors the nearer interval end lies from the
-        threshold (inf without an interval or without an error estimate)."""
+        """Monte Carlo standard errors from the nearer interval end to the threshold (inf
+        without an interval or an error estimate)."""
         if not self.interval:
             return float("inf")
         out = float("inf")
@@ -156,12 +116,8 @@ class Check:
         return out
 
     def describe(self) -> str:
-        """``"median deviation of Mc w20, frames 13.5 [12.1, 14.9] < 18"``.
-
-        The relation shown is what the numbers do: ``>``/``<`` where the check holds,
-        ``<=``/``>=`` where it is contradicted, ``straddles`` where the interval crosses
-        the threshold.
-        """
+        """``"median deviation of Mc w20, frames 13.5 [12.1, 14.9] < 18"``: the relation is
+        what the numbers do (``straddles`` where the interval crosses the threshold)."""
         v = self.verdict
         if v == INCONCLUSIVE:
             rel = "straddles"
@@ -171,31 +127,39 @@ class Check:
             rel = "<"
         if v != INCONCLUSIVE and (v == CONTRADICTED) == self.strict:
             rel += "="
-        d = self.digits
-        est = _fmt(self.estimate, d, self.signed)
-        ci = f" [{_fmt(self.low, d, self.signed)}, {_fmt(self.high, d, self.signed)}]"
-        thr = f"{self.threshold:g}"
-        return f"{self.quantity} {est}{ci if self.interval else ''} {rel} {thr}"
+        return f"{self.quantity} {self.value_text()} {rel} {self.threshold:g}"
+
+    def value_text(self) -> str:
+        """The estimate and, with an interval, ``[low, high]``: ``"13.5 [12.1, 14.9]"``."""
+        d, sg = self.digits, self.signed
+        est = _fmt(self.estimate, d, sg)
+        if not self.interval:
+            return est
+        return f"{est} [{_fmt(self.low, d, sg)}, {_fmt(self.high, d, sg)}]"
 
 
-@dataclass(frozen=True)
-class AllOf:
+def point(quantity: str, value: float, threshold: float, **kw) -> Check:
+    """A check of a value without resampling (timings, the OPW protocol)."""
+    return Check(quantity, value, threshold=threshold, interval=False, **kw)
+
+
+class _Items:
+    def __init__(self, *items):
+        object.__setattr__(self, "items", tuple(items))
+
+
+@dataclass(frozen=True, init=False)
+class AllOf(_Items):
     """Holds when every item holds; contradicted when any item is (Kleene's AND)."""
 
     items: tuple
 
-    def __init__(self, *items):
-        object.__setattr__(self, "items", tuple(items))
 
-
-@dataclass(frozen=True)
-class AnyOf:
+@dataclass(frozen=True, init=False)
+class AnyOf(_Items):
     """Holds when any item holds; contradicted when every item is (Kleene's OR)."""
 
     items: tuple
-
-    def __init__(self, *items):
-        object.__setattr__(self, "items", tuple(items))
 
 
 @dataclass(frozen=True)
@@ -223,12 +187,8 @@ def evaluate(node) -> str:
 
 
 def evidence(node) -> list[Check]:
-    """The checks that decide a formula's verdict, in order.
-
-    Holds: for ``AllOf`` every item's evidence, for ``AnyOf`` the holding items'.
-    Contradicted: for ``AllOf`` the contradicted items', for ``AnyOf`` every item's.
-    Inconclusive: the inconclusive items'. ``Not`` passes its item's evidence through.
-    """
+    """The checks that decide a formula's verdict, in order: the items that give the verdict
+    (every item where all of them must agree), through ``Not`` unchanged."""
     if isinstance(node, Check):
         return [node]
     if isinstance(node, Not):
@@ -259,12 +219,9 @@ def checks(node) -> list[Check]:
 
 
 def formula(node) -> str:
-    """The formula as text, its checks numbered in the order of :func:`checks` from 1.
-
-    ``formula(AllOf(a, Not(b)))`` -> ``"all(c1, not(c2))"``; a single check -> ``"c1"``.
-    :func:`parse_formula` reads it back.
-    """
-    count = iter(range(1, 1 << 30))
+    """The formula as text, checks numbered from 1 in the order of :func:`checks`:
+    ``formula(AllOf(a, Not(b)))`` -> ``"all(c1, not(c2))"``; :func:`parse_formula` reads it."""
+    count = itertools.count(1)
 
     def text(x):
         if isinstance(x, Check):
@@ -278,20 +235,13 @@ def formula(node) -> str:
 
 
 def parse_formula(text: str, checks_by_number: dict):
-    """The formula of :func:`formula` back as objects.
-
-    Parameters
-    ----------
-    text : str
-        ``"all(c1, not(c2))"``.
-    checks_by_number : dict of int to Check
+    """The objects of a :func:`formula` text, given ``{check number: Check}``.
 
     Raises
     ------
     ValueError
         Text that is not a formula, or a check number not given.
     """
-
     tokens = re.findall(r"all\(|any\(|not\(|c\d+|,|\)|\S", text)
     pos = 0
 
@@ -331,17 +281,8 @@ def parse_formula(text: str, checks_by_number: dict):
 
 @dataclass(frozen=True)
 class Part:
-    """One atomic, testable part of a claim.
-
-    Attributes
-    ----------
-    text : str
-        The part in words ("Mc w40 passes a benchmark").
-    test : Check or formula, optional
-        What decides it; None for a part that is not comparable.
-    note : str
-        Why a part is not comparable, or a remark shown with its reason.
-    """
+    """One testable part of a claim: its text, what decides it (a check or a formula; None:
+    not comparable) and a note (why not comparable, or a remark shown with its reason)."""
 
     text: str
     test: object = None
@@ -359,20 +300,20 @@ class Part:
         ev = self.evidence()
         return ev[0] if ev else None
 
-    def explain(self, most: int = 3) -> str:
-        """``"<text>: <verdict> (<evidence>)"``, at most ``most`` checks named."""
+    def explain(self) -> str:
+        """``"<text>: <verdict> (<evidence>)"``, at most three checks named."""
         v = self.verdict
         if self.test is None:
             return f"{self.text}: {v} ({self.note})" if self.note else f"{self.text}: {v}"
         ev = self.evidence()
-        shown = "; ".join(c.describe() for c in ev[:most])
-        more = f"; +{len(ev) - most} more" if len(ev) > most else ""
+        shown = "; ".join(c.describe() for c in ev[:3])
+        more = f"; +{len(ev) - 3} more" if len(ev) > 3 else ""
         note = f"; {self.note}" if self.note else ""
         return f"{self.text}: {v} ({shown}{more}{note})"
 
 
 def claim_verdict(verdicts) -> str:
-    """A claim's verdict from its parts' (rule in the module docstring)."""
+    """A claim's verdict from its parts' (:data:`RULE`)."""
     vs = list(verdicts)
     if not vs:
         return NA
@@ -386,14 +327,8 @@ def claim_verdict(verdicts) -> str:
 
 
 def claim_reason(parts, contradiction: str = "") -> str:
-    """One or two sentences: which parts hold, and which do not and why.
-
-    Parameters
-    ----------
-    parts : list of Part
-    contradiction : str
-        Where the paper's own text contradicts itself: said first.
-    """
+    """Which parts hold, and which do not and why; ``contradiction`` (where the paper's own
+    text contradicts itself) is said first."""
     head = f"{contradiction.rstrip('.')}. " if contradiction else ""
     vs = [p.verdict for p in parts]
     if vs and all(v == HOLDS for v in vs):
@@ -416,46 +351,3 @@ def _sentence(text: str) -> str:
 def part_label(claim_id: str, k: int) -> str:
     """``part_label("1", 0)`` -> ``"1(a)"``; ``part_label("5b", 1)`` -> ``"5b(b)"``."""
     return f"{claim_id}({chr(ord('a') + k)})"
-
-
-@dataclass
-class PartResult:
-    """A part evaluated on every body of evidence a claims table shows."""
-
-    label: str
-    text: str
-    verdict: str
-    check: Check | None
-    reason: str
-    others: dict = field(default_factory=dict)
-
-
-__all__ = [
-    "CLAIM_VERDICTS",
-    "CONTRADICTED",
-    "HOLDS",
-    "INCONCLUSIVE",
-    "LEGEND",
-    "NA",
-    "NO",
-    "NOT_COMPARABLE",
-    "PARTLY",
-    "PART_VERDICTS",
-    "YES",
-    "AllOf",
-    "AnyOf",
-    "Check",
-    "Not",
-    "Part",
-    "PartResult",
-    "ON_THRESHOLD",
-    "RULE",
-    "checks",
-    "claim_reason",
-    "claim_verdict",
-    "evaluate",
-    "evidence",
-    "formula",
-    "parse_formula",
-    "part_label",
-]

@@ -1,11 +1,9 @@
 """Every verdict again, from the committed files alone.
 
-``python -m fpdtw.paper.claims verify figures/`` reads ``claims_checks.csv`` (every check of
-every part on every body of evidence, at full precision, with each part's formula),
-rebuilds each :class:`~fpdtw.paper.claims.rules.Check`, decides each check, part and claim by
-the rules of :mod:`fpdtw.paper.claims.rules` and compares them with what
-``claims_intervals.csv`` (parts) and ``claims.csv`` (claims) say. Nothing else is read: no
-results, no bootstrap. It exits 1 and names every disagreement.
+``python -m fpdtw.paper.claims verify figures/`` rebuilds every check of
+``claims_checks.csv``, decides each check, part and claim by :mod:`fpdtw.paper.claims.rules`
+and compares them with ``claims_intervals.csv`` (parts) and ``claims.csv`` (claims); no
+results, no bootstrap are read. It exits 1 and names every disagreement.
 
 Paper: FP-DTW Section 5 (the benchmarks); OPW poster Section 5.
 Notebook: 12_claims.ipynb
@@ -20,14 +18,12 @@ from pathlib import Path
 
 from fpdtw.paper.claims import rules as R
 from fpdtw.paper.claims.evaluation import seed_verdict
-from fpdtw.paper.claims.types import BODIES
+from fpdtw.paper.claims.types import BODIES, PART_COLUMNS
 
 #: claims_intervals.csv's column of each body's part verdict (the headline: ``verdict``,
 #: with the second seed applied; bodies without a column are checked at the claim level).
-PART_COLUMN = {"all": "verdict", "seed2": "verdict_seed2", "plugin": "verdict_plugin"} | {
-    b: f"verdict_{b}" for b in ("same_movements", "authors_fbx", "hdm05", "paper_shaped",
-                                "literal", "eq2_other")
-}  # fmt: skip
+PART_COLUMN = {b: f"verdict_{b}" for b in BODIES if f"verdict_{b}" in PART_COLUMNS}
+PART_COLUMN["all"] = "verdict"
 #: claims.csv's column of each body's claim verdict.
 CLAIM_COLUMN = {"all": "holds"} | {b: f"holds_{b}" for b in BODIES if b != "all"}
 
@@ -81,18 +77,8 @@ def part_verdicts(checks: list[dict]) -> tuple[dict, list[str]]:
 
 
 def verify(folder) -> list[str]:
-    """Every disagreement between the stored verdicts and those recomputed from the checks.
-
-    Parameters
-    ----------
-    folder : path-like
-        A folder with ``claims.csv``, ``claims_intervals.csv`` and ``claims_checks.csv``.
-
-    Returns
-    -------
-    problems : list of str
-        Empty when every check, part and claim verdict recomputes to the stored one.
-    """
+    """Every disagreement between the verdicts stored in ``folder`` (``claims.csv``,
+    ``claims_intervals.csv``, ``claims_checks.csv``) and those recomputed from the checks."""
     folder = Path(folder)
     claims = _read(folder / "claims.csv")
     parts = _read(folder / "claims_intervals.csv")
@@ -147,6 +133,3 @@ def main(argv=None) -> int:
     print(f"every verdict recomputes from {folder}: {n_checks} checks, {n_parts} parts, "
           f"{n_claims} claims on {len(BODIES)} bodies of evidence")  # fmt: skip
     return 0
-
-
-__all__ = ["check_from_row", "main", "part_verdicts", "verify"]

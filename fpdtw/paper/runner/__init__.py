@@ -26,21 +26,7 @@ from fpdtw.paper.runner.selection import (
 )
 
 __all__ = [
-    "DEFAULT_ALGORITHMS",
-    "SELECTIONS",
-    "STUDY_ALGORITHMS",
-    "TABLE1_60HZ_NAMES",
-    "AlgorithmResult",
-    "PairSelection",
-    "Results",
-    "Selection",
-    "aggregate_heatmap",
-    "format_counts",
-    "load_results",
-    "pair_features",
-    "pair_selection",
-    "resolve_algorithm",
-    "run_experiments",
-    "slug",
-    "summarize",
-]
+    "DEFAULT_ALGORITHMS", "SELECTIONS", "STUDY_ALGORITHMS", "TABLE1_60HZ_NAMES", "AlgorithmResult",
+    "PairSelection", "Results", "Selection", "aggregate_heatmap", "format_counts", "load_results",
+    "pair_features", "pair_selection", "resolve_algorithm", "run_experiments", "slug", "summarize"
+]  # fmt: skip

@@ -1,17 +1,11 @@
 """The experiment grid: which algorithms each mode runs, by the registry's names.
 
-* mode ``"full"`` / ``"smoke"``: :data:`DEFAULT_ALGORITHMS`, the paper's evaluation
-  (Figs. 5-7, 10, Table 1 at 60 Hz), Method C's literal window beside the default and
-  the two online baselines beyond the paper (OPW, OLTW);
-* mode ``"study"`` / ``"smoke-study"``: :data:`STUDY_ALGORITHMS`, notebook 15's readings of
-  Algorithm 3 and the paper's silent choices (:data:`SILENT_CHOICES`).
-
-* mode ``"open"`` / ``"smoke-open"``: :data:`OPEN_ALGORITHMS`, notebook 16's answers to
-  the questions the papers leave open, with the baselines they are compared with.
-
-A name ending in ``"@60Hz"`` runs the named algorithm on the motions resampled to 60 Hz; a
-name ending in ``"@pause"`` runs it at 120 Hz on the targets with a held pose inserted
-(:func:`fpdtw.pause.insert_pause`; its deviation is from DTW of the same modified pair).
+Modes ``"full"`` / ``"smoke"``: :func:`default_algorithms` (the paper's evaluation, Method C's
+literal window, the online baselines OPW and OLTW); ``"study"`` / ``"smoke-study"``:
+:data:`STUDY_ALGORITHMS` (notebook 15's readings of Algorithm 3 and the paper's silent
+choices); ``"open"`` / ``"smoke-open"``: :data:`OPEN_ALGORITHMS` (notebook 16's open
+questions). A name ending in ``"@60Hz"`` runs at 60 Hz; one ending in ``"@pause"`` runs on
+the targets with a held pose inserted (:func:`fpdtw.pause.insert_pause`).
 """
 
 from __future__ import annotations
@@ -25,32 +19,17 @@ from fpdtw.registry import C_READINGS, method_c_name
 
 #: Method C's literal window at every w, without and with Type V.
 MC_LITERAL_NAMES = tuple(method_c_name(w, "literal", t) for t in (False, True) for w in WINDOWS)
-
 #: The algorithms of Table 1 at 60 Hz (DTW for the deviation, UTW for the benchmark).
-TABLE1_60HZ_NAMES = (
-    "DTW@60Hz",
-    "UTW@60Hz",
-    "Mc w10@60Hz",
-    "Mc w20@60Hz",
-    "Mc w40@60Hz",
-    "Mc w80@60Hz",
-)
-#: Method C's literal ``(w_i + 1) x w`` window, at 120 Hz (with and without Type V) and,
-#: for Table 1, at 60 Hz: the claims table shows its verdicts next to the default's.
+TABLE1_60HZ_NAMES = ("DTW@60Hz", "UTW@60Hz", "Mc w10@60Hz", "Mc w20@60Hz", "Mc w40@60Hz",
+                     "Mc w80@60Hz")  # fmt: skip
+#: Method C's literal window at 120 Hz and, for Table 1, at 60 Hz (the claims' literal column).
 LITERAL_NAMES = MC_LITERAL_NAMES + tuple(method_c_name(w, "literal") + "@60Hz" for w in WINDOWS)
 
 
 def default_algorithms() -> tuple:
-    """What a run computes by default (modes "full" and "smoke"): the paper's algorithms,
-    Table 1 at 60 Hz, the registry's online baselines beyond the FP-DTW paper
-    (:func:`fpdtw.registry.baselines`: the OPW poster's method and Dixon's OLTW, the
-    paper's ref. 3) and Method C's literal window. Read from the registry at each call: an
-    aligner registered as a baseline joins the grid.
-
-    Returns
-    -------
-    names : tuple of str
-    """
+    """What modes "full" and "smoke" compute: the paper's algorithms, Table 1 at 60 Hz, the
+    registry's online baselines (:func:`fpdtw.registry.baselines`, read at each call: an
+    aligner registered as a baseline joins the grid) and Method C's literal window."""
     return tuple(PAPER_NAMES) + TABLE1_60HZ_NAMES + registry.baselines() + LITERAL_NAMES
 
 
@@ -59,15 +38,9 @@ DEFAULT_ALGORITHMS = default_algorithms()
 
 
 def _study_algorithms() -> tuple:
-    """The algorithms of notebook 15 (modes "study" and "smoke-study").
-
-    * DTW and UTW at 120 and 60 Hz (the references of deviation and similarity);
-    * every reading of Algorithm 3 (:data:`fpdtw.registry.C_READINGS`) at every w,
-      with and without Type V, at 120 and 60 Hz;
-    * Methods A and B as in the paper (the headline medians on this selection);
-    * the paper's silent choices (:data:`SILENT_CHOICES`), each on the algorithms it
-      touches (:data:`CHOICE_TARGETS`), and on Method C at 60 Hz (Table 1).
-    """
+    """Notebook 15's grid: DTW and UTW, every reading of Algorithm 3 at every w with and
+    without Type V (at 120 and 60 Hz), Methods A and B, and each silent choice on the
+    algorithms it touches (Method C's also at 60 Hz, for Table 1)."""
     names = ["DTW", "UTW", "DTW@60Hz", "UTW@60Hz"]
     for rate in ("", "@60Hz"):
         for reading in C_READINGS:
@@ -77,28 +50,20 @@ def _study_algorithms() -> tuple:
     for choice in SILENT_CHOICES.values():
         if choice.option is not None:
             names += [choice_variant(n, choice) for n in choice_targets(choice)]
-    # Table 1's Method C at 60 Hz under each choice (claim 3's robustness)
     for choice in SILENT_CHOICES.values():
         if choice.option is not None and "C" in choice.methods:
             names += [choice_variant(f"Mc w{w}", choice) + "@60Hz" for w in WINDOWS]
-    out = []
-    for n in names:  # keep the first of any duplicate
-        if n not in out:
-            out.append(n)
-    return tuple(out)
+    return tuple(dict.fromkeys(names))
 
 
 class SilentChoice(NamedTuple):
-    """A choice the paper leaves open (notebook 15 measures how much each moves a result)."""
+    """A choice the paper leaves open (notebook 15): what we do and the alternative, in
+    words; ``option``: ``(aligner option, alternative value)``, or None for a choice of the
+    metrics (recomputed from the stored maps); ``methods``: the letters it touches."""
 
-    #: What we do, in words.
     ours: str
-    #: The other reading, in words.
     alternative: str
-    #: ``(aligner option, alternative value)`` for choices that change the maps; None for
-    #: choices of the metrics (recomputed from the stored maps).
     option: tuple | None
-    #: The methods it touches (letters of A, B, C).
     methods: str
 
 
@@ -148,8 +113,7 @@ SILENT_CHOICES = {
 }  # fmt: skip
 
 #: Per method, the algorithms a silent choice is run on: every FP-DTW configuration of the
-#: paper (at 120 Hz), so that every claim about them can be decided under each choice
-#: (the robustness column of the claims table).
+#: paper at 120 Hz (the robustness column of the claims table).
 CHOICE_TARGETS = {
     m: tuple(n for n in PAPER_NAMES if n.startswith(f"M{m.lower()}")) for m in ("A", "B", "C")
 }
@@ -181,51 +145,29 @@ PAUSE_METHODS = (
     "Ma", "Ma + Type V", "Mb w40", "Mc w40", "Mc w80", "Mc w80 + Type V", "OE-DTW", "OLTW", "OPW",
 )  # fmt: skip
 OPEN_Q6 = ("DTW" + PAUSE_SUFFIX, *PAUSE_METHODS, *(n + PAUSE_SUFFIX for n in PAUSE_METHODS))
-
-
 #: Q3 (a global band around the diagonal): Methods B and C with the band of 1 s (the first
-#: reading: it masks, and barely binds these windows) and with the band of half the window,
-#: whose rows outside the band are not computed (the claim's band; its rule w/2 chosen on
-#: 2026-11-24, after the 1 s band's results were seen and before any run of it).
+#: reading, which masks) and with the band of half the window (the claim's band; its rule
+#: chosen on 2026-11-24, after the 1 s band's results were seen and before any run of it).
 BAND_BASES = ("Mb w40", "Mc w40", "Mc w80")
 #: The labels of Q3's two bands in names, the first reading first.
 BAND_1S, BAND_HALF_W = "band 1 s", "band w/2"
-BAND_1S_NAMES = tuple(f"{n} ({BAND_1S})" for n in BAND_BASES)
-BAND_HALF_W_NAMES = tuple(f"{n} ({BAND_HALF_W})" for n in BAND_BASES)
-BAND_NAMES = BAND_1S_NAMES + BAND_HALF_W_NAMES
+BAND_NAMES = tuple(f"{n} ({band})" for band in (BAND_1S, BAND_HALF_W) for n in BAND_BASES)
 OPEN_Q3 = BAND_BASES + BAND_NAMES
-
-
 #: Q4 (OPW's gamma from a feedback loop): OPW adaptive beside OPW at gamma 5 %.
 OPEN_Q4 = ("OPW", "OPW adaptive")
-
-
-#: Q2 (eq. 1's joints weighted by their travel in the input, :func:`fpdtw.weights.joint_weights`):
-#: Methods B and C and OLTW, each without and with the weights.
+#: Q2 (eq. 1's joints weighted by their travel in the input): each without and with weights.
 WEIGHT_BASES = ("Mb w40", "Mc w40", "OLTW")
 WEIGHT_SUFFIX = " (weighted joints)"
 OPEN_Q2 = tuple(n for b in WEIGHT_BASES for n in (b, b + WEIGHT_SUFFIX))
-
-#: Q5 (Keogh and Pazzani's derivative DTW): Method C and OPW on poses and on derivative motions
-#: (:mod:`fpdtw.derivative`).
+#: Q5 (Keogh and Pazzani's derivative DTW, :mod:`fpdtw.derivative`): on poses and derivatives.
 DERIVATIVE_BASES = ("Mc w40", "OPW")
 OPEN_Q5 = tuple(n for b in DERIVATIVE_BASES for n in (b, f"{b} (derivative)"))
-
-
-def _open_algorithms() -> tuple:
-    """The algorithms of notebook 16 (modes "open" and "smoke-open"): DTW and UTW at 120
-    and 60 Hz, then :data:`OPEN_Q1`, :data:`OPEN_Q6`, :data:`OPEN_Q3`, :data:`OPEN_Q4`,
-    :data:`OPEN_Q2`, :data:`OPEN_Q5` (first of any duplicate kept)."""
-    out = []
-    lists = (*OPEN_Q1, *OPEN_Q6, *OPEN_Q3, *OPEN_Q4, *OPEN_Q2, *OPEN_Q5)
-    for n in ("DTW", "UTW", "DTW@60Hz", "UTW@60Hz", *lists):
-        if n not in out:
-            out.append(n)
-    return tuple(out)
-
-
-#: What notebook 16 computes by default (modes "open" and "smoke-open").
-OPEN_ALGORITHMS = _open_algorithms()
+#: What notebook 16 computes by default (modes "open" and "smoke-open"): DTW and UTW at both
+#: rates, then Q1, Q6, Q3, Q4, Q2, Q5 (the first of any duplicate kept).
+OPEN_ALGORITHMS = tuple(
+    dict.fromkeys(("DTW", "UTW", "DTW@60Hz", "UTW@60Hz", *OPEN_Q1, *OPEN_Q6, *OPEN_Q3, *OPEN_Q4,
+                   *OPEN_Q2, *OPEN_Q5))
+)  # fmt: skip
 #: The default algorithm list of each mode but "full" and "smoke" (:func:`mode_algorithms`).
 MODE_ALGORITHMS = {
     "study": STUDY_ALGORITHMS,
@@ -237,7 +179,7 @@ MODE_ALGORITHMS = {
 
 def mode_algorithms(mode: str) -> tuple:
     """The default algorithm list of a mode: :data:`MODE_ALGORITHMS`, else
-    :func:`default_algorithms` (modes "full" and "smoke", and any other)."""
+    :func:`default_algorithms`."""
     return MODE_ALGORITHMS.get(mode) or default_algorithms()
 
 
@@ -253,40 +195,3 @@ def split_transform(name: str) -> tuple:
     if name.endswith(PAUSE_SUFFIX):
         return name[: -len(PAUSE_SUFFIX)], PAUSE_SUFFIX[1:]
     return name, None
-
-
-__all__ = [
-    "CHOICE_TARGETS",
-    "DEFAULT_ALGORITHMS",
-    "default_algorithms",
-    "mode_algorithms",
-    "LITERAL_NAMES",
-    "MC_LITERAL_NAMES",
-    "MODE_ALGORITHMS",
-    "BAND_1S",
-    "BAND_1S_NAMES",
-    "BAND_BASES",
-    "BAND_HALF_W",
-    "BAND_HALF_W_NAMES",
-    "BAND_NAMES",
-    "DERIVATIVE_BASES",
-    "OPEN_ALGORITHMS",
-    "OPEN_Q2",
-    "OPEN_Q3",
-    "OPEN_Q4",
-    "OPEN_Q5",
-    "OPEN_Q1",
-    "OPEN_Q6",
-    "PAUSE_METHODS",
-    "PAUSE_SUFFIX",
-    "WEIGHT_BASES",
-    "WEIGHT_SUFFIX",
-    "SILENT_CHOICES",
-    "SilentChoice",
-    "STUDY_ALGORITHMS",
-    "TABLE1_60HZ_NAMES",
-    "choice_targets",
-    "choice_variant",
-    "split_rate",
-    "split_transform",
-]

@@ -1,29 +1,10 @@
 """Where the grid's work runs: joblib on this machine's cores, or the workers of a Dask cluster.
 
-One seam, :class:`Executor`: :meth:`Executor.map` runs a function over a list of tasks
-and yields the results as they finish, counted by a progress bar, either in joblib
-worker processes on this machine (the default) or as tasks on a Dask cluster
-(:mod:`distributed`) whose scheduler address is given (``--scheduler tcp://host:port``,
-or the environment variable ``FPDTW_SCHEDULER``). The runner
-(:mod:`fpdtw.paper.runner.run`) gives both the same functions and the same tasks, and
-assembles the results the same way: what a task computes and the files it writes do not
-depend on where it ran.
-
-On a cluster
-------------
-* Every worker needs the package (the same source as this process: each task checks),
-  the data cache (a shared folder named by ``FPDTW_DATA_DIR``, or ``fpdtw data fetch`` on
-  each worker) and the results folder at the same path as here (a shared filesystem):
-  workers write the feature and chunk files there, atomically (temporary file +
-  :func:`os.replace`), and this process checks that it sees every one of them.
-* A worker that dies: the scheduler gives its tasks to the other workers. A task whose
-  workers died more than ``distributed.scheduler.allowed-failures`` times (3 by default)
-  fails the run with :class:`ClusterError`. A chunk a dead worker was writing is a
-  temporary file and never counts; the task's rerun writes the same bytes.
-* An error raised by a task is not retried (the computation is deterministic: a retry
-  fails the same way); it stops the run, as with joblib.
-* This process killed: the scheduler forgets its tasks (tasks already running finish and
-  write their chunks); the next run computes the chunks still missing.
+:class:`Executor` runs a function over tasks and yields the results as they finish, in
+joblib processes here (the default) or as tasks on a Dask cluster whose scheduler address is
+given (``--scheduler tcp://host:port`` or ``FPDTW_SCHEDULER``; :mod:`fpdtw.app.cluster`).
+What a task computes and writes does not depend on where it ran. What the workers need, and
+what happens when one dies: ``docs/cluster.md``.
 """
 
 from __future__ import annotations
@@ -50,23 +31,11 @@ _HOST = re.compile(r"^(\[[0-9A-Fa-f:.%a-zA-Z]+\]|[A-Za-z0-9]([A-Za-z0-9._-]*[A-Z
 
 
 def scheduler_address(text) -> str | None:
-    """Check a Dask scheduler address and return it in full (``tcp://host:port``).
+    """A Dask scheduler address in full (``tcp://host:port``), or None for no cluster.
 
-    Parameters
-    ----------
-    text : str or None
-        ``tcp://host:port``, ``tls://host:port`` or ``host:port`` (TCP); IPv6 hosts in
-        brackets (``tcp://[::1]:8786``). None, ``""`` and ``"local"`` mean no cluster.
-
-    Returns
-    -------
-    address : str or None
-        With its protocol; None for no cluster.
-
-    Raises
-    ------
-    ClusterError
-        A malformed address: the message names it and what is wrong.
+    ``text``: ``tcp://host:port``, ``tls://host:port`` or ``host:port`` (TCP), IPv6 hosts in
+    brackets (``tcp://[::1]:8786``); None, ``""`` and ``"local"`` mean no cluster. A
+    malformed address raises ClusterError naming what is wrong.
     """
     if text is None:
         return None
@@ -106,13 +75,7 @@ def scheduler_address(text) -> str | None:
 
 
 def scheduler_from_env() -> str | None:
-    """The scheduler named by ``FPDTW_SCHEDULER`` (checked), or None when it is unset.
-
-    Raises
-    ------
-    ClusterError
-        A malformed address (the message names the variable).
-    """
+    """The scheduler named by ``FPDTW_SCHEDULER`` (checked), or None when it is unset."""
     value = os.environ.get(SCHEDULER_ENV, "")
     try:
         return scheduler_address(value)
@@ -137,25 +100,11 @@ def _cluster():
 class Executor:
     """Runs a function over tasks with joblib on this machine or on a Dask cluster.
 
-    Parameters
-    ----------
-    n_jobs : int
-        joblib worker processes (1: everything in this process). Unused on a cluster,
-        whose workers decide.
-    scheduler : str or distributed.Client, optional
-        A Dask scheduler address (:func:`scheduler_address`) or a connected
-        :class:`distributed.Client` (kept open: the caller closes it). None or
-        ``"local"``: joblib.
-    connect_timeout : float
-        Seconds to wait for the scheduler to answer (:data:`CONNECT_TIMEOUT`).
-    say : callable, optional
-        Prints what the executor does (the cluster it reached); default silent.
-
-    Notes
-    -----
-    The connection to a scheduler is made when there is first something to compute
-    (a re-run with nothing to do never connects) and closed by :meth:`close` (or at the
-    end of a ``with`` block).
+    ``n_jobs``: joblib processes (1: this process; unused on a cluster). ``scheduler``: a
+    Dask scheduler address (:func:`scheduler_address`) or a connected
+    ``distributed.Client`` (the caller closes it); None or ``"local"``: joblib. ``say``
+    prints what the executor does (default silent). The connection is made when there is
+    first something to compute, and closed by :meth:`close` (or a ``with`` block).
     """
 
     def __init__(
@@ -217,15 +166,9 @@ class Executor:
             self._own = False
 
     def describe(self) -> dict:
-        """What ran the tasks, for ``run.json``.
-
-        Returns
-        -------
-        info : dict
-            ``{"backend": "joblib", "n_jobs"}`` or ``{"backend": "dask", "scheduler",
-            "workers", "threads"}`` (workers and threads when first connected; empty
-            before).
-        """
+        """What ran the tasks, for ``run.json``: ``{"backend": "joblib", "n_jobs"}`` or
+        ``{"backend": "dask", "scheduler", "workers", "threads"}`` (the last two once
+        connected)."""
         if self.kind == "joblib":
             return {"backend": "joblib", "n_jobs": self.n_jobs}
         return {"backend": "dask", "scheduler": self.address, **self._cluster}
@@ -255,40 +198,17 @@ class Executor:
     ) -> Iterator:
         """Yield ``fn(*task)`` for every task, in the order they finish.
 
-        Parameters
-        ----------
-        fn : callable
-            A module-level function (workers import it by name).
-        tasks : sequence of tuple
-            Arguments of each call, most expensive first (they start in this order).
-        desc : str
-            Progress bar label.
-        progress : bool
-            Show a progress bar (stderr).
-        keys : sequence of str, optional
-            Dask task names (shown on the scheduler's dashboard), one per task; each call
-            adds its own suffix, so that no two runs share a task.
-
-        Yields
-        ------
-        result
-            Each call's return value, once per task.
-
-        Raises
-        ------
-        ClusterError
-            The scheduler cannot be reached, lost a task's workers too often or
-            cancelled a task. An exception raised by ``fn`` is raised as it is.
+        ``fn`` is a module-level function (workers import it by name); ``tasks`` are the
+        arguments of each call, most expensive first; ``keys`` name the Dask tasks (each
+        call adds its own suffix). ClusterError: the scheduler cannot be reached, lost a
+        task's workers too often or cancelled a task; ``fn``'s own errors are raised as
+        they are.
         """
         if not tasks:
             return
-        if self.kind == "joblib":
-            yield from self._map_joblib(fn, tasks, desc, progress)
-        else:
-            yield from self._map_dask(fn, tasks, desc, progress, keys)
-
-    def _map_joblib(self, fn, tasks, desc, progress):
-
+        if self.kind == "dask":
+            yield from _cluster().map_on_cluster(self, fn, tasks, desc, progress, keys)
+            return
         gen = Parallel(n_jobs=self.n_jobs, return_as="generator_unordered", batch_size=1)(
             delayed(fn)(*t) for t in tasks
         )
@@ -299,17 +219,3 @@ class Executor:
                 yield r
         finally:
             bar.close()
-
-    def _map_dask(self, fn, tasks, desc, progress, keys):
-        yield from _cluster().map_on_cluster(self, fn, tasks, desc, progress, keys)
-
-
-__all__ = [
-    "CONNECT_TIMEOUT",
-    "LOCAL",
-    "SCHEDULER_ENV",
-    "ClusterError",
-    "Executor",
-    "scheduler_address",
-    "scheduler_from_env",
-]

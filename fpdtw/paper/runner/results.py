@@ -1,25 +1,11 @@
-"""Result files of the experiments: deterministic atomic writers, and the reader.
+"""The result files of the experiments: deterministic atomic writers, and the reader.
 
-Writing
--------
-:func:`numpy.savez` stamps the current time into every zip entry, so two runs that
-compute identical arrays still write different files. :func:`save_npz` writes the
-zip itself: entries in the order given, each a ``.npy`` member written by
-:func:`numpy.lib.format.write_array`, stored uncompressed, with the fixed date
-1980-01-01 00:00:00 and fixed permissions. The file is written to a temporary file
-next to its destination and renamed into place (:func:`os.replace`), so a reader
-(or a run killed half way) never sees a half-written file. :func:`numpy.load`
-reads the result like any ``.npz``.
-
-:func:`save_json` does the same for JSON (sorted keys are NOT imposed: the caller's
-order is kept, so build dicts in a deterministic order).
-
-Reading
--------
-:func:`load_results` reads a run of :func:`fpdtw.paper.runner.run.run_experiments`
-(file formats: see :mod:`fpdtw.paper.runner.run`) into a :class:`Results`;
-:func:`aggregate_heatmap` accumulates every path of an algorithm on the unit square
-(Figs. 7 and 10).
+:func:`save_npz` writes a ``.npz`` byte for byte the same for the same arrays (unlike
+:func:`numpy.savez`, which stamps the time: entries in the order given, uncompressed, dated
+1980-01-01, fixed permissions); :func:`save_json` writes JSON in the caller's key order.
+Both write a temporary file and rename it into place, so a reader never sees half a file.
+:func:`load_results` reads a run of :func:`fpdtw.paper.runner.run.run_experiments` (file
+formats: :mod:`fpdtw.paper.runner.run`) into a :class:`Results`.
 """
 
 from __future__ import annotations
@@ -43,17 +29,7 @@ _ZIP_MODE = 0o100644 << 16
 
 
 def npz_bytes(arrays: dict) -> bytes:
-    """The bytes of a deterministic ``.npz`` holding ``arrays`` (see module docstring).
-
-    Parameters
-    ----------
-    arrays : dict of str -> array_like
-        Entry names (without ``.npy``) to arrays; object arrays are refused.
-
-    Returns
-    -------
-    data : bytes
-    """
+    """The bytes of a deterministic ``.npz`` of ``{entry name: array}`` (no object arrays)."""
     buf = io.BytesIO()
     with zipfile.ZipFile(buf, "w", compression=zipfile.ZIP_STORED) as zf:
         for name, value in arrays.items():
@@ -71,53 +47,15 @@ def npz_bytes(arrays: dict) -> bytes:
 
 
 def save_npz(path, **arrays) -> Path:
-    """Write arrays to ``path`` as a deterministic ``.npz``, atomically.
-
-    The same arrays always give the same bytes (fixed entry dates, entry order as
-    given, no compression), unlike :func:`numpy.savez`.
-
-    Parameters
-    ----------
-    path : path-like
-        Destination file (conventionally ending in ``.npz``).
-    **arrays : array_like
-        Entries by name.
-
-    Returns
-    -------
-    path : Path
-    """
+    """Write arrays to ``path`` as a deterministic ``.npz`` (:func:`npz_bytes`), atomically."""
     return write_atomic(path, npz_bytes(arrays))
 
 
 def load_npz(path, keys=None) -> dict:
-    """Read a ``.npz`` into a dict of arrays (no pickles).
-
-    Parameters
-    ----------
-    path : path-like
-    keys : iterable of str, optional
-        Read only these entries (all by default); a missing key raises KeyError.
-
-    Returns
-    -------
-    arrays : dict of str -> ndarray
-        In the file's entry order (or the order of ``keys``).
-    """
+    """The arrays of a ``.npz`` (no pickles), all of them or only ``keys``, in that order."""
     with np.load(path, allow_pickle=False) as z:
         names = list(z.files) if keys is None else list(keys)
         return {k: z[k] for k in names}
-
-
-def npz_keys(path) -> list:
-    """Entry names of a ``.npz`` without reading the arrays."""
-    with zipfile.ZipFile(path) as zf:
-        return [n[:-4] if n.endswith(".npy") else n for n in zf.namelist()]
-
-
-def json_bytes(obj) -> bytes:
-    """Indented JSON (UTF-8, trailing newline) of ``obj``; NaN is written as null."""
-    return (json.dumps(_nan_to_none(obj), indent=1, allow_nan=False) + "\n").encode()
 
 
 def _nan_to_none(obj):
@@ -131,16 +69,15 @@ def _nan_to_none(obj):
 
 
 def save_json(path, obj) -> Path:
-    """Write ``obj`` as indented JSON, atomically (see :func:`json_bytes`)."""
-    return write_atomic(path, json_bytes(obj))
+    """Write ``obj`` as indented JSON (NaN as null, a trailing newline), atomically."""
+    text = json.dumps(_nan_to_none(obj), indent=1, allow_nan=False) + "\n"
+    return write_atomic(path, text.encode())
 
 
 def load_json(path):
     """Read a JSON file."""
     return json.loads(Path(path).read_text())
 
-
-# -- algorithm names and file names ----------------------------------------------------------
 
 #: Suffix of an algorithm name that runs it on the motions resampled to 60 Hz.
 RATE_SUFFIX = "@60Hz"
@@ -149,26 +86,15 @@ BASE_FPS, LOW_FPS = 120.0, 60.0
 
 
 def slug(name: str) -> str:
-    """File name of an algorithm's results: ``"Mc w40 + Type V"`` -> ``"Mc_w40_TypeV"``.
-
-    ``" + Type V"`` -> ``"_TypeV"``, ``"@60Hz"`` -> ``"_60Hz"``, spaces -> ``"_"``; the
-    brackets, commas and slashes of options are dropped: ``"Mc w40 (literal window)"`` ->
-    ``"Mc_w40_literal_window"``, ``"Mc w40 (band w/2)"`` -> ``"Mc_w40_band_w2"``.
-    """
+    """File name of an algorithm's results: ``"Mc w40 + Type V"`` -> ``"Mc_w40_TypeV"``,
+    ``"Mc w40 (band w/2)"`` -> ``"Mc_w40_band_w2"`` (brackets, commas, slashes dropped)."""
     s = name.replace(" + Type V", "_TypeV").replace(RATE_SUFFIX, "_60Hz").replace(" ", "_")
     return re.sub(r"_+", "_", re.sub(r"[(),/]", "", s))
 
 
-# -- reading results ---------------------------------------------------------------------------
-
-
 class AlgorithmResult(dict):
-    """The arrays of ``algorithms/<slug>.npz`` plus ``name``, ``fps`` and a map accessor.
-
-    Keys ``pair_id`` (P,) int32, ``offsets`` (P+1,) int64, ``maps`` int32,
-    ``similarity`` (P,) float64, ``deviation`` (P,) float64, ``name``, ``fps``, and
-    ``map``: the same function as the method :meth:`map`.
-    """
+    """The arrays of ``algorithms/<slug>.npz`` (``pair_id``, ``offsets``, ``maps``,
+    ``similarity``, ``deviation``) plus ``name``, ``fps`` and ``map`` (:meth:`map`)."""
 
     def __init__(self, arrays: dict, name: str, fps: float):
         super().__init__(arrays)
@@ -181,37 +107,25 @@ class AlgorithmResult(dict):
         o = self["offsets"]
         return self["maps"][o[k] : o[k + 1]]
 
-    @property
-    def n_pairs(self) -> int:
-        return int(self["pair_id"].shape[0])
-
 
 #: The reading of eq. 2 the run stores (each paper joint's animated local rotation).
 STORED_EQ2 = "local"
-#: The readings of eq. 2 a :class:`Results` can score with: the stored one, and each
-#: joint's whole local transform (FBX pre/post-rotations; HDM05: ``C M C^-1``), rescored
-#: from the stored maps (:func:`fpdtw.paper.similarity_level.reading_values`).
+#: The readings of eq. 2 a :class:`Results` can score with: each joint's whole local
+#: transform (rescored from the stored maps), and the stored one.
 EQ2_READINGS = ("transform", "local")
 #: Environment variable choosing the reading (default: the first of :data:`EQ2_READINGS`).
 EQ2_ENV = "FPDTW_EQ2"
-#: Reading of eq. 2 -> ``rescore(results, reading) -> values(name, metric)``, the function
-#: that rescores a run's stored maps under it. Filled by
-#: :mod:`fpdtw.paper.similarity_level` (imported with :mod:`fpdtw.paper.runner`), so that
-#: this module, which that one reads runs with, does not import it.
+#: Reading of eq. 2 -> ``rescore(results, reading) -> values(name, metric)``, filled by
+#: :mod:`fpdtw.paper.similarity_level` (imported with :mod:`fpdtw.paper.runner`).
 RESCORERS: dict = {}
 
 
 def default_eq2() -> str:
     """The reading of eq. 2 the results are scored with: ``$FPDTW_EQ2`` or ``"transform"``.
 
-    ``"transform"`` (each joint's whole local transform, what the authors' toolkit reads:
-    ``docs/eq2_reading.md``) has been the default since 2026-11-24; ``"local"`` (the raw
-    animated rotation, the stored scores) before, and it stays one switch away.
-
-    Raises
-    ------
-    ValueError
-        ``$FPDTW_EQ2`` names no reading.
+    ``"transform"`` (each joint's whole local transform, as the authors' toolkit reads it:
+    ``docs/eq2_reading.md``) is the default since 2026-11-24; ``"local"`` (the raw animated
+    rotation, the stored scores) before, one switch away.
 
     Paper: FP-DTW eq. 2.
     """
@@ -222,27 +136,10 @@ def default_eq2() -> str:
 
 
 class Results:
-    """The results of a run (see :func:`load_results`).
-
-    Attributes
-    ----------
-    folder : Path
-    mode : str
-    pairs : list of dict
-        The pairs of ``pairs.json`` (``id, dataset, movement, input, target,
-        input_path, target_path, m, n, m60, n60``).
-    counts : dict
-        Motions, movements and pairs per dataset and in total.
-    algorithms : list of str
-        Names of the algorithms with results, in run order.
-    summary : dict
-        ``summary.json`` (see :func:`fpdtw.paper.runner.run.summarize`); {} before it is written.
-    run : dict
-        ``run.json``; {} before it is written.
-    eq2 : str
-        The reading of eq. 2 that :meth:`get` scores with (:func:`default_eq2`); the
-        stored scores are :data:`STORED_EQ2`'s (:meth:`stored`).
-    """
+    """The results of a run (:func:`load_results`): ``pairs`` (of ``pairs.json``),
+    ``counts``, ``algorithms`` (in run order), ``summary`` and ``run`` (``summary.json``,
+    ``run.json``; {} before they are written) and ``eq2``, the reading of eq. 2 :meth:`get`
+    scores with (:meth:`stored`: the stored scores, :data:`STORED_EQ2`'s)."""
 
     def __init__(self, folder, algorithms=None, eq2=None):
         self.eq2 = default_eq2() if eq2 is None else eq2
@@ -284,8 +181,7 @@ class Results:
         return bool(self._info[name]["online"])
 
     def stored(self, name: str) -> AlgorithmResult:
-        """Maps, similarity and deviation of every pair as the run stored them (eq. 2 under
-        :data:`STORED_EQ2`)."""
+        """Maps, similarity and deviation of every pair as the run stored them."""
         self._check(name)
         if name not in self._cache:
             arrays = load_npz(self.folder / "algorithms" / f"{slug(name)}.npz")
@@ -293,8 +189,8 @@ class Results:
         return self._cache[name]
 
     def get(self, name: str) -> AlgorithmResult:
-        """Maps, similarity and deviation of every pair for one algorithm, eq. 2 under
-        :attr:`eq2` (the stored maps rescored once and cached beside the run)."""
+        """Maps, similarity and deviation of every pair, eq. 2 under :attr:`eq2` (the stored
+        maps rescored once and cached beside the run)."""
         r = self.stored(name)
         if self.eq2 == STORED_EQ2:
             return r
@@ -312,12 +208,8 @@ class Results:
         return self._cache[key]
 
     def frames(self, name: str) -> tuple:
-        """Last input and target frame indices ``(m, n)`` of every pair at the algorithm's rate.
-
-        Returns
-        -------
-        m, n : ndarray of int64, shape (P,)
-        """
+        """Last input and target frame indices ``(m, n)`` of every pair at the algorithm's
+        rate: int64 arrays of shape (P,)."""
         low = self.fps(name) == LOW_FPS
         m = np.array([p["m60" if low else "m"] for p in self.pairs], dtype=np.int64)
         n = np.array([p["n60" if low else "n"] for p in self.pairs], dtype=np.int64)
@@ -325,13 +217,8 @@ class Results:
 
 
 def load_results(mode: str = "full", eq2: str | None = None) -> Results:
-    """Read the results of a run from ``results_dir()/<mode>``, eq. 2 under ``eq2``
-    (default :func:`default_eq2`).
-
-    Raises
-    ------
-    FileNotFoundError
-        No run of that mode (the message says how to make one).
+    """Read the results of a run from ``results_dir()/<mode>``, eq. 2 under ``eq2`` (default
+    :func:`default_eq2`); FileNotFoundError says how to make a missing run.
 
     Notebook: 06_fig5_fig6_scores.ipynb, 07_table1_60hz.ipynb, 08_fig7_fig10_heatmaps.ipynb,
     09_table2_timing.ipynb, 12_claims.ipynb
@@ -347,25 +234,15 @@ def load_results(mode: str = "full", eq2: str | None = None) -> Results:
 
 
 def aggregate_heatmap(results: Results, name: str, bins: int = 100) -> np.ndarray:
-    """Every path of an algorithm on the unit square, accumulated as a 2-D histogram.
+    """Every path of an algorithm on the unit square, as a 2-D histogram.
 
-    Each path point ``(q / n, M_q / m)`` (target fraction, input fraction) is
-    counted in a ``bins x bins`` grid with weight ``1 / (n + 1)``, so every path
-    weighs the same and the grid sums to the number of pairs. A fraction of 1 falls
-    in the last bin.
-
-    Parameters
-    ----------
-    results : Results
-    name : str
-        Algorithm name.
-    bins : int
+    Each path point ``(q / n, M_q / m)`` counts ``1 / (n + 1)`` in a ``bins x bins`` grid
+    (a fraction of 1 in the last bin), so the grid sums to the number of pairs.
 
     Returns
     -------
     H : ndarray of float64, shape (bins, bins)
-        ``H[i, j]``: row ``i`` = input fraction bin (y), column ``j`` = target
-        fraction bin (x); draw with ``imshow(H, origin="lower")``.
+        Row: input fraction bin (y); column: target fraction bin (x).
 
     Paper: FP-DTW Figs. 7 and 10.
     """
@@ -382,24 +259,3 @@ def aggregate_heatmap(results: Results, name: str, bins: int = 100) -> np.ndarra
     yb = np.minimum((y * bins).astype(np.int64), bins - 1)
     H = np.bincount(yb * bins + xb, weights=w, minlength=bins * bins)
     return H.reshape(bins, bins)
-
-
-__all__ = [
-    "EQ2_READINGS",
-    "RESCORERS",
-    "STORED_EQ2",
-    "AlgorithmResult",
-    "Results",
-    "ZIP_DATE",
-    "aggregate_heatmap",
-    "json_bytes",
-    "load_json",
-    "load_results",
-    "load_npz",
-    "npz_bytes",
-    "npz_keys",
-    "save_json",
-    "save_npz",
-    "slug",
-    "write_atomic",
-]

@@ -1,66 +1,33 @@
 """Run the experiment grid over every pair of a selection, in parallel and resumably.
 
-What runs: the pairs of a mode's selection (:mod:`fpdtw.paper.runner.selection`) and its
-algorithms (:mod:`fpdtw.paper.runner.grid`), by the registry's names
-(:mod:`fpdtw.registry`). Per pair and algorithm: the map ``M`` (target frame -> input
-frame), the similarity (eq. 2) of the warped input and the target and the deviation (eq. 3)
-from the DTW map at the same frame rate (in frames of that rate). Methods B and C of a pair
-run together in one compiled loop sharing one :class:`fpdtw.online.window.WindowCache` (the
-maps are those of separate runs; tested), so the grid does not time frames: per-frame
-latency is what ``make bench`` measures (:mod:`fpdtw.app.bench`).
-
-Files, under ``results_dir()/<mode>/`` (every write atomic: temporary file +
-:func:`os.replace`; ``.npz`` files by :func:`fpdtw.paper.runner.results.save_npz`, byte for
-byte the same for the same arrays)
+Per pair of a mode's selection (:mod:`~fpdtw.paper.runner.selection`) and algorithm of its
+grid (:mod:`~fpdtw.paper.runner.grid`): the map ``M`` (target frame -> input frame), the
+similarity (eq. 2) and the deviation (eq. 3) from the DTW map at the same rate, in frames.
+Methods B and C of a pair run in one compiled loop sharing a
+:class:`fpdtw.online.window.WindowCache` (the maps of separate runs; tested); the grid does
+not time frames (``make bench`` does). Files, under ``results_dir()/<mode>/``, every write
+atomic:
 
 ``pairs.json``
-    ``{"mode", "selection", "counts": {dataset: {motions, movements, pairs}, ...,
-    "total": {...}}, "pairs": [{"id", "dataset", "movement", "input", "target",
-    "input_path", "target_path", "m", "n", "m60", "n60"}, ...]}``; ``m``, ``n`` are
+    ``{"mode", "selection", "counts", "pairs": [{"id", "dataset", "movement", "input",
+    "target", "input_path", "target_path", "m", "n", "m60", "n60"}, ...]}``: ``m``, ``n``
     the last frame indices of input and target at 120 Hz, ``m60``, ``n60`` at 60 Hz.
-``algorithms/<slug>.npz`` (slug: :func:`slug`, e.g. ``"Mc_w40_TypeV"``)
-    ``pair_id`` (P,) int32, ``offsets`` (P+1,) int64, ``maps`` int32 (the map of
-    pair k is ``maps[offsets[k]:offsets[k+1]]``), ``similarity`` (P,) float64,
-    ``deviation`` (P,) float64. Deterministic.
-``summary.json``
-    ``{"benchmarks": {...}, "algorithms": {name: {...}}}`` (see :func:`summarize`).
-    Deterministic.
-``run.json``
-    The keys, what was computed (units, pair runs, algorithms, the seconds the units
-    took in their workers, in total and the longest, and how many units each worker
-    ``host:pid`` computed), start and end time, wall time and that of the features and
-    units phases (``phase_seconds``), n_jobs (joblib processes, or the Dask cluster's
-    threads), ``backend`` (joblib, or the Dask scheduler address and its workers), and the
-    environment (package versions, Python, the package's commit, the CPU:
-    :func:`fpdtw.paper.provenance.environment`). Not deterministic.
+``algorithms/<slug>.npz``
+    ``pair_id`` (P,) int32, ``offsets`` (P+1,) int64, ``maps`` int32 (pair k's map is
+    ``maps[offsets[k]:offsets[k+1]]``), ``similarity``, ``deviation`` (P,) float64.
+``summary.json`` (:func:`summarize`); ``run.json``
+    Keys, what was computed and where, times, the environment (not deterministic).
 ``features/``, ``chunks/``
-    Caches: the features of every motion (keyed by the data file's sha256, the crop
-    and the library's source) and one file per work unit (one input motion against
-    every other take of its movement, every algorithm).
+    Caches: each motion's features; one chunk per work unit (an input motion against every
+    other take of its movement, every algorithm).
 
-Resuming: a run killed at any point (even by SIGKILL) resumes from the finished chunks and
-ends with the same ``algorithms/*.npz``, ``pairs.json`` and ``summary.json`` as an
-uninterrupted run. A re-run with nothing changed returns at once. The *config key* (mode,
-algorithm list, pair list, data hashes, every source file of the package) decides "nothing
-changed"; the *base key* (mode, selection, data hashes, pair list, :data:`CACHE_FORMAT` and
-the library's source, :func:`compute_files`) decides whether a chunk is still valid. A
-chunk holds the algorithms it was computed for; a run that adds one computes only it. One
-run at a time per results folder.
-
-Reading: :func:`load_results` -> :class:`Results` (``.pairs``, ``.algorithms``,
-``.get(name)`` with ``.map(k)``, ``.summary``) and :func:`aggregate_heatmap`, defined in
-:mod:`fpdtw.paper.runner.results`.
-
-Command line::
-
-    fpdtw experiments run [--mode full|smoke|study|smoke-study | --smoke] [--jobs N]
-                          [--algorithms NAME ...] [--results DIR] [--scheduler ADDRESS]
-                          [--connect-timeout SECONDS] [--quiet]
-
-(or ``python -m fpdtw.paper.runner.run`` with the same options). Where the work units run
-(joblib processes here, or the tasks of a Dask cluster: ``--scheduler`` /
-``FPDTW_SCHEDULER``) changes nothing in the result files: see
-:mod:`fpdtw.paper.runner.parallel`.
+Resuming: a run killed at any point resumes from its finished chunks and ends with the same
+``algorithms/*.npz``, ``pairs.json`` and ``summary.json``. The *config key* (mode,
+algorithms, pairs, data hashes, every source file) decides "nothing changed"; the *base key*
+(mode, selection, data hashes, pairs, :data:`CACHE_FORMAT`, the library's source,
+:func:`compute_files`) whether a chunk is valid; a run that adds an algorithm computes only
+it. One run at a time per results folder. Command line: ``fpdtw experiments run`` (or
+``python -m fpdtw.paper.runner.run``); on a Dask cluster: :mod:`~fpdtw.paper.runner.parallel`.
 
 Paper: FP-DTW Section 4 (pairs), eq. 2 and eq. 3, Figs. 5-7 and 10, Tables 1 and 2.
 Notebook: 05_run_experiments.ipynb
@@ -114,7 +81,7 @@ from fpdtw.paper.runner.results import (
     Results,
     load_json,
     load_npz,
-    load_results,
+    load_results,  # noqa: F401 - re-exported (fpdtw.paper.runner.run.load_results)
     save_json,
     save_npz,
     slug,
@@ -135,25 +102,11 @@ _PKG_ROOT = Path(__file__).resolve().parents[2]
 _META = "__meta__"
 
 
-# -- algorithms --------------------------------------------------------------------------------
-
-
 @dataclass(frozen=True)
 class AlgorithmSpec:
-    """How one named algorithm of a run runs.
-
-    Attributes
-    ----------
-    name : str
-        Name in results (e.g. ``"Mc w40@60Hz"``).
-    algorithm : fpdtw.registry.Algorithm
-        The registry's algorithm of the name without its rate suffix.
-    fps : float
-        Frame rate of the features it gets (120 or 60).
-    transform : str or None
-        ``"pause"``: it runs on the targets with a held pose inserted
-        (:func:`fpdtw.pause.insert_pause`), its deviation from DTW of the modified pair.
-    """
+    """How one named algorithm of a run runs: its name in results (``"Mc w40@60Hz"``), the
+    registry's algorithm, the frame rate of its features and its target ``transform``
+    (``"pause"``: a held pose inserted, the deviation from DTW of the modified pair)."""
 
     name: str
     algorithm: registry.Algorithm
@@ -166,14 +119,8 @@ class AlgorithmSpec:
 
 
 def resolve_algorithm(name: str) -> AlgorithmSpec:
-    """The :class:`AlgorithmSpec` of a name (any registry name, ``"@60Hz"`` for 60 Hz,
-    ``"@pause"`` for the targets with a pause inserted).
-
-    Raises
-    ------
-    AlignmentError
-        Unknown name.
-    """
+    """The :class:`AlgorithmSpec` of a registry name, ``"@60Hz"`` for 60 Hz, ``"@pause"``
+    for the targets with a pause inserted (AlignmentError: an unknown name)."""
     base, transform = split_transform(name)
     base, fps = split_rate(base)
     return AlgorithmSpec(name, registry.resolve(base), fps, transform)
@@ -202,9 +149,6 @@ def _check_map(spec: AlgorithmSpec, M, I: MotionFeatures, T: MotionFeatures, inf
     return M.astype(np.int64)
 
 
-# -- keys ----------------------------------------------------------------------------------------
-
-
 def _hash(obj) -> str:
     return hashlib.sha256(json.dumps(obj, sort_keys=True, default=str).encode()).hexdigest()
 
@@ -220,23 +164,16 @@ def source_hash(files=None) -> str:
 
 
 def compute_files() -> list:
-    """The source files whose code decides the features, maps and scores of a run.
-
-    The library (every module outside ``fpdtw/paper`` and ``fpdtw/app``: readers,
-    features, costs, aligners, metrics, the registry) and the catalogue that loads the
-    motions. The rest of the paper layer (figures, claims, this runner's bookkeeping) does
-    not change what is computed: editing it keeps a finished run's chunks. A change to
-    what this module computes bumps :data:`CACHE_FORMAT`.
-    """
+    """The source files whose code decides the features, maps and scores of a run: the
+    library (every module outside ``fpdtw/paper`` and ``fpdtw/app``) and the catalogue that
+    loads the motions; editing the rest keeps a finished run's chunks (a change to what this
+    module computes bumps :data:`CACHE_FORMAT`)."""
     out = []
     for p in sorted(_PKG_ROOT.rglob("*.py")):
         rel = p.relative_to(_PKG_ROOT)
         if rel.parts[0] not in ("paper", "app") or rel == Path("paper/catalog.py"):
             out.append(str(rel))
     return out
-
-
-# -- features ----------------------------------------------------------------------------------
 
 
 def _feature_file(folder: Path, record, digest: str, crop, src: str) -> Path:
@@ -253,10 +190,8 @@ def _features_of(motion) -> dict:
 
 
 def _build_feature_file(record, path: Path, crop, code: str) -> Path:
-    """Load one motion, build its 120 Hz and 60 Hz features and save them (worker).
-
-    ``code`` is the run's :func:`_code_key` (checked: :func:`_check_code`).
-    """
+    """Load one motion, build its 120 Hz and 60 Hz features and save them (worker; ``code``:
+    the run's :func:`_code_key`)."""
     _check_code(code)
     motion = catalog.load(record)
     if abs(motion.fps - BASE_FPS) > 1e-6:
@@ -283,14 +218,9 @@ def _load_features_file(path: str) -> dict:
 
 
 def load_features(path, fps: float = BASE_FPS) -> MotionFeatures:
-    """Features of one motion from the feature cache, at 120 or 60 Hz.
-
-    Returns
-    -------
-    MotionFeatures
-        Quaternions (F, 8, 4), unwrapped Euler angles (F, 8, 3), positions (F, 16, 3)
-        of the OPW joints where the skeleton has them.
-    """
+    """Features of one motion from the feature cache, at 120 or 60 Hz: quaternions (F, 8, 4),
+    unwrapped Euler angles (F, 8, 3) and, where the skeleton has them, the positions
+    (F, 16, 3) of the OPW joints."""
     a = _load_features_file(str(path))
     tag = "120" if fps == BASE_FPS else "60"
     return MotionFeatures(
@@ -304,20 +234,8 @@ def load_features(path, fps: float = BASE_FPS) -> MotionFeatures:
 
 
 def pair_features(results, fps: float = BASE_FPS):
-    """A function ``features(k) -> (I, T)``: the features of pair k of a finished run.
-
-    Read from the run's feature cache (nothing is recomputed when the cache is there;
-    missing files are built).
-
-    Parameters
-    ----------
-    results : Results
-    fps : float
-        120 or 60.
-
-    Returns
-    -------
-    features : callable
+    """``features(k) -> (I, T)``: the features at ``fps`` (120 or 60) of pair k of a finished
+    run, from its feature cache (missing files are built).
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
@@ -336,9 +254,6 @@ def pair_features(results, fps: float = BASE_FPS):
     return features
 
 
-# -- workers -----------------------------------------------------------------------------------
-
-
 def _worker_name() -> str:
     return f"{socket.gethostname()}:{os.getpid()}"
 
@@ -354,13 +269,8 @@ def _worker_code_key() -> str:
 
 
 def _check_code(expected: str) -> None:
-    """Refuse to compute with other code than the run's (a cluster worker with another fpdtw).
-
-    Raises
-    ------
-    ClusterError
-        This process's :func:`_code_key` (taken at its first task) is not ``expected``.
-    """
+    """ClusterError when this process's :func:`_code_key` (taken at its first task) is not
+    the run's: a cluster worker with another fpdtw."""
     have = _worker_code_key()
     if have != expected:
         raise ClusterError(
@@ -371,14 +281,9 @@ def _check_code(expected: str) -> None:
 
 
 def _reuse_features(folder: Path, files: list) -> int:
-    """Copy into ``folder`` the missing feature files that another mode of the same results
-    folder has already built (``<results>/<other mode>/features/<same name>``).
-
-    A file's name holds the hash of everything that decides its bytes (the data file's
-    sha256, the crop, the library source, :data:`CACHE_FORMAT`), so a file of the same name
-    is the same file. Copied whole or not at all (a temporary file, then a rename).
-    Returns how many files were copied.
-    """
+    """Copy into ``folder`` the missing feature files another mode of the same results folder
+    built (a name holds the hash of everything that decides the bytes), whole or not at all;
+    returns how many were copied."""
     siblings = [d / "features" for d in folder.parent.parent.iterdir() if d.is_dir()]
     siblings = [d for d in siblings if d.is_dir() and d.resolve() != folder.resolve()]
     n = 0
@@ -406,26 +311,9 @@ def build_features(
     progress=True,
     executor: Executor | None = None,
 ) -> list:
-    """Feature cache files of every motion of a plan (built where missing; a file another
-    mode of the same results folder already built is copied, :func:`_reuse_features`).
-
-    Parameters
-    ----------
-    plan : PairSelection
-    folder : Path
-        The feature cache folder (``<results>/<mode>/features``).
-    n_jobs : int
-        joblib worker processes, when no ``executor`` is given.
-    progress : bool
-    executor : Executor, optional
-        Where the missing files are built (joblib on this machine, or a Dask cluster
-        whose workers see ``folder`` at the same path).
-
-    Returns
-    -------
-    paths : list of Path
-        One per motion of ``plan.motions``.
-    """
+    """The feature cache files in ``folder`` of every motion of a plan, one per motion, built
+    where missing (on ``executor``, else ``n_jobs`` joblib processes) or copied from another
+    mode (:func:`_reuse_features`)."""
     folder.mkdir(parents=True, exist_ok=True)
     crop = plan.selection.crop_seconds
     src = source_hash(compute_files())
@@ -447,20 +335,13 @@ def build_features(
     return files
 
 
-#: Seconds to wait for files that cluster workers wrote to appear here (a network
-#: filesystem may show a new file to other machines after a delay).
+#: Seconds to wait for files that cluster workers wrote to appear here (network filesystems).
 VISIBLE_TIMEOUT = 60.0
 
 
 def _await_files(paths: list, ready, what: str, folder: Path) -> None:
-    """Wait until ``ready(path)`` holds for every path written by cluster workers.
-
-    Raises
-    ------
-    ClusterError
-        Some are still not there after :data:`VISIBLE_TIMEOUT` seconds: the workers
-        write to a folder this process does not see.
-    """
+    """Wait until ``ready(path)`` holds for every path written by cluster workers
+    (ClusterError after :data:`VISIBLE_TIMEOUT` seconds: a folder this process does not see)."""
     deadline = time.monotonic() + VISIBLE_TIMEOUT
     missing = [p for p in paths if not ready(p)]
     while missing and time.monotonic() < deadline:
@@ -474,36 +355,25 @@ def _await_files(paths: list, ready, what: str, folder: Path) -> None:
         )
 
 
-# -- work units --------------------------------------------------------------------------------
-
-
 def _unit_id(index: int, record) -> str:
     return f"{index:04d}_{record.name}"
 
 
-def _chunk_meta(path: Path, base_key: str) -> dict:
-    """The metadata of a chunk, {} if missing, unreadable or stale."""
+def _chunk_algorithms(path: Path, base_key: str) -> set:
+    """Names of the algorithms a chunk holds; empty if missing, unreadable or stale."""
     if not path.is_file():
-        return {}
+        return set()
     try:
         meta = json.loads(bytes(load_npz(path, [_META])[_META]).decode())
     except Exception:  # a chunk we cannot read is recomputed
-        return {}
-    return meta if meta.get("base_key") == base_key else {}
-
-
-def _chunk_algorithms(path: Path, base_key: str) -> set:
-    """Names of the algorithms a chunk holds; empty if missing, unreadable or stale."""
-    return set(_chunk_meta(path, base_key).get("algorithms", []))
+        return set()
+    return set(meta.get("algorithms", [])) if meta.get("base_key") == base_key else set()
 
 
 def _pair_maps(specs: list, I: MotionFeatures, T: MotionFeatures, info: dict) -> dict:
-    """``{name: M}`` of every spec on one pair at one rate.
-
-    Methods B and C run together in one compiled loop (:func:`fpdtw.online.window.run_group`)
-    sharing one :class:`WindowCache` (each forecast and cost cell computed once per target
-    frame; the maps are those of separate runs); every other algorithm runs on its own.
-    """
+    """``{name: M}`` of every spec on one pair at one rate: Methods B and C in one compiled
+    loop (:func:`fpdtw.online.window.run_group`) sharing one :class:`WindowCache`, the
+    others on their own."""
     out = {}
     shared = [s for s in specs if s.algorithm.shares_window]
     if shared:
@@ -518,13 +388,9 @@ def _pair_maps(specs: list, I: MotionFeatures, T: MotionFeatures, info: dict) ->
 
 
 def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: str) -> dict:
-    """Compute the algorithms ``specs`` on every pair of one unit and write its chunk (worker).
-
-    The chunk keeps the algorithms it already held (same base key) that are not
-    recomputed. ``feature_files`` maps motion index -> feature file (list or dict);
-    ``code`` is the run's :func:`_code_key` (checked: :func:`_check_code`). Returns
-    ``{"unit", "pairs", "runs", "seconds", "worker"}`` (worker: ``host:pid``).
-    """
+    """Compute ``specs`` on every pair of one unit and write its chunk, keeping the
+    algorithms it held that are not recomputed (worker). ``feature_files``: motion index ->
+    feature file. Returns ``{"unit", "pairs", "runs", "seconds", "worker"}``."""
     t0 = time.perf_counter()
     _check_code(code)
     path = Path(unit["chunk"])
@@ -564,15 +430,11 @@ def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: s
                 runs += 1
     ids = np.array([p["id"] for p in pairs], dtype=np.int32)
     for s in specs:
-        pre = s.slug + "."
-        maps = per[s.name]["maps"]
-        arrays[pre + "pair_id"] = ids
-        arrays[pre + "offsets"] = np.concatenate([[0], np.cumsum([len(M) for M in maps])]).astype(
-            np.int64
-        )
-        arrays[pre + "maps"] = np.concatenate(maps).astype(np.int32)
-        arrays[pre + "similarity"] = np.array(per[s.name]["sim"], dtype=np.float64)
-        arrays[pre + "deviation"] = np.array(per[s.name]["dev"], dtype=np.float64)
+        maps, sim, dev = per[s.name]["maps"], per[s.name]["sim"], per[s.name]["dev"]
+        offsets = np.concatenate([[0], np.cumsum([len(M) for M in maps])]).astype(np.int64)
+        values = (ids, offsets, np.concatenate(maps).astype(np.int32),
+                  np.array(sim, dtype=np.float64), np.array(dev, dtype=np.float64))  # fmt: skip
+        arrays.update({f"{s.slug}.{k}": v for k, v in zip(_FIELDS, values)})
     meta = {
         "unit": unit["id"],
         "base_key": base_key,
@@ -581,55 +443,38 @@ def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: s
     }
     arrays[_META] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
     save_npz(path, **arrays)
-    return {
-        "unit": unit["id"],
-        "pairs": len(pairs),
-        "runs": runs,
-        "seconds": time.perf_counter() - t0,
-        "worker": _worker_name(),
-    }
+    took = time.perf_counter() - t0
+    return dict(unit=unit["id"], pairs=len(pairs), runs=runs, seconds=took, worker=_worker_name())
 
 
-# -- assembling and summarising ----------------------------------------------------------------
+#: The arrays of an algorithm's results, in file order (chunks and ``algorithms/*.npz``).
+_FIELDS = ("pair_id", "offsets", "maps", "similarity", "deviation")
 
 
-def _assemble(out: Path, specs: list, units: list, n_pairs: int) -> dict:
-    """Write ``algorithms/<slug>.npz`` of ``specs`` from the chunks, in pair order.
-
-    Returns ``{name: online}``.
-    """
-    parts = {s.name: {"maps": [], "sim": [], "dev": [], "ids": [], "len": []} for s in specs}
+def _assemble(out: Path, specs: list, units: list, n_pairs: int) -> None:
+    """Write ``algorithms/<slug>.npz`` of ``specs`` from the chunks, in pair order."""
+    parts = {s.name: {k: [] for k in _FIELDS} for s in specs}
     for unit in units:
-        keys = [
-            s.slug + "." + k
-            for s in specs
-            for k in ("pair_id", "offsets", "maps", "similarity", "deviation")
-        ]
-        stored = load_npz(unit["chunk"], keys)
+        stored = load_npz(unit["chunk"], [f"{s.slug}.{k}" for s in specs for k in _FIELDS])
         for s in specs:
-            pre = s.slug + "."
-            acc = parts[s.name]
-            acc["ids"].append(stored[pre + "pair_id"])
-            acc["maps"].append(stored[pre + "maps"])
-            acc["len"].append(np.diff(stored[pre + "offsets"]))
-            acc["sim"].append(stored[pre + "similarity"])
-            acc["dev"].append(stored[pre + "deviation"])
+            for k in _FIELDS:
+                v = stored[f"{s.slug}.{k}"]
+                parts[s.name][k].append(np.diff(v) if k == "offsets" else v)
         del stored
     for s in specs:
         acc = parts.pop(s.name)
-        ids = np.concatenate(acc["ids"]).astype(np.int32)
+        ids = np.concatenate(acc["pair_id"]).astype(np.int32)
         if not np.array_equal(ids, np.arange(n_pairs)):
             raise RuntimeError(f"{s.name}: chunks do not cover pairs 0..{n_pairs - 1} in order")
-        offsets = np.concatenate([[0], np.cumsum(np.concatenate(acc["len"]))]).astype(np.int64)
+        lengths = np.concatenate(acc["offsets"])
         save_npz(
             out / "algorithms" / f"{s.slug}.npz",
             pair_id=ids,
-            offsets=offsets,
+            offsets=np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64),
             maps=np.concatenate(acc["maps"]).astype(np.int32),
-            similarity=np.concatenate(acc["sim"]).astype(np.float64),
-            deviation=np.concatenate(acc["dev"]).astype(np.float64),
+            similarity=np.concatenate(acc["similarity"]).astype(np.float64),
+            deviation=np.concatenate(acc["deviation"]).astype(np.float64),
         )
-    return {s.name: s.algorithm.online for s in specs}
 
 
 def _stats(x) -> dict:
@@ -639,25 +484,12 @@ def _stats(x) -> dict:
 
 
 def summarize(results: Results) -> dict:
-    """The summary of every algorithm of a results folder (the content of ``summary.json``).
-
-    Returns
-    -------
-    summary : dict
-        ``"eq2"``: the reading of eq. 2 the similarities are scored with
-        (:attr:`Results.eq2`).
-        ``"benchmarks"``: ``utw_median_similarity_120hz`` / ``_60hz`` (median
-        similarity of UTW at that rate, None if UTW was not run),
-        ``deviation_frames`` (18), ``deviation_ms`` (150).
-        ``"algorithms"``: per algorithm ``fps, online, n_pairs, similarity_median,
-        similarity_mean, similarity_q1, similarity_q3, deviation_median,
-        deviation_mean, frac_above_utw_median`` (pairs whose similarity is above the
-        UTW median at the same rate), ``frac_deviation_below_18`` (below 18 frames
-        of the algorithm's own rate), ``frac_deviation_below_150ms``,
-        ``passes_similarity_benchmark`` (median similarity above the UTW median),
-        ``passes_deviation_benchmark`` (median deviation below 150 ms, i.e. 18
-        frames at 120 Hz, 9 at 60 Hz). Deterministic, like the whole summary (the
-        time per frame is measured by ``make bench``, :mod:`fpdtw.app.bench`).
+    """The content of ``summary.json`` (deterministic): ``"eq2"`` (the reading the
+    similarities are scored with), ``"benchmarks"`` (UTW's median similarity at 120 and 60
+    Hz, None without UTW; the deviation benchmark in frames and ms) and, per algorithm,
+    ``"algorithms"``: its medians, means and quartiles, the shares of pairs above UTW's
+    median and below the deviation benchmark, and whether its medians pass each benchmark
+    (paper Section 5: below 150 ms, 18 frames at 120 Hz, 9 at 60 Hz).
 
     Paper: FP-DTW Section 5 (benchmarks), Figs. 5-6, Tables 1-2.
     """
@@ -683,10 +515,7 @@ def summarize(results: Results) -> dict:
             "fps": fps,
             "online": results.is_online(name),
             "n_pairs": int(sim.shape[0]),
-            "similarity_median": s["median"],
-            "similarity_mean": s["mean"],
-            "similarity_q1": s["q1"],
-            "similarity_q3": s["q3"],
+            **{f"similarity_{k}": v for k, v in s.items()},  # median, mean, q1, q3
             "deviation_median": d["median"],
             "deviation_mean": d["mean"],
             "frac_above_utw_median": None if u is None else float(np.mean(sim > u)),
@@ -698,9 +527,6 @@ def summarize(results: Results) -> dict:
             "passes_deviation_benchmark": numbers.passes_deviation(d["median"], fps),
         }
     return {"eq2": results.eq2, "benchmarks": bench, "algorithms": algos}
-
-
-# -- the run -----------------------------------------------------------------------------------
 
 
 def _now() -> str:
@@ -735,21 +561,15 @@ def _pairs_json(mode, plan, feature_files) -> dict:
         (m, m60), (n, n60) = frames[p["input_index"]], frames[p["target_index"]]
         q.update(m=int(m), n=int(n), m60=int(m60), n60=int(n60))
         pairs.append(q)
-    return {
-        "mode": mode,
-        "selection": plan.selection.as_dict(),
-        "counts": plan.counts,
-        "pairs": pairs,
-    }
+    return dict(mode=mode, selection=plan.selection.as_dict(), counts=plan.counts, pairs=pairs)
 
 
 def _compute(executor: Executor, mode, plan, specs, out: Path, base_key, progress, say, phases):
     """The features, ``pairs.json`` and every missing chunk of a run (on ``executor``).
 
-    Returns ``(units, tasks, recomputed, work)``: every unit, the ``(cost, unit,
-    missing specs)`` computed, the names of the algorithms computed, and the result of
-    each computed unit (:func:`_compute_unit`), exactly one per task. ``phases`` gets the
-    wall seconds of the features (with ``pairs.json``) and of the units.
+    Returns ``(units, tasks, recomputed, work)``: every unit, the ``(cost, unit, missing
+    specs)`` computed, the names of the algorithms computed and each computed unit's result,
+    one per task. ``phases`` gets the wall seconds of the features and of the units.
     """
     t0 = time.perf_counter()
     feature_files = build_features(plan, out / "features", progress=progress, executor=executor)
@@ -827,46 +647,15 @@ def run_experiments(
 ) -> Results:
     """Run the algorithms over every pair of a mode, resumably, and write the result files.
 
-    The work units (one input motion against every other take of its movement, every
-    algorithm) run in joblib worker processes on this machine, or as tasks on a Dask
-    cluster (``scheduler``): the same function writes the same chunk files either way, and
-    the result files are byte for byte the same (:mod:`fpdtw.paper.runner.parallel`).
-
-    Parameters
-    ----------
-    mode : str
-        ``"full"`` or ``"smoke"`` (see :data:`SELECTIONS`), or any folder name
-        together with ``selection``. Results go to ``<results>/<mode>``.
-    algorithms : sequence of str, optional
-        Registry names (default: the mode's list, :func:`fpdtw.paper.runner.grid.mode_algorithms`);
-        ``"X@60Hz"`` runs X at 60 Hz. Results of other algorithms already in the folder
-        (same pairs and code) are kept.
-    n_jobs : int
-        Worker processes (joblib); 1 runs everything in this process.
-    progress : bool
-        Print the selection and show progress bars.
-    selection : Selection, optional
-        Overrides the mode's selection (tests: a tiny subset).
-    results : path-like, optional
-        The results root (default :func:`fpdtw.paper.paths.results_dir`, i.e.
-        ``FPDTW_RESULTS_DIR`` or ``<repo>/results``). On a cluster, a folder every worker
-        sees at the same path.
-    scheduler : str or distributed.Client, optional
-        A Dask scheduler address (``tcp://host:port``) or a connected client: the units
-        run on that cluster (``n_jobs`` unused). Default: ``FPDTW_SCHEDULER`` if set,
-        else joblib; ``"local"``: joblib whatever ``FPDTW_SCHEDULER`` says.
-    connect_timeout : float
-        Seconds to wait for the scheduler to answer.
-
-    Returns
-    -------
-    Results
-
-    Raises
-    ------
-    ClusterError
-        A malformed or unreachable scheduler address, a worker with other fpdtw code,
-        a task whose workers kept dying, files the workers wrote that are not visible here.
+    ``mode``: a mode of :data:`SELECTIONS` (or any folder name with a ``selection``);
+    ``algorithms``: registry names (default :func:`~fpdtw.paper.runner.grid.mode_algorithms`),
+    other algorithms' results already in the folder are kept; ``n_jobs``: joblib processes;
+    ``progress``: print the selection and show progress bars; ``results``: the results root
+    (default :func:`fpdtw.paper.paths.results_dir`; on a cluster, a folder every worker sees
+    at the same path); ``scheduler``: a Dask scheduler address or client (default
+    ``FPDTW_SCHEDULER`` if set, else joblib; ``"local"``: joblib whatever it says).
+    ClusterError: a malformed or unreachable scheduler, a worker with other fpdtw code, a
+    task whose workers kept dying, files the workers wrote that are not visible here.
 
     Paper: FP-DTW Sections 4-6.
     Notebook: 05_run_experiments.ipynb
@@ -1003,9 +792,6 @@ def run_experiments(
     return Results(out)
 
 
-# -- command line ------------------------------------------------------------------------------
-
-
 def _scheduler_option(text):
     try:
         return scheduler_address(text) or "local"
@@ -1033,11 +819,7 @@ examples:
 
 
 def add_run_arguments(ap: argparse.ArgumentParser) -> None:
-    """Add the options of ``fpdtw experiments run`` (and ``python -m fpdtw.paper.runner.run``).
-
-    ``--mode``, ``--smoke``, ``--jobs``, ``--algorithms``, ``--results``, ``--scheduler``,
-    ``--connect-timeout``, ``--quiet``: see :func:`run_command`.
-    """
+    """Add the options of ``fpdtw experiments run`` (and ``python -m fpdtw.paper.runner.run``)."""
     ap.add_argument(
         "--mode",
         choices=sorted(SELECTIONS),
@@ -1102,12 +884,9 @@ def add_experiments_commands(sub) -> None:
 
 
 def run_command(args, prog: str) -> int:
-    """Carry out a run from parsed options (:func:`add_run_arguments`); the exit code.
-
-    0 on success; 2 on a usage error (a malformed ``FPDTW_SCHEDULER``, an unknown
-    algorithm); 1 when the run cannot go on (the scheduler cannot be reached, a worker
-    fails, the data are missing); 130 when interrupted (run again to resume). Errors are
-    one line on stderr starting with ``prog``.
+    """Carry out a run from parsed options; the exit code: 0 on success, 2 on a usage error
+    (a malformed ``FPDTW_SCHEDULER``, an unknown algorithm), 1 when the run cannot go on, 130
+    when interrupted (run again to resume). Errors: one line on stderr starting with ``prog``.
     """
     mode = "smoke" if args.smoke else args.mode
     scheduler = args.scheduler
@@ -1147,9 +926,7 @@ def run_command(args, prog: str) -> int:
 
 
 def main(argv=None) -> int:
-    """``python -m fpdtw.paper.runner.run [--mode MODE | --smoke] [--jobs N] [--algorithms NAME
-    ...] [--results DIR] [--scheduler ADDRESS] [--quiet]``: the same as ``fpdtw experiments run``.
-    """
+    """``python -m fpdtw.paper.runner.run``: the same as ``fpdtw experiments run``."""
     ap = argparse.ArgumentParser(
         prog="python -m fpdtw.paper.runner.run",
         description=__doc__.split("\n")[0],
@@ -1158,27 +935,6 @@ def main(argv=None) -> int:
     )
     add_run_arguments(ap)
     return run_command(ap.parse_args(argv), ap.prog)
-
-
-__all__ = [
-    "CACHE_FORMAT",
-    "AlgorithmSpec",
-    "ClusterError",
-    "add_experiments_commands",
-    "add_run_arguments",
-    "build_features",
-    "compute_files",
-    "load_features",
-    "load_results",
-    "main",
-    "pair_features",
-    "resolve_algorithm",
-    "run_command",
-    "run_experiments",
-    "source_hash",
-    "summarize",
-    "transform_target",
-]
 
 
 if __name__ == "__main__":

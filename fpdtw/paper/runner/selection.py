@@ -25,34 +25,15 @@ DATASETS = ("authors_fbx", "hdm05")
 
 @dataclass(frozen=True)
 class Selection:
-    """Which motions take part in an experiment run.
+    """Which motions take part in an experiment run (None: no limit).
 
-    Attributes
-    ----------
-    datasets : tuple of str
-        Manifest names, in this order.
-    movements : tuple of str or None
-        Keep only these movements (authors' names or HDM05 classes); None keeps all.
-    takes_per_movement : int or None
-        Keep at most this many takes of each movement; None keeps all.
-    sample_seed : int or None
-        None keeps the FIRST takes in manifest order; an int draws the takes at random
-        (without replacement, then in manifest order) with a generator seeded by this
-        number, the dataset and the movement, so a movement's draw does not depend on
-        the others.
-    subsample_takes : int or None
-        After the draw above, keep at most this many of each movement's drawn takes, drawn
-        again (without replacement, then in manifest order) with the generator seeded by
-        ``sample_seed + 1``, the dataset and the movement: a seeded subsample of the
-        selection without it. None: no second draw.
-    crop_seconds : float or None
-        Crop every motion to its first seconds (``Motion.crop(0, s)``) before
-        features are built; None keeps whole motions.
-    max_movements : int or None
-        Keep at most this many movements of each dataset, the first ones (in the order of
-        the catalogue) that keep two takes; None keeps all. Only the smoke runs of notebooks
-        15 and 16 use it (to keep ``make test`` short): it is a test of the code path, not a
-        selection of results.
+    ``datasets``: manifest names, in order; ``movements``: keep only these; at most
+    ``takes_per_movement`` takes of each movement: the first ones in manifest order, or, with
+    a ``sample_seed``, drawn without replacement (then in manifest order) by a generator
+    seeded by that number, the dataset and the movement; ``subsample_takes``: then at most
+    this many of those, drawn again with ``sample_seed + 1``; ``crop_seconds``: every motion
+    cropped to its first seconds; ``max_movements``: at most this many movements per dataset,
+    the first with two takes (the smoke runs of notebooks 15 and 16: a test of the code path).
     """
 
     datasets: tuple = DATASETS
@@ -109,24 +90,13 @@ SELECTIONS = {
 
 @dataclass
 class PairSelection:
-    """Motions and ordered pairs of a :class:`Selection` (from the manifests, nothing loaded).
+    """Motions and ordered pairs of a :class:`Selection`, from the manifests (nothing loaded).
 
-    Attributes
-    ----------
-    selection : Selection
-    motions : list of MotionRecord
-        Every motion that takes part in a pair, in manifest order (dataset, movement).
-    sha256 : list of str
-        Content hash of each motion file (and of its skeleton file, for HDM05).
-    pairs : list of dict
-        ``id, dataset, movement, input, target, input_path, target_path`` and the
-        motion indices ``input_index``, ``target_index`` (into ``motions``).
-    counts : dict
-        ``{dataset: {"motions", "movements", "pairs"}, "total": {...}}``.
-    rows : list of dict
-        One row per dataset and movement: ``dataset, movement, motions, pairs``.
-    dropped : list of str
-        Movements left out because fewer than two takes are available.
+    ``motions``: every motion in a pair, in manifest order, with ``sha256`` (its content hash,
+    and its skeleton's for HDM05); ``pairs``: ``id, dataset, movement, input, target,
+    input_path, target_path, input_index, target_index`` (indices into ``motions``);
+    ``counts``: motions, movements, pairs per dataset and ``"total"``; ``rows``: one per
+    movement; ``dropped``: movements with fewer than two takes.
     """
 
     selection: Selection
@@ -148,42 +118,16 @@ def _content_hashes(manifest, entries: dict, record) -> str:
     return digest
 
 
-def _take_subset(recs: list, sel: Selection, dataset: str, movement: str) -> list:
-    """At most ``sel.takes_per_movement`` of a movement's takes (see :class:`Selection`)."""
-    k = sel.takes_per_movement
-    if sel.sample_seed is None or len(recs) <= k:
-        return recs[:k]
-    seed = int.from_bytes(
-        hashlib.sha256(f"{sel.sample_seed}/{dataset}/{movement}".encode()).digest()[:8]
-    )
-    keep = np.random.default_rng(seed).choice(len(recs), size=k, replace=False)
-    return [recs[i] for i in sorted(keep)]
-
-
-def _subsample(recs: list, sel: Selection, dataset: str, movement: str) -> list:
-    """At most ``sel.subsample_takes`` of the takes drawn (see :class:`Selection`)."""
-    k = sel.subsample_takes
-    if k is None or len(recs) <= k:
-        return recs
-    seed = int.from_bytes(
-        hashlib.sha256(f"{(sel.sample_seed or 0) + 1}/{dataset}/{movement}".encode()).digest()[:8]
-    )
+def _draw(recs: list, k: int, seed: int, dataset: str, movement: str) -> list:
+    """``k`` of a movement's takes drawn without replacement, kept in manifest order."""
+    seed = int.from_bytes(hashlib.sha256(f"{seed}/{dataset}/{movement}".encode()).digest()[:8])
     keep = np.random.default_rng(seed).choice(len(recs), size=k, replace=False)
     return [recs[i] for i in sorted(keep)]
 
 
 def pair_selection(selection: Selection | None = None) -> PairSelection:
-    """Every ordered pair of distinct takes of the same movement.
-
-    Parameters
-    ----------
-    selection : Selection, optional
-        Default: every take of :data:`DATASETS` (the ``"full"`` mode).
-
-    Returns
-    -------
-    PairSelection
-        Pairs in deterministic order: dataset, movement, input, target (manifest order).
+    """Every ordered pair of distinct takes of the same movement (default: the ``"full"``
+    mode's selection), in order: dataset, movement, input, target (manifest order).
 
     Paper: FP-DTW Section 4 ("every permutation of motions with same movement were
     time warped in both directions").
@@ -202,9 +146,12 @@ def pair_selection(selection: Selection | None = None) -> PairSelection:
             groups.setdefault(r.movement, []).append(r)
         c = {"motions": 0, "movements": 0, "pairs": 0}
         for movement, recs in groups.items():
-            if sel.takes_per_movement is not None:
-                recs = _take_subset(recs, sel, ds, movement)
-            recs = _subsample(recs, sel, ds, movement)
+            k, seed = sel.takes_per_movement, sel.sample_seed
+            if k is not None and len(recs) > k:
+                recs = recs[:k] if seed is None else _draw(recs, k, seed, ds, movement)
+            k = sel.subsample_takes
+            if k is not None and len(recs) > k:
+                recs = _draw(recs, k, (sel.sample_seed or 0) + 1, ds, movement)
             if len(recs) < 2:
                 dropped.append(f"{ds}/{movement}")
                 continue
@@ -214,26 +161,15 @@ def pair_selection(selection: Selection | None = None) -> PairSelection:
             for r in recs:
                 motions.append(r)
                 sha.append(_content_hashes(manifest, entries, r))
-            n_pairs = 0
-            for a in range(len(recs)):
-                for b in range(len(recs)):
-                    if a == b:
-                        continue
-                    I, T = recs[a], recs[b]
-                    pairs.append(
-                        {
-                            "id": len(pairs),
-                            "dataset": ds,
-                            "movement": movement,
-                            "input": I.name,
-                            "target": T.name,
-                            "input_path": I.path,
-                            "target_path": T.path,
-                            "input_index": first + a,
-                            "target_index": first + b,
-                        }
-                    )
-                    n_pairs += 1
+            n_pairs = len(recs) * (len(recs) - 1)
+            for a, I in enumerate(recs):
+                for b, T in enumerate(recs):
+                    if a != b:
+                        pairs.append(dict(
+                            id=len(pairs), dataset=ds, movement=movement, input=I.name,
+                            target=T.name, input_path=I.path, target_path=T.path,
+                            input_index=first + a, target_index=first + b,
+                        ))  # fmt: skip
             rows.append(
                 {"dataset": ds, "movement": movement, "motions": len(recs), "pairs": n_pairs}
             )
@@ -252,28 +188,7 @@ def format_counts(counts: dict) -> str:
 
     Notebook: 05_run_experiments.ipynb
     """
-    lines = []
-    for ds, c in counts.items():
-        lines.append(
-            f"{ds:12s} {c['motions']:4d} motions {c['movements']:3d} movements "
-            f"{c['pairs']:6d} pairs"
-        )
-    p = numbers.DATA
-    lines.append(
-        f"{'paper':12s} {p['motions']:4d} motions {p['movements']:3d} movements "
-        f"{p['pairs']:6d} pairs"
+    return "\n".join(
+        f"{ds:12s} {c['motions']:4d} motions {c['movements']:3d} movements {c['pairs']:6d} pairs"
+        for ds, c in [*counts.items(), ("paper", numbers.DATA)]
     )
-    return "\n".join(lines)
-
-
-__all__ = [
-    "DATASETS",
-    "OPEN_TAKES",
-    "PAPER_SHAPED_SEED",
-    "PAPER_SHAPED_TAKES",
-    "SELECTIONS",
-    "PairSelection",
-    "Selection",
-    "format_counts",
-    "pair_selection",
-]
