@@ -346,10 +346,6 @@ def plot_map_comparison(maps: dict, M_ref, axes=None, fps=None):
 
 
 __all__ = [
-    "LiveReport",
-    "live_timing_comparison",
-    "plot_latency",
-    "plot_map_comparison",
-    "replay",
+    "LiveReport", "live_timing_comparison", "plot_latency", "plot_map_comparison", "replay",
     "warm_up",
-]
+]  # fmt: skip

@@ -95,11 +95,6 @@ def plot_forecast_panels(curves: dict, levels):
 
 
 __all__ = [
-    "FORECAST_PANELS",
-    "HORIZON",
-    "LEVELS",
-    "best_level",
-    "forecast_curves",
-    "plot_forecast_error",
+    "FORECAST_PANELS", "HORIZON", "LEVELS", "best_level", "forecast_curves", "plot_forecast_error",
     "plot_forecast_panels",
-]
+]  # fmt: skip

@@ -16,23 +16,14 @@ from matplotlib.colors import LogNorm
 
 from fpdtw import registry
 from fpdtw.paper.figures.plotting import new_axes, style_beyond_paper_panel
-from fpdtw.paper.figures.timing import last_input_frame
+from fpdtw.paper.figures.timing import pair_maps
 from fpdtw.paper.runner.results import aggregate_heatmap
 from fpdtw.registry import TYPE_V_SUFFIX
 
 #: The paper's algorithms of its Fig. 7.
 FIG7_PAPER_NAMES = (
-    "DTW",
-    "UTW",
-    "OE-DTW",
-    "Ma",
-    "Mb w10",
-    "Mb w80",
-    "Mc w10",
-    "Mc w20",
-    "Mc w40",
-    "Mc w80",
-)
+    "DTW", "UTW", "OE-DTW", "Ma", "Mb w10", "Mb w80", "Mc w10", "Mc w20", "Mc w40", "Mc w80",
+)  # fmt: skip
 
 
 def fig7_names() -> tuple:
@@ -77,21 +68,18 @@ def path_balance(results, name: str, band: float = 0.1) -> dict:
     Paper: FP-DTW Section 5 (reading of Fig. 7).
     Notebook: 08_fig7_fig10_heatmaps.ipynb
     """
-    arr = results.get(name)
-    m_of = {k: max(v, 1) for k, v in last_input_frame(results, name).items()}
-    offsets = np.asarray(arr["offsets"], dtype=np.int64)
-    maps = np.asarray(arr["maps"])
-    pid = np.asarray(arr["pair_id"])
     diag = below = above = 0.0
-    for k in range(pid.size):
-        M = maps[offsets[k] : offsets[k + 1]].astype(np.float64)
+    pairs = 0
+    for M, m in pair_maps(results, name):
+        M = M.astype(np.float64)
         n = max(M.size - 1, 1)
-        d = M / m_of[int(pid[k])] - np.arange(M.size) / n
+        d = M / max(m, 1) - np.arange(M.size) / n
         below += np.mean(d < -band)
         above += np.mean(d > band)
         diag += np.mean(np.abs(d) <= band)
-    P = max(pid.size, 1)
-    return dict(diagonal=diag / P, below=below / P, above=above / P, pairs=int(pid.size))
+        pairs += 1
+    P = max(pairs, 1)
+    return dict(diagonal=diag / P, below=below / P, above=above / P, pairs=pairs)
 
 
 def shared_norm(maps):
@@ -209,14 +197,6 @@ def plot_typev_heatmaps(results, bases=FIG10_NAMES, bins=100, per_row=None, maps
 
 
 __all__ = [
-    "FIG10_NAMES",
-    "FIG7_NAMES",
-    "FIG7_PAPER_NAMES",
-    "fig7_names",
-    "heatmap",
-    "path_balance",
-    "plot_heatmap",
-    "plot_heatmap_grid",
-    "plot_typev_heatmaps",
-    "shared_norm",
-]
+    "FIG10_NAMES", "FIG7_NAMES", "FIG7_PAPER_NAMES", "fig7_names", "heatmap", "path_balance",
+    "plot_heatmap", "plot_heatmap_grid", "plot_typev_heatmaps", "shared_norm",
+]  # fmt: skip

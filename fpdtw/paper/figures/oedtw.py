@@ -12,7 +12,7 @@ import numpy as np
 from matplotlib.ticker import MaxNLocator
 
 from fpdtw.online import OEDTW, run_online
-from fpdtw.paper.figures.plotting import new_axes
+from fpdtw.paper.figures.plotting import image, new_axes
 
 
 def backward_jumps(E) -> np.ndarray:
@@ -78,8 +78,7 @@ def plot_oedtw_paths(oe: OEDTW, q: int, ax=None):
         raise ValueError(f"OE-DTW has {E.size} target frames; frame q + 1 = {q + 1} is missing")
     D = oe.D[:, : q + 2]
     rows = min(max(q + 2, int(E[: q + 2].max()) + 1) + 8, D.shape[0])
-    im = ax.imshow(D[:rows], origin="lower", aspect="auto", cmap="viridis", interpolation="nearest")
-    fig.colorbar(im, ax=ax, label="accumulated cost D", fraction=0.046, pad=0.04)
+    image(ax, D[:rows], "accumulated cost D")
     for t, color, style in ((q, "white", "-"), (q + 1, "tab:red", "--")):
         P = oe.path(t)
         label = f"path of frame {t}, ends at e = {int(E[t])}"
@@ -163,11 +162,6 @@ def plot_fig1(oe: OEDTW):
 
 
 __all__ = [
-    "backward_jumps",
-    "first_backward_jump",
-    "oedtw_facts",
-    "plot_end_points",
-    "plot_fig1",
-    "plot_oedtw_paths",
-    "run_oedtw",
-]
+    "backward_jumps", "first_backward_jump", "oedtw_facts", "plot_end_points", "plot_fig1",
+    "plot_oedtw_paths", "run_oedtw",
+]  # fmt: skip

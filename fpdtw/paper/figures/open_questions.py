@@ -10,6 +10,8 @@ Notebook: 16_open_questions.ipynb
 
 from __future__ import annotations
 
+from functools import partial
+
 import matplotlib.pyplot as plt
 import numpy as np
 
@@ -174,23 +176,6 @@ def _plot_variants(ev, rows, mark: str):
     return fig, axes
 
 
-def weight_rows(ev) -> list[dict]:
-    """Q2: Mb w40, Mc w40 and OLTW without and with the joint weights
-    (:func:`fpdtw.weights.joint_weights`).
-
-    Notebook: 16_open_questions.ipynb
-    """
-    return _variant_rows(ev, WEIGHT_BASES, "weighted joints")
-
-
-def plot_weights(ev, rows):
-    """Q2: :func:`weight_rows` drawn, medians with 95 % intervals.
-
-    Notebook: 16_open_questions.ipynb
-    """
-    return _plot_variants(ev, rows, "weighted")
-
-
 def band_rows(ev) -> list[dict]:
     """Q3: Methods B and C without a band, with the band of 1 s (the first reading) and of
     w/2 (the claim's), each followed by ``cells_removed``: the mean share of the window's
@@ -209,28 +194,14 @@ def band_rows(ev) -> list[dict]:
     return rows
 
 
-def plot_band(ev, rows):
-    """Q3: :func:`band_rows` drawn, medians with 95 % intervals.
-
-    Notebook: 16_open_questions.ipynb
-    """
-    return _plot_variants(ev, rows, "band")
-
-
-def derivative_rows(ev) -> list[dict]:
-    """Q5: Mc w40 and OPW on poses and on derivative motions (:mod:`fpdtw.derivative`).
-
-    Notebook: 16_open_questions.ipynb
-    """
-    return _variant_rows(ev, DERIVATIVE_BASES, "derivative")
-
-
-def plot_derivative(ev, rows):
-    """Q5: :func:`derivative_rows` drawn, medians with 95 % intervals.
-
-    Notebook: 16_open_questions.ipynb
-    """
-    return _plot_variants(ev, rows, "derivative")
+#: Q2: Mb w40, Mc w40 and OLTW without and with the joint weights (:mod:`fpdtw.weights`).
+weight_rows = partial(_variant_rows, bases=WEIGHT_BASES, suffix="weighted joints")
+#: Q5: Mc w40 and OPW on poses and on derivative motions (:mod:`fpdtw.derivative`).
+derivative_rows = partial(_variant_rows, bases=DERIVATIVE_BASES, suffix="derivative")
+#: The rows of Q2, Q3 and Q5 drawn (medians with 95 % intervals, the variants in colour).
+plot_weights = partial(_plot_variants, mark="weighted")
+plot_band = partial(_plot_variants, mark="band")
+plot_derivative = partial(_plot_variants, mark="derivative")
 
 
 def poster_gamma_rows() -> list[dict]:
@@ -325,16 +296,7 @@ def plot_pause_example(I, T, name: str = "Mc w40", ax=None):
 
 
 __all__ = [
-    "band_rows",
-    "derivative_rows",
-    "movement_rows",
-    "pause_rows",
-    "plot_band",
-    "plot_derivative",
-    "plot_pause",
-    "plot_pause_example",
-    "plot_period",
-    "plot_windows",
-    "poster_gamma_rows",
+    "band_rows", "derivative_rows", "movement_rows", "pause_rows", "plot_band", "plot_derivative",
+    "plot_pause", "plot_pause_example", "plot_period", "plot_windows", "poster_gamma_rows",
     "window_rows",
-]
+]  # fmt: skip

@@ -175,6 +175,17 @@ def plot_fig4(results: list, labels=None):
     return fig, axes
 
 
+def _pooled_axes(ax, ticks, ticklabels, xlabel):
+    """The 150 ms line, the x ticks and the labels of a figure of pooled boxes."""
+    _threshold(ax)
+    ax.set_xticks(ticks)
+    ax.set_xticklabels(ticklabels)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("deviation from example (ms)")
+    ax.set_ylim(bottom=0)
+    ax.legend(fontsize=8, loc="upper left")
+
+
 def _boxes(ax, groups, positions, color, width):
     """Boxes of pooled samples, whiskers from minimum to maximum, black medians."""
     bp = ax.boxplot(
@@ -209,13 +220,9 @@ def plot_deviation_vs_offset(rows: list, ax=None, *, baseline: str = "DTW", note
         pos = np.asarray(offsets) + (k - 0.5) * w * 1.1
         _boxes(ax, groups, pos, COLORS[name], w)
         ax.plot(pos, [g.mean() for g in groups], "-o", color=COLORS[name], ms=3, label=name)
-    _threshold(ax)
-    ax.set_xticks(offsets)
-    ax.set_xticklabels([f"{o:.2f}" for o in offsets])
-    ax.set_xlabel("offset of the example curve's middle key (s)")
-    ax.set_ylabel("deviation from example (ms)")
-    ax.set_ylim(bottom=0)
-    ax.legend(fontsize=8, loc="upper left")
+    _pooled_axes(
+        ax, offsets, [f"{o:.2f}" for o in offsets], "offset of the example curve's middle key (s)"
+    )
     if note:
         add_note(
             fig,
@@ -243,14 +250,8 @@ def plot_deviation_vs_gamma(rows: list, ax=None):
     _boxes(ax, groups, pct, COLORS["OPW"], 0.6 * step)
     ax.plot(pct, [g.mean() for g in groups], "-o", color=COLORS["OPW"], ms=3, label="OPW mean")
     ax.plot(pct, [g.max() for g in groups], "--", color=COLORS["OPW"], lw=1, label="OPW max")
-    _threshold(ax)
     every = max(1, len(pct) // 15)
-    ax.set_xticks(pct[::every])
-    ax.set_xticklabels([f"{p:.0f}" for p in pct[::every]])
-    ax.set_xlabel("warp parameter gamma (%)")
-    ax.set_ylabel("deviation from example (ms)")
-    ax.set_ylim(bottom=0)
-    ax.legend(fontsize=8, loc="upper left")
+    _pooled_axes(ax, pct[::every], [f"{p:.0f}" for p in pct[::every]], "warp parameter gamma (%)")
     add_note(
         fig,
         "Per gamma one box over OPW's 50 Hz deviation samples |f(t) - g(t)| of every "
@@ -349,15 +350,7 @@ def plot_curve_construction(curve, ax=None, *, window=None, relative=False, labe
 
 
 __all__ = [
-    "COLORS",
-    "add_note",
-    "clips_note",
-    "plot_curve_construction",
-    "plot_deviation",
-    "plot_deviation_vs_gamma",
-    "plot_deviation_vs_offset",
-    "plot_fig4",
-    "plot_readings",
-    "plot_slope_change",
-    "plot_warp_curves",
-]
+    "COLORS", "add_note", "clips_note", "plot_curve_construction", "plot_deviation",
+    "plot_deviation_vs_gamma", "plot_deviation_vs_offset", "plot_fig4", "plot_readings",
+    "plot_slope_change", "plot_warp_curves",
+]  # fmt: skip

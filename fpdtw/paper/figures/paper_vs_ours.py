@@ -379,19 +379,8 @@ def live_comparison(deviations: dict) -> list[dict]:
 
 
 __all__ = [
-    "COLUMNS",
-    "benchmark_comparison",
-    "data_comparison",
-    "forecast_comparison",
-    "format_side_by_side",
-    "heatmap_comparison",
-    "live_comparison",
-    "oedtw_comparison",
-    "opw_fig4_comparison",
-    "paper_passes",
-    "side_by_side",
-    "table1_comparison",
-    "timing_comparison",
-    "typev_comparison",
-    "walk_pair_comparison",
-]
+    "COLUMNS", "benchmark_comparison", "data_comparison", "forecast_comparison",
+    "format_side_by_side", "heatmap_comparison", "live_comparison", "oedtw_comparison",
+    "opw_fig4_comparison", "paper_passes", "side_by_side", "table1_comparison", "timing_comparison",
+    "typev_comparison", "walk_pair_comparison",
+]  # fmt: skip

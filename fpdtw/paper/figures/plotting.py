@@ -37,6 +37,12 @@ def new_axes(ax=None, **subplots_kw):
     return (ax.figure, ax) if ax is not None else plt.subplots(**subplots_kw)
 
 
+def image(ax, A, label: str, cmap="viridis"):
+    """A matrix as an image (rows upwards) with its colour bar beside the axes."""
+    im = ax.imshow(A, origin="lower", aspect="auto", cmap=cmap, interpolation="nearest")
+    ax.figure.colorbar(im, ax=ax, label=label, fraction=0.046, pad=0.04)
+
+
 def save_figure(fig, name: str) -> list[Path]:
     """Save a figure as ``<name>.pdf`` and ``<name>.png`` in
     :func:`fpdtw.paper.paths.figures_dir` with stable metadata; returns both paths."""

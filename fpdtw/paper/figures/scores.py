@@ -146,21 +146,11 @@ def score_summary(results, metric: str, names=None, dataset=None) -> list[dict]:
         lo, hi = ev.interval(name, metric)
         online = name not in ("DTW", "UTW")
         rows.append(
-            dict(
-                algorithm=name,
-                type_v=name.endswith(TYPE_V_SUFFIX),
-                median=med,
-                ci_low=lo,
-                ci_high=hi,
-                q1=q1,
-                q3=q3,
-                n=int(v.size),
-                n_missing=int(raw.size - v.size),
-                benchmark=float(bench),
-                passes_benchmark=passes(med, metric, bench),
-                verdict=ev.passes(name, metric).verdict if online else "-",
-            )
-        )
+            dict(algorithm=name, type_v=name.endswith(TYPE_V_SUFFIX), median=med, ci_low=lo,
+                 ci_high=hi, q1=q1, q3=q3, n=int(v.size), n_missing=int(raw.size - v.size),
+                 benchmark=float(bench), passes_benchmark=passes(med, metric, bench),
+                 verdict=ev.passes(name, metric).verdict if online else "-")
+        )  # fmt: skip
     return rows
 
 
@@ -390,17 +380,6 @@ def plot_table1(rows, ax=None):
 
 
 __all__ = [
-    "BASE_NAMES",
-    "base_names",
-    "benchmark",
-    "best_window",
-    "figure_names",
-    "passes",
-    "passing",
-    "plot_score_boxes",
-    "plot_table1",
-    "score_summary",
-    "scores",
-    "table1_rows",
-    "utw_median",
-]
+    "BASE_NAMES", "base_names", "benchmark", "best_window", "figure_names", "passes", "passing",
+    "plot_score_boxes", "plot_table1", "score_summary", "scores", "table1_rows", "utw_median",
+]  # fmt: skip

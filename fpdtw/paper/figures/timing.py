@@ -47,6 +47,16 @@ def last_input_frame(results, name: str) -> dict:
     return {int(p["id"]): int(m[i]) for i, p in enumerate(results.pairs)}
 
 
+def pair_maps(results, name: str):
+    """Each pair's map of an algorithm with the pair's last input frame: ``(M, m)``."""
+    arr = results.get(name)
+    m_of = last_input_frame(results, name)
+    offsets = np.asarray(arr["offsets"], dtype=np.int64)
+    maps = np.asarray(arr["maps"])
+    for k, pid in enumerate(np.asarray(arr["pair_id"])):
+        yield maps[offsets[k] : offsets[k + 1]], m_of[int(pid)]
+
+
 def exhausted_fraction(results, name: str) -> dict:
     """How many target frames ``q >= 1`` an aligner processed with ``M_{q-1} = m``, from
     the maps: ``frames`` (all such q over all pairs), ``exhausted``, ``fraction`` and
@@ -54,23 +64,15 @@ def exhausted_fraction(results, name: str) -> dict:
 
     Paper: FP-DTW Section 5 (Table 2: "Mc w80 ... running out of input frames").
     """
-    arr = results.get(name)
-    m_of = last_input_frame(results, name)
-    offsets = np.asarray(arr["offsets"], dtype=np.int64)
-    maps = np.asarray(arr["maps"])
     frames = exhausted = pairs = 0
-    for k, pid in enumerate(np.asarray(arr["pair_id"])):
-        M = maps[offsets[k] : offsets[k + 1]]
-        e = int(np.count_nonzero(M[:-1] >= m_of[int(pid)]))
+    for M, m in pair_maps(results, name):
+        e = int(np.count_nonzero(M[:-1] >= m))
         frames += M.size - 1
         exhausted += e
         pairs += e > 0
-    return dict(
-        frames=int(frames),
-        exhausted=int(exhausted),
-        fraction=float(exhausted / frames) if frames else 0.0,
-        pairs_exhausted_early=int(pairs),
-    )
+    fraction = float(exhausted / frames) if frames else 0.0
+    return dict(frames=int(frames), exhausted=int(exhausted), fraction=fraction,
+                pairs_exhausted_early=int(pairs))  # fmt: skip
 
 
 def time_per_frame_rows(bench: dict, results=None, names=None) -> list[dict]:
@@ -109,19 +111,11 @@ def time_per_frame_rows(bench: dict, results=None, names=None) -> list[dict]:
         if results is not None and name in results.algorithms:
             ex = exhausted_fraction(results, name)["fraction"]
         rows.append(
-            dict(
-                algorithm=name,
-                method=method,
-                w=w,
-                type_v=typev,
-                frames=int(b["frames"]),
-                mean_us=float(b["mean_s"] * 1e6),
-                median_us=float(b["median_s"] * 1e6),
-                p95_us=float(b["p95_s"] * 1e6),
-                exhausted_fraction=ex,
-                paper_mean_us=None if typev else TABLE2_US.get((method, w)),
-            )
-        )
+            dict(algorithm=name, method=method, w=w, type_v=typev, frames=int(b["frames"]),
+                 mean_us=float(b["mean_s"] * 1e6), median_us=float(b["median_s"] * 1e6),
+                 p95_us=float(b["p95_s"] * 1e6), exhausted_fraction=ex,
+                 paper_mean_us=None if typev else TABLE2_US.get((method, w)))
+        )  # fmt: skip
     return rows
 
 
@@ -235,14 +229,7 @@ def band_cost(report) -> list:
 
 
 __all__ = [
-    "TIMED_NAMES",
-    "timed_names",
-    "exhausted_fraction",
-    "growth_ratio",
-    "last_input_frame",
-    "load_bench",
-    "paper_growth_ratio",
-    "plot_time_vs_w",
-    "slowest_window",
+    "TIMED_NAMES", "timed_names", "exhausted_fraction", "growth_ratio", "last_input_frame",
+    "load_bench", "pair_maps", "paper_growth_ratio", "plot_time_vs_w", "slowest_window",
     "time_per_frame_rows",
-]
+]  # fmt: skip

@@ -200,11 +200,6 @@ def plot_fig9(M, M_free=None):
 
 
 __all__ = [
-    "backward_steps",
-    "forward_advances",
-    "plot_constrained_path",
-    "plot_fig9",
-    "plot_state_table",
-    "table_rows",
-    "typev_states",
-]
+    "backward_steps", "forward_advances", "plot_constrained_path", "plot_fig9", "plot_state_table",
+    "table_rows", "typev_states",
+]  # fmt: skip

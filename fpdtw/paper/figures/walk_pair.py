@@ -19,7 +19,7 @@ import numpy as np
 from fpdtw.metrics import deviation, similarity
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.paper.catalog import load, motion_records
-from fpdtw.paper.figures.plotting import new_axes, plot_skeleton
+from fpdtw.paper.figures.plotting import image, new_axes, plot_skeleton
 from fpdtw.paper.numbers import DEVIATION_BENCHMARK_FRAMES, FIG8_DEVIATIONS, WALK_GAIT_HZ
 from fpdtw.period import dominant_period
 from fpdtw.registry import align
@@ -37,14 +37,9 @@ FIG8_ALGORITHMS = ("DTW", "Mb w80", "Mc w20", "Mc w40", "Mc w80")
 FIG8_LITERAL = ("Mc w20 (literal window)", "Mc w40 (literal window)", "Mc w80 (literal window)")
 #: One colour per algorithm, shared by every panel.
 ALGORITHM_COLORS = {
-    "DTW": "black",
-    "UTW": "tab:gray",
-    "Ma": "tab:brown",
-    "Mb w80": "tab:blue",
-    "Mc w20": "tab:orange",
-    "Mc w40": "tab:green",
-    "Mc w80": "tab:red",
-}
+    "DTW": "black", "UTW": "tab:gray", "Ma": "tab:brown", "Mb w80": "tab:blue",
+    "Mc w20": "tab:orange", "Mc w40": "tab:green", "Mc w80": "tab:red",
+}  # fmt: skip
 #: The rule of each statement of :func:`fig8_statements`, in one line (the table's note).
 FIG8_STATEMENT_RULES = {
     "Mc w20 fails": "Mc w20's deviation from DTW (eq. 3) above the 18-frame benchmark",
@@ -95,14 +90,10 @@ def pair_scores(I: MotionFeatures, T: MotionFeatures, maps: dict):
     """
     ref = maps["DTW"]
     return [
-        {
-            "algorithm": name,
-            "deviation": deviation(ref, M),
-            "paper_deviation": FIG8_DEVIATIONS.get(name),
-            "similarity": similarity(I.quats, T.quats, M),
-        }
+        dict(algorithm=name, deviation=deviation(ref, M), paper_deviation=FIG8_DEVIATIONS.get(name),
+             similarity=similarity(I.quats, T.quats, M))
         for name, M in maps.items()
-    ]
+    ]  # fmt: skip
 
 
 def pose_frames(n_frames: int, k: int = 5) -> np.ndarray:
@@ -119,8 +110,7 @@ def plot_paths_over_cost(D, maps: dict, ax=None, names=("", "")):
     """
     fig, ax = new_axes(ax, figsize=(5.5, 5))
     D = np.asarray(D, dtype=float)
-    im = ax.imshow(D, origin="lower", aspect="auto", cmap="viridis", interpolation="nearest")
-    fig.colorbar(im, ax=ax, label="accumulated cost D (DTW)", fraction=0.046, pad=0.04)
+    image(ax, D, "accumulated cost D (DTW)")
     q = np.arange(D.shape[1])
     for name, M in maps.items():
         lw = 2.2 if name == "DTW" else 1.4
@@ -353,24 +343,8 @@ def statement_counts(rows) -> dict:
 
 
 __all__ = [
-    "ALGORITHM_COLORS",
-    "FBX_SIDE_VIEW",
-    "FIG8_ALGORITHMS",
-    "FIG8_LITERAL",
-    "FIG8_STATEMENT_RULES",
-    "SMOKE_SECONDS",
-    "WALK_PAIR",
-    "align_all",
-    "fig8_statements",
-    "gait_cycle",
-    "load_walk_pair",
-    "pair_scores",
-    "plot_aligned_poses",
-    "plot_joint_curves",
-    "plot_paths_over_cost",
-    "pose_frames",
-    "statement_counts",
-    "walk_pair_cases",
-    "walk_pair_features",
-    "walk_pairs",
-]
+    "ALGORITHM_COLORS", "FBX_SIDE_VIEW", "FIG8_ALGORITHMS", "FIG8_LITERAL", "FIG8_STATEMENT_RULES",
+    "SMOKE_SECONDS", "WALK_PAIR", "align_all", "fig8_statements", "gait_cycle", "load_walk_pair",
+    "pair_scores", "plot_aligned_poses", "plot_joint_curves", "plot_paths_over_cost", "pose_frames",
+    "statement_counts", "walk_pair_cases", "walk_pair_features", "walk_pairs",
+]  # fmt: skip

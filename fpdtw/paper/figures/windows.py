@@ -15,7 +15,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Rectangle
 
 from fpdtw.online.window import B_CORNER
-from fpdtw.paper.figures.plotting import new_axes
+from fpdtw.paper.figures.plotting import image, new_axes
 
 #: Offsets of the second path cell when Method B's path leaves (0, 0): (row, column).
 VIA_INPUT = (1, 0)  # advance one input frame within F_0 = T_n
@@ -122,16 +122,14 @@ def _rect(x, y0, height, color, lw, inset=0.0):
                      fill=False, ec=color, lw=lw, zorder=5)  # fmt: skip
 
 
-def _window_heatmap(ax, fig, A, start, col_labels, mask=None, label="", annotate=True):
+def _window_heatmap(ax, A, start, col_labels, mask=None, label="", annotate=True):
     """Heat map of a window matrix (rows input offsets, columns forecast frames)."""
     A = np.asarray(A, dtype=float)
     shown = A.copy()
     if mask is not None:
         shown[mask] = np.nan
     shown[~np.isfinite(shown)] = np.nan
-    cmap = mpl.colormaps["viridis"].with_extremes(bad="0.92")
-    im = ax.imshow(shown, origin="lower", cmap=cmap, interpolation="nearest", aspect="auto")
-    fig.colorbar(im, ax=ax, label=label, fraction=0.046, pad=0.04)
+    image(ax, shown, label, mpl.colormaps["viridis"].with_extremes(bad="0.92"))
     nr, nc = A.shape
     ax.set_xticks(np.arange(nc))
     ax.set_xticklabels(col_labels, fontsize=7)
@@ -148,7 +146,6 @@ def _window_heatmap(ax, fig, A, start, col_labels, mask=None, label="", annotate
                     colour = "white" if shown[r, c] < mid else "black"
                     ax.text(c, r, f"{A[r, c]:.2f}", ha="center", va="center", fontsize=5,
                             color=colour)  # fmt: skip
-    return im
 
 
 def _mark_x(ax, col, row, label):
@@ -188,7 +185,7 @@ def plot_method_b_window(step, ax=None, which: str = "D", annotate=True):
     mask = np.zeros(A.shape, dtype=bool)
     mask[0, 0] = which == "D"
     label = "accumulated cost D" if which == "D" else "cost C (eq. 1)"
-    _window_heatmap(ax, fig, A, s.M_n, forecast_labels(A.shape[1], True), mask, label, annotate)
+    _window_heatmap(ax, A, s.M_n, forecast_labels(A.shape[1], True), mask, label, annotate)
     extra = []
     if which == "D":
         ax.text(0, 0, f"{B_CORNER:.0f}", ha="center", va="center", fontsize=6, color="tab:red",
@@ -223,7 +220,7 @@ def plot_method_c_window(step, ax=None):
     fig, ax = new_axes(ax, figsize=(6, 5))
     D = np.asarray(s.D)
     labels = forecast_labels(D.shape[1], False)
-    _window_heatmap(ax, fig, D, s.M_n, labels, label="reverse-accumulated cost D")
+    _window_heatmap(ax, D, s.M_n, labels, label="reverse-accumulated cost D")
     nr, nc = D.shape
     off = s.M - s.M_n
     _mark_x(ax, 0, off, f"X: argmin of column 0, $M_{{n+1}} = {s.M_n} + {off} = {s.M}$")
@@ -243,12 +240,6 @@ def plot_method_c_window(step, ax=None):
 
 
 __all__ = [
-    "VIA_INPUT",
-    "VIA_TARGET",
-    "first_leaving",
-    "forecast_labels",
-    "plot_method_a_window",
-    "plot_method_b_window",
-    "plot_method_c_window",
-    "step_facts",
-]
+    "VIA_INPUT", "VIA_TARGET", "first_leaving", "forecast_labels", "plot_method_a_window",
+    "plot_method_b_window", "plot_method_c_window", "step_facts",
+]  # fmt: skip
