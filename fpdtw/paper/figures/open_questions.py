@@ -63,6 +63,17 @@ def plot_period(I, ax=None):
     return fig, ax
 
 
+def _medians(ev, name: str, utw_gap=False) -> dict:
+    """Median similarity and deviation of ``name`` with their 95 % intervals and the
+    benchmarks' verdicts (``utw_gap``: with the interval of its similarity minus UTW's)."""
+    s, d = ev.passes(name, "similarity"), ev.passes(name, "deviation")
+    lo, hi = ev.interval(name, "similarity")
+    gap = dict(sim_minus_utw_low=s.low, sim_minus_utw_high=s.high) if utw_gap else {}
+    return dict(similarity=ev.median(name, "similarity"), sim_low=lo, sim_high=hi, **gap,
+                passes_similarity=s.verdict, deviation=d.estimate, dev_low=d.low,
+                dev_high=d.high, passes_deviation=d.verdict)  # fmt: skip
+
+
 def window_rows(ev) -> list[dict]:
     """Q1: Mc auto and every fixed window at 120 and 60 Hz, medians with 95 % intervals and
     each benchmark's verdict.
@@ -72,15 +83,8 @@ def window_rows(ev) -> list[dict]:
     rows = []
     for rate in (120, 60):
         for base in ("Mc auto", *(f"Mc w{w}" for w in WINDOWS)):
-            n = base + _SFX[rate]
-            s, d = ev.passes(n, "similarity"), ev.passes(n, "deviation")
-            lo, hi = ev.interval(n, "similarity")
-            rows.append(
-                dict(algorithm=base, rate=rate, similarity=ev.median(n, "similarity"),
-                     sim_low=lo, sim_high=hi, sim_minus_utw_low=s.low, sim_minus_utw_high=s.high,
-                     passes_similarity=s.verdict, deviation=d.estimate, dev_low=d.low,
-                     dev_high=d.high, passes_deviation=d.verdict)
-            )  # fmt: skip
+            m = _medians(ev, base + _SFX[rate], utw_gap=True)
+            rows.append(dict(algorithm=base, rate=rate, **m))
     return rows
 
 
@@ -136,14 +140,10 @@ def _variant_rows(ev, bases, suffix: str) -> list[dict]:
     for n in bases:
         b = f"{n} ({suffix})"
         for who in (n, b):
-            s, d = ev.passes(who, "similarity"), ev.passes(who, "deviation")
-            lo, hi = ev.interval(who, "similarity")
             ds = ev.better(b, n, "similarity") if who == b else None
             dd = ev.better(b, n, "deviation") if who == b else None
             rows.append(
-                dict(algorithm=who, similarity=ev.median(who, "similarity"), sim_low=lo,
-                     sim_high=hi, passes_similarity=s.verdict, deviation=d.estimate,
-                     dev_low=d.low, dev_high=d.high, passes_deviation=d.verdict,
+                dict(algorithm=who, **_medians(ev, who),
                      sim_change=ds.estimate if ds else None,
                      sim_change_low=ds.low if ds else None,
                      sim_change_high=ds.high if ds else None,

@@ -48,9 +48,8 @@ def _side(ok: bool) -> str:
 
 
 def data_comparison(summary_rows) -> list[dict]:
-    """Section 4's data next to ours: motions per dataset and in all, movements.
-
-    ``summary_rows``: :func:`fpdtw.paper.catalog.summary_rows`. Claim 9 decides (notebook 05).
+    """Section 4's data beside ours (:func:`fpdtw.paper.catalog.summary_rows`): motions per
+    dataset and in all, movements (claim 9 decides).
 
     Paper: FP-DTW Section 4.
     Notebook: 01_data_and_motions.ipynb
@@ -74,8 +73,7 @@ def data_comparison(summary_rows) -> list[dict]:
 
 
 def oedtw_comparison(facts: dict, label: str = "OE-DTW") -> list[dict]:
-    """Fig. 1: do OE-DTW's end points move backwards? ``facts``:
-    :func:`fpdtw.paper.figures.oedtw.oedtw_facts` (claim 7 decides on all pairs).
+    """Fig. 1: do OE-DTW's end points move backwards (:func:`.oedtw.oedtw_facts`)?
 
     Paper: FP-DTW Section 2, Fig. 1.
     Notebook: 02_fig1_oedtw.ipynb
@@ -91,14 +89,8 @@ def oedtw_comparison(facts: dict, label: str = "OE-DTW") -> list[dict]:
 
 
 def windows_comparison(step_a, steps_b, step_c) -> list[dict]:
-    """Figs. 2 and 4: what Algorithms 1-3 prescribe, next to the plain steps drawn.
-
-    Parameters
-    ----------
-    step_a, step_c : fpdtw.plain.Step
-        A Method A and a Method C window step.
-    steps_b : sequence of fpdtw.plain.Step or None
-        The Method B steps of Fig. 4 (None where none was found).
+    """Figs. 2 and 4: what Algorithms 1-3 prescribe, beside the plain steps drawn (a Method
+    A and a Method C window step; Fig. 4's Method B steps, None where none was found).
 
     Paper: FP-DTW Algorithms 1-3, Figs. 2 and 4.
     Notebook: 03_fig2_fig4_windows.ipynb
@@ -130,11 +122,9 @@ def windows_comparison(step_a, steps_b, step_c) -> list[dict]:
 
 
 def forecast_comparison(curves: dict, levels, ahead=(1, 10), short=(1, 10)) -> list[dict]:
-    """Fig. 3: the paper's s = 2 and dead reckoning against the other forecasters.
-
-    Per horizon of ``ahead``: dead reckoning's best level. Per horizon of ``short``: dead
-    reckoning's error at s = 2 and every other forecaster's at its best level. ``curves``:
-    :func:`fpdtw.paper.figures.forecast.forecast_curves`.
+    """Fig. 3 (:func:`.forecast.forecast_curves`): dead reckoning's best level per horizon
+    of ``ahead``; per horizon of ``short`` its error at s = 2 beside the other forecasters'
+    best.
 
     Paper: FP-DTW Section 3.2 and Fig. 3.
     Notebook: 04_fig3_forecast.ipynb
@@ -173,11 +163,9 @@ def paper_passes(name: str, metric: str):
 
 
 def benchmark_comparison(summary_rows, metric: str) -> list[dict]:
-    """Figs. 5 / 6: per FP-DTW algorithm, does its median pass the benchmark?
-
-    Ours is the claims' verdict with the median's 95 % interval; the paper's is
-    :func:`paper_passes`. The first row is the benchmark. ``summary_rows``:
-    :func:`fpdtw.paper.figures.scores.score_summary` for ``metric``.
+    """Figs. 5 / 6: per FP-DTW algorithm of :func:`.scores.score_summary`, the claims'
+    verdict on its median passing the benchmark (with its 95 % interval) beside
+    :func:`paper_passes`; the first row is the benchmark.
 
     Paper: FP-DTW Figs. 5 and 6, Sections 5-7.
     Notebook: 06_fig5_fig6_scores.ipynb
@@ -208,11 +196,8 @@ def benchmark_comparison(summary_rows, metric: str) -> list[dict]:
 
 
 def table1_comparison(rows, source: str = "ours") -> list[dict]:
-    """Table 1 cell by cell: each window's median and its side of UTW's, the claims' check
-    where the rows carry it, and the best window (claim 3 decides).
-
-    ``rows``: :func:`fpdtw.paper.figures.scores.table1_rows`; ``source``: ``"ours"`` or
-    ``"ours (literal window)"``.
+    """Table 1 cell by cell (:func:`.scores.table1_rows` of ``source``): each window's median
+    and its side of UTW's, with the claims' check where given, and the best window.
 
     Paper: FP-DTW Table 1.
     Notebook: 07_table1_60hz.ipynb
@@ -242,13 +227,9 @@ def _imbalance(b: dict) -> float:
 
 
 def heatmap_comparison(balance: dict) -> list[dict]:
-    """Figs. 7 and 10 in numbers: where each named algorithm's path mass lies.
-
-    ``balance``: algorithm -> :func:`fpdtw.paper.figures.heatmaps.path_balance`. Fig. 7:
-    "sticks" (more mass below the diagonal band than above), "skips" (more above),
-    "balanced" (the smallest ``|below - above|`` of its method's windows); Fig. 10: more
-    mass near the diagonal with Type V; Mc w80 + Type V balanced like Mc w40. Algorithms
-    missing from ``balance`` are left out.
+    """Figs. 7 and 10 in words, from :func:`.heatmaps.path_balance` per algorithm: "sticks"
+    (more mass below the diagonal band than above), "skips", "balanced" (the smallest
+    ``|below - above|`` of its method's windows); Type V's share near the diagonal.
 
     Paper: FP-DTW Section 5 (Fig. 7), Section 6 (Fig. 10).
     Notebook: 08_fig7_fig10_heatmaps.ipynb
@@ -282,10 +263,8 @@ def heatmap_comparison(balance: dict) -> list[dict]:
 
 
 def timing_comparison(rows) -> list[dict]:
-    """Table 2 cell by cell, values only (claims 4 and 4b decide): the paper's mean time
-    per frame next to ours, per unconstrained Method B and C window the bench timed.
-
-    ``rows``: :func:`fpdtw.paper.figures.timing.time_per_frame_rows`.
+    """Table 2 cell by cell, values only (:func:`.timing.time_per_frame_rows`; claims 4 and
+    4b decide): the mean time per frame of each unconstrained Method B and C window.
 
     Paper: FP-DTW Table 2.
     Notebook: 09_table2_timing.ipynb
@@ -301,12 +280,9 @@ def timing_comparison(rows) -> list[dict]:
 
 
 def walk_pair_comparison(rows) -> list[dict]:
-    """Fig. 8: deviation from DTW on the walk pair, ours vs the paper's, each against 18.
-
-    Our pair is not the paper's (claim 8: not comparable), so ``ours`` only says whether
-    our number lies on the same side of the 18-frame benchmark; a literal-window row is
-    set beside the paper's number of its window. ``rows``:
-    :func:`fpdtw.paper.figures.walk_pair.pair_scores`.
+    """Fig. 8 (:func:`.walk_pair.pair_scores`): the deviation from DTW and its side of 18
+    frames, ours beside the paper's (another pair: claim 8, not comparable); a literal
+    window row beside the paper's number of its window.
 
     Paper: FP-DTW Section 5 (Fig. 8).
     Notebook: 10_fig8_walk_pair.ipynb
@@ -324,8 +300,8 @@ def walk_pair_comparison(rows) -> list[dict]:
 
 
 def typev_comparison(legal: bool, accepted: bool, free_legal: bool, n_states: int) -> list[dict]:
-    """Fig. 9: the state table's size, and whether the Ma + Type V map is legal by it
-    (``legal``) and by dtw-python (``accepted``), and unconstrained Ma's (``free_legal``).
+    """Fig. 9: the state table's size, and whether the Ma + Type V map is legal by it and by
+    dtw-python, and unconstrained Ma's.
 
     Paper: FP-DTW Section 6, Fig. 9.
     Notebook: 11_fig9_typev.ipynb
@@ -340,10 +316,8 @@ def typev_comparison(legal: bool, accepted: bool, free_legal: bool, n_states: in
 
 
 def opw_fig4_comparison(facts: dict) -> list[dict]:
-    """Poster Fig. 4: OPW's deviation from the example warp, against the baseline's
-    (DTW, or the plugin's ``facts["baseline"]``) and in smoothness (claim P1 decides).
-
-    ``facts``: :func:`fpdtw.paper.opw_eval.fig4_facts`.
+    """Poster Fig. 4 (:func:`fpdtw.paper.opw_eval.fig4_facts`): OPW's deviation from the
+    example warp, against the baseline's and in smoothness (claim P1 decides).
 
     Paper: OPW poster Section 5, Fig. 4.
     Notebook: 13_opw_fig4.ipynb

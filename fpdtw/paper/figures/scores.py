@@ -109,24 +109,13 @@ def figure_names(names=None, typev=True) -> list[tuple[str, str | None]]:
 
 
 def score_summary(results, metric: str, names=None, dataset=None) -> list[dict]:
-    """Per algorithm: median with its 95 % interval, quartiles, pairs, and the pass.
+    """Per algorithm (default: those of Figs. 5 and 6 that were run, each FP-DTW one followed
+    by its "+ Type V"), over all pairs or one ``dataset``'s.
 
-    Parameters
-    ----------
-    results : fpdtw.paper.runner.run.Results
-    metric : {"similarity", "deviation"}
-    names : sequence of str, optional
-        Default: those of Figs. 5 and 6 (each FP-DTW one followed by its "+ Type V") run.
-    dataset : str, optional
-        Only this dataset's pairs (the similarity benchmark too).
-
-    Returns
-    -------
-    rows : list of dict
-        ``algorithm``, ``type_v``, ``median``, ``ci_low``, ``ci_high``, ``q1``, ``q3``, ``n``
-        (finite scores), ``n_missing``, ``benchmark``, ``passes_benchmark`` (the paper's
-        rule on the median alone), ``verdict`` (with the interval: ``"holds"``,
-        ``"contradicted"`` or ``"inconclusive"``; ``"-"`` for DTW and UTW).
+    Rows: ``algorithm``, ``type_v``, ``median`` with ``ci_low``, ``ci_high`` (95 %), ``q1``,
+    ``q3``, ``n`` (finite scores), ``n_missing``, ``benchmark``, ``passes_benchmark`` (the
+    paper's rule on the median) and ``verdict`` (with the interval: holds, contradicted or
+    inconclusive; ``"-"`` for DTW and UTW).
 
     Paper: FP-DTW Figs. 5 and 6, Section 5 (the median must pass the benchmark).
     Notebook: 06_fig5_fig6_scores.ipynb
@@ -197,20 +186,18 @@ def plot_score_boxes(
     fig, ax = new_axes(ax, figsize=(12, 4.5))
     have = set(results.algorithms)
     names = [n for n in (base_names() if names is None else names) if n in have]  # as run
-    data, pos, widths, colours, drawn = [], [], [], [], []
+    boxes = []  # (name, position, width, colour) of each box
     for i, (name, tv) in enumerate(figure_names(names, typev)):
         if tv is None:
-            data.append(scores(results, name, metric))
-            pos.append(i)
-            widths.append(0.6)
-            colours.append(COLOURS["offline" if name in ("DTW", "UTW") else "plain"])
-            drawn.append(name)
+            kind = "offline" if name in ("DTW", "UTW") else "plain"
+            boxes.append((name, i, 0.6, COLOURS[kind]))
         else:
-            data += [scores(results, name, metric), scores(results, tv, metric)]
-            pos += [i - 0.2, i + 0.2]
-            widths += [0.36, 0.36]
-            colours += [COLOURS["plain"], COLOURS["typev"]]
-            drawn += [name, tv]
+            boxes += [
+                (name, i - 0.2, 0.36, COLOURS["plain"]),
+                (tv, i + 0.2, 0.36, COLOURS["typev"]),
+            ]
+    drawn, pos, widths, colours = ([b[k] for b in boxes] for k in range(4))
+    data = [scores(results, n, metric) for n in drawn]
     bp = ax.boxplot(
         data, positions=pos, widths=widths, patch_artist=True, showfliers=True,
         flierprops=dict(marker=".", markersize=2, alpha=0.3, markeredgecolor="0.4"),
@@ -298,19 +285,14 @@ def best_window(medians: dict) -> int:
 
 
 def table1_rows(results, reading="square", with_paper=True) -> list[dict]:
-    """Table 1: Method C's median similarity per window and UTW's, at 60 and 120 Hz.
+    """Table 1: Method C's median similarity per window and UTW's, at 60 and 120 Hz (the
+    runner resamples the motions; the window stays a number of frames).
 
-    At 60 Hz the names are ``"Mc w<w>@60Hz"`` (the runner resamples the motions; the window
-    stays a number of frames). ``reading``: Method C's reading of Algorithm 3 (``"literal"``:
-    rows ``"ours (literal window)"``); ``with_paper=False`` leaves out the paper's rows.
-
-    Returns
-    -------
-    rows : list of dict
-        Per rate the paper's row, then ours: ``rate_hz``, ``source``, ``w10`` .. ``w80``,
-        ``UTW``, ``best_w``, ``above_utw`` (e.g. ``"20 40"``); ours also the claims'
-        verdicts ``verdict_w10`` .. ``verdict_w80`` (above UTW's median) and
-        ``best_verdict`` (the paper's best window beats every other one).
+    Per rate the paper's row (unless ``with_paper`` is False), then ours (``"ours (literal
+    window)"`` for ``reading="literal"``): ``rate_hz``, ``source``, ``w10`` .. ``w80``,
+    ``UTW``, ``best_w``, ``above_utw`` (``"20 40"``); ours also the claims' verdicts
+    ``verdict_w10`` .. ``verdict_w80`` (above UTW) and ``best_verdict`` (the paper's best
+    window beats every other one).
 
     Paper: FP-DTW Table 1.
     Notebook: 07_table1_60hz.ipynb

@@ -76,23 +76,12 @@ def exhausted_fraction(results, name: str) -> dict:
 
 
 def time_per_frame_rows(bench: dict, results=None, names=None) -> list[dict]:
-    """Table 2: time per target frame of each online aligner the bench timed.
+    """Table 2: the time per target frame of each aligner of ``names`` (default
+    :func:`timed_names`) the bench timed (:func:`load_bench`).
 
-    Parameters
-    ----------
-    bench : dict
-        The report of ``make bench`` (:func:`load_bench`).
-    results : fpdtw.paper.runner.run.Results, optional
-        The grid, for :func:`exhausted_fraction`.
-    names : sequence of str, optional
-        Default: those of :func:`timed_names`.
-
-    Returns
-    -------
-    rows : list of dict
-        ``algorithm``, ``method`` ("A", "B", "C", "OE", ...), ``w``, ``type_v``, ``frames``,
-        ``mean_us``, ``median_us``, ``p95_us`` (one core), ``exhausted_fraction`` (None
-        without ``results``), ``paper_mean_us`` (Table 2, B and C unconstrained only).
+    Rows: ``algorithm``, ``method``, ``w``, ``type_v``, ``frames``, ``mean_us``,
+    ``median_us``, ``p95_us`` (one core), ``exhausted_fraction`` (from the grid
+    ``results``, else None) and ``paper_mean_us`` (Table 2: B and C unconstrained).
 
     Paper: FP-DTW Table 2.
     Notebook: 09_table2_timing.ipynb

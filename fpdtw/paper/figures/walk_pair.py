@@ -277,16 +277,11 @@ def fig8_statements(cases) -> list[dict]:
     """The paper's statements about its Fig. 8 walk pair, measured on each of our pairs.
 
     Section 5: "*Mc w80* skips a walk cycle, while the *Mc w20* complete fails, sticking on
-    an input frame early in the alignment", and only *Mb w80* and *Mc w40* below the
-    18-frame benchmark. Each is measured against DTW's map ``P`` of the pair by a rule fixed
-    from those words before any walk pair was aligned:
-
-    * "Mc w20 fails": its deviation from DTW (eq. 3) is above 18 frames.
-    * "Mc w20 sticks early": it holds one input frame over at least one target gait cycle,
-      in a hold starting in the first third of the target; a hold on the input's last frame
-      is the input run out, not a stick. Value: the longest such hold (target frames).
-    * "Mc w80 skips a walk cycle": ``max_q (M_q - P_q)`` is at least one input gait cycle.
-    * "Mb w80 stays close to DTW": its deviation from DTW is below 18 frames.
+    an input frame early in the alignment", and only *Mb w80* and *Mc w40* below 18 frames.
+    Each statement is measured against DTW's map of the pair by its rule in
+    :data:`FIG8_STATEMENT_RULES`, fixed from those words before any walk pair was aligned
+    ("early": a hold starting before ``n / 3``; a hold on the input's last frame is the
+    input run out, not a stick; gait cycles from :func:`gait_cycle`).
 
     Parameters
     ----------
@@ -298,8 +293,8 @@ def fig8_statements(cases) -> list[dict]:
     Returns
     -------
     rows : list of dict
-        Per pair, the four statements in that order: ``pair``, ``statement``, ``value``,
-        ``threshold``, ``unit``, ``holds``.
+        Per pair the four statements: ``pair``, ``statement``, ``value``, ``threshold``,
+        ``unit``, ``holds``.
 
     Paper: FP-DTW Section 5 (the text on Fig. 8) and eq. 3.
     Notebook: 10_fig8_walk_pair.ipynb
