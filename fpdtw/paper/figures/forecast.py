@@ -22,15 +22,11 @@ FORECAST_PANELS = (
     ("exponential", "exponential smoothing, alpha = 2/(s+1)"),
     ("holt", "Holt (level + trend), alpha = beta = 2/(s+1)"),
 )
-#: Smoothing levels drawn (the paper's choice, s = 2, first).
-LEVELS = (2, 3, 4, 5, 6)
-#: Largest number of frames ahead.
-HORIZON = 40
 
 
-def forecast_curves(features, levels=LEVELS, H: int = HORIZON) -> dict:
-    """Mean forecast error per forecaster: ndarray (len(levels), H), ``[l, i - 1]``
-    (:func:`fpdtw.forecast.forecast_error_curve`).
+def forecast_curves(features, levels, H: int) -> dict:
+    """Mean forecast error per forecaster at ``1..H`` frames ahead: ndarray (len(levels), H),
+    ``[l, i - 1]`` (:func:`fpdtw.forecast.forecast_error_curve`).
 
     Paper: FP-DTW Fig. 3.
     Notebook: 04_fig3_forecast.ipynb
@@ -95,6 +91,6 @@ def plot_forecast_panels(curves: dict, levels):
 
 
 __all__ = [
-    "FORECAST_PANELS", "HORIZON", "LEVELS", "best_level", "forecast_curves", "plot_forecast_error",
+    "FORECAST_PANELS", "best_level", "forecast_curves", "plot_forecast_error",
     "plot_forecast_panels",
 ]  # fmt: skip

@@ -20,11 +20,6 @@ from fpdtw.paper.figures.timing import pair_maps
 from fpdtw.paper.runner.results import aggregate_heatmap
 from fpdtw.registry import TYPE_V_SUFFIX
 
-#: The paper's algorithms of its Fig. 7.
-FIG7_PAPER_NAMES = (
-    "DTW", "UTW", "OE-DTW", "Ma", "Mb w10", "Mb w80", "Mc w10", "Mc w20", "Mc w40", "Mc w80",
-)  # fmt: skip
-
 
 def fig7_names() -> tuple:
     """Fig. 7's panels: the paper's algorithms, then the registry's online baselines beyond
@@ -32,7 +27,9 @@ def fig7_names() -> tuple:
 
     Paper: FP-DTW Fig. 7.
     """
-    return FIG7_PAPER_NAMES + registry.baselines()
+    return (
+        "DTW", "UTW", "OE-DTW", "Ma", "Mb w10", "Mb w80", "Mc w10", "Mc w20", "Mc w40", "Mc w80",
+    ) + registry.baselines()  # fmt: skip
 
 
 #: :func:`fig7_names` with the registry as built in.
@@ -197,6 +194,6 @@ def plot_typev_heatmaps(results, bases=FIG10_NAMES, bins=100, per_row=None, maps
 
 
 __all__ = [
-    "FIG10_NAMES", "FIG7_NAMES", "FIG7_PAPER_NAMES", "fig7_names", "heatmap", "path_balance",
+    "FIG10_NAMES", "FIG7_NAMES", "fig7_names", "heatmap", "path_balance",
     "plot_heatmap", "plot_heatmap_grid", "plot_typev_heatmaps", "shared_norm",
 ]  # fmt: skip
