@@ -229,21 +229,10 @@ def replay(
 
 
 def live_timing_comparison(step_seconds: dict, fps: float) -> list[dict]:
-    """Paper | ours: a replay's median time per frame beside the paper's Table 2 mean.
-
-    Values only (another implementation on another machine; claims 4 and 4b decide).
-
-    Parameters
-    ----------
-    step_seconds : dict of str to ndarray of float
-        Aligner name -> seconds each frame's step took.
-    fps : float
-        The take's frame rate (the budget is ``1 / fps``).
-
-    Returns
-    -------
-    rows : list of dict
-        :func:`fpdtw.paper.figures.paper_vs_ours.side_by_side` rows.
+    """Paper | ours rows (:func:`fpdtw.paper.figures.paper_vs_ours.side_by_side`): each
+    aligner's median step time (``step_seconds``: name -> seconds per frame) beside the
+    paper's Table 2 mean, and the budget ``1 / fps``. Values only: another implementation
+    on another machine (claims 4 and 4b decide).
 
     Paper: FP-DTW Table 2 and its text (the 120 Hz budget of 8333 us).
     Notebook: 20_align_a_live_performance.ipynb
@@ -268,11 +257,7 @@ def live_timing_comparison(step_seconds: dict, fps: float) -> list[dict]:
 
 
 def plot_latency(reports, ax=None):
-    """Histogram of step times (ms, log scale, one per report) with the frame budget.
-
-    Returns
-    -------
-    fig, ax
+    """Histogram of step times (ms, log scale), one per report, with the frame budget.
 
     Paper: FP-DTW Table 2 (per-frame time).
     Notebook: 20_align_a_live_performance.ipynb
@@ -299,21 +284,9 @@ def plot_latency(reports, ax=None):
 
 
 def plot_map_comparison(maps: dict, M_ref, axes=None, fps=None):
-    """Online maps against offline DTW's (left) and their deviation ``|M - M_ref|`` per
-    target frame (right, symmetric log: linear below 1 frame).
-
-    Parameters
-    ----------
-    maps : dict of str to array_like of int, each shape (n,)
-    M_ref : array_like of int, shape (n,)
-        Offline DTW's map.
-    axes : sequence of two Axes, optional
-    fps : float, optional
-        Draw the FP-DTW paper's 150 ms line on the right panel.
-
-    Returns
-    -------
-    fig, axes
+    """Online ``maps`` against offline DTW's ``M_ref`` (left) and their deviation
+    ``|M - M_ref|`` per target frame (right, symmetric log: linear below 1 frame), with the
+    FP-DTW paper's 150 ms line when ``fps`` is given.
 
     Paper: FP-DTW eq. 3 (deviation from DTW).
     Notebook: 20_align_a_live_performance.ipynb

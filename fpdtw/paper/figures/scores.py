@@ -1,13 +1,10 @@
 """Similarity and deviation per algorithm over all pairs: Figs. 5 and 6, Table 1.
 
-Per algorithm, one similarity (eq. 2) and one deviation from DTW (eq. 3) per pair of the
-experiment results. :func:`plot_score_boxes` draws Fig. 5 or 6, :func:`score_summary` the
-table beside each, :func:`table1_rows` Table 1 (Method C at 60 and 120 Hz, ours beside the
-paper's). The paper's rule (Section 5): an algorithm passes when its MEDIAN is above UTW's
-median similarity, or below 18 frames deviation. Quartiles are numpy's default; pairs with
-a non-finite score are left out and counted. The 95 % intervals and verdicts are the claims
-table's (:func:`fpdtw.paper.claims.evidence.shared_evidence`, :mod:`fpdtw.paper.claims.rules`),
-so a figure and a claim cannot disagree.
+The paper's rule (Section 5): an algorithm passes when its MEDIAN over the pairs is above
+UTW's median similarity, or below 18 frames deviation. Pairs with a non-finite score are
+left out and counted. The 95 % intervals and verdicts are the claims table's
+(:func:`fpdtw.paper.claims.evidence.shared_evidence`), so a figure and a claim cannot
+disagree.
 """
 
 from __future__ import annotations
@@ -91,14 +88,6 @@ def benchmark(results, metric: str, dataset=None) -> float:
     raise ValueError(f"metric must be one of {_METRICS}, got {metric!r}")
 
 
-def passes(median: float, metric: str, bench: float) -> bool:
-    """Whether a median passes the benchmark (:func:`fpdtw.paper.numbers.passes_similarity`
-    against ``bench``, or :func:`~fpdtw.paper.numbers.passes_deviation`)."""
-    if metric == "similarity":
-        return numbers.passes_similarity(median, bench)
-    return numbers.passes_deviation(median)
-
-
 def figure_names(names=None, typev=True) -> list[tuple[str, str | None]]:
     """``(name, name + " + Type V")`` for the FP-DTW algorithms of ``names`` (default
     :func:`base_names`), ``(name, None)`` for the others or without ``typev``."""
@@ -134,10 +123,14 @@ def score_summary(results, metric: str, names=None, dataset=None) -> list[dict]:
         q1, med, q3 = (float(x) for x in np.percentile(v, [25, 50, 75]))
         lo, hi = ev.interval(name, metric)
         online = name not in ("DTW", "UTW")
+        if metric == "similarity":
+            passes = numbers.passes_similarity(med, bench)
+        else:
+            passes = numbers.passes_deviation(med)
         rows.append(
             dict(algorithm=name, type_v=name.endswith(TYPE_V_SUFFIX), median=med, ci_low=lo,
                  ci_high=hi, q1=q1, q3=q3, n=int(v.size), n_missing=int(raw.size - v.size),
-                 benchmark=float(bench), passes_benchmark=passes(med, metric, bench),
+                 benchmark=float(bench), passes_benchmark=passes,
                  verdict=ev.passes(name, metric).verdict if online else "-")
         )  # fmt: skip
     return rows
@@ -362,6 +355,6 @@ def plot_table1(rows, ax=None):
 
 
 __all__ = [
-    "BASE_NAMES", "base_names", "benchmark", "best_window", "figure_names", "passes", "passing",
+    "BASE_NAMES", "base_names", "benchmark", "best_window", "figure_names", "passing",
     "plot_score_boxes", "plot_table1", "score_summary", "scores", "table1_rows", "utw_median",
 ]  # fmt: skip
