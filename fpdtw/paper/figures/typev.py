@@ -104,28 +104,6 @@ def _draw_local_paths(ax, paths, labels, ticks, title, legend):
     ax.legend(fontsize=7, title=legend[0], title_fontsize=7, loc=legend[1])
 
 
-def plot_backward_steps(ax):
-    """Fig. 9 i: the backward Type V local paths ending at (0, 0)."""
-    steps = backward_steps()
-    labels = [f"({-S[0, 0]}, {-S[0, 1]})" for S in steps]
-    title = '(i) backward Type V\nrabinerJuangStepPattern(5, "c")'
-    _draw_local_paths(
-        ax, steps, labels, np.arange(-3, 1), title, ("step (target, input)", "lower left")
-    )
-
-
-def plot_forward_steps(ax):
-    """Fig. 9 ii: each local path as advances of the input per target frame, from (0, 0)."""
-    advances = forward_advances(backward_steps())
-    paths = []
-    for adv in advances:
-        y = np.concatenate([[0], np.cumsum(adv)])
-        paths.append(np.column_stack([np.arange(y.size), y]))
-    labels = [", ".join(str(a) for a in adv) for adv in advances]
-    title = "(ii) forward form: advances\nper target frame"
-    _draw_local_paths(ax, paths, labels, np.arange(0, 4), title, ("advances", "upper left"))
-
-
 def plot_state_table(ax=None):
     """Fig. 9 iii-iv: the state table as a table figure (``ax.tables[0]``): next state per
     state and advance, ``-`` where not allowed.
@@ -192,8 +170,20 @@ def plot_fig9(M, M_free=None):
     fig = plt.figure(figsize=(12, 8.5), layout="constrained")
     gs = fig.add_gridspec(2, 3, height_ratios=[1, 1.05])
     axes = [fig.add_subplot(gs[0, k]) for k in range(3)] + [fig.add_subplot(gs[1, :])]
-    plot_backward_steps(axes[0])
-    plot_forward_steps(axes[1])
+    steps = backward_steps()  # (i) backward, ending at (0, 0)
+    labels = [f"({-S[0, 0]}, {-S[0, 1]})" for S in steps]
+    title = '(i) backward Type V\nrabinerJuangStepPattern(5, "c")'
+    _draw_local_paths(
+        axes[0], steps, labels, np.arange(-3, 1), title, ("step (target, input)", "lower left")
+    )
+    advances = forward_advances(steps)  # (ii) forward: the input's advance per target frame
+    paths = [
+        np.column_stack([np.arange(len(a) + 1), np.concatenate([[0], np.cumsum(a)])])
+        for a in advances
+    ]
+    labels = [", ".join(str(a) for a in adv) for adv in advances]
+    title = "(ii) forward form: advances\nper target frame"
+    _draw_local_paths(axes[1], paths, labels, np.arange(0, 4), title, ("advances", "upper left"))
     plot_state_table(ax=axes[2])
     plot_constrained_path(M, ax=axes[3], M_free=M_free)
     return fig, axes
