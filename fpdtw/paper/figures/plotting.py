@@ -1,7 +1,7 @@
 """Figure helpers: one function saves every figure; one style marks what is beyond the paper.
 
-Plot functions take ``ax=None`` and return ``(fig, ax)``. :func:`save_figure` writes PDF and
-PNG without creation date or software version, so an unchanged figure gives the same bytes.
+Plot functions return ``(fig, ax)`` (a panel's take ``ax=None``). :func:`save_figure` writes
+PDF and PNG without creation date or software version: an unchanged figure, the same bytes.
 Algorithms the FP-DTW paper does not evaluate (OPW, OLTW, the variants of notebooks 15-16)
 are drawn grey, hatched and labelled "beyond the paper" (:func:`style_beyond_paper`).
 """

@@ -178,14 +178,10 @@ def plot_aligned_poses(mI, mT, maps: dict, frames):
     def centred(P, f):
         return P[f] - P[f, 0] * flat
 
-    all_pts = [centred(PT, f) for f in frames]
     entries = [("target", None, [centred(PT, f) for f in frames])]
     for name, M in maps.items():
-        M = np.asarray(M)
-        pts = [centred(PI, int(M[f])) for f in frames]
-        entries.append((name, name, pts))
-        all_pts += pts
-    stack = np.concatenate(all_pts)
+        entries.append((name, name, [centred(PI, int(np.asarray(M)[f])) for f in frames]))
+    stack = np.concatenate([p for _, _, pts in entries for p in pts])
     lim_h = np.abs(stack[:, h]).max() * 1.05
     lim_v = (stack[:, v].min() - 5, stack[:, v].max() + 5)
     for r, (label, key, pts) in enumerate(entries):
