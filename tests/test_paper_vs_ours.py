@@ -298,7 +298,9 @@ def test_live_comparison():
 
 
 def test_live_timing_comparison():
-    rows = C.live_timing_comparison(
+    from fpdtw.app.live import live_timing_comparison
+
+    rows = live_timing_comparison(
         {"Mc w40": [1e-5, 2e-5, 3e-5], "Ma + Type V": [1e-6], "OLTW": [5e-6]}, fps=120.0
     )
     assert rows[0]["paper"] == f"{N.TABLE2_US[('C', 40)]:.0f} us (mean)"

@@ -1,27 +1,16 @@
 """Replay a recorded take as if it were being captured, and align it online.
 
-:func:`replay` feeds the TARGET motion to an online aligner one frame at a time at the
-target's own frame rate (frame ``q`` is "captured" at ``q / fps`` seconds after the
-start), measures how long each ``step`` takes, and reports the latency against the frame
-budget ``1 / fps`` (8.33 ms at 120 Hz) and the frames that were answered too late.
+:func:`replay` feeds the TARGET motion to an online aligner one frame at a time at its own
+frame rate (frame ``q`` is due ``q / fps`` seconds after the start), times each ``step`` and
+reports the latency against the frame budget ``1 / fps`` (8.33 ms at 120 Hz).
 
-Definitions (:class:`LiveReport`):
-
-* step time: wall time of the aligner's ``step`` call for the frame (``time.perf_counter``).
-  Feature extraction (local rotations, unwrapped Euler angles, positions) is done for
-  the whole target before the replay and is not included; each frame's features depend
-  only on that frame and the ones before it.
-* due time of frame ``q``: ``q / fps`` after the start.
-* a frame is DROPPED when its answer (the end of its step) comes after the NEXT frame's
-  due time, ``(q + 1) / fps``: a renderer showing one frame per capture tick would have
-  had nothing new to show. Every frame is still processed (the aligners need every
-  frame); a late step delays the start of the next one.
-
-``realtime=True`` waits (``time.sleep``, then a short spin) until each frame's due time
-on the monotonic ``perf_counter`` clock. ``realtime=False`` (tests, notebooks) runs the
-steps back to back as fast as possible and derives start and finish times on the
-simulated schedule: frame ``q`` starts at ``max(due_q, finish_{q-1})`` and finishes one
-measured step time later, which is what real time would give if the steps took as long.
+* step time: wall time of the aligner's ``step`` (``time.perf_counter``); the features are
+  extracted for the whole target beforehand (each frame's depend only on it and earlier ones).
+* a frame is DROPPED when its answer comes after the NEXT frame's due time: a renderer
+  showing one frame per capture tick had nothing new to show. Every frame is still
+  processed, so a late step delays the next one.
+* ``realtime=False`` runs the steps back to back and derives the schedule: frame ``q``
+  starts at ``max(due_q, finish_{q-1})`` and ends one measured step time later.
 
 Notebook: 20_align_a_live_performance.ipynb
 """
@@ -41,21 +30,18 @@ PERCENTILES = (50, 90, 99)
 
 @dataclass
 class LiveReport:
-    """What happened during a replay.
+    """What happened during a replay: times in seconds after its start, arrays of shape (n,).
 
     Attributes
     ----------
-    M : ndarray of int64, shape (n,)
-        Input frame the aligner returned for each target frame.
-    step_s : ndarray of float64, shape (n,)
-        Step time of each frame, seconds.
-    due_s, start_s, finish_s : ndarray of float64, shape (n,)
-        Due time, start and end of each frame's step, seconds after the start of the
-        replay (simulated schedule when ``realtime`` is False).
+    M : ndarray of int64
+        Input frame returned for each target frame.
+    step_s, due_s, start_s, finish_s : ndarray of float64
+        Step time of each frame; its due time, start and end (simulated schedule when
+        ``realtime`` is False).
     fps : float
         Target frame rate; the budget is ``1 / fps``.
     realtime : bool
-        Whether the replay waited for each frame's due time.
     name : str
         Aligner name.
 
@@ -77,14 +63,12 @@ class LiveReport:
 
     @property
     def budget_s(self) -> float:
-        """Time between two captured frames, ``1 / fps`` seconds."""
         return 1.0 / self.fps
 
     @property
     def dropped(self) -> np.ndarray:
         """bool (n,): the frame's step ended after the next frame's due time."""
-        next_due = self.due_s + self.budget_s
-        return self.finish_s > next_due
+        return self.finish_s > self.due_s + self.budget_s
 
     @property
     def n_dropped(self) -> int:
@@ -92,15 +76,12 @@ class LiveReport:
 
     @property
     def response_s(self) -> np.ndarray:
-        """Time from each frame's due time to its answer, seconds, shape (n,)."""
+        """From each frame's due time to its answer, seconds, shape (n,)."""
         return self.finish_s - self.due_s
 
     def percentiles(self, of: str = "step") -> dict:
-        """Percentiles and maximum, seconds: keys ``p50, p90, p99, max``.
-
-        ``of="step"``: step times; ``of="response"``: due time to answer (includes waiting
-        for a late previous frame and, in real time, the operating system's wake-up delay).
-        """
+        """``p50, p90, p99, max`` in seconds of the step times (``of="step"``) or of the
+        response times (``of="response"``: includes waiting for a late previous frame)."""
         x = self.step_s if of == "step" else self.response_s
         out = {f"p{p}": float(np.percentile(x, p)) for p in PERCENTILES}
         out["max"] = float(x.max())
@@ -155,17 +136,9 @@ def _as_features(motion, position_joints):
 
 
 def warm_up(aligner, T: MotionFeatures, frames: int = 8) -> None:
-    """Feed the first target frames once, untimed, then reset the aligner.
-
-    The first ``step`` of a numba-compiled aligner loads (or compiles) its kernels, which
-    takes far longer than a frame; a live system would do this before the performance.
-
-    Parameters
-    ----------
-    aligner : OnlineAligner
-    T : MotionFeatures
-        Target frames to feed (the first ``frames`` of them).
-    frames : int
+    """Feed the first ``frames`` target frames once, untimed, then reset the aligner: the
+    first ``step`` of a numba aligner loads or compiles its kernels, as a live system would
+    before the performance.
 
     Paper: FP-DTW Table 2 (per-frame times exclude start-up).
     """
@@ -194,32 +167,26 @@ def replay(
     position_joints=None,
     clock=time.perf_counter,
     sleep=time.sleep,
-    on_frame=None,
     warmup_frames: int = 8,
 ) -> LiveReport:
     """Replay the target at its own frame rate and align it online, frame by frame.
 
     Parameters
     ----------
-    I_motion : Motion or MotionFeatures
-        The recorded (input) motion.
-    T_motion : Motion or MotionFeatures
-        The "live" (target) motion, fed one frame at a time at ``T.fps``.
+    I_motion, T_motion : Motion or MotionFeatures
+        The recorded (input) motion and the "live" (target) one, fed at ``T.fps``.
     aligner_factory : callable
         ``aligner_factory(I_features) -> OnlineAligner`` (e.g. ``lambda I: MethodC(I, 40)``).
     realtime : bool
-        Wait for each frame's due time (True) or run as fast as possible and simulate the
-        schedule (False); see the module docstring.
+        Wait for each frame's due time, or run as fast as possible and simulate the
+        schedule (see the module docstring).
     position_joints : sequence of str, optional
         Joints whose positions the features carry (OPW needs
         :data:`fpdtw.motion.joints.OPW_JOINTS`).
     clock, sleep : callable
         Monotonic clock (seconds) and sleep function; replaceable for tests.
-    on_frame : callable, optional
-        ``on_frame(q, M_q)`` after each frame (e.g. to drive a display).
     warmup_frames : int
-        Untimed steps over the first target frames before the replay, then a reset
-        (:func:`warm_up`: just-in-time compilation happens there, not in frame 0).
+        Untimed steps before the replay (:func:`warm_up`).
 
     Returns
     -------
@@ -258,28 +225,39 @@ def replay(
             start[q] = max(due[q], prev_finish)
             finish[q] = start[q] + step[q]
         prev_finish = finish[q]
-        if on_frame is not None:
-            on_frame(q, int(M[q]))
     return LiveReport(M, step, due, start, finish, fps, bool(realtime), aligner.name)
 
 
-# -- plots ------------------------------------------------------------------------------
+def live_timing_comparison(step_seconds: dict, fps: float) -> list[dict]:
+    """Paper | ours rows (:func:`fpdtw.paper.figures.paper_vs_ours.side_by_side`): each
+    aligner's median step time (``step_seconds``: name -> seconds per frame) beside the
+    paper's Table 2 mean, and the budget ``1 / fps``. Values only: another implementation
+    on another machine (claims 4 and 4b decide).
+
+    Paper: FP-DTW Table 2 and its text (the 120 Hz budget of 8333 us).
+    Notebook: 20_align_a_live_performance.ipynb
+    """
+    from fpdtw.paper.figures.paper_vs_ours import side_by_side
+    from fpdtw.paper.numbers import TABLE2_US
+    from fpdtw.registry import resolve
+
+    out = []
+    for name, steps in step_seconds.items():
+        a = resolve(name)
+        paper = None if (a.typev or a.options) else TABLE2_US.get((a.family, a.w))
+        med = float(np.median(np.asarray(steps, dtype=float))) * 1e6
+        out.append(
+            side_by_side(
+                f"{name}: time per frame",
+                "not in Table 2" if paper is None else f"{paper:.0f} us (mean)",
+                f"{med:.0f} us (median; budget {1e6 / fps:.0f} us)",
+            )
+        )
+    return out
 
 
-def plot_latency(reports, ax=None, bins=40):
-    """Histogram of step times (ms, log scale) with the frame budget as a vertical line.
-
-    Parameters
-    ----------
-    reports : LiveReport or sequence of LiveReport
-        One histogram per report (labelled by aligner name).
-    ax : matplotlib.axes.Axes, optional
-    bins : int
-        Logarithmically spaced bins over the range of all step times and the budget.
-
-    Returns
-    -------
-    fig, ax
+def plot_latency(reports, ax=None):
+    """Histogram of step times (ms, log scale), one per report, with the frame budget.
 
     Paper: FP-DTW Table 2 (per-frame time).
     Notebook: 20_align_a_live_performance.ipynb
@@ -293,7 +271,7 @@ def plot_latency(reports, ax=None, bins=40):
     allms = np.concatenate([r.step_s for r in reports]) * 1e3
     lo = max(allms.min(), 1e-4) / 1.5
     hi = max(allms.max(), budget_ms) * 1.5
-    edges = np.geomspace(lo, hi, bins + 1)
+    edges = np.geomspace(lo, hi, 40 + 1)
     for r in reports:
         ax.hist(r.step_s * 1e3, bins=edges, histtype="step", lw=1.5, label=r.name)
     ax.axvline(budget_ms, color="k", ls="--", lw=1)
@@ -305,30 +283,17 @@ def plot_latency(reports, ax=None, bins=40):
     return fig, ax
 
 
-def plot_map_comparison(maps: dict, M_ref, axes=None, ref_label="offline DTW", fps=None):
-    """Online maps against a reference map (e.g. offline DTW), and their deviation.
-
-    Parameters
-    ----------
-    maps : dict of str to array_like of int, each shape (n,)
-        Maps to compare, by label.
-    M_ref : array_like of int, shape (n,)
-        Reference map.
-    axes : sequence of two Axes, optional
-        Left: input frame against target frame; right: ``|M - M_ref|`` per target frame
-        (symmetric log scale: linear below 1 frame).
-    fps : float, optional
-        Draw the FP-DTW paper's 150 ms line (18 frames at 120 Hz) on the right panel.
-
-    Returns
-    -------
-    fig, axes
+def plot_map_comparison(maps: dict, M_ref, axes=None, fps=None):
+    """Online ``maps`` against offline DTW's ``M_ref`` (left) and their deviation
+    ``|M - M_ref|`` per target frame (right, symmetric log: linear below 1 frame), with the
+    FP-DTW paper's 150 ms line when ``fps`` is given.
 
     Paper: FP-DTW eq. 3 (deviation from DTW).
     Notebook: 20_align_a_live_performance.ipynb
     """
     import matplotlib.pyplot as plt
 
+    ref_label = "offline DTW"
     if axes is None:
         fig, axes = plt.subplots(1, 2, figsize=(9, 3.4), constrained_layout=True)
     else:
@@ -346,11 +311,14 @@ def plot_map_comparison(maps: dict, M_ref, axes=None, ref_label="offline DTW", f
     axes[0].set_xlabel("target (live) frame")
     axes[0].set_ylabel("input (recorded) frame")
     axes[0].legend(frameon=False)
-    axes[1].set_yscale("symlog", linthresh=1.0)  # 0..1 linear, then logarithmic
+    axes[1].set_yscale("symlog", linthresh=1.0)
     axes[1].set_ylim(bottom=0)
     axes[1].set_xlabel("target (live) frame")
     axes[1].set_ylabel(f"|map - {ref_label}| (frames)")
     return fig, axes
 
 
-__all__ = ["LiveReport", "plot_latency", "plot_map_comparison", "replay", "warm_up"]
+__all__ = [
+    "LiveReport", "live_timing_comparison", "plot_latency", "plot_map_comparison", "replay",
+    "warm_up",
+]  # fmt: skip

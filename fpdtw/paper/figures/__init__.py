@@ -1,19 +1,9 @@
-"""Figure code of the FP-DTW paper's figures, one module per figure (or group).
+"""Figure code of the papers' figures, one module per figure or group (:mod:`.oedtw` Fig. 1,
+:mod:`.windows` Figs. 2 and 4, :mod:`.forecast` Fig. 3, :mod:`.scores` Figs. 5-6 and Table 1,
+:mod:`.heatmaps` Figs. 7 and 10, :mod:`.walk_pair` Fig. 8, :mod:`.typev` Fig. 9,
+:mod:`.timing` Table 2, :mod:`.opw` the OPW poster's Figs. 4-6), the notebooks' "paper |
+ours" rows (:mod:`.paper_vs_ours`), tables (:mod:`.tables`) and facts (:mod:`.facts`).
 
-* :mod:`.oedtw` — Fig. 1 (OE-DTW end points jumping backwards);
-* :mod:`.windows` — Figs. 2 and 4 (Method A/B/C windows drawn from the plain steps);
-* :mod:`.forecast` — Fig. 3 (forecast error of smoothing levels vs frames ahead);
-* :mod:`.walk_pair` — Fig. 8 (one walk pair: paths, right-hip curves, poses);
-* :mod:`.typev` — Fig. 9 (the Type V constraint and its state table);
-* :mod:`.scores` — Figs. 5 and 6 (similarity and deviation box plots) and Table 1;
-* :mod:`.heatmaps` — Figs. 7 and 10 (aggregate heat maps of all paths);
-* :mod:`.timing` — Table 2 (time per frame);
-* :mod:`.opw` — OPW poster Figs. 4-6;
-* :mod:`.facts` — the JSON of facts each figure notebook writes.
-
-Plot functions take ``ax=None`` (or ``axes=None``) and return ``(fig, ax)``; figures are
-saved with :func:`fpdtw.paper.figures.plotting.save_figure`. Import a module by name
-(``from fpdtw.paper.figures import scores``): the package imports none of them, so that the
-claims can read Table 2's timings (:mod:`.timing`) and write tables (:mod:`.tables`) without
-loading the figures that draw the claims' evidence (:mod:`.scores`).
+Import a module by name: the package imports none of them, so that the claims can read
+Table 2's timings and write tables without loading the figures that draw their evidence.
 """

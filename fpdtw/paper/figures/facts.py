@@ -1,12 +1,9 @@
 """The small JSON of facts each figure notebook writes next to its figures.
 
-Every figure notebook records the facts it shows (counts, chosen steps, rounded scores)
-in ``results_dir()/<mode>/figs/<notebook>.json``, ``mode`` = ``"smoke"`` or ``"full"``;
-the claims notebook and the tests read them back. Content is deterministic (keys are
-sorted, numpy scalars and arrays become plain JSON numbers and lists, floats are written
-with 6 significant digits; the file is replaced atomically) except the one key
-``"environment"``, which records what computed them
-(:func:`fpdtw.paper.provenance.environment`: versions, commit, CPU).
+``results_dir()/<smoke|full>/figs/<notebook>.json``, read back by the claims notebook and
+the tests. Deterministic (sorted keys, numpy made plain, floats to 6 significant digits,
+replaced atomically) except the key ``"environment"``
+(:func:`fpdtw.paper.provenance.environment`: what computed them).
 """
 
 from __future__ import annotations
@@ -22,25 +19,13 @@ from fpdtw.paper.paths import results_dir
 from fpdtw.paper.provenance import environment
 
 
-def mode_name(smoke: bool) -> str:
-    """``"smoke"`` or ``"full"``."""
-    return "smoke" if smoke else "full"
-
-
 def facts_path(notebook: str, smoke: bool) -> Path:
-    """Path of a notebook's facts: ``results_dir()/<mode>/figs/<notebook>.json``.
-
-    Parameters
-    ----------
-    notebook : str
-        Notebook stem, e.g. ``"02_fig1_oedtw"``.
-    smoke : bool
-    """
-    return results_dir() / mode_name(smoke) / "figs" / f"{notebook}.json"
+    """``results_dir()/<mode>/figs/<notebook>.json`` for a notebook stem (``"02_fig1_oedtw"``)."""
+    return results_dir() / ("smoke" if smoke else "full") / "figs" / f"{notebook}.json"
 
 
 def _plain(x):
-    """JSON-ready copy of x: numpy -> Python, floats to 6 significant digits."""
+    """JSON-ready copy of x: numpy -> Python, floats to 6 significant digits, NaN -> None."""
     if isinstance(x, dict):
         return {str(k): _plain(v) for k, v in x.items()}
     if isinstance(x, list | tuple):
@@ -53,41 +38,24 @@ def _plain(x):
         return int(x)
     if isinstance(x, float | np.floating):
         v = float(x)
-        if not math.isfinite(v):
-            return None
-        return float(f"{v:.6g}")
+        return float(f"{v:.6g}") if math.isfinite(v) else None
     return x
 
 
 def save_facts(notebook: str, facts: dict, smoke: bool) -> Path:
-    """Write a notebook's facts as JSON (atomic, deterministic).
-
-    Parameters
-    ----------
-    notebook : str
-        Notebook stem, e.g. ``"02_fig1_oedtw"``.
-    facts : dict
-        JSON-able content (numpy scalars and arrays allowed); non-finite floats are
-        written as null.
-    smoke : bool
-        Smoke run (``results_dir()/smoke``) or full run (``results_dir()/full``).
-
-    Returns
-    -------
-    path : Path
+    """Write a notebook's facts (numpy allowed; non-finite floats become null) as JSON.
 
     Notebook: 02_fig1_oedtw.ipynb, 03_fig2_fig4_windows.ipynb, 04_fig3_forecast.ipynb,
     10_fig8_walk_pair.ipynb, 11_fig9_typev.ipynb
     """
-
-    path = facts_path(notebook, smoke)
     record = {**_plain(facts), "environment": environment()}
-    return write_atomic(path, (json.dumps(record, indent=1, sort_keys=True) + "\n").encode())
+    text = json.dumps(record, indent=1, sort_keys=True) + "\n"
+    return write_atomic(facts_path(notebook, smoke), text.encode())
 
 
 def load_facts(notebook: str, smoke: bool) -> dict:
-    """Read the facts a notebook wrote (see :func:`save_facts`)."""
+    """Read the facts a notebook wrote."""
     return json.loads(facts_path(notebook, smoke).read_text())
 
 
-__all__ = ["facts_path", "load_facts", "mode_name", "save_facts"]
+__all__ = ["facts_path", "load_facts", "save_facts"]

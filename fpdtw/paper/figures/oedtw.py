@@ -1,10 +1,8 @@
 """Fig. 1: open-end DTW's end points jump backwards between consecutive target frames.
 
 OE-DTW (:class:`fpdtw.online.OEDTW`) picks, after every target frame ``q``, the best end
-point ``e_q`` in the input and back-tracks a partial path from ``(e_q, q)``. Nothing
-keeps ``e_{q+1} >= e_q``: played back live, the input would snap backwards. The rule that
-picks the frame the figure shows is fixed: the FIRST target frame ``q`` with
-``e_{q+1} < e_q`` (:func:`first_backward_jump`).
+point ``e_q`` in the input; nothing keeps ``e_{q+1} >= e_q``, so played back live the input
+would snap backwards. The figure shows the FIRST target frame with ``e_{q+1} < e_q``.
 """
 
 from __future__ import annotations
@@ -14,21 +12,12 @@ import numpy as np
 from matplotlib.ticker import MaxNLocator
 
 from fpdtw.online import OEDTW, run_online
-from fpdtw.paper.figures.plotting import new_axes
+from fpdtw.paper.figures.plotting import image, new_axes
 
 
 def backward_jumps(E) -> np.ndarray:
-    """Target frames ``q`` whose next end point lies before theirs, ``e_{q+1} < e_q``.
-
-    Parameters
-    ----------
-    E : array_like of int, shape (n + 1,)
-        End point of every target frame.
-
-    Returns
-    -------
-    q : ndarray of int64, shape (J,)
-        Increasing; empty if the end points never move backwards.
+    """Target frames ``q`` (int64, increasing) whose next end point lies before theirs, in
+    the end points ``E`` (n + 1,).
 
     Paper: FP-DTW Fig. 1.
     """
@@ -39,7 +28,7 @@ def backward_jumps(E) -> np.ndarray:
 
 
 def first_backward_jump(E):
-    """The first backward jump ``(q, e_q, e_{q+1})``, or None if there is none.
+    """The first backward jump ``(q, e_q, e_{q+1})``, or None.
 
     Paper: FP-DTW Fig. 1 (the paper's example is q = 15 -> 16).
     """
@@ -52,19 +41,7 @@ def first_backward_jump(E):
 
 
 def run_oedtw(I, T, **kwargs) -> OEDTW:
-    """Run OE-DTW over a whole target; return the aligner (end points, D, paths).
-
-    Parameters
-    ----------
-    I, T : MotionFeatures
-        Input (recorded) and target (live) motion.
-    **kwargs
-        Passed to :class:`fpdtw.online.OEDTW` (``step_pattern``, ``normalize``).
-
-    Returns
-    -------
-    oe : OEDTW
-        ``oe.end_points`` (n + 1,), ``oe.D``, ``oe.path(q)``.
+    """Run OE-DTW (``kwargs``: ``step_pattern``, ``normalize``) over a whole target.
 
     Notebook: 02_fig1_oedtw.ipynb
     """
@@ -74,15 +51,8 @@ def run_oedtw(I, T, **kwargs) -> OEDTW:
 
 
 def oedtw_facts(E) -> dict:
-    """Facts of Fig. 1: number of target frames, backward jumps, the first jump.
-
-    Returns
-    -------
-    facts : dict
-        ``n_frames``, ``jumps`` (count), ``jump_frames`` (list of q), ``first_jump``
-        (``{"q", "e_q", "e_q1"}`` or None), ``frames_back`` (sum of ``e_q - e_{q+1}``
-        over the jumps).
-    """
+    """Fig. 1's facts: ``n_frames``, ``jumps`` (count), ``jump_frames``, ``frames_back``
+    (sum of ``e_q - e_{q+1}`` over the jumps), ``first_jump`` (``{"q", "e_q", "e_q1"}``)."""
     E = np.asarray(E, dtype=np.int64)
     jumps = backward_jumps(E)
     first = first_backward_jump(E)
@@ -95,27 +65,9 @@ def oedtw_facts(E) -> dict:
     }
 
 
-def plot_oedtw_paths(oe: OEDTW, q: int, ax=None, rows=None):
-    """Fig. 1 (a): the partial paths of target frames q and q + 1 over the prefix's D.
-
-    The heat map is OE-DTW's accumulated cost ``D[i, t]`` for the target frames received
-    by frame ``q + 1`` (``t = 0..q+1``) and the input frames ``i = 0..rows-1``; each
-    column's end point ``e_t`` (its argmin) is marked with a dot.
-
-    Parameters
-    ----------
-    oe : OEDTW
-        Has received at least ``q + 2`` target frames.
-    q : int
-        Target frame; the paths of ``q`` and ``q + 1`` are drawn.
-    ax : Axes, optional
-    rows : int, optional
-        Input frames shown (default ``max(q + 2, max e_t + 1) + 8``, at most all).
-
-    Returns
-    -------
-    fig, ax
-        One image; lines: the two paths, then the end points.
+def plot_oedtw_paths(oe: OEDTW, q: int, ax=None):
+    """Fig. 1 (a): the partial paths of target frames q and q + 1 over OE-DTW's ``D`` of
+    the frames received so far, each column's end point marked.
 
     Paper: FP-DTW Fig. 1 (paths of frames 15 and 16).
     """
@@ -125,50 +77,18 @@ def plot_oedtw_paths(oe: OEDTW, q: int, ax=None, rows=None):
     if q + 1 >= E.size:
         raise ValueError(f"OE-DTW has {E.size} target frames; frame q + 1 = {q + 1} is missing")
     D = oe.D[:, : q + 2]
-    if rows is None:
-        rows = max(q + 2, int(E[: q + 2].max()) + 1) + 8
-    rows = min(int(rows), D.shape[0])
-    im = ax.imshow(D[:rows], origin="lower", aspect="auto", cmap="viridis", interpolation="nearest")
-    fig.colorbar(im, ax=ax, label="accumulated cost D", fraction=0.046, pad=0.04)
+    rows = min(max(q + 2, int(E[: q + 2].max()) + 1) + 8, D.shape[0])
+    image(ax, D[:rows], "accumulated cost D")
     for t, color, style in ((q, "white", "-"), (q + 1, "tab:red", "--")):
         P = oe.path(t)
-        ax.plot(
-            P[:, 1],
-            P[:, 0],
-            style,
-            color=color,
-            lw=2,
-            label=f"path of frame {t}, ends at e = {int(E[t])}",
-        )
-    t = np.arange(q + 2)
-    ax.plot(
-        t,
-        E[: q + 2],
-        "o",
-        color="orange",
-        ms=3.5,
-        mec="black",
-        mew=0.4,
-        label="end point $e_t$ of each frame",
-    )
-    ax.annotate(
-        f"$e_{{{q}}} = {int(E[q])}$",
-        (q, E[q]),
-        xytext=(-60, 14),
-        textcoords="offset points",
-        color="white",
-        fontsize=9,
-        arrowprops={"arrowstyle": "-", "color": "white"},
-    )
-    ax.annotate(
-        f"$e_{{{q + 1}}} = {int(E[q + 1])}$",
-        (q + 1, E[q + 1]),
-        xytext=(-40, -34),
-        textcoords="offset points",
-        color="tab:red",
-        fontsize=9,
-        arrowprops={"arrowstyle": "-", "color": "tab:red"},
-    )
+        label = f"path of frame {t}, ends at e = {int(E[t])}"
+        ax.plot(P[:, 1], P[:, 0], style, color=color, lw=2, label=label)
+    ax.plot(np.arange(q + 2), E[: q + 2], "o", color="orange", ms=3.5, mec="black", mew=0.4,
+            label="end point $e_t$ of each frame")  # fmt: skip
+    for t, xytext, color in ((q, (-60, 14), "white"), (q + 1, (-40, -34), "tab:red")):
+        ax.annotate(f"$e_{{{t}}} = {int(E[t])}$", (t, E[t]), xytext=xytext,
+                    textcoords="offset points", color=color, fontsize=9,
+                    arrowprops={"arrowstyle": "-", "color": color})  # fmt: skip
     ax.set_xlim(-0.5, q + 1.5)
     ax.set_ylim(-0.5, rows - 0.5)
     ax.xaxis.set_major_locator(MaxNLocator(integer=True))
@@ -179,21 +99,9 @@ def plot_oedtw_paths(oe: OEDTW, q: int, ax=None, rows=None):
     return fig, ax
 
 
-def plot_end_points(E, ax=None, zoom=6):
-    """Fig. 1 (b): the end point ``e_q`` of every target frame, backward jumps marked.
-
-    Parameters
-    ----------
-    E : array_like of int, shape (n + 1,)
-    ax : Axes, optional
-    zoom : int
-        Half-width (target frames) of an inset around the first backward jump (0: none).
-
-    Returns
-    -------
-    fig, ax
-        Lines: the end points, the 1:1 diagonal, and (if any) the jumps; with a jump and
-        ``zoom > 0`` an inset axes (``ax.child_axes[0]``) repeats them around the first.
+def plot_end_points(E, ax=None):
+    """Fig. 1 (b): the end point of every target frame, backward jumps marked, and an inset
+    (``ax.child_axes[0]``) around the first jump.
 
     Paper: FP-DTW Fig. 1 (lack of continuity between consecutive frames).
     """
@@ -207,25 +115,17 @@ def plot_end_points(E, ax=None, zoom=6):
         a.plot([lo, hi - 1], [lo, hi - 1], ":", color="gray", lw=0.8, label="1:1")
         sel = jumps[(jumps + 1 >= lo) & (jumps + 1 < hi)]
         if sel.size:
-            a.plot(
-                sel + 1,
-                E[sel + 1],
-                "v",
-                color="tab:red",
-                ms=7,
-                ls="none",
-                label=f"backward jump, $e_{{q+1}} < e_q$ ({jumps.size} in all)",
-            )
+            a.plot(sel + 1, E[sel + 1], "v", color="tab:red", ms=7, ls="none",
+                   label=f"backward jump, $e_{{q+1}} < e_q$ ({jumps.size} in all)")  # fmt: skip
 
     draw(ax, 0, E.size, 0)
-    top = max(int(E.max()), E.size - 1)
     ax.set_xlim(0, E.size - 1)
-    ax.set_ylim(0, top)
+    ax.set_ylim(0, max(int(E.max()), E.size - 1))
     ax.set_xlabel("target frame q")
     ax.set_ylabel("input frame (end point $e_q$)")
     ax.legend(loc="upper left", fontsize=8)
-    if jumps.size and zoom > 0:
-        j = int(jumps[0])
+    if jumps.size:
+        j, zoom = int(jumps[0]), 6
         lo, hi = max(0, j - zoom), min(E.size, j + zoom + 2)
         ins = ax.inset_axes([0.55, 0.08, 0.42, 0.42])
         draw(ins, lo, hi, 5)
@@ -243,33 +143,17 @@ def plot_end_points(E, ax=None, zoom=6):
     return fig, ax
 
 
-def plot_fig1(oe: OEDTW, q=None, axes=None):
-    """Fig. 1, both panels: (a) paths of frames q and q + 1, (b) all end points.
-
-    Parameters
-    ----------
-    oe : OEDTW
-        After a run over a whole target.
-    q : int, optional
-        Default: the first backward jump (:func:`first_backward_jump`); if the end
-        points never move backwards, the middle target frame.
-    axes : pair of Axes, optional
-
-    Returns
-    -------
-    fig, axes
+def plot_fig1(oe: OEDTW):
+    """Fig. 1: (a) the paths of the first backward jump's frames q and q + 1 (the middle
+    frame if there is none), (b) all end points.
 
     Paper: FP-DTW Fig. 1.
     Notebook: 02_fig1_oedtw.ipynb
     """
-
     E = np.asarray(oe.end_points)
-    if q is None:
-        first = first_backward_jump(E)
-        q = first[0] if first is not None else max(0, E.size // 2 - 1)
-    if axes is None:
-        fig, axes = plt.subplots(1, 2, figsize=(11.5, 5), layout="constrained")
-    fig = axes[0].figure
+    first = first_backward_jump(E)
+    q = first[0] if first is not None else max(0, E.size // 2 - 1)
+    fig, axes = plt.subplots(1, 2, figsize=(11.5, 5), layout="constrained")
     plot_oedtw_paths(oe, q, ax=axes[0])
     axes[0].set_title(f"(a) OE-DTW paths of target frames {q} and {q + 1}", fontsize=10)
     plot_end_points(E, ax=axes[1])
@@ -278,11 +162,6 @@ def plot_fig1(oe: OEDTW, q=None, axes=None):
 
 
 __all__ = [
-    "backward_jumps",
-    "first_backward_jump",
-    "oedtw_facts",
-    "plot_end_points",
-    "plot_fig1",
-    "plot_oedtw_paths",
-    "run_oedtw",
-]
+    "backward_jumps", "first_backward_jump", "oedtw_facts", "plot_end_points", "plot_fig1",
+    "plot_oedtw_paths", "run_oedtw",
+]  # fmt: skip

@@ -1,14 +1,16 @@
-"""Figures and tables of notebook 16: the questions the papers leave open (Q1, Q3-Q6).
+"""Figures and tables of notebook 16: the questions the papers leave open (Q1-Q6).
 
-Every number comes from the open run (mode ``"open"``) through the claims' evidence
-(:func:`fpdtw.paper.claims.contexts.open_evidence`), so the figures, the tables and the Q rows of
-the claims table read the same medians and the same bootstrap intervals.
+Every number comes from the open run through the claims' evidence
+(:func:`fpdtw.paper.claims.contexts.open_evidence`): the figures, the tables and the Q rows
+of the claims table read the same medians and bootstrap intervals.
 
 Paper: FP-DTW Section 7; OPW poster Section 6.
 Notebook: 16_open_questions.ipynb
 """
 
 from __future__ import annotations
+
+from functools import partial
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -37,16 +39,8 @@ _SFX = {120: "", 60: "@60Hz"}
 
 
 def plot_period(I, ax=None):
-    """The mean autocorrelation of a motion's joint trajectories and its period (Q1's rule).
-
-    Parameters
-    ----------
-    I : MotionFeatures
-    ax : matplotlib Axes, optional
-
-    Returns
-    -------
-    fig, ax
+    """Q1's rule on one motion: the mean autocorrelation of its joint trajectories and its
+    period.
 
     Paper: FP-DTW Section 7.
     Notebook: 16_open_questions.ipynb
@@ -69,53 +63,38 @@ def plot_period(I, ax=None):
     return fig, ax
 
 
-def window_rows(ev) -> list[dict]:
-    """Q1: Mc auto and every fixed window at 120 and 60 Hz: medians with 95 % intervals and
-    whether each passes each benchmark (interval clear of it).
+def _medians(ev, name: str, utw_gap=False) -> dict:
+    """Median similarity and deviation of ``name`` with their 95 % intervals and the
+    benchmarks' verdicts (``utw_gap``: with the interval of its similarity minus UTW's)."""
+    s, d = ev.passes(name, "similarity"), ev.passes(name, "deviation")
+    lo, hi = ev.interval(name, "similarity")
+    gap = dict(sim_minus_utw_low=s.low, sim_minus_utw_high=s.high) if utw_gap else {}
+    return dict(similarity=ev.median(name, "similarity"), sim_low=lo, sim_high=hi, **gap,
+                passes_similarity=s.verdict, deviation=d.estimate, dev_low=d.low,
+                dev_high=d.high, passes_deviation=d.verdict)  # fmt: skip
 
-    Returns
-    -------
-    rows : list of dict
-        ``algorithm, rate, similarity, sim_low, sim_high, sim_minus_utw_low,
-        sim_minus_utw_high, passes_similarity, deviation, dev_low, dev_high,
-        passes_deviation``.
+
+def window_rows(ev) -> list[dict]:
+    """Q1: Mc auto and every fixed window at 120 and 60 Hz, medians with 95 % intervals and
+    each benchmark's verdict.
 
     Notebook: 16_open_questions.ipynb
     """
     rows = []
     for rate in (120, 60):
         for base in ("Mc auto", *(f"Mc w{w}" for w in WINDOWS)):
-            n = base + _SFX[rate]
-            s, d = ev.passes(n, "similarity"), ev.passes(n, "deviation")
-            lo, hi = ev.interval(n, "similarity")
-            rows.append(
-                dict(algorithm=base, rate=rate, similarity=ev.median(n, "similarity"),
-                     sim_low=lo, sim_high=hi, sim_minus_utw_low=s.low, sim_minus_utw_high=s.high,
-                     passes_similarity=s.verdict, deviation=d.estimate, dev_low=d.low,
-                     dev_high=d.high, passes_deviation=d.verdict)
-            )  # fmt: skip
+            m = _medians(ev, base + _SFX[rate], utw_gap=True)
+            rows.append(dict(algorithm=base, rate=rate, **m))
     return rows
 
 
-def _two_axes(axes=None):
-    """``(fig, axes)``: the given pair of axes' figure, or a new figure of two panels."""
-    if axes is not None:
-        return axes[0].figure, axes
-
-    return plt.subplots(1, 2, figsize=(9, 3.2))
-
-
-def plot_windows(ev, rows=None, axes=None):
-    """Q1: median similarity and deviation (95 % intervals) of Mc auto beside each fixed w.
-
-    Returns
-    -------
-    fig, axes
+def plot_windows(ev, rows):
+    """Q1: median similarity and deviation (95 % intervals) of Mc auto beside each fixed w,
+    from :func:`window_rows`.
 
     Notebook: 16_open_questions.ipynb
     """
-    rows = window_rows(ev) if rows is None else rows
-    fig, axes = _two_axes(axes)
+    fig, axes = plt.subplots(1, 2, figsize=(9, 3.2))
     for rate, dx, col in ((120, -0.12, "C0"), (60, 0.12, "C1")):
         rr = [r for r in rows if r["rate"] == rate]
         x = np.arange(len(rr)) + dx
@@ -137,12 +116,8 @@ def plot_windows(ev, rows=None, axes=None):
 
 
 def movement_rows(ev) -> list[dict]:
-    """Q1 per movement at 120 and 60 Hz: Mc auto's median similarity, the best fixed w chosen
-    on that movement (an optimistic bar), the overall best fixed w, the window Mc auto used.
-
-    Returns
-    -------
-    rows : list of dict
+    """Q1 per movement at 120 and 60 Hz: Mc auto's median similarity, the best fixed w on
+    that movement (an optimistic bar), the overall best fixed w, and the comparisons.
 
     Notebook: 16_open_questions.ipynb
     """
@@ -165,14 +140,10 @@ def _variant_rows(ev, bases, suffix: str) -> list[dict]:
     for n in bases:
         b = f"{n} ({suffix})"
         for who in (n, b):
-            s, d = ev.passes(who, "similarity"), ev.passes(who, "deviation")
-            lo, hi = ev.interval(who, "similarity")
             ds = ev.better(b, n, "similarity") if who == b else None
             dd = ev.better(b, n, "deviation") if who == b else None
             rows.append(
-                dict(algorithm=who, similarity=ev.median(who, "similarity"), sim_low=lo,
-                     sim_high=hi, passes_similarity=s.verdict, deviation=d.estimate,
-                     dev_low=d.low, dev_high=d.high, passes_deviation=d.verdict,
+                dict(algorithm=who, **_medians(ev, who),
                      sim_change=ds.estimate if ds else None,
                      sim_change_low=ds.low if ds else None,
                      sim_change_high=ds.high if ds else None,
@@ -183,10 +154,10 @@ def _variant_rows(ev, bases, suffix: str) -> list[dict]:
     return rows
 
 
-def _plot_variants(ev, rows, axes, mark: str):
+def _plot_variants(ev, rows, mark: str):
     """Median similarity and deviation (95 % intervals) of base methods and their variants
     (the rows whose name contains ``mark`` in colour)."""
-    fig, axes = _two_axes(axes)
+    fig, axes = plt.subplots(1, 2, figsize=(9, 3.2))
     x = np.arange(len(rows))
     cols = ["0.4" if mark not in r["algorithm"] else "C2" for r in rows]
     for ax, key, lo, hi in ((axes[0], "similarity", "sim_low", "sim_high"),
@@ -205,44 +176,14 @@ def _plot_variants(ev, rows, axes, mark: str):
     return fig, axes
 
 
-def weight_rows(ev) -> list[dict]:
-    """Q2: Mb w40, Mc w40 and OLTW without and with the joint weights
-    (:func:`fpdtw.weights.joint_weights`): medians with 95 % intervals, the benchmark verdicts
-    of the weighted variant and the paired changes.
-
-    Notebook: 16_open_questions.ipynb
-    """
-
-    return _variant_rows(ev, WEIGHT_BASES, "weighted joints")
-
-
-def plot_weights(ev, rows=None, axes=None):
-    """Q2: median similarity and deviation (95 % intervals) without and with the weights.
-
-    Returns
-    -------
-    fig, axes
-
-    Notebook: 16_open_questions.ipynb
-    """
-    return _plot_variants(ev, weight_rows(ev) if rows is None else rows, axes, "weighted")
-
-
 def band_rows(ev) -> list[dict]:
-    """Q3: Methods B and C without a band, with the band of 1 s (the first reading) and with
-    the band of w/2 (the claim's): medians with 95 % intervals, the benchmark verdicts of
-    each band variant, its paired changes, and the cells it removes.
-
-    Returns
-    -------
-    rows : list of dict
-        Per base: the base, then its two band variants; the keys of the Q2 and Q5 tables and
-        ``cells_removed``: the mean share of the window's cells the band removes per window
-        step (:func:`fpdtw.paper.claims.open.band_removed_share`; None for a base).
+    """Q3: Methods B and C without a band, with the band of 1 s (the first reading) and of
+    w/2 (the claim's), each followed by ``cells_removed``: the mean share of the window's
+    cells the band removes (:func:`fpdtw.paper.claims.open.band_removed_share`; None for
+    a base).
 
     Notebook: 16_open_questions.ipynb
     """
-
     rows = []
     for n in BAND_BASES:
         group = _variant_rows(ev, [n], BAND_1S) + _variant_rows(ev, [n], BAND_HALF_W)[1:]
@@ -253,62 +194,25 @@ def band_rows(ev) -> list[dict]:
     return rows
 
 
-def plot_band(ev, rows=None, axes=None):
-    """Q3: median similarity and deviation (95 % intervals) without and with each band.
-
-    Returns
-    -------
-    fig, axes
-
-    Notebook: 16_open_questions.ipynb
-    """
-    return _plot_variants(ev, band_rows(ev) if rows is None else rows, axes, "band")
+#: Q2: Mb w40, Mc w40 and OLTW without and with the joint weights (:mod:`fpdtw.weights`).
+weight_rows = partial(_variant_rows, bases=WEIGHT_BASES, suffix="weighted joints")
+#: Q5: Mc w40 and OPW on poses and on derivative motions (:mod:`fpdtw.derivative`).
+derivative_rows = partial(_variant_rows, bases=DERIVATIVE_BASES, suffix="derivative")
+#: The rows of Q2, Q3 and Q5 drawn (medians with 95 % intervals, the variants in colour).
+plot_weights = partial(_plot_variants, mark="weighted")
+plot_band = partial(_plot_variants, mark="band")
+plot_derivative = partial(_plot_variants, mark="derivative")
 
 
-def derivative_rows(ev) -> list[dict]:
-    """Q5: Mc w40 and OPW on poses and on derivative motions (:mod:`fpdtw.derivative`):
-    medians with 95 % intervals, the benchmark verdicts of the derivative variant and the
-    paired changes.
+def poster_gamma_rows() -> list[dict]:
+    """Q4 on the OPW poster's protocol (:mod:`fpdtw.paper.opw_eval`): OPW at gamma 5 % and
+    OPW adaptive on each motion, ``mean_ms`` and ``max_ms`` deviation from the example
+    curve, the share of the temporal difference ``removed``, and ``final_gamma``.
 
     Notebook: 16_open_questions.ipynb
     """
-
-    return _variant_rows(ev, DERIVATIVE_BASES, "derivative")
-
-
-def plot_derivative(ev, rows=None, axes=None):
-    """Q5: median similarity and deviation (95 % intervals) on poses and on derivatives.
-
-    Returns
-    -------
-    fig, axes
-
-    Notebook: 16_open_questions.ipynb
-    """
-    return _plot_variants(ev, derivative_rows(ev) if rows is None else rows, axes, "derivative")
-
-
-def poster_gamma_rows(motions=None) -> list[dict]:
-    """Q4 on the OPW poster's protocol (:mod:`fpdtw.paper.opw_eval`: each motion cropped to
-    2.5 s, warped by the example curve, OPW run from the recording to the warped copy):
-    OPW at gamma 5 % and OPW adaptive, their mean and maximum deviation from the example
-    curve (ms) and the share of the temporal difference removed. Deterministic (no interval).
-
-    Parameters
-    ----------
-    motions : sequence of OPWMotion, optional
-        Default :data:`fpdtw.paper.opw_eval.FIG4_MOTIONS`.
-
-    Returns
-    -------
-    rows : list of dict
-        ``motion, method, mean_ms, max_ms, removed, final_gamma``.
-
-    Notebook: 16_open_questions.ipynb
-    """
-
     rows = []
-    for mo in motions or oe.FIG4_MOTIONS:
+    for mo in oe.FIG4_MOTIONS:
         A = oe.load_cropped(mo.dataset, mo.path)
         g = oe.example_curve(A.duration, oe.OFFSET)
         B = oe.warp_motion(A, g)
@@ -327,15 +231,14 @@ def poster_gamma_rows(motions=None) -> list[dict]:
     return rows
 
 
-def pause_rows(ev, methods=None) -> list[dict]:
+def pause_rows(ev) -> list[dict]:
     """Q6: each online method's median deviation without and with a pause (95 % intervals),
     and the paired difference of medians.
 
     Notebook: 16_open_questions.ipynb
     """
-
     rows = []
-    for n in methods or PAUSE_METHODS:
+    for n in PAUSE_METHODS:
         p = n + PAUSE_SUFFIX
         lo, hi = ev.interval(n, "deviation")
         plo, phi = ev.interval(p, "deviation")
@@ -349,16 +252,12 @@ def pause_rows(ev, methods=None) -> list[dict]:
     return rows
 
 
-def plot_pause(ev, rows=None, ax=None):
-    """Q6: median deviation of every online method without and with a pause (95 % intervals).
-
-    Returns
-    -------
-    fig, ax
+def plot_pause(ev, rows, ax=None):
+    """Q6: :func:`pause_rows` drawn: each online method's median deviation without and with
+    a pause (95 % intervals).
 
     Notebook: 16_open_questions.ipynb
     """
-    rows = pause_rows(ev) if rows is None else rows
     fig, ax = new_axes(ax, figsize=(8, 3.2))
     x = np.arange(len(rows))
     for key, lo, hi, dx, col, lab in (("without", "without_low", "without_high", -0.12, "0.4",
@@ -378,22 +277,11 @@ def plot_pause(ev, rows=None, ax=None):
 
 
 def plot_pause_example(I, T, name: str = "Mc w40", ax=None):
-    """Q6 on one pair: the maps of DTW and of one online method, on the target as recorded
-    and with its pause (drawn in grey).
-
-    Parameters
-    ----------
-    I, T : MotionFeatures
-    name : str
-        A registry name.
-
-    Returns
-    -------
-    fig, ax
+    """Q6 on one pair: the maps of DTW and of the method ``name``, on the target as recorded
+    and with its pause (grey).
 
     Notebook: 16_open_questions.ipynb
     """
-
     fig, ax = new_axes(ax, figsize=(7, 3.2))
     at, L = pause_plan(T.n_frames, T.fps, pause_seed(T.name))
     Tp = insert_pause(T, at, L)
@@ -408,16 +296,7 @@ def plot_pause_example(I, T, name: str = "Mc w40", ax=None):
 
 
 __all__ = [
-    "band_rows",
-    "derivative_rows",
-    "movement_rows",
-    "pause_rows",
-    "plot_band",
-    "plot_derivative",
-    "plot_pause",
-    "plot_pause_example",
-    "plot_period",
-    "plot_windows",
-    "poster_gamma_rows",
+    "band_rows", "derivative_rows", "movement_rows", "pause_rows", "plot_band", "plot_derivative",
+    "plot_pause", "plot_pause_example", "plot_period", "plot_windows", "poster_gamma_rows",
     "window_rows",
-]
+]  # fmt: skip

@@ -1,13 +1,11 @@
 """Figures of the OPW poster: warp curves (Fig. 4), deviation vs offset (Fig. 5), vs gamma (Fig. 6).
 
-Every function takes the dicts of :func:`fpdtw.paper.opw_eval.evaluate` or the rows of
-:func:`fpdtw.paper.opw_eval.sweep`; they draw, they never save or show.
-
-Each figure carries a footnote (a figure text, ``gid`` ``"opw_note"``, under the axes) that
-says what its lines, boxes and whiskers are and which clips it shows: ours are not the
-poster's two-person CMU clips but stand-ins chosen by a fixed rule
-(:data:`fpdtw.paper.opw_eval.FIG4_MOTIONS`), except the hand shake, the poster's own source
-take.
+Every function takes :func:`fpdtw.paper.opw_eval.evaluate` results or
+:func:`fpdtw.paper.opw_eval.sweep` rows and draws, never saves. Each figure carries a
+footnote (a figure text, gid ``"opw_note"``) saying what its lines, boxes and whiskers are
+and which clips it shows: stand-ins for the poster's two-person CMU clips chosen by a fixed
+rule (:data:`fpdtw.paper.opw_eval.FIG4_MOTIONS`), except the hand shake, the poster's own
+source take.
 """
 
 from __future__ import annotations
@@ -27,23 +25,14 @@ COLORS = {"example": "black", "DTW": "tab:blue", "best match": "tab:green", "OPW
 
 
 def clips_note(labels=None) -> str:
-    """Which clips an OPW figure shows, in words: stand-ins for the poster's.
-
-    Parameters
-    ----------
-    labels : iterable of str, optional
-        The motion labels the figure shows (:data:`fpdtw.paper.opw_eval.FIG4_MOTIONS`
-        labels, e.g. ``"hand shake"``); default all three. Unknown labels are named as
-        they are.
-
-    Returns
-    -------
-    note : str
+    """Which clips an OPW figure shows (motion labels of
+    :data:`fpdtw.paper.opw_eval.FIG4_MOTIONS`, default all), in words.
 
     Paper: OPW poster Section 4 (three CMU two-person clips, cropped to 2.5 s).
     """
     by = {m.label: m for m in FIG4_MOTIONS}
     labels = list(dict.fromkeys(labels)) if labels is not None else list(by)
+    where = {"hdm05": "HDM05", "cmu": "CMU", "authors_fbx": "the FP-DTW authors'"}
     parts = []
     for lab in labels:
         m = by.get(lab)
@@ -51,10 +40,8 @@ def clips_note(labels=None) -> str:
             parts.append(f"{lab}: not one of the poster's motions")
             continue
         stem = m.path.rsplit("/", 1)[-1].rsplit(".", 1)[0]
-        where = {"hdm05": "HDM05", "cmu": "CMU", "authors_fbx": "the FP-DTW authors'"}
-        src = f"{where.get(m.dataset, m.dataset)} {stem}"
         kind = "stand-in" if m.why.startswith("stand-in") else "the poster's own source take"
-        parts.append(f"{lab} = {src} ({kind})")
+        parts.append(f"{lab} = {where.get(m.dataset, m.dataset)} {stem} ({kind})")
     return (
         "Clips, chosen by a fixed rule to stand in for the poster's CMU two-person clips "
         "(fpdtw.paper.opw_eval.FIG4_MOTIONS): " + "; ".join(parts) + ". Each cropped to "
@@ -62,10 +49,9 @@ def clips_note(labels=None) -> str:
     )
 
 
-def add_note(fig, text: str, width=None):
-    """Put (or replace) an OPW figure's footnote: a figure text under the axes, ``gid``
-    ``"opw_note"``, wrapped to the figure's width."""
-    width = width or max(60, int(fig.get_figwidth() * 16))
+def add_note(fig, text: str):
+    """Put (or replace) an OPW figure's footnote, wrapped to the figure's width."""
+    width = max(60, int(fig.get_figwidth() * 16))
     wrapped = "\n".join(textwrap.fill(par, width) for par in text.split("\n"))
     for t in fig.texts:
         if t.get_gid() == "opw_note":
@@ -85,21 +71,12 @@ def _baseline(result: dict) -> str:
     return result.get("baseline", "DTW")
 
 
-def plot_warp_curves(result: dict, ax=None, *, keys=True):
-    """Example, baseline and OPW warp curves of one motion (Fig. 4, top row).
+def _threshold(ax):
+    ax.axhline(HOYET_MS, color="tab:red", ls="--", lw=1, label=f"{HOYET_MS:.0f} ms")
 
-    Parameters
-    ----------
-    result : dict
-        From :func:`fpdtw.paper.opw_eval.evaluate`; the baseline is its reading's (DTW,
-        or the plugin's best match).
-    ax : matplotlib.axes.Axes, optional
-    keys : bool
-        Mark the keys of the baseline and OPW curves.
 
-    Returns
-    -------
-    fig, ax
+def plot_warp_curves(result: dict, ax=None):
+    """Example, baseline and OPW warp curves of one motion, keys marked (Fig. 4, top row).
 
     Paper: OPW poster Fig. 4 (top row).
     """
@@ -110,7 +87,7 @@ def plot_warp_curves(result: dict, ax=None, *, keys=True):
     for name in ("example", _baseline(result), "OPW"):
         c = result["curves"][name]
         ax.plot(t, c(t), color=COLORS[name], lw=1.6 if name == "example" else 1.2, label=name)
-        if keys and name != "example":
+        if name != "example":
             k = c.keys
             k = k[k[:, 0] <= D]
             ax.plot(k[:, 0], k[:, 1], "o" if name == "OPW" else "x", color=COLORS[name], ms=2.5)
@@ -122,12 +99,8 @@ def plot_warp_curves(result: dict, ax=None, *, keys=True):
     return fig, ax
 
 
-def plot_deviation(result: dict, ax=None, *, threshold_ms: float = HOYET_MS):
+def plot_deviation(result: dict, ax=None):
     """Deviation (ms) of the baseline and OPW curves from the example curve (Fig. 4 middle).
-
-    Returns
-    -------
-    fig, ax
 
     Paper: OPW poster Fig. 4 (middle row).
     """
@@ -135,26 +108,21 @@ def plot_deviation(result: dict, ax=None, *, threshold_ms: float = HOYET_MS):
     for name in (_baseline(result), "OPW"):
         d = result["deviation"][name]
         ax.plot(d["t"], d["ms"], color=COLORS[name], lw=1.2, label=f"{name} (mean {d['mean']:.0f})")
-    ax.axhline(threshold_ms, color="tab:red", ls="--", lw=1, label=f"{threshold_ms:.0f} ms")
+    _threshold(ax)
     ax.set_xlim(0, result["duration"])
-    ax.set_ylim(0, max(threshold_ms * 1.15, ax.get_ylim()[1]))
+    ax.set_ylim(0, max(HOYET_MS * 1.15, ax.get_ylim()[1]))
     ax.set_xlabel("live time t (s)")
     ax.set_ylabel("deviation from example (ms)")
     return fig, ax
 
 
-def plot_slope_change(result: dict, ax=None, *, example=True):
+def plot_slope_change(result: dict, ax=None):
     """Change of slope between 50 Hz samples, % of 90 degrees (Fig. 4 bottom row).
-
-    Returns
-    -------
-    fig, ax
 
     Paper: OPW poster Fig. 4 (bottom row).
     """
     fig, ax = new_axes(ax)
-    names = (("example",) if example else ()) + (_baseline(result), "OPW")
-    for name in names:
+    for name in ("example", _baseline(result), "OPW"):
         s = result["slope"][name]
         ax.plot(
             s["t"], s["pct"], color=COLORS[name], lw=0.8 if name == "example" else 1.2,
@@ -167,32 +135,15 @@ def plot_slope_change(result: dict, ax=None, *, example=True):
     return fig, ax
 
 
-def plot_fig4(results: list, labels=None, axes=None):
-    """Poster Fig. 4: one column per motion; curves, deviation, slope change.
-
-    Parameters
-    ----------
-    results : list of dict
-        :func:`fpdtw.paper.opw_eval.evaluate` results, one per motion.
-    labels : list of str, optional
-        Column titles (default: the motion names).
-    axes : ndarray of Axes, shape (3, len(results)), optional
-
-    Returns
-    -------
-    fig, axes
-        With a footnote (``gid`` ``"opw_note"``): what each row's lines are, and the clips
-        (:func:`clips_note` of ``labels``).
+def plot_fig4(results: list, labels=None):
+    """Poster Fig. 4: one column per motion (titled ``labels``, default the names): warp
+    curves, deviation, slope change; with the footnote.
 
     Paper: OPW poster Fig. 4.
     Notebook: 13_opw_fig4.ipynb
     """
     n = len(results)
-    if axes is None:
-        fig, axes = plt.subplots(3, n, figsize=(4.2 * n, 11), squeeze=False)
-    else:
-        axes = np.asarray(axes).reshape(3, n)
-        fig = axes[0, 0].figure
+    fig, axes = plt.subplots(3, n, figsize=(4.2 * n, 11), squeeze=False)
     labels = labels or [r["name"] for r in results]
     for c, (res, lab) in enumerate(zip(results, labels)):
         plot_warp_curves(res, axes[0, c])
@@ -224,7 +175,19 @@ def plot_fig4(results: list, labels=None, axes=None):
     return fig, axes
 
 
+def _pooled_axes(ax, ticks, ticklabels, xlabel):
+    """The 150 ms line, the x ticks and the labels of a figure of pooled boxes."""
+    _threshold(ax)
+    ax.set_xticks(ticks)
+    ax.set_xticklabels(ticklabels)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("deviation from example (ms)")
+    ax.set_ylim(bottom=0)
+    ax.legend(fontsize=8, loc="upper left")
+
+
 def _boxes(ax, groups, positions, color, width):
+    """Boxes of pooled samples, whiskers from minimum to maximum, black medians."""
     bp = ax.boxplot(
         groups, positions=positions, widths=width, whis=(0, 100), patch_artist=True,
         showfliers=False, manage_ticks=False,
@@ -232,33 +195,15 @@ def _boxes(ax, groups, positions, color, width):
     for box in bp["boxes"]:
         box.set_facecolor(color)
         box.set_alpha(0.55)
-    for key in ("medians",):
-        for line in bp[key]:
-            line.set_color("black")
+    for line in bp["medians"]:
+        line.set_color("black")
     return bp
 
 
-def plot_deviation_vs_offset(
-    rows: list, ax=None, *, threshold_ms: float = HOYET_MS, baseline: str = "DTW", note=True
-):
-    """Deviation against the example's offset, a baseline and OPW, motions pooled (Fig. 5).
-
-    Each box pools the 50 Hz deviation samples of every motion at one offset; whiskers
-    span the full range (minimum to maximum); a line joins the means.
-
-    Parameters
-    ----------
-    rows : list of dict
-        :func:`fpdtw.paper.opw_eval.sweep` rows (keys ``method``, ``offset_s``, ``ms``).
-    baseline : str
-        The method beside OPW: ``"DTW"`` or ``"best match"`` (the plugin reading's).
-    note : bool
-        Add the footnote (``gid`` ``"opw_note"``): what the boxes, whiskers and line are,
-        and the clips (:func:`clips_note` of the rows' motions).
-
-    Returns
-    -------
-    fig, ax
+def plot_deviation_vs_offset(rows: list, ax=None, *, baseline: str = "DTW", note=True):
+    """Poster Fig. 5: deviation against the example's offset, ``baseline`` (``"DTW"`` or the
+    plugin reading's ``"best match"``) and OPW, one box per offset over every motion's 50 Hz
+    samples pooled, a line through the means; ``note``: the footnote.
 
     Paper: OPW poster Fig. 5.
     Notebook: 14_opw_fig5_fig6.ipynb
@@ -275,13 +220,9 @@ def plot_deviation_vs_offset(
         pos = np.asarray(offsets) + (k - 0.5) * w * 1.1
         _boxes(ax, groups, pos, COLORS[name], w)
         ax.plot(pos, [g.mean() for g in groups], "-o", color=COLORS[name], ms=3, label=name)
-    ax.axhline(threshold_ms, color="tab:red", ls="--", lw=1, label=f"{threshold_ms:.0f} ms")
-    ax.set_xticks(offsets)
-    ax.set_xticklabels([f"{o:.2f}" for o in offsets])
-    ax.set_xlabel("offset of the example curve's middle key (s)")
-    ax.set_ylabel("deviation from example (ms)")
-    ax.set_ylim(bottom=0)
-    ax.legend(fontsize=8, loc="upper left")
+    _pooled_axes(
+        ax, offsets, [f"{o:.2f}" for o in offsets], "offset of the example curve's middle key (s)"
+    )
     if note:
         add_note(
             fig,
@@ -293,16 +234,9 @@ def plot_deviation_vs_offset(
     return fig, ax
 
 
-def plot_deviation_vs_gamma(rows: list, ax=None, *, threshold_ms: float = HOYET_MS, note=True):
-    """OPW deviation against the warp parameter gamma, motions pooled (Fig. 6).
-
-    Each box pools the 50 Hz deviation samples of every motion at one gamma; whiskers span
-    the full range (minimum to maximum); a solid line joins the means, a dashed one the
-    maxima. ``note``: add the footnote saying so, with the clips (:func:`clips_note`).
-
-    Returns
-    -------
-    fig, ax
+def plot_deviation_vs_gamma(rows: list, ax=None):
+    """Poster Fig. 6: OPW's deviation against gamma, one box per gamma over every motion's
+    50 Hz samples pooled, lines through the means (solid) and maxima (dashed).
 
     Paper: OPW poster Fig. 6.
     Notebook: 14_opw_fig5_fig6.ipynb
@@ -316,44 +250,25 @@ def plot_deviation_vs_gamma(rows: list, ax=None, *, threshold_ms: float = HOYET_
     _boxes(ax, groups, pct, COLORS["OPW"], 0.6 * step)
     ax.plot(pct, [g.mean() for g in groups], "-o", color=COLORS["OPW"], ms=3, label="OPW mean")
     ax.plot(pct, [g.max() for g in groups], "--", color=COLORS["OPW"], lw=1, label="OPW max")
-    ax.axhline(threshold_ms, color="tab:red", ls="--", lw=1, label=f"{threshold_ms:.0f} ms")
     every = max(1, len(pct) // 15)
-    ax.set_xticks(pct[::every])
-    ax.set_xticklabels([f"{p:.0f}" for p in pct[::every]])
-    ax.set_xlabel("warp parameter gamma (%)")
-    ax.set_ylabel("deviation from example (ms)")
-    ax.set_ylim(bottom=0)
-    ax.legend(fontsize=8, loc="upper left")
-    if note:
-        add_note(
-            fig,
-            "Per gamma one box over OPW's 50 Hz deviation samples |f(t) - g(t)| of every "
-            "motion pooled: box = quartiles, black line = median, whiskers = minimum to "
-            "maximum of the pooled samples; solid line with dots: their mean; dashed: their "
-            "maximum; dashed red: 150 ms.\n" + clips_note(_labels_of(rows)),
-        )
+    _pooled_axes(ax, pct[::every], [f"{p:.0f}" for p in pct[::every]], "warp parameter gamma (%)")
+    add_note(
+        fig,
+        "Per gamma one box over OPW's 50 Hz deviation samples |f(t) - g(t)| of every "
+        "motion pooled: box = quartiles, black line = median, whiskers = minimum to "
+        "maximum of the pooled samples; solid line with dots: their mean; dashed: their "
+        "maximum; dashed red: 150 ms.\n" + clips_note(_labels_of(rows)),
+    )
     return fig, ax
 
 
-def plot_readings(sweeps, ax=None, *, threshold_ms: float = HOYET_MS, note=True):
+def plot_readings(sweeps, ax=None):
     """OPW's pooled deviation against gamma under each reading, beside the poster's numbers.
 
-    One line per reading (mean, solid; maximum, dashed) over the Fig. 6 sweep, the motions
-    pooled (:func:`fpdtw.paper.opw_eval.pooled`); the poster's mean range at gamma 5 % (a
-    bar) and its maximum (a cross); the 150 ms line. Logarithmic deviation axis: the readme
-    direction diverges by an order of magnitude.
-
-    Parameters
-    ----------
-    sweeps : sequence of (OPWReading, list of dict)
-        Each reading with its :func:`fpdtw.paper.opw_eval.sweep` rows over gammas (e.g. the
-        readings of :data:`fpdtw.paper.opw_eval.READING_STEPS`).
-    note : bool
-        Add the footnote (``gid`` ``"opw_note"``): what the lines are, and the clips.
-
-    Returns
-    -------
-    fig, ax
+    ``sweeps``: ``(OPWReading, sweep rows)`` pairs. Per reading the pooled mean (solid) and
+    maximum (dashed) (:func:`fpdtw.paper.opw_eval.pooled`); the poster's mean range at gamma
+    5 % (a bar) and maximum (a cross); 150 ms. Log axis: the readme direction diverges by an
+    order of magnitude.
 
     Paper: OPW poster Figs. 4 and 6; the authors' MotionBuilder plugin.
     Notebook: 14_opw_fig5_fig6.ipynb
@@ -373,44 +288,27 @@ def plot_readings(sweeps, ax=None, *, threshold_ms: float = HOYET_MS, note=True)
             label=f"poster: mean {lo:.0f}-{hi:.0f} ms")  # fmt: skip
     ax.plot([g5], [OPW_MAX_DEVIATION_MS], "kx", ms=8,
             label=f"poster: max {OPW_MAX_DEVIATION_MS:.0f} ms")  # fmt: skip
-    ax.axhline(threshold_ms, color="tab:red", ls=":", lw=1, label=f"{threshold_ms:.0f} ms")
+    ax.axhline(HOYET_MS, color="tab:red", ls=":", lw=1, label=f"{HOYET_MS:.0f} ms")
     ax.set_yscale("log")
     ax.set_xlabel("warp parameter gamma (%)")
     ax.set_ylabel("deviation from example (ms): mean solid, max dashed")
     ax.legend(fontsize=7, loc="upper left", ncol=2)
-    if note:
-        labels = [lab for _, rows in sweeps for lab in _labels_of(rows)]
-        add_note(
-            fig,
-            "One colour per reading of OPW: solid = mean, dashed = maximum of the 50 Hz "
-            "deviation samples |f(t) - g(t)| of every motion pooled, per gamma (no whiskers). "
-            "Black bar: the poster's mean range at gamma 5 %; cross: its maximum; dotted red: "
-            "150 ms.\n" + clips_note(labels),
-        )
+    add_note(
+        fig,
+        "One colour per reading of OPW: solid = mean, dashed = maximum of the 50 Hz "
+        "deviation samples |f(t) - g(t)| of every motion pooled, per gamma (no whiskers). "
+        "Black bar: the poster's mean range at gamma 5 %; cross: its maximum; dotted red: "
+        "150 ms.\n" + clips_note([lab for _, rows in sweeps for lab in _labels_of(rows)]),
+    )
     return fig, ax
 
 
-def plot_curve_construction(curve, ax=None, *, window=None, relative=False, label=None, note=True):
+def plot_curve_construction(curve, ax=None, *, window=None, relative=False, label=None):
     """A warp curve with its keys and Bezier control polygons (poster Fig. 2, Table 1).
 
-    Parameters
-    ----------
-    curve : WarpCurve
-    window : (float, float), optional
-        Live-time range to show (default: the whole curve).
-    relative : bool
-        Plot ``t' - t`` instead of ``t'``: the shear ``(x, y) -> (x, y - x)`` is linear, so
-        it maps each segment's control points to those of the sheared segment and keeps
-        the handles at a key collinear, while making the small warps visible.
-    label : str, optional
-        The motion's label (:data:`fpdtw.paper.opw_eval.FIG4_MOTIONS`), named in the
-        footnote with its clip.
-    note : bool
-        Add the footnote (``gid`` ``"opw_note"``): what the lines and marks are.
-
-    Returns
-    -------
-    fig, ax
+    ``window``: the live-time range shown (default all); ``relative``: plot ``t' - t`` (a
+    linear shear, so handles stay collinear through their key, and small warps show);
+    ``label``: the motion, whose clip the footnote names.
 
     Paper: OPW poster Fig. 2 and Table 1.
     Notebook: 13_opw_fig4.ipynb
@@ -440,28 +338,19 @@ def plot_curve_construction(curve, ax=None, *, window=None, relative=False, labe
     ax.set_xlabel("live time t (s)")
     ax.set_ylabel("t' - t (s)" if relative else "warped time t' (s)")
     ax.legend(fontsize=8)
-    if note:
-        add_note(
-            fig,
-            "Orange: the warp curve"
-            + (" minus the identity (a shear)" if relative else "")
-            + "; black dots: its keys (P0, P3 of each Bezier segment); grey squares joined "
-            "to the keys: the control points P1, P2 (handles), collinear through each key."
-            + ("\n" + clips_note([label]) if label is not None else ""),
-        )
+    add_note(
+        fig,
+        "Orange: the warp curve"
+        + (" minus the identity (a shear)" if relative else "")
+        + "; black dots: its keys (P0, P3 of each Bezier segment); grey squares joined "
+        "to the keys: the control points P1, P2 (handles), collinear through each key."
+        + ("\n" + clips_note([label]) if label is not None else ""),
+    )
     return fig, ax
 
 
 __all__ = [
-    "COLORS",
-    "add_note",
-    "clips_note",
-    "plot_curve_construction",
-    "plot_deviation",
-    "plot_deviation_vs_gamma",
-    "plot_deviation_vs_offset",
-    "plot_fig4",
-    "plot_readings",
-    "plot_slope_change",
-    "plot_warp_curves",
-]
+    "COLORS", "add_note", "clips_note", "plot_curve_construction", "plot_deviation",
+    "plot_deviation_vs_gamma", "plot_deviation_vs_offset", "plot_fig4", "plot_readings",
+    "plot_slope_change", "plot_warp_curves",
+]  # fmt: skip

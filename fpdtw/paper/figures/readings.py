@@ -1,12 +1,7 @@
 """Figures of notebook 15: the readings of Algorithm 3 side by side, and their mechanism.
 
-* :func:`plot_mechanism`: mean rest-of-path cost ``f(r)`` against the row offset r, one
-  line per reading (from :func:`fpdtw.paper.readings.mechanism_profile`);
-* :func:`plot_readings_overview`: per reading, median similarity against w at 120 and
-  60 Hz (with UTW's median, the benchmark) and the stick/skip index against w (from
-  :func:`fpdtw.paper.readings.readings_table`), drawn with seaborn;
-* the heat maps per reading are :func:`fpdtw.paper.figures.heatmaps.plot_heatmap_grid` with the
-  readings' names.
+The heat maps per reading are :func:`fpdtw.paper.figures.heatmaps.plot_heatmap_grid` with the
+readings' names.
 
 Notebook: 15_readings_of_algorithm_3.ipynb
 """
@@ -22,20 +17,8 @@ from fpdtw.paper.figures.plotting import new_axes
 
 
 def plot_mechanism(profile: dict, ax=None, w=None):
-    """Mean rest-of-path cost ``f(r) = D[r, 0] - C[r, 0]`` per row offset, per reading.
-
-    Parameters
-    ----------
-    profile : dict
-        :func:`fpdtw.paper.readings.mechanism_profile` output.
-    ax : Axes, optional
-    w : int, optional
-        Window size, for the title.
-
-    Returns
-    -------
-    fig, ax
-        One line per reading.
+    """Mean rest-of-path cost ``f(r) = D[r, 0] - C[r, 0]`` against the row offset r, one
+    line per reading of :func:`fpdtw.paper.readings.mechanism_profile`; ``w`` for the title.
 
     Paper: FP-DTW Algorithm 3 (the window's declared size).
     Notebook: 15_readings_of_algorithm_3.ipynb
@@ -44,13 +27,8 @@ def plot_mechanism(profile: dict, ax=None, w=None):
     for reading, p in profile.items():
         if p["steps"] == 0:
             continue
-        ax.plot(
-            p["r"],
-            p["mean_f"],
-            marker="o",
-            ms=3,
-            label=f"{reading}: f(0) - f(1) = {p['excess']:.2f} (median), holds {p['hold']:.1%}",
-        )
+        label = f"{reading}: f(0) - f(1) = {p['excess']:.2f} (median), holds {p['hold']:.1%}"
+        ax.plot(p["r"], p["mean_f"], marker="o", ms=3, label=label)
     ax.set_xlabel("row offset r (input frame $M_n + r$)")
     ax.set_ylabel("mean rest-of-path cost f(r)")
     title = "Method C: cost of the path after the first cell, per row"
@@ -60,22 +38,10 @@ def plot_mechanism(profile: dict, ax=None, w=None):
     return fig, ax
 
 
-def plot_readings_overview(rows, dataset: str = "all", axes=None, utw=None):
-    """Per reading: median similarity vs w (120 and 60 Hz) and the stick/skip index vs w.
-
-    Parameters
-    ----------
-    rows : list of dict
-        :func:`fpdtw.paper.readings.readings_table` rows.
-    dataset : str
-        ``"all"``, ``"authors_fbx"`` or ``"hdm05"``.
-    axes : sequence of 3 Axes, optional
-    utw : dict, optional
-        ``{rate_hz: UTW's median similarity}``: drawn as the benchmark line (red).
-
-    Returns
-    -------
-    fig, axes
+def plot_readings_overview(rows, dataset: str, utw=None):
+    """Per reading (seaborn): median similarity against w at 120 and 60 Hz, with UTW's
+    median (``utw``: ``{rate_hz: median}``, red), and the stick/skip index against w, from
+    the :func:`fpdtw.paper.readings.readings_table` rows of ``dataset``.
 
     Paper: FP-DTW Table 1, Section 5 (Fig. 7's sticking and skipping).
     Notebook: 15_readings_of_algorithm_3.ipynb
@@ -84,10 +50,7 @@ def plot_readings_overview(rows, dataset: str = "all", axes=None, utw=None):
     if df.empty:
         raise ValueError(f"no reading rows for dataset {dataset!r}")
     df["constraint"] = np.where(df["type_v"], "+ Type V", "none")
-    if axes is None:
-        fig, axes = plt.subplots(1, 3, figsize=(13, 3.8), layout="constrained")
-    else:
-        fig = axes[0].figure
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.8), layout="constrained")
     panels = [
         (120, "similarity", "median similarity, 120 Hz"),
         (60, "similarity", "median similarity, 60 Hz"),
@@ -95,16 +58,8 @@ def plot_readings_overview(rows, dataset: str = "all", axes=None, utw=None):
     ]
     for ax, (rate, col, title) in zip(axes, panels):
         sub = df[df["rate_hz"] == rate]
-        sns.lineplot(
-            data=sub,
-            x="w",
-            y=col,
-            hue="reading",
-            style="constraint",
-            markers=True,
-            ax=ax,
-            legend=ax is axes[-1],
-        )
+        sns.lineplot(data=sub, x="w", y=col, hue="reading", style="constraint", markers=True,
+                     ax=ax, legend=ax is axes[-1])  # fmt: skip
         ax.set_xscale("log", base=2)
         ax.set_xticks(sorted(sub["w"].unique()), [str(int(w)) for w in sorted(sub["w"].unique())])
         ax.set_title(title, fontsize=9)

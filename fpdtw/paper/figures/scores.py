@@ -1,24 +1,10 @@
 """Similarity and deviation per algorithm over all pairs: Figs. 5 and 6, Table 1.
 
-Everything here reads the experiment results (:func:`fpdtw.paper.runner.run.load_results`):
-per algorithm, one similarity (eq. 2) and one deviation from DTW (eq. 3) per pair.
-
-* :func:`plot_score_boxes` draws Fig. 5 (similarity) or Fig. 6 (deviation): one box per
-  algorithm, each FP-DTW algorithm without and with the Type V constraint side by side,
-  and the benchmark line (UTW's median similarity, red, beside the paper's level, dashed;
-  18 frames, blue); the online baselines beyond the paper (OPW, OLTW) set apart.
-* :func:`score_summary` gives the table next to each figure: median with its 95 % interval,
-  quartiles, number of pairs, whether the median passes the benchmark, and the verdict of
-  that pass once the interval is taken into account (the claims' rule,
-  :mod:`fpdtw.paper.claims.rules`: holds, contradicted or inconclusive).
-* :func:`table1_rows` gives Table 1 (Method C's median similarity at 60 and 120 Hz), ours
-  next to the paper's.
-
-The paper's rule (Section 5): an algorithm passes a benchmark when its MEDIAN is above the
-UTW median similarity, or below 18 frames deviation. Quartiles are numpy's default
-(linear interpolation); pairs whose score is not finite are left out and counted. The
-intervals are those of the claims table (:func:`fpdtw.paper.claims.evidence.shared_evidence`:
-a cluster bootstrap of movements and motions), so a figure and a claim cannot disagree.
+The paper's rule (Section 5): an algorithm passes when its MEDIAN over the pairs is above
+UTW's median similarity, or below 18 frames deviation. Pairs with a non-finite score are
+left out and counted. The 95 % intervals and verdicts are the claims table's
+(:func:`fpdtw.paper.claims.evidence.shared_evidence`), so a figure and a claim cannot
+disagree.
 """
 
 from __future__ import annotations
@@ -37,21 +23,12 @@ from fpdtw.paper.figures.plotting import beyond_paper_handle, new_axes, style_be
 from fpdtw.paper.numbers import FPDTW_NAMES, WINDOWS
 from fpdtw.registry import TYPE_V_SUFFIX, method_c_name
 
-#: The algorithms of Figs. 5 and 6, without constraint, in the paper's order, then the
-#: online baselines beyond the paper run on the same pairs (OPW poster, Dixon's OLTW);
-#: names without results are left out.
-
 
 def base_names() -> tuple:
-    """The algorithms of Figs. 5 and 6 in plotting order: the paper's, then the registry's
-    online baselines beyond it (:func:`fpdtw.registry.baselines`), read at each call.
-
-    Returns
-    -------
-    names : tuple of str
+    """Figs. 5 and 6's algorithms in plotting order: the paper's, then the registry's online
+    baselines beyond it (:func:`fpdtw.registry.baselines`, read at each call).
 
     Paper: FP-DTW Figs. 5 and 6.
-    Notebook: none (the default of :func:`plot_score_boxes` and :func:`score_summary`)
     """
     return ("DTW", "UTW", "OE-DTW") + FPDTW_NAMES + registry.baselines()
 
@@ -66,9 +43,7 @@ _METRICS = ("similarity", "deviation")
 
 
 def _rate_suffix(rate_hz: int) -> str:
-    if rate_hz == 120:
-        return ""
-    return f"@{int(rate_hz)}Hz"
+    return "" if rate_hz == 120 else f"@{int(rate_hz)}Hz"
 
 
 def _raw(results, name: str, metric: str, dataset=None) -> np.ndarray:
@@ -87,21 +62,8 @@ def _raw(results, name: str, metric: str, dataset=None) -> np.ndarray:
 
 
 def scores(results, name: str, metric: str, dataset=None) -> np.ndarray:
-    """The per-pair scores of one algorithm, finite values only.
-
-    Parameters
-    ----------
-    results : fpdtw.paper.runner.run.Results
-    name : str
-        Algorithm name, e.g. ``"Mc w40 + Type V"`` or ``"Mc w40@60Hz"``.
-    metric : {"similarity", "deviation"}
-    dataset : str, optional
-        Only the pairs of this dataset (``"authors_fbx"`` or ``"hdm05"``).
-
-    Returns
-    -------
-    values : ndarray of float64, shape (P',)
-        One value per pair (pairs with a non-finite score left out).
+    """One algorithm's finite per-pair scores (``"Mc w40 + Type V"``, ``"Mc w40@60Hz"``),
+    optionally of one dataset's pairs only; float64 (P',).
 
     Paper: FP-DTW eq. 2 (similarity), eq. 3 (deviation).
     """
@@ -110,15 +72,7 @@ def scores(results, name: str, metric: str, dataset=None) -> np.ndarray:
 
 
 def utw_median(results, rate_hz: int = 120, dataset=None) -> float:
-    """The similarity benchmark: median similarity of UTW over all pairs.
-
-    Parameters
-    ----------
-    results : fpdtw.paper.runner.run.Results
-    rate_hz : {120, 60}
-        Frame rate (``"UTW"`` or ``"UTW@60Hz"``).
-    dataset : str, optional
-        Over this dataset's pairs only.
+    """The similarity benchmark: UTW's median similarity over all pairs (at ``rate_hz``).
 
     Paper: FP-DTW Section 4 (benchmark (i)), Fig. 5 red line, Table 1 last column.
     """
@@ -134,59 +88,27 @@ def benchmark(results, metric: str, dataset=None) -> float:
     raise ValueError(f"metric must be one of {_METRICS}, got {metric!r}")
 
 
-def passes(median: float, metric: str, bench: float) -> bool:
-    """True when a median passes the benchmark: :func:`fpdtw.paper.numbers.passes_similarity`
-    against ``bench``, or :func:`~fpdtw.paper.numbers.passes_deviation` (120 Hz)."""
-    if metric == "similarity":
-        return numbers.passes_similarity(median, bench)
-    return numbers.passes_deviation(median)
-
-
 def figure_names(names=None, typev=True) -> list[tuple[str, str | None]]:
-    """Pairs ``(name, name + " + Type V")`` for the FP-DTW algorithms, ``(name, None)`` else.
-
-    Parameters
-    ----------
-    names : sequence of str, optional
-        Unconstrained names, in plotting order (default: :func:`base_names`).
-    typev : bool
-        Include the Type V variants.
-    """
-    out = []
-    for n in base_names() if names is None else names:
-        tv = n + TYPE_V_SUFFIX if (typev and n in FPDTW_NAMES) else None
-        out.append((n, tv))
-    return out
+    """``(name, name + " + Type V")`` for the FP-DTW algorithms of ``names`` (default
+    :func:`base_names`), ``(name, None)`` for the others or without ``typev``."""
+    return [
+        (n, n + TYPE_V_SUFFIX if (typev and n in FPDTW_NAMES) else None)
+        for n in (base_names() if names is None else names)
+    ]
 
 
 def score_summary(results, metric: str, names=None, dataset=None) -> list[dict]:
-    """Per algorithm: median, quartiles, number of pairs and whether it passes the benchmark.
+    """Per algorithm (default: those of Figs. 5 and 6 that were run, each FP-DTW one followed
+    by its "+ Type V"), over all pairs or one ``dataset``'s.
 
-    Parameters
-    ----------
-    results : fpdtw.paper.runner.run.Results
-    metric : {"similarity", "deviation"}
-    names : sequence of str, optional
-        Default: every algorithm of Figs. 5 and 6 (:func:`base_names`, each FP-DTW one
-        followed by its "+ Type V" variant) that is in ``results.algorithms``.
-    dataset : str, optional
-        Only this dataset's pairs (the similarity benchmark too is then UTW's median over
-        them).
-
-    Returns
-    -------
-    rows : list of dict
-        Keys ``algorithm``, ``type_v`` (bool), ``median``, ``ci_low``, ``ci_high`` (its
-        95 % interval), ``q1``, ``q3``, ``n`` (pairs with a finite score), ``n_missing``,
-        ``benchmark``, ``passes_benchmark`` (bool: the median passes, the paper's rule on
-        the medians alone), ``verdict`` (``"holds"`` / ``"contradicted"`` /
-        ``"inconclusive"``: the pass once the interval is taken into account; ``"-"`` for
-        the offline baselines).
+    Rows: ``algorithm``, ``type_v``, ``median`` with ``ci_low``, ``ci_high`` (95 %), ``q1``,
+    ``q3``, ``n`` (finite scores), ``n_missing``, ``benchmark``, ``passes_benchmark`` (the
+    paper's rule on the median) and ``verdict`` (with the interval: holds, contradicted or
+    inconclusive; ``"-"`` for DTW and UTW).
 
     Paper: FP-DTW Figs. 5 and 6, Section 5 (the median must pass the benchmark).
     Notebook: 06_fig5_fig6_scores.ipynb
     """
-
     if names is None:
         have = set(results.algorithms)
         names = [n for pair in figure_names() for n in pair if n is not None and n in have]
@@ -201,34 +123,22 @@ def score_summary(results, metric: str, names=None, dataset=None) -> list[dict]:
         q1, med, q3 = (float(x) for x in np.percentile(v, [25, 50, 75]))
         lo, hi = ev.interval(name, metric)
         online = name not in ("DTW", "UTW")
+        if metric == "similarity":
+            passes = numbers.passes_similarity(med, bench)
+        else:
+            passes = numbers.passes_deviation(med)
         rows.append(
-            dict(
-                algorithm=name,
-                type_v=name.endswith(TYPE_V_SUFFIX),
-                median=med,
-                ci_low=lo,
-                ci_high=hi,
-                q1=q1,
-                q3=q3,
-                n=int(v.size),
-                n_missing=int(raw.size - v.size),
-                benchmark=float(bench),
-                passes_benchmark=passes(med, metric, bench),
-                verdict=ev.passes(name, metric).verdict if online else "-",
-            )
-        )
+            dict(algorithm=name, type_v=name.endswith(TYPE_V_SUFFIX), median=med, ci_low=lo,
+                 ci_high=hi, q1=q1, q3=q3, n=int(v.size), n_missing=int(raw.size - v.size),
+                 benchmark=float(bench), passes_benchmark=passes,
+                 verdict=ev.passes(name, metric).verdict if online else "-")
+        )  # fmt: skip
     return rows
 
 
 def passing(rows, online_only=False) -> list[str]:
-    """Names of the rows of :func:`score_summary` that pass the benchmark.
-
-    Parameters
-    ----------
-    rows : list of dict
-    online_only : bool
-        Leave out the offline baselines DTW and UTW.
-    """
+    """Names of the :func:`score_summary` rows that pass (without DTW and UTW if
+    ``online_only``)."""
     return [
         r["algorithm"]
         for r in rows
@@ -237,8 +147,8 @@ def passing(rows, online_only=False) -> list[str]:
 
 
 def _clip_top(bp, bench: float) -> float:
-    """Top of Fig. 6's linear axis: the highest upper whisker of any box (1.5 IQR), and at
-    least twice the benchmark, plus 8 % headroom."""
+    """Top of Fig. 6's linear axis: the highest upper whisker (1.5 IQR), at least twice the
+    benchmark, plus 8 % headroom."""
     tops = [float(np.max(w.get_ydata())) for w in bp["whiskers"][1::2]]
     return 1.08 * max(max(tops, default=0.0), 2.0 * bench)
 
@@ -249,56 +159,17 @@ def plot_score_boxes(
 ):  # fmt: skip
     """Fig. 5 / Fig. 6: box plot of a score per algorithm, with the benchmark line.
 
-    Each FP-DTW algorithm gets two boxes side by side: without constraint (blue) and
-    "+ Type V" (pink, as in the paper). The benchmark line is red at our UTW's median
-    similarity (Fig. 5) or blue at 18 frames (Fig. 6). Boxes: quartiles, median line;
-    whiskers 1.5 IQR; outliers as small dots.
+    Each FP-DTW algorithm gets two boxes, without constraint (blue) and "+ Type V" (pink);
+    the benchmark is red at our UTW's median similarity (beside the paper's 0.240, dashed
+    dark red: the two differ) or blue at 18 frames. ``intervals``: each median's 95 %
+    interval (gid ``"median_ci"``) and, on Fig. 5, UTW's (a band, ``"benchmark_ci"``).
+    Algorithms beyond the paper are set apart
+    (:func:`fpdtw.paper.figures.plotting.style_beyond_paper`).
 
-    Algorithms the FP-DTW paper does not evaluate (OPW, OLTW: the online baselines we run
-    beyond it) are set apart by the one style rule of
-    :func:`fpdtw.paper.figures.plotting.style_beyond_paper`: grey hatched boxes, grey italic
-    names, a dashed separator and the words "beyond the paper".
-
-    Fig. 5 also draws the paper's level, UTW's median similarity as the paper prints it
-    (:data:`fpdtw.paper.numbers.TABLE1` at 120 Hz, 0.240), as a dashed dark red line
-    (``gid`` ``"paper_benchmark"``) beside our UTW median: the two benchmarks differ, and
-    a box can clear the paper's and not ours.
-
-    **Fig. 6's scale: linear, cut above the boxes.** The deviation is drawn on a linear
-    axis whose top is the highest upper whisker of any box (and at least twice the
-    18-frame benchmark, so the line sits low in the plot), with 8 % headroom; pairs whose
-    deviation lies above that cut are not drawn but counted: the count stands over its box
-    at the top edge (``"▲k"``, text ``gid`` ``"clipped_count"``) and the legend states the
-    cut and the total. Linear, because the boxes and the benchmark are then read off at
-    their true distances (a symlog axis squeezed everything below 1 frame into a band of
-    its own, a log axis cannot show the deviations of 0 frames: DTW against itself, and
-    online maps that equal DTW's on some pairs). ``yscale="log"`` remains for a look at the
-    far outliers (values of 0 are then not drawn).
-
-    Parameters
-    ----------
-    results : fpdtw.paper.runner.run.Results
-    metric : {"similarity", "deviation"}
-    names : sequence of str, optional
-        Unconstrained algorithm names, in order along x (default: :func:`base_names`).
-    typev : bool
-        Draw the "+ Type V" boxes too.
-    ax : matplotlib.axes.Axes, optional
-    yscale : {"linear", "log"}
-    intervals : bool
-        Draw each median's 95 % interval (a black bar beside its box, ``gid``
-        ``"median_ci"``) and, on Fig. 5, the interval of UTW's median around the
-        benchmark line (a band, ``gid`` ``"benchmark_ci"``): the cluster bootstrap of the
-        claims table.
-    clip : float or None
-        Fig. 6 on a linear axis: the cut in frames (default: see above). Ignored for the
-        similarity and on a log axis.
-
-    Returns
-    -------
-    fig, ax
-        ``ax.patches`` holds one box per algorithm drawn; the median lines have the
-        ``gid`` ``"median"``, the benchmark line ``"benchmark"``.
+    Fig. 6 is drawn on a linear axis (boxes and benchmark at their true distances; a log
+    axis cannot show deviations of 0) cut at ``clip`` frames, by default
+    :func:`_clip_top`; the values above the cut are counted over their box (gid
+    ``"clipped_count"``) and in the legend. ``yscale="log"`` shows the far outliers.
 
     Paper: FP-DTW Fig. 5 (similarity, eq. 2) and Fig. 6 (deviation, eq. 3).
     Notebook: 06_fig5_fig6_scores.ipynb
@@ -308,30 +179,23 @@ def plot_score_boxes(
     fig, ax = new_axes(ax, figsize=(12, 4.5))
     have = set(results.algorithms)
     names = [n for n in (base_names() if names is None else names) if n in have]  # as run
-    data, pos, widths, colours, drawn = [], [], [], [], []
+    boxes = []  # (name, position, width, colour) of each box
     for i, (name, tv) in enumerate(figure_names(names, typev)):
         if tv is None:
-            data.append(scores(results, name, metric))
-            pos.append(i)
-            widths.append(0.6)
-            colours.append(COLOURS["offline" if name in ("DTW", "UTW") else "plain"])
-            drawn.append(name)
+            kind = "offline" if name in ("DTW", "UTW") else "plain"
+            boxes.append((name, i, 0.6, COLOURS[kind]))
         else:
-            data += [scores(results, name, metric), scores(results, tv, metric)]
-            pos += [i - 0.2, i + 0.2]
-            widths += [0.36, 0.36]
-            colours += [COLOURS["plain"], COLOURS["typev"]]
-            drawn += [name, tv]
+            boxes += [
+                (name, i - 0.2, 0.36, COLOURS["plain"]),
+                (tv, i + 0.2, 0.36, COLOURS["typev"]),
+            ]
+    drawn, pos, widths, colours = ([b[k] for b in boxes] for k in range(4))
+    data = [scores(results, n, metric) for n in drawn]
     bp = ax.boxplot(
-        data,
-        positions=pos,
-        widths=widths,
-        patch_artist=True,
-        showfliers=True,
+        data, positions=pos, widths=widths, patch_artist=True, showfliers=True,
         flierprops=dict(marker=".", markersize=2, alpha=0.3, markeredgecolor="0.4"),
-        medianprops=dict(color="k", lw=1.2),
-        manage_ticks=False,
-    )
+        medianprops=dict(color="k", lw=1.2), manage_ticks=False,
+    )  # fmt: skip
     for box, med, c in zip(bp["boxes"], bp["medians"], colours):
         box.set_facecolor(c)
         box.set_edgecolor("0.25")
@@ -405,56 +269,36 @@ def plot_score_boxes(
 
 
 def best_window(medians: dict) -> int:
-    """The window with the highest median similarity (ties: the smaller window).
-
-    Parameters
-    ----------
-    medians : dict
-        ``{w: median}`` for int windows (other keys, e.g. ``"UTW"``, ignored).
-    """
+    """The window with the highest median similarity (ties: the smaller) of ``{w: median}``
+    (other keys, e.g. ``"UTW"``, ignored)."""
     ws = sorted(k for k in medians if isinstance(k, int))
     if not ws:
         raise ValueError("no windows given")
     return max(ws, key=lambda w: (medians[w], -w))
 
 
-def table1_rows(
-    results, windows=WINDOWS, rates=(60, 120), reading="square", with_paper=True
-) -> list[dict]:
-    """Table 1: median similarity of Method C per window and UTW, per rate; ours and paper's.
+def table1_rows(results, reading="square", with_paper=True) -> list[dict]:
+    """Table 1: Method C's median similarity per window and UTW's, at 60 and 120 Hz (the
+    runner resamples the motions; the window stays a number of frames).
 
-    At 60 Hz our algorithms are ``"Mc w<w>@60Hz"`` and ``"UTW@60Hz"`` (the runner resamples
-    the motions to 60 Hz before building features; the window stays a number of frames).
-    ``reading`` picks Method C's reading of Algorithm 3 (e.g. ``"literal"``: the names
-    ``"Mc w<w> (literal window)"``; rows labelled ``"ours (literal window)"``);
-    ``with_paper=False`` leaves out the paper's rows.
-
-    Returns
-    -------
-    rows : list of dict
-        Per rate two rows (``source`` "paper" then "ours"), keys ``rate_hz``, ``source``,
-        ``w10`` .. ``w80``, ``UTW``, ``best_w``, ``above_utw`` (windows whose median is
-        above UTW's, e.g. ``"20 40"``). Our rows also carry the claims' verdicts, with
-        intervals (:mod:`fpdtw.paper.claims.rules`): ``verdict_w10`` .. ``verdict_w80``
-        (the window's median above UTW's: holds, contradicted or inconclusive) and
-        ``best_verdict`` (the paper's best window beats every other one).
+    Per rate the paper's row (unless ``with_paper`` is False), then ours (``"ours (literal
+    window)"`` for ``reading="literal"``): ``rate_hz``, ``source``, ``w10`` .. ``w80``,
+    ``UTW``, ``best_w``, ``above_utw`` (``"20 40"``); ours also the claims' verdicts
+    ``verdict_w10`` .. ``verdict_w80`` (above UTW) and ``best_verdict`` (the paper's best
+    window beats every other one).
 
     Paper: FP-DTW Table 1.
     Notebook: 07_table1_60hz.ipynb
     """
-
     ev = shared_evidence(results)
     if reading != "square":
         ev = ev.reading(alias=reading_alias(reading))
     rows = []
-    for rate in rates:
+    for rate in (60, 120):
+        sfx = _rate_suffix(rate)
         ours = {
-            w: float(
-                np.median(
-                    scores(results, method_c_name(w, reading) + _rate_suffix(rate), "similarity")
-                )
-            )
-            for w in windows
+            w: float(np.median(scores(results, method_c_name(w, reading) + sfx, "similarity")))
+            for w in WINDOWS
         }
         ours["UTW"] = utw_median(results, rate)
         paper = numbers.TABLE1.get(rate) if with_paper else None
@@ -463,39 +307,25 @@ def table1_rows(
             if med is None:
                 continue
             row = {"rate_hz": rate, "source": source}
-            row.update({f"w{w}": med.get(w) for w in windows})
+            row.update({f"w{w}": med.get(w) for w in WINDOWS})
             row["UTW"] = med["UTW"]
-            row["best_w"] = best_window({w: med[w] for w in windows if med.get(w) is not None})
+            row["best_w"] = best_window({w: med[w] for w in WINDOWS if med.get(w) is not None})
             row["above_utw"] = " ".join(
-                str(w) for w in windows if med.get(w) is not None and med[w] > med["UTW"]
+                str(w) for w in WINDOWS if med.get(w) is not None and med[w] > med["UTW"]
             )
             if source != "paper":
-                sfx = _rate_suffix(rate)
-                for w in windows:
+                for w in WINDOWS:
                     row[f"verdict_w{w}"] = ev.passes(f"Mc w{w}{sfx}", "similarity").verdict
-                if rate in numbers.BEST_WINDOW and tuple(windows) == tuple(WINDOWS):
+                if rate in numbers.BEST_WINDOW:
                     row["best_verdict"] = evaluate(best_window_test(ev, rate))
             rows.append(row)
     return rows
 
 
 def plot_table1(rows, ax=None):
-    """Table 1 as a plot: Method C's median similarity vs window, per rate, ours vs paper.
-
-    Titled "Table 1"; one line per row of :func:`table1_rows` (solid: ours, dashed: the
-    paper's, dotted: ours with the literal window), and per rate a thin horizontal line at
-    UTW's median (solid: ours, dashed: the paper's). The legend stands outside the axes, to
-    the right, so it covers none of the points.
-
-    Parameters
-    ----------
-    rows : list of dict
-        From :func:`table1_rows`.
-    ax : matplotlib.axes.Axes, optional
-
-    Returns
-    -------
-    fig, ax
+    """Table 1 as a plot: Method C's median similarity against w, one line per row of
+    :func:`table1_rows` (ours solid, the paper's dashed, the literal window dotted), and
+    UTW's median per rate as a thin line; the legend outside, on the right.
 
     Paper: FP-DTW Table 1.
     Notebook: 07_table1_60hz.ipynb
@@ -525,17 +355,6 @@ def plot_table1(rows, ax=None):
 
 
 __all__ = [
-    "BASE_NAMES",
-    "base_names",
-    "benchmark",
-    "best_window",
-    "figure_names",
-    "passes",
-    "passing",
-    "plot_score_boxes",
-    "plot_table1",
-    "score_summary",
-    "scores",
-    "table1_rows",
-    "utw_median",
-]
+    "BASE_NAMES", "base_names", "benchmark", "best_window", "figure_names", "passing",
+    "plot_score_boxes", "plot_table1", "score_summary", "scores", "table1_rows", "utw_median",
+]  # fmt: skip

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import csv
 import io
-from pathlib import Path
 
 from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.paths import figures_dir
@@ -25,39 +24,14 @@ def to_markdown(rows: list[dict], columns=None, floatfmt=".3f") -> str:
     return "\n".join(lines) + "\n"
 
 
-def save_table(
-    rows: list[dict],
-    name: str,
-    folder=None,
-    columns=None,
-    floatfmt=".3f",
-    note: str = "",
-    csvfmt: str = ".6g",
-):
-    """Write ``<name>.csv`` and ``<name>.md`` atomically.
+def save_table(rows: list[dict], name: str, columns=None, floatfmt=".3f", note="", csvfmt=".6g"):
+    """Write ``<name>.csv`` and ``<name>.md`` atomically in :func:`fpdtw.paper.paths.figures_dir`.
 
-    Parameters
-    ----------
-    rows : list of dict
-        One dict per row; keys are column names.
-    name : str
-        File stem, e.g. ``"table1_method_c_60hz"``.
-    folder : path-like, optional
-        Default :func:`fpdtw.paper.paths.figures_dir`.
-    columns : sequence of str, optional
-        Column order (default: keys of the first row).
-    note : str, optional
-        A paragraph put under the Markdown table.
-    csvfmt : str
-        Format of the CSV's floats (``".17g"``: every digit, for files that verdicts are
-        recomputed from).
-
-    Returns
-    -------
-    paths : list of Path
-        The CSV and Markdown files written.
+    ``columns``: their order (default the first row's keys); ``note``: a paragraph under the
+    Markdown table; ``csvfmt``: the CSV's floats (``".17g"`` for files verdicts are
+    recomputed from). Returns the two paths.
     """
-    folder = Path(folder) if folder is not None else figures_dir()
+    folder = figures_dir()
     folder.mkdir(parents=True, exist_ok=True)
     columns = list(columns or (rows[0].keys() if rows else []))
     buf = io.StringIO()
@@ -65,8 +39,8 @@ def save_table(
     w.writeheader()
     for r in rows:
         w.writerow({c: _fmt(r.get(c), csvfmt) for c in columns})
-    out = []
     md = to_markdown(rows, columns, floatfmt) + (f"\n{note}\n" if note else "")
-    for ext, text in (("csv", buf.getvalue()), ("md", md)):
-        out.append(write_atomic(folder / f"{name}.{ext}", text.encode()))
-    return out
+    return [
+        write_atomic(folder / f"{name}.{ext}", text.encode())
+        for ext, text in (("csv", buf.getvalue()), ("md", md))
+    ]

@@ -1,16 +1,12 @@
 """Time per target frame of the online aligners: Table 2, and why Mc w80 looks cheap.
 
-``make bench`` (:mod:`fpdtw.paper.bench`) times every online aligner frame by frame on real pairs,
-alone on one core, after a warm-up (``results/bench.json``). These are MEASUREMENTS: they
-change from run to run and between machines, so nothing here is deterministic except
-:func:`exhausted_fraction`, which reads the experiment grid's maps. (The grid itself does not
-time frames: its Methods B and C share their window costs, see
-:class:`fpdtw.online.window.WindowCache`.)
+``make bench`` (:mod:`fpdtw.app.bench`) times every online aligner frame by frame on real
+pairs, alone on one core, after a warm-up (``results/bench.json``). These are MEASUREMENTS,
+changing between runs and machines; only :func:`exhausted_fraction` is deterministic.
 
 The paper (Section 5) explains Mc w80's lower-than-expected time by the aligner running out
-of input frames early: once ``M_n = m`` there is nothing left to search. :func:`exhausted_fraction`
-counts those frames: target frames ``q >= 1`` processed when the input was already exhausted,
-i.e. ``M_{q-1} = m`` (for a monotonic map: every frame after the first one mapped to ``m``).
+of input early: :func:`exhausted_fraction` counts the target frames ``q >= 1`` processed
+with the input already exhausted, ``M_{q-1} = m``.
 """
 
 from __future__ import annotations
@@ -27,17 +23,11 @@ from fpdtw.registry import baselines, resolve
 
 
 def timed_names() -> tuple:
-    """The online algorithms of Table 2 in table order: OE-DTW, Methods A, B and C without
-    and with Type V, the registry's online baselines beyond the paper
-    (:func:`fpdtw.registry.baselines`, read at each call) and Method C's literal window of
-    notebook 15.
-
-    Returns
-    -------
-    names : tuple of str
+    """Table 2's online algorithms in table order: OE-DTW, Methods A, B and C without and
+    with Type V, the registry's online baselines (read at each call) and Method C's literal
+    window of notebook 15.
 
     Paper: FP-DTW Table 2.
-    Notebook: none (the default of :func:`time_per_frame_rows`)
     """
     return ("OE-DTW",) + FPDTW_NAMES + FPDTW_TYPEV_NAMES + baselines() + MC_LITERAL_NAMES
 
@@ -47,14 +37,8 @@ TIMED_NAMES = timed_names()
 
 
 def _default_rows(rows):
-    """Rows of the paper's configurations (no options in brackets): one per method, w, Type V."""
+    """Rows of the paper's configurations (no options in brackets)."""
     return [r for r in rows if "(" not in r.get("algorithm", "")]
-
-
-def _key(name: str):
-    """``("B", 40, False)`` for ``"Mb w40"``; ``("OE", None, False)`` for OE-DTW."""
-    a = resolve(name)
-    return a.family, (a.w if a.family in ("B", "C") else None), a.typev
 
 
 def last_input_frame(results, name: str) -> dict:
@@ -63,65 +47,41 @@ def last_input_frame(results, name: str) -> dict:
     return {int(p["id"]): int(m[i]) for i, p in enumerate(results.pairs)}
 
 
-def exhausted_fraction(results, name: str) -> dict:
-    """How many target frames an aligner processed with the input already exhausted.
-
-    A target frame ``q >= 1`` counts when ``M_{q-1} = m`` (the previous frame was mapped to
-    the last input frame). Deterministic: computed from the maps only.
-
-    Parameters
-    ----------
-    results : fpdtw.paper.runner.run.Results
-    name : str
-
-    Returns
-    -------
-    out : dict
-        ``frames`` (target frames q >= 1 over all pairs), ``exhausted`` (of those, processed
-        with ``M_{q-1} = m``), ``fraction`` (exhausted / frames), ``pairs_exhausted_early``
-        (pairs with at least one such frame).
-
-    Paper: FP-DTW Section 5 (Table 2: "Mc w80 ... running out of input frames").
-    """
+def pair_maps(results, name: str):
+    """Each pair's map of an algorithm with the pair's last input frame: ``(M, m)``."""
     arr = results.get(name)
     m_of = last_input_frame(results, name)
     offsets = np.asarray(arr["offsets"], dtype=np.int64)
     maps = np.asarray(arr["maps"])
-    frames = exhausted = pairs = 0
     for k, pid in enumerate(np.asarray(arr["pair_id"])):
-        M = maps[offsets[k] : offsets[k + 1]]
-        e = int(np.count_nonzero(M[:-1] >= m_of[int(pid)]))
+        yield maps[offsets[k] : offsets[k + 1]], m_of[int(pid)]
+
+
+def exhausted_fraction(results, name: str) -> dict:
+    """How many target frames ``q >= 1`` an aligner processed with ``M_{q-1} = m``, from
+    the maps: ``frames`` (all such q over all pairs), ``exhausted``, ``fraction`` and
+    ``pairs_exhausted_early`` (pairs with at least one).
+
+    Paper: FP-DTW Section 5 (Table 2: "Mc w80 ... running out of input frames").
+    """
+    frames = exhausted = pairs = 0
+    for M, m in pair_maps(results, name):
+        e = int(np.count_nonzero(M[:-1] >= m))
         frames += M.size - 1
         exhausted += e
         pairs += e > 0
-    return dict(
-        frames=int(frames),
-        exhausted=int(exhausted),
-        fraction=float(exhausted / frames) if frames else 0.0,
-        pairs_exhausted_early=int(pairs),
-    )
+    fraction = float(exhausted / frames) if frames else 0.0
+    return dict(frames=int(frames), exhausted=int(exhausted), fraction=fraction,
+                pairs_exhausted_early=int(pairs))  # fmt: skip
 
 
 def time_per_frame_rows(bench: dict, results=None, names=None) -> list[dict]:
-    """Table 2: mean and median time per target frame of each online aligner (``make bench``).
+    """Table 2: the time per target frame of each aligner of ``names`` (default
+    :func:`timed_names`) the bench timed (:func:`load_bench`).
 
-    Parameters
-    ----------
-    bench : dict
-        The report of ``make bench`` (:func:`load_bench`).
-    results : fpdtw.paper.runner.run.Results, optional
-        The experiment grid, for the share of frames processed with the input exhausted.
-    names : sequence of str, optional
-        Default: every algorithm of :func:`timed_names` the bench timed.
-
-    Returns
-    -------
-    rows : list of dict
-        Keys ``algorithm``, ``method`` ("A", "B", "C", "OE", "OPW", "OLTW"), ``w``,
-        ``type_v``, ``frames`` (timed), ``mean_us``, ``median_us``, ``p95_us`` (one core,
-        microseconds), ``exhausted_fraction`` (:func:`exhausted_fraction` over the grid's
-        pairs, deterministic; None without ``results``), ``paper_mean_us`` (Table 2, B and
-        C unconstrained only).
+    Rows: ``algorithm``, ``method``, ``w``, ``type_v``, ``frames``, ``mean_us``,
+    ``median_us``, ``p95_us`` (one core), ``exhausted_fraction`` (from the grid
+    ``results``, else None) and ``paper_mean_us`` (Table 2: B and C unconstrained).
 
     Paper: FP-DTW Table 2.
     Notebook: 09_table2_timing.ipynb
@@ -134,62 +94,41 @@ def time_per_frame_rows(bench: dict, results=None, names=None) -> list[dict]:
         b = by.get(name)
         if b is None:
             continue
-        method, w, typev = _key(name)
+        a = resolve(name)
+        method, w, typev = a.family, (a.w if a.family in ("B", "C") else None), a.typev
         ex = None
         if results is not None and name in results.algorithms:
             ex = exhausted_fraction(results, name)["fraction"]
         rows.append(
-            dict(
-                algorithm=name,
-                method=method,
-                w=w,
-                type_v=typev,
-                frames=int(b["frames"]),
-                mean_us=float(b["mean_s"] * 1e6),
-                median_us=float(b["median_s"] * 1e6),
-                p95_us=float(b["p95_s"] * 1e6),
-                exhausted_fraction=ex,
-                paper_mean_us=None if typev else TABLE2_US.get((method, w)),
-            )
-        )
+            dict(algorithm=name, method=method, w=w, type_v=typev, frames=int(b["frames"]),
+                 mean_us=float(b["mean_s"] * 1e6), median_us=float(b["median_s"] * 1e6),
+                 p95_us=float(b["p95_s"] * 1e6), exhausted_fraction=ex,
+                 paper_mean_us=None if typev else TABLE2_US.get((method, w)))
+        )  # fmt: skip
     return rows
 
 
-def growth_ratio(rows, method: str, lo=10, hi=80, key="mean_us", type_v=False):
-    """Per-frame time at window ``hi`` over that at window ``lo`` for one method.
-
-    Parameters
-    ----------
-    rows : list of dict
-        From :func:`time_per_frame_rows` (or any rows with ``method``, ``w``, ``type_v``
-        and ``key``).
-    method : {"B", "C"}
-
-    Returns
-    -------
-    ratio : float or None
-        None when either window is missing.
+def growth_ratio(rows, method: str, key="mean_us", type_v=False):
+    """Per-frame time (``key``) of a method at w80 over w10, or None when either is missing.
 
     Paper: FP-DTW Table 2 (B: 16945 / 856 = 19.8; C: 10106 / 782 = 12.9).
     Notebook: 09_table2_timing.ipynb
     """
     by = {(r["method"], r["w"], r["type_v"]): r[key] for r in _default_rows(rows)}
-    a, b = by.get((method, lo, type_v)), by.get((method, hi, type_v))
+    a, b = by.get((method, 10, type_v)), by.get((method, 80, type_v))
     if a is None or b is None or a <= 0:
         return None
     return float(b / a)
 
 
-def paper_growth_ratio(method: str, lo=10, hi=80) -> float:
-    """The paper's Table 2 ratio of per-frame time at window ``hi`` over ``lo``."""
-    return TABLE2_US[(method, hi)] / TABLE2_US[(method, lo)]
+def paper_growth_ratio(method: str) -> float:
+    """The paper's Table 2 ratio of per-frame time at w80 over w10."""
+    return TABLE2_US[(method, 80)] / TABLE2_US[(method, 10)]
 
 
-def slowest_window(rows, method: str, key="mean_us", type_v=False):
-    """The window with the highest per-frame time of a method (None if none timed)."""
-    cand = [
-        r for r in _default_rows(rows) if r["method"] == method and r["type_v"] == type_v and r["w"]
-    ]
+def slowest_window(rows, method: str, key="mean_us"):
+    """The unconstrained window with the highest per-frame time of a method (None if none)."""
+    cand = [r for r in _default_rows(rows) if r["method"] == method and not r["type_v"] and r["w"]]
     if not cand:
         return None
     return int(max(cand, key=lambda r: r[key])["w"])
@@ -200,7 +139,6 @@ def load_bench(path=None):
 
     Notebook: 09_table2_timing.ipynb
     """
-
     path = results_dir() / "bench.json" if path is None else path
     try:
         with open(path) as fh:
@@ -209,40 +147,21 @@ def load_bench(path=None):
         return None
 
 
-def plot_time_vs_w(rows, ax=None, key="median_us"):
-    """Per-frame time against window, log y: ours (Methods B and C, with and without Type V)
-    next to the paper's Table 2, and the 120 Hz real-time budget (8333 us).
-
-    Parameters
-    ----------
-    rows : list of dict
-        From :func:`time_per_frame_rows`.
-    ax : matplotlib.axes.Axes, optional
-    key : str
-        Our statistic: ``"median_us"`` (default: robust to outliers such as a busy
-        machine) or ``"mean_us"`` (the paper reports means).
-
-    Returns
-    -------
-    fig, ax
-        One line per (method, constraint) of ours, plus the paper's two lines.
+def plot_time_vs_w(rows, ax=None):
+    """Median time per frame against w, log y: ours (Methods B and C, with and without Type
+    V) next to the paper's Table 2 means, and the 120 Hz budget (8333 us).
 
     Paper: FP-DTW Table 2 ("per-frame cost grows steeply with w").
     Notebook: 09_table2_timing.ipynb
     """
+    key = "median_us"
     fig, ax = new_axes(ax, figsize=(6, 4.2))
     rows = _default_rows(rows)
     colours = {"B": "tab:green", "C": "tab:purple"}
     for method in ("B", "C"):
         ws = list(WINDOWS)
-        ax.plot(
-            ws,
-            [TABLE2_US[(method, w)] for w in ws],
-            "--s",
-            color=colours[method],
-            alpha=0.6,
-            label=f"paper M{method.lower()} (mean, Table 2)",
-        )
+        ax.plot(ws, [TABLE2_US[(method, w)] for w in ws], "--s", color=colours[method], alpha=0.6,
+                label=f"paper M{method.lower()} (mean, Table 2)")  # fmt: skip
         for tv in (False, True):
             pts = sorted(
                 (r["w"], r[key])
@@ -252,13 +171,8 @@ def plot_time_vs_w(rows, ax=None, key="median_us"):
             if not pts:
                 continue
             x, y = zip(*pts)
-            ax.plot(
-                x,
-                y,
-                "-o" if not tv else ":^",
-                color=colours[method],
-                label=f"ours M{method.lower()}{' + Type V' if tv else ''} ({key[:-3]})",
-            )
+            label = f"ours M{method.lower()}{' + Type V' if tv else ''} ({key[:-3]})"
+            ax.plot(x, y, "-o" if not tv else ":^", color=colours[method], label=label)
     ax.axhline(1e6 / 120, color="red", lw=0.8)
     ax.text(10, 1e6 / 120 * 1.1, "120 Hz budget: 8333 us", color="red", fontsize=8)
     ax.set_xscale("log", base=2)
@@ -272,42 +186,19 @@ def plot_time_vs_w(rows, ax=None, key="median_us"):
     return fig, ax
 
 
-__all__ = [
-    "TIMED_NAMES",
-    "timed_names",
-    "exhausted_fraction",
-    "growth_ratio",
-    "last_input_frame",
-    "load_bench",
-    "paper_growth_ratio",
-    "plot_time_vs_w",
-    "slowest_window",
-    "time_per_frame_rows",
-]
-
-
 def step_s(row) -> float:
-    """Our time per frame of a row: the median over its window steps when the limit was
-    measured (the steady state Table 2 is about), else the median over every frame."""
+    """Our time per frame of a bench row: the median over its window steps when measured
+    (the steady state Table 2 is about), else the median over every frame."""
     return row.get("step_median_s") or row["median_s"]
 
 
 def band_cost(report) -> list:
-    """Per-frame cost of the global band variants of notebook 16 (Q3) beside their bases.
+    """Per-frame cost of notebook 16's global band variants (Q3) beside their bases.
 
-    Parameters
-    ----------
-    report : dict
-        ``results/bench.json`` as :func:`run_benchmark` writes it.
-
-    Returns
-    -------
-    rows : list of dict
-        One per band (:data:`fpdtw.paper.runner.grid.BAND_1S` first, the first reading,
-        then :data:`~fpdtw.paper.runner.grid.BAND_HALF_W`) and per base of
-        :data:`fpdtw.paper.runner.grid.BAND_BASES` that the report timed with and without
-        that band: ``name``, ``band`` (the band variant's name), ``base_us`` and ``band_us``
-        (median seconds per frame times 1e6, :func:`step_s`), ``ratio`` (band / base).
+    One row per band (:data:`~fpdtw.paper.runner.grid.BAND_1S` first, then
+    :data:`~fpdtw.paper.runner.grid.BAND_HALF_W`) and base of
+    :data:`~fpdtw.paper.runner.grid.BAND_BASES` the report timed both ways: ``name``,
+    ``band``, ``base_us``, ``band_us`` (:func:`step_s`) and ``ratio`` (band / base).
 
     Paper: FP-DTW Section 7 (conclusion: a global constraint).
     Notebook: 16_open_questions.ipynb
@@ -324,3 +215,10 @@ def band_cost(report) -> list:
                      "ratio": v / b}
                 )  # fmt: skip
     return rows
+
+
+__all__ = [
+    "TIMED_NAMES", "timed_names", "exhausted_fraction", "growth_ratio", "last_input_frame",
+    "load_bench", "pair_maps", "paper_growth_ratio", "plot_time_vs_w", "slowest_window",
+    "time_per_frame_rows",
+]  # fmt: skip

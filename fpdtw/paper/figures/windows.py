@@ -1,15 +1,10 @@
 """Figs. 2 and 4: the search windows of Methods A, B and C, drawn from plain steps.
 
-Each figure draws one :class:`fpdtw.plain.Step`, what :func:`fpdtw.plain.method_a_step`,
-:func:`~fpdtw.plain.method_b_step` or :func:`~fpdtw.plain.method_c_step` returned for one
-target frame (its cost window ``C``, accumulated ``D``, path and chosen frame ``M``); the
-steps of a whole run are kept with ``plain.run(..., steps=[])``. The notebook picks them by
-a stated rule:
-
-* Fig. 2 (Method A, w = 2): the step at a target frame the reader chooses.
-* Fig. 4 (Method B): the first window step (after the warm-up) whose back-tracked path
-  leaves (0, 0) through (1, 0), and the first through (0, 1) (:func:`first_leaving`).
-* Method C: the step at the same target frame as the first Fig. 4 panel.
+Each figure draws one :class:`fpdtw.plain.Step` (its cost window ``C``, accumulated ``D``,
+path and chosen frame ``M``), picked by a stated rule: Fig. 2 (Method A, w = 2) at a target
+frame the reader chooses; Fig. 4 (Method B) the first window step whose path leaves (0, 0)
+through (1, 0), and the first through (0, 1) (:func:`first_leaving`); Method C at the same
+target frame as the first Fig. 4 panel.
 """
 
 from __future__ import annotations
@@ -20,7 +15,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Rectangle
 
 from fpdtw.online.window import B_CORNER
-from fpdtw.paper.figures.plotting import new_axes
+from fpdtw.paper.figures.plotting import image, new_axes
 
 #: Offsets of the second path cell when Method B's path leaves (0, 0): (row, column).
 VIA_INPUT = (1, 0)  # advance one input frame within F_0 = T_n
@@ -36,22 +31,8 @@ def _window_step(step, what: str):
 
 
 def first_leaving(steps, via, q_min: int = 0):
-    """The first Method B window step at or after ``q_min`` whose path leaves (0, 0) via ``via``.
-
-    Parameters
-    ----------
-    steps : sequence of fpdtw.plain.Step
-        Plain Method B steps (``plain.run(plain.method_b_step, ..., steps=steps)``); warm-up
-        and end steps are skipped.
-    via : tuple of int
-        :data:`VIA_INPUT` ``(1, 0)`` or :data:`VIA_TARGET` ``(0, 1)``: the path's second
-        cell (input offset, forecast column).
-    q_min : int
-        The first target frame considered.
-
-    Returns
-    -------
-    step : fpdtw.plain.Step or None
+    """The first Method B window step at or after target frame ``q_min`` whose path leaves
+    (0, 0) via ``via`` (:data:`VIA_INPUT` or :data:`VIA_TARGET`), or None.
 
     Paper: FP-DTW Fig. 4 (two example steps).
     Notebook: 03_fig2_fig4_windows.ipynb
@@ -66,17 +47,8 @@ def first_leaving(steps, via, q_min: int = 0):
 
 
 def step_facts(step) -> dict:
-    """What a drawn plain step did, for notebook 03's facts file.
-
-    Parameters
-    ----------
-    step : fpdtw.plain.Step
-
-    Returns
-    -------
-    facts : dict
-        ``q``, ``M_n``, ``w_i`` and ``M`` (int), and ``leaves_via`` (the path's second cell)
-        for a step with a path (Method B).
+    """What a drawn plain step did: ``q``, ``M_n``, ``w_i``, ``M`` and, for a step with a
+    path (Method B), ``leaves_via`` (its second cell).
 
     Paper: FP-DTW Figs. 2 and 4.
     Notebook: 03_fig2_fig4_windows.ipynb
@@ -85,42 +57,16 @@ def step_facts(step) -> dict:
     return out if step.path is None else out | {"leaves_via": step.path[1]}
 
 
-def _grid(ax, n_rows, n_cols, x0, y0):
-    """Cell borders (minor grid) of a grid whose cell centres are x0.., y0.."""
-    ax.set_xticks(np.arange(n_cols + 1) + x0 - 0.5, minor=True)
-    ax.set_yticks(np.arange(n_rows + 1) + y0 - 0.5, minor=True)
-    ax.grid(which="minor", color="0.8", lw=0.5)
-    ax.tick_params(which="minor", length=0)
-    ax.set_axisbelow(True)
-
-
 def plot_method_a_window(M, step, ax=None, before: int = 6, after: int = 1):
     """Fig. 2: one plain Method A step on a grid of input x target frames.
 
-    Shows the map so far (target frames ``q - before .. q - 1``), the window cells
-    ``{I_{M_n}..I_{M_n+w_i}}`` in column ``q`` coloured and labelled with their costs
-    (``step.C``, eq. 1 to ``T_q``), and the chosen cell ``step.M``.
-
-    Parameters
-    ----------
-    M : sequence of int
-        The map ``M_0..M_n`` the step was given (a longer map is cut at ``q = n + 1``).
-    step : fpdtw.plain.Step
-        What ``plain.method_a_step(I, T, M, 2)`` returned: a window step.
-    ax : Axes, optional
-    before, after : int
-        Target frames shown before and after ``q``.
-
-    Returns
-    -------
-    fig, ax
-        One image (the window's costs); lines: the map so far, the step from ``M_n`` to
-        the chosen cell; patches: the window (blue) and the chosen cell (red).
+    The map so far (``M`` cut at the step's target frame ``q``; ``before`` and ``after``
+    target frames shown around it), the window's cells in column ``q`` coloured and
+    labelled with their costs (eq. 1), and the chosen cell.
 
     Paper: FP-DTW Fig. 2 (search window of the frame matching algorithm).
     Notebook: 03_fig2_fig4_windows.ipynb
     """
-
     s = _window_step(step, "Method A")
     q, start, w_i = int(s.q), int(s.M_n), int(s.w_i)
     fig, ax = new_axes(ax, figsize=(5.5, 6))
@@ -134,18 +80,16 @@ def plot_method_a_window(M, step, ax=None, before: int = 6, after: int = 1):
     grid[start - r0 : start - r0 + w_i + 1, q - t0] = costs
     span = max(float(costs.max() - costs.min()), 1e-6)
     im = ax.imshow(
-        grid,
-        origin="lower",
-        cmap="YlOrRd",
-        interpolation="nearest",
-        extent=(t0 - 0.5, t1 + 0.5, r0 - 0.5, r1 + 0.5),
-        aspect="equal",
-        vmin=costs.min() - 0.3 * span,
-        vmax=costs.max() + 0.1 * span,
-        zorder=0,
-    )
+        grid, origin="lower", cmap="YlOrRd", interpolation="nearest",
+        extent=(t0 - 0.5, t1 + 0.5, r0 - 0.5, r1 + 0.5), aspect="equal",
+        vmin=costs.min() - 0.3 * span, vmax=costs.max() + 0.1 * span, zorder=0,
+    )  # fmt: skip
     fig.colorbar(im, ax=ax, label=f"geoDistance($I_i$, $T_{{{q}}}$) (eq. 1)", shrink=0.7)
-    _grid(ax, r1 - r0 + 1, t1 - t0 + 1, t0, r0)
+    ax.set_xticks(np.arange(t1 - t0 + 2) + t0 - 0.5, minor=True)  # cell borders
+    ax.set_yticks(np.arange(r1 - r0 + 2) + r0 - 0.5, minor=True)
+    ax.grid(which="minor", color="0.8", lw=0.5)
+    ax.tick_params(which="minor", length=0)
+    ax.set_axisbelow(True)
     if M.size:
         ax.plot(np.arange(t0, q), M, "o-", color="0.3", ms=6, lw=1.2, zorder=3)
         ax.plot([q - 1, q], [M[-1], s.M], "--", color="tab:red", lw=1.2, zorder=3)
@@ -155,19 +99,11 @@ def plot_method_a_window(M, step, ax=None, before: int = 6, after: int = 1):
         ax.text(q, start + r, f"{c:.3f}", ha="center", va="center", fontsize=6.5, zorder=4)
     handles = [
         Line2D([], [], marker="o", color="0.3", ms=6, label="map so far $M_t$"),
-        Patch(
-            fill=False,
-            ec="tab:blue",
-            lw=2,
-            label=f"window $I_{{{start}}}..I_{{{start + w_i}}}$ ($w$ = {w_i})",
-        ),
-        Patch(
-            fill=False,
-            ec="tab:red",
-            lw=2,
-            label=f"chosen $M_{{{q}}} = M_{{{q - 1}}} + {s.M - start} = {s.M}$",
-        ),
-    ]
+        Patch(fill=False, ec="tab:blue", lw=2,
+              label=f"window $I_{{{start}}}..I_{{{start + w_i}}}$ ($w$ = {w_i})"),
+        Patch(fill=False, ec="tab:red", lw=2,
+              label=f"chosen $M_{{{q}}} = M_{{{q - 1}}} + {s.M - start} = {s.M}$"),
+    ]  # fmt: skip
     ax.set_xlim(t0 - 0.5, t1 + 0.5)
     ax.set_ylim(r0 - 0.5, r1 + 0.5)
     ax.set_xticks(np.arange(t0, t1 + 1))
@@ -180,29 +116,20 @@ def plot_method_a_window(M, step, ax=None, before: int = 6, after: int = 1):
     return fig, ax
 
 
-def _rect(x, y0, height, color, lw=2.0, inset=0.0):
-
-    return Rectangle(
-        (x - 0.5 + inset, y0 + inset),
-        1 - 2 * inset,
-        height - 2 * inset,
-        fill=False,
-        ec=color,
-        lw=lw,
-        zorder=5,
-    )
+def _rect(x, y0, height, color, lw, inset=0.0):
+    """Frame of the cells ``y0 .. y0 + height`` of column ``x``, ``inset`` inside."""
+    return Rectangle((x - 0.5 + inset, y0 + inset), 1 - 2 * inset, height - 2 * inset,
+                     fill=False, ec=color, lw=lw, zorder=5)  # fmt: skip
 
 
-def _window_heatmap(ax, fig, A, start, col_labels, mask=None, label="", annotate=True):
+def _window_heatmap(ax, A, start, col_labels, mask=None, label="", annotate=True):
     """Heat map of a window matrix (rows input offsets, columns forecast frames)."""
     A = np.asarray(A, dtype=float)
     shown = A.copy()
     if mask is not None:
         shown[mask] = np.nan
     shown[~np.isfinite(shown)] = np.nan
-    cmap = _cmap()
-    im = ax.imshow(shown, origin="lower", cmap=cmap, interpolation="nearest", aspect="auto")
-    fig.colorbar(im, ax=ax, label=label, fraction=0.046, pad=0.04)
+    image(ax, shown, label, mpl.colormaps["viridis"].with_extremes(bad="0.92"))
     nr, nc = A.shape
     ax.set_xticks(np.arange(nc))
     ax.set_xticklabels(col_labels, fontsize=7)
@@ -216,26 +143,14 @@ def _window_heatmap(ax, fig, A, start, col_labels, mask=None, label="", annotate
         for r in range(nr):
             for c in range(nc):
                 if np.isfinite(shown[r, c]):
-                    ax.text(
-                        c,
-                        r,
-                        f"{A[r, c]:.2f}",
-                        ha="center",
-                        va="center",
-                        fontsize=5,
-                        color="white" if shown[r, c] < mid else "black",
-                    )
-    return im
+                    colour = "white" if shown[r, c] < mid else "black"
+                    ax.text(c, r, f"{A[r, c]:.2f}", ha="center", va="center", fontsize=5,
+                            color=colour)  # fmt: skip
 
 
 def _mark_x(ax, col, row, label):
     """The chosen cell of a window step as a large red X (in the legend as ``label``)."""
     ax.plot([col], [row], "x", color="tab:red", ms=12, mew=2.5, label=label)
-
-
-def _cmap():
-
-    return mpl.colormaps["viridis"].with_extremes(bad="0.92")
 
 
 def forecast_labels(n_cols: int, with_prev: bool) -> list:
@@ -253,31 +168,15 @@ def forecast_labels(n_cols: int, with_prev: bool) -> list:
 
 
 def plot_method_b_window(step, ax=None, which: str = "D", annotate=True):
-    """Fig. 4: one plain Method B step: the window's D (or C), its path and the choice X.
+    """Fig. 4: one plain Method B step: the window's D (or C, ``which``), its path and X.
 
-    ``D[0, 0]`` (set to 10000 before back-tracking) is left out of the colour scale and
-    labelled; the path is drawn from (0, 0) to the far corner; X marks the chosen input
-    frame, the lowest row of the path in column ``F_1 = T_{n+1}`` (``P_1``).
-
-    Parameters
-    ----------
-    step : fpdtw.plain.Step
-        What ``plain.method_b_step`` returned: a window step (``C``, ``D``, ``path``).
-    ax : Axes, optional
-    which : {"D", "C"}
-        Accumulated (default) or local cost as the heat map.
-    annotate : bool
-        Write every cell's value.
-
-    Returns
-    -------
-    fig, ax
-        One image of shape ``(w_i + 1, w + 1)``; lines: the path, X.
+    ``D[0, 0]`` (10000, set before back-tracking) is kept off the colour scale and labelled;
+    X marks the chosen input frame, the lowest row of the path in column ``F_1 = T_{n+1}``.
+    ``annotate``: write every cell's value.
 
     Paper: FP-DTW Fig. 4 and Algorithm 2.
     Notebook: 03_fig2_fig4_windows.ipynb
     """
-
     s = _window_step(step, "Method B")
     if s.path is None:
         raise ValueError("a Method B window step (with a path) is needed")
@@ -286,23 +185,14 @@ def plot_method_b_window(step, ax=None, which: str = "D", annotate=True):
     mask = np.zeros(A.shape, dtype=bool)
     mask[0, 0] = which == "D"
     label = "accumulated cost D" if which == "D" else "cost C (eq. 1)"
-    _window_heatmap(ax, fig, A, s.M_n, forecast_labels(A.shape[1], True), mask, label, annotate)
+    _window_heatmap(ax, A, s.M_n, forecast_labels(A.shape[1], True), mask, label, annotate)
+    extra = []
     if which == "D":
-        ax.text(
-            0,
-            0,
-            f"{B_CORNER:.0f}",
-            ha="center",
-            va="center",
-            fontsize=6,
-            color="tab:red",
-            fontweight="bold",
-        )
+        ax.text(0, 0, f"{B_CORNER:.0f}", ha="center", va="center", fontsize=6, color="tab:red",
+                fontweight="bold")  # fmt: skip
         extra = [
             Patch(fc="0.92", ec="tab:red", label="$D[0,0]$ = 10000 (set before back-tracking)")
         ]
-    else:
-        extra = []
     P = np.asarray(s.path)
     ax.plot(P[:, 1], P[:, 0], "-", color="white", lw=3.2)
     ax.plot(P[:, 1], P[:, 0], ".-", color="tab:red", lw=1.4, ms=5, label="back-tracked path")
@@ -320,22 +210,8 @@ def plot_method_b_window(step, ax=None, which: str = "D", annotate=True):
     return fig, ax
 
 
-def plot_method_c_window(step, ax=None, annotate=True):
-    """One plain Method C step: the reverse-accumulated D and the argmin of column 0.
-
-    Parameters
-    ----------
-    step : fpdtw.plain.Step
-        What ``plain.method_c_step`` returned: a window step (``D`` accumulated from the
-        far corner back to (0, 0)).
-    ax : Axes, optional
-    annotate : bool
-
-    Returns
-    -------
-    fig, ax
-        One image of the window's shape (``(w_i + 1, w)``; the default square window: w x w); one
-        line (X).
+def plot_method_c_window(step, ax=None):
+    """One plain Method C step: the reverse-accumulated ``D`` and X, the argmin of column 0.
 
     Paper: FP-DTW Algorithm 3 (getReverseTotalCostMatrix, argmin of column 0).
     Notebook: 03_fig2_fig4_windows.ipynb
@@ -343,28 +219,17 @@ def plot_method_c_window(step, ax=None, annotate=True):
     s = _window_step(step, "Method C")
     fig, ax = new_axes(ax, figsize=(6, 5))
     D = np.asarray(s.D)
-    _window_heatmap(
-        ax,
-        fig,
-        D,
-        s.M_n,
-        forecast_labels(D.shape[1], False),
-        label="reverse-accumulated cost D",
-        annotate=annotate,
-    )
+    labels = forecast_labels(D.shape[1], False)
+    _window_heatmap(ax, D, s.M_n, labels, label="reverse-accumulated cost D")
     nr, nc = D.shape
     off = s.M - s.M_n
     _mark_x(ax, 0, off, f"X: argmin of column 0, $M_{{n+1}} = {s.M_n} + {off} = {s.M}$")
     ax.annotate(
-        "accumulation\nstarts here",
-        (nc - 1, nr - 1),
-        xytext=(-95, -40),
-        textcoords="offset points",
-        fontsize=7,
-        color="tab:red",
+        "accumulation\nstarts here", (nc - 1, nr - 1), xytext=(-95, -40),
+        textcoords="offset points", fontsize=7, color="tab:red",
         bbox={"fc": "white", "ec": "none", "alpha": 0.8, "pad": 1},
         arrowprops={"arrowstyle": "->", "color": "tab:red"},
-    )
+    )  # fmt: skip
     ax.set_title(
         f"Method C ($w$ = {D.shape[1]}), target frame {s.q}: reverse accumulation, argmin of $F_0$",
         fontsize=9,
@@ -375,12 +240,6 @@ def plot_method_c_window(step, ax=None, annotate=True):
 
 
 __all__ = [
-    "VIA_INPUT",
-    "VIA_TARGET",
-    "first_leaving",
-    "forecast_labels",
-    "plot_method_a_window",
-    "plot_method_b_window",
-    "plot_method_c_window",
-    "step_facts",
-]
+    "VIA_INPUT", "VIA_TARGET", "first_leaving", "forecast_labels", "plot_method_a_window",
+    "plot_method_b_window", "plot_method_c_window", "step_facts",
+]  # fmt: skip
