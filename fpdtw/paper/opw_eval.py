@@ -191,24 +191,13 @@ def load_cropped(dataset: str, path: str):
 
 
 def fig3_key_points(path, max_run: int | None = 2) -> np.ndarray:
-    """Indices of the path points the poster's Fig. 3 rule keeps as curve keys.
+    """Indices (int64, increasing) into a DTW path (L, 2) of the points the poster's Fig. 3
+    rule keeps as curve keys.
 
-    A step between path cells (i, j) (i: recording A, j: live B) is sequential (1, 1), a
-    deletion (1, 0) or an insertion (0, 1). Point k is kept when the steps just before it
-    are a run of 1..``max_run`` insertions and/or deletions (None: any length) and the step
-    after it is sequential; the two end points are always kept.
-
-    Parameters
-    ----------
-    path : ndarray of int, shape (L, 2)
-        DTW path, forward order, cells (i, j).
-    max_run : int or None
-        The poster: 2 ("after 1 or 2 consecutive steps").
-
-    Returns
-    -------
-    idx : ndarray of int64, shape (K,)
-        Increasing indices into ``path``, first 0 and last L - 1.
+    A step between cells (i, j) (i: recording, j: live) is sequential (1, 1), a deletion
+    (1, 0) or an insertion (0, 1). Point k is kept when the steps just before it are a run
+    of 1..``max_run`` insertions and/or deletions (the poster: "1 or 2"; None: any) and the
+    step after it is sequential; the two end points are always kept.
 
     Paper: OPW poster Section 4, Fig. 3.
     """
@@ -229,18 +218,13 @@ def fig3_key_points(path, max_run: int | None = 2) -> np.ndarray:
 
 
 def dtw_curve(A, B, omega: float = OMEGA, root_relative: bool = True) -> WarpCurve:
-    """Offline DTW of recording A against live B at OPW's rate, smoothed into a curve (Fig. 3).
+    """Offline DTW of recording A against live B, smoothed into a curve (live time ->
+    recording time) by the Fig. 3 rule.
 
     Both motions are resampled to ``1 / omega`` Hz, the rate OPW steps at (the poster does
-    not state DTW's). Cost: eq. 5 over the 16 joints' positions; symmetric DTW
-    (:func:`fpdtw.dtw.dtw`), rows = A. Keys: the :func:`fig3_key_points` at ``(t, t') =
-    (j omega, i omega)`` (of two at one live time the earlier), and the true end ``(D_B,
-    D_A)`` as the last key (DTW's ends match; the 25 Hz grid may stop short of them).
-
-    Returns
-    -------
-    f : WarpCurve
-        Live time -> recording time.
+    not state DTW's). Cost: eq. 5 over the 16 joints' positions; symmetric DTW, rows = A.
+    Keys: the :func:`fig3_key_points` at ``(t, t') = (j omega, i omega)`` (of two at one
+    live time the earlier), then the true end ``(D_B, D_A)`` (the 25 Hz grid may stop short).
 
     Paper: OPW poster Section 4, Fig. 3, eq. 5.
     """
@@ -449,15 +433,10 @@ def evaluate(
     """The poster's test on one motion (cropped here to 2.5 s): example warp, OPW and the
     baselines' curves, and their measures.
 
-    Returns
-    -------
-    result : dict
-        ``name``, ``reading``, ``reference`` (OPW's), ``baseline``, ``offset``, ``gamma``,
-        ``omega``, ``duration``; ``curves``: WarpCurve ``"example"`` and one per
-        :data:`METHODS`; per method ``deviation`` (:func:`deviation_ms`), ``slope``
-        (:func:`slope_change_percent`, also of the example) and ``removed``
-        (:func:`temporal_difference_removed`); ``decisions`` (OPW's
-        :meth:`~fpdtw.online.opw.OPW.decision_table`) and ``M`` (OPW's map, frames).
+    The result holds the parameters, ``curves`` (``"example"`` and one per :data:`METHODS`),
+    per method ``deviation`` (:func:`deviation_ms`), ``slope`` (:func:`slope_change_percent`,
+    also of the example) and ``removed`` (:func:`temporal_difference_removed`), OPW's
+    ``decisions`` (:meth:`~fpdtw.online.opw.OPW.decision_table`) and its map ``M``.
 
     Paper: OPW poster Sections 4-5, Figs. 4-6.
     Notebook: 13_opw_fig4.ipynb
@@ -508,13 +487,8 @@ def reference_lag(result: dict) -> dict:
 
     At live time ``t`` OPW reads the recording from its reference time: ``f(t)`` (the poster
     reading) or ``t D_A / x_last`` (the plugin's global ratio, ``x_last`` before the step).
-
-    Returns
-    -------
-    lag : dict
-        ``t`` (N,) step times (s); ``reference_ms`` (N,) the reference time minus ``g(t)``
-        and ``curve_ms`` (N,) ``f(t) - g(t)``, in ms; ``reference_mean_abs_ms`` and
-        ``curve_mean_abs_ms``, their mean magnitudes.
+    Returns the step times ``t`` (s), ``reference_ms`` (reference time minus ``g(t)``),
+    ``curve_ms`` (``f(t) - g(t)``) and their mean magnitudes ``*_mean_abs_ms``.
 
     Paper: OPW poster eq. 4; the authors' MotionBuilder plugin.
     Notebook: 13_opw_fig4.ipynb
@@ -620,23 +594,13 @@ def _range(rows, key, digits):
 
 
 def fig4_facts(rows: list, motions: dict, baseline: str = "DTW") -> dict:
-    """The facts of poster Fig. 4 (notebook 13, the claims table): ours and the poster's.
+    """The facts of poster Fig. 4 from the :func:`summary_row` rows of every motion (one
+    reading; ``baseline`` stands for the poster's DTW): ours and the poster's.
 
-    Parameters
-    ----------
-    rows : list of dict
-        :func:`summary_row` rows of every motion (one reading).
-    motions : dict of str to OPWMotion
-    baseline : str
-        The method standing for the poster's DTW (``"DTW"`` or ``"best match"``).
-
-    Returns
-    -------
-    facts : dict
-        ``opw_mean_ms_range``, ``opw_max_ms``, ``dtw_mean_ms_range`` (the baseline's),
-        ``opw_removed_mean``, ``dtw_better_everywhere`` (lower mean deviation than OPW on
-        every motion), ``opw_smoother_everywhere`` (smaller largest slope change),
-        ``baseline``, ``motions``, ``per_motion`` and ``poster``.
+    ``opw_mean_ms_range``, ``opw_max_ms``, ``dtw_mean_ms_range`` (the baseline's),
+    ``opw_removed_mean``, ``dtw_better_everywhere`` (lower mean deviation than OPW on every
+    motion), ``opw_smoother_everywhere`` (smaller largest slope change), ``baseline``,
+    ``motions``, ``per_motion`` and ``poster``.
 
     Paper: OPW poster Section 5 and Fig. 4.
     Notebook: 13_opw_fig4.ipynb
@@ -670,24 +634,13 @@ def fig4_facts(rows: list, motions: dict, baseline: str = "DTW") -> dict:
 def fig5_fig6_facts(
     rows5: list, offsets, rows6: list, gammas, gamma=GAMMA, baseline: str = "DTW"
 ) -> dict:
-    """The facts of poster Figs. 5 and 6 (notebook 14, the claims table).
+    """The facts of poster Figs. 5 and 6 from the :func:`sweep` rows over ``offsets`` at
+    ``gamma`` (Fig. 5) and over ``gammas`` at the poster's offset (Fig. 6).
 
-    Parameters
-    ----------
-    rows5, rows6 : list of dict
-        :func:`sweep` rows over ``offsets`` at ``gamma`` (Fig. 5) and over ``gammas`` at
-        the poster's offset (Fig. 6).
-    baseline : str
-        The method beside OPW in the Fig. 5 table.
-
-    Returns
-    -------
-    facts : dict
-        ``largest_offset_max_below_150ms_s`` and ``..._mean_...`` (None if none),
-        ``removed_gamma5_range_over_offsets``, ``..._mean_over_offsets``, ``..._at_offset``
-        (at 0.25 s, if swept), ``best_gamma`` (lowest pooled mean deviation),
-        ``removed_best_gamma``, ``max_ms_at_offset_best_gamma``, the tables ``fig5`` and
-        ``fig6``, and ``poster``.
+    The largest offsets whose pooled max / mean deviation stay below 150 ms, the shares
+    removed at gamma 5 % (range and mean over offsets, at 0.25 s), the best gamma (lowest
+    pooled mean deviation) with its share and maximum, the tables ``fig5`` (OPW beside
+    ``baseline``) and ``fig6``, and the ``poster``'s values.
 
     Paper: OPW poster Section 5, Figs. 5 and 6.
     Notebook: 14_opw_fig5_fig6.ipynb
@@ -733,14 +686,9 @@ def fig5_fig6_facts(
 
 def read_at_table(offset: float = OFFSET, gamma: float = GAMMA) -> list[dict]:
     """Both readings of where OPW reads the recording (:data:`READ_AT_READINGS`; all else
-    the poster reading) on each of Fig. 4's motions warped by the example curve.
-
-    Returns
-    -------
-    rows : list of dict
-        One per motion and reading: ``read_at``, ``motion``, ``opw_mean_ms``,
-        ``opw_max_ms`` (:func:`deviation_ms`), ``opw_removed``
-        (:func:`temporal_difference_removed`) and ``steps_changed`` (steps with ``s != 1``).
+    the poster reading) on each of Fig. 4's motions warped by the example curve: per motion
+    and reading ``read_at``, ``motion``, ``opw_mean_ms``, ``opw_max_ms``, ``opw_removed``
+    and ``steps_changed`` (steps with ``s != 1``).
 
     Paper: OPW poster eq. 4 and Algorithm 1, lines 2-3; Section 4's protocol (Fig. 4).
     Notebook: 13_opw_fig4.ipynb
@@ -771,20 +719,10 @@ READINGS_COLUMNS = ("reading", "motion", "opw_mean_ms", "opw_max_ms", "opw_remov
 
 
 def readings_table(sweeps, gamma: float = GAMMA) -> list[dict]:
-    """Per reading and motion, and all motions pooled (``motion`` ``"all"``, :func:`pooled`):
-    OPW at ``gamma``, OPW at its best gamma (lowest mean deviation, the first on ties) and
-    the reading's baseline.
-
-    Parameters
-    ----------
-    sweeps : sequence of (OPWReading, list of dict)
-        Each reading with its :func:`sweep` rows over gammas at one offset; ``gamma`` must
-        be among them.
-
-    Returns
-    -------
-    rows : list of dict
-        Keys :data:`READINGS_COLUMNS`.
+    """Rows (:data:`READINGS_COLUMNS`) per reading and motion, and all motions pooled
+    (``"all"``): OPW at ``gamma``, OPW at its best gamma (lowest mean deviation, the first
+    on ties) and the reading's baseline, from each reading's :func:`sweep` rows over gammas
+    (``sweeps``: (reading, rows) pairs; ``gamma`` must be among the gammas).
 
     Paper: OPW poster Section 5, Figs. 4-6; the authors' MotionBuilder plugin.
     Notebook: 14_opw_fig5_fig6.ipynb
