@@ -90,6 +90,14 @@ def _medians(results, name, dataset=None) -> tuple[float, float]:
     return tuple(_median(results, name, k, dataset) for k in ("similarity", "deviation"))
 
 
+def _passes(similarity, deviation, utw_similarity, rate=120) -> tuple[bool, bool]:
+    """Whether medians pass the similarity and the deviation benchmark."""
+    return (
+        numbers.passes_similarity(similarity, utw_similarity),
+        numbers.passes_deviation(deviation, rate),
+    )
+
+
 def benchmarks(results, dataset=None, rate: int = 120) -> dict:
     """The paper's two benchmarks at a rate: ``similarity``, UTW's median over a dataset's
     pairs (pass: strictly above), and ``deviation``, 150 ms in frames (pass: strictly below).
@@ -130,10 +138,8 @@ def readings_table(results, datasets=(None,)) -> list[dict]:
             ]
             for reading, w, typev, name in cases:
                 sim, dev = _medians(results, name, dataset)
-                verdict = {
-                    "passes_similarity": numbers.passes_similarity(sim, bench["similarity"]),
-                    "passes_deviation": numbers.passes_deviation(dev, rate),
-                }
+                ps, pd = _passes(sim, dev, bench["similarity"], rate)
+                verdict = {"passes_similarity": ps, "passes_deviation": pd}
                 where = {"dataset": dataset or "all", "rate_hz": rate, "reading": reading}
                 what = {"w": w, "type_v": typev, "algorithm": name}
                 measured = {"similarity": sim, "deviation": dev}
@@ -350,10 +356,7 @@ def silent_choice_rows(results, features=None) -> tuple[list[dict], list[dict]]:
                 s1, d1 = _medians(results, alt)
             else:
                 s1, d1 = _choice_medians(results, name, features, key)
-            u = bench["similarity"]
-            flips = numbers.passes_similarity(s0, u) != numbers.passes_similarity(s1, u) or (
-                numbers.passes_deviation(d0) != numbers.passes_deviation(d1)
-            )
+            flips = _passes(s0, d0, bench["similarity"]) != _passes(s1, d1, bench["similarity"])
             rows.append(
                 dict(
                     choice=key,
@@ -372,14 +375,12 @@ def silent_choice_rows(results, features=None) -> tuple[list[dict], list[dict]]:
                 ours=choice.ours,
                 alternative=choice.alternative,
                 touches=", ".join(r["algorithm"] for r in rows),
-                max_d_similarity=max(
-                    (abs(r["similarity_alternative"] - r["similarity_ours"]) for r in rows),
-                    default=0.0,
-                ),
-                max_d_deviation=max(
-                    (abs(r["deviation_alternative"] - r["deviation_ours"]) for r in rows),
-                    default=0.0,
-                ),
+                **{
+                    f"max_d_{m}": max(
+                        (abs(r[f"{m}_alternative"] - r[f"{m}_ours"]) for r in rows), default=0.0
+                    )
+                    for m in ("similarity", "deviation")
+                },
                 verdicts_changed=", ".join(r["algorithm"] for r in rows if r["verdict_changes"])
                 or "none",
             )
@@ -412,11 +413,10 @@ def selection_rows(full, study, names=HEADLINE_NAMES) -> list[dict]:
             if name not in res.algorithms:
                 row[f"similarity_{tag}"] = row[f"deviation_{tag}"] = row[f"passes_{tag}"] = None
                 continue
-            b = benchmarks(res)
             s, d = _medians(res, name)
             row[f"similarity_{tag}"] = s
             row[f"deviation_{tag}"] = d
-            passed = (numbers.passes_similarity(s, b["similarity"]), numbers.passes_deviation(d))
+            passed = _passes(s, d, benchmarks(res)["similarity"])
             row[f"passes_{tag}"] = verdict.get(passed, "neither")
         out.append(row)
     return out
