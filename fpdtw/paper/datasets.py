@@ -258,11 +258,15 @@ def manifests() -> list[Manifest]:
     return [load_manifest(n) for n in dataset_names()]
 
 
+#: One dataset or several, by name or manifest (None: every manifest).
+_Datasets = str | Manifest | Iterable[str | Manifest] | None
+
+
 def _as_manifest(dataset: str | Manifest) -> Manifest:
     return dataset if isinstance(dataset, Manifest) else load_manifest(dataset)
 
 
-def _as_manifests(datasets) -> list[Manifest]:
+def _as_manifests(datasets: _Datasets) -> list[Manifest]:
     if datasets is None:
         return manifests()
     if isinstance(datasets, str | Manifest):
@@ -504,32 +508,15 @@ def _fetch_entry(
 
 
 def fetch(
-    dataset: str | Manifest,
-    path: str | os.PathLike | FileEntry | None = None,
-    *,
-    progress: bool = True,
+    dataset: str | Manifest, path: str | os.PathLike | FileEntry | None = None, *, progress=True
 ) -> Path:
-    """Fetch one file into the cache (if not there yet), verified, and return its path.
+    """Fetch one file into the cache (if not there yet), verified; its path
+    ``<cache>/<mirror_prefix>/<path>``, holding exactly the manifest's content.
 
-    Parameters
-    ----------
-    dataset : str or Manifest
-    path : str or os.PathLike or FileEntry, optional
-        Its path in the manifest (``"MoCapData/Walk_01.fbx"``), its file name if unique
-        (``"Walk_01.fbx"``) or its entry; omitted only for a dataset of one file (``"cmu"``).
-    progress : bool
-        A download progress bar for HTTP downloads.
-
-    Returns
-    -------
-    Path
-        ``<cache>/<mirror_prefix>/<path>``, holding exactly the manifest's content.
-
-    Raises
-    ------
-    DataFetchError
-        Not in the manifest, not available from the source tried (the message says how to
-        set ``FPDTW_MIRROR``), or not matching the manifest (both hashes named; nothing kept).
+    ``path``: the file's path in the manifest (``"MoCapData/Walk_01.fbx"``), its name if
+    unique (``"Walk_01.fbx"``) or its entry; omitted only for a dataset of one file.
+    DataFetchError when it is not in the manifest, not available from the source tried (the
+    message says how to set ``FPDTW_MIRROR``) or not matching the manifest (nothing kept).
     """
     m = _as_manifest(dataset)
     if path is None:
@@ -571,28 +558,13 @@ class FetchReport:
 
 
 def fetch_all(
-    datasets: str | Manifest | Iterable[str | Manifest] | None = None,
-    *,
-    available_only: bool | None = None,
-    progress: bool = True,
-    strict: bool = True,
+    datasets: _Datasets = None, *, available_only=None, progress=True, strict=True
 ) -> FetchReport:
     """Fetch every file of some datasets (default: all), verified; report what could not be had.
 
-    Parameters
-    ----------
-    datasets : str, Manifest or iterable of them, optional
-    available_only : bool, optional
-        Skip (and report) the files the manifest marks as not in the local mirror.
-        Default: True when ``FPDTW_MIRROR`` is set (upstream has every file).
-    progress : bool
-        A tqdm bar over the files (and for archive downloads).
-    strict : bool
-        Raise DataFetchError (with the report as its ``report``) if any file failed.
-
-    Returns
-    -------
-    FetchReport
+    ``available_only`` (default: whether ``FPDTW_MIRROR`` is set; upstream has every file)
+    skips the files the manifest marks as not in the local mirror; ``strict`` raises
+    DataFetchError, with the report as its ``report``, if any file failed.
     """
     ms = _as_manifests(datasets)
     if available_only is None:
@@ -666,11 +638,7 @@ class VerifyReport:
         return "\n".join(lines)
 
 
-def verify(
-    dataset: str | Manifest | Iterable[str | Manifest] | None = None,
-    *,
-    available_only: bool | None = None,
-) -> VerifyReport:
+def verify(dataset: _Datasets = None, *, available_only: bool | None = None) -> VerifyReport:
     """Re-hash every cached file of some datasets (default: all) against the manifests.
 
     Corrupt files are reported, not deleted (the next :func:`fetch` replaces them).
@@ -707,7 +675,7 @@ def verify(
     return report
 
 
-def cite(dataset: str | Manifest | Iterable[str | Manifest] | None = None) -> str:
+def cite(dataset: _Datasets = None) -> str:
     """Title, licence, citation and source of some datasets (default: all), as plain text."""
     return "\n\n".join(
         f"{m.name}: {m.title}\n  Licence: {m.licence}\n  Cite: {m.citation}\n  Source: {m.upstream}"
