@@ -95,6 +95,15 @@ def _motion_arrays(record, crop, fps=BASE_FPS, frames=TRAJECTORY_FRAMES) -> dict
     return out
 
 
+def _load(plan, index, crop, progress, desc, fps=BASE_FPS, frames=TRAJECTORY_FRAMES) -> dict:
+    """Motion index -> :func:`_motion_arrays` of every motion of the pairs ``index``."""
+    used = sorted({i for pair in index for i in pair})
+    return {
+        i: _motion_arrays(plan.motions[i], crop, fps, frames)
+        for i in tqdm(used, desc=desc, disable=not progress)
+    }
+
+
 def _plan(results) -> tuple:
     """The run's pair selection, the ``(input, target)`` motion indices of its pairs and its
     crop."""
@@ -133,11 +142,7 @@ def rescore(results, readings=READINGS, algorithms=LEVEL_ALGORITHMS, progress=Tr
     Paper: FP-DTW eq. 2.
     """
     plan, index, crop = _plan(results)
-    used = sorted({i for pair in index for i in pair})
-    arrays = {
-        i: _motion_arrays(plan.motions[i], crop)
-        for i in tqdm(used, desc="motions", disable=not progress)
-    }
+    arrays = _load(plan, index, crop, progress, "motions")
     stored = {a: results.stored(a) for a in algorithms}
     scores = {
         r.name: {a: _algorithm_scores(r, stored[a], arrays, index) for a in algorithms}
@@ -203,7 +208,6 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
         raise KeyError(f"unknown reading {reading!r}; have: {', '.join(by_name)}")
     r = by_name[reading]
     plan, index, crop = _plan(results)
-    used = sorted({i for pair in index for i in pair})
     ids = np.array([int(p["id"]) for p in results.pairs], dtype=np.int64)
     base = hashlib.sha256(
         json.dumps(
@@ -216,10 +220,8 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
 
     def arrays(fps: float) -> dict:
         if fps not in motions:
-            motions[fps] = {
-                i: _motion_arrays(plan.motions[i], crop, fps, frames=(r.frame,))
-                for i in tqdm(used, desc=f"motions at {fps:g} Hz", disable=not progress)
-            }
+            desc = f"motions at {fps:g} Hz"
+            motions[fps] = _load(plan, index, crop, progress, desc, fps, (r.frame,))
         return motions[fps]
 
     def compute(name: str) -> np.ndarray:
