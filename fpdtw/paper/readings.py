@@ -115,13 +115,10 @@ def readings_table(results, datasets=(None,)) -> list[dict]:
     """Every reading of Algorithm 3 at every w, with and without Type V, per dataset (None:
     every pair) and rate, from a ``"study"`` run (names of :func:`reading_name`).
 
-    Returns
-    -------
-    rows : list of dict
-        ``dataset``, ``rate_hz``, ``reading``, ``w``, ``type_v``, ``algorithm``, the medians
-        ``similarity`` and ``deviation`` (frames), ``passes_similarity``,
-        ``passes_deviation`` and the :func:`map_shape` keys. DTW's row (reading ``"DTW"``)
-        comes first per dataset and rate: the reference hold share.
+    Rows of ``dataset``, ``rate_hz``, ``reading``, ``w``, ``type_v``, ``algorithm``, the
+    medians ``similarity`` and ``deviation`` (frames), ``passes_similarity``,
+    ``passes_deviation`` and the :func:`map_shape` keys; DTW's row (reading ``"DTW"``, the
+    reference hold share) comes first per dataset and rate.
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
@@ -216,15 +213,10 @@ def mechanism_profile(pairs, w: int = 40, readings=("literal", "square")) -> dic
     Method C windows of some (input, target) pairs.
 
     In the literal window ``f(0)`` carries one cell more than every other ``f(r)``,
-    whatever the motion; in the square window it does not.
-
-    Returns
-    -------
-    out : dict
-        Per reading: ``r`` (int, (rows,)), ``mean_f`` (mean f(r) over steps), ``excess``
-        (median of ``f(0) - f(1)``), ``neighbour`` (median ``|C[r, 0] - C[r+1, 0]|``),
-        ``hold`` (share of steps that held), ``best_row0`` (share of steps where ``C[0, 0]``
-        was column 0's smallest), ``steps``.
+    whatever the motion; in the square window it does not. Per reading: ``r`` (int
+    (rows,)), ``mean_f`` (float64 (rows,), mean over steps), ``excess`` (median ``f(0) -
+    f(1)``), ``neighbour`` (median ``|C[r, 0] - C[r+1, 0]|``), ``hold`` (share of steps that
+    held), ``best_row0`` (share where ``C[0, 0]`` was column 0's smallest), ``steps``.
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
@@ -264,21 +256,13 @@ def mechanism_profile(pairs, w: int = 40, readings=("literal", "square")) -> dic
 
 
 def choice_values(results, name: str, variant: str, features=None) -> dict:
-    """Per-pair scores of ``name`` under a metric-side silent choice.
+    """Per-pair scores of ``name`` under a metric-side silent choice: metric -> float64
+    (P,) in ``results.pairs`` order, for the metrics it changes.
 
-    Parameters
-    ----------
-    variant : {"deviation_frames", "flat_axis", "after_input"}
-        (:data:`fpdtw.paper.runner.grid.SILENT_CHOICES`): eq. 3 over all target frames
-        ``q = 0..n``; eq. 2 leaving out an axis flat in one motion; both scores only up to
-        the first target frame mapped to the last input frame.
-    features : callable, optional
-        ``features(k) -> (I, T)`` at the algorithm's rate; needed by the choices of eq. 2.
-
-    Returns
-    -------
-    values : dict
-        Metric -> float64 (P,) in ``results.pairs`` order, for the metrics it changes.
+    ``variant`` (:data:`fpdtw.paper.runner.grid.SILENT_CHOICES`): ``"deviation_frames"``,
+    eq. 3 over all target frames; ``"flat_axis"``, eq. 2 leaving out an axis flat in one
+    motion; ``"after_input"``, both scores only up to the first target frame mapped to the
+    last input frame. The choices of eq. 2 need ``features(k) -> (I, T)``.
     """
     arr = results.get(name)
     dtw = results.get("DTW" + ("@60Hz" if name.endswith("@60Hz") else ""))

@@ -194,12 +194,9 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
     motions' data hashes and the stored maps (a changed run never reads a stale file; a
     change to the code that computes eq. 2 needs :data:`RESCORE_FORMAT` bumped).
 
-    Returns
-    -------
-    values : callable
-        ``values(name, metric)``: for ``"similarity"`` float64 (P,) in ``results.pairs``
-        order, else None (eq. 3 does not depend on the reading). KeyError for an unknown
-        name, ValueError when the stored pairs are not ``results.pairs``.
+    Returns ``values(name, metric)``: for ``"similarity"`` float64 (P,) in ``results.pairs``
+    order, else None (eq. 3 does not depend on the reading); KeyError for an unknown
+    reading or name, ValueError when the stored pairs are not ``results.pairs``.
 
     Paper: FP-DTW eq. 2.
     """
@@ -254,13 +251,8 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
 def similarity_level_rows(results, scores=None, progress=True) -> list[dict]:
     """Notebook 17's table: median eq. 2 of UTW, DTW and Mc w40 per reading and dataset
     (``all``, then each), beside the paper's (``scores``: :func:`rescore`'s, computed when
-    missing).
-
-    Returns
-    -------
-    rows : list of dict
-        ``reading``, ``changes``, ``dataset``, ``pairs``, ``UTW``, ``DTW``, ``Mc w40``,
-        ``UTW - Mc w40``, ``paper UTW``, ``paper Mc w40``.
+    missing): rows of ``reading``, ``changes``, ``dataset``, ``pairs``, ``UTW``, ``DTW``,
+    ``Mc w40``, ``UTW - Mc w40``, ``paper UTW``, ``paper Mc w40``.
 
     Paper: FP-DTW eq. 2, Table 1.
     Notebook: 17_similarity_level.ipynb
