@@ -1,8 +1,7 @@
 """Files written whole or not at all: a temporary file beside the destination, flushed to
-disk, then renamed over it (:func:`os.replace`). A reader never sees half a file, and a
-killed process leaves at most a temporary file (``.<name>.<pid>.part``), which the runner
-ignores and cleans up. Every result, table, facts and bench file of the paper layer is
-written this way."""
+disk, then renamed over it. A killed process leaves at most a ``.<name>.<pid>.part`` file,
+which the runner ignores and cleans up. Every result, table, facts and bench file of the
+paper layer is written this way."""
 
 from __future__ import annotations
 
@@ -19,18 +18,8 @@ def tmp_path(path: Path) -> Path:
 
 
 def write_atomic(path, data: bytes) -> Path:
-    """Write ``data`` to ``path`` through a temporary file and :func:`os.replace`.
-
-    Parameters
-    ----------
-    path : path-like
-        Destination; its folder is created if needed.
-    data : bytes
-
-    Returns
-    -------
-    path : Path
-    """
+    """Write ``data`` to ``path`` (its folder created if needed) through :func:`tmp_path` and
+    :func:`os.replace`; returns ``path`` as a Path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = tmp_path(path)
@@ -41,9 +30,5 @@ def write_atomic(path, data: bytes) -> Path:
             os.fsync(f.fileno())
         os.replace(tmp, path)
     finally:
-        if tmp.exists():
-            tmp.unlink()
+        tmp.unlink(missing_ok=True)
     return path
-
-
-__all__ = ["TMP_PREFIX", "TMP_SUFFIX", "tmp_path", "write_atomic"]

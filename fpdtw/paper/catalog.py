@@ -1,38 +1,25 @@
 """Which motions exist, which are here, and loading them by dataset and path.
 
-The manifests (``data_manifest/``) list every file; this module turns them into
-motions with labels (dataset, movement, take) and loads them through the
-verified cache (:func:`fpdtw.paper.datasets.fetch`).
+The manifests (``data_manifest/``) list every file; this module turns them into labelled
+motions (dataset, movement, take) and loads them through the verified cache
+(:func:`fpdtw.paper.datasets.fetch`).
 """
 
 from __future__ import annotations
 
-from collections import OrderedDict
 from dataclasses import dataclass
 
 from fpdtw.io import load_motion
 from fpdtw.paper import datasets as data
 
+_DATASETS = ("authors_fbx", "hdm05", "cmu")
+
 
 @dataclass(frozen=True)
 class MotionRecord:
-    """One motion file of a dataset, with its labels.
-
-    Attributes
-    ----------
-    dataset : str
-        Manifest name (``"authors_fbx"``, ``"hdm05"``, ``"cmu"``).
-    path : str
-        Path inside the dataset.
-    movement : str
-        Authors' movement name, HDM05 class, or CMU take description.
-    take : str
-        Take label (authors' ``01``.., HDM05 clip number, CMU take).
-    available : bool
-        Whether the local mirror holds it (the manifest's ``available_here``).
-    frames : int or None
-        Frame count where the manifest knows it.
-    """
+    """One motion file of a dataset (a manifest name) with its labels: ``movement`` (the
+    authors' movement, HDM05 class or CMU take description), ``take``, ``available`` (in
+    the local mirror) and ``frames`` (where the manifest knows it)."""
 
     dataset: str
     path: str
@@ -47,39 +34,21 @@ class MotionRecord:
         return self.path.rsplit("/", 1)[-1].rsplit(".", 1)[0]
 
 
-def motion_records(datasets=("authors_fbx", "hdm05", "cmu"), available_only=False):
-    """All motion files of the given datasets, in manifest order.
-
-    Returns
-    -------
-    records : list of MotionRecord
+def motion_records(datasets=_DATASETS, available_only=False):
+    """All motion files of the given datasets, in manifest order, as MotionRecords.
 
     Notebook: 04_fig3_forecast.ipynb
     """
-    out = []
-    for ds in datasets:
-        for e in data.motion_files(ds, available_only=available_only):
-            out.append(
-                MotionRecord(ds, e.path, e.movement or "", e.take or "", e.available_here, e.frames)
-            )
-    return out
+    return [
+        MotionRecord(ds, e.path, e.movement or "", e.take or "", e.available_here, e.frames)
+        for ds in datasets
+        for e in data.motion_files(ds, available_only=available_only)
+    ]
 
 
-def load(record_or_dataset, path=None, **kwargs):
-    """Fetch (verified, cached) and read one motion.
-
-    Parameters
-    ----------
-    record_or_dataset : MotionRecord or str
-        A record, or a dataset name with ``path``.
-    path : str, optional
-        Path inside the dataset.
-    **kwargs
-        Passed to :func:`fpdtw.io.load_motion`.
-
-    Returns
-    -------
-    motion : Motion
+def load(record_or_dataset, path=None):
+    """Fetch (verified, cached) and read one motion: a MotionRecord, or a dataset name and
+    the path inside it.
 
     Notebook: 01_data_and_motions.ipynb
     """
@@ -88,23 +57,17 @@ def load(record_or_dataset, path=None, **kwargs):
     else:
         dataset = record_or_dataset
     skeleton = data.skeleton_file(dataset, path)
-    if skeleton is not None:
-        kwargs.setdefault("skeleton", data.fetch(dataset, skeleton, progress=False))
+    kwargs = {} if skeleton is None else {"skeleton": data.fetch(dataset, skeleton, progress=False)}
     return load_motion(data.fetch(dataset, path, progress=False), **kwargs)
 
 
-def summary_rows(datasets=("authors_fbx", "hdm05", "cmu")):
-    """One row per dataset and movement: takes listed, takes available here.
-
-    Returns
-    -------
-    rows : list of dict
-        Keys ``dataset, movement, listed, available, missing``.
+def summary_rows():
+    """One row per dataset and movement: ``dataset, movement, listed, available, missing``.
 
     Notebook: 01_data_and_motions.ipynb
     """
-    groups = OrderedDict()
-    for r in motion_records(datasets):
+    groups = {}
+    for r in motion_records():
         g = groups.setdefault((r.dataset, r.movement), [0, 0])
         g[0] += 1
         g[1] += int(r.available)

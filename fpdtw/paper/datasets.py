@@ -1,32 +1,16 @@
 """Data manifests and verified fetching of the motion datasets.
 
-Each dataset is described by one TOML manifest in ``data_manifest/`` (see its
-README): every file's path, upstream URL (or archive member), size and hash, and
-its labels (movement, take, actor). :func:`fetch` puts a file into the cache and
-returns its path; nothing reaches the cache without matching its hash.
+One TOML manifest per dataset in ``data_manifest/`` (see its README) lists every file:
+path, upstream URL or archive member, size, hash, labels. :func:`fetch` puts a file into
+the cache (``<cache>/<mirror_prefix>/<path>``; archives in ``<cache>/_archives/``) and
+returns its path. Sources: with ``FPDTW_MIRROR`` set, only the mirror (a folder, or an
+``http(s)://`` base URL); else the file's ``url`` or its member of the cut archive.
 
-Cache layout (``fpdtw.paper.paths.data_dir()``, env ``FPDTW_DATA_DIR``)::
-
-    <cache>/<mirror_prefix>/<path>     the dataset files, laid out like a mirror
-    <cache>/_archives/<name>.zip       archives downloaded once (HDM05 cut library)
-
-Sources, in order: if ``FPDTW_MIRROR`` is set, only the mirror is used (a folder:
-copy ``<mirror>/<mirror_prefix>/<path>``; an ``http(s)://`` base URL: download
-``<base>/<mirror_prefix>/<path>``). Otherwise the upstream source: the file's
-``url``, or for HDM05 clips the member of the cut archive.
-
-Every file is written to a temporary file next to its destination, verified
-(sha256 when the manifest has one, else the git blob SHA-1; a file with neither is
-refused) and only then renamed into place, so the cache never holds a
-half-written or unverified file.
-
-The cache cannot lie: :func:`fetch` hashes the cached file against the manifest
-EVERY time it returns it (there is no index of sizes and modification times that a
-file changed in place could fool; hashing all 341 cached files, 158 MiB, takes about
-0.3 s, a 2 MB FBX take 7 ms against 190 ms to read it). A cached file that does not match
-is dropped and fetched again. :func:`verify` re-hashes a whole cache and fails when a
-listed file is missing or wrong. (What it cannot prevent: a file changed between
-:func:`fetch` returning its path and the reader opening it.)
+Every file goes through a temporary file next to its destination, is verified (sha256,
+else the git blob SHA-1; a file with neither is refused) and only then renamed into place.
+A cached file is hashed against the manifest every time :func:`fetch` returns it (no index
+of sizes and times to fool; all 341 files, 158 MiB, take about 0.3 s); one that does not
+match is fetched again. :func:`verify` re-hashes a whole cache.
 
 Command line (``make data`` runs the first with ``FPDTW_MIRROR`` set)::
 
@@ -61,8 +45,7 @@ from tqdm import tqdm
 from fpdtw.errors import DataFetchError, ManifestError
 from fpdtw.paper import paths
 
-#: Cache sub-folder of downloaded archives.
-ARCHIVE_DIR = "_archives"
+ARCHIVE_DIR = "_archives"  # cache sub-folder of downloaded archives
 #: Prefix and suffix of temporary files (never left behind).
 TMP_PREFIX, TMP_SUFFIX = ".fpdtw-", ".part"
 
@@ -71,42 +54,18 @@ MIRROR_HINT = (
     "<mirror>/<dataset folder>/<path> (for example FPDTW_MIRROR=/path/to/a/copy)"
 )
 
-_SHA256 = re.compile(r"^[0-9a-f]{64}$")
-_SHA1 = re.compile(r"^[0-9a-f]{40}$")
-_KINDS = ("motion", "skeleton")
-
 
 # -- manifests -------------------------------------------------------------------------
 
 
 @dataclass(frozen=True)
 class FileEntry:
-    """One file of a dataset, as listed in its manifest.
+    """One file of a dataset, as its manifest lists it (keys: ``data_manifest/README.md``).
 
-    Attributes
-    ----------
-    path : str
-        Path relative to the dataset (POSIX, no ``..``); the cached copy is
-        ``<cache>/<mirror_prefix>/<path>``.
-    kind : str
-        ``"motion"`` (a take / clip) or ``"skeleton"`` (an HDM05 ASF file).
-    url : str or None
-        Pinned upstream URL (None for archive members).
-    archive, member : str or None
-        Name of the manifest's archive holding the file and its path inside it.
-    size : int or None
-        Size in bytes (None when unknown).
-    sha256, git_blob_sha1 : str or None
-        Lower-case hex digests; at least one is needed to fetch the file.
-    movement : str or None
-        Movement label: the authors' movement name, the HDM05 class, the CMU
-        take description.
-    take, actor : str or None
-        Take number (as in the file name) and HDM05 actor.
-    frames : int or None
-        Frame count where the listing gives it (HDM05, CMU).
-    available_here : bool
-        Whether the local mirror holds the file (False for the 15 missing FBX takes).
+    ``path`` is relative to the dataset (POSIX); ``kind`` is ``"motion"`` or ``"skeleton"``
+    (an HDM05 ASF); a file comes from ``url`` or from ``member`` of ``archive``; at least
+    one of ``sha256`` and ``git_blob_sha1`` is needed to fetch it; ``available_here``:
+    whether the local mirror holds it (False for the 15 missing FBX takes).
     """
 
     path: str
@@ -125,7 +84,7 @@ class FileEntry:
 
     @property
     def name(self) -> str:
-        """File name without folders (e.g. ``"Walk_01.fbx"``)."""
+        """File name without folders (``"Walk_01.fbx"``)."""
         return PurePosixPath(self.path).name
 
 
@@ -141,16 +100,13 @@ class Archive:
 
     @property
     def filename(self) -> str:
-        """Cache file name of the archive (last component of its URL)."""
+        """Cache file name: the last component of the URL."""
         return PurePosixPath(urllib.parse.urlsplit(self.url).path).name or f"{self.name}.zip"
 
 
 @dataclass(frozen=True)
 class Manifest:
-    """A dataset's manifest: dataset-level metadata and its files.
-
-    Use :func:`dataclasses.replace` to derive a modified copy (e.g. another URL).
-    """
+    """A dataset's manifest: dataset-level metadata and its files."""
 
     name: str
     title: str
@@ -164,13 +120,7 @@ class Manifest:
     source: Path | None = None
 
     def entry(self, path: str | os.PathLike | FileEntry) -> FileEntry:
-        """The entry with this path (or, if unique, this file name).
-
-        Raises
-        ------
-        DataFetchError
-            No entry (or several) match.
-        """
+        """The entry with this path (or, if unique, this file name); DataFetchError if none."""
         if isinstance(path, FileEntry):
             return path
         p = PurePosixPath(str(path).replace("\\", "/")).as_posix()
@@ -185,60 +135,37 @@ class Manifest:
 
 
 _DATASET_KEYS = ("name", "title", "mirror_prefix", "licence", "citation", "upstream", "notes")
-_STR = {"type": "string"}
-#: The manifest's schema (JSON Schema, checked by :mod:`jsonschema`); what a schema cannot
-#: say (paths, one source per file, archives that exist) is checked in :func:`_parse_manifest`.
-MANIFEST_SCHEMA = {
-    "type": "object",
-    "additionalProperties": False,
-    "required": ["dataset", "files"],
-    "properties": {
-        "dataset": {
-            "type": "object",
-            "additionalProperties": False,
-            "required": list(_DATASET_KEYS),
-            "properties": dict.fromkeys(_DATASET_KEYS, _STR),
-        },
-        "archives": {
-            "type": "object",
-            "additionalProperties": {
-                "type": "object",
-                "additionalProperties": False,
-                "required": ["url"],
-                "properties": {
-                    "url": {"type": "string", "pattern": "^https?://"},
-                    "sha256": {"type": "string", "pattern": _SHA256.pattern},
-                    "approx_size": _STR,
-                    "notes": _STR,
-                },
-            },
-        },
-        "files": {
-            "type": "array",
-            "minItems": 1,
-            "items": {
-                "type": "object",
-                "additionalProperties": False,
-                "required": ["path", "kind"],
-                "properties": {
-                    "path": _STR,
-                    "kind": {"enum": list(_KINDS)},
-                    "url": {"type": "string", "pattern": "^https?://"},
-                    "archive": _STR,
-                    "member": _STR,
-                    "size": {"type": "integer", "minimum": 0},
-                    "sha256": {"type": "string", "pattern": _SHA256.pattern},
-                    "git_blob_sha1": {"type": "string", "pattern": _SHA1.pattern},
-                    "movement": _STR,
-                    "take": _STR,
-                    "actor": _STR,
-                    "frames": {"type": "integer", "minimum": 0},
-                    "available_here": {"type": "boolean"},
-                },
-            },
-        },
+_STR, _COUNT = {"type": "string"}, {"type": "integer", "minimum": 0}
+_URL = {"type": "string", "pattern": "^https?://"}
+_SHA256 = {"type": "string", "pattern": "^[0-9a-f]{64}$"}
+
+
+def _table(required: list, properties: dict) -> dict:
+    return {
+        "type": "object",
+        "additionalProperties": False,
+        "required": required,
+        "properties": properties,
+    }
+
+
+#: The manifest's JSON Schema; what it cannot say (clean paths, one source per file,
+#: archives that exist) is checked in :func:`_parse_manifest`.
+MANIFEST_SCHEMA = _table(["dataset", "files"], {
+    "dataset": _table(list(_DATASET_KEYS), dict.fromkeys(_DATASET_KEYS, _STR)),
+    "archives": {
+        "type": "object",
+        "additionalProperties": _table(
+            ["url"], {"url": _URL, "sha256": _SHA256, "approx_size": _STR, "notes": _STR}
+        ),
     },
-}
+    "files": {"type": "array", "minItems": 1, "items": _table(["path", "kind"], {
+        "path": _STR, "kind": {"enum": ["motion", "skeleton"]}, "url": _URL, "archive": _STR,
+        "member": _STR, "size": _COUNT, "sha256": _SHA256,
+        "git_blob_sha1": {"type": "string", "pattern": "^[0-9a-f]{40}$"}, "movement": _STR,
+        "take": _STR, "actor": _STR, "frames": _COUNT, "available_here": {"type": "boolean"},
+    })},
+})  # fmt: skip
 
 
 def _where(raw: dict, path) -> str:
@@ -266,7 +193,6 @@ def _check_relpath(p: str, file: Path, where: str) -> None:
 
 
 def _parse_manifest(file: Path) -> Manifest:
-
     try:
         raw = tomllib.loads(file.read_text(encoding="utf-8"))
     except OSError as exc:
@@ -315,23 +241,8 @@ def dataset_names() -> list[str]:
 
 
 def load_manifest(name: str) -> Manifest:
-    """Read and check one dataset's manifest.
-
-    Parameters
-    ----------
-    name : str
-        Dataset name (``"authors_fbx"``, ``"hdm05"``, ``"cmu"``): the manifest is
-        ``<manifest_dir>/<name>.toml`` (env ``FPDTW_MANIFEST_DIR``).
-
-    Returns
-    -------
-    Manifest
-
-    Raises
-    ------
-    ManifestError
-        No such manifest, or it is malformed (the message names the file and key).
-    """
+    """Read and check ``<manifest_dir>/<name>.toml`` (``"authors_fbx"``, ``"hdm05"``,
+    ``"cmu"``); ManifestError, naming the file and key, if it is missing or malformed."""
     if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z0-9_.-]+", name):
         raise ManifestError(f"{name!r} is not a dataset name")
     file = paths.manifest_dir() / f"{name}.toml"
@@ -347,11 +258,15 @@ def manifests() -> list[Manifest]:
     return [load_manifest(n) for n in dataset_names()]
 
 
+#: One dataset or several, by name or manifest (None: every manifest).
+_Datasets = str | Manifest | Iterable[str | Manifest] | None
+
+
 def _as_manifest(dataset: str | Manifest) -> Manifest:
     return dataset if isinstance(dataset, Manifest) else load_manifest(dataset)
 
 
-def _as_manifests(datasets) -> list[Manifest]:
+def _as_manifests(datasets: _Datasets) -> list[Manifest]:
     if datasets is None:
         return manifests()
     if isinstance(datasets, str | Manifest):
@@ -360,33 +275,14 @@ def _as_manifests(datasets) -> list[Manifest]:
 
 
 def dataset_file_list(dataset: str | Manifest, *, available_only: bool = False) -> list[str]:
-    """Paths (relative to the dataset) of every file in a manifest.
-
-    Parameters
-    ----------
-    dataset : str or Manifest
-    available_only : bool
-        Leave out the files the manifest marks as not in the local mirror.
-    """
+    """Paths (relative to the dataset) of every file, or of those in the local mirror."""
     m = _as_manifest(dataset)
     return [e.path for e in m.files if e.available_here or not available_only]
 
 
 def motion_files(dataset: str | Manifest, *, available_only: bool = False) -> list[FileEntry]:
-    """Manifest entries of the motion files (takes / clips, not skeletons), in manifest order.
-
-    Each entry carries its label: ``movement`` (authors' movement name, HDM05
-    class, CMU take description), ``take`` and, for HDM05, ``actor`` and ``frames``.
-
-    Parameters
-    ----------
-    dataset : str or Manifest
-    available_only : bool
-        Leave out the files the manifest marks as not in the local mirror.
-
-    Returns
-    -------
-    list of FileEntry
+    """Entries of the motion files (not skeletons), in manifest order, or of those in the
+    local mirror.
 
     Paper: Section 4 (the authors' 21 movements x 3 takes; whole HDM05 classes).
     """
@@ -414,16 +310,8 @@ def cache_path(dataset: str | Manifest, path: str | FileEntry) -> Path:
 
 
 def file_hashes(path: str | os.PathLike) -> dict:
-    """Size, sha256 and git blob SHA-1 of a file, from one read.
-
-    The git blob SHA-1 is ``sha1(b"blob <size>\\0" + content)``, the id git gives
-    the file's content.
-
-    Returns
-    -------
-    dict
-        ``{"size": int, "sha256": str, "git_blob_sha1": str}`` (hex digests).
-    """
+    """``{"size", "sha256", "git_blob_sha1"}`` of a file from one read (the blob SHA-1 is
+    git's id of the content, ``sha1(b"blob <size>\\0" + content)``)."""
     size = os.stat(path).st_size
     sha = hashlib.sha256()
     blob = hashlib.sha1(b"blob %d\0" % size)
@@ -474,9 +362,9 @@ def _staging(dest: Path) -> Iterator[Path]:
 # -- sources --------------------------------------------------------------------------
 
 
-def _download(url: str, tmp: Path, *, progress: bool, what: str) -> None:
-    """Download ``url`` into ``tmp`` with pooch; DataFetchError if unavailable."""
-
+def _download(url: str, tmp: Path, *, progress: bool, what: str, hint: str) -> None:
+    """Download ``url`` into ``tmp`` with pooch; DataFetchError (ending in ``hint``) if
+    unavailable."""
     downloader = pooch.HTTPDownloader(progressbar=bool(progress), chunk_size=1 << 20)
     try:
         downloader(url, str(tmp), None)
@@ -487,7 +375,7 @@ def _download(url: str, tmp: Path, *, progress: bool, what: str) -> None:
         reason = f"{type(exc).__name__}: {exc}"
     else:
         return
-    raise DataFetchError(f"{what}: cannot download {url} ({reason})")
+    raise DataFetchError(f"{what}: cannot download {url} ({reason}){hint}")
 
 
 def _mirror_hint(e: FileEntry) -> str:
@@ -509,10 +397,8 @@ def _from_mirror(m: Manifest, e: FileEntry, tmp: Path, mirror: str, *, progress:
     if mirror.startswith(("http://", "https://")):
         rel = urllib.parse.quote(f"{m.mirror_prefix}/{e.path}")
         url = f"{mirror.rstrip('/')}/{rel}"
-        try:
-            _download(url, tmp, progress=progress, what=what)
-        except DataFetchError as exc:
-            raise DataFetchError(f"{exc} from FPDTW_MIRROR={mirror}; {_mirror_hint(e)}") from None
+        hint = f" from FPDTW_MIRROR={mirror}; {_mirror_hint(e)}"
+        _download(url, tmp, progress=progress, what=what, hint=hint)
         return url
     root = Path(mirror).expanduser()
     if not root.is_dir():
@@ -534,16 +420,13 @@ def _from_mirror(m: Manifest, e: FileEntry, tmp: Path, mirror: str, *, progress:
 
 def _archive_path(m: Manifest, a: Archive, cache: Path, *, progress: bool) -> Path:
     """The archive in ``<cache>/_archives/``, downloaded once (verified if it has a sha256;
-    every member taken from it is verified against the manifest anyway)."""
+    its members are verified anyway)."""
     dest = cache / ARCHIVE_DIR / a.filename
     what = f"{m.name}: archive {a.name}"
     if dest.is_file():
         return dest
     with _staging(dest) as tmp:
-        try:
-            _download(a.url, tmp, progress=progress, what=what)
-        except DataFetchError as exc:
-            raise DataFetchError(f"{exc}; {MIRROR_HINT}") from None
+        _download(a.url, tmp, progress=progress, what=what, hint=f"; {MIRROR_HINT}")
         h = file_hashes(tmp)
         if a.sha256 is not None and h["sha256"] != a.sha256:
             raise DataFetchError(
@@ -593,12 +476,8 @@ def _from_archive(m: Manifest, e: FileEntry, tmp: Path, cache: Path, *, progress
 def _fetch_entry(
     m: Manifest, e: FileEntry, cache: Path, *, progress: bool, archive_progress: bool
 ) -> Path:
-    """Fetch one entry; ``progress``: per-file download bar, ``archive_progress``: archive bar.
-
-    A cached copy is hashed on every call (no index of sizes and times that a file
-    changed in place could fool): returned if it matches the manifest, else dropped and
-    fetched again.
-    """
+    """Fetch one entry; ``progress``: per-file download bar, ``archive_progress``: archive
+    bar. A cached copy is hashed on every call: returned if it matches, else fetched again."""
     _check_verifiable(m, e)
     dest = cache / m.mirror_prefix / e.path
     if dest.is_file():
@@ -613,10 +492,8 @@ def _fetch_entry(
         elif e.archive is not None:
             source = _from_archive(m, e, tmp, cache, progress=archive_progress)
         else:
-            try:
-                _download(e.url, tmp, progress=progress, what=f"{m.name}: {e.path}")
-            except DataFetchError as exc:
-                raise DataFetchError(f"{exc}; {MIRROR_HINT}") from None
+            what = f"{m.name}: {e.path}"
+            _download(e.url, tmp, progress=progress, what=what, hint=f"; {MIRROR_HINT}")
             source = e.url
         h = file_hashes(tmp)
         problems = _problems(e, h)
@@ -631,35 +508,15 @@ def _fetch_entry(
 
 
 def fetch(
-    dataset: str | Manifest,
-    path: str | os.PathLike | FileEntry | None = None,
-    *,
-    progress: bool = True,
+    dataset: str | Manifest, path: str | os.PathLike | FileEntry | None = None, *, progress=True
 ) -> Path:
-    """Fetch one file into the cache (if not there yet), verified, and return its path.
+    """Fetch one file into the cache (if not there yet), verified; its path
+    ``<cache>/<mirror_prefix>/<path>``, holding exactly the manifest's content.
 
-    Parameters
-    ----------
-    dataset : str or Manifest
-        Dataset name, or a manifest (e.g. one modified with :func:`dataclasses.replace`).
-    path : str or os.PathLike or FileEntry, optional
-        The file: its path in the manifest (``"MoCapData/Walk_01.fbx"``), its file
-        name if unique (``"Walk_01.fbx"``) or its entry. May be omitted only for a
-        dataset of one file (``"cmu"``).
-    progress : bool
-        Show a download progress bar (tqdm) for HTTP downloads.
-
-    Returns
-    -------
-    Path
-        ``<cache>/<mirror_prefix>/<path>``, holding exactly the manifest's content.
-
-    Raises
-    ------
-    DataFetchError
-        The file is not in the manifest, not available from the source tried
-        (the message says how to set ``FPDTW_MIRROR``), or its content does not
-        match the manifest (the message names both hashes; nothing is kept).
+    ``path``: the file's path in the manifest (``"MoCapData/Walk_01.fbx"``), its name if
+    unique (``"Walk_01.fbx"``) or its entry; omitted only for a dataset of one file.
+    DataFetchError when it is not in the manifest, not available from the source tried (the
+    message says how to set ``FPDTW_MIRROR``) or not matching the manifest (nothing kept).
     """
     m = _as_manifest(dataset)
     if path is None:
@@ -675,20 +532,8 @@ def fetch(
 
 @dataclass
 class FetchReport:
-    """What :func:`fetch_all` did.
-
-    Attributes
-    ----------
-    fetched : list of Path
-        Verified files now in the cache (whether copied now or already there).
-    skipped : list of (str, str)
-        (dataset, path) of files not tried because the manifest marks them as not
-        available in the local mirror (``available_only=True``).
-    failed : list of (str, str, str)
-        (dataset, path, error message) of files that could not be fetched.
-    seconds : float
-        Wall-clock time taken.
-    """
+    """What :func:`fetch_all` did: the verified files in the cache, the (dataset, path) not
+    tried (not in the local mirror), the (dataset, path, message) that failed, the time."""
 
     fetched: list[Path] = field(default_factory=list)
     skipped: list[tuple[str, str]] = field(default_factory=list)
@@ -697,7 +542,7 @@ class FetchReport:
 
     @property
     def ok(self) -> bool:
-        """True when no file that was tried failed."""
+        """No file that was tried failed."""
         return not self.failed
 
     def summary(self) -> str:
@@ -713,32 +558,13 @@ class FetchReport:
 
 
 def fetch_all(
-    datasets: str | Manifest | Iterable[str | Manifest] | None = None,
-    *,
-    available_only: bool | None = None,
-    progress: bool = True,
-    strict: bool = True,
+    datasets: _Datasets = None, *, available_only=None, progress=True, strict=True
 ) -> FetchReport:
-    """Fetch every file of some datasets, verified; report what could not be had.
+    """Fetch every file of some datasets (default: all), verified; report what could not be had.
 
-    Parameters
-    ----------
-    datasets : str, Manifest or iterable of them, optional
-        Datasets to fetch (default: every manifest).
-    available_only : bool, optional
-        Skip (and list in the report) the files the manifest marks as not available
-        in the local mirror. Default: True when ``FPDTW_MIRROR`` is set, False
-        otherwise (upstream has every file).
-    progress : bool
-        Show a tqdm progress bar over the files (and for archive downloads).
-    strict : bool
-        After trying every file, raise DataFetchError if any failed (the report
-        is attached as the exception's ``report`` attribute). With False, return
-        the report and let the caller look at ``report.failed``.
-
-    Returns
-    -------
-    FetchReport
+    ``available_only`` (default: whether ``FPDTW_MIRROR`` is set; upstream has every file)
+    skips the files the manifest marks as not in the local mirror; ``strict`` raises
+    DataFetchError, with the report as its ``report``, if any file failed.
     """
     ms = _as_manifests(datasets)
     if available_only is None:
@@ -753,23 +579,15 @@ def fetch_all(
                 report.skipped.append((m.name, e.path))
             else:
                 todo.append((m, e))
-    bar = None
-    if progress:
-        bar = tqdm(total=len(todo), unit="file", desc="fetch", leave=True)
-    try:
+    with tqdm(total=len(todo), unit="file", desc="fetch", disable=not progress) as bar:
         for m, e in todo:
-            if bar is not None:
-                bar.set_postfix_str(m.name, refresh=False)
+            bar.set_postfix_str(m.name, refresh=False)
             try:
                 p = _fetch_entry(m, e, cache, progress=False, archive_progress=progress)
                 report.fetched.append(p)
             except DataFetchError as exc:
                 report.failed.append((m.name, e.path, str(exc)))
-            if bar is not None:
-                bar.update()
-    finally:
-        if bar is not None:
-            bar.close()
+            bar.update()
     report.seconds = time.perf_counter() - t0
     if strict and report.failed:
         exc = DataFetchError(report.summary())
@@ -783,24 +601,9 @@ def fetch_all(
 
 @dataclass
 class VerifyReport:
-    """What :func:`verify` found in the cache.
-
-    Attributes
-    ----------
-    verified : list of str
-        Cache-relative paths whose content matches the manifest.
-    corrupt : list of (str, str)
-        Cache-relative path and what differs (expected and actual hashes).
-    missing : list of str
-        Manifest files that should be in the cache and are not.
-    skipped : list of str
-        Manifest files not in the cache that the manifest marks as not available in
-        the local mirror, when only the available ones are checked (as ``fetch`` without
-        ``--all`` fetches only those).
-    extra : list of str
-        Files in a dataset's cache folder that no manifest lists (e.g. stray
-        temporary files).
-    """
+    """What :func:`verify` found, as cache-relative paths: ``verified``, ``corrupt`` (with
+    what differs), ``missing``, ``skipped`` (missing but not in the local mirror, when only
+    those are checked) and ``extra`` (in a dataset's folder, listed by no manifest)."""
 
     verified: list[str] = field(default_factory=list)
     corrupt: list[tuple[str, str]] = field(default_factory=list)
@@ -810,7 +613,7 @@ class VerifyReport:
 
     @property
     def ok(self) -> bool:
-        """True when every file checked is in the cache and matches the manifest."""
+        """Every file checked is in the cache and matches the manifest."""
         return not self.corrupt and not self.missing
 
     def summary(self, *, show: int = 10) -> str:
@@ -835,29 +638,12 @@ class VerifyReport:
         return "\n".join(lines)
 
 
-def verify(
-    dataset: str | Manifest | Iterable[str | Manifest] | None = None,
-    *,
-    available_only: bool | None = None,
-) -> VerifyReport:
-    """Re-hash every cached file of some datasets and compare with the manifests.
+def verify(dataset: _Datasets = None, *, available_only: bool | None = None) -> VerifyReport:
+    """Re-hash every cached file of some datasets (default: all) against the manifests.
 
-    Reads every file. Corrupt files are reported, not deleted (the next :func:`fetch`
-    replaces them); files that should be cached and are not are reported as missing.
-    The report is :attr:`~VerifyReport.ok` only when nothing is missing or wrong.
-
-    Parameters
-    ----------
-    dataset : str, Manifest or iterable of them, optional
-        Default: every manifest.
-    available_only : bool, optional
-        Count a file the manifest marks as not available in the local mirror as
-        skipped, not missing, when it is not cached. Default: True when
-        ``FPDTW_MIRROR`` is set, False otherwise (as :func:`fetch_all`).
-
-    Returns
-    -------
-    VerifyReport
+    Corrupt files are reported, not deleted (the next :func:`fetch` replaces them).
+    ``available_only`` (default: whether ``FPDTW_MIRROR`` is set) counts an uncached file
+    that is not in the local mirror as skipped, not missing.
     """
     cache = paths.data_dir()
     if available_only is None:
@@ -889,23 +675,12 @@ def verify(
     return report
 
 
-def cite(dataset: str | Manifest | Iterable[str | Manifest] | None = None) -> str:
-    """Title, licence, citation and source of some datasets, as plain text.
-
-    Parameters
-    ----------
-    dataset : str, Manifest or iterable of them, optional
-        Default: every manifest.
-    """
-    blocks = []
-    for m in _as_manifests(dataset):
-        blocks.append(
-            f"{m.name}: {m.title}\n"
-            f"  Licence: {m.licence}\n"
-            f"  Cite: {m.citation}\n"
-            f"  Source: {m.upstream}"
-        )
-    return "\n\n".join(blocks)
+def cite(dataset: _Datasets = None) -> str:
+    """Title, licence, citation and source of some datasets (default: all), as plain text."""
+    return "\n\n".join(
+        f"{m.name}: {m.title}\n  Licence: {m.licence}\n  Cite: {m.citation}\n  Source: {m.upstream}"
+        for m in _as_manifests(dataset)
+    )
 
 
 # -- command line ---------------------------------------------------------------------
@@ -918,10 +693,7 @@ class _Parser(argparse.ArgumentParser):
 
 
 def add_data_commands(sub) -> None:
-    """Add the actions ``fetch``, ``verify`` and ``cite`` to an argparse subparsers object.
-
-    Used by this module's own command line and by ``fpdtw data`` (one set of options).
-    """
+    """Add ``fetch``, ``verify`` and ``cite`` to argparse subparsers (here and ``fpdtw data``)."""
     help_ds = "dataset name, repeatable (authors_fbx, hdm05, cmu; default: all)"
     help_all = (
         "files the manifest marks as not in the local mirror "
@@ -943,12 +715,8 @@ def add_data_commands(sub) -> None:
 
 
 def run_data_command(args, prog: str) -> int:
-    """Carry out ``fetch``, ``verify`` or ``cite`` (``args.data_command``); the exit code.
-
-    0 on success; 1 when a file is missing, fails its hash or cannot be fetched; 2 on a
-    usage error argparse cannot express (``--file`` without exactly one ``--dataset``).
-    Errors are printed to stderr, each line starting with ``prog``.
-    """
+    """Carry out ``args.data_command``; the exit code: 0 on success, 1 when a file is
+    missing, wrong or cannot be fetched, 2 for ``--file`` without exactly one ``--dataset``."""
     command = args.data_command
     if command == "fetch" and args.file is not None and len(args.dataset or []) != 1:
         print(f"{prog}: error: fetch --file needs exactly one --dataset", file=sys.stderr)
@@ -984,10 +752,7 @@ def run_data_command(args, prog: str) -> int:
 
 
 def main(argv: list[str] | None = None, prog: str = "python -m fpdtw.paper.datasets") -> int:
-    """Command line: ``python -m fpdtw.paper.datasets fetch|verify|cite``; returns the exit code.
-
-    The same actions as ``fpdtw data`` (see :func:`add_data_commands`).
-    """
+    """``python -m fpdtw.paper.datasets fetch|verify|cite`` (as ``fpdtw data``); the exit code."""
     ap = _Parser(prog=prog, description="Fetch, verify and cite the datasets.")
     sub = ap.add_subparsers(dest="data_command", required=True, parser_class=_Parser)
     add_data_commands(sub)

@@ -1,12 +1,10 @@
 """The one map from notebook to the figures and tables it makes, and what it reproduces.
 
-The Makefile's per-figure rules and notebook order are produced from it
-(``python fpdtw/paper/figure_map.py makefile > build/figure_map.mk``, included by the
-Makefile); the notebook table of docs/notebooks.md and each notebook's "Makes:" line are checked
-against it by the tests. Standard library only, so that make can run it before the
-environment exists.
-
-Adding a figure: one notebook, one module in :mod:`fpdtw.paper.figures`, one row here.
+The Makefile's per-figure rules and notebook order come from it (``python
+fpdtw/paper/figure_map.py makefile > build/figure_map.mk``; standard library only, so make
+can run it before the environment exists); docs/notebooks.md's table and each notebook's
+"Makes:" line are checked against it. Adding a figure: one notebook, one module in
+:mod:`fpdtw.paper.figures`, one row here.
 """
 
 from __future__ import annotations
@@ -17,19 +15,9 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class Notebook:
-    """One numbered notebook.
-
-    Attributes
-    ----------
-    stem : str
-        File name without ``.ipynb``.
-    makes : tuple of str
-        File stems it writes to ``figures/`` (figures as PDF + PNG, tables as CSV + Markdown).
-    paper : str
-        What it reproduces, in words (the table of docs/notebooks.md).
-    needs : tuple of str
-        Notebooks whose results it reads (run first).
-    """
+    """One notebook (``stem``: file name without ``.ipynb``): the stems it writes to
+    ``figures/`` (figures as PDF + PNG, tables as CSV + Markdown), what it reproduces in
+    words, and the notebooks whose results it reads (run first)."""
 
     stem: str
     makes: tuple

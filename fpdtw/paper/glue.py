@@ -1,10 +1,8 @@
 """Numbers for the notebooks' prose: computed from the results and shown by a code cell.
 
-A notebook's markdown never types a result. Where its prose needs a count of the data, a
-code cell shows it as a sentence built here from the run's pair list
-(``Markdown(data_sentence(results.pairs))``), so the number is seen in plain Jupyter and in
-the book (:mod:`fpdtw.app.book` renders the cell's Markdown output) alike.
-``tests/test_notebook_numbers.py`` checks that no markdown cell types a result number.
+A notebook's markdown never types a result (``tests/test_notebook_numbers.py`` checks it):
+where its prose needs a count of the data, a code cell shows a sentence built here from
+the run's pair list (``Markdown(data_sentence(results.pairs))``), in Jupyter and the book.
 """
 
 from __future__ import annotations
@@ -20,36 +18,13 @@ DATA_NUMBERS = ("motions", "movements", "pairs", "pairs_authors_fbx", "pairs_hdm
                 "largest_movement_share")  # fmt: skip
 
 
-def _plain(value):
-    """Python int, float or str (a numpy scalar's text would be ``np.int64(5)``)."""
-    if isinstance(value, bool | np.bool_):
-        return bool(value)
-    if isinstance(value, int | np.integer):
-        return int(value)
-    if isinstance(value, float | np.floating):
-        return float(value)
-    if isinstance(value, str):
-        return value
-    raise TypeError(f"a number or a string, not {type(value).__name__}: {value!r}")
-
-
 def data_numbers(pairs) -> dict:
-    """The data behind a run, as the notebooks' prose quotes them.
+    """The data behind a run (``Results.pairs``), as the notebooks' prose quotes them.
 
-    Parameters
-    ----------
-    pairs : list of dict
-        ``Results.pairs`` (``dataset``, ``movement``, ``input``, ``target``).
-
-    Returns
-    -------
-    numbers : dict
-        ``motions``, ``movements``, ``pairs``; ``pairs_authors_fbx``, ``pairs_hdm05``;
-        ``hdm05_share`` (fraction of the pairs from HDM05); ``hdm05_clips_min``,
-        ``hdm05_clips_max`` (clips per HDM05 class); ``largest_movement`` and
-        ``largest_movement_share`` (the movement with most pairs, its fraction of them).
+    Returns :data:`DATA_NUMBERS` as plain Python values: counts of motions, movements and
+    pairs (also per dataset); HDM05's share of the pairs; the fewest and most clips per
+    HDM05 class; the movement with most pairs and its share.
     """
-
     counts = data_counts(pairs)
     total = counts["total"]
     out = {k: total[k] for k in ("motions", "movements", "pairs")}
@@ -68,7 +43,8 @@ def data_numbers(pairs) -> dict:
     (_, name), n = max(per_movement.items(), key=lambda kv: (kv[1], kv[0]), default=(("", ""), 0))
     out["largest_movement"] = name
     out["largest_movement_share"] = n / total["pairs"] if total["pairs"] else 0.0
-    return {k: _plain(out[k]) for k in DATA_NUMBERS}
+    # numpy scalars as Python values (their text would be ``np.int64(5)``)
+    return {k: out[k].item() if isinstance(out[k], np.generic) else out[k] for k in DATA_NUMBERS}
 
 
 def _pairs_by_dataset(n: dict) -> str:
@@ -79,24 +55,11 @@ def _pairs_by_dataset(n: dict) -> str:
 
 
 def data_sentence(pairs) -> str:
-    """The data of a run against the paper's, as Markdown (what the prose's data paragraph
-    leaves to the run).
-
-    Parameters
-    ----------
-    pairs : list of dict
-        ``Results.pairs``.
-
-    Returns
-    -------
-    text : str
-        Motions, movements and pairs (per dataset) of the run next to the paper's, and
-        HDM05's share of the pairs.
+    """A run's motions, movements and pairs next to the paper's, and HDM05's share, as Markdown.
 
     Notebook: 05_run_experiments.ipynb, 06_fig5_fig6_scores.ipynb, 07_table1_60hz.ipynb,
     08_fig7_fig10_heatmaps.ipynb, 09_table2_timing.ipynb
     """
-
     n = data_numbers(pairs)
     return (
         f"**This run's data:** {n['motions']} motions of {n['movements']} movements, "
@@ -107,16 +70,7 @@ def data_sentence(pairs) -> str:
 
 
 def study_sentence(study_pairs, full_pairs) -> str:
-    """The pairs of notebook 15's two runs, as Markdown.
-
-    Parameters
-    ----------
-    study_pairs, full_pairs : list of dict
-        ``Results.pairs`` of the paper-shaped selection and of the whole-class run.
-
-    Returns
-    -------
-    text : str
+    """The pairs of notebook 15's two runs (paper-shaped and whole-class), as Markdown.
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
@@ -131,15 +85,6 @@ def selection_sentence(pairs) -> str:
     """How unevenly a run's pairs fall on its movements, as Markdown: the clips per HDM05
     class and the share of the movement with most pairs.
 
-    Parameters
-    ----------
-    pairs : list of dict
-        ``Results.pairs``.
-
-    Returns
-    -------
-    text : str
-
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
     n = data_numbers(pairs)
@@ -149,6 +94,3 @@ def selection_sentence(pairs) -> str:
         f"The HDM05 classes of this run hold {clips} clips each, and {n['largest_movement']} alone "
         f"gives {n['largest_movement_share']:.0%} of all {n['pairs']} pairs."
     )
-
-
-__all__ = ["DATA_NUMBERS", "data_numbers", "data_sentence", "selection_sentence", "study_sentence"]

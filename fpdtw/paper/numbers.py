@@ -1,7 +1,6 @@
 """Every value quoted from the two papers, with where it is printed, and the paper's pass rule.
 
-The claims table, the figures, the notebooks and the benchmark read the papers' numbers
-from here and nowhere else.
+The claims, figures, notebooks and benchmark read the papers' numbers only from here.
 
 FP-DTW: Randall, Harvey, Williams, "Online alignment of human motion using forward
 plotting-dynamic time warping", Computer Animation and Virtual Worlds 34(3) e2166, 2023.
@@ -66,15 +65,9 @@ TABLE1 = {
 BEST_WINDOW = {120: 40, 60: 20}
 #: Table 2: mean microseconds per frame, one core at 3.58-3.95 GHz.
 TABLE2_US = {
-    ("B", 10): 856.0,
-    ("B", 20): 1654.0,
-    ("B", 40): 4806.0,
-    ("B", 80): 16945.0,
-    ("C", 10): 782.0,
-    ("C", 20): 1583.0,
-    ("C", 40): 4764.0,
-    ("C", 80): 10106.0,
-}
+    ("B", 10): 856.0, ("B", 20): 1654.0, ("B", 40): 4806.0, ("B", 80): 16945.0,
+    ("C", 10): 782.0, ("C", 20): 1583.0, ("C", 40): 4764.0, ("C", 80): 10106.0,
+}  # fmt: skip
 #: Table 2's machine: one core clocked at 3.58-3.95 GHz (GHz).
 TABLE2_CPU_GHZ = (3.58, 3.95)
 #: Section 5 (Table 2's text): the real-time budget at 120 Hz, "(1 x 10^6)/120 or 8333 us".
@@ -97,13 +90,8 @@ FIG8_TEXT_BELOW_BENCHMARK = ("Mb w80", "Mc w40")
 #: "Mc w10, causes Method C to incorrectly stick on input frames, while ... Mc w80, causes
 #: Method C to incorrectly skip input frames"; "Mc w40 is a more optimal balance between
 #: skipping and sticking".
-FIG7_TENDENCY = {
-    "Mb w10": "sticks",
-    "Mb w80": "sticks",
-    "Mc w10": "sticks",
-    "Mc w40": "balanced",
-    "Mc w80": "skips",
-}
+FIG7_TENDENCY = {"Mb w10": "sticks", "Mb w80": "sticks", "Mc w10": "sticks", "Mc w40": "balanced",
+                 "Mc w80": "skips"}  # fmt: skip
 #: Section 6 on Fig. 10: with Type V "the alignment paths of Ma algorithm are improved, with
 #: a stronger highlight along the 1:1 diagonal slope"; "The performance of the Mc w10
 #: algorithm was not improved"; "Mc w80 ... improved considerably ... a stronger highlight
@@ -154,8 +142,8 @@ OPW_OFFSET_MEAN_OK_S = 0.5
 def passes_similarity(median: float, utw_median: float) -> bool:
     """The similarity benchmark: the MEDIAN similarity strictly above UTW's median.
 
-    Paper: FP-DTW Section 5 ("the median result for the algorithm needs to be above the
-    similarity results achieved by UTW").
+    Paper: FP-DTW Section 5 ("the median result ... needs to be above the similarity
+    results achieved by UTW").
     """
     return bool(median > utw_median)
 
@@ -172,10 +160,3 @@ def passes_deviation(median_frames: float, fps: float = SAMPLE_RATE_HZ) -> bool:
     path (average of 18 frames)").
     """
     return bool(median_frames * 1000.0 / float(fps) < DEVIATION_BENCHMARK_MS)
-
-
-__all__ = [name for name in dir() if name.isupper()] + [
-    "deviation_benchmark_frames",
-    "passes_deviation",
-    "passes_similarity",
-]

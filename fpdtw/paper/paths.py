@@ -1,19 +1,11 @@
 """Every path fpdtw reads or writes, in one place.
 
-Environment variables override the defaults:
-
-``FPDTW_DATA_DIR``
-    Data cache (default: ``<repo>/data_cache`` in a source checkout, else the
-    user cache folder, e.g. ``~/.cache/fpdtw``).
-``FPDTW_MIRROR``
-    A local folder or a base URL laid out like the upstream datasets
-    (``<dataset>/<path>``), used instead of the upstream URLs (see docs/data.md).
-``FPDTW_RESULTS_DIR``
-    Experiment results (default: ``<repo>/results``).
-``FPDTW_FIGURES_DIR``
-    Figures and tables (default: ``<repo>/figures``).
-``FPDTW_MANIFEST_DIR``
-    Data manifests (default: ``<repo>/data_manifest``).
+Environment variables override the defaults: ``FPDTW_DATA_DIR`` (the data cache:
+``<repo>/data_cache`` in a writable checkout, else the user cache folder),
+``FPDTW_MIRROR`` (a folder or base URL used instead of the upstream URLs, docs/data.md),
+``FPDTW_RESULTS_DIR``, ``FPDTW_FIGURES_DIR``, ``FPDTW_MANIFEST_DIR`` and
+``FPDTW_EXECUTED_DIR`` (default: ``results/``, ``figures/``, ``data_manifest/`` and
+``build/notebooks/`` of the checkout).
 """
 
 from __future__ import annotations
@@ -25,9 +17,6 @@ import pooch
 
 #: Root of the source checkout (the folder holding ``pyproject.toml``).
 REPO_ROOT = Path(__file__).resolve().parents[2]
-
-MIRROR_ENV = "FPDTW_MIRROR"
-DATA_ENV = "FPDTW_DATA_DIR"
 
 
 def _env_path(var: str, default: Path) -> Path:
@@ -41,12 +30,12 @@ def data_dir() -> Path:
         default = REPO_ROOT / "data_cache"
     else:
         default = Path(pooch.os_cache("fpdtw"))
-    return _env_path(DATA_ENV, default)
+    return _env_path("FPDTW_DATA_DIR", default)
 
 
 def mirror() -> str | None:
     """The mirror given by ``FPDTW_MIRROR`` (folder or base URL), or None."""
-    value = os.environ.get(MIRROR_ENV, "").strip()
+    value = os.environ.get("FPDTW_MIRROR", "").strip()
     return value or None
 
 

@@ -1,17 +1,16 @@
 """What made a result: package versions, Python, the package's git commit, the machine.
 
-Every experiment run (``results/<mode>/run.json``), the benchmark
-(``results/bench.json``), every figure notebook's facts and ``figures/ENVIRONMENT.md``
-(written by ``make figures``) carry :func:`environment`, so a reader can see exactly
-which versions computed them. Figures and the claims table themselves stay byte-stable:
-they carry no commit and no machine.
+Every run's ``run.json``, ``results/bench.json``, the figure notebooks' facts and
+``figures/ENVIRONMENT.md`` carry :func:`environment`; figures and the claims table carry no
+commit and no machine, so they stay byte-stable.
 
-Run ``python -m fpdtw.paper.provenance [--markdown OUT]`` to print the record.
+Run ``python -m fpdtw.paper.provenance [--markdown OUT | --compare-figures]``.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import platform
@@ -27,8 +26,7 @@ from fpdtw import __version__
 from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.paths import REPO_ROOT, results_dir
 
-#: The distributions whose versions can change a number we report (those that compute:
-#: arrays, compiled kernels, the FBX reader, the reference DTW) and those that draw.
+#: The distributions whose versions can change a number we report, and those that draw.
 COMPUTE_PACKAGES = ("numpy", "scipy", "numba", "llvmlite", "pufbx", "dtw-python")
 DRAW_PACKAGES = ("matplotlib", "seaborn", "jupyterlab", "papermill", "nbval")
 #: CPU flags that decide which SIMD code numba/LLVM emits.
@@ -37,12 +35,10 @@ SIMD_FLAGS = ("sse4_2", "avx", "avx2", "fma", "avx512f", "avx512bw", "avx512vl")
 
 def package_versions(names=COMPUTE_PACKAGES + DRAW_PACKAGES) -> dict:
     """``{distribution: version}`` of the installed distributions (None: not installed)."""
-    out = {}
+    out = dict.fromkeys(names)
     for n in names:
-        try:
+        with contextlib.suppress(metadata.PackageNotFoundError):
             out[n] = metadata.version(n)
-        except metadata.PackageNotFoundError:
-            out[n] = None
     return out
 
 
@@ -51,14 +47,10 @@ OUTPUTS = ("figures", "README.md", "ARTIFACT.md", "docs")
 
 
 def git_commit(root: Path = REPO_ROOT) -> dict:
-    """``{"commit": sha or None, "dirty": bool or None}`` of the source checkout.
+    """``{"commit": sha, "dirty": bool}`` of the source checkout (None, None outside one).
 
-    ``dirty``: a tracked file other than the outputs differs from the commit. The outputs
-    are what ``make figures`` itself rewrites while it runs: ``figures/``, and the generated
-    blocks of README.md, ARTIFACT.md and ``docs/`` (``tools/measure_steps.py`` writes
-    ARTIFACT.md's steps before the figures' provenance is taken); none of them changes a
-    figure. None where the package
-    does not run from a git checkout (an installed wheel) or git is missing.
+    ``dirty``: a tracked file other than :data:`OUTPUTS` (what ``make figures`` rewrites
+    while it runs; none of them changes a figure) differs from the commit.
     """
     try:
         sha = subprocess.run(
@@ -76,10 +68,8 @@ def git_commit(root: Path = REPO_ROOT) -> dict:
 
 
 def cpu_info() -> dict:
-    """The CPU: ``model``, ``cores`` (logical, as the OS reports), ``simd`` (the flags of
-    :data:`SIMD_FLAGS` it has), ``mhz`` (current clock of core 0 where readable, else
-    None), ``machine`` (e.g. ``x86_64``), ``llvm_cpu`` (the CPU numba compiles for, e.g.
-    ``znver4``; None without numba)."""
+    """The CPU: ``model``, ``cores`` (logical), ``simd`` (its flags of :data:`SIMD_FLAGS`),
+    ``mhz`` (core 0's clock, or None), ``machine``, ``llvm_cpu`` (what numba compiles for)."""
     model, flags, mhz = platform.processor() or None, set(), None
     try:
         text = Path("/proc/cpuinfo").read_text()
@@ -97,26 +87,19 @@ def cpu_info() -> dict:
                 mhz = round(float(value), 0)
             except ValueError:
                 pass
-    try:  # the CPU numba compiles for (what its SIMD code targets)
-        llvm_cpu = numba.config.CPU_NAME or binding.get_host_cpu_name()
-    except ImportError:
-        llvm_cpu = None
     return {
         "model": model,
         "cores": os.cpu_count(),
         "simd": [f for f in SIMD_FLAGS if f in flags],
         "mhz": mhz,
         "machine": platform.machine(),
-        "llvm_cpu": llvm_cpu,
+        "llvm_cpu": numba.config.CPU_NAME or binding.get_host_cpu_name(),
     }
 
 
 def environment(machine: bool = True) -> dict:
     """The whole record: ``python``, ``platform``, ``fpdtw`` (version, commit, dirty),
-    ``packages`` (:func:`package_versions`) and, with ``machine``, ``cpu``
-    (:func:`cpu_info`).
-    """
-
+    ``packages`` and, with ``machine``, ``cpu`` (:func:`cpu_info`)."""
     env = {
         "python": platform.python_version(),
         "implementation": platform.python_implementation(),
@@ -139,16 +122,8 @@ def versions_line(env: dict | None = None) -> str:
 
 
 def environment_markdown(env: dict | None = None, results: dict | None = None) -> str:
-    """``figures/ENVIRONMENT.md``: what made the figures, as a Markdown page.
-
-    Parameters
-    ----------
-    env : dict, optional
-        From :func:`environment` (default: now).
-    results : dict, optional
-        ``{label: environment dict}`` of the experiment runs the figures read (from
-        their ``run.json``), listed when they differ from ``env``.
-    """
+    """``figures/ENVIRONMENT.md``: what made the figures (``env``, default now), and the
+    experiment runs' environments (``{label: environment}``) where their versions differ."""
     env = env or environment()
     fp = env["fpdtw"]
     commit = fp["commit"] or "unknown (not a git checkout)"
@@ -181,10 +156,9 @@ def environment_markdown(env: dict | None = None, results: dict | None = None) -
     return "\n".join(lines)
 
 
-#: Outputs of ``figures/`` that hold timings (or name the commit and machine), so they
-#: change from run to run: Table 2's times, the live replay's latency, the claims table
-#: (its claims 4 and 4b are about time per frame) and this page. Every other file of
-#: ``figures/`` is deterministic: byte-identical for the same lock, code and data.
+#: Outputs of ``figures/`` that hold timings (or name the commit and machine; the claims
+#: table's claims 4 and 4b are about time per frame). Every other file of ``figures/`` is
+#: byte-identical for the same lock, code and data.
 TIMING_OUTPUTS = (
     "table2_time_per_frame.csv", "table2_time_per_frame.md", "table2_time_vs_w.pdf",
     "table2_time_vs_w.png", "live_latency.pdf", "live_latency.png", "live_network_latency.csv",
@@ -192,26 +166,13 @@ TIMING_OUTPUTS = (
 )  # fmt: skip
 
 
-def compare_figures(root: Path = REPO_ROOT, ref: str = "HEAD") -> dict:
-    """Compare ``figures/`` in the working tree with the committed ones, byte for byte.
+def compare_figures(root: Path = REPO_ROOT) -> dict:
+    """Compare ``figures/`` in the working tree with HEAD's, byte for byte (after ``make
+    figures``: did the run reproduce the committed outputs?).
 
-    After ``make figures`` in a clone, this says whether the run reproduced the committed
-    outputs: every deterministic file must be byte-identical; the files of
-    :data:`TIMING_OUTPUTS` may differ.
-
-    Parameters
-    ----------
-    root : Path
-        The git checkout.
-    ref : str
-        The commit to compare with.
-
-    Returns
-    -------
-    dict
-        ``same``, ``differ`` (deterministic files that differ: a failed reproduction),
-        ``timing`` (timing outputs that differ, expected), ``missing`` (committed but
-        not written), each a sorted list of file names.
+    Returns sorted file names: ``same``, ``differ`` (deterministic files that differ: a
+    failed reproduction), ``timing`` (:data:`TIMING_OUTPUTS` that differ, expected) and
+    ``missing`` (committed, not written).
     """
 
     def git(*args):
@@ -219,13 +180,13 @@ def compare_figures(root: Path = REPO_ROOT, ref: str = "HEAD") -> dict:
             ["git", "-C", str(root), *args], capture_output=True, check=True, timeout=60
         ).stdout
 
-    names = git("ls-tree", "--name-only", f"{ref}:figures").decode().split()
+    names = git("ls-tree", "--name-only", "HEAD:figures").decode().split()
     out = {"same": [], "differ": [], "timing": [], "missing": []}
     for name in names:
         path = root / "figures" / name
         if not path.is_file():
             out["missing"].append(name)
-        elif path.read_bytes() == git("show", f"{ref}:figures/{name}"):
+        elif path.read_bytes() == git("show", f"HEAD:figures/{name}"):
             out["same"].append(name)
         else:
             out["timing" if name in TIMING_OUTPUTS else "differ"].append(name)

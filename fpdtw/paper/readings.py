@@ -1,24 +1,13 @@
 """Readings of Algorithm 3 and the paper's other silent choices: what each one changes.
 
-Notebook 15 asks, in the open, whether our Method C differs from the paper's because of
-the paper or because of our reading of it. Everything it shows is computed here from the
-experiment results of the ``"study"`` mode (the paper-shaped selection, see
-:data:`fpdtw.paper.runner.run.SELECTIONS`) and, for the whole-class comparison, of the
-``"full"`` mode:
+Notebook 15's analysis, from the results of the ``"study"`` mode (the paper-shaped
+selection) and, for the whole-class comparison, the ``"full"`` mode: per reading of Method
+C's window (:data:`fpdtw.registry.C_READINGS`) the medians, the map's shape and the paper's
+qualitative signature; the mechanism (rest-of-path cost per row offset); each silent
+choice's effect on the headline medians; and Type V read as a mask (ours) or as a choice
+only (:func:`type_v_mask_changes`).
 
-* :func:`readings_table`: per reading of the window (:data:`fpdtw.registry.C_READINGS`),
-  window w, Type V or not, dataset and frame rate: median similarity and deviation, the
-  share of steps taken after the input ran out, the stick/skip index and the hold share;
-* :func:`reading_signature`: the paper's qualitative signature of Method C per reading
-  (stick at w10, skip at w80, best w at 120 and 60 Hz, Mc w40 passing both benchmarks);
-* :func:`mechanism_profile`: the mechanism itself, the rest-of-path cost
-  ``f(r) = D[r, 0] - C[r, 0]`` of every row offset r in real windows;
-* :func:`silent_choice_rows`: one row per silent choice: the alternative and how far it
-  moves the headline medians of the algorithms it touches;
-* :func:`selection_rows`: the headline medians on the paper-shaped and whole-class
-  selections side by side.
-
-Paper: FP-DTW Algorithm 3, Section 3.3, Sections 4-5.
+Paper: FP-DTW Algorithm 3, Section 3.3, Sections 4-6.
 Notebook: 15_readings_of_algorithm_3.ipynb
 """
 
@@ -64,23 +53,12 @@ def _pair_rows(results, dataset):
 
 
 def map_shape(results, name: str, dataset=None) -> dict:
-    """How an algorithm's maps move through the input, over the pairs of a dataset.
+    """How an algorithm's maps move through the input, over a dataset's pairs (None: all).
 
-    Parameters
-    ----------
-    results : fpdtw.paper.runner.run.Results
-    name : str
-    dataset : str, optional
-        ``"authors_fbx"`` or ``"hdm05"``; None: every pair.
-
-    Returns
-    -------
-    out : dict
-        ``exhausted`` (steps taken after the input ran out over all steps, pooled over
-        pairs: :func:`fpdtw.metrics.exhausted_share`), ``hold`` (holds over the steps
-        taken while input remained, pooled: :func:`fpdtw.metrics.hold_share`),
-        ``stick_skip`` (median over pairs of :func:`fpdtw.metrics.stick_skip_index`:
-        < 0 sticks, > 0 skips), ``pairs``.
+    ``exhausted``: share of the steps taken after the input ran out; ``hold``: share of
+    holds among the steps taken while input remained (both pooled over pairs);
+    ``stick_skip``: median of :func:`fpdtw.metrics.stick_skip_index` (< 0 sticks, > 0
+    skips); ``pairs``.
     """
     arr = results.get(name)
     m_all, _ = results.frames(name)
@@ -109,21 +87,20 @@ def _median(results, name, metric, dataset):
 
 def _medians(results, name, dataset=None) -> tuple[float, float]:
     """Median similarity and deviation of ``name`` over a dataset's pairs."""
+    return tuple(_median(results, name, k, dataset) for k in ("similarity", "deviation"))
+
+
+def _passes(similarity, deviation, utw_similarity, rate=120) -> tuple[bool, bool]:
+    """Whether medians pass the similarity and the deviation benchmark."""
     return (
-        _median(results, name, "similarity", dataset),
-        _median(results, name, "deviation", dataset),
+        numbers.passes_similarity(similarity, utw_similarity),
+        numbers.passes_deviation(deviation, rate),
     )
 
 
 def benchmarks(results, dataset=None, rate: int = 120) -> dict:
-    """The paper's two benchmarks at a rate, over a dataset's pairs.
-
-    Returns
-    -------
-    out : dict
-        ``similarity``: UTW's median similarity (pass: strictly above);
-        ``deviation``: 150 ms in frames of the rate (18 at 120 Hz, 9 at 60 Hz; pass:
-        strictly below).
+    """The paper's two benchmarks at a rate: ``similarity``, UTW's median over a dataset's
+    pairs (pass: strictly above), and ``deviation``, 150 ms in frames (pass: strictly below).
 
     Paper: FP-DTW Sections 4 and 5.
     Notebook: 15_readings_of_algorithm_3.ipynb
@@ -134,49 +111,32 @@ def benchmarks(results, dataset=None, rate: int = 120) -> dict:
     )
 
 
-def readings_table(
-    results, readings=C_READINGS, windows=WINDOWS, rates=(120, 60), datasets=(None,)
-) -> list[dict]:
-    """Every reading of Algorithm 3 at every w, with and without Type V, per dataset and rate.
+def readings_table(results, datasets=(None,)) -> list[dict]:
+    """Every reading of Algorithm 3 at every w, with and without Type V, per dataset (None:
+    every pair) and rate, from a ``"study"`` run (names of :func:`reading_name`).
 
-    Parameters
-    ----------
-    results : fpdtw.paper.runner.run.Results
-        A run with the names of :func:`reading_name` (mode ``"study"``), DTW and UTW at
-        each rate.
-    readings, windows, rates : sequences
-    datasets : sequence of str or None
-        None stands for every pair.
-
-    Returns
-    -------
-    rows : list of dict
-        Keys ``dataset`` ("all", "authors_fbx", "hdm05"), ``rate_hz``, ``reading``, ``w``,
-        ``type_v``, ``algorithm``, ``similarity`` and ``deviation`` (medians; deviation
-        in frames of the rate), ``passes_similarity``, ``passes_deviation``, ``pairs``
-        and the :func:`map_shape` keys ``exhausted``, ``stick_skip``, ``hold``. Rows of
-        DTW (reading ``"DTW"``, w None) come first per dataset and rate: its hold share is
-        the reference for how often a good alignment holds.
+    Rows of ``dataset``, ``rate_hz``, ``reading``, ``w``, ``type_v``, ``algorithm``, the
+    medians ``similarity`` and ``deviation`` (frames), ``passes_similarity``,
+    ``passes_deviation`` and the :func:`map_shape` keys; DTW's row (reading ``"DTW"``, the
+    reference hold share) comes first per dataset and rate.
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
     rows = []
     for dataset in datasets:
-        for rate in rates:
+        for rate in RATES:
             bench = benchmarks(results, dataset, rate)
             cases = [("DTW", None, False, "DTW" + RATES[rate])]
             cases += [
                 (r, w, t, reading_name(r, w, t, rate))
-                for r in readings
+                for r in C_READINGS
                 for t in (False, True)
-                for w in windows
+                for w in WINDOWS
             ]
             for reading, w, typev, name in cases:
                 sim, dev = _medians(results, name, dataset)
-                verdict = {
-                    "passes_similarity": numbers.passes_similarity(sim, bench["similarity"]),
-                    "passes_deviation": numbers.passes_deviation(dev, rate),
-                }
+                ps, pd = _passes(sim, dev, bench["similarity"], rate)
+                verdict = {"passes_similarity": ps, "passes_deviation": pd}
                 where = {"dataset": dataset or "all", "rate_hz": rate, "reading": reading}
                 what = {"w": w, "type_v": typev, "algorithm": name}
                 measured = {"similarity": sim, "deviation": dev}
@@ -191,17 +151,12 @@ def _best_w(rows, rate):
 
 
 def reading_signature(rows, dataset: str = "all") -> list[dict]:
-    """The paper's qualitative signature of Method C, per reading (from :func:`readings_table`).
+    """The paper's qualitative signature of Method C per reading, from :func:`readings_table`.
 
-    Returns
-    -------
-    out : list of dict
-        Per reading: ``dataset``, ``reading``, ``best_w_120`` and ``best_w_60`` (the
-        highest median similarity without Type V; the paper: 40 and 20),
-        ``w10_stick_skip`` and ``w80_stick_skip`` (the paper: w10 sticks, < 0; w80 skips,
-        > 0), ``w40_passes_both`` (the paper: yes), ``pass_both`` (every configuration at
-        120 Hz whose medians pass both benchmarks; the paper: Mc w40 and Mc w80 + Type V),
-        ``exhausted`` (mean over w at 120 Hz, without Type V).
+    Per reading: ``best_w_120``, ``best_w_60`` (highest median similarity without Type V),
+    ``w10_stick_skip``, ``w80_stick_skip``, ``w40_passes_both``, ``pass_both`` (every
+    configuration at 120 Hz passing both benchmarks) and ``exhausted`` (mean over w at
+    120 Hz, without Type V); :data:`PAPER_SIGNATURE` gives the paper's.
 
     Paper: FP-DTW Section 5, Table 1, Figs. 5-7.
     Notebook: 15_readings_of_algorithm_3.ipynb
@@ -254,33 +209,17 @@ PAPER_SIGNATURE = dict(
 
 
 def mechanism_profile(pairs, w: int = 40, readings=("literal", "square")) -> dict:
-    """Rest-of-path cost per row offset, in real Method C windows.
+    """Rest-of-path cost ``f(r) = D[r, 0] - C[r, 0]`` per row offset r, in the full-size
+    Method C windows of some (input, target) pairs.
 
-    For every step whose window has its full size, ``f(r) = D[r, 0] - C[r, 0]`` is the
-    cost of the cheapest path from row r's first forecast cell onwards, without the
-    cell's own match. In the literal window ``f(0)`` carries one cell more than every
-    other ``f(r)``, whatever the motion; in the square window it does not.
-
-    Parameters
-    ----------
-    pairs : iterable of (MotionFeatures, MotionFeatures)
-        (input, target) pairs.
-    w : int
-    readings : sequence of str
-
-    Returns
-    -------
-    out : dict
-        Per reading: ``r`` (int, shape (rows,)), ``mean_f`` (mean of f(r) over steps),
-        ``excess`` (median over steps of ``f(0) - f(1)``), ``neighbour`` (median over
-        steps and rows of ``|C[r, 0] - C[r+1, 0]|``: how much neighbouring input frames
-        differ in their match of ``T_{n+1}``), ``hold`` (share of the steps that held),
-        ``best_row0`` (share of the steps where ``C[0, 0]`` was the smallest of column
-        0, i.e. where the held frame matched ``T_{n+1}`` best), ``steps``.
+    In the literal window ``f(0)`` carries one cell more than every other ``f(r)``,
+    whatever the motion; in the square window it does not. Per reading: ``r`` (int
+    (rows,)), ``mean_f`` (float64 (rows,), mean over steps), ``excess`` (median ``f(0) -
+    f(1)``), ``neighbour`` (median ``|C[r, 0] - C[r+1, 0]|``), ``hold`` (share of steps that
+    held), ``best_row0`` (share where ``C[0, 0]`` was column 0's smallest), ``steps``.
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
-
     pairs = list(pairs)
     out = {}
     for reading in readings:
@@ -317,26 +256,13 @@ def mechanism_profile(pairs, w: int = 40, readings=("literal", "square")) -> dic
 
 
 def choice_values(results, name: str, variant: str, features=None) -> dict:
-    """Per-pair scores of ``name`` under a metric-side silent choice.
+    """Per-pair scores of ``name`` under a metric-side silent choice: metric -> float64
+    (P,) in ``results.pairs`` order, for the metrics it changes.
 
-    Parameters
-    ----------
-    results : fpdtw.paper.runner.run.Results
-    name : str
-        An algorithm (its deviation is measured from DTW at its own rate).
-    variant : {"deviation_frames", "flat_axis", "after_input"}
-        The choice (:data:`fpdtw.paper.runner.grid.SILENT_CHOICES`): eq. 3 over all
-        ``n + 1`` target frames ``q = 0..n``; eq. 2 leaving out an axis flat in one motion;
-        both scores only up to the first target frame mapped to the last input frame.
-    features : callable, optional
-        ``features(k) -> (I, T)`` at the algorithm's rate
-        (:func:`fpdtw.paper.runner.run.pair_features`); needed by the choices of eq. 2.
-
-    Returns
-    -------
-    values : dict
-        Metric -> ndarray of float64, shape (P,) in ``results.pairs`` order, for the
-        metrics the choice changes.
+    ``variant`` (:data:`fpdtw.paper.runner.grid.SILENT_CHOICES`): ``"deviation_frames"``,
+    eq. 3 over all target frames; ``"flat_axis"``, eq. 2 leaving out an axis flat in one
+    motion; ``"after_input"``, both scores only up to the first target frame mapped to the
+    last input frame. The choices of eq. 2 need ``features(k) -> (I, T)``.
     """
     arr = results.get(name)
     dtw = results.get("DTW" + ("@60Hz" if name.endswith("@60Hz") else ""))
@@ -382,33 +308,22 @@ def _choice_medians(results, name, features, variant):
 
 
 def silent_choice_rows(results, features=None) -> tuple[list[dict], list[dict]]:
-    """How much each silent choice moves the headline medians (120 Hz, study selection).
+    """How much each silent choice moves the headline medians (120 Hz, a ``"study"`` run).
 
-    Parameters
-    ----------
-    results : fpdtw.paper.runner.run.Results
-        Mode ``"study"`` (it holds every alternative of
-        :data:`fpdtw.paper.runner.grid.SILENT_CHOICES` for the algorithms of
-        :data:`fpdtw.paper.runner.run.CHOICE_TARGETS`).
-    features : callable, optional
-        ``features(k) -> (I, T)`` of pair k at 120 Hz
-        (:func:`fpdtw.paper.runner.run.pair_features`); needed by the metric-side choices
-        of eq. 2 and of scoring after the input ran out (those rows are left out
-        without it).
+    ``features(k) -> (I, T)`` (pair k at 120 Hz) is needed by the metric-side choices of
+    eq. 2 and of scoring after the input ran out; without it their rows are left out.
 
     Returns
     -------
     summary : list of dict
-        One row per choice: ``choice``, ``ours``, ``alternative``, ``touches``
-        (algorithms measured), ``max_d_similarity`` and ``max_d_deviation`` (largest
-        absolute change of a median), ``verdicts_changed`` (algorithms whose pass/fail
-        of a benchmark flips).
+        Per choice: ``choice``, ``ours``, ``alternative``, ``touches`` (algorithms),
+        ``max_d_similarity``, ``max_d_deviation`` (largest change of a median) and
+        ``verdicts_changed`` (algorithms whose pass/fail of a benchmark flips).
     detail : list of dict
-        One row per choice and algorithm: the medians under ours and the alternative.
+        Per choice and algorithm: the medians under ours and the alternative.
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
-
     bench = benchmarks(results)
     summary, detail = [], []
     for key, choice in SILENT_CHOICES.items():
@@ -425,10 +340,7 @@ def silent_choice_rows(results, features=None) -> tuple[list[dict], list[dict]]:
                 s1, d1 = _medians(results, alt)
             else:
                 s1, d1 = _choice_medians(results, name, features, key)
-            u = bench["similarity"]
-            flips = numbers.passes_similarity(s0, u) != numbers.passes_similarity(s1, u) or (
-                numbers.passes_deviation(d0) != numbers.passes_deviation(d1)
-            )
+            flips = _passes(s0, d0, bench["similarity"]) != _passes(s1, d1, bench["similarity"])
             rows.append(
                 dict(
                     choice=key,
@@ -447,14 +359,12 @@ def silent_choice_rows(results, features=None) -> tuple[list[dict], list[dict]]:
                 ours=choice.ours,
                 alternative=choice.alternative,
                 touches=", ".join(r["algorithm"] for r in rows),
-                max_d_similarity=max(
-                    (abs(r["similarity_alternative"] - r["similarity_ours"]) for r in rows),
-                    default=0.0,
-                ),
-                max_d_deviation=max(
-                    (abs(r["deviation_alternative"] - r["deviation_ours"]) for r in rows),
-                    default=0.0,
-                ),
+                **{
+                    f"max_d_{m}": max(
+                        (abs(r[f"{m}_alternative"] - r[f"{m}_ours"]) for r in rows), default=0.0
+                    )
+                    for m in ("similarity", "deviation")
+                },
                 verdicts_changed=", ".join(r["algorithm"] for r in rows if r["verdict_changes"])
                 or "none",
             )
@@ -473,22 +383,9 @@ HEADLINE_NAMES = (
 
 
 def selection_rows(full, study, names=HEADLINE_NAMES) -> list[dict]:
-    """Headline medians on the whole-class and the paper-shaped selections, side by side.
-
-    Parameters
-    ----------
-    full, study : fpdtw.paper.runner.run.Results
-        Modes ``"full"`` (every take of every class) and ``"study"`` (at most 8 takes per
-        movement, drawn with a fixed seed).
-    names : sequence of str
-
-    Returns
-    -------
-    rows : list of dict
-        Per algorithm: ``similarity_full``, ``similarity_paper_shaped``,
-        ``deviation_full``, ``deviation_paper_shaped`` (medians, 120 Hz) and the
-        benchmark verdicts under each (``passes_full``, ``passes_paper_shaped``: "both",
-        "similarity", "deviation" or "neither").
+    """Headline medians (120 Hz) of the ``"full"`` and ``"study"`` (paper-shaped) runs side by
+    side: per algorithm ``similarity_<tag>``, ``deviation_<tag>`` and ``passes_<tag>``
+    ("both", "similarity", "deviation" or "neither") for tags ``full`` and ``paper_shaped``.
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
@@ -500,37 +397,24 @@ def selection_rows(full, study, names=HEADLINE_NAMES) -> list[dict]:
             if name not in res.algorithms:
                 row[f"similarity_{tag}"] = row[f"deviation_{tag}"] = row[f"passes_{tag}"] = None
                 continue
-            b = benchmarks(res)
-            s = _median(res, name, "similarity", None)
-            d = _median(res, name, "deviation", None)
+            s, d = _medians(res, name)
             row[f"similarity_{tag}"] = s
             row[f"deviation_{tag}"] = d
-            passed = (numbers.passes_similarity(s, b["similarity"]), numbers.passes_deviation(d))
+            passed = _passes(s, d, benchmarks(res)["similarity"])
             row[f"passes_{tag}"] = verdict.get(passed, "neither")
         out.append(row)
     return out
 
 
 def choice_only_type_v_c(I, T, w: int) -> np.ndarray:
-    """Method C + Type V read as a choice only: the window's costs unmasked, then the
-    lowest ``D[r, 0]`` among the rows the state allows (ties: the lowest row).
+    """Method C + Type V read as a choice only: int64 map (T.n_frames,).
 
-    Type V as implemented (:func:`fpdtw.plain.method_c_step`) masks ``C[r, 0]`` of the
-    rows it does not allow before the reverse accumulation, which closes routes of the
-    allowed rows through masked cells; this reading leaves the costs alone.
-
-    Parameters
-    ----------
-    I, T : MotionFeatures
-    w : int
-
-    Returns
-    -------
-    M : ndarray of int64, shape (T.n_frames,)
+    Type V as implemented (:func:`fpdtw.plain.method_c_step`) masks ``C[r, 0]`` of the rows
+    it does not allow before the reverse accumulation; this reading leaves the costs alone
+    and takes the lowest ``D[r, 0]`` among the allowed rows (ties: the lowest row).
 
     Paper: FP-DTW Section 6 (Type V), Algorithm 3.
     """
-
     I = dataclasses.replace(I, quats=cost_input(I.quats, I.rig, T.rig))
     M, state = [0], plain.TYPE_V_START
     for _ in range(T.n_frames - 1):
@@ -547,24 +431,12 @@ def choice_only_type_v_c(I, T, w: int) -> np.ndarray:
 
 
 def type_v_mask_changes(pairs, windows=WINDOWS) -> list[dict]:
-    """How many alignment maps Type V's mask changes, against the choice-only reading.
-
-    Parameters
-    ----------
-    pairs : iterable of (MotionFeatures, MotionFeatures)
-        (input, target) pairs.
-    windows : sequence of int
-
-    Returns
-    -------
-    rows : list of dict
-        Per window: ``w``, ``pairs``, ``maps_differ`` (pairs whose Method C + Type V map
-        as implemented differs from :func:`choice_only_type_v_c`'s) and ``frames_differ``
-        (target frames mapped differently, summed over the pairs).
+    """How many maps of some (input, target) pairs Type V's mask changes against the
+    choice-only reading: per window ``w``, ``pairs``, ``maps_differ`` and ``frames_differ``
+    (target frames mapped differently, summed).
 
     Paper: FP-DTW Section 6 (Type V), Algorithm 3.
     """
-
     pairs = list(pairs)
     rows = []
     for w in windows:
@@ -577,21 +449,3 @@ def type_v_mask_changes(pairs, windows=WINDOWS) -> list[dict]:
         rows.append({"w": int(w), "pairs": len(pairs), "maps_differ": n_maps,
                      "frames_differ": n_frames})  # fmt: skip
     return rows
-
-
-__all__ = [
-    "choice_only_type_v_c",
-    "type_v_mask_changes",
-    "HEADLINE_NAMES",
-    "PAPER_SIGNATURE",
-    "benchmarks",
-    "choice_values",
-    "map_shape",
-    "mechanism_profile",
-    "reading_name",
-    "reading_signature",
-    "readings_table",
-    "selection_rows",
-    "silent_choice_rows",
-    "study_mode",
-]

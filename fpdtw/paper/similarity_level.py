@@ -1,20 +1,14 @@
 """Why our eq. 2 scores sit above the paper's: the stored maps rescored under each reading.
 
-Eq. 2 (the similarity of the aligned input and target) leaves several representational
-details open. Each reading of :data:`READINGS` changes ONE of them from ours (local
-rotations, the unit vector (0, 1, 0), Kendall tau-b, an axis flat in one motion scoring 0,
-every target frame); :func:`similarity_level_rows` rescores the maps a finished run stored
-(no aligner is run again) and reports the median eq. 2 of UTW, DTW and Mc w40 per dataset,
-beside the paper's Table 1 values.
+Each reading of :data:`READINGS` changes ONE of eq. 2's open details from ours (local
+rotations, the axis (0, 1, 0), Kendall tau-b, an axis flat in one motion scoring 0, every
+target frame). The maps a finished run stored are rescored (no aligner runs again) on the
+motions loaded again from the catalog (the run's feature cache lacks the skeleton); the
+``ours`` row must give back the stored scores. :func:`similarity_level_rows` makes notebook
+17's table; :func:`reading_values` rescores every algorithm of a run under one reading, so
+the claims can be read under it (docs/eq2_reading.md).
 
-The motions are loaded again from the catalog (resampled to 120 Hz and cropped as the run
-did) because the global and root-relative frames and the bone directions need the whole
-skeleton, which the run's feature cache does not keep; the local rotations so obtained are
-checked equal to the cache's reading (the ``ours`` row reproduces the run's stored scores).
-
-:func:`reading_values` rescores EVERY algorithm of a run (both rates, lazily, cached on
-disk) under one reading, as the per-pair ``values`` of
-:class:`fpdtw.paper.claims.evidence.Evidence`: the claims can then be read under it.
+Paper: FP-DTW eq. 2, Table 1.
 """
 
 from __future__ import annotations
@@ -86,8 +80,8 @@ READINGS = (
 
 
 def _motion_arrays(record, crop, fps=BASE_FPS, frames=TRAJECTORY_FRAMES) -> dict:
-    """Rotations of the paper's joints in some frames, the bone directions and the name of
-    one motion, resampled and cropped as the run did (120 Hz, crop, then ``fps``)."""
+    """The paper's joints' rotations in some frames, their bone directions and the name of
+    a motion, resampled and cropped as the run did (120 Hz, crop, then ``fps``)."""
     motion = catalog.load(record)
     if abs(motion.fps - BASE_FPS) > 1e-6:
         motion = motion.resample(BASE_FPS)
@@ -101,9 +95,18 @@ def _motion_arrays(record, crop, fps=BASE_FPS, frames=TRAJECTORY_FRAMES) -> dict
     return out
 
 
+def _load(plan, index, crop, progress, desc, fps=BASE_FPS, frames=TRAJECTORY_FRAMES) -> dict:
+    """Motion index -> :func:`_motion_arrays` of every motion of the pairs ``index``."""
+    used = sorted({i for pair in index for i in pair})
+    return {
+        i: _motion_arrays(plan.motions[i], crop, fps, frames)
+        for i in tqdm(used, desc=desc, disable=not progress)
+    }
+
+
 def _plan(results) -> tuple:
-    """The run's pair selection, ``(input, target)`` motion indices of each of its pairs
-    (``results.pairs`` order) and its crop."""
+    """The run's pair selection, the ``(input, target)`` motion indices of its pairs and its
+    crop."""
     selection = Selection(
         **{k: tuple(v) if isinstance(v, list) else v for k, v in results.selection.items()}
     )
@@ -119,22 +122,9 @@ def _score(r: Reading, I: dict, T: dict, M) -> float:
 
 
 def pair_arrays(results, k: int) -> tuple:
-    """The rotations (each frame) and bone directions of pair k's input and target.
-
-    Loaded from the catalog as :func:`rescore` does (the run's feature cache is not
-    touched).
-
-    Parameters
-    ----------
-    results : fpdtw.paper.runner.run.Results
-    k : int
-        Index into ``results.pairs``.
-
-    Returns
-    -------
-    I, T : dict
-        ``"local"``, ``"transform"``, ``"global"``, ``"root"``: ndarray of float64, shape (F, 8, 4);
-        ``"bone"``: ndarray of float64, shape (8, 3).
+    """Pair k's input and target as :func:`rescore` loads them: dicts of ``"local"``,
+    ``"transform"``, ``"global"``, ``"root"`` rotations, float64 (F, 8, 4), and ``"bone"``
+    directions, float64 (8, 3).
 
     Notebook: 17_similarity_level.ipynb
     """
@@ -143,48 +133,21 @@ def pair_arrays(results, k: int) -> tuple:
 
 
 def rescore(results, readings=READINGS, algorithms=LEVEL_ALGORITHMS, progress=True) -> dict:
-    """Per-pair eq. 2 of stored maps under each reading.
+    """Per-pair eq. 2 of a run's stored maps (120 Hz) under each reading:
+    ``scores[reading.name][algorithm]``, float64 (P,) in ``results.pairs`` order.
 
-    Parameters
-    ----------
-    results : fpdtw.paper.runner.run.Results
-        A finished run (read only; its feature cache is not touched).
-    readings : sequence of Reading
-    algorithms : sequence of str
-        Names stored in the run (120 Hz).
-    progress : bool
-        tqdm bars over the motions and the pairs.
-
-    Returns
-    -------
-    scores : dict
-        ``scores[reading.name][algorithm]``: ndarray of float64, shape (P,), in
-        ``results.pairs`` order.
-
-    Raises
-    ------
-    ValueError
-        The ``ours`` reading does not reproduce the run's stored scores (the motions
-        loaded again differ from those the run aligned).
+    Raises ValueError when ``ours`` does not give back the run's stored scores (the motions
+    loaded again differ from those the run aligned).
 
     Paper: FP-DTW eq. 2.
     """
-
     plan, index, crop = _plan(results)
-    used = sorted({i for pair in index for i in pair})
-    arrays = {
-        i: _motion_arrays(plan.motions[i], crop)
-        for i in tqdm(used, desc="motions", disable=not progress)
-    }
+    arrays = _load(plan, index, crop, progress, "motions")
     stored = {a: results.stored(a) for a in algorithms}
-    P = len(index)
-    scores = {r.name: {a: np.full(P, np.nan) for a in algorithms} for r in readings}
-    for k in tqdm(range(P), desc="pairs", disable=not progress):
-        I, T = (arrays[i] for i in index[k])
-        for a in algorithms:
-            M = np.asarray(stored[a].map(k), dtype=np.int64)
-            for r in readings:
-                scores[r.name][a][k] = _score(r, I, T, M)
+    scores = {
+        r.name: {a: _algorithm_scores(r, stored[a], arrays, index) for a in algorithms}
+        for r in tqdm(readings, desc="readings", disable=not progress)
+    }
     if "ours" in scores:
         for a in algorithms:
             want = np.asarray(stored[a]["similarity"], dtype=np.float64)
@@ -201,12 +164,9 @@ RESCORE_FORMAT = 1
 
 
 def _algorithm_scores(r: Reading, stored, arrays: dict, index: list, pause_fps=None):
-    """Eq. 2 of every stored map of one algorithm under reading ``r``.
-
-    ``arrays``: motion index -> :func:`_motion_arrays` at the algorithm's rate; ``index``:
-    ``(input, target)`` of each pair; ``pause_fps``: the rate, when the algorithm ran on
-    the targets with a pause inserted (the pause of :func:`fpdtw.pause.insert_pause`).
-    """
+    """Eq. 2 of every stored map of one algorithm under reading ``r`` (``arrays``: motion
+    index -> :func:`_motion_arrays`; ``pause_fps``: the rate, when the algorithm ran on the
+    targets with :func:`fpdtw.pause.insert_pause`'s pause)."""
     out = np.empty(len(index))
     for k, (i, t) in enumerate(index):
         T = arrays[t]
@@ -224,51 +184,27 @@ def _npy_bytes(a: np.ndarray) -> bytes:
 
 
 def reading_values(results, reading: str = "transform", progress: bool = True):
-    """Per-pair eq. 2 of every algorithm of a run under one reading, for :class:`Evidence`.
+    """Per-pair eq. 2 of every algorithm of a run under one reading (a name of
+    :data:`READINGS`), for :class:`~fpdtw.paper.claims.evidence.Evidence`.
 
-    The maps the run stored are rescored (no aligner runs again) on the motions loaded from
-    the catalog as the run loaded them (resampled to 120 Hz, cropped, then resampled to
-    60 Hz for the ``"@60Hz"`` names; a ``"@pause"`` name's targets get their pause). Each
-    motion is loaded once per rate, each algorithm rescored on its first request, and its
-    scores kept in ``results.folder / "rescored" / reading / f"{slug(name)}.{key}.npy"``,
-    where ``key`` (16 hex digits) is a sha256 of :data:`RESCORE_FORMAT`, the reading's
-    options, the name, the crop, the pair ids, the motions' data hashes and the stored
-    ``offsets`` and ``maps``: a changed run writes a new file (the old ones of that name
-    are removed) and never reads a stale one. Changes to the code that reads the motions
-    or computes eq. 2 are not in the key: bump :data:`RESCORE_FORMAT`.
+    Motions are loaded as the run loaded them (60 Hz for ``"@60Hz"`` names; a ``"@pause"``
+    name's targets get their pause), once per rate; each algorithm is rescored on its first
+    request and kept in ``results.folder/rescored/<reading>/<slug>.<key>.npy``, ``key`` a
+    sha256 of :data:`RESCORE_FORMAT`, the reading, the name, the crop, the pair ids, the
+    motions' data hashes and the stored maps (a changed run never reads a stale file; a
+    change to the code that computes eq. 2 needs :data:`RESCORE_FORMAT` bumped).
 
-    Parameters
-    ----------
-    results : fpdtw.paper.runner.run.Results
-        A finished run (its result files are read; only ``rescored/`` is written).
-    reading : str
-        A name of :data:`READINGS` (``"ours"`` reproduces the stored scores).
-    progress : bool
-        tqdm bar over the motions loaded for each rate.
-
-    Returns
-    -------
-    values : callable
-        ``values(name, metric) -> ndarray of float64, shape (P,) or None``:
-        ``"similarity"``: eq. 2 of each pair of ``name`` in ``results.pairs`` order;
-        any other metric (``"deviation"``: eq. 3 does not depend on the reading): None.
-
-    Raises
-    ------
-    KeyError
-        An unknown reading, or (from ``values``) a name without results.
-    ValueError
-        (from ``values``) The stored pairs are not ``results.pairs`` in order.
+    Returns ``values(name, metric)``: for ``"similarity"`` float64 (P,) in ``results.pairs``
+    order, else None (eq. 3 does not depend on the reading); KeyError for an unknown
+    reading or name, ValueError when the stored pairs are not ``results.pairs``.
 
     Paper: FP-DTW eq. 2.
     """
-
     by_name = {r.name: r for r in READINGS}
     if reading not in by_name:
         raise KeyError(f"unknown reading {reading!r}; have: {', '.join(by_name)}")
     r = by_name[reading]
     plan, index, crop = _plan(results)
-    used = sorted({i for pair in index for i in pair})
     ids = np.array([int(p["id"]) for p in results.pairs], dtype=np.int64)
     base = hashlib.sha256(
         json.dumps(
@@ -281,10 +217,8 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
 
     def arrays(fps: float) -> dict:
         if fps not in motions:
-            motions[fps] = {
-                i: _motion_arrays(plan.motions[i], crop, fps, frames=(r.frame,))
-                for i in tqdm(used, desc=f"motions at {fps:g} Hz", disable=not progress)
-            }
+            desc = f"motions at {fps:g} Hz"
+            motions[fps] = _load(plan, index, crop, progress, desc, fps, (r.frame,))
         return motions[fps]
 
     def compute(name: str) -> np.ndarray:
@@ -315,22 +249,10 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
 
 
 def similarity_level_rows(results, scores=None, progress=True) -> list[dict]:
-    """The table: median eq. 2 of UTW, DTW and Mc w40 per dataset under each reading.
-
-    Parameters
-    ----------
-    results : fpdtw.paper.runner.run.Results
-        The study run (paper-shaped selection) or the smoke-study run.
-    scores : dict, optional
-        :func:`rescore`'s output (computed when missing).
-    progress : bool
-
-    Returns
-    -------
-    rows : list of dict
-        One per reading and dataset (``all``, then each dataset): ``reading``,
-        ``changes``, ``dataset``, ``pairs``, ``UTW``, ``DTW``, ``Mc w40``,
-        ``UTW - Mc w40``, and the paper's ``paper UTW``, ``paper Mc w40``.
+    """Notebook 17's table: median eq. 2 of UTW, DTW and Mc w40 per reading and dataset
+    (``all``, then each), beside the paper's (``scores``: :func:`rescore`'s, computed when
+    missing): rows of ``reading``, ``changes``, ``dataset``, ``pairs``, ``UTW``, ``DTW``,
+    ``Mc w40``, ``UTW - Mc w40``, ``paper UTW``, ``paper Mc w40``.
 
     Paper: FP-DTW eq. 2, Table 1.
     Notebook: 17_similarity_level.ipynb
@@ -364,18 +286,8 @@ def similarity_level_rows(results, scores=None, progress=True) -> list[dict]:
 
 
 def closest_reading(rows, dataset: str = "all") -> dict:
-    """The reading whose UTW median comes closest to the paper's 0.240, and how close.
-
-    Parameters
-    ----------
-    rows : list of dict
-        :func:`similarity_level_rows`.
-    dataset : str
-
-    Returns
-    -------
-    row : dict
-        The row, with ``gap`` (our UTW median minus the paper's).
+    """The :func:`similarity_level_rows` row whose UTW median comes closest to the paper's
+    0.240, with ``gap`` (ours minus the paper's).
 
     Notebook: 17_similarity_level.ipynb
     """
@@ -389,27 +301,13 @@ NEAR = 0.05
 
 
 def level_comparison(rows, dataset: str = "all") -> list[dict]:
-    """``paper | ours`` rows: UTW's and Mc w40's median eq. 2 under each reading, beside Table 1.
-
-    Parameters
-    ----------
-    rows : list of dict
-        :func:`similarity_level_rows`.
-    dataset : str
-
-    Returns
-    -------
-    out : list of dict
-        :func:`fpdtw.paper.figures.paper_vs_ours.side_by_side` rows, two per reading (UTW and
-        Mc w40 median eq. 2); ``ours`` says whether the median is within :data:`NEAR` of the
-        paper's (the reading closes the gap). Values only: the claims decide nothing here.
+    """``paper | ours`` rows (:func:`~fpdtw.paper.figures.paper_vs_ours.side_by_side`):
+    UTW's and Mc w40's median eq. 2 under each reading beside Table 1, and whether within
+    :data:`NEAR` of it. Values only: the claims decide nothing here.
 
     Paper: FP-DTW Table 1 (120 Hz: UTW and Mc w40), eq. 2.
     Notebook: 17_similarity_level.ipynb
     """
-    # in the function: fpdtw.paper.runner imports this module, and the figures package
-    # imports the runner
-
     out = []
     for r in rows:
         if r["dataset"] != dataset:
@@ -428,19 +326,3 @@ def level_comparison(rows, dataset: str = "all") -> list[dict]:
 
 # the readings of eq. 2 a Results can be scored with, other than the stored one
 RESCORERS.update({r: reading_values for r in EQ2_READINGS if r != STORED_EQ2})
-
-__all__ = [
-    "LEVEL_ALGORITHMS",
-    "NEAR",
-    "PAPER_TABLE1",
-    "READINGS",
-    "RESCORE_FORMAT",
-    "Reading",
-    "WARMUP_FRAMES",
-    "closest_reading",
-    "level_comparison",
-    "pair_arrays",
-    "reading_values",
-    "rescore",
-    "similarity_level_rows",
-]
