@@ -447,9 +447,10 @@ def test_layer_table_marks_a_layer_over_its_budget():
     L = _layer_sizes()
     counts = {n: {"files": 1, "code": 10, "lines": 20, "inner_imports": 0} for n in L.LAYERS}
     counts["paper"]["code"] = L.BUDGET["paper"] + 1
+    counts["library"]["lines"] = L.BUDGET["library"] + 1
     text = L.table(counts)
-    assert f"| {L.BUDGET['library']}: within |" in text
-    assert f"| {L.BUDGET['paper']}: OVER |" in text
+    assert f"| {L.BUDGET['library']}: code within, all lines OVER |" in text
+    assert f"| {L.BUDGET['paper']}: code OVER, all lines within |" in text
 
 
 def test_the_library_and_the_reproduction_are_within_their_budgets():

@@ -7,7 +7,10 @@ Usage (from the checkout)::
 A layer's size is counted two ways: its *lines of code* (the physical lines of its ``.py``
 files that are neither blank, nor comments only, nor docstrings) and *all lines* (what
 ``wc -l`` gives, docstrings included). The budget of the library and of the reproduction
-is on lines of code (:data:`BUDGET`); both counts are printed. *In-function imports* counts
+(:data:`BUDGET`, about 9k each) is judged on both counts: the issue that set it counted all
+lines; lines of code were added later (after the counts were seen), because numpydoc
+docstrings are about a third of a layer. ``make test`` holds the code budget; the table
+says where a layer is still over on all lines. *In-function imports* counts
 the ``import`` statements inside a function (fpdtw's own modules and third-party ones):
 they belong only where an optional part is needed. The numbers are printed for the checkout
 the tool runs in, never typed into the documentation (``make figures`` writes the table
@@ -141,12 +144,15 @@ def sizes(root: Path = ROOT) -> dict:
 def table(counts: dict) -> str:
     """The sizes as a Markdown table, with each budget and whether the layer is within it."""
     rows = [
-        "| layer | files | lines of code | all lines | in-function imports | budget (code) |",
+        "| layer | files | lines of code | all lines | in-function imports | budget |",
         "|---|---:|---:|---:|---:|---|",
     ]
     for layer, c in counts.items():
         cap = BUDGET.get(layer)
-        budget = "-" if cap is None else f"{cap}: {'within' if c['code'] <= cap else 'OVER'}"
+        budget = "-"
+        if cap is not None:
+            code, lines = ("within" if c[k] <= cap else "OVER" for k in ("code", "lines"))
+            budget = f"{cap}: code {code}, all lines {lines}"
         rows.append(
             f"| {layer}: {LAYERS[layer]} | {c['files']} | {c['code']} | {c['lines']} | "
             f"{c['inner_imports']} | {budget} |"
