@@ -56,6 +56,3 @@ def save_facts(notebook: str, facts: dict, smoke: bool) -> Path:
 def load_facts(notebook: str, smoke: bool) -> dict:
     """Read the facts a notebook wrote."""
     return json.loads(facts_path(notebook, smoke).read_text())
-
-
-__all__ = ["facts_path", "load_facts", "save_facts"]

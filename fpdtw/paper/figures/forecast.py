@@ -88,9 +88,3 @@ def plot_forecast_panels(curves: dict, levels):
     for ax in axes[1:]:
         ax.set_ylabel("")
     return fig, axes
-
-
-__all__ = [
-    "FORECAST_PANELS", "best_level", "forecast_curves", "plot_forecast_error",
-    "plot_forecast_panels",
-]  # fmt: skip

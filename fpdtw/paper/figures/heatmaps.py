@@ -191,9 +191,3 @@ def plot_typev_heatmaps(results, bases=FIG10_NAMES, bins=100, per_row=None, maps
             ax.set_xlabel("target q / n", fontsize=8)
     _finish(fig, axes, norm)
     return fig, axes
-
-
-__all__ = [
-    "FIG10_NAMES", "FIG7_NAMES", "fig7_names", "heatmap", "path_balance",
-    "plot_heatmap", "plot_heatmap_grid", "plot_typev_heatmaps", "shared_norm",
-]  # fmt: skip

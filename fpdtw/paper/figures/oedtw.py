@@ -159,9 +159,3 @@ def plot_fig1(oe: OEDTW):
     plot_end_points(E, ax=axes[1])
     axes[1].set_title("(b) end point of every target frame", fontsize=10)
     return fig, axes
-
-
-__all__ = [
-    "backward_jumps", "first_backward_jump", "oedtw_facts", "plot_end_points", "plot_fig1",
-    "plot_oedtw_paths", "run_oedtw",
-]  # fmt: skip

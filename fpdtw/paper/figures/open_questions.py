@@ -293,10 +293,3 @@ def plot_pause_example(I, T, name: str = "Mc w40", ax=None):
     ax.set_ylabel("input frame")
     ax.legend(fontsize=7)
     return fig, ax
-
-
-__all__ = [
-    "band_rows", "derivative_rows", "movement_rows", "pause_rows", "plot_band", "plot_derivative",
-    "plot_pause", "plot_pause_example", "plot_period", "plot_windows", "poster_gamma_rows",
-    "window_rows",
-]  # fmt: skip

@@ -347,10 +347,3 @@ def plot_curve_construction(curve, ax=None, *, window=None, relative=False, labe
         + ("\n" + clips_note([label]) if label is not None else ""),
     )
     return fig, ax
-
-
-__all__ = [
-    "COLORS", "add_note", "clips_note", "plot_curve_construction", "plot_deviation",
-    "plot_deviation_vs_gamma", "plot_deviation_vs_offset", "plot_fig4", "plot_readings",
-    "plot_slope_change", "plot_warp_curves",
-]  # fmt: skip

@@ -350,11 +350,3 @@ def live_comparison(deviations: dict) -> list[dict]:
                      f"{dev:.1f} frames ({_side(N.passes_deviation(dev))} 18, this pair)")
         for name, dev in deviations.items()
     ]  # fmt: skip
-
-
-__all__ = [
-    "COLUMNS", "benchmark_comparison", "data_comparison", "forecast_comparison",
-    "format_side_by_side", "heatmap_comparison", "live_comparison", "oedtw_comparison",
-    "opw_fig4_comparison", "paper_passes", "side_by_side", "table1_comparison", "timing_comparison",
-    "typev_comparison", "walk_pair_comparison",
-]  # fmt: skip

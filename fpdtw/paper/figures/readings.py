@@ -72,6 +72,3 @@ def plot_readings_overview(rows, dataset: str, utw=None):
     if axes[-1].get_legend() is not None:
         sns.move_legend(axes[-1], "upper left", bbox_to_anchor=(1.02, 1), fontsize=7)
     return fig, axes
-
-
-__all__ = ["plot_mechanism", "plot_readings_overview"]

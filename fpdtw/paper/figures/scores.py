@@ -352,9 +352,3 @@ def plot_table1(rows, ax=None):
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
     ax.grid(alpha=0.3)
     return fig, ax
-
-
-__all__ = [
-    "BASE_NAMES", "base_names", "benchmark", "best_window", "figure_names", "passing",
-    "plot_score_boxes", "plot_table1", "score_summary", "scores", "table1_rows", "utw_median",
-]  # fmt: skip

@@ -215,10 +215,3 @@ def band_cost(report) -> list:
                      "ratio": v / b}
                 )  # fmt: skip
     return rows
-
-
-__all__ = [
-    "TIMED_NAMES", "timed_names", "exhausted_fraction", "growth_ratio", "last_input_frame",
-    "load_bench", "pair_maps", "paper_growth_ratio", "plot_time_vs_w", "slowest_window",
-    "time_per_frame_rows",
-]  # fmt: skip

@@ -187,9 +187,3 @@ def plot_fig9(M, M_free=None):
     plot_state_table(ax=axes[2])
     plot_constrained_path(M, ax=axes[3], M_free=M_free)
     return fig, axes
-
-
-__all__ = [
-    "backward_steps", "forward_advances", "plot_constrained_path", "plot_fig9", "plot_state_table",
-    "table_rows", "typev_states",
-]  # fmt: skip

@@ -331,11 +331,3 @@ def statement_counts(rows) -> dict:
         c["holds"] += int(r["holds"])
         c["pairs"] += 1
     return out
-
-
-__all__ = [
-    "ALGORITHM_COLORS", "FBX_SIDE_VIEW", "FIG8_ALGORITHMS", "FIG8_LITERAL", "FIG8_STATEMENT_RULES",
-    "SMOKE_SECONDS", "WALK_PAIR", "align_all", "fig8_statements", "gait_cycle", "load_walk_pair",
-    "pair_scores", "plot_aligned_poses", "plot_joint_curves", "plot_paths_over_cost", "pose_frames",
-    "statement_counts", "walk_pair_cases", "walk_pair_features", "walk_pairs",
-]  # fmt: skip

@@ -237,9 +237,3 @@ def plot_method_c_window(step, ax=None):
     ax.set_xlabel("forecast window F (target frames)")
     ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.13))
     return fig, ax
-
-
-__all__ = [
-    "VIA_INPUT", "VIA_TARGET", "first_leaving", "forecast_labels", "plot_method_a_window",
-    "plot_method_b_window", "plot_method_c_window", "step_facts",
-]  # fmt: skip
