@@ -1,11 +1,8 @@
 """The OPW poster's evaluation: a known example warp, OPW and offline baselines against it.
 
-Protocol (poster Sections 4-5; ``notebooks/reading_notes.md``): crop a recorded motion A
-to 2.5 s; warp it with the example curve g (:func:`example_curve`) into ``B(t) =
-A(g(t))``; align A to B with OPW (:class:`fpdtw.online.opw.OPW`) and with offline DTW
-smoothed by the poster's Fig. 3 rule (:func:`dtw_curve`); measure each curve against g
-at 50 Hz: deviation in ms (Figs. 4-6), change of slope (Fig. 4) and the share of the
-temporal difference removed (the poster's "approximately 70 %" / "77 %").
+Protocol (poster Sections 4-5; ``notebooks/reading_notes.md``): motion A cropped to 2.5 s,
+warped by the example curve g into ``B(t) = A(g(t))``, aligned to B by OPW and by offline
+DTW smoothed by the poster's Fig. 3 rule; each curve measured against g at 50 Hz.
 
 Two readings of the whole protocol (:data:`READINGS`): ``"poster"``, the poster's text as
 :mod:`fpdtw.online.opw` reads it (root-relative positions, the Fig. 3 DTW baseline), and
@@ -44,12 +41,9 @@ HOYET_MS = numbers.PERCEPTUAL_THRESHOLD_MS  # Hoyet et al. 2012's threshold (ms)
 
 @dataclass(frozen=True)
 class OPWReading:
-    """One reading of OPW and its evaluation.
-
-    ``reference``, ``clock``, ``direction`` and ``read_at`` are the options of
-    :class:`fpdtw.online.opw.OPW`; ``root_relative``: positions relative to the root (the
-    poster) or in world space (the plugin); ``baseline``: ``"DTW"`` (:func:`dtw_curve`) or
-    ``"best match"`` (:func:`best_match_curve`, the plugin's "standard DTW").
+    """One reading of OPW and its evaluation: ``reference``, ``clock``, ``direction`` and
+    ``read_at`` are :class:`fpdtw.online.opw.OPW`'s options; ``root_relative``: positions
+    relative to the root (poster) or world (plugin); ``baseline``: ``"DTW"`` or ``"best match"``.
     """
 
     name: str
@@ -96,8 +90,7 @@ def as_reading(reading) -> OPWReading:
 
 @dataclass(frozen=True)
 class OPWMotion:
-    """A motion of the poster's Fig. 4 or our stand-in for it: its label, where it is in
-    the catalog, and why it was chosen."""
+    """A motion of the poster's Fig. 4 or our stand-in: label, catalog place, why chosen."""
 
     label: str
     dataset: str
@@ -135,13 +128,9 @@ FIG4_MOTIONS = (
 )
 
 
-# -- the example curve and the warped motion ---------------------------------------------------
-
-
 def example_curve(duration: float = CROP_S, offset: float = OFFSET) -> WarpCurve:
-    """The poster's example warp g: keys (0, 0), (D/2, D/2 + offset), (D, D) in (t, t').
-
-    Live time -> recording time; with the defaults, live 1.25 s shows recording 1.5 s.
+    """The poster's example warp g (live -> recording time): keys (0, 0), (D/2, D/2 + offset),
+    (D, D).
 
     Paper: OPW poster Section 5, Figs. 4 and 5.
     Notebook: 13_opw_fig4.ipynb
@@ -153,8 +142,7 @@ def example_curve(duration: float = CROP_S, offset: float = OFFSET) -> WarpCurve
 
 
 def warp_motion(motion, curve: WarpCurve):
-    """The warped motion ``B(t) = A(curve(t))``: ``floor(x_last * fps) + 1`` frames at A's
-    rate, rotations by slerp (:meth:`Motion.retime`).
+    """The warped motion ``B(t) = A(curve(t))``, at A's rate (:meth:`Motion.retime`).
 
     Paper: OPW poster Section 4.
     Notebook: 13_opw_fig4.ipynb
@@ -165,8 +153,7 @@ def warp_motion(motion, curve: WarpCurve):
 
 
 def opw_features(motion, root_relative: bool = True) -> MotionFeatures:
-    """Features with the 16 OPW joints' positions, (F, 16, 3) float64: relative to the root
-    of each frame (the poster reading) or in world space (the plugin).
+    """Features with the 16 OPW joints' positions, (F, 16, 3) float64, root-relative or world.
 
     Paper: OPW poster Section 4 (16 joints), eq. 5.
     Notebook: 13_opw_fig4.ipynb
@@ -187,17 +174,10 @@ def load_cropped(dataset: str, path: str):
     return load(dataset, path).crop(0.0, CROP_S)
 
 
-# -- offline DTW curve (poster Fig. 3) -----------------------------------------------------------
-
-
 def fig3_key_points(path, max_run: int | None = 2) -> np.ndarray:
     """Indices (int64, increasing) into a DTW path (L, 2) of the points the poster's Fig. 3
-    rule keeps as curve keys.
-
-    A step between cells (i, j) (i: recording, j: live) is sequential (1, 1), a deletion
-    (1, 0) or an insertion (0, 1). Point k is kept when the steps just before it are a run
-    of 1..``max_run`` insertions and/or deletions (the poster: "1 or 2"; None: any) and the
-    step after it is sequential; the two end points are always kept.
+    rule keeps as curve keys: those after a run of 1..``max_run`` non-diagonal steps (the
+    poster: "1 or 2"; None: any) and before a diagonal one, and both end points.
 
     Paper: OPW poster Section 4, Fig. 3.
     """
@@ -218,13 +198,9 @@ def fig3_key_points(path, max_run: int | None = 2) -> np.ndarray:
 
 
 def dtw_curve(A, B, omega: float = OMEGA, root_relative: bool = True) -> WarpCurve:
-    """Offline DTW of recording A against live B, smoothed into a curve (live time ->
-    recording time) by the Fig. 3 rule.
-
-    Both motions are resampled to ``1 / omega`` Hz, the rate OPW steps at (the poster does
-    not state DTW's). Cost: eq. 5 over the 16 joints' positions; symmetric DTW, rows = A.
-    Keys: the :func:`fig3_key_points` at ``(t, t') = (j omega, i omega)`` (of two at one
-    live time the earlier), then the true end ``(D_B, D_A)`` (the 25 Hz grid may stop short).
+    """Offline DTW of recording A against live B at ``1 / omega`` Hz (the poster does not
+    state DTW's rate), smoothed into a curve (live -> recording time) by the Fig. 3 rule:
+    keys :func:`fig3_key_points` at ``(j omega, i omega)``, then the true end ``(D_B, D_A)``.
 
     Paper: OPW poster Section 4, Fig. 3, eq. 5.
     """
@@ -250,12 +226,8 @@ def dtw_curve(A, B, omega: float = OMEGA, root_relative: bool = True) -> WarpCur
     return WarpCurve(xs, ys)
 
 
-# -- the plugin's "standard DTW" baseline -----------------------------------------------------
-
-
 def plugin_period(fps: float) -> float:
-    """The plugin's sample period (s): one frame in whole milliseconds (``FBTime::
-    SetMilliSeconds`` takes an integer): 8 ms at 120 Hz, 33 ms at 30 Hz."""
+    """The plugin's sample period (s): one frame in whole milliseconds (8 ms at 120 Hz)."""
     return math.floor(1000.0 / float(fps) + 1e-9) / 1000.0
 
 
@@ -269,11 +241,8 @@ def _positions_at(P, fps: float, times) -> np.ndarray:
 
 
 def best_match_map(C) -> np.ndarray:
-    """The plugin's baseline map: each recording sample's best live sample, forced monotone.
-
-    Row i of ``C`` (N_A, N_B) takes the column of its smallest cost (the first on ties);
-    ``M_0`` is that column and ``M_i = min(max(best_i, M_{i-1}), M_{i-1} + 2)``. Returns
-    int64 (N_A,), non-decreasing, steps of 0, 1 or 2.
+    """The plugin's baseline map, int64 (N_A,), from costs ``C`` (N_A, N_B): ``M_0 =
+    best_0``, ``M_i = min(max(best_i, M_{i-1}), M_{i-1} + 2)``, ``best_i`` row i's argmin.
 
     Paper: the authors' MotionBuilder plugin (``EventButtonRunStandardDTW``).
     """
@@ -286,11 +255,8 @@ def best_match_map(C) -> np.ndarray:
 
 
 def best_match_keys(M) -> np.ndarray:
-    """The samples of a :func:`best_match_map` the plugin turns into curve keys.
-
-    Sample ``i >= 1`` is kept when its step is not sequential (``M_i != M_{i-1} + 1``) and
-    the next sample does not repeat it; the last sample is always kept. Returns increasing
-    int64 indices ending with ``len(M) - 1``.
+    """The samples (int64, increasing) of a :func:`best_match_map` the plugin makes keys:
+    ``i >= 1`` with ``M_i != M_{i-1} + 1`` whose next sample does not repeat it, and the last.
 
     Paper: the authors' MotionBuilder plugin (``EventButtonRunStandardDTW``).
     """
@@ -303,13 +269,9 @@ def best_match_keys(M) -> np.ndarray:
 
 
 def best_match_curve(A, B, root_relative: bool = False) -> WarpCurve:
-    """The plugin's "standard DTW" baseline: a monotone per-sample best match as a curve.
-
-    Both motions are sampled every :func:`plugin_period` of A's rate (times strictly before
-    each one's last frame time, as the plugin's loops); eq. 5 over the 16 joints' positions
-    (world space by default, as the plugin's control rig) gives the costs;
-    :func:`best_match_map` and :func:`best_match_warp` make the curve. The plugin's minimum
-    search starts from a cost of 1000, a cap in its scene's units not applied here.
+    """The plugin's "standard DTW" baseline: a monotone per-sample best match as a curve,
+    both motions sampled every :func:`plugin_period` (eq. 5, world positions by default).
+    The plugin's minimum search starts from a cost of 1000, a cap not applied here.
 
     Paper: the authors' MotionBuilder plugin (``EventButtonRunStandardDTW``); OPW poster
     eq. 5, Figs. 4-5.
@@ -325,10 +287,9 @@ def best_match_curve(A, B, root_relative: bool = False) -> WarpCurve:
 
 
 def best_match_warp(M, period: float, span: float | None = None) -> WarpCurve:
-    """The plugin's baseline curve from its map: key (0, 0), then ``(M_i period, i period)``
-    for each sample of :func:`best_match_keys` (a key at a time that has one replaces it, as
-    MotionBuilder's ``KeyAdd``). A curve left with one key holds its value up to ``span``
-    (default ``period``).
+    """The plugin's baseline curve: key (0, 0), then ``(M_i period, i period)`` for each
+    :func:`best_match_keys` sample (a later key at the same time replaces it, as ``KeyAdd``);
+    one key alone holds up to ``span`` (default ``period``).
 
     Paper: the authors' MotionBuilder plugin (``EventButtonRunStandardDTW``).
     """
@@ -343,11 +304,8 @@ def best_match_warp(M, period: float, span: float | None = None) -> WarpCurve:
     return WarpCurve(xs, [keys[x] for x in xs])
 
 
-# -- measures -------------------------------------------------------------------------------------
-
-
 def sample_times(duration: float, rate: float = SAMPLE_RATE) -> np.ndarray:
-    """Times ``k / rate`` from 0 up to ``duration`` (included when on the grid), float64.
+    """Times ``k / rate`` from 0 up to ``duration`` (included on the grid), float64.
 
     Paper: OPW poster Section 4 ("the curves were sampled at 50Hz").
     """
@@ -367,11 +325,8 @@ def deviation_ms(curve: WarpCurve, example: WarpCurve, rate: float = SAMPLE_RATE
 
 
 def slope_change_percent(curve: WarpCurve, duration=None) -> dict:
-    """Change of the curve's slope angle between 50 Hz samples, in % of 90 degrees.
-
-    Over ``[0, duration]`` (default: to the last key), the chord from sample k to k+1 has
-    angle ``atan2(dt', dt)``; the change at interior sample k is ``|angle_k - angle_{k-1}|
-    / 90 deg * 100``. Returns ``t`` and ``pct`` (N - 2,), ``mean``, ``max``.
+    """Change of the chord angle between 50 Hz samples over ``[0, duration]`` (default: to
+    the last key), in % of 90 degrees: ``t`` and ``pct`` (N - 2,), ``mean``, ``max``.
 
     Paper: OPW poster Fig. 4 (bottom row).
     """
@@ -388,11 +343,9 @@ def slope_change_percent(curve: WarpCurve, duration=None) -> dict:
 
 
 def temporal_difference_removed(curve: WarpCurve, example: WarpCurve) -> float:
-    """Share of the temporal difference between A and B that the curve removes.
-
-    ``1 - mean_t |curve(t) - g(t)| / mean_t |t - g(t)|`` at 50 Hz (g the example): the
-    identity removes 0, the example 1; NaN when g is the identity. Our definition of the
-    poster's "reduced the temporal difference ... by approximately 70 %".
+    """Share of the temporal difference the curve removes, ``1 - mean |curve(t) - g(t)| /
+    mean |t - g(t)|`` at 50 Hz (NaN when g is the identity): our reading of the poster's
+    "reduced the temporal difference ... by approximately 70 %".
 
     Paper: OPW poster Section 5.
     """
@@ -404,16 +357,12 @@ def temporal_difference_removed(curve: WarpCurve, example: WarpCurve) -> float:
     return float(1.0 - np.abs(curve(t) - g).mean() / base)
 
 
-# -- one motion, one configuration --------------------------------------------------------------
-
-
 #: The methods every :func:`evaluate` result holds, besides the example curve.
 METHODS = ("DTW", "best match", "OPW")
 
 
 def run_opw(A, B, omega: float = OMEGA, gamma: float = GAMMA, reading="poster") -> OPW:
-    """OPW aligning recording A to live motion B frame by frame, under a reading (a name of
-    :data:`READINGS` or an :class:`OPWReading`); the aligner after B's last frame.
+    """OPW aligning recording A to live B under a reading (:func:`as_reading`); the aligner.
 
     Paper: OPW poster Algorithm 1.
     """
@@ -430,13 +379,9 @@ def run_opw(A, B, omega: float = OMEGA, gamma: float = GAMMA, reading="poster") 
 def evaluate(
     motion, offset: float = OFFSET, gamma: float = GAMMA, omega: float = OMEGA, reading="poster"
 ) -> dict:
-    """The poster's test on one motion (cropped here to 2.5 s): example warp, OPW and the
-    baselines' curves, and their measures.
-
-    The result holds the parameters, ``curves`` (``"example"`` and one per :data:`METHODS`),
-    per method ``deviation`` (:func:`deviation_ms`), ``slope`` (:func:`slope_change_percent`,
-    also of the example) and ``removed`` (:func:`temporal_difference_removed`), OPW's
-    ``decisions`` (:meth:`~fpdtw.online.opw.OPW.decision_table`) and its map ``M``.
+    """The poster's test on one motion cropped to 2.5 s: the parameters, ``curves``
+    (``"example"`` and :data:`METHODS`), per method ``deviation``, ``slope`` and
+    ``removed``, and OPW's ``decisions`` and map ``M``.
 
     Paper: OPW poster Sections 4-5, Figs. 4-6.
     Notebook: 13_opw_fig4.ipynb
@@ -446,8 +391,7 @@ def evaluate(
 
 
 def _runs(motions: dict, offsets, gammas, omega, rd):
-    """``(label, result)`` of :func:`evaluate` for every motion, offset and gamma; the
-    offline curves once per motion and offset (they do not depend on gamma)."""
+    """``(label, result)`` of :func:`evaluate` per motion, offset and gamma."""
     for label, motion in motions.items():
         A = motion.crop(0.0, CROP_S)
         for offset in offsets:
@@ -483,12 +427,9 @@ def _runs(motions: dict, offsets, gammas, omega, rd):
 
 
 def reference_lag(result: dict) -> dict:
-    """Where OPW read the recording at each step, and where its curve was, against g.
-
-    At live time ``t`` OPW reads the recording from its reference time: ``f(t)`` (the poster
-    reading) or ``t D_A / x_last`` (the plugin's global ratio, ``x_last`` before the step).
-    Returns the step times ``t`` (s), ``reference_ms`` (reference time minus ``g(t)``),
-    ``curve_ms`` (``f(t) - g(t)``) and their mean magnitudes ``*_mean_abs_ms``.
+    """Where OPW read the recording at each step (``f(t)``, or the plugin's ``t D_A /
+    x_last``) and where its curve was, against g: ``t`` (s), ``reference_ms``,
+    ``curve_ms`` and their mean magnitudes ``*_mean_abs_ms``.
 
     Paper: OPW poster eq. 4; the authors' MotionBuilder plugin.
     Notebook: 13_opw_fig4.ipynb
@@ -513,8 +454,7 @@ def reference_lag(result: dict) -> dict:
 
 
 def summary_row(result: dict, label: str = "") -> list[dict]:
-    """One flat row per method of an :func:`evaluate` result: ``motion, reading, method,
-    offset_s, gamma, mean_ms, max_ms, slope_mean_pct, slope_max_pct, removed``.
+    """One flat row per method of an :func:`evaluate` result.
 
     Paper: OPW poster Fig. 4.
     Notebook: 13_opw_fig4.ipynb
@@ -539,8 +479,8 @@ def summary_row(result: dict, label: str = "") -> list[dict]:
 def sweep(
     motions: dict, offsets=(OFFSET,), gammas=(GAMMA,), omega: float = OMEGA, reading="poster"
 ) -> list:
-    """:func:`evaluate` over every motion (label -> Motion), offset and gamma: the
-    :func:`summary_row` rows, each with ``ms``, its deviation samples.
+    """:func:`summary_row` rows of :func:`evaluate` over every motion, offset and gamma,
+    each with ``ms``, its deviation samples.
 
     Paper: OPW poster Figs. 5 and 6.
     Notebook: 14_opw_fig5_fig6.ipynb
@@ -553,9 +493,8 @@ def sweep(
 
 
 def pooled(rows: list, method: str, **match) -> dict:
-    """The :func:`sweep` rows of one method whose fields equal ``match``, pooled:
-    ``mean_ms`` and ``max_ms`` over all their deviation samples, ``removed`` (mean) and
-    ``n`` (rows).
+    """The :func:`sweep` rows of one method matching ``match``, pooled: ``mean_ms``,
+    ``max_ms``, ``removed`` (mean) and ``n``.
 
     Paper: OPW poster Figs. 5 and 6 ("each offset value was applied to all three motions
     and the results combined").
@@ -594,13 +533,8 @@ def _range(rows, key, digits):
 
 
 def fig4_facts(rows: list, motions: dict, baseline: str = "DTW") -> dict:
-    """The facts of poster Fig. 4 from the :func:`summary_row` rows of every motion (one
-    reading; ``baseline`` stands for the poster's DTW): ours and the poster's.
-
-    ``opw_mean_ms_range``, ``opw_max_ms``, ``dtw_mean_ms_range`` (the baseline's),
-    ``opw_removed_mean``, ``dtw_better_everywhere`` (lower mean deviation than OPW on every
-    motion), ``opw_smoother_everywhere`` (smaller largest slope change), ``baseline``,
-    ``motions``, ``per_motion`` and ``poster``.
+    """The facts of poster Fig. 4, ours and the poster's, from the :func:`summary_row` rows
+    of every motion (one reading; ``baseline`` stands for the poster's DTW).
 
     Paper: OPW poster Section 5 and Fig. 4.
     Notebook: 13_opw_fig4.ipynb
@@ -634,13 +568,8 @@ def fig4_facts(rows: list, motions: dict, baseline: str = "DTW") -> dict:
 def fig5_fig6_facts(
     rows5: list, offsets, rows6: list, gammas, gamma=GAMMA, baseline: str = "DTW"
 ) -> dict:
-    """The facts of poster Figs. 5 and 6 from the :func:`sweep` rows over ``offsets`` at
-    ``gamma`` (Fig. 5) and over ``gammas`` at the poster's offset (Fig. 6).
-
-    The largest offsets whose pooled max / mean deviation stay below 150 ms, the shares
-    removed at gamma 5 % (range and mean over offsets, at 0.25 s), the best gamma (lowest
-    pooled mean deviation) with its share and maximum, the tables ``fig5`` (OPW beside
-    ``baseline``) and ``fig6``, and the ``poster``'s values.
+    """The facts of poster Figs. 5 and 6, ours and the poster's, from the :func:`sweep` rows
+    over ``offsets`` at ``gamma`` (Fig. 5) and over ``gammas`` at the poster's offset (Fig. 6).
 
     Paper: OPW poster Section 5, Figs. 5 and 6.
     Notebook: 14_opw_fig5_fig6.ipynb
@@ -685,10 +614,8 @@ def fig5_fig6_facts(
 
 
 def read_at_table(offset: float = OFFSET, gamma: float = GAMMA) -> list[dict]:
-    """Both readings of where OPW reads the recording (:data:`READ_AT_READINGS`; all else
-    the poster reading) on each of Fig. 4's motions warped by the example curve: per motion
-    and reading ``read_at``, ``motion``, ``opw_mean_ms``, ``opw_max_ms``, ``opw_removed``
-    and ``steps_changed`` (steps with ``s != 1``).
+    """Both :data:`READ_AT_READINGS` on each of Fig. 4's motions: per motion and reading
+    OPW's deviation, share removed and ``steps_changed`` (steps with ``s != 1``).
 
     Paper: OPW poster eq. 4 and Algorithm 1, lines 2-3; Section 4's protocol (Fig. 4).
     Notebook: 13_opw_fig4.ipynb
@@ -719,10 +646,8 @@ READINGS_COLUMNS = ("reading", "motion", "opw_mean_ms", "opw_max_ms", "opw_remov
 
 
 def readings_table(sweeps, gamma: float = GAMMA) -> list[dict]:
-    """Rows (:data:`READINGS_COLUMNS`) per reading and motion, and all motions pooled
-    (``"all"``): OPW at ``gamma``, OPW at its best gamma (lowest mean deviation, the first
-    on ties) and the reading's baseline, from each reading's :func:`sweep` rows over gammas
-    (``sweeps``: (reading, rows) pairs; ``gamma`` must be among the gammas).
+    """Rows (:data:`READINGS_COLUMNS`) per reading and motion and pooled (``"all"``): OPW at
+    ``gamma`` and at its best gamma, and the baseline, from ``(reading, sweep rows)`` pairs.
 
     Paper: OPW poster Section 5, Figs. 4-6; the authors' MotionBuilder plugin.
     Notebook: 14_opw_fig5_fig6.ipynb

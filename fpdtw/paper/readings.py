@@ -1,11 +1,8 @@
 """Readings of Algorithm 3 and the paper's other silent choices: what each one changes.
 
-Notebook 15's analysis, from the results of the ``"study"`` mode (the paper-shaped
-selection) and, for the whole-class comparison, the ``"full"`` mode: per reading of Method
-C's window (:data:`fpdtw.registry.C_READINGS`) the medians, the map's shape and the paper's
-qualitative signature; the mechanism (rest-of-path cost per row offset); each silent
-choice's effect on the headline medians; and Type V read as a mask (ours) or as a choice
-only (:func:`type_v_mask_changes`).
+Notebook 15's analysis of the ``"study"`` (paper-shaped) and ``"full"`` runs, per reading of
+Method C's window (:data:`fpdtw.registry.C_READINGS`); Type V read as a mask (ours) or as a
+choice only (:func:`type_v_mask_changes`).
 
 Paper: FP-DTW Algorithm 3, Section 3.3, Sections 4-6.
 Notebook: 15_readings_of_algorithm_3.ipynb
@@ -53,13 +50,9 @@ def _pair_rows(results, dataset):
 
 
 def map_shape(results, name: str, dataset=None) -> dict:
-    """How an algorithm's maps move through the input, over a dataset's pairs (None: all).
-
-    ``exhausted``: share of the steps taken after the input ran out; ``hold``: share of
-    holds among the steps taken while input remained (both pooled over pairs);
-    ``stick_skip``: median of :func:`fpdtw.metrics.stick_skip_index` (< 0 sticks, > 0
-    skips); ``pairs``.
-    """
+    """How an algorithm's maps move through the input over a dataset's pairs (None: all):
+    ``exhausted`` and ``hold`` shares of the steps (pooled), median ``stick_skip``
+    (:func:`fpdtw.metrics.stick_skip_index`), ``pairs``."""
     arr = results.get(name)
     m_all, _ = results.frames(name)
     offsets = np.asarray(arr["offsets"], dtype=np.int64)
@@ -99,8 +92,7 @@ def _passes(similarity, deviation, utw_similarity, rate=120) -> tuple[bool, bool
 
 
 def benchmarks(results, dataset=None, rate: int = 120) -> dict:
-    """The paper's two benchmarks at a rate: ``similarity``, UTW's median over a dataset's
-    pairs (pass: strictly above), and ``deviation``, 150 ms in frames (pass: strictly below).
+    """The paper's benchmarks at a rate: ``similarity`` (UTW's median), ``deviation`` (frames).
 
     Paper: FP-DTW Sections 4 and 5.
     Notebook: 15_readings_of_algorithm_3.ipynb
@@ -113,12 +105,8 @@ def benchmarks(results, dataset=None, rate: int = 120) -> dict:
 
 def readings_table(results, datasets=(None,)) -> list[dict]:
     """Every reading of Algorithm 3 at every w, with and without Type V, per dataset (None:
-    every pair) and rate, from a ``"study"`` run (names of :func:`reading_name`).
-
-    Rows of ``dataset``, ``rate_hz``, ``reading``, ``w``, ``type_v``, ``algorithm``, the
-    medians ``similarity`` and ``deviation`` (frames), ``passes_similarity``,
-    ``passes_deviation`` and the :func:`map_shape` keys; DTW's row (reading ``"DTW"``, the
-    reference hold share) comes first per dataset and rate.
+    every pair) and rate, from a ``"study"`` run: medians, verdicts and :func:`map_shape`;
+    DTW's row (reading ``"DTW"``) first per dataset and rate.
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
@@ -151,12 +139,8 @@ def _best_w(rows, rate):
 
 
 def reading_signature(rows, dataset: str = "all") -> list[dict]:
-    """The paper's qualitative signature of Method C per reading, from :func:`readings_table`.
-
-    Per reading: ``best_w_120``, ``best_w_60`` (highest median similarity without Type V),
-    ``w10_stick_skip``, ``w80_stick_skip``, ``w40_passes_both``, ``pass_both`` (every
-    configuration at 120 Hz passing both benchmarks) and ``exhausted`` (mean over w at
-    120 Hz, without Type V); :data:`PAPER_SIGNATURE` gives the paper's.
+    """The paper's qualitative signature of Method C per reading, from :func:`readings_table`
+    (the paper's: :data:`PAPER_SIGNATURE`).
 
     Paper: FP-DTW Section 5, Table 1, Figs. 5-7.
     Notebook: 15_readings_of_algorithm_3.ipynb
@@ -205,18 +189,11 @@ PAPER_SIGNATURE = dict(
 )
 
 
-# -- the mechanism -----------------------------------------------------------------------------
-
-
 def mechanism_profile(pairs, w: int = 40, readings=("literal", "square")) -> dict:
-    """Rest-of-path cost ``f(r) = D[r, 0] - C[r, 0]`` per row offset r, in the full-size
-    Method C windows of some (input, target) pairs.
-
-    In the literal window ``f(0)`` carries one cell more than every other ``f(r)``,
-    whatever the motion; in the square window it does not. Per reading: ``r`` (int
-    (rows,)), ``mean_f`` (float64 (rows,), mean over steps), ``excess`` (median ``f(0) -
-    f(1)``), ``neighbour`` (median ``|C[r, 0] - C[r+1, 0]|``), ``hold`` (share of steps that
-    held), ``best_row0`` (share where ``C[0, 0]`` was column 0's smallest), ``steps``.
+    """Rest-of-path cost ``f(r) = D[r, 0] - C[r, 0]`` per row offset r in the full-size
+    Method C windows of some pairs (the literal window's ``f(0)`` carries one cell more).
+    Per reading: ``r`` int (rows,), ``mean_f`` float64 (rows,), medians ``excess`` (``f(0) -
+    f(1)``) and ``neighbour``, shares ``hold`` and ``best_row0``, ``steps``.
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
@@ -252,18 +229,10 @@ def mechanism_profile(pairs, w: int = 40, readings=("literal", "square")) -> dic
     return out
 
 
-# -- silent choices ---------------------------------------------------------------------------
-
-
 def choice_values(results, name: str, variant: str, features=None) -> dict:
-    """Per-pair scores of ``name`` under a metric-side silent choice: metric -> float64
-    (P,) in ``results.pairs`` order, for the metrics it changes.
-
-    ``variant`` (:data:`fpdtw.paper.runner.grid.SILENT_CHOICES`): ``"deviation_frames"``,
-    eq. 3 over all target frames; ``"flat_axis"``, eq. 2 leaving out an axis flat in one
-    motion; ``"after_input"``, both scores only up to the first target frame mapped to the
-    last input frame. The choices of eq. 2 need ``features(k) -> (I, T)``.
-    """
+    """Per-pair scores of ``name`` under a metric-side silent choice ``variant``
+    (:data:`fpdtw.paper.runner.grid.SILENT_CHOICES`): metric -> float64 (P,), for the
+    metrics it changes; the choices of eq. 2 need ``features(k) -> (I, T)``."""
     arr = results.get(name)
     dtw = results.get("DTW" + ("@60Hz" if name.endswith("@60Hz") else ""))
     offsets, maps = np.asarray(arr["offsets"]), np.asarray(arr["maps"], dtype=np.int64)
@@ -308,17 +277,14 @@ def _choice_medians(results, name, features, variant):
 
 
 def silent_choice_rows(results, features=None) -> tuple[list[dict], list[dict]]:
-    """How much each silent choice moves the headline medians (120 Hz, a ``"study"`` run).
-
-    ``features(k) -> (I, T)`` (pair k at 120 Hz) is needed by the metric-side choices of
-    eq. 2 and of scoring after the input ran out; without it their rows are left out.
+    """How much each silent choice moves the headline medians (120 Hz, a ``"study"`` run);
+    without ``features`` (:func:`choice_values`) the metric-side choices are left out.
 
     Returns
     -------
     summary : list of dict
-        Per choice: ``choice``, ``ours``, ``alternative``, ``touches`` (algorithms),
-        ``max_d_similarity``, ``max_d_deviation`` (largest change of a median) and
-        ``verdicts_changed`` (algorithms whose pass/fail of a benchmark flips).
+        Per choice: ``choice``, ``ours``, ``alternative``, ``touches``, the largest change
+        of each median ``max_d_*`` and ``verdicts_changed``.
     detail : list of dict
         Per choice and algorithm: the medians under ours and the alternative.
 
@@ -383,9 +349,8 @@ HEADLINE_NAMES = (
 
 
 def selection_rows(full, study, names=HEADLINE_NAMES) -> list[dict]:
-    """Headline medians (120 Hz) of the ``"full"`` and ``"study"`` (paper-shaped) runs side by
-    side: per algorithm ``similarity_<tag>``, ``deviation_<tag>`` and ``passes_<tag>``
-    ("both", "similarity", "deviation" or "neither") for tags ``full`` and ``paper_shaped``.
+    """Headline medians (120 Hz) and verdicts of the ``"full"`` and ``"study"`` runs side by
+    side (tags ``full`` and ``paper_shaped``).
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
@@ -407,11 +372,8 @@ def selection_rows(full, study, names=HEADLINE_NAMES) -> list[dict]:
 
 
 def choice_only_type_v_c(I, T, w: int) -> np.ndarray:
-    """Method C + Type V read as a choice only: int64 map (T.n_frames,).
-
-    Type V as implemented (:func:`fpdtw.plain.method_c_step`) masks ``C[r, 0]`` of the rows
-    it does not allow before the reverse accumulation; this reading leaves the costs alone
-    and takes the lowest ``D[r, 0]`` among the allowed rows (ties: the lowest row).
+    """Method C + Type V read as a choice only, int64 map (T.n_frames,): the costs left
+    unmasked (ours, :func:`fpdtw.plain.method_c_step`, masks them), the lowest allowed ``D[r, 0]``.
 
     Paper: FP-DTW Section 6 (Type V), Algorithm 3.
     """
@@ -431,9 +393,8 @@ def choice_only_type_v_c(I, T, w: int) -> np.ndarray:
 
 
 def type_v_mask_changes(pairs, windows=WINDOWS) -> list[dict]:
-    """How many maps of some (input, target) pairs Type V's mask changes against the
-    choice-only reading: per window ``w``, ``pairs``, ``maps_differ`` and ``frames_differ``
-    (target frames mapped differently, summed).
+    """How many maps (and target frames) Type V's mask changes against the choice-only
+    reading, per window ``w``.
 
     Paper: FP-DTW Section 6 (Type V), Algorithm 3.
     """
