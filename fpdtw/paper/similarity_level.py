@@ -1,12 +1,8 @@
 """Why our eq. 2 scores sit above the paper's: the stored maps rescored under each reading.
 
-Each reading of :data:`READINGS` changes ONE of eq. 2's open details from ours (local
-rotations, the axis (0, 1, 0), Kendall tau-b, an axis flat in one motion scoring 0, every
-target frame). The maps a finished run stored are rescored (no aligner runs again) on the
-motions loaded again from the catalog (the run's feature cache lacks the skeleton); the
-``ours`` row must give back the stored scores. :func:`similarity_level_rows` makes notebook
-17's table; :func:`reading_values` rescores every algorithm of a run under one reading, so
-the claims can be read under it (docs/eq2_reading.md).
+Each reading of :data:`READINGS` changes ONE of eq. 2's open details from ours; the maps a
+finished run stored are rescored on the motions loaded again from the catalog, and ``ours``
+must give back the stored scores (docs/eq2_reading.md).
 
 Paper: FP-DTW eq. 2, Table 1.
 """
@@ -80,8 +76,8 @@ READINGS = (
 
 
 def _motion_arrays(record, crop, fps=BASE_FPS, frames=TRAJECTORY_FRAMES) -> dict:
-    """The paper's joints' rotations in some frames, their bone directions and the name of
-    a motion, resampled and cropped as the run did (120 Hz, crop, then ``fps``)."""
+    """A motion's paper joints' rotations per frame kind, ``"bone"`` and ``"name"``, as the
+    run loaded it (120 Hz, crop, then ``fps``)."""
     motion = catalog.load(record)
     if abs(motion.fps - BASE_FPS) > 1e-6:
         motion = motion.resample(BASE_FPS)
@@ -105,8 +101,7 @@ def _load(plan, index, crop, progress, desc, fps=BASE_FPS, frames=TRAJECTORY_FRA
 
 
 def _plan(results) -> tuple:
-    """The run's pair selection, the ``(input, target)`` motion indices of its pairs and its
-    crop."""
+    """The run's pair selection, its pairs' ``(input, target)`` motion indices, its crop."""
     selection = Selection(
         **{k: tuple(v) if isinstance(v, list) else v for k, v in results.selection.items()}
     )
@@ -134,10 +129,8 @@ def pair_arrays(results, k: int) -> tuple:
 
 def rescore(results, readings=READINGS, algorithms=LEVEL_ALGORITHMS, progress=True) -> dict:
     """Per-pair eq. 2 of a run's stored maps (120 Hz) under each reading:
-    ``scores[reading.name][algorithm]``, float64 (P,) in ``results.pairs`` order.
-
-    Raises ValueError when ``ours`` does not give back the run's stored scores (the motions
-    loaded again differ from those the run aligned).
+    ``scores[reading.name][algorithm]``, float64 (P,); ValueError when ``ours`` differs
+    from the stored scores.
 
     Paper: FP-DTW eq. 2.
     """
@@ -164,9 +157,8 @@ RESCORE_FORMAT = 1
 
 
 def _algorithm_scores(r: Reading, stored, arrays: dict, index: list, pause_fps=None):
-    """Eq. 2 of every stored map of one algorithm under reading ``r`` (``arrays``: motion
-    index -> :func:`_motion_arrays`; ``pause_fps``: the rate, when the algorithm ran on the
-    targets with :func:`fpdtw.pause.insert_pause`'s pause)."""
+    """Eq. 2 of every stored map of one algorithm under reading ``r`` (``pause_fps``: the
+    rate, when it ran on paused targets)."""
     out = np.empty(len(index))
     for k, (i, t) in enumerate(index):
         T = arrays[t]
@@ -187,16 +179,12 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
     """Per-pair eq. 2 of every algorithm of a run under one reading (a name of
     :data:`READINGS`), for :class:`~fpdtw.paper.claims.evidence.Evidence`.
 
-    Motions are loaded as the run loaded them (60 Hz for ``"@60Hz"`` names; a ``"@pause"``
-    name's targets get their pause), once per rate; each algorithm is rescored on its first
-    request and kept in ``results.folder/rescored/<reading>/<slug>.<key>.npy``, ``key`` a
-    sha256 of :data:`RESCORE_FORMAT`, the reading, the name, the crop, the pair ids, the
-    motions' data hashes and the stored maps (a changed run never reads a stale file; a
-    change to the code that computes eq. 2 needs :data:`RESCORE_FORMAT` bumped).
+    Each algorithm is rescored on first request and cached in
+    ``results.folder/rescored/<reading>/<slug>.<key>.npy``, ``key`` a sha256 of all it
+    depends on (a change to eq. 2's code needs :data:`RESCORE_FORMAT` bumped).
 
     Returns ``values(name, metric)``: for ``"similarity"`` float64 (P,) in ``results.pairs``
-    order, else None (eq. 3 does not depend on the reading); KeyError for an unknown
-    reading or name, ValueError when the stored pairs are not ``results.pairs``.
+    order, else None (eq. 3 does not depend on the reading).
 
     Paper: FP-DTW eq. 2.
     """
@@ -250,9 +238,8 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
 
 def similarity_level_rows(results, scores=None, progress=True) -> list[dict]:
     """Notebook 17's table: median eq. 2 of UTW, DTW and Mc w40 per reading and dataset
-    (``all``, then each), beside the paper's (``scores``: :func:`rescore`'s, computed when
-    missing): rows of ``reading``, ``changes``, ``dataset``, ``pairs``, ``UTW``, ``DTW``,
-    ``Mc w40``, ``UTW - Mc w40``, ``paper UTW``, ``paper Mc w40``.
+    (``all``, then each) beside the paper's (``scores``: :func:`rescore`'s, computed when
+    missing).
 
     Paper: FP-DTW eq. 2, Table 1.
     Notebook: 17_similarity_level.ipynb
@@ -268,20 +255,11 @@ def similarity_level_rows(results, scores=None, progress=True) -> list[dict]:
             continue
         for d, mask in groups:
             med = {a: float(np.nanmedian(scores[r.name][a][mask])) for a in LEVEL_ALGORITHMS}
-            rows.append(
-                dict(
-                    reading=r.name,
-                    changes=r.changes,
-                    dataset=d,
-                    pairs=int(mask.sum()),
-                    **{a: round(v, 3) for a, v in med.items()},
-                    **{
-                        "UTW - Mc w40": round(med["UTW"] - med["Mc w40"], 3),
-                        "paper UTW": PAPER_TABLE1["UTW"],
-                        "paper Mc w40": PAPER_TABLE1["Mc w40"],
-                    },
-                )
-            )
+            row = dict(reading=r.name, changes=r.changes, dataset=d, pairs=int(mask.sum()))
+            row |= {a: round(v, 3) for a, v in med.items()}
+            row["UTW - Mc w40"] = round(med["UTW"] - med["Mc w40"], 3)
+            row["paper UTW"], row["paper Mc w40"] = PAPER_TABLE1["UTW"], PAPER_TABLE1["Mc w40"]
+            rows.append(row)
     return rows
 
 
@@ -301,9 +279,8 @@ NEAR = 0.05
 
 
 def level_comparison(rows, dataset: str = "all") -> list[dict]:
-    """``paper | ours`` rows (:func:`~fpdtw.paper.figures.paper_vs_ours.side_by_side`):
-    UTW's and Mc w40's median eq. 2 under each reading beside Table 1, and whether within
-    :data:`NEAR` of it. Values only: the claims decide nothing here.
+    """``paper | ours`` rows: UTW's and Mc w40's median eq. 2 under each reading beside
+    Table 1, and whether within :data:`NEAR` of it.
 
     Paper: FP-DTW Table 1 (120 Hz: UTW and Mc w40), eq. 2.
     Notebook: 17_similarity_level.ipynb
