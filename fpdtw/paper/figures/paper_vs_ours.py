@@ -1,10 +1,6 @@
-"""Paper | ours: the paper's values next to ours, printed after the notebooks' figures.
-
-The paper's side is always read from :mod:`fpdtw.paper.numbers`, never retyped. These rows
-carry no verdict of their own: the claims (:mod:`fpdtw.paper.claims`) decide, and where
-``ours`` quotes a verdict (a median passing a benchmark, a Table 1 cell) it is the claims'
-check. Every function returns rows with the keys :data:`COLUMNS`, rounded so that a SMOKE
-run prints the same text every time.
+"""Paper | ours: the paper's values (from :mod:`fpdtw.paper.numbers`) next to ours, printed
+after the notebooks' figures; rows of :data:`COLUMNS` with no verdict of their own (a verdict
+quoted in ``ours`` is the claims').
 """
 
 from __future__ import annotations
@@ -28,7 +24,7 @@ def _rows(*triples) -> list[dict]:
 
 
 def format_side_by_side(rows, title: str | None = None) -> str:
-    """The rows as a fixed-width text table with the header ``quantity | paper | ours``.
+    """The rows as a fixed-width text table.
 
     Notebook: 07_table1_60hz.ipynb
     """
@@ -48,8 +44,7 @@ def _side(ok: bool) -> str:
 
 
 def data_comparison(summary_rows) -> list[dict]:
-    """Section 4's data beside ours (:func:`fpdtw.paper.catalog.summary_rows`): motions per
-    dataset and in all, movements (claim 9 decides).
+    """Section 4's data beside ours (:func:`fpdtw.paper.catalog.summary_rows`).
 
     Paper: FP-DTW Section 4.
     Notebook: 01_data_and_motions.ipynb
@@ -89,8 +84,7 @@ def oedtw_comparison(facts: dict, label: str = "OE-DTW") -> list[dict]:
 
 
 def windows_comparison(step_a, steps_b, step_c) -> list[dict]:
-    """Figs. 2 and 4: what Algorithms 1-3 prescribe, beside the plain steps drawn (a Method
-    A and a Method C window step; Fig. 4's Method B steps, None where none was found).
+    """Figs. 2 and 4: what Algorithms 1-3 prescribe, beside the plain steps drawn.
 
     Paper: FP-DTW Algorithms 1-3, Figs. 2 and 4.
     Notebook: 03_fig2_fig4_windows.ipynb
@@ -122,9 +116,8 @@ def windows_comparison(step_a, steps_b, step_c) -> list[dict]:
 
 
 def forecast_comparison(curves: dict, levels, ahead=(1, 10), short=(1, 10)) -> list[dict]:
-    """Fig. 3 (:func:`.forecast.forecast_curves`): dead reckoning's best level per horizon
-    of ``ahead``; per horizon of ``short`` its error at s = 2 beside the other forecasters'
-    best.
+    """Fig. 3: dead reckoning's best level per horizon of ``ahead``; per horizon of ``short``
+    its error at s = 2 beside the other forecasters' best.
 
     Paper: FP-DTW Section 3.2 and Fig. 3.
     Notebook: 04_fig3_forecast.ipynb
@@ -148,8 +141,7 @@ def forecast_comparison(curves: dict, levels, ahead=(1, 10), short=(1, 10)) -> l
 
 
 def paper_passes(name: str, metric: str):
-    """Whether the paper says an FP-DTW algorithm's median passes a benchmark (None where
-    it does not say: the "+ Type V" algorithms that do not pass both).
+    """Whether the paper says an FP-DTW algorithm's median passes a benchmark (None: unsaid).
 
     Paper: FP-DTW Sections 5 and 7.
     """
@@ -163,9 +155,8 @@ def paper_passes(name: str, metric: str):
 
 
 def benchmark_comparison(summary_rows, metric: str) -> list[dict]:
-    """Figs. 5 / 6: per FP-DTW algorithm of :func:`.scores.score_summary`, the claims'
-    verdict on its median passing the benchmark (with its 95 % interval) beside
-    :func:`paper_passes`; the first row is the benchmark.
+    """Figs. 5 / 6: the benchmark, then per FP-DTW algorithm of :func:`.scores.score_summary`
+    the claims' verdict on its median beside :func:`paper_passes`.
 
     Paper: FP-DTW Figs. 5 and 6, Sections 5-7.
     Notebook: 06_fig5_fig6_scores.ipynb
@@ -196,8 +187,7 @@ def benchmark_comparison(summary_rows, metric: str) -> list[dict]:
 
 
 def table1_comparison(rows, source: str = "ours") -> list[dict]:
-    """Table 1 cell by cell (:func:`.scores.table1_rows` of ``source``): each window's median
-    and its side of UTW's, with the claims' check where given, and the best window.
+    """Table 1 cell by cell (:func:`.scores.table1_rows` of ``source``), and the best window.
 
     Paper: FP-DTW Table 1.
     Notebook: 07_table1_60hz.ipynb
@@ -227,9 +217,9 @@ def _imbalance(b: dict) -> float:
 
 
 def heatmap_comparison(balance: dict) -> list[dict]:
-    """Figs. 7 and 10 in words, from :func:`.heatmaps.path_balance` per algorithm: "sticks"
-    (more mass below the diagonal band than above), "skips", "balanced" (the smallest
-    ``|below - above|`` of its method's windows); Type V's share near the diagonal.
+    """Figs. 7 and 10 in words, from :func:`.heatmaps.path_balance` per algorithm: "sticks",
+    "skips" or "balanced" (smallest ``|below - above|`` of its method's windows); Type V's
+    share near the diagonal.
 
     Paper: FP-DTW Section 5 (Fig. 7), Section 6 (Fig. 10).
     Notebook: 08_fig7_fig10_heatmaps.ipynb
@@ -263,8 +253,7 @@ def heatmap_comparison(balance: dict) -> list[dict]:
 
 
 def timing_comparison(rows) -> list[dict]:
-    """Table 2 cell by cell, values only (:func:`.timing.time_per_frame_rows`; claims 4 and
-    4b decide): the mean time per frame of each unconstrained Method B and C window.
+    """Table 2: the mean time per frame of each unconstrained Method B and C window.
 
     Paper: FP-DTW Table 2.
     Notebook: 09_table2_timing.ipynb
@@ -281,8 +270,7 @@ def timing_comparison(rows) -> list[dict]:
 
 def walk_pair_comparison(rows) -> list[dict]:
     """Fig. 8 (:func:`.walk_pair.pair_scores`): the deviation from DTW and its side of 18
-    frames, ours beside the paper's (another pair: claim 8, not comparable); a literal
-    window row beside the paper's number of its window.
+    frames, ours (another pair) beside the paper's.
 
     Paper: FP-DTW Section 5 (Fig. 8).
     Notebook: 10_fig8_walk_pair.ipynb
@@ -300,8 +288,7 @@ def walk_pair_comparison(rows) -> list[dict]:
 
 
 def typev_comparison(legal: bool, accepted: bool, free_legal: bool, n_states: int) -> list[dict]:
-    """Fig. 9: the state table's size, and whether the Ma + Type V map is legal by it and by
-    dtw-python, and unconstrained Ma's.
+    """Fig. 9: the state table's size; whether the Ma (+ Type V) maps are legal Type V paths.
 
     Paper: FP-DTW Section 6, Fig. 9.
     Notebook: 11_fig9_typev.ipynb
@@ -316,8 +303,7 @@ def typev_comparison(legal: bool, accepted: bool, free_legal: bool, n_states: in
 
 
 def opw_fig4_comparison(facts: dict) -> list[dict]:
-    """Poster Fig. 4 (:func:`fpdtw.paper.opw_eval.fig4_facts`): OPW's deviation from the
-    example warp, against the baseline's and in smoothness (claim P1 decides).
+    """Poster Fig. 4 (:func:`fpdtw.paper.opw_eval.fig4_facts`): OPW against the baseline.
 
     Paper: OPW poster Section 5, Fig. 4.
     Notebook: 13_opw_fig4.ipynb
@@ -337,8 +323,8 @@ def opw_fig4_comparison(facts: dict) -> list[dict]:
 
 
 def live_comparison(deviations: dict) -> list[dict]:
-    """A live replay: each aligner's deviation from DTW (eq. 3) on this one pair, against
-    18 frames; the paper's column says whether the paper recommends it (Section 7).
+    """A live replay: each aligner's deviation from DTW (eq. 3) on one pair, against 18
+    frames, beside whether the paper recommends it.
 
     Paper: FP-DTW Section 7, eq. 3.
     Notebook: 20_align_a_live_performance.ipynb

@@ -1,14 +1,8 @@
 """Fig. 8: one walk pair aligned by DTW and the FP-DTW methods, and the pair itself.
 
-The paper's Fig. 8 aligns two walks (its unidentified "sample 3239") with DTW, Mb w80, Mc
-w20, Mc w40 and Mc w80 and shows (a) the paths over DTW's accumulated cost, (b) the right
-hip's curves, (c) poses in side elevation. We use the authors' walk pair ``Walk_01 ->
+The paper's pair is its unidentified "sample 3239"; we use the authors' ``Walk_01 ->
 Walk_02``, chosen in 578ff6e (2026-11-21) before any alignment figure or claims table was
 committed (docs/history.md); the same pair draws Figs. 1, 2 and 4.
-
-:func:`fig8_statements` tests the paper's three words about its pair (Mc w20 fails, Mc w80
-skips a walk cycle, Mb w80 stays within the benchmark) on each of our six walk pairs, by
-rules fixed from the paper's words before any walk pair was aligned by them.
 """
 
 from __future__ import annotations
@@ -54,8 +48,7 @@ FBX_SIDE_VIEW = (2, 1)
 
 
 def load_walk_pair(smoke: bool = False, seconds: float = SMOKE_SECONDS):
-    """The walk pair's motions, input ``Walk_01`` first (120 Hz); cropped to ``[0, seconds]``
-    in smoke runs.
+    """The walk pair's motions, input first (120 Hz); cropped to ``seconds`` in smoke runs.
 
     Paper: FP-DTW Fig. 8 (a walk pair; ours is the authors' Walk_01 -> Walk_02).
     Notebook: 02_fig1_oedtw.ipynb, 10_fig8_walk_pair.ipynb
@@ -82,8 +75,7 @@ def align_all(I: MotionFeatures, T: MotionFeatures, names) -> dict:
 
 
 def pair_scores(I: MotionFeatures, T: MotionFeatures, maps: dict):
-    """Per map: ``algorithm``, ``deviation`` from DTW's (eq. 3), ``paper_deviation`` (None
-    where the paper gives none) and ``similarity`` (eq. 2).
+    """Per map: ``algorithm``, ``deviation`` from DTW's, ``paper_deviation``, ``similarity``.
 
     Paper: FP-DTW eqs. 2 and 3, Section 5 (Fig. 8 deviations 8, 177, 62, 6 frames).
     Notebook: 10_fig8_walk_pair.ipynb
@@ -102,8 +94,7 @@ def pose_frames(n_frames: int, k: int = 5) -> np.ndarray:
 
 
 def plot_paths_over_cost(D, maps: dict, ax=None, names=("", "")):
-    """Fig. 8 (a): each map over DTW's accumulated cost ``D`` (m + 1, n + 1); ``names``: the
-    input's and the target's, for the axis labels.
+    """Fig. 8 (a): each map over DTW's accumulated cost ``D`` (m + 1, n + 1).
 
     Paper: FP-DTW Fig. 8 (paths over the accumulated cost heat map).
     Notebook: 10_fig8_walk_pair.ipynb
@@ -124,9 +115,8 @@ def plot_paths_over_cost(D, maps: dict, ax=None, names=("", "")):
 
 
 def plot_joint_curves(I: MotionFeatures, T: MotionFeatures, maps: dict, joint=1):
-    """Fig. 8 (b): a joint's unwrapped Euler angles (degrees) over target frames, the
-    target's on top, then the input's warped by each map (``I.euler[M]``). Joint 1 is the
-    right hip of :data:`fpdtw.motion.joints.PAPER_JOINTS`.
+    """Fig. 8 (b): a joint's Euler angles (degrees; joint 1 the right hip) over target
+    frames, the target's on top, then the input's warped by each map.
 
     Paper: FP-DTW Fig. 8 (right-hip motion curves).
     Notebook: 10_fig8_walk_pair.ipynb
@@ -157,10 +147,8 @@ def plot_joint_curves(I: MotionFeatures, T: MotionFeatures, maps: dict, joint=1)
 
 
 def plot_aligned_poses(mI, mT, maps: dict, frames):
-    """Fig. 8 (c): poses at a few target ``frames``, the target's on top, then the input's
-    at each map's frame, in side elevation, each relative to its root's horizontal position.
-
-    Returns ``fig, axes`` with ``axes[r, c]``: row r (0 = target) at ``frames[c]``.
+    """Fig. 8 (c): poses at target ``frames`` (columns), the target's on top, then the
+    input's at each map's frame (rows), in side elevation, root-centred horizontally.
 
     Paper: FP-DTW Fig. 8 (character poses, side elevation).
     Notebook: 10_fig8_walk_pair.ipynb
@@ -207,8 +195,7 @@ def plot_aligned_poses(mI, mT, maps: dict, frames):
 
 def walk_pairs() -> list:
     """Every ordered pair (input, target) of distinct takes of the authors' ``Walk``
-    movement: the runner's rule for pairs, on the movement Fig. 8 is an example of (three
-    takes here, so six pairs, ``Walk_01 -> Walk_02`` first).
+    movement (six pairs, ``Walk_01 -> Walk_02`` first).
 
     Paper: FP-DTW Section 5, Fig. 8.
     """
@@ -219,11 +206,9 @@ def walk_pairs() -> list:
 
 
 def gait_cycle(F: MotionFeatures) -> tuple[int, str]:
-    """One gait cycle of a walk in its own frames, and its source.
-
-    ``"autocorrelation"``: the dominant period of the joint trajectories
-    (:func:`fpdtw.period.dominant_period`, committed in cbb3316 for Q1); where it finds none
-    (a smoke run's 2 s), ``"paper's gait"``: the middle of the paper's 0.82-0.9 Hz.
+    """One gait cycle of a walk in its own frames, and its source: ``"autocorrelation"``
+    (:func:`fpdtw.period.dominant_period`, committed in cbb3316 for Q1) or, where it finds
+    none, ``"paper's gait"`` (the middle of 0.82-0.9 Hz).
 
     Paper: FP-DTW Section 4 (walking gait 0.82-0.9 Hz).
     """
@@ -234,8 +219,8 @@ def gait_cycle(F: MotionFeatures) -> tuple[int, str]:
 
 
 def walk_pair_cases(smoke: bool = False, seconds: float = SMOKE_SECONDS) -> list:
-    """Every walk pair (:func:`walk_pairs`) aligned by the algorithms
-    :func:`fig8_statements` judges, with each motion's gait cycle: its input.
+    """Every walk pair aligned by the algorithms :func:`fig8_statements` judges, with
+    each motion's gait cycle.
 
     Notebook: 10_fig8_walk_pair.ipynb
     """
@@ -255,9 +240,8 @@ def walk_pair_cases(smoke: bool = False, seconds: float = SMOKE_SECONDS) -> list
 
 
 def _longest_early_hold(M, m: int, before: float) -> tuple[int, int]:
-    """``(length, start)`` of the longest run of one input frame other than the last, m,
-    over consecutive target frames, among the runs starting before target frame ``before``;
-    ``(0, -1)`` when there is none."""
+    """``(length, start)`` of the longest hold on an input frame other than m starting
+    before target frame ``before``; ``(0, -1)`` if none."""
     M = np.asarray(M)
     edges = np.flatnonzero(np.diff(M) != 0) + 1
     starts = np.concatenate([[0], edges])
@@ -274,23 +258,20 @@ def fig8_statements(cases) -> list[dict]:
 
     Section 5: "*Mc w80* skips a walk cycle, while the *Mc w20* complete fails, sticking on
     an input frame early in the alignment", and only *Mb w80* and *Mc w40* below 18 frames.
-    Each statement is measured against DTW's map of the pair by its rule in
-    :data:`FIG8_STATEMENT_RULES`, fixed from those words before any walk pair was aligned
-    ("early": a hold starting before ``n / 3``; a hold on the input's last frame is the
-    input run out, not a stick; gait cycles from :func:`gait_cycle`).
+    Each is measured against DTW's map by its rule in :data:`FIG8_STATEMENT_RULES`, fixed
+    from those words before any walk pair was aligned ("early": starting before ``n / 3``).
 
     Parameters
     ----------
     cases : iterable of dict
-        :func:`walk_pair_cases`: ``pair``, ``maps`` (DTW, Mb w80, Mc w20, Mc w80),
-        ``input_cycle``, ``target_cycle`` and optionally ``m`` (the input's last frame,
-        default the largest frame any map reaches).
+        :func:`walk_pair_cases`; ``m`` (the input's last frame) defaults to the largest
+        frame any map reaches.
 
     Returns
     -------
     rows : list of dict
-        Per pair the four statements: ``pair``, ``statement``, ``value``, ``threshold``,
-        ``unit``, ``holds``.
+        Per pair and statement: ``pair``, ``statement``, ``value``, ``threshold``, ``unit``,
+        ``holds``.
 
     Paper: FP-DTW Section 5 (the text on Fig. 8) and eq. 3.
     Notebook: 10_fig8_walk_pair.ipynb
