@@ -1,11 +1,6 @@
 """Figures of the OPW poster: warp curves (Fig. 4), deviation vs offset (Fig. 5), vs gamma (Fig. 6).
 
-Every function takes :func:`fpdtw.paper.opw_eval.evaluate` results or
-:func:`fpdtw.paper.opw_eval.sweep` rows and draws, never saves. Each figure carries a
-footnote (a figure text, gid ``"opw_note"``) saying what its lines, boxes and whiskers are
-and which clips it shows: stand-ins for the poster's two-person CMU clips chosen by a fixed
-rule (:data:`fpdtw.paper.opw_eval.FIG4_MOTIONS`), except the hand shake, the poster's own
-source take.
+Each figure carries a footnote (gid ``"opw_note"``) saying what it draws and which clips.
 """
 
 from __future__ import annotations
@@ -25,8 +20,7 @@ COLORS = {"example": "black", "DTW": "tab:blue", "best match": "tab:green", "OPW
 
 
 def clips_note(labels=None) -> str:
-    """Which clips an OPW figure shows (motion labels of
-    :data:`fpdtw.paper.opw_eval.FIG4_MOTIONS`, default all), in words.
+    """Which clips an OPW figure shows (labels of ``FIG4_MOTIONS``, default all), in words.
 
     Paper: OPW poster Section 4 (three CMU two-person clips, cropped to 2.5 s).
     """
@@ -136,8 +130,7 @@ def plot_slope_change(result: dict, ax=None):
 
 
 def plot_fig4(results: list, labels=None):
-    """Poster Fig. 4: one column per motion (titled ``labels``, default the names): warp
-    curves, deviation, slope change; with the footnote.
+    """Poster Fig. 4: one column per motion: warp curves, deviation, slope change.
 
     Paper: OPW poster Fig. 4.
     Notebook: 13_opw_fig4.ipynb
@@ -201,9 +194,8 @@ def _boxes(ax, groups, positions, color, width):
 
 
 def plot_deviation_vs_offset(rows: list, ax=None, *, baseline: str = "DTW", note=True):
-    """Poster Fig. 5: deviation against the example's offset, ``baseline`` (``"DTW"`` or the
-    plugin reading's ``"best match"``) and OPW, one box per offset over every motion's 50 Hz
-    samples pooled, a line through the means; ``note``: the footnote.
+    """Poster Fig. 5: deviation of ``baseline`` and OPW against the example's offset, one box
+    per offset over every motion's 50 Hz samples pooled, a line through the means.
 
     Paper: OPW poster Fig. 5.
     Notebook: 14_opw_fig5_fig6.ipynb
@@ -235,8 +227,7 @@ def plot_deviation_vs_offset(rows: list, ax=None, *, baseline: str = "DTW", note
 
 
 def plot_deviation_vs_gamma(rows: list, ax=None):
-    """Poster Fig. 6: OPW's deviation against gamma, one box per gamma over every motion's
-    50 Hz samples pooled, lines through the means (solid) and maxima (dashed).
+    """Poster Fig. 6: OPW's deviation against gamma, boxes as :func:`plot_deviation_vs_offset`.
 
     Paper: OPW poster Fig. 6.
     Notebook: 14_opw_fig5_fig6.ipynb
@@ -263,12 +254,8 @@ def plot_deviation_vs_gamma(rows: list, ax=None):
 
 
 def plot_readings(sweeps, ax=None):
-    """OPW's pooled deviation against gamma under each reading, beside the poster's numbers.
-
-    ``sweeps``: ``(OPWReading, sweep rows)`` pairs. Per reading the pooled mean (solid) and
-    maximum (dashed) (:func:`fpdtw.paper.opw_eval.pooled`); the poster's mean range at gamma
-    5 % (a bar) and maximum (a cross); 150 ms. Log axis: the readme direction diverges by an
-    order of magnitude.
+    """OPW's pooled deviation against gamma under each reading (``(OPWReading, sweep rows)``
+    pairs), beside the poster's numbers; log axis.
 
     Paper: OPW poster Figs. 4 and 6; the authors' MotionBuilder plugin.
     Notebook: 14_opw_fig5_fig6.ipynb
@@ -306,9 +293,8 @@ def plot_readings(sweeps, ax=None):
 def plot_curve_construction(curve, ax=None, *, window=None, relative=False, label=None):
     """A warp curve with its keys and Bezier control polygons (poster Fig. 2, Table 1).
 
-    ``window``: the live-time range shown (default all); ``relative``: plot ``t' - t`` (a
-    linear shear, so handles stay collinear through their key, and small warps show);
-    ``label``: the motion, whose clip the footnote names.
+    ``window``: the live-time range shown; ``relative``: plot ``t' - t``; ``label``: the
+    motion, whose clip the footnote names.
 
     Paper: OPW poster Fig. 2 and Table 1.
     Notebook: 13_opw_fig4.ipynb

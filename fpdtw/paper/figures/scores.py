@@ -1,10 +1,7 @@
 """Similarity and deviation per algorithm over all pairs: Figs. 5 and 6, Table 1.
 
-The paper's rule (Section 5): an algorithm passes when its MEDIAN over the pairs is above
-UTW's median similarity, or below 18 frames deviation. Pairs with a non-finite score are
-left out and counted. The 95 % intervals and verdicts are the claims table's
-(:func:`fpdtw.paper.claims.evidence.shared_evidence`), so a figure and a claim cannot
-disagree.
+Intervals and verdicts are the claims table's
+(:func:`fpdtw.paper.claims.evidence.shared_evidence`), so a figure and a claim cannot disagree.
 """
 
 from __future__ import annotations
@@ -25,8 +22,8 @@ from fpdtw.registry import TYPE_V_SUFFIX, method_c_name
 
 
 def base_names() -> tuple:
-    """Figs. 5 and 6's algorithms in plotting order: the paper's, then the registry's online
-    baselines beyond it (:func:`fpdtw.registry.baselines`, read at each call).
+    """Figs. 5 and 6's algorithms in plotting order: the paper's, then the registry's
+    baselines (read at each call).
 
     Paper: FP-DTW Figs. 5 and 6.
     """
@@ -62,8 +59,7 @@ def _raw(results, name: str, metric: str, dataset=None) -> np.ndarray:
 
 
 def scores(results, name: str, metric: str, dataset=None) -> np.ndarray:
-    """One algorithm's finite per-pair scores (``"Mc w40 + Type V"``, ``"Mc w40@60Hz"``),
-    optionally of one dataset's pairs only; float64 (P',).
+    """One algorithm's finite per-pair scores, float64 (P',), optionally of one dataset.
 
     Paper: FP-DTW eq. 2 (similarity), eq. 3 (deviation).
     """
@@ -89,8 +85,7 @@ def benchmark(results, metric: str, dataset=None) -> float:
 
 
 def figure_names(names=None, typev=True) -> list[tuple[str, str | None]]:
-    """``(name, name + " + Type V")`` for the FP-DTW algorithms of ``names`` (default
-    :func:`base_names`), ``(name, None)`` for the others or without ``typev``."""
+    """``(name, its "+ Type V" or None)`` for ``names`` (default :func:`base_names`)."""
     return [
         (n, n + TYPE_V_SUFFIX if (typev and n in FPDTW_NAMES) else None)
         for n in (base_names() if names is None else names)
@@ -98,13 +93,9 @@ def figure_names(names=None, typev=True) -> list[tuple[str, str | None]]:
 
 
 def score_summary(results, metric: str, names=None, dataset=None) -> list[dict]:
-    """Per algorithm (default: those of Figs. 5 and 6 that were run, each FP-DTW one followed
-    by its "+ Type V"), over all pairs or one ``dataset``'s.
-
-    Rows: ``algorithm``, ``type_v``, ``median`` with ``ci_low``, ``ci_high`` (95 %), ``q1``,
-    ``q3``, ``n`` (finite scores), ``n_missing``, ``benchmark``, ``passes_benchmark`` (the
-    paper's rule on the median) and ``verdict`` (with the interval: holds, contradicted or
-    inconclusive; ``"-"`` for DTW and UTW).
+    """Per algorithm (default: Figs. 5 and 6's that were run), over all pairs or one
+    ``dataset``'s: median with its 95 % interval, quartiles, counts, benchmark,
+    ``passes_benchmark`` (the paper's rule on the median) and the claims' ``verdict``.
 
     Paper: FP-DTW Figs. 5 and 6, Section 5 (the median must pass the benchmark).
     Notebook: 06_fig5_fig6_scores.ipynb
@@ -137,8 +128,7 @@ def score_summary(results, metric: str, names=None, dataset=None) -> list[dict]:
 
 
 def passing(rows, online_only=False) -> list[str]:
-    """Names of the :func:`score_summary` rows that pass (without DTW and UTW if
-    ``online_only``)."""
+    """Names of the :func:`score_summary` rows that pass."""
     return [
         r["algorithm"]
         for r in rows
@@ -147,8 +137,7 @@ def passing(rows, online_only=False) -> list[str]:
 
 
 def _clip_top(bp, bench: float) -> float:
-    """Top of Fig. 6's linear axis: the highest upper whisker (1.5 IQR), at least twice the
-    benchmark, plus 8 % headroom."""
+    """Top of Fig. 6's linear axis: the highest upper whisker or twice the benchmark, + 8 %."""
     tops = [float(np.max(w.get_ydata())) for w in bp["whiskers"][1::2]]
     return 1.08 * max(max(tops, default=0.0), 2.0 * bench)
 
@@ -159,17 +148,9 @@ def plot_score_boxes(
 ):  # fmt: skip
     """Fig. 5 / Fig. 6: box plot of a score per algorithm, with the benchmark line.
 
-    Each FP-DTW algorithm gets two boxes, without constraint (blue) and "+ Type V" (pink);
-    the benchmark is red at our UTW's median similarity (beside the paper's 0.240, dashed
-    dark red: the two differ) or blue at 18 frames. ``intervals``: each median's 95 %
-    interval (gid ``"median_ci"``) and, on Fig. 5, UTW's (a band, ``"benchmark_ci"``).
-    Algorithms beyond the paper are set apart
-    (:func:`fpdtw.paper.figures.plotting.style_beyond_paper`).
-
-    Fig. 6 is drawn on a linear axis (boxes and benchmark at their true distances; a log
-    axis cannot show deviations of 0) cut at ``clip`` frames, by default
-    :func:`_clip_top`; the values above the cut are counted over their box (gid
-    ``"clipped_count"``) and in the legend. ``yscale="log"`` shows the far outliers.
+    Each FP-DTW algorithm gets two boxes, without constraint (blue) and "+ Type V" (pink).
+    ``intervals``: each median's 95 % interval and, on Fig. 5, UTW's. Fig. 6's linear axis
+    is cut at ``clip`` frames (default :func:`_clip_top`), the values above counted.
 
     Paper: FP-DTW Fig. 5 (similarity, eq. 2) and Fig. 6 (deviation, eq. 3).
     Notebook: 06_fig5_fig6_scores.ipynb
@@ -269,8 +250,7 @@ def plot_score_boxes(
 
 
 def best_window(medians: dict) -> int:
-    """The window with the highest median similarity (ties: the smaller) of ``{w: median}``
-    (other keys, e.g. ``"UTW"``, ignored)."""
+    """The int key of ``{w: median}`` with the highest median (ties: the smaller)."""
     ws = sorted(k for k in medians if isinstance(k, int))
     if not ws:
         raise ValueError("no windows given")
@@ -278,14 +258,8 @@ def best_window(medians: dict) -> int:
 
 
 def table1_rows(results, reading="square", with_paper=True) -> list[dict]:
-    """Table 1: Method C's median similarity per window and UTW's, at 60 and 120 Hz (the
-    runner resamples the motions; the window stays a number of frames).
-
-    Per rate the paper's row (unless ``with_paper`` is False), then ours (``"ours (literal
-    window)"`` for ``reading="literal"``): ``rate_hz``, ``source``, ``w10`` .. ``w80``,
-    ``UTW``, ``best_w``, ``above_utw`` (``"20 40"``); ours also the claims' verdicts
-    ``verdict_w10`` .. ``verdict_w80`` (above UTW) and ``best_verdict`` (the paper's best
-    window beats every other one).
+    """Table 1: Method C's median similarity per window and UTW's, at 60 and 120 Hz: per
+    rate the paper's row (if ``with_paper``), then ours with the claims' verdicts.
 
     Paper: FP-DTW Table 1.
     Notebook: 07_table1_60hz.ipynb
@@ -323,9 +297,8 @@ def table1_rows(results, reading="square", with_paper=True) -> list[dict]:
 
 
 def plot_table1(rows, ax=None):
-    """Table 1 as a plot: Method C's median similarity against w, one line per row of
-    :func:`table1_rows` (ours solid, the paper's dashed, the literal window dotted), and
-    UTW's median per rate as a thin line; the legend outside, on the right.
+    """Table 1 as a plot: Method C's median similarity against w per row of
+    :func:`table1_rows`, and UTW's median per rate as a thin line.
 
     Paper: FP-DTW Table 1.
     Notebook: 07_table1_60hz.ipynb
