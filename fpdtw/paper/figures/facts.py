@@ -1,9 +1,5 @@
-"""The small JSON of facts each figure notebook writes next to its figures.
-
-``results_dir()/<smoke|full>/figs/<notebook>.json``, read back by the claims notebook and
-the tests. Deterministic (sorted keys, numpy made plain, floats to 6 significant digits,
-replaced atomically) except the key ``"environment"``
-(:func:`fpdtw.paper.provenance.environment`: what computed them).
+"""The small JSON of facts each figure notebook writes next to its figures (deterministic
+except the key ``"environment"``).
 """
 
 from __future__ import annotations

@@ -1,10 +1,5 @@
-"""Fig. 3: forecast error of smoothing levels ``s`` against frames ahead ``i``.
-
-The paper forecasts the live motion by dead reckoning from its last two frames (``s = 2``,
-"a pilot study"). We draw the error for dead reckoning (velocity from the ``s`` latest
-frames) and, with ``alpha = 2 / (s + 1)``, exponential smoothing and Holt's method
-(:mod:`fpdtw.forecast`): the mean geodesic distance (eq. 1, 8 joints) between forecast and
-actual frame over every start frame of every motion.
+"""Fig. 3: forecast error (:mod:`fpdtw.forecast`) of smoothing levels ``s`` against frames
+ahead ``i``, for dead reckoning, exponential smoothing and Holt's method.
 """
 
 from __future__ import annotations
@@ -36,8 +31,7 @@ def forecast_curves(features, levels, H: int) -> dict:
 
 
 def best_level(err, levels, i: int) -> int:
-    """Smoothing level with the lowest error ``err`` (len(levels), H) at ``i`` frames ahead
-    (the lowest level on ties).
+    """Smoothing level with the lowest error ``err`` (len(levels), H) at ``i`` frames ahead.
 
     Paper: FP-DTW Fig. 3 (s = 2 optimal per the paper's pilot study).
     Notebook: 04_fig3_forecast.ipynb

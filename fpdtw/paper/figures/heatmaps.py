@@ -1,11 +1,7 @@
 """Aggregate heat maps of all alignment paths of an algorithm: Figs. 7 and 10.
 
-Every path is normalised to the unit square, x = q / n (target time), y = M_q / m (input
-time), and accumulated with each path weighted equally
-(:func:`fpdtw.paper.runner.results.aggregate_heatmap`). Mass BELOW the diagonal means the
-aligner sticks on input frames, ABOVE it that it skips them (paper Section 5). The colour
-scale is logarithmic (a few hot cells at (0, 0) and (1, 1) would hide the rest) and shared
-by all panels of a figure: the fraction of all path mass per cell.
+Paths on the unit square (x = q / n, y = M_q / m), each weighted equally; mass BELOW the
+diagonal means sticking, ABOVE skipping (paper Section 5). One log colour scale per figure.
 """
 
 from __future__ import annotations
@@ -22,8 +18,8 @@ from fpdtw.registry import TYPE_V_SUFFIX
 
 
 def fig7_names() -> tuple:
-    """Fig. 7's panels: the paper's algorithms, then the registry's online baselines beyond
-    it (:func:`fpdtw.registry.baselines`, read at each call).
+    """Fig. 7's panels: the paper's algorithms, then the registry's baselines (read at each
+    call).
 
     Paper: FP-DTW Fig. 7.
     """
@@ -43,9 +39,8 @@ LOG_FLOOR = 1e-4
 
 
 def heatmap(results, name: str, bins: int = 100) -> np.ndarray:
-    """One algorithm's aggregate heat map, float64 (bins, bins): ``H[i, j]`` is the fraction
-    of all path mass with input time in bin ``i`` and target time in bin ``j`` (sums to 1;
-    draw with ``origin="lower"``).
+    """One algorithm's aggregate heat map, float64 (bins, bins): ``H[i, j]``, the fraction
+    of path mass at input time bin ``i`` and target time bin ``j``.
 
     Paper: FP-DTW Fig. 7.
     Notebook: 08_fig7_fig10_heatmaps.ipynb
@@ -56,11 +51,8 @@ def heatmap(results, name: str, bins: int = 100) -> np.ndarray:
 
 
 def path_balance(results, name: str, band: float = 0.1) -> dict:
-    """Where the path mass lies: near the diagonal, below it (sticking), above it (skipping).
-
-    Exact, from the maps: per pair the share of target frames with ``|M_q / m - q / n| <=
-    band``, below ``-band`` and above ``band``; then the mean over pairs. Returns
-    ``diagonal``, ``below``, ``above`` (sum to 1) and ``pairs``.
+    """Where the path mass lies, from the maps: the mean over pairs of the shares of target
+    frames with ``M_q / m - q / n`` within ``band`` (``diagonal``), ``below`` and ``above``.
 
     Paper: FP-DTW Section 5 (reading of Fig. 7).
     Notebook: 08_fig7_fig10_heatmaps.ipynb
@@ -87,8 +79,7 @@ def shared_norm(maps):
 
 
 def plot_heatmap(H, ax=None, *, norm=None, title=None):
-    """Draw one aggregate heat map of :func:`heatmap` (``ax.images[0]``) with the diagonal,
-    on the colour scale ``norm`` (default its own).
+    """Draw one heat map of :func:`heatmap` with the diagonal on the scale ``norm``.
 
     Paper: FP-DTW Figs. 7 and 10.
     """
@@ -122,8 +113,7 @@ def _grid(results, names, bins, maps, n_rows, n_cols):
 
 
 def _finish(fig, axes, norm):
-    """Tick labels only on the left column and the lowest visible panel of each column;
-    one colour bar."""
+    """Tick labels on the left and lowest visible panels only; one colour bar."""
     n_rows, n_cols = axes.shape
     for r in range(n_rows):
         for c in range(n_cols):
@@ -140,12 +130,8 @@ def _finish(fig, axes, norm):
 
 
 def plot_heatmap_grid(results, names=None, ncols=5, bins=100, maps=None, titles=None):
-    """Fig. 7: one heat map per algorithm (default :func:`fig7_names`), one colour scale.
-
-    ``maps``: precomputed heat maps by name; ``titles``: panel titles by name. Panels past
-    the names are hidden; an algorithm beyond the paper gets
-    :func:`fpdtw.paper.figures.plotting.style_beyond_paper_panel`. Returns ``fig`` and the
-    2-D array of axes.
+    """Fig. 7: one heat map per algorithm (default :func:`fig7_names`), one colour scale;
+    ``maps``: precomputed heat maps by name; ``titles``: panel titles by name.
 
     Paper: FP-DTW Fig. 7.
     Notebook: 08_fig7_fig10_heatmaps.ipynb
@@ -167,10 +153,7 @@ def plot_heatmap_grid(results, names=None, ncols=5, bins=100, maps=None, titles=
 
 
 def plot_typev_heatmaps(results, bases=FIG10_NAMES, bins=100, per_row=None, maps=None):
-    """Fig. 10: each algorithm's heat map (a row) above its "+ Type V" one (the row below);
-    with ``per_row`` the algorithms wrap onto further row pairs.
-
-    Returns ``fig`` and axes of shape ``(2 * row_pairs, per_row)``.
+    """Fig. 10: each algorithm's heat map above its "+ Type V" one, ``per_row`` per row pair.
 
     Paper: FP-DTW Fig. 10.
     Notebook: 08_fig7_fig10_heatmaps.ipynb

@@ -1,9 +1,4 @@
-"""Fig. 1: open-end DTW's end points jump backwards between consecutive target frames.
-
-OE-DTW (:class:`fpdtw.online.OEDTW`) picks, after every target frame ``q``, the best end
-point ``e_q`` in the input; nothing keeps ``e_{q+1} >= e_q``, so played back live the input
-would snap backwards. The figure shows the FIRST target frame with ``e_{q+1} < e_q``.
-"""
+"""Fig. 1: open-end DTW's end points jump backwards between consecutive target frames."""
 
 from __future__ import annotations
 
@@ -16,8 +11,7 @@ from fpdtw.paper.figures.plotting import image, new_axes
 
 
 def backward_jumps(E) -> np.ndarray:
-    """Target frames ``q`` (int64, increasing) whose next end point lies before theirs, in
-    the end points ``E`` (n + 1,).
+    """Target frames ``q`` (int64) with ``E[q + 1] < E[q]``, in the end points ``E`` (n + 1,).
 
     Paper: FP-DTW Fig. 1.
     """
@@ -51,8 +45,7 @@ def run_oedtw(I, T, **kwargs) -> OEDTW:
 
 
 def oedtw_facts(E) -> dict:
-    """Fig. 1's facts: ``n_frames``, ``jumps`` (count), ``jump_frames``, ``frames_back``
-    (sum of ``e_q - e_{q+1}`` over the jumps), ``first_jump`` (``{"q", "e_q", "e_q1"}``)."""
+    """Fig. 1's facts: frames, the jumps, the frames gone back and the first jump."""
     E = np.asarray(E, dtype=np.int64)
     jumps = backward_jumps(E)
     first = first_backward_jump(E)
@@ -66,8 +59,7 @@ def oedtw_facts(E) -> dict:
 
 
 def plot_oedtw_paths(oe: OEDTW, q: int, ax=None):
-    """Fig. 1 (a): the partial paths of target frames q and q + 1 over OE-DTW's ``D`` of
-    the frames received so far, each column's end point marked.
+    """Fig. 1 (a): the paths of target frames q and q + 1 over OE-DTW's ``D``, end points marked.
 
     Paper: FP-DTW Fig. 1 (paths of frames 15 and 16).
     """
@@ -100,8 +92,7 @@ def plot_oedtw_paths(oe: OEDTW, q: int, ax=None):
 
 
 def plot_end_points(E, ax=None):
-    """Fig. 1 (b): the end point of every target frame, backward jumps marked, and an inset
-    (``ax.child_axes[0]``) around the first jump.
+    """Fig. 1 (b): every target frame's end point, jumps marked, an inset at the first.
 
     Paper: FP-DTW Fig. 1 (lack of continuity between consecutive frames).
     """
@@ -144,8 +135,7 @@ def plot_end_points(E, ax=None):
 
 
 def plot_fig1(oe: OEDTW):
-    """Fig. 1: (a) the paths of the first backward jump's frames q and q + 1 (the middle
-    frame if there is none), (b) all end points.
+    """Fig. 1: (a) the paths at the first backward jump (or the middle), (b) all end points.
 
     Paper: FP-DTW Fig. 1.
     Notebook: 02_fig1_oedtw.ipynb

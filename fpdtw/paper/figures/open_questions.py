@@ -1,8 +1,5 @@
-"""Figures and tables of notebook 16: the questions the papers leave open (Q1-Q6).
-
-Every number comes from the open run through the claims' evidence
-(:func:`fpdtw.paper.claims.contexts.open_evidence`): the figures, the tables and the Q rows
-of the claims table read the same medians and bootstrap intervals.
+"""Figures and tables of notebook 16: the questions the papers leave open (Q1-Q6), from
+the claims' evidence (:func:`fpdtw.paper.claims.contexts.open_evidence`).
 
 Paper: FP-DTW Section 7; OPW poster Section 6.
 Notebook: 16_open_questions.ipynb
@@ -39,8 +36,7 @@ _SFX = {120: "", 60: "@60Hz"}
 
 
 def plot_period(I, ax=None):
-    """Q1's rule on one motion: the mean autocorrelation of its joint trajectories and its
-    period.
+    """Q1's rule on one motion: its joints' mean autocorrelation and its period.
 
     Paper: FP-DTW Section 7.
     Notebook: 16_open_questions.ipynb
@@ -64,8 +60,7 @@ def plot_period(I, ax=None):
 
 
 def _medians(ev, name: str, utw_gap=False) -> dict:
-    """Median similarity and deviation of ``name`` with their 95 % intervals and the
-    benchmarks' verdicts (``utw_gap``: with the interval of its similarity minus UTW's)."""
+    """Medians of ``name`` with 95 % intervals and verdicts (``utw_gap``: minus UTW's)."""
     s, d = ev.passes(name, "similarity"), ev.passes(name, "deviation")
     lo, hi = ev.interval(name, "similarity")
     gap = dict(sim_minus_utw_low=s.low, sim_minus_utw_high=s.high) if utw_gap else {}
@@ -75,8 +70,7 @@ def _medians(ev, name: str, utw_gap=False) -> dict:
 
 
 def window_rows(ev) -> list[dict]:
-    """Q1: Mc auto and every fixed window at 120 and 60 Hz, medians with 95 % intervals and
-    each benchmark's verdict.
+    """Q1: Mc auto and every fixed window at 120 and 60 Hz (:func:`_medians`).
 
     Notebook: 16_open_questions.ipynb
     """
@@ -89,8 +83,7 @@ def window_rows(ev) -> list[dict]:
 
 
 def plot_windows(ev, rows):
-    """Q1: median similarity and deviation (95 % intervals) of Mc auto beside each fixed w,
-    from :func:`window_rows`.
+    """Q1: :func:`window_rows` drawn.
 
     Notebook: 16_open_questions.ipynb
     """
@@ -116,8 +109,8 @@ def plot_windows(ev, rows):
 
 
 def movement_rows(ev) -> list[dict]:
-    """Q1 per movement at 120 and 60 Hz: Mc auto's median similarity, the best fixed w on
-    that movement (an optimistic bar), the overall best fixed w, and the comparisons.
+    """Q1 per movement at 120 and 60 Hz: Mc auto's median similarity beside the best fixed
+    w on that movement and the overall best.
 
     Notebook: 16_open_questions.ipynb
     """
@@ -134,8 +127,7 @@ def movement_rows(ev) -> list[dict]:
 
 
 def _variant_rows(ev, bases, suffix: str) -> list[dict]:
-    """Each base method and its variant ``f"{base} ({suffix})"``: medians with 95 %
-    intervals, the benchmark verdicts and the variant's paired changes."""
+    """Each base and its variant ``f"{base} ({suffix})"``: :func:`_medians` and paired changes."""
     rows = []
     for n in bases:
         b = f"{n} ({suffix})"
@@ -155,8 +147,7 @@ def _variant_rows(ev, bases, suffix: str) -> list[dict]:
 
 
 def _plot_variants(ev, rows, mark: str):
-    """Median similarity and deviation (95 % intervals) of base methods and their variants
-    (the rows whose name contains ``mark`` in colour)."""
+    """:func:`_variant_rows` drawn, the names containing ``mark`` in colour."""
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.2))
     x = np.arange(len(rows))
     cols = ["0.4" if mark not in r["algorithm"] else "C2" for r in rows]
@@ -178,9 +169,7 @@ def _plot_variants(ev, rows, mark: str):
 
 def band_rows(ev) -> list[dict]:
     """Q3: Methods B and C without a band, with the band of 1 s (the first reading) and of
-    w/2 (the claim's), each followed by ``cells_removed``: the mean share of the window's
-    cells the band removes (:func:`fpdtw.paper.claims.open.band_removed_share`; None for
-    a base).
+    w/2 (the claim's), with ``cells_removed`` (:func:`fpdtw.paper.claims.open.band_removed_share`).
 
     Notebook: 16_open_questions.ipynb
     """
@@ -205,9 +194,7 @@ plot_derivative = partial(_plot_variants, mark="derivative")
 
 
 def poster_gamma_rows() -> list[dict]:
-    """Q4 on the OPW poster's protocol (:mod:`fpdtw.paper.opw_eval`): OPW at gamma 5 % and
-    OPW adaptive on each motion, ``mean_ms`` and ``max_ms`` deviation from the example
-    curve, the share of the temporal difference ``removed``, and ``final_gamma``.
+    """Q4 on the OPW poster's protocol: OPW at gamma 5 % and OPW adaptive on each motion.
 
     Notebook: 16_open_questions.ipynb
     """
@@ -232,8 +219,7 @@ def poster_gamma_rows() -> list[dict]:
 
 
 def pause_rows(ev) -> list[dict]:
-    """Q6: each online method's median deviation without and with a pause (95 % intervals),
-    and the paired difference of medians.
+    """Q6: each online method's median deviation without and with a pause, and the change.
 
     Notebook: 16_open_questions.ipynb
     """
@@ -253,8 +239,7 @@ def pause_rows(ev) -> list[dict]:
 
 
 def plot_pause(ev, rows, ax=None):
-    """Q6: :func:`pause_rows` drawn: each online method's median deviation without and with
-    a pause (95 % intervals).
+    """Q6: :func:`pause_rows` drawn.
 
     Notebook: 16_open_questions.ipynb
     """
@@ -277,8 +262,7 @@ def plot_pause(ev, rows, ax=None):
 
 
 def plot_pause_example(I, T, name: str = "Mc w40", ax=None):
-    """Q6 on one pair: the maps of DTW and of the method ``name``, on the target as recorded
-    and with its pause (grey).
+    """Q6 on one pair: DTW's and ``name``'s maps with and without the pause.
 
     Notebook: 16_open_questions.ipynb
     """

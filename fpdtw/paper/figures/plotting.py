@@ -1,10 +1,4 @@
-"""Figure helpers: one function saves every figure; one style marks what is beyond the paper.
-
-Plot functions return ``(fig, ax)`` (a panel's take ``ax=None``). :func:`save_figure` writes
-PDF and PNG without creation date or software version: an unchanged figure, the same bytes.
-Algorithms the FP-DTW paper does not evaluate (OPW, OLTW, the variants of notebooks 15-16)
-are drawn grey, hatched and labelled "beyond the paper" (:func:`style_beyond_paper`).
-"""
+"""Figure helpers: one function saves every figure; one style marks what is beyond the paper."""
 
 from __future__ import annotations
 
@@ -68,13 +62,8 @@ BEYOND_PAPER_TEXT = {"color": "0.4", "fontstyle": "italic"}
 
 
 def beyond_paper(name: str) -> bool:
-    """True for an algorithm name the FP-DTW paper does not evaluate.
-
-    The paper's are :data:`fpdtw.paper.numbers.PAPER_NAMES`, also at 60 Hz (``"Mc w40@60Hz"``)
-    and under the literal reading of Algorithm 3's window (notebook 15). Every other name,
-    OPW, OLTW, ``"Mc auto"``, any option (``"Mc w40 (band 1 s)"``) or an unknown name, is
-    beyond the paper.
-    """
+    """True for an algorithm name the FP-DTW paper does not evaluate: all but
+    :data:`fpdtw.paper.numbers.PAPER_NAMES`, also at 60 Hz and under the literal window."""
     base = name.removesuffix("@60Hz")
     if base in PAPER_NAMES:
         return False
@@ -93,12 +82,9 @@ def beyond_paper_handle():
 
 
 def style_beyond_paper(ax, names, patches) -> list:
-    """Set apart the algorithms beyond the paper on an axes with one algorithm per x tick.
-
-    Their patches (``patches[name]``: a list, e.g. boxes) become grey and hatched, their
-    tick labels grey italic; a dashed line (gid ``"beyond_paper_separator"``) separates each
-    run of them from the paper's, and the first run is labelled (gid
-    ``"beyond_paper_label"``). Returns the names styled.
+    """Set apart the algorithms beyond the paper on an axes with one algorithm per x tick
+    (``patches[name]``: their boxes): grey, hatched, a dashed line before each run of them.
+    Returns the names styled.
     """
     names = list(names)
     out = [n for n in names if beyond_paper(n)]

@@ -1,8 +1,5 @@
 """Figures of notebook 15: the readings of Algorithm 3 side by side, and their mechanism.
 
-The heat maps per reading are :func:`fpdtw.paper.figures.heatmaps.plot_heatmap_grid` with the
-readings' names.
-
 Notebook: 15_readings_of_algorithm_3.ipynb
 """
 
@@ -39,9 +36,8 @@ def plot_mechanism(profile: dict, ax=None, w=None):
 
 
 def plot_readings_overview(rows, dataset: str, utw=None):
-    """Per reading (seaborn): median similarity against w at 120 and 60 Hz, with UTW's
-    median (``utw``: ``{rate_hz: median}``, red), and the stick/skip index against w, from
-    the :func:`fpdtw.paper.readings.readings_table` rows of ``dataset``.
+    """Per reading: median similarity against w at 120 and 60 Hz (``utw``: ``{rate_hz:
+    median}``) and the stick/skip index, from :func:`fpdtw.paper.readings.readings_table`.
 
     Paper: FP-DTW Table 1, Section 5 (Fig. 7's sticking and skipping).
     Notebook: 15_readings_of_algorithm_3.ipynb

@@ -1,12 +1,5 @@
-"""Time per target frame of the online aligners: Table 2, and why Mc w80 looks cheap.
-
-``make bench`` (:mod:`fpdtw.app.bench`) times every online aligner frame by frame on real
-pairs, alone on one core, after a warm-up (``results/bench.json``). These are MEASUREMENTS,
-changing between runs and machines; only :func:`exhausted_fraction` is deterministic.
-
-The paper (Section 5) explains Mc w80's lower-than-expected time by the aligner running out
-of input early: :func:`exhausted_fraction` counts the target frames ``q >= 1`` processed
-with the input already exhausted, ``M_{q-1} = m``.
+"""Time per target frame of the online aligners (``make bench``'s ``results/bench.json``,
+measurements): Table 2, and why Mc w80 looks cheap (:func:`exhausted_fraction`).
 """
 
 from __future__ import annotations
@@ -23,9 +16,8 @@ from fpdtw.registry import baselines, resolve
 
 
 def timed_names() -> tuple:
-    """Table 2's online algorithms in table order: OE-DTW, Methods A, B and C without and
-    with Type V, the registry's online baselines (read at each call) and Method C's literal
-    window of notebook 15.
+    """Table 2's online algorithms in table order, the registry's baselines (read at each
+    call) and Method C's literal window of notebook 15.
 
     Paper: FP-DTW Table 2.
     """
@@ -41,16 +33,11 @@ def _default_rows(rows):
     return [r for r in rows if "(" not in r.get("algorithm", "")]
 
 
-def last_input_frame(results, name: str) -> dict:
-    """Pair id -> index ``m`` of the last input frame at the algorithm's frame rate."""
-    m, _ = results.frames(name)
-    return {int(p["id"]): int(m[i]) for i, p in enumerate(results.pairs)}
-
-
 def pair_maps(results, name: str):
     """Each pair's map of an algorithm with the pair's last input frame: ``(M, m)``."""
     arr = results.get(name)
-    m_of = last_input_frame(results, name)
+    m, _ = results.frames(name)
+    m_of = {int(p["id"]): int(m[i]) for i, p in enumerate(results.pairs)}
     offsets = np.asarray(arr["offsets"], dtype=np.int64)
     maps = np.asarray(arr["maps"])
     for k, pid in enumerate(np.asarray(arr["pair_id"])):
@@ -58,9 +45,8 @@ def pair_maps(results, name: str):
 
 
 def exhausted_fraction(results, name: str) -> dict:
-    """How many target frames ``q >= 1`` an aligner processed with ``M_{q-1} = m``, from
-    the maps: ``frames`` (all such q over all pairs), ``exhausted``, ``fraction`` and
-    ``pairs_exhausted_early`` (pairs with at least one).
+    """How many target frames ``q >= 1`` an aligner processed with the input run out
+    (``M_{q-1} = m``), over all pairs: counts, ``fraction``, ``pairs_exhausted_early``.
 
     Paper: FP-DTW Section 5 (Table 2: "Mc w80 ... running out of input frames").
     """
@@ -77,11 +63,8 @@ def exhausted_fraction(results, name: str) -> dict:
 
 def time_per_frame_rows(bench: dict, results=None, names=None) -> list[dict]:
     """Table 2: the time per target frame of each aligner of ``names`` (default
-    :func:`timed_names`) the bench timed (:func:`load_bench`).
-
-    Rows: ``algorithm``, ``method``, ``w``, ``type_v``, ``frames``, ``mean_us``,
-    ``median_us``, ``p95_us`` (one core), ``exhausted_fraction`` (from the grid
-    ``results``, else None) and ``paper_mean_us`` (Table 2: B and C unconstrained).
+    :func:`timed_names`) the bench timed, with :func:`exhausted_fraction` given ``results``
+    and the paper's mean.
 
     Paper: FP-DTW Table 2.
     Notebook: 09_table2_timing.ipynb
@@ -148,8 +131,7 @@ def load_bench(path=None):
 
 
 def plot_time_vs_w(rows, ax=None):
-    """Median time per frame against w, log y: ours (Methods B and C, with and without Type
-    V) next to the paper's Table 2 means, and the 120 Hz budget (8333 us).
+    """Median time per frame against w (Methods B and C), next to the paper's Table 2 means.
 
     Paper: FP-DTW Table 2 ("per-frame cost grows steeply with w").
     Notebook: 09_table2_timing.ipynb
@@ -187,18 +169,13 @@ def plot_time_vs_w(rows, ax=None):
 
 
 def step_s(row) -> float:
-    """Our time per frame of a bench row: the median over its window steps when measured
-    (the steady state Table 2 is about), else the median over every frame."""
+    """A bench row's median time per window step when measured, else per frame."""
     return row.get("step_median_s") or row["median_s"]
 
 
 def band_cost(report) -> list:
-    """Per-frame cost of notebook 16's global band variants (Q3) beside their bases.
-
-    One row per band (:data:`~fpdtw.paper.runner.grid.BAND_1S` first, then
-    :data:`~fpdtw.paper.runner.grid.BAND_HALF_W`) and base of
-    :data:`~fpdtw.paper.runner.grid.BAND_BASES` the report timed both ways: ``name``,
-    ``band``, ``base_us``, ``band_us`` (:func:`step_s`) and ``ratio`` (band / base).
+    """Per-frame cost (:func:`step_s`) of notebook 16's global band variants (Q3) beside
+    their bases, with ``ratio`` (band / base).
 
     Paper: FP-DTW Section 7 (conclusion: a global constraint).
     Notebook: 16_open_questions.ipynb

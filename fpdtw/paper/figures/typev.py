@@ -1,11 +1,4 @@
-"""Fig. 9: the Type V local continuity constraint, backward, forward and as a state table.
-
-(i) the backward Rabiner-Juang Type V local paths (dtw-python's
-``rabinerJuangStepPattern(5, "c")``); (ii) their forward form, the input's advance per target
-frame (0..3); (iii-iv) the state table of :class:`fpdtw.online.TypeV`; and a constrained
-path (Ma + Type V) annotated with the state in force at each step. Target frames
-horizontal, input frames vertical, as in every other figure.
-"""
+"""Fig. 9: the Type V local continuity constraint, backward, forward and as a state table."""
 
 from __future__ import annotations
 
@@ -21,8 +14,6 @@ def backward_steps(pattern=None) -> list:
     """The local paths of a dtw-python step pattern (default Type V), as int64 cells
     ``(target, input)`` (L, 2) from the start cell to the end cell ``(0, 0)``.
 
-    dtw-python's ``.mx`` rows are ``(path, d_query, d_reference, weight)``; query = target.
-
     Paper: FP-DTW Fig. 9 i (Rabiner and Juang 1993, Type V).
     Notebook: 11_fig9_typev.ipynb
     """
@@ -35,9 +26,8 @@ def backward_steps(pattern=None) -> list:
 
 
 def forward_advances(steps) -> list:
-    """Each backward local path read forwards: the input's advance per target frame, keeping
-    per target frame the highest input frame the path visits (where the next window starts).
-    For Type V: ``(1, 0, 0), (1, 0), (1,), (2,), (3,)``.
+    """Each backward local path read forwards: the input's advance per target frame (to the
+    highest input frame visited). For Type V: ``(1, 0, 0), (1, 0), (1,), (2,), (3,)``.
 
     Paper: FP-DTW Fig. 9 ii.
     Notebook: 11_fig9_typev.ipynb
@@ -51,9 +41,8 @@ def forward_advances(steps) -> list:
 
 
 def typev_states(M) -> list:
-    """The state in force when each target frame of a legal Type V map is mapped: ``""``
-    for ``M_0``, then the start state and the table's next state after each advance.
-    ValueError on an advance the state does not allow.
+    """The state in force when each target frame of a legal Type V map is mapped (``""``
+    for ``M_0``); ValueError on an advance the state does not allow.
 
     Paper: FP-DTW Fig. 9 iii-iv.
     Notebook: 11_fig9_typev.ipynb
@@ -72,8 +61,7 @@ def typev_states(M) -> list:
 
 
 def table_rows() -> list:
-    """The state table as rows: ``state``, ``advance 0`` .. ``advance 3`` (next state or
-    ``-``), ``meaning``.
+    """The state table as rows: ``state``, ``advance 0`` .. ``advance 3``, ``meaning``.
 
     Paper: FP-DTW Fig. 9 iv.
     Notebook: 11_fig9_typev.ipynb
@@ -86,8 +74,7 @@ def table_rows() -> list:
 
 
 def _draw_local_paths(ax, paths, labels, ticks, title, legend):
-    """Local paths as coloured lines, slightly apart so that shared segments stay visible,
-    on a unit grid with (0, 0) marked; ``legend``: its title and location."""
+    """Local paths as coloured lines, slightly apart, on a unit grid with (0, 0) marked."""
     cmap = mpl.colormaps["tab10"]
     for k, (P, label) in enumerate(zip(paths, labels, strict=True)):
         jitter = 0.06 * (k - 2)
@@ -105,8 +92,7 @@ def _draw_local_paths(ax, paths, labels, ticks, title, legend):
 
 
 def plot_state_table(ax=None):
-    """Fig. 9 iii-iv: the state table as a table figure (``ax.tables[0]``): next state per
-    state and advance, ``-`` where not allowed.
+    """Fig. 9 iii-iv: the state table as a table figure (``ax.tables[0]``).
 
     Paper: FP-DTW Fig. 9 iv.
     """
@@ -134,8 +120,7 @@ def plot_state_table(ax=None):
 
 
 def plot_constrained_path(M, ax=None, M_free=None):
-    """Fig. 9 (path): an Ma + Type V map, each step annotated with its state, and the
-    unconstrained Ma map ``M_free`` for comparison.
+    """Fig. 9 (path): an Ma + Type V map annotated with its states, beside ``M_free``.
 
     Paper: FP-DTW Fig. 9 (the constraint applied to forward plotting).
     """

@@ -1,10 +1,5 @@
-"""Figs. 2 and 4: the search windows of Methods A, B and C, drawn from plain steps.
-
-Each figure draws one :class:`fpdtw.plain.Step` (its cost window ``C``, accumulated ``D``,
-path and chosen frame ``M``), picked by a stated rule: Fig. 2 (Method A, w = 2) at a target
-frame the reader chooses; Fig. 4 (Method B) the first window step whose path leaves (0, 0)
-through (1, 0), and the first through (0, 1) (:func:`first_leaving`); Method C at the same
-target frame as the first Fig. 4 panel.
+"""Figs. 2 and 4: the search windows of Methods A, B and C, each drawn from one
+:class:`fpdtw.plain.Step` (Fig. 4's picked by :func:`first_leaving`).
 """
 
 from __future__ import annotations
@@ -47,8 +42,7 @@ def first_leaving(steps, via, q_min: int = 0):
 
 
 def step_facts(step) -> dict:
-    """What a drawn plain step did: ``q``, ``M_n``, ``w_i``, ``M`` and, for a step with a
-    path (Method B), ``leaves_via`` (its second cell).
+    """What a drawn plain step did: ``q``, ``M_n``, ``w_i``, ``M`` (and ``leaves_via``).
 
     Paper: FP-DTW Figs. 2 and 4.
     Notebook: 03_fig2_fig4_windows.ipynb
@@ -58,11 +52,8 @@ def step_facts(step) -> dict:
 
 
 def plot_method_a_window(M, step, ax=None, before: int = 6, after: int = 1):
-    """Fig. 2: one plain Method A step on a grid of input x target frames.
-
-    The map so far (``M`` cut at the step's target frame ``q``; ``before`` and ``after``
-    target frames shown around it), the window's cells in column ``q`` coloured and
-    labelled with their costs (eq. 1), and the chosen cell.
+    """Fig. 2: one plain Method A step: the map so far (``before`` and ``after`` target
+    frames around it), the window's costs (eq. 1) and the chosen cell.
 
     Paper: FP-DTW Fig. 2 (search window of the frame matching algorithm).
     Notebook: 03_fig2_fig4_windows.ipynb
@@ -154,8 +145,7 @@ def _mark_x(ax, col, row, label):
 
 
 def forecast_labels(n_cols: int, with_prev: bool) -> list:
-    """Column labels of a forecast window: ``F_0 = T_n, F_1 = T_{n+1}, F_2, ...`` (Method B)
-    or ``F_0 = T_{n+1}, F_1, ...`` (Method C)."""
+    """Column labels of a forecast window, from ``T_n`` (``with_prev``, Method B) or ``T_{n+1}``."""
     out = []
     for c in range(n_cols):
         if with_prev and c == 0:
@@ -168,11 +158,8 @@ def forecast_labels(n_cols: int, with_prev: bool) -> list:
 
 
 def plot_method_b_window(step, ax=None, which: str = "D", annotate=True):
-    """Fig. 4: one plain Method B step: the window's D (or C, ``which``), its path and X.
-
-    ``D[0, 0]`` (10000, set before back-tracking) is kept off the colour scale and labelled;
-    X marks the chosen input frame, the lowest row of the path in column ``F_1 = T_{n+1}``.
-    ``annotate``: write every cell's value.
+    """Fig. 4: one plain Method B step: the window's D (or C, ``which``), its path and X
+    (``D[0, 0]`` off the colour scale); ``annotate``: write every cell's value.
 
     Paper: FP-DTW Fig. 4 and Algorithm 2.
     Notebook: 03_fig2_fig4_windows.ipynb
