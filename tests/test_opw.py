@@ -17,13 +17,13 @@ from fpdtw.motion.features import MotionFeatures
 from fpdtw.online.base import run_online
 from fpdtw.online.opw import OPW, interpolate_positions
 from fpdtw.paper import catalog
+from fpdtw.paper.opw_eval import OMEGA as POSTER_OMEGA
 from fpdtw.paper.opw_eval import (
     deviation_ms,
     dtw_curve,
     evaluate,
     example_curve,
     fig3_key_points,
-    opw_align,
     opw_features,
     run_opw,
     slope_change_percent,
@@ -290,7 +290,7 @@ def test_evaluate_and_runner_hooks(handshake):
     assert dec["costs"].shape == (dec["t"].size, 3) and set(dec["s"]) <= {0, 1, 2}
     I = opw_features(handshake)
     T = opw_features(warp_motion(handshake, res["curves"]["example"]))
-    M, sec = opw_align(I, T, gamma=0.05)
+    M, sec = run_online(OPW(I, omega=POSTER_OMEGA, gamma=0.05, fps=T.fps), T)
     assert np.array_equal(M, res["M"]) and sec.shape == M.shape
     (row,) = bench_online([(I, T)], names=["OPW"])  # the registry builds OPW for the bench
     assert row["name"] == "OPW" and row["frames"] == T.n_frames

@@ -515,15 +515,6 @@ def pooled(rows: list, method: str, **match) -> dict:
     }
 
 
-def opw_align(I: MotionFeatures, T: MotionFeatures, gamma: float = GAMMA):
-    """OPW over a pair of features with positions: ``(M, seconds)``, the input frame of each
-    target frame (int64) and the wall time of each step.
-
-    Paper: OPW poster Algorithm 1.
-    """
-    return run_online(OPW(I, omega=OMEGA, gamma=gamma, fps=T.fps), T)
-
-
 def _r(v, digits=3):
     return None if v is None else round(float(v), digits)
 

@@ -47,8 +47,3 @@ def save_facts(notebook: str, facts: dict, smoke: bool) -> Path:
     record = {**_plain(facts), "environment": environment()}
     text = json.dumps(record, indent=1, sort_keys=True) + "\n"
     return write_atomic(facts_path(notebook, smoke), text.encode())
-
-
-def load_facts(notebook: str, smoke: bool) -> dict:
-    """Read the facts a notebook wrote."""
-    return json.loads(facts_path(notebook, smoke).read_text())
