@@ -15,12 +15,7 @@ from fpdtw.paper.claims.contexts import (
     open_evidence,
     paper_shaped_rows,
 )
-from fpdtw.paper.claims.evaluation import (
-    build_claims,
-    claim_rows,
-    evaluate_claims,
-    open_claim_rows,
-)
+from fpdtw.paper.claims.evaluation import build_claims, claim_rows, evaluate_claims, open_claim_rows
 from fpdtw.paper.claims.open import QUESTION_IDS, open_mode
 from fpdtw.paper.claims.paper_claims import CLAIMS, SHORT, claims_by_id
 from fpdtw.paper.claims.report import (

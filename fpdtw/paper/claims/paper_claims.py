@@ -17,14 +17,7 @@ from fpdtw import registry
 from fpdtw.paper import numbers as N
 from fpdtw.paper import opw_eval
 from fpdtw.paper.claims.evidence import missing
-from fpdtw.paper.claims.open import (
-    assess_q1,
-    assess_q2,
-    assess_q3,
-    assess_q4,
-    assess_q5,
-    assess_q6,
-)
+from fpdtw.paper.claims.open import assess_q1, assess_q2, assess_q3, assess_q4, assess_q5, assess_q6
 from fpdtw.paper.claims.rules import AllOf, Not, Part, point
 from fpdtw.paper.claims.types import FIG8_JSON, OPW_FIG4_JSON, OPW_FIG56_JSON, Assessment, Claim
 from fpdtw.paper.figures.timing import growth_ratio
