@@ -11,20 +11,9 @@ from dataclasses import replace
 
 import numpy as np
 
+from fpdtw.paper.claims import types as T
 from fpdtw.paper.claims.evidence import Evidence, shared_evidence
 from fpdtw.paper.claims.open import open_mode
-from fpdtw.paper.claims.types import (
-    EQ2_OTHER,
-    FIG8_JSON,
-    OPW_FIG4_JSON,
-    OPW_FIG56_JSON,
-    OPW_PLUGIN,
-    OTHER_EVIDENCE,
-    SEED2_OFFSET,
-    ClaimContext,
-    opw_reading,
-    reading_alias,
-)
 from fpdtw.paper.figures.timing import TIMED_NAMES, load_bench, time_per_frame_rows
 from fpdtw.paper.paths import results_dir
 from fpdtw.paper.readings import study_mode
@@ -34,7 +23,7 @@ from fpdtw.paper.runner.selection import DATASETS
 from fpdtw.paper.similarity_level import reading_values
 
 
-def load_context(results, mode="full") -> ClaimContext:
+def load_context(results, mode="full") -> T.ClaimContext:
     """The context of a run (:func:`fpdtw.paper.runner.run.load_results`).
 
     Paper: FP-DTW Sections 5-7; OPW poster Section 5.
@@ -45,13 +34,13 @@ def load_context(results, mode="full") -> ClaimContext:
         timing = time_per_frame_rows(bench, names=list(TIMED_NAMES)) or None
         plain = bench.get("plain") or None
     figs = results_dir() / mode / "figs"
-    return ClaimContext(
+    return T.ClaimContext(
         mode=mode,
         ev=Evidence(results),
         timing=timing,
-        fig8=_read_json(figs / FIG8_JSON),
-        opw_fig4=_read_json(figs / OPW_FIG4_JSON),
-        opw_fig56=_read_json(figs / OPW_FIG56_JSON),
+        fig8=_read_json(figs / T.FIG8_JSON),
+        opw_fig4=_read_json(figs / T.OPW_FIG4_JSON),
+        opw_fig56=_read_json(figs / T.OPW_FIG56_JSON),
         counts=getattr(results, "counts", None) or data_counts(results.pairs),
         open_ev=open_evidence(mode),
         plain=plain,
@@ -104,23 +93,23 @@ def paper_shaped_rows(results, mode: str = "full"):
 
 def claim_contexts(ctx, results=None, mode="full") -> dict:
     """Every body of evidence of the table: key (``""``: all pairs) -> context (or None)."""
-    alias = reading_alias("literal")
+    alias = T.reading_alias("literal")
     literal = ctx.ev.reading(alias=alias, label="literal window") if ctx.ev is not None else None
     out = {
         "": ctx,
-        **{k: None for k in OTHER_EVIDENCE},
+        **{k: None for k in T.OTHER_EVIDENCE},
         "literal": replace(ctx, ev=literal, alias=alias),
-        OPW_PLUGIN: opw_reading(ctx),
+        T.OPW_PLUGIN: T.opw_reading(ctx),
         "seed2": None,
     }
     if ctx.ev is not None or ctx.open_ev is not None:
 
         def reseeded(ev):
             if ev is not None:
-                return ev.again(seed=ev.seed + SEED2_OFFSET, label=f"{ev.label} (second seed)")
+                return ev.again(seed=ev.seed + T.SEED2_OFFSET, label=f"{ev.label} (second seed)")
 
         out["seed2"] = replace(ctx, ev=reseeded(ctx.ev), open_ev=reseeded(ctx.open_ev))
-    out |= dict.fromkeys(EQ2_OTHER)
+    out |= dict.fromkeys(T.EQ2_OTHER)
     ev = ctx.ev
     if ev is None:
         return out

@@ -1,10 +1,5 @@
 """Reporting the claims: as text, as the short table, as files, with the power estimates.
 
-Formats what :mod:`~fpdtw.paper.claims.evaluation` decided, estimates how many movements an
-inconclusive check would need (:func:`power_rows`) and writes ``figures/claims*.csv|md`` and
-``results/<mode>/claims.json`` (:func:`save_claims`), which ``python -m fpdtw.paper.claims
-verify figures/`` reads back.
-
 Paper: FP-DTW Sections 5-7; OPW poster Section 5.
 Notebook: 12_claims.ipynb
 """
@@ -45,13 +40,11 @@ def movement_count(ev) -> int:
 
 def power_rows(checks, movements: int) -> list[dict]:
     """How many movements like ours (``movements`` today) the pooled intervals would need to
-    decide each inconclusive check of :data:`POWER_CLAIMS` (rows of :data:`CHECK_COLUMNS`,
-    headline body); rows of :data:`POWER_COLUMNS`.
+    decide each inconclusive check of :data:`POWER_CLAIMS` (rows of :data:`POWER_COLUMNS`).
 
-    An interval narrows about as ``1 / sqrt(K)`` over ``K`` movements: with the estimate where
-    it is, the end on the threshold's side clears it at ``K' = K * (h / |estimate -
-    threshold|) ** 2``, ``h`` that end's distance from the estimate. A rough guide from the
-    bootstrap's spread, not a power analysis: the estimate itself moves with new movements.
+    An interval narrows about as ``1 / sqrt(K)``: with the estimate fixed, the end on the
+    threshold's side clears it at ``K' = K * (h / |estimate - threshold|) ** 2``, ``h`` that
+    end's distance from the estimate. A rough guide, not a power analysis.
 
     Notebook: 12_claims.ipynb
     """
@@ -85,9 +78,8 @@ _READINGS = (("literal", "with Method C's literal window: "),
 
 
 def format_claims(rows, stable=None) -> str:
-    """The claims as text: the claim, then paper, ours, verdict, reason and the other bodies
-    (deterministic for deterministic rows). ``stable``: True only the deterministic rows,
-    False only the timing rows, None all.
+    """The claims as text (``stable``: True only the deterministic rows, False only the
+    timing rows, None all).
 
     Notebook: 06_fig5_fig6_scores.ipynb
     """
@@ -124,8 +116,7 @@ def format_claims(rows, stable=None) -> str:
 
 
 def format_parts(parts) -> str:
-    """The parts table as text (deterministic for deterministic parts): one line per part with
-    its verdict and interval, then its verdict on the other bodies where it differs.
+    """The parts table as text: one line per part, its verdicts on other bodies where they differ.
 
     Notebook: 12_claims.ipynb
     """
@@ -149,9 +140,7 @@ def format_parts(parts) -> str:
 
 
 def claims_summary(rows) -> str:
-    """How many claims get each verdict, one line per body a claim was decided on (the
-    headline, the movements fixed, the other eq. 2, Method C's literal window, OPW's plugin
-    reading): ``"headline ...: yes 6, partly 5, ... (of 17 claims decided)"``.
+    """How many claims get each verdict, one line per body: ``"headline ...: yes 6, ..."``.
 
     Notebook: 12_claims.ipynb
     """
@@ -184,9 +173,8 @@ SHORT_COLUMNS = ("id", "claim", "paper", "ours", "verdict", "movements fixed", "
 
 
 def short_rows(rows, parts=None) -> list[dict]:
-    """The short claims table (:data:`SHORT_COLUMNS`): each claim in at most 12 words, the
-    paper's value, ours, the verdicts (A: the authors' FBX takes, H: HDM05, S: the
-    paper-shaped selection) and each part's verdict.
+    """The short claims table (:data:`SHORT_COLUMNS`; A: the authors' FBX takes, H: HDM05, S:
+    the paper-shaped selection).
 
     Notebook: 12_claims.ipynb
     """
@@ -220,10 +208,9 @@ def bootstrap_note() -> str:
 
 
 def save_claims(rows, mode="full", parts=None, meta=None, checks=None, power=None):
-    """Write ``claims.csv`` (every column) and ``claims.md`` (:func:`short_rows`), and, when
-    given, the ``parts`` (``claims_intervals``), the ``checks`` (``claims_checks``, full
-    precision) and the ``power`` rows (``claims_power``), then ``results/<mode>/claims.json``
-    (with ``meta``); returns the paths written.
+    """Write ``claims.csv|md`` and, when given, ``claims_intervals`` (``parts``),
+    ``claims_checks`` and ``claims_power``, then ``results/<mode>/claims.json``; returns the
+    paths written.
 
     Notebook: 12_claims.ipynb
     """
@@ -253,13 +240,8 @@ def save_claims(rows, mode="full", parts=None, meta=None, checks=None, power=Non
         "mode": mode,
         "claims": rows,
         "parts": parts or [],
-        "bootstrap": {
-            "resamples": bs.N_RESAMPLES,
-            "seed": bs.SEED,
-            "seed2": bs.SEED + SEED2_OFFSET,
-            "level": bs.LEVEL,
-            "schemes": bs.SCHEMES,
-        },
+        "bootstrap": dict(resamples=bs.N_RESAMPLES, seed=bs.SEED, seed2=bs.SEED + SEED2_OFFSET)
+        | dict(level=bs.LEVEL, schemes=bs.SCHEMES),
         **(meta or {}),
     }
     text = json.dumps(doc, indent=1, default=float) + "\n"
