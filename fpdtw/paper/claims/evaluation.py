@@ -10,19 +10,10 @@ from __future__ import annotations
 import numpy as np
 
 from fpdtw.paper.claims import rules as R
+from fpdtw.paper.claims import types as T
 from fpdtw.paper.claims.contexts import claim_contexts, load_context, open_evidence, other_eq2
 from fpdtw.paper.claims.paper_claims import CLAIMS, SHORT, claims_by_id
 from fpdtw.paper.claims.robustness import robustness as claim_robustness
-from fpdtw.paper.claims.types import (
-    BODIES,
-    CHECK_COLUMNS,
-    COLUMNS,
-    EQ2_OTHER,
-    OPW_PLUGIN,
-    OTHER_EVIDENCE,
-    PART_COLUMNS,
-    ClaimContext,
-)
 from fpdtw.paper.figures.timing import load_bench
 from fpdtw.paper.runner import load_results
 
@@ -44,7 +35,7 @@ def check_rows(body: str, claim_id: str, label: str, part) -> list[dict]:
     1, as in ``formula``; a part that is not comparable: one row, ``check`` 0)."""
     base = dict(body=body, claim=claim_id, part=label)
     if part.test is None:
-        empty = dict.fromkeys(CHECK_COLUMNS[5:-1], "")
+        empty = dict.fromkeys(T.CHECK_COLUMNS[5:-1], "")
         return [base | dict(formula="", check=0) | empty | dict(verdict=part.verdict)]
     text = R.formula(part.test)
     out = []
@@ -75,7 +66,7 @@ def _applies(claim, key: str) -> bool:
         return False
     if key == "literal":
         return True
-    return claim.opw if key == OPW_PLUGIN else claim.pairs
+    return claim.opw if key == T.OPW_PLUGIN else claim.pairs
 
 
 def evaluate_claims(claims, contexts, robustness=None, checks=None):
@@ -87,7 +78,7 @@ def evaluate_claims(claims, contexts, robustness=None, checks=None):
         main = claim.evaluate(contexts[""])
         labels = [R.part_label(claim.id, k) for k in range(len(main["parts"]))]
         others = {}
-        for key in (*OTHER_EVIDENCE, "literal", OPW_PLUGIN, "seed2", *EQ2_OTHER):
+        for key in (*T.OTHER_EVIDENCE, "literal", T.OPW_PLUGIN, "seed2", *T.EQ2_OTHER):
             c = contexts.get(key)
             others[key] = claim.evaluate(c) if c is not None and _applies(claim, key) else None
         seed2 = others["seed2"]
@@ -106,7 +97,7 @@ def evaluate_claims(claims, contexts, robustness=None, checks=None):
         row["interval"] = _interval_text(main["parts"], labels)
         row |= {f"holds_{k}": R.NA if o is None else o["holds"] for k, o in others.items()}
         row["eq2_other"] = other_eq2(getattr(contexts[""].ev, "results", None)) or R.NA
-        lit, plug = others["literal"], others[OPW_PLUGIN]
+        lit, plug = others["literal"], others[T.OPW_PLUGIN]
         row["ours_literal"] = lit["ours"] if lit else "not computed"
         if not claim.opw:
             row["ours_plugin"] = R.NA
@@ -118,7 +109,7 @@ def evaluate_claims(claims, contexts, robustness=None, checks=None):
         if claim.question:
             rob = "n/a (a question beyond the papers, decided on the open run)"
         row["robustness"] = rob or "not computed here (notebook 12)"
-        rows.append({c: row[c] for c in COLUMNS})
+        rows.append({c: row[c] for c in T.COLUMNS})
         for k, (label, p) in enumerate(zip(labels, main["parts"])):
             c = p.decisive()
             ci = (c.low, c.high) if c is not None and c.interval else (None, None)
@@ -127,11 +118,11 @@ def evaluate_claims(claims, contexts, robustness=None, checks=None):
             pr |= dict(quantity=c.quantity if c else "", estimate=c.estimate if c else None)
             pr["formula"] = R.formula(p.test) if p.test is not None else ""
             pr["checks"] = len(R.checks(p.test)) if p.test is not None else 0
-            for key in (*OTHER_EVIDENCE, "literal", OPW_PLUGIN, "seed2", "eq2_other"):
+            for key in (*T.OTHER_EVIDENCE, "literal", T.OPW_PLUGIN, "seed2", "eq2_other"):
                 pr[f"verdict_{key}"] = _verdict(others[key], k)
-            part_out.append({c: pr[c] for c in PART_COLUMNS})
+            part_out.append({c: pr[c] for c in T.PART_COLUMNS})
         bodies = {"all": main, **others} if checks is not None else {}
-        for body in BODIES:
+        for body in T.BODIES:
             for k, p in enumerate((bodies.get(body) or {}).get("parts", [])):
                 checks += check_rows(body, claim.id, R.part_label(claim.id, k), p)
     return rows, part_out
@@ -192,7 +183,7 @@ def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None, with_pa
         return [by[i] for i in ids]
     subset = claims_by_id(ids)
     if facts is not None:
-        ctx = ClaimContext.from_facts(mode, **dict(facts))
+        ctx = T.ClaimContext.from_facts(mode, **dict(facts))
         out, parts = evaluate_claims(subset, claim_contexts(ctx))
     else:
         out, parts = build_claims(mode, results, claims=subset, robustness=False, with_parts=True)
@@ -205,5 +196,5 @@ def open_claim_rows(ids, mode: str = "full"):
     Paper: FP-DTW Section 7; OPW poster Section 6 (the questions their conclusions leave open).
     Notebook: 16_open_questions.ipynb
     """
-    ctx = ClaimContext(mode=mode, open_ev=open_evidence(mode), bench=load_bench())
+    ctx = T.ClaimContext(mode=mode, open_ev=open_evidence(mode), bench=load_bench())
     return evaluate_claims(claims_by_id([str(i) for i in ids]), claim_contexts(ctx))

@@ -14,15 +14,8 @@ import numpy as np
 from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.claims import bootstrap as bs
 from fpdtw.paper.claims import rules as R
+from fpdtw.paper.claims import types as T
 from fpdtw.paper.claims.paper_claims import SHORT
-from fpdtw.paper.claims.types import (
-    CHECK_COLUMNS,
-    COLUMNS,
-    OPW_PLUGIN,
-    OTHER_EVIDENCE,
-    PART_COLUMNS,
-    SEED2_OFFSET,
-)
 from fpdtw.paper.figures.tables import save_table, to_markdown
 from fpdtw.paper.paths import figures_dir, results_dir
 from fpdtw.paper.provenance import versions_line
@@ -100,7 +93,7 @@ def format_claims(rows, stable=None) -> str:
             lines.append(fill(r["interval"], "95 %:   "))
         bodies = [
             f"{k.replace('_', ' ')} {r[f'holds_{k}']}"
-            for k in OTHER_EVIDENCE
+            for k in T.OTHER_EVIDENCE
             if r.get(f"holds_{k}", R.NA) != R.NA
         ]
         if bodies:
@@ -130,7 +123,7 @@ def format_parts(parts) -> str:
         else:
             num = f" | {est:.4g} [{lo:.4g}, {hi:.4g}] vs {p['threshold']:g}"
         other = [f"{k.replace('_', ' ')}: {p[f'verdict_{k}']}"
-                 for k in (*OTHER_EVIDENCE, "literal", OPW_PLUGIN)
+                 for k in (*T.OTHER_EVIDENCE, "literal", T.OPW_PLUGIN)
                  if p[f"verdict_{k}"] not in (R.NA, p["verdict"])]  # fmt: skip
         line = f"{p['part']:4s} {p['verdict']:14s} {p['text']}{num}"
         if other:
@@ -199,7 +192,7 @@ def bootstrap_note() -> str:
     """Which question each resampling answers, and the seeds (under every claims table)."""
     return (
         f"Intervals: {bs.N_RESAMPLES} resamples of a two-stage cluster bootstrap (seed "
-        f"{bs.SEED}; second seed {bs.SEED + SEED2_OFFSET}). The verdict resamples movements "
+        f"{bs.SEED}; second seed {bs.SEED + T.SEED2_OFFSET}). The verdict resamples movements "
         "within each dataset, then motions within each movement: it answers 'would this hold "
         "for other movements like these, recorded again?'. 'Movements fixed' resamples the "
         "motions only: 'would it hold for other takes of these movements?'. Monte Carlo "
@@ -221,14 +214,14 @@ def save_claims(rows, mode="full", parts=None, meta=None, checks=None, power=Non
         "check: claims_checks.csv; `python -m fpdtw.paper.claims verify figures/` recomputes "
         "every verdict from these files."
     )
-    out = list(save_table(rows, "claims", columns=COLUMNS, note=note))
+    out = list(save_table(rows, "claims", columns=T.COLUMNS, note=note))
     md = to_markdown(short_rows(rows, parts), SHORT_COLUMNS) + f"\n{note}\n"
     out[1] = write_atomic(figures_dir() / "claims.md", md.encode())
     if parts is not None:
-        out += save_table(parts, "claims_intervals", columns=PART_COLUMNS, note=boot,
+        out += save_table(parts, "claims_intervals", columns=T.PART_COLUMNS, note=boot,
                           csvfmt=".17g")  # fmt: skip
     if checks is not None:
-        out += save_table(checks, "claims_checks", columns=CHECK_COLUMNS, csvfmt=".17g",
+        out += save_table(checks, "claims_checks", columns=T.CHECK_COLUMNS, csvfmt=".17g",
                           floatfmt=".4g", note=f"{R.RULE}\n\n{boot}")  # fmt: skip
     if power is not None:
         out += save_table(power, "claims_power", columns=POWER_COLUMNS, note=(
@@ -240,7 +233,7 @@ def save_claims(rows, mode="full", parts=None, meta=None, checks=None, power=Non
         "mode": mode,
         "claims": rows,
         "parts": parts or [],
-        "bootstrap": dict(resamples=bs.N_RESAMPLES, seed=bs.SEED, seed2=bs.SEED + SEED2_OFFSET)
+        "bootstrap": dict(resamples=bs.N_RESAMPLES, seed=bs.SEED, seed2=bs.SEED + T.SEED2_OFFSET)
         | dict(level=bs.LEVEL, schemes=bs.SCHEMES),
         **(meta or {}),
     }
