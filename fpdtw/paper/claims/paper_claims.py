@@ -1,10 +1,5 @@
-"""The papers' claims: each claim of the FP-DTW paper and the OPW poster as a row of data.
-
-Each :class:`~fpdtw.paper.claims.types.Claim` of :data:`CLAIMS` holds its id, the claim in
-words, the paper's value (:mod:`fpdtw.paper.numbers`) and an assessment that reads our
-results from a :class:`~fpdtw.paper.claims.types.ClaimContext` and returns our value in words
-and the claim's parts. The questions beyond the papers (Q rows) are assessed in
-:mod:`fpdtw.paper.claims.open`; nothing here loads results.
+"""The papers' claims: each claim of the FP-DTW paper and the OPW poster as a row of data
+(:data:`CLAIMS`), with the assessment that decides it on a context; nothing here loads results.
 
 Paper: FP-DTW Sections 5-7; OPW poster Section 5.
 """
@@ -23,8 +18,6 @@ from fpdtw.paper.claims.types import FIG8_JSON, OPW_FIG4_JSON, OPW_FIG56_JSON, A
 from fpdtw.paper.figures.timing import growth_ratio
 from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES, TYPE_V, WINDOWS
 
-# Each assessment returns an Assessment, or a string: why the claim could not be computed.
-
 
 def _on_pairs(*names):
     """An assessment ``f(ev)`` on the pairs, run once ``ctx.ev`` has every name's results."""
@@ -33,15 +26,8 @@ def _on_pairs(*names):
 
 def _on_facts(key: str, json_name: str):
     """An assessment ``f(d)`` of the notebook facts ``ctx.<key>`` (from ``json_name``)."""
-
-    def wrap(f):
-        def assess(ctx):
-            d = getattr(ctx, key)
-            return f"{json_name} absent" if d is None else f(d)
-
-        return assess
-
-    return wrap
+    absent = f"{json_name} absent"
+    return lambda f: lambda ctx: absent if getattr(ctx, key) is None else f(getattr(ctx, key))
 
 
 def _names(xs) -> str:
@@ -92,8 +78,7 @@ def _claim2b(ev):
 
 
 def best_window_test(ev, rate):
-    """The paper's best window of Method C at ``rate`` beats every other window: its median
-    similarity minus each other's, on the same pairs, above 0 (Table 1)."""
+    """The paper's best window of Method C at ``rate`` beats every other window (Table 1)."""
     best = N.BEST_WINDOW[rate]
     sfx = "" if rate == 120 else "@60Hz"
     others = [w for w in WINDOWS if w != best]
@@ -439,8 +424,7 @@ def _claim_p4(d):
 
 
 def _claim_b1(ctx):
-    """Claim B1: each online baseline of the registry that the run has, against the two
-    benchmarks (no parts: not a claim of the papers)."""
+    """Claim B1: each online baseline of the registry that the run has, against the benchmarks."""
     have = [n for n in registry.baselines() if ctx.ev is not None and ctx.ev.has(n, "UTW")]
     if not have:
         return "not computed"
