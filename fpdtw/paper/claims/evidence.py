@@ -93,11 +93,9 @@ class Evidence:
         self.alias = dict(alias or {})
         self._values = values
         self.label = label
-        self._design = None
-        self._W = None
+        self._design = self._W = self._key = None
         self._owner = None  # the evidence whose weights these pairs use (None: its own)
         self._cols = None  # columns of the owner's weights holding these pairs (None: all)
-        self._key = None
         self._cache = {}
         ids = np.array([int(p["id"]) for p in results.pairs], dtype=np.int64)
         self._pair_ids = ids[self.rows]

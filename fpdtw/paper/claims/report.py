@@ -229,14 +229,9 @@ def save_claims(rows, mode="full", parts=None, meta=None, checks=None, power=Non
             "claims 1 and 3 would need to decide it, if its estimate stayed where it is and "
             "the interval narrowed as 1/sqrt(movements) (fpdtw.paper.claims.report.power_rows)."
         ))  # fmt: skip
-    doc = {
-        "mode": mode,
-        "claims": rows,
-        "parts": parts or [],
-        "bootstrap": dict(resamples=bs.N_RESAMPLES, seed=bs.SEED, seed2=bs.SEED + T.SEED2_OFFSET)
-        | dict(level=bs.LEVEL, schemes=bs.SCHEMES),
-        **(meta or {}),
-    }
+    boot_meta = dict(resamples=bs.N_RESAMPLES, seed=bs.SEED, seed2=bs.SEED + T.SEED2_OFFSET)
+    boot_meta |= dict(level=bs.LEVEL, schemes=bs.SCHEMES)
+    doc = dict(mode=mode, claims=rows, parts=parts or [], bootstrap=boot_meta) | (meta or {})
     text = json.dumps(doc, indent=1, default=float) + "\n"
     out.append(write_atomic(results_dir() / mode / "claims.json", text.encode()))
     return out

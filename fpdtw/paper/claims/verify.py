@@ -41,16 +41,9 @@ def check_from_row(row: dict) -> R.Check:
     rel = row["relation"]
     if rel not in (">", ">=", "<", "<="):
         raise ValueError(f"check {row['part']}#{row['check']}: relation {rel!r}")
-    return R.Check(
-        row["quantity"],
-        _float(row["estimate"]),
-        _float(row["low"]),
-        _float(row["high"]),
-        _float(row["threshold"]),
-        above=rel.startswith(">"),
-        interval=row["interval"] == "True",
-        strict=len(rel) == 1,
-    )
+    est, lo, hi, t = (_float(row[k]) for k in ("estimate", "low", "high", "threshold"))
+    kw = dict(above=rel.startswith(">"), interval=row["interval"] == "True", strict=len(rel) == 1)
+    return R.Check(row["quantity"], est, lo, hi, t, **kw)
 
 
 def part_verdicts(checks: list[dict]) -> tuple[dict, list[str]]:
