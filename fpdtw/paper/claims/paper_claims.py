@@ -326,9 +326,8 @@ STAND_IN = (
 
 
 def example_base_ms() -> float:
-    """The example warp curve's mean ``|t - g(t)|`` in ms at the poster's offset: what the
-    removed share of :func:`fpdtw.paper.opw_eval.temporal_difference_removed` divides by
-    (``removed = 1 - mean deviation / base``).
+    """The example warp curve's mean ``|t - g(t)|`` in ms at the poster's offset, the base of
+    the removed share (``removed = 1 - mean deviation / base``).
 
     Paper: OPW poster Section 5 (Figs. 4, 5).
     """
