@@ -5,8 +5,6 @@ paper-shaped selection). Each question's parts were committed with its rule befo
 committed results (Q1, Q6: cbb3316; Q3: 8914ef2; Q4: 64f220a; Q2: 0b05346; Q5: d1a2385; all
 2026-11-23, after the papers' claims tables; docs/history.md).
 
-* Q1: parts (c), (e) compare Mc auto with the best fixed w chosen per movement, an optimistic
-  bar; (d), (f) with the paper's best fixed window (Table 1).
 * Q3: the first reading, a 1 s band that masks the window's rows (committed in 8914ef2 before
   its first results), was inconclusive on every part and is shown, not tested. The claim's
   band, half the window with the rows outside it not computed, was chosen on 2026-11-24 after

@@ -99,14 +99,9 @@ class Check:
     def describe(self) -> str:
         """``"median deviation of Mc w20, frames 13.5 [12.1, 14.9] < 18"`` (or ``straddles``)."""
         v = self.verdict
-        if v == INCONCLUSIVE:
-            rel = "straddles"
-        elif (v == HOLDS) == self.above:
-            rel = ">"
-        else:
-            rel = "<"
-        if v != INCONCLUSIVE and (v == CONTRADICTED) == self.strict:
-            rel += "="
+        rel = ">" if (v == HOLDS) == self.above else "<"
+        rel += "=" if (v == CONTRADICTED) == self.strict else ""
+        rel = "straddles" if v == INCONCLUSIVE else rel
         return f"{self.quantity} {self.value_text()} {rel} {self.threshold:g}"
 
     def value_text(self) -> str:
