@@ -144,14 +144,8 @@ def reading_alias(reading: str) -> dict:
     """Mc name -> its results' name under a reading of Algorithm 3 ({} for ``"square"``)."""
     if reading == "square":
         return {}
-    out = {}
-    for w in WINDOWS:
-        for typev in (False, True):
-            for rate in ("", "@60Hz"):
-                out[method_c_name(w, "square", typev) + rate] = (
-                    method_c_name(w, reading, typev) + rate
-                )
-    return out
+    keys = [(w, t, r) for w in WINDOWS for t in (False, True) for r in ("", "@60Hz")]
+    return {method_c_name(w, "square", t) + r: method_c_name(w, reading, t) + r for w, t, r in keys}
 
 
 @dataclass(frozen=True)
