@@ -1,14 +1,12 @@
 """Files written whole or not at all: a temporary file beside the destination, flushed to
-disk, then renamed over it. A killed process leaves at most a ``.<name>.<pid>.part`` file,
-which the runner ignores and cleans up. Every result, table, facts and bench file of the
-paper layer is written this way."""
+disk, then renamed over it (a killed process leaves at most a ``.<name>.<pid>.part`` file)."""
 
 from __future__ import annotations
 
 import os
 from pathlib import Path
 
-#: Prefix and suffix of temporary files (a killed run may leave these; they are ignored).
+#: Prefix and suffix of temporary files.
 TMP_PREFIX, TMP_SUFFIX = ".", ".part"
 
 
@@ -18,8 +16,7 @@ def tmp_path(path: Path) -> Path:
 
 
 def write_atomic(path, data: bytes) -> Path:
-    """Write ``data`` to ``path`` (its folder created if needed) through :func:`tmp_path` and
-    :func:`os.replace`; returns ``path`` as a Path."""
+    """Write ``data`` to ``path`` (its folder created if needed); returns ``path`` as a Path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = tmp_path(path)

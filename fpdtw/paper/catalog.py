@@ -1,9 +1,5 @@
-"""Which motions exist, which are here, and loading them by dataset and path.
-
-The manifests (``data_manifest/``) list every file; this module turns them into labelled
-motions (dataset, movement, take) and loads them through the verified cache
-(:func:`fpdtw.paper.datasets.fetch`).
-"""
+"""The manifests' motions as labelled records (dataset, movement, take), and loading them
+through the verified cache (:func:`fpdtw.paper.datasets.fetch`)."""
 
 from __future__ import annotations
 
@@ -17,9 +13,8 @@ _DATASETS = ("authors_fbx", "hdm05", "cmu")
 
 @dataclass(frozen=True)
 class MotionRecord:
-    """One motion file of a dataset (a manifest name) with its labels: ``movement`` (the
-    authors' movement, HDM05 class or CMU take description), ``take``, ``available`` (in
-    the local mirror) and ``frames`` (where the manifest knows it)."""
+    """One motion file of a dataset with its labels, whether it is ``available`` here and its
+    ``frames`` (where the manifest knows it)."""
 
     dataset: str
     path: str
@@ -47,8 +42,7 @@ def motion_records(datasets=_DATASETS, available_only=False):
 
 
 def load(record_or_dataset, path=None):
-    """Fetch (verified, cached) and read one motion: a MotionRecord, or a dataset name and
-    the path inside it.
+    """Fetch and read one motion: a MotionRecord, or a dataset name and the path inside it.
 
     Notebook: 01_data_and_motions.ipynb
     """

@@ -1,9 +1,5 @@
-"""Numbers for the notebooks' prose: computed from the results and shown by a code cell.
-
-A notebook's markdown never types a result (``tests/test_notebook_numbers.py`` checks it):
-where its prose needs a count of the data, a code cell shows a sentence built here from
-the run's pair list (``Markdown(data_sentence(results.pairs))``), in Jupyter and the book.
-"""
+"""Numbers for the notebooks' prose, built from a run's pair list and shown by a code cell
+(a notebook's markdown never types a result: ``tests/test_notebook_numbers.py``)."""
 
 from __future__ import annotations
 
@@ -19,12 +15,7 @@ DATA_NUMBERS = ("motions", "movements", "pairs", "pairs_authors_fbx", "pairs_hdm
 
 
 def data_numbers(pairs) -> dict:
-    """The data behind a run (``Results.pairs``), as the notebooks' prose quotes them.
-
-    Returns :data:`DATA_NUMBERS` as plain Python values: counts of motions, movements and
-    pairs (also per dataset); HDM05's share of the pairs; the fewest and most clips per
-    HDM05 class; the movement with most pairs and its share.
-    """
+    """The data behind a run (``Results.pairs``): :data:`DATA_NUMBERS` as plain Python values."""
     counts = data_counts(pairs)
     total = counts["total"]
     out = {k: total[k] for k in ("motions", "movements", "pairs")}
@@ -43,7 +34,6 @@ def data_numbers(pairs) -> dict:
     (_, name), n = max(per_movement.items(), key=lambda kv: (kv[1], kv[0]), default=(("", ""), 0))
     out["largest_movement"] = name
     out["largest_movement_share"] = n / total["pairs"] if total["pairs"] else 0.0
-    # numpy scalars as Python values (their text would be ``np.int64(5)``)
     return {k: out[k].item() if isinstance(out[k], np.generic) else out[k] for k in DATA_NUMBERS}
 
 
@@ -82,8 +72,7 @@ def study_sentence(study_pairs, full_pairs) -> str:
 
 
 def selection_sentence(pairs) -> str:
-    """How unevenly a run's pairs fall on its movements, as Markdown: the clips per HDM05
-    class and the share of the movement with most pairs.
+    """How unevenly a run's pairs fall on its movements, as Markdown.
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """

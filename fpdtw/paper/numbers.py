@@ -1,7 +1,5 @@
 """Every value quoted from the two papers, with where it is printed, and the paper's pass rule.
 
-The claims, figures, notebooks and benchmark read the papers' numbers only from here.
-
 FP-DTW: Randall, Harvey, Williams, "Online alignment of human motion using forward
 plotting-dynamic time warping", Computer Animation and Virtual Worlds 34(3) e2166, 2023.
 OPW: Randall, Harvey, Williams, "A Predictive Approach to On-line Time Warping of Motion"
@@ -49,10 +47,8 @@ TYPE_V = " + Type V"
 FPDTW_NAMES = ("Ma",) + tuple(f"Mb w{w}" for w in WINDOWS) + tuple(f"Mc w{w}" for w in WINDOWS)
 #: The same with the Type V constraint (Section 6).
 FPDTW_TYPEV_NAMES = tuple(n + TYPE_V for n in FPDTW_NAMES)
-#: The offline baselines (Section 4).
-OFFLINE_NAMES = ("DTW", "UTW")
-#: Every algorithm of the paper's evaluation.
-PAPER_NAMES = OFFLINE_NAMES + ("OE-DTW",) + FPDTW_NAMES + FPDTW_TYPEV_NAMES
+#: Every algorithm of the paper's evaluation (DTW and UTW: the offline baselines, Section 4).
+PAPER_NAMES = ("DTW", "UTW", "OE-DTW") + FPDTW_NAMES + FPDTW_TYPEV_NAMES
 
 # -- FP-DTW: results ---------------------------------------------------------------------------
 
@@ -68,7 +64,7 @@ TABLE2_US = {
     ("B", 10): 856.0, ("B", 20): 1654.0, ("B", 40): 4806.0, ("B", 80): 16945.0,
     ("C", 10): 782.0, ("C", 20): 1583.0, ("C", 40): 4764.0, ("C", 80): 10106.0,
 }  # fmt: skip
-#: Table 2's machine: one core clocked at 3.58-3.95 GHz (GHz).
+#: Table 2's machine: one core clocked at 3.58-3.95 GHz (GHz; the notebooks' prose quotes it).
 TABLE2_CPU_GHZ = (3.58, 3.95)
 #: Section 5 (Table 2's text): the real-time budget at 120 Hz, "(1 x 10^6)/120 or 8333 us".
 BUDGET_120HZ_US = 1e6 / 120

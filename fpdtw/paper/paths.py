@@ -1,12 +1,6 @@
-"""Every path fpdtw reads or writes, in one place.
-
-Environment variables override the defaults: ``FPDTW_DATA_DIR`` (the data cache:
-``<repo>/data_cache`` in a writable checkout, else the user cache folder),
-``FPDTW_MIRROR`` (a folder or base URL used instead of the upstream URLs, docs/data.md),
-``FPDTW_RESULTS_DIR``, ``FPDTW_FIGURES_DIR``, ``FPDTW_MANIFEST_DIR`` and
-``FPDTW_EXECUTED_DIR`` (default: ``results/``, ``figures/``, ``data_manifest/`` and
-``build/notebooks/`` of the checkout).
-"""
+"""Every path fpdtw reads or writes, in one place; environment variables (``FPDTW_DATA_DIR``,
+``FPDTW_MIRROR``, ``FPDTW_RESULTS_DIR``, ``FPDTW_FIGURES_DIR``, ``FPDTW_MANIFEST_DIR``,
+``FPDTW_EXECUTED_DIR``) override the defaults."""
 
 from __future__ import annotations
 
@@ -25,7 +19,8 @@ def _env_path(var: str, default: Path) -> Path:
 
 
 def data_dir() -> Path:
-    """Folder of the verified data cache (laid out like a mirror)."""
+    """Folder of the verified data cache (``<repo>/data_cache`` in a writable checkout, else the
+    user cache folder)."""
     if (REPO_ROOT / "pyproject.toml").is_file() and os.access(REPO_ROOT, os.W_OK):
         default = REPO_ROOT / "data_cache"
     else:
@@ -34,7 +29,7 @@ def data_dir() -> Path:
 
 
 def mirror() -> str | None:
-    """The mirror given by ``FPDTW_MIRROR`` (folder or base URL), or None."""
+    """The mirror given by ``FPDTW_MIRROR`` (folder or base URL, docs/data.md), or None."""
     value = os.environ.get("FPDTW_MIRROR", "").strip()
     return value or None
 

@@ -1,11 +1,7 @@
 """The papers' claims, checked against our results: parts, intervals, verdicts.
 
-Bottom to top (a module imports only those before it): :mod:`.rules` (checks, parts,
-verdicts), :mod:`.bootstrap` (intervals), :mod:`.evidence` (per-pair values and checks of a
-run), :mod:`.types` (claim, context, columns), :mod:`.open` (the Q rows),
-:mod:`.paper_claims` (:data:`CLAIMS`), :mod:`.contexts` (the bodies of evidence),
-:mod:`.robustness`, :mod:`.evaluation` (every claim on every body), :mod:`.report` (text,
-tables, files) and :mod:`.verify` (``python -m fpdtw.paper.claims verify figures/``).
+Bottom to top (a module imports only those before it): rules, bootstrap, evidence, types,
+open (the Q rows), paper_claims, contexts, robustness, evaluation, report and verify.
 """
 
 from fpdtw.paper.claims.contexts import (
@@ -15,12 +11,7 @@ from fpdtw.paper.claims.contexts import (
     open_evidence,
     paper_shaped_rows,
 )
-from fpdtw.paper.claims.evaluation import (
-    build_claims,
-    claim_rows,
-    evaluate_claims,
-    open_claim_rows,
-)
+from fpdtw.paper.claims.evaluation import build_claims, claim_rows, evaluate_claims, open_claim_rows
 from fpdtw.paper.claims.open import QUESTION_IDS, open_mode
 from fpdtw.paper.claims.paper_claims import CLAIMS, SHORT, claims_by_id
 from fpdtw.paper.claims.report import (

@@ -1,13 +1,10 @@
 """Intervals for medians over pairs that share motions: a two-stage cluster bootstrap.
 
-Every motion of a movement with ``k`` takes is in ``2(k - 1)`` pairs, so pairs are not
-independent. Scheme ``"movements"`` (the verdicts') draws, within each dataset, movements
-with replacement and, within each drawn movement, motions with replacement; a pair
-``(a, b)`` then counts ``c_a * c_b`` times (``c``: how often each motion was drawn). Scheme
-``"motions"`` keeps the movements and draws only the motions (:data:`SCHEMES`). Every
-statistic of a claim is computed on every resample from the same weights, so comparisons are
-paired; intervals are percentile intervals. The weights depend only on the pairs, the scheme,
-the number of resamples and the seed: reruns give byte-identical intervals.
+Pairs sharing a motion are not independent. Scheme ``"movements"`` draws, within each
+dataset, movements and, within each drawn movement, motions, with replacement; a pair
+``(a, b)`` counts ``c_a * c_b`` times (``c``: how often each motion was drawn). Every statistic
+is computed on every resample from the same weights (paired comparisons); intervals are
+percentile intervals, byte-identical on reruns.
 
 Paper: FP-DTW Section 4 (medians over pairs of takes of the same movement).
 Notebook: 12_claims.ipynb
@@ -27,10 +24,8 @@ SCHEMES = {
     "motions": "these movements, other takes of them (motions resampled within each "
     "movement; the movements fixed)",
 }
-#: Resamples per interval, chosen by :func:`seed_stability` on the full run (notebook 12): the
-#: similarity intervals' ends of six algorithms moved by at most 0.0057, 0.0044, 0.0020,
-#: 0.0021, 0.0014 and 0.0008 between two seeds at 1000, 2000, ..., 32000 resamples: 16000
-#: keeps them within :data:`STABILITY`.
+#: Resamples per interval: :func:`seed_stability` on the full run (notebook 12) keeps interval
+#: ends within :data:`STABILITY` from 16000 on (1000 to 32000 measured).
 N_RESAMPLES = 16000
 #: Seed of every interval (FP-DTW's article number, e2166).
 SEED = 2166
@@ -38,14 +33,14 @@ SEED = 2166
 STABILITY = 0.002
 #: Two-sided level of every interval.
 LEVEL = 0.95
-#: Batches of the batch-means estimate of an interval end's Monte Carlo error.
+#: Batches of the batch-means Monte Carlo error of an interval end.
 MC_BATCHES = 16
 
 
 @dataclass(frozen=True)
 class PairDesign:
-    """Codes (dense, from 0) of each pair's dataset, movement (unique across datasets), input
-    and target motion (unique across movements): int64 arrays of shape (P,)."""
+    """Codes (dense, from 0) of each pair's dataset, movement, input and target motion (unique
+    across datasets and movements): int64 arrays of shape (P,)."""
 
     dataset: np.ndarray
     movement: np.ndarray
@@ -114,10 +109,7 @@ def resample_weights(
 
 @numba.njit(cache=True)
 def _add_pair_weights(W, rows, li, lt, C, live):  # pragma: no cover - compiled
-    """``W[b, rows[p]] += C[b, li[p]] * C[b, lt[p]]`` for the resamples ``b`` with ``live[b]``.
-
-    Tested by tests/test_claims_rules.py (``c_a c_b`` per pair, written out there).
-    """
+    """``W[b, rows[p]] += C[b, li[p]] * C[b, lt[p]]`` for the resamples ``b`` with ``live[b]``."""
     for b in range(W.shape[0]):
         if live[b]:
             for p in range(rows.size):
@@ -140,11 +132,7 @@ def weighted_medians(values, W, cols=None) -> np.ndarray:
 
 @numba.njit(cache=True)
 def _weighted_medians(vs, W, order):  # pragma: no cover - compiled
-    """Per row of ``W``: the median of the sorted values ``vs`` (pairs ``order``) repeated by
-    their weights.
-
-    Tested by tests/test_claims_rules.py (the median of the repeated values).
-    """
+    """Per row of ``W``: the median of the sorted values ``vs`` (pairs ``order``), weighted."""
     B = W.shape[0]
     out = np.full(B, np.nan)
     for b in range(B):
@@ -190,9 +178,8 @@ def interval(replicates) -> tuple[float, float]:
 
 
 def interval_error(replicates):
-    """``(low, high, low_se, high_se)``: the interval and the Monte Carlo standard error of
-    each end, by batch means over :data:`MC_BATCHES` consecutive batches of the replicates
-    (errors NaN with fewer than 50 finite replicates per batch)."""
+    """``(low, high, low_se, high_se)``: the interval and each end's Monte Carlo standard error
+    by batch means (NaN with fewer than 50 finite replicates per batch)."""
     lo, hi = interval(replicates)
     r = np.asarray(replicates, dtype=np.float64)
     r = r[np.isfinite(r)]

@@ -1,9 +1,5 @@
-"""The contexts a claim is decided on, made from a run's results.
-
-:func:`load_context` makes a run's headline context (its pairs, the notebooks' facts, ``make
-bench``'s timings, the open run); :func:`claim_contexts` derives every other body of evidence
-from it (the movements fixed, each dataset, the paper-shaped selection, Method C's literal
-window, OPW's plugin reading, the second seed, the other reading of eq. 2).
+"""The contexts a claim is decided on: a run's headline context (:func:`load_context`) and
+every other body of evidence derived from it (:func:`claim_contexts`).
 
 Paper: FP-DTW Sections 5-7; OPW poster Section 5.
 """
@@ -15,20 +11,9 @@ from dataclasses import replace
 
 import numpy as np
 
+from fpdtw.paper.claims import types as T
 from fpdtw.paper.claims.evidence import Evidence, shared_evidence
 from fpdtw.paper.claims.open import open_mode
-from fpdtw.paper.claims.types import (
-    EQ2_OTHER,
-    FIG8_JSON,
-    OPW_FIG4_JSON,
-    OPW_FIG56_JSON,
-    OPW_PLUGIN,
-    OTHER_EVIDENCE,
-    SEED2_OFFSET,
-    ClaimContext,
-    opw_reading,
-    reading_alias,
-)
 from fpdtw.paper.figures.timing import TIMED_NAMES, load_bench, time_per_frame_rows
 from fpdtw.paper.paths import results_dir
 from fpdtw.paper.readings import study_mode
@@ -38,9 +23,8 @@ from fpdtw.paper.runner.selection import DATASETS
 from fpdtw.paper.similarity_level import reading_values
 
 
-def load_context(results, mode="full") -> ClaimContext:
-    """The context of a run (:func:`fpdtw.paper.runner.run.load_results`); the notebooks'
-    facts are read from ``results/<mode>/figs/``.
+def load_context(results, mode="full") -> T.ClaimContext:
+    """The context of a run (:func:`fpdtw.paper.runner.run.load_results`).
 
     Paper: FP-DTW Sections 5-7; OPW poster Section 5.
     """
@@ -50,13 +34,13 @@ def load_context(results, mode="full") -> ClaimContext:
         timing = time_per_frame_rows(bench, names=list(TIMED_NAMES)) or None
         plain = bench.get("plain") or None
     figs = results_dir() / mode / "figs"
-    return ClaimContext(
+    return T.ClaimContext(
         mode=mode,
         ev=Evidence(results),
         timing=timing,
-        fig8=_read_json(figs / FIG8_JSON),
-        opw_fig4=_read_json(figs / OPW_FIG4_JSON),
-        opw_fig56=_read_json(figs / OPW_FIG56_JSON),
+        fig8=_read_json(figs / T.FIG8_JSON),
+        opw_fig4=_read_json(figs / T.OPW_FIG4_JSON),
+        opw_fig56=_read_json(figs / T.OPW_FIG56_JSON),
         counts=getattr(results, "counts", None) or data_counts(results.pairs),
         open_ev=open_evidence(mode),
         plain=plain,
@@ -65,8 +49,7 @@ def load_context(results, mode="full") -> ClaimContext:
 
 
 def open_evidence(mode: str = "full"):
-    """The :class:`~fpdtw.paper.claims.evidence.Evidence` of the open run of ``mode``, or
-    None when that run does not exist (the Q claims are then "not computed").
+    """The :class:`~fpdtw.paper.claims.evidence.Evidence` of the open run of ``mode`` (or None).
 
     Notebook: 16_open_questions.ipynb
     """
@@ -94,16 +77,8 @@ def _read_json(path):
         return None
 
 
-def _again(ev, rows=None, scheme=None, seed=None, values=None, label=""):
-    """Evidence of the same run and names: other pairs, scheme, seed or per-pair values."""
-    return Evidence(ev.results, ev.rows if rows is None else rows, scheme or ev.scheme,
-                    ev.n_resamples, seed or ev.seed, alias=ev.alias, values=values,
-                    label=label)  # fmt: skip
-
-
 def paper_shaped_rows(results, mode: str = "full"):
-    """Indices into ``results.pairs`` of the paper-shaped selection's pairs: those of the study
-    run (notebook 15), or None when that run does not exist."""
+    """Indices into ``results.pairs`` of the study run's pairs (notebook 15), or None."""
     path = results_dir() / study_mode(mode == "smoke") / "pairs.json"
     if not path.is_file():
         return None
@@ -117,36 +92,29 @@ def paper_shaped_rows(results, mode: str = "full"):
 
 
 def claim_contexts(ctx, results=None, mode="full") -> dict:
-    """Every body of evidence of the table: key -> context (None where it cannot be made).
-
-    Keys: ``""`` (all pairs), :data:`~fpdtw.paper.claims.types.OTHER_EVIDENCE`,
-    ``"literal"``, ``"plugin"``, ``"seed2"`` (all pairs and the open run, second seed) and
-    :data:`~fpdtw.paper.claims.types.EQ2_OTHER`.
-    """
-    alias = reading_alias("literal")
+    """Every body of evidence of the table: key (``""``: all pairs) -> context (or None)."""
+    alias = T.reading_alias("literal")
     literal = ctx.ev.reading(alias=alias, label="literal window") if ctx.ev is not None else None
     out = {
         "": ctx,
-        **{k: None for k in OTHER_EVIDENCE},
+        **{k: None for k in T.OTHER_EVIDENCE},
         "literal": replace(ctx, ev=literal, alias=alias),
-        OPW_PLUGIN: opw_reading(ctx),
+        T.OPW_PLUGIN: T.opw_reading(ctx),
         "seed2": None,
     }
     if ctx.ev is not None or ctx.open_ev is not None:
 
         def reseeded(ev):
-            if ev is None:
-                return None
-            return _again(ev, seed=ev.seed + SEED2_OFFSET, values=ev._values,
-                          label=f"{ev.label} (second seed)")  # fmt: skip
+            if ev is not None:
+                return ev.again(seed=ev.seed + T.SEED2_OFFSET, label=f"{ev.label} (second seed)")
 
         out["seed2"] = replace(ctx, ev=reseeded(ctx.ev), open_ev=reseeded(ctx.open_ev))
-    out |= dict.fromkeys(EQ2_OTHER)
+    out |= dict.fromkeys(T.EQ2_OTHER)
     ev = ctx.ev
     if ev is None:
         return out
     other = _other_eq2_values(ev.results)
-    out["same_movements"] = ctx.with_evidence(_again(ev, scheme="motions", label="these movements"))
+    out["same_movements"] = ctx.with_evidence(ev.again(scheme="motions", label="these movements"))
     ds = np.array([ev.results.pairs[r]["dataset"] for r in ev.rows])
     if other is not None:
         o = ev.reading(values=other, label=f"eq. 2 {other_eq2(ev.results)}")
@@ -159,17 +127,16 @@ def claim_contexts(ctx, results=None, mode="full") -> dict:
     rows = paper_shaped_rows(ev.results, mode) if results is not None else None
     if rows is not None and rows.size:
         label = "paper-shaped selection"
-        out["paper_shaped"] = ctx.with_evidence(_again(ev, rows, label=label))
+        out["paper_shaped"] = ctx.with_evidence(ev.again(rows=rows, label=label))
         if other is not None:
-            out["eq2_other_paper_shaped"] = ctx.with_evidence(_again(ev, rows, values=other,
-                                                                     label=label))  # fmt: skip
+            o = ev.again(rows=rows, values=other, label=label)
+            out["eq2_other_paper_shaped"] = ctx.with_evidence(o)
     return out
 
 
 def other_eq2(results) -> str | None:
     """The reading of eq. 2 other than the one ``results`` scores with (None: a run without
-    readings, e.g. a test's fake run, or one without its selection, which cannot be
-    rescored)."""
+    readings or without its selection, which cannot be rescored)."""
     eq2 = getattr(results, "eq2", None)
     if eq2 is None:
         return None

@@ -1,12 +1,5 @@
-"""Deciding the claims: every claim on every body of evidence, part by part.
-
-:func:`build_claims` evaluates :data:`~fpdtw.paper.claims.paper_claims.CLAIMS` on the bodies
-of :func:`~fpdtw.paper.claims.contexts.claim_contexts`: one row per claim
-(:data:`~fpdtw.paper.claims.types.COLUMNS`: the headline verdict, the verdict on each other
-body, the robustness under the documented readings), one per part
-(``figures/claims_intervals.csv``) and one per check (``figures/claims_checks.csv``).
-:func:`claim_rows` picks the rows a notebook is evidence for; :func:`open_claim_rows` decides
-the Q rows on the open run alone. ``stable`` is False for the rows read from timings.
+"""Deciding the claims: every claim on every body of evidence, part by part (one row per
+claim, one per part, one per check).
 
 Paper: FP-DTW Sections 5-7; OPW poster Section 5.
 Notebook: 12_claims.ipynb
@@ -17,19 +10,10 @@ from __future__ import annotations
 import numpy as np
 
 from fpdtw.paper.claims import rules as R
+from fpdtw.paper.claims import types as T
 from fpdtw.paper.claims.contexts import claim_contexts, load_context, open_evidence, other_eq2
 from fpdtw.paper.claims.paper_claims import CLAIMS, SHORT, claims_by_id
 from fpdtw.paper.claims.robustness import robustness as claim_robustness
-from fpdtw.paper.claims.types import (
-    BODIES,
-    CHECK_COLUMNS,
-    COLUMNS,
-    EQ2_OTHER,
-    OPW_PLUGIN,
-    OTHER_EVIDENCE,
-    PART_COLUMNS,
-    ClaimContext,
-)
 from fpdtw.paper.figures.timing import load_bench
 from fpdtw.paper.runner import load_results
 
@@ -47,12 +31,11 @@ def _interval_text(parts, labels) -> str:
 
 
 def check_rows(body: str, claim_id: str, label: str, part) -> list[dict]:
-    """The rows of :data:`CHECK_COLUMNS` of one part on one body, one per check (``check``
-    numbers them from 1, as the part's ``formula`` does); a part that is not comparable gets
-    one row with ``check`` 0."""
+    """The rows of :data:`CHECK_COLUMNS` of one part on one body, one per check (numbered from
+    1, as in ``formula``; a part that is not comparable: one row, ``check`` 0)."""
     base = dict(body=body, claim=claim_id, part=label)
     if part.test is None:
-        empty = dict.fromkeys(CHECK_COLUMNS[5:-1], "")
+        empty = dict.fromkeys(T.CHECK_COLUMNS[5:-1], "")
         return [base | dict(formula="", check=0) | empty | dict(verdict=part.verdict)]
     text = R.formula(part.test)
     out = []
@@ -69,9 +52,7 @@ def check_rows(body: str, claim_id: str, label: str, part) -> list[dict]:
 
 
 def seed_verdict(first: str, second: str | None) -> str:
-    """A headline part's verdict with both seeds: the same verdict, or
-    :data:`~fpdtw.paper.claims.rules.ON_THRESHOLD` where they disagree (``second`` None or
-    n/a: the first stands)."""
+    """A headline part's verdict with both seeds (``ON_THRESHOLD`` where they disagree)."""
     if second in (None, R.NA) or second == first:
         return first
     return R.ON_THRESHOLD
@@ -85,51 +66,38 @@ def _applies(claim, key: str) -> bool:
         return False
     if key == "literal":
         return True
-    return claim.opw if key == OPW_PLUGIN else claim.pairs
+    return claim.opw if key == T.OPW_PLUGIN else claim.pairs
 
 
 def evaluate_claims(claims, contexts, robustness=None, checks=None):
-    """The claims table and its parts table on the bodies of :func:`claim_contexts`.
-
-    ``robustness``: claim id -> text (:func:`fpdtw.paper.claims.robustness.robustness`);
-    ``checks``: a list the rows of :data:`CHECK_COLUMNS` are appended to. Returns ``(rows,
-    parts)``, dicts with the keys :data:`COLUMNS` and :data:`PART_COLUMNS`.
-    """
+    """``(rows, parts)`` of the claims on the bodies of :func:`claim_contexts` (keys
+    :data:`COLUMNS`, :data:`PART_COLUMNS`); ``robustness``: claim id -> text; ``checks``: a
+    list the rows of :data:`CHECK_COLUMNS` are appended to."""
     rows, part_out = [], []
     for claim in claims:
         main = claim.evaluate(contexts[""])
         labels = [R.part_label(claim.id, k) for k in range(len(main["parts"]))]
         others = {}
-        for key in (*OTHER_EVIDENCE, "literal", OPW_PLUGIN, "seed2", *EQ2_OTHER):
+        for key in (*T.OTHER_EVIDENCE, "literal", T.OPW_PLUGIN, "seed2", *T.EQ2_OTHER):
             c = contexts.get(key)
             others[key] = claim.evaluate(c) if c is not None and _applies(claim, key) else None
         seed2 = others["seed2"]
         verdicts = [
-            seed_verdict(p.verdict, seed2["parts"][k].verdict if seed2 and
-                         k < len(seed2["parts"]) else None)
-            for k, p in enumerate(main["parts"])
-        ]  # fmt: skip
+            seed_verdict(p.verdict, _verdict(seed2, k)) for k, p in enumerate(main["parts"])
+        ]
         holds, reason = main["holds"], main["reason"]
         if main["parts"] and R.ON_THRESHOLD in verdicts:
             holds = R.claim_verdict(verdicts)
             moved = [f"{lab} ({seed2['parts'][k].verdict} with the second seed)"
                      for k, lab in enumerate(labels) if verdicts[k] == R.ON_THRESHOLD]  # fmt: skip
             reason += ". On the threshold: " + "; ".join(moved)
-        row = dict(
-            id=claim.id,
-            claim=claim.text,
-            short=SHORT.get(claim.id, claim.text),
-            paper=claim.paper,
-            ours=main["ours"],
-            holds=holds,
-            reason=reason,
-            interval=_interval_text(main["parts"], labels),
-            evidence=claim.evidence,
-            stable=claim.stable,
-        )
+        row = dict(id=claim.id, claim=claim.text, paper=claim.paper, stable=claim.stable)
+        row |= dict(ours=main["ours"], holds=holds, reason=reason, evidence=claim.evidence)
+        row["short"] = SHORT.get(claim.id, claim.text)
+        row["interval"] = _interval_text(main["parts"], labels)
         row |= {f"holds_{k}": R.NA if o is None else o["holds"] for k, o in others.items()}
         row["eq2_other"] = other_eq2(getattr(contexts[""].ev, "results", None)) or R.NA
-        lit, plug = others["literal"], others[OPW_PLUGIN]
+        lit, plug = others["literal"], others[T.OPW_PLUGIN]
         row["ours_literal"] = lit["ours"] if lit else "not computed"
         if not claim.opw:
             row["ours_plugin"] = R.NA
@@ -141,41 +109,32 @@ def evaluate_claims(claims, contexts, robustness=None, checks=None):
         if claim.question:
             rob = "n/a (a question beyond the papers, decided on the open run)"
         row["robustness"] = rob or "not computed here (notebook 12)"
-        rows.append({c: row[c] for c in COLUMNS})
+        rows.append({c: row[c] for c in T.COLUMNS})
         for k, (label, p) in enumerate(zip(labels, main["parts"])):
             c = p.decisive()
-            pr = dict(
-                claim=claim.id,
-                part=label,
-                text=p.text,
-                verdict=verdicts[k],
-                formula=R.formula(p.test) if p.test is not None else "",
-                checks=len(R.checks(p.test)) if p.test is not None else 0,
-                quantity=c.quantity if c else "",
-                estimate=c.estimate if c else None,
-                ci_low=c.low if c is not None and c.interval else None,
-                ci_high=c.high if c is not None and c.interval else None,
-                threshold=c.threshold if c else None,
-                mc_margin=_mc_margin(p),
-            )
-            for key in (*OTHER_EVIDENCE, "literal", OPW_PLUGIN, "seed2", "eq2_other"):
-                o = others[key]
-                pr[f"verdict_{key}"] = o["parts"][k].verdict if o and k < len(o["parts"]) else R.NA
-            part_out.append({c: pr[c] for c in PART_COLUMNS})
-        if checks is not None:
-            bodies = {"all": main, **others}
-            for body in BODIES:
-                got = bodies.get(body)
-                if not got or not got["parts"]:
-                    continue
-                for k, p in enumerate(got["parts"]):
-                    checks += check_rows(body, claim.id, R.part_label(claim.id, k), p)
+            ci = (c.low, c.high) if c is not None and c.interval else (None, None)
+            pr = dict(claim=claim.id, part=label, text=p.text, verdict=verdicts[k], ci_low=ci[0])
+            pr |= dict(ci_high=ci[1], threshold=c.threshold if c else None, mc_margin=_mc_margin(p))
+            pr |= dict(quantity=c.quantity if c else "", estimate=c.estimate if c else None)
+            pr["formula"] = R.formula(p.test) if p.test is not None else ""
+            pr["checks"] = len(R.checks(p.test)) if p.test is not None else 0
+            for key in (*T.OTHER_EVIDENCE, "literal", T.OPW_PLUGIN, "seed2", "eq2_other"):
+                pr[f"verdict_{key}"] = _verdict(others[key], k)
+            part_out.append({c: pr[c] for c in T.PART_COLUMNS})
+        bodies = {"all": main, **others} if checks is not None else {}
+        for body in T.BODIES:
+            for k, p in enumerate((bodies.get(body) or {}).get("parts", [])):
+                checks += check_rows(body, claim.id, R.part_label(claim.id, k), p)
     return rows, part_out
 
 
+def _verdict(got, k: int) -> str:
+    """The verdict of part ``k`` of an evaluated claim (n/a where it has none)."""
+    return got["parts"][k].verdict if got and k < len(got["parts"]) else R.NA
+
+
 def _mc_margin(part) -> float | None:
-    """The smallest distance, in Monte Carlo standard errors, from an interval end of the
-    part's checks to its threshold (None without an interval)."""
+    """The smallest :meth:`~fpdtw.paper.claims.rules.Check.mc_margin` of the part's checks."""
     if part.test is None:
         return None
     m = min((c.mc_margin() for c in R.checks(part.test)), default=float("inf"))
@@ -184,13 +143,10 @@ def _mc_margin(part) -> float | None:
 
 def build_claims(mode="full", results=None, claims=None, *, robustness=True, with_parts=False,
                  with_checks=False):  # fmt: skip
-    """Every claim (default :data:`CLAIMS`) against a run (default ``load_results(mode)``),
-    part by part, on every body of evidence.
+    """Every claim (default :data:`CLAIMS`) against a run (default ``load_results(mode)``).
 
-    ``robustness``: also decide the claims under the readings of the study run (notebook 15)
-    if it exists. Returns the rows (:data:`COLUMNS`), with ``with_parts`` also the parts
-    (:data:`PART_COLUMNS`), with ``with_checks`` the parts and the checks
-    (:data:`CHECK_COLUMNS`).
+    Returns the rows, with ``with_parts`` also the parts, with ``with_checks`` the parts and the
+    checks; ``robustness``: also under the readings of the study run (notebook 15).
 
     Paper: FP-DTW Sections 5-7; OPW poster Section 5.
     Notebook: 12_claims.ipynb
@@ -208,12 +164,8 @@ def build_claims(mode="full", results=None, claims=None, *, robustness=True, wit
 
 
 def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None, with_parts=False):
-    """The rows of the claims table a notebook is evidence for, in the order of ``ids``
-    (claim ids of :data:`CLAIMS`), decided as in ``figures/claims.md`` (no robustness).
-
-    Decided on ``results`` (default ``load_results(mode)``) or on a notebook's own
-    ``facts`` (:meth:`ClaimContext.from_facts`), or picked from ``rows``, a table already
-    built. ``with_parts`` (not with ``rows``): return ``(rows, parts)``.
+    """The rows of the claims ``ids`` (no robustness), decided on ``results`` (default
+    ``load_results(mode)``) or a notebook's ``facts``, or picked from ``rows``, a table built.
 
     Paper: FP-DTW Sections 5-7; OPW poster Section 5.
     Notebook: 06_fig5_fig6_scores.ipynb
@@ -231,7 +183,7 @@ def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None, with_pa
         return [by[i] for i in ids]
     subset = claims_by_id(ids)
     if facts is not None:
-        ctx = ClaimContext.from_facts(mode, **dict(facts))
+        ctx = T.ClaimContext.from_facts(mode, **dict(facts))
         out, parts = evaluate_claims(subset, claim_contexts(ctx))
     else:
         out, parts = build_claims(mode, results, claims=subset, robustness=False, with_parts=True)
@@ -244,5 +196,5 @@ def open_claim_rows(ids, mode: str = "full"):
     Paper: FP-DTW Section 7; OPW poster Section 6 (the questions their conclusions leave open).
     Notebook: 16_open_questions.ipynb
     """
-    ctx = ClaimContext(mode=mode, open_ev=open_evidence(mode), bench=load_bench())
+    ctx = T.ClaimContext(mode=mode, open_ev=open_evidence(mode), bench=load_bench())
     return evaluate_claims(claims_by_id([str(i) for i in ids]), claim_contexts(ctx))

@@ -1,11 +1,5 @@
-"""What the claims read from the experiment results: per-pair values, medians, intervals.
-
-:class:`Evidence` is one body of data a verdict is made on: some (or all) pairs of a run,
-one bootstrap scheme (:mod:`~fpdtw.paper.claims.bootstrap`), one reading of the algorithms'
-names and of the metrics. It gives each algorithm's median and bootstrap replicates, and the
-:class:`~fpdtw.paper.claims.rules.Check` objects the claims are made of (:meth:`~Evidence.passes`:
-a benchmark, paper Section 5; :meth:`~Evidence.better`, :meth:`~Evidence.rank`,
-:meth:`~Evidence.share`).
+"""What the claims read from the experiment results: per-pair values, medians, intervals,
+and the :class:`~fpdtw.paper.claims.rules.Check` objects the claims are made of.
 
 Paper: FP-DTW Sections 4-6 (the medians over pairs, the two benchmarks).
 Notebook: 12_claims.ipynb
@@ -70,14 +64,11 @@ def missing(ev, names, absent: str = "no experiment results") -> str | None:
 
 class Evidence:
     """Per-pair values of some pairs of a run (``rows``: indices into ``results.pairs``,
-    default all), with medians and bootstrap replicates (``scheme``, ``n_resamples``,
-    ``seed``).
+    default all), with medians and bootstrap replicates.
 
-    ``alias``: a claim's name -> the results it stands for under a reading (``"Mc w40"`` ->
-    ``"Mc w40 (literal window)"``); ``values(result_name, metric)``: per-pair values (P,)
-    computed another way (a reading of eq. 2 or 3), in ``results.pairs`` order, or None for
-    the stored ones; ``label``: this body of data in words. :meth:`restrict` and
-    :meth:`reading` derive evidence that shares these bootstrap weights.
+    ``alias``: a claim's name -> the results it stands for under a reading; ``values(result_name,
+    metric)``: per-pair values (P,) in ``results.pairs`` order computed another way, or None
+    for the stored ones; ``label``: this body of data in words.
 
     Notebook: 12_claims.ipynb
     """
@@ -102,22 +93,19 @@ class Evidence:
         self.alias = dict(alias or {})
         self._values = values
         self.label = label
-        self._design = None
-        self._W = None
+        self._design = self._W = self._key = None
         self._owner = None  # the evidence whose weights these pairs use (None: its own)
         self._cols = None  # columns of the owner's weights holding these pairs (None: all)
-        self._key = None
         self._cache = {}
         ids = np.array([int(p["id"]) for p in results.pairs], dtype=np.int64)
         self._pair_ids = ids[self.rows]
 
     def restrict(self, keep, label: str) -> Evidence:
         """The same evidence on some of its pairs (``keep``: bool mask or indices into
-        :attr:`rows`), sharing its bootstrap weights. Only valid for subsets that are whole
-        strata (datasets) of the resampling."""
+        :attr:`rows`) sharing its weights: valid for whole strata (datasets) only."""
         keep = np.asarray(keep)
         idx = np.flatnonzero(keep) if keep.dtype == bool else keep.astype(np.int64)
-        out = self._derived(rows=self.rows[idx], label=label)
+        out = self.again(rows=self.rows[idx], label=label)
         out._owner = self._owner or self
         base = np.arange(self.n_pairs) if self._cols is None else self._cols
         out._cols = base[idx]
@@ -126,21 +114,16 @@ class Evidence:
 
     def reading(self, alias=None, values=None, label=None) -> Evidence:
         """The same pairs and weights under another reading of the names or the metrics."""
-        out = self._derived(rows=self.rows, label=label or self.label, alias=alias, values=values)
+        out = self.again(label=label, alias=alias, values=values)
         out._owner, out._cols, out._key = self._owner or self, self._cols, self.weights_key
         return out
 
-    def _derived(self, rows, label, alias=None, values=None) -> Evidence:
-        return Evidence(
-            self.results,
-            rows,
-            self.scheme,
-            self.n_resamples,
-            self.seed,
-            alias=self.alias if alias is None else alias,
-            values=self._values if values is None else values,
-            label=label,
-        )
+    def again(self, **changes) -> Evidence:
+        """The same run with some of ``rows``, ``scheme``, ``seed``, ``alias``, ``values`` and
+        ``label`` changed (None: unchanged), with weights of its own."""
+        names = ("rows", "scheme", "n_resamples", "seed", "alias", "label")
+        kw = {k: getattr(self, k) for k in names} | {"values": self._values}
+        return Evidence(self.results, **kw | {k: v for k, v in changes.items() if v is not None})
 
     @property
     def design(self) -> bs.PairDesign:
@@ -150,8 +133,7 @@ class Evidence:
 
     @property
     def weights_key(self) -> str:
-        """Digest of what decides the bootstrap weights (design, scheme, resamples, seed): the
-        key of the on-disk cache of replicates."""
+        """Digest of what decides the bootstrap weights: the key of the replicates' disk cache."""
         if self._key is None:
             d = self.design
             parts = [a.tobytes() for a in (d.dataset, d.movement, d.input, d.target)]
@@ -161,8 +143,7 @@ class Evidence:
 
     @property
     def weights(self) -> np.ndarray:
-        """Bootstrap weights, shape (n_resamples, P_all), computed on first need (:attr:`cols`
-        are this evidence's columns)."""
+        """Bootstrap weights, shape (n_resamples, P_all), computed on first need."""
         if self._owner is not None:
             return self._owner.weights
         if self._W is None:
@@ -208,14 +189,13 @@ class Evidence:
         return self._cache[key]
 
     def median(self, name: str, metric: str) -> float:
-        """Median over this evidence's pairs (finite values), as the paper's figures."""
+        """Median over this evidence's pairs (finite values)."""
         v = self.values(name, metric)
         v = v[np.isfinite(v)]
         return float(np.median(v)) if v.size else float("nan")
 
     def replicates(self, name: str, metric: str) -> np.ndarray:
-        """The median on every bootstrap resample, shape (n_resamples,), kept on disk beside
-        the results (``<results folder>/bootstrap/``) for every notebook reading the run."""
+        """The median on every bootstrap resample, shape (n_resamples,), cached on disk."""
         key = ("reps", name, metric)
         if key not in self._cache:
             v = self.values(name, metric)
@@ -243,12 +223,9 @@ class Evidence:
         """95 % interval of the median of ``name``."""
         return bs.interval(self.replicates(name, metric))
 
-    # -- checks -------------------------------------------------------------------------------
-
     def passes(self, name: str, metric: str) -> Check:
         """``name`` passes the benchmark of ``metric`` (paper Section 5): median similarity
-        minus UTW's (same pairs, same resamples) above 0, or median deviation below 150 ms in
-        frames of the algorithm's rate."""
+        minus UTW's above 0, or median deviation below 150 ms in frames of its rate."""
         rate = 60 if name.endswith("@60Hz") else 120
         if metric == "similarity":
             u = "UTW@60Hz" if rate == 60 else "UTW"
@@ -268,8 +245,8 @@ class Evidence:
         return AllOf(self.passes(name, "similarity"), self.passes(name, "deviation"))
 
     def better(self, a: str, b: str, metric: str) -> Check:
-        """``a`` is better than ``b`` on the same pairs: the difference of their medians above
-        0 (similarity) or below 0 (deviation), paired resamples."""
+        """``a`` is better than ``b``: the difference of their medians above 0 (similarity) or
+        below 0 (deviation)."""
         est = self.median(a, metric) - self.median(b, metric)
         reps = self.replicates(a, metric) - self.replicates(b, metric)
         sim = metric == "similarity"
@@ -281,8 +258,7 @@ class Evidence:
         return AllOf(self.better(a, b, "similarity"), self.better(a, b, "deviation"))
 
     def rank(self, name: str, names, metric: str, worst_from: int) -> Check:
-        """``name`` ranks ``worst_from`` or worse (1 = best) among ``names`` by median
-        ``metric``, on the data and on every resample."""
+        """``name`` ranks ``worst_from`` or worse (1: best) among ``names`` by ``metric``."""
         names = list(names)
         sign = -1.0 if metric == "similarity" else 1.0  # rank 1: highest similarity
         est = sign * np.array([self.median(n, metric) for n in names])
@@ -294,22 +270,18 @@ class Evidence:
                       rank_reps[i], worst_from - 0.5, digits=0)  # fmt: skip
 
     def share(self, quantity: str, numerator, denominator, threshold: float) -> Check:
-        """A share summed over pairs (e.g. frames with the input exhausted / all frames)
-        above ``threshold``."""
+        """A share summed over pairs above ``threshold``."""
         num = np.asarray(numerator, dtype=np.float64)
         den = np.asarray(denominator, dtype=np.float64)
         est = float(num.sum() / den.sum()) if den.sum() > 0 else float("nan")
         return _check(quantity, est, self.ratio_replicates(num, den), threshold)
 
     def share_difference(self, quantity: str, a, b) -> Check:
-        """Two shares of the same pairs, ``a`` and ``b`` each ``(numerator, denominator)`` per
-        pair: their difference above 0 (paired resamples)."""
+        """Shares ``a`` minus ``b`` (each ``(numerator, denominator)`` per pair) above 0."""
         (na, da), (nb, db) = ((np.asarray(x, dtype=np.float64) for x in y) for y in (a, b))
         est = float(na.sum() / da.sum() - nb.sum() / db.sum())
         reps = self.ratio_replicates(na, da) - self.ratio_replicates(nb, db)
         return _check(quantity, est, reps, 0.0, signed=True)
-
-    # -- per pair, from the maps ---------------------------------------------------------------
 
     def _maps(self, name: str):
         """``(M, m)`` of every pair of this evidence: its map and last input frame."""
@@ -322,9 +294,8 @@ class Evidence:
             yield arr.map(pos[int(pid)]), m_of[int(pid)]
 
     def exhausted_counts(self, name: str) -> tuple[np.ndarray, np.ndarray]:
-        """Per pair: target frames ``q >= 1`` processed with the input exhausted
-        (``M_{q-1} >= m``, as :func:`fpdtw.paper.figures.timing.exhausted_fraction`), and all
-        frames ``q >= 1``."""
+        """Per pair: target frames ``q >= 1`` with the input exhausted (``M_{q-1} >= m``), and
+        all frames ``q >= 1``."""
         key = ("exhausted", name)
         if key not in self._cache:
             counts = [(np.count_nonzero(M[:-1] >= m), M.size - 1) for M, m in self._maps(name)]
@@ -332,10 +303,8 @@ class Evidence:
         return self._cache[key]
 
     def band_cells(self, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """Per pair, from the maps of a band variant of Method B or C (``"Mc w40 (band
-        w/2)"``, :func:`fpdtw.online.band.band_cells`): its window steps, their cells without
-        and with the band, and the sum over steps of the share the band removes; each
-        float64 of shape (P,).
+        """Per pair, from the maps of a band variant of Method B or C: its window steps, their
+        cells without and with the band, and the summed share removed; float64 (P,) each.
 
         Paper: FP-DTW Section 7 (conclusion: a global constraint).
         """
@@ -363,9 +332,7 @@ _SHARED: dict = {}
 
 
 def shared_evidence(results, dataset=None) -> Evidence:
-    """The evidence of a run's pairs (or of one dataset's: a stratum, the weights shared),
-    made once per run, so that a notebook's figures, tables and claims read the same
-    medians and replicates."""
+    """The evidence of a run's pairs (or of one dataset's), made once per run."""
     key = id(results)
     hit = _SHARED.get(key)
     if hit is None or hit[0] is not results:

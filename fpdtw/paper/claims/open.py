@@ -1,22 +1,16 @@
 """Claims beyond the papers: the questions they leave open (Q1-Q6), decided on the open run.
 
-Each is a :class:`~fpdtw.paper.claims.types.Claim` with ``question=True``: a statement about a
-variant the papers suggest, decided by the same rules on the runner's mode ``"open"`` (a
-seeded subsample of the paper-shaped selection). Each question's parts were committed with
-its rule before its first committed results (Q1, Q6: cbb3316; Q3: 8914ef2; Q4: 64f220a;
-Q2: 0b05346; Q5: d1a2385; all 2026-11-23, after the papers' claims tables; docs/history.md).
+Each is decided by the same rules on the runner's mode ``"open"`` (a seeded subsample of the
+paper-shaped selection). Each question's parts were committed with its rule before its first
+committed results (Q1, Q6: cbb3316; Q3: 8914ef2; Q4: 64f220a; Q2: 0b05346; Q5: d1a2385; all
+2026-11-23, after the papers' claims tables; docs/history.md).
 
-* Q1 (Mc auto): parts (c), (e) compare it with the best fixed w chosen per movement, an
-  optimistic bar; (d), (f) with the paper's best fixed window (Table 1), paired.
-* Q3 (a global band): the first reading, a 1 s band that masks the window's rows (committed
-  in 8914ef2 before its first results), was inconclusive on every part and is shown as a
-  first reading, not tested. The claim's band, half the window with the rows outside it not
-  computed, was chosen on 2026-11-24 after the 1 s band's results were seen and before any
-  run of it. Its cells and time parts are point values (no ``make bench`` report:
-  inconclusive).
-* Q6 (a pause): until 2026-11-24 it asked every online method to stay below 18 frames and
-  not be raised by the pause; a reviewer pointed out that the poster's words are about OPW
-  alone, so the other methods are findings in our value, not parts.
+* Q3: the first reading, a 1 s band that masks the window's rows (committed in 8914ef2 before
+  its first results), was inconclusive on every part and is shown, not tested. The claim's
+  band, half the window with the rows outside it not computed, was chosen on 2026-11-24 after
+  the 1 s band's results were seen and before any run of it.
+* Q6: until 2026-11-24 it asked every online method to stay below 18 frames and not be raised
+  by the pause; the poster's words are about OPW alone, so the others are findings, not parts.
 
 Paper: FP-DTW Section 7 (conclusion); OPW poster Section 6 (conclusion).
 Notebook: 16_open_questions.ipynb
@@ -30,22 +24,10 @@ from fpdtw.paper.claims.evidence import missing
 from fpdtw.paper.claims.rules import Not, Part, point
 from fpdtw.paper.claims.types import Assessment
 from fpdtw.paper.figures.timing import band_cost
+from fpdtw.paper.numbers import BEST_WINDOW as BEST_FIXED
 from fpdtw.paper.numbers import WINDOWS
-from fpdtw.paper.runner.grid import (
-    BAND_1S,
-    BAND_BASES,
-    BAND_HALF_W,
-    DERIVATIVE_BASES,
-    PAUSE_METHODS,
-    PAUSE_SUFFIX,
-    WEIGHT_BASES,
-    WEIGHT_SUFFIX,
-)
+from fpdtw.paper.runner import grid as G
 
-#: The method the poster's remark on standing still (Q6) is about.
-POSTER_METHOD = "OPW"
-#: The overall best fixed window of Method C at each rate (the paper's Table 1).
-BEST_FIXED = {120: 40, 60: 20}
 _SFX = {120: "", 60: "@60Hz"}
 #: The open questions, in the papers' order (Q1-Q3: FP-DTW; Q4-Q6: OPW).
 QUESTION_IDS = ("Q1", "Q2", "Q3", "Q4", "Q5", "Q6")
@@ -67,9 +49,8 @@ def movements_of(ev) -> np.ndarray:
 
 
 def per_movement_windows(ev, rate: int = 120) -> list[dict]:
-    """Per movement, the median similarity of Mc auto and of every fixed w at ``rate``:
-    rows ``movement, pairs, auto, w10..w80, best_w, best, beats`` (``beats``: Mc auto's
-    median strictly above that of the movement's best fixed w)."""
+    """Per movement, the median similarity of Mc auto and of every fixed w at ``rate``: rows
+    ``movement, pairs, auto, w10..w80, best_w, best, beats`` (Mc auto above the best w)."""
     sfx = _SFX[rate]
     mv = movements_of(ev)
     auto = ev.values("Mc auto" + sfx, "similarity")
@@ -88,8 +69,7 @@ def per_movement_windows(ev, rate: int = 120) -> list[dict]:
 
 
 def beats_share_check(ev, rate: int):
-    """Q1's share of movements where Mc auto beats the movement's best fixed w, above 0.5
-    (each pair weighs 1 / its movement's pairs; the movements resampled, winners fixed)."""
+    """Q1's share of movements where Mc auto beats the movement's best fixed w, above 0.5."""
     mv = movements_of(ev)
     beats = {r["movement"]: r["beats"] for r in per_movement_windows(ev, rate)}
     size = {m: np.count_nonzero(mv == m) for m in beats}
@@ -108,8 +88,7 @@ def _change(ev, n, b) -> str:
 
 
 def _variant_parts(ev, n, b, improves: str) -> list:
-    """Variant ``b`` of ``n`` passes both benchmarks; and ``improves``: median similarity
-    higher and median deviation lower, paired."""
+    """Variant ``b`` of ``n`` passes both benchmarks; and ``improves``."""
     return [Part(f"{b} passes both benchmarks", ev.passes_both(b)),
             Part(f"{improves} (median similarity higher and median deviation lower, paired)",
                  ev.improves(b, n))]  # fmt: skip
@@ -151,20 +130,20 @@ def assess_q1(ctx):
 def assess_q6(ctx):
     """Our value and the part of Q6, or why not computed."""
     ev = ctx.open_ev
-    if why := missing(ev, [n + s for n in PAUSE_METHODS for s in ("", PAUSE_SUFFIX)], _NO_RUN):
+    if why := missing(ev, [n + s for n in G.PAUSE_METHODS for s in ("", G.PAUSE_SUFFIX)], _NO_RUN):
         return why
-    raised = ev.better(POSTER_METHOD + PAUSE_SUFFIX, POSTER_METHOD, "deviation")
+    raised = ev.better("OPW" + G.PAUSE_SUFFIX, "OPW", "deviation")
     part = Part(
         "the pause raises OPW's median deviation (with minus without, paired, above 0)",
         Not(raised),
     )
     findings = []
-    for n in PAUSE_METHODS:
-        c = ev.better(n + PAUSE_SUFFIX, n, "deviation")
+    for n in G.PAUSE_METHODS:
+        c = ev.better(n + G.PAUSE_SUFFIX, n, "deviation")
         v = {"holds": "lowered", "contradicted": "raised"}.get(c.verdict, "inconclusive")
         findings.append(
             f"{n} {ev.median(n, 'deviation'):.1f} -> "
-            f"{ev.median(n + PAUSE_SUFFIX, 'deviation'):.1f} ({v})"
+            f"{ev.median(n + G.PAUSE_SUFFIX, 'deviation'):.1f} ({v})"
         )
     return Assessment(
         "median deviation without -> with a pause (frames): " + ", ".join(findings), [part]
@@ -172,8 +151,7 @@ def assess_q6(ctx):
 
 
 def _variant_assessment(ev, variants: dict, change: str, heading: str):
-    """Q2's and Q5's parts: per base method (``variants``: base -> variant's name), the
-    variant passes both benchmarks, and ``change`` improves the base."""
+    """Q2's and Q5's parts: per base -> variant, the variant passes, and ``change`` improves."""
     if why := missing(ev, ["UTW", *variants, *variants.values()], _NO_RUN):
         return why
     parts, words = [], []
@@ -185,16 +163,15 @@ def _variant_assessment(ev, variants: dict, change: str, heading: str):
 
 def assess_q2(ctx):
     """Our value and the parts of Q2, or why not computed."""
-    variants = {n: n + WEIGHT_SUFFIX for n in WEIGHT_BASES}
+    variants = {n: n + G.WEIGHT_SUFFIX for n in G.WEIGHT_BASES}
     return _variant_assessment(
         ctx.open_ev, variants, "weighting", "without -> with weighted joints"
     )
 
 
 def band_removed_share(ev, name: str) -> float:
-    """The mean share of the window's cells a band variant does not compute per window step,
-    over every step of every pair (:meth:`~fpdtw.paper.claims.evidence.Evidence.band_cells`):
-    0 when the band never clips a window (the 1 s band masks); NaN without a step.
+    """The mean share of the window's cells a band variant does not compute per window step
+    (0: the band never clips a window; NaN without a step).
 
     Paper: FP-DTW Section 7 ("reducing the number of cells which need to be calculated").
     Notebook: 16_open_questions.ipynb
@@ -206,8 +183,8 @@ def band_removed_share(ev, name: str) -> float:
 def assess_q3(ctx):
     """Our value and the parts of Q3, or why not computed."""
     ev = ctx.open_ev
-    variants = {n: f"{n} ({BAND_HALF_W})" for n in BAND_BASES}
-    first = {n: f"{n} ({BAND_1S})" for n in BAND_BASES}
+    variants = {n: f"{n} ({G.BAND_HALF_W})" for n in G.BAND_BASES}
+    first = {n: f"{n} ({G.BAND_1S})" for n in G.BAND_BASES}
     if why := missing(ev, ["UTW", *variants, *variants.values(), *first.values()], _NO_RUN):
         return why
     cost = {r["band"]: r["ratio"] for r in band_cost(ctx.bench or {})}
@@ -254,5 +231,5 @@ def assess_q4(ctx):
 
 def assess_q5(ctx):
     """Our value and the parts of Q5, or why not computed."""
-    variants = {n: f"{n} (derivative)" for n in DERIVATIVE_BASES}
+    variants = {n: f"{n} (derivative)" for n in G.DERIVATIVE_BASES}
     return _variant_assessment(ctx.open_ev, variants, "the derivative cost", "poses -> derivatives")

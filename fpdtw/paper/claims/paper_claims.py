@@ -1,10 +1,5 @@
-"""The papers' claims: each claim of the FP-DTW paper and the OPW poster as a row of data.
-
-Each :class:`~fpdtw.paper.claims.types.Claim` of :data:`CLAIMS` holds its id, the claim in
-words, the paper's value (:mod:`fpdtw.paper.numbers`) and an assessment that reads our
-results from a :class:`~fpdtw.paper.claims.types.ClaimContext` and returns our value in words
-and the claim's parts. The questions beyond the papers (Q rows) are assessed in
-:mod:`fpdtw.paper.claims.open`; nothing here loads results.
+"""The papers' claims: each claim of the FP-DTW paper and the OPW poster as a row of data
+(:data:`CLAIMS`), with the assessment that decides it on a context; nothing here loads results.
 
 Paper: FP-DTW Sections 5-7; OPW poster Section 5.
 """
@@ -17,20 +12,11 @@ from fpdtw import registry
 from fpdtw.paper import numbers as N
 from fpdtw.paper import opw_eval
 from fpdtw.paper.claims.evidence import missing
-from fpdtw.paper.claims.open import (
-    assess_q1,
-    assess_q2,
-    assess_q3,
-    assess_q4,
-    assess_q5,
-    assess_q6,
-)
+from fpdtw.paper.claims.open import assess_q1, assess_q2, assess_q3, assess_q4, assess_q5, assess_q6
 from fpdtw.paper.claims.rules import AllOf, Not, Part, point
 from fpdtw.paper.claims.types import FIG8_JSON, OPW_FIG4_JSON, OPW_FIG56_JSON, Assessment, Claim
 from fpdtw.paper.figures.timing import growth_ratio
 from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES, TYPE_V, WINDOWS
-
-# Each assessment returns an Assessment, or a string: why the claim could not be computed.
 
 
 def _on_pairs(*names):
@@ -40,15 +26,8 @@ def _on_pairs(*names):
 
 def _on_facts(key: str, json_name: str):
     """An assessment ``f(d)`` of the notebook facts ``ctx.<key>`` (from ``json_name``)."""
-
-    def wrap(f):
-        def assess(ctx):
-            d = getattr(ctx, key)
-            return f"{json_name} absent" if d is None else f(d)
-
-        return assess
-
-    return wrap
+    absent = f"{json_name} absent"
+    return lambda f: lambda ctx: absent if getattr(ctx, key) is None else f(getattr(ctx, key))
 
 
 def _names(xs) -> str:
@@ -99,8 +78,7 @@ def _claim2b(ev):
 
 
 def best_window_test(ev, rate):
-    """The paper's best window of Method C at ``rate`` beats every other window: its median
-    similarity minus each other's, on the same pairs, above 0 (Table 1)."""
+    """The paper's best window of Method C at ``rate`` beats every other window (Table 1)."""
     best = N.BEST_WINDOW[rate]
     sfx = "" if rate == 120 else "@60Hz"
     others = [w for w in WINDOWS if w != best]
@@ -348,9 +326,8 @@ STAND_IN = (
 
 
 def example_base_ms() -> float:
-    """The example warp curve's mean ``|t - g(t)|`` in ms at the poster's offset: what the
-    removed share of :func:`fpdtw.paper.opw_eval.temporal_difference_removed` divides by
-    (``removed = 1 - mean deviation / base``).
+    """The example warp curve's mean ``|t - g(t)|`` in ms at the poster's offset, the base of
+    the removed share (``removed = 1 - mean deviation / base``).
 
     Paper: OPW poster Section 5 (Figs. 4, 5).
     """
@@ -446,8 +423,7 @@ def _claim_p4(d):
 
 
 def _claim_b1(ctx):
-    """Claim B1: each online baseline of the registry that the run has, against the two
-    benchmarks (no parts: not a claim of the papers)."""
+    """Claim B1: each online baseline of the registry that the run has, against the benchmarks."""
     have = [n for n in registry.baselines() if ctx.ev is not None and ctx.ev.has(n, "UTW")]
     if not have:
         return "not computed"

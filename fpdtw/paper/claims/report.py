@@ -1,10 +1,5 @@
 """Reporting the claims: as text, as the short table, as files, with the power estimates.
 
-Formats what :mod:`~fpdtw.paper.claims.evaluation` decided, estimates how many movements an
-inconclusive check would need (:func:`power_rows`) and writes ``figures/claims*.csv|md`` and
-``results/<mode>/claims.json`` (:func:`save_claims`), which ``python -m fpdtw.paper.claims
-verify figures/`` reads back.
-
 Paper: FP-DTW Sections 5-7; OPW poster Section 5.
 Notebook: 12_claims.ipynb
 """
@@ -19,15 +14,8 @@ import numpy as np
 from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.claims import bootstrap as bs
 from fpdtw.paper.claims import rules as R
+from fpdtw.paper.claims import types as T
 from fpdtw.paper.claims.paper_claims import SHORT
-from fpdtw.paper.claims.types import (
-    CHECK_COLUMNS,
-    COLUMNS,
-    OPW_PLUGIN,
-    OTHER_EVIDENCE,
-    PART_COLUMNS,
-    SEED2_OFFSET,
-)
 from fpdtw.paper.figures.tables import save_table, to_markdown
 from fpdtw.paper.paths import figures_dir, results_dir
 from fpdtw.paper.provenance import versions_line
@@ -45,13 +33,11 @@ def movement_count(ev) -> int:
 
 def power_rows(checks, movements: int) -> list[dict]:
     """How many movements like ours (``movements`` today) the pooled intervals would need to
-    decide each inconclusive check of :data:`POWER_CLAIMS` (rows of :data:`CHECK_COLUMNS`,
-    headline body); rows of :data:`POWER_COLUMNS`.
+    decide each inconclusive check of :data:`POWER_CLAIMS` (rows of :data:`POWER_COLUMNS`).
 
-    An interval narrows about as ``1 / sqrt(K)`` over ``K`` movements: with the estimate where
-    it is, the end on the threshold's side clears it at ``K' = K * (h / |estimate -
-    threshold|) ** 2``, ``h`` that end's distance from the estimate. A rough guide from the
-    bootstrap's spread, not a power analysis: the estimate itself moves with new movements.
+    An interval narrows about as ``1 / sqrt(K)``: with the estimate fixed, the end on the
+    threshold's side clears it at ``K' = K * (h / |estimate - threshold|) ** 2``, ``h`` that
+    end's distance from the estimate. A rough guide, not a power analysis.
 
     Notebook: 12_claims.ipynb
     """
@@ -85,9 +71,8 @@ _READINGS = (("literal", "with Method C's literal window: "),
 
 
 def format_claims(rows, stable=None) -> str:
-    """The claims as text: the claim, then paper, ours, verdict, reason and the other bodies
-    (deterministic for deterministic rows). ``stable``: True only the deterministic rows,
-    False only the timing rows, None all.
+    """The claims as text (``stable``: True only the deterministic rows, False only the
+    timing rows, None all).
 
     Notebook: 06_fig5_fig6_scores.ipynb
     """
@@ -108,7 +93,7 @@ def format_claims(rows, stable=None) -> str:
             lines.append(fill(r["interval"], "95 %:   "))
         bodies = [
             f"{k.replace('_', ' ')} {r[f'holds_{k}']}"
-            for k in OTHER_EVIDENCE
+            for k in T.OTHER_EVIDENCE
             if r.get(f"holds_{k}", R.NA) != R.NA
         ]
         if bodies:
@@ -124,8 +109,7 @@ def format_claims(rows, stable=None) -> str:
 
 
 def format_parts(parts) -> str:
-    """The parts table as text (deterministic for deterministic parts): one line per part with
-    its verdict and interval, then its verdict on the other bodies where it differs.
+    """The parts table as text: one line per part, its verdicts on other bodies where they differ.
 
     Notebook: 12_claims.ipynb
     """
@@ -139,7 +123,7 @@ def format_parts(parts) -> str:
         else:
             num = f" | {est:.4g} [{lo:.4g}, {hi:.4g}] vs {p['threshold']:g}"
         other = [f"{k.replace('_', ' ')}: {p[f'verdict_{k}']}"
-                 for k in (*OTHER_EVIDENCE, "literal", OPW_PLUGIN)
+                 for k in (*T.OTHER_EVIDENCE, "literal", T.OPW_PLUGIN)
                  if p[f"verdict_{k}"] not in (R.NA, p["verdict"])]  # fmt: skip
         line = f"{p['part']:4s} {p['verdict']:14s} {p['text']}{num}"
         if other:
@@ -149,9 +133,7 @@ def format_parts(parts) -> str:
 
 
 def claims_summary(rows) -> str:
-    """How many claims get each verdict, one line per body a claim was decided on (the
-    headline, the movements fixed, the other eq. 2, Method C's literal window, OPW's plugin
-    reading): ``"headline ...: yes 6, partly 5, ... (of 17 claims decided)"``.
+    """How many claims get each verdict, one line per body: ``"headline ...: yes 6, ..."``.
 
     Notebook: 12_claims.ipynb
     """
@@ -184,9 +166,8 @@ SHORT_COLUMNS = ("id", "claim", "paper", "ours", "verdict", "movements fixed", "
 
 
 def short_rows(rows, parts=None) -> list[dict]:
-    """The short claims table (:data:`SHORT_COLUMNS`): each claim in at most 12 words, the
-    paper's value, ours, the verdicts (A: the authors' FBX takes, H: HDM05, S: the
-    paper-shaped selection) and each part's verdict.
+    """The short claims table (:data:`SHORT_COLUMNS`; A: the authors' FBX takes, H: HDM05, S:
+    the paper-shaped selection).
 
     Notebook: 12_claims.ipynb
     """
@@ -211,7 +192,7 @@ def bootstrap_note() -> str:
     """Which question each resampling answers, and the seeds (under every claims table)."""
     return (
         f"Intervals: {bs.N_RESAMPLES} resamples of a two-stage cluster bootstrap (seed "
-        f"{bs.SEED}; second seed {bs.SEED + SEED2_OFFSET}). The verdict resamples movements "
+        f"{bs.SEED}; second seed {bs.SEED + T.SEED2_OFFSET}). The verdict resamples movements "
         "within each dataset, then motions within each movement: it answers 'would this hold "
         "for other movements like these, recorded again?'. 'Movements fixed' resamples the "
         "motions only: 'would it hold for other takes of these movements?'. Monte Carlo "
@@ -220,10 +201,9 @@ def bootstrap_note() -> str:
 
 
 def save_claims(rows, mode="full", parts=None, meta=None, checks=None, power=None):
-    """Write ``claims.csv`` (every column) and ``claims.md`` (:func:`short_rows`), and, when
-    given, the ``parts`` (``claims_intervals``), the ``checks`` (``claims_checks``, full
-    precision) and the ``power`` rows (``claims_power``), then ``results/<mode>/claims.json``
-    (with ``meta``); returns the paths written.
+    """Write ``claims.csv|md`` and, when given, ``claims_intervals`` (``parts``),
+    ``claims_checks`` and ``claims_power``, then ``results/<mode>/claims.json``; returns the
+    paths written.
 
     Notebook: 12_claims.ipynb
     """
@@ -234,14 +214,14 @@ def save_claims(rows, mode="full", parts=None, meta=None, checks=None, power=Non
         "check: claims_checks.csv; `python -m fpdtw.paper.claims verify figures/` recomputes "
         "every verdict from these files."
     )
-    out = list(save_table(rows, "claims", columns=COLUMNS, note=note))
+    out = list(save_table(rows, "claims", columns=T.COLUMNS, note=note))
     md = to_markdown(short_rows(rows, parts), SHORT_COLUMNS) + f"\n{note}\n"
     out[1] = write_atomic(figures_dir() / "claims.md", md.encode())
     if parts is not None:
-        out += save_table(parts, "claims_intervals", columns=PART_COLUMNS, note=boot,
+        out += save_table(parts, "claims_intervals", columns=T.PART_COLUMNS, note=boot,
                           csvfmt=".17g")  # fmt: skip
     if checks is not None:
-        out += save_table(checks, "claims_checks", columns=CHECK_COLUMNS, csvfmt=".17g",
+        out += save_table(checks, "claims_checks", columns=T.CHECK_COLUMNS, csvfmt=".17g",
                           floatfmt=".4g", note=f"{R.RULE}\n\n{boot}")  # fmt: skip
     if power is not None:
         out += save_table(power, "claims_power", columns=POWER_COLUMNS, note=(
@@ -249,19 +229,9 @@ def save_claims(rows, mode="full", parts=None, meta=None, checks=None, power=Non
             "claims 1 and 3 would need to decide it, if its estimate stayed where it is and "
             "the interval narrowed as 1/sqrt(movements) (fpdtw.paper.claims.report.power_rows)."
         ))  # fmt: skip
-    doc = {
-        "mode": mode,
-        "claims": rows,
-        "parts": parts or [],
-        "bootstrap": {
-            "resamples": bs.N_RESAMPLES,
-            "seed": bs.SEED,
-            "seed2": bs.SEED + SEED2_OFFSET,
-            "level": bs.LEVEL,
-            "schemes": bs.SCHEMES,
-        },
-        **(meta or {}),
-    }
+    boot_meta = dict(resamples=bs.N_RESAMPLES, seed=bs.SEED, seed2=bs.SEED + T.SEED2_OFFSET)
+    boot_meta |= dict(level=bs.LEVEL, schemes=bs.SCHEMES)
+    doc = dict(mode=mode, claims=rows, parts=parts or [], bootstrap=boot_meta) | (meta or {})
     text = json.dumps(doc, indent=1, default=float) + "\n"
     out.append(write_atomic(results_dir() / mode / "claims.json", text.encode()))
     return out

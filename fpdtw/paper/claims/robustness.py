@@ -1,10 +1,5 @@
-"""Does a verdict survive the paper's open readings? Each claim under every documented choice.
-
-The study run (the paper-shaped selection) holds every reading of Algorithm 3's window and
-of the paper's silent choices (:data:`fpdtw.paper.runner.grid.SILENT_CHOICES`, notebook 15).
-:func:`robustness` decides every claim on the pairs with our choices and under each
-alternative (one change at a time, the same pairs, intervals and rules); an alternative
-whose runs do not exist (e.g. OE-DTW, not in the study) is listed as not run, not counted.
+"""Does a verdict survive the paper's open readings? Each claim on the study run (notebook 15)
+under every documented choice, one change at a time (runs that do not exist: "not run").
 
 Paper: FP-DTW Algorithms 1-3, Sections 4-6 (the choices they leave open).
 """
@@ -26,9 +21,8 @@ from fpdtw.registry import C_READINGS
 
 @dataclass(frozen=True)
 class Alternative:
-    """One documented reading other than ours: its key (``"window: literal"``), its label in
-    the robustness column, and a claim's name -> the results under it (``alias``) or a
-    metric-side choice (``metric``, :func:`~fpdtw.paper.readings.choice_values`)."""
+    """One documented reading other than ours: key, label, and a claim's name -> the results
+    under it (``alias``) or a metric-side choice (``metric``)."""
 
     key: str
     label: str
@@ -56,8 +50,7 @@ def alternatives() -> list[Alternative]:
 
 
 def _metric_values(results, key, features):
-    """``values(name, metric)`` of :class:`Evidence` for a metric-side choice (cached);
-    ``features``: rate (120 or 60) -> ``features(k)``."""
+    """``values(name, metric)`` of :class:`Evidence` for a metric-side choice (cached)."""
     cache = {}
 
     def values(name, metric):
@@ -70,8 +63,7 @@ def _metric_values(results, key, features):
 
 
 def _study_features(study):
-    """``rate -> features(k)``, each pair read once (every algorithm is rescored on the same
-    pairs)."""
+    """``rate -> features(k)``, each pair read once."""
 
     @functools.cache
     def at(rate):
@@ -82,9 +74,7 @@ def _study_features(study):
 
 def robustness(claims, mode: str = "full") -> dict:
     """Per claim on the pairs: its verdict on the study run of ``mode`` and under how many
-    documented readings it stands, e.g. ``"yes on the paper-shaped selection; stands under 10
-    of 11 readings (not under: forecast hold -> partly); not run: ..."`` ({} without a study
-    run)."""
+    documented readings it stands ({} without a study run)."""
     try:
         study = load_results(study_mode(mode == "smoke"))
     except FileNotFoundError:

@@ -1,11 +1,7 @@
-"""The rules that turn numbers into verdicts: checks, parts and claims.
+"""The rules that turn numbers into verdicts: checks, parts and claims (:data:`RULE`).
 
-A claim is split into **parts** (atomic statements); a part is decided by a :class:`Check`
-(one number, with its 95 % interval, against one threshold) or a formula of checks
-(:class:`AllOf`, :class:`AnyOf`, :class:`Not`: Kleene's three-valued logic), or is not
-comparable. :data:`RULE`, printed under every claims table, states the whole rule. Chosen in
-f88f748 (2026-11-23) after the first full runs' claims tables; extended on 2026-11-24 (the
-second seed, the full rule text) after a reviewer's reading of them (docs/history.md).
+Chosen in f88f748 (2026-11-23) after the first full runs' claims tables; extended on
+2026-11-24 (the second seed, the full rule text) after a reviewer's reading (docs/history.md).
 
 Paper: FP-DTW Section 5 (the pass rule of the two benchmarks).
 """
@@ -17,18 +13,16 @@ import math
 import re
 from dataclasses import dataclass
 
-#: Verdicts of a check or a part.
 HOLDS = "holds"
 CONTRADICTED = "contradicted"
 INCONCLUSIVE = "inconclusive"
 NOT_COMPARABLE = "not comparable"
 ON_THRESHOLD = "on the threshold"
 
-#: Verdicts of a claim ("n/a": not computed, or not a claim of the papers).
 YES, NO, PARTLY, NA = "yes", "no", "partly", "n/a"
 CLAIM_VERDICTS = (YES, PARTLY, NO, INCONCLUSIVE, NOT_COMPARABLE, NA)
 
-#: The whole rule, printed under every claims table (README, ARTIFACT, book, figures/).
+#: The whole rule, printed under every claims table.
 RULE = (
     "How a verdict is decided. A claim is split into parts: the statements its words make, "
     "no more. A part is a check, or checks joined by all-of, any-of and not (Kleene's "
@@ -62,14 +56,9 @@ def _fmt(x: float, digits: int, sign: bool = False) -> str:
 
 @dataclass(frozen=True)
 class Check:
-    """One number against one threshold: the atom of every verdict.
-
-    ``above``: the statement is ``estimate > threshold`` (else ``<``); ``strict`` False makes
-    it ``>=`` (``<=``). ``interval`` False: a point value (timings, the OPW protocol), decided
-    by ``estimate`` alone; else by the 95 % interval ``[low, high]``. ``digits`` and ``signed``
-    are for display; ``low_se``, ``high_se`` are the Monte Carlo standard errors of the
-    interval ends (NaN when not estimated).
-    """
+    """One number against one threshold: ``estimate > threshold`` (``above`` False: ``<``;
+    ``strict`` False: ``>=``, ``<=``), decided on ``[low, high]`` or, ``interval`` False, on
+    ``estimate`` alone. ``low_se``, ``high_se``: Monte Carlo errors of the ends (NaN: none)."""
 
     quantity: str
     estimate: float
@@ -85,16 +74,9 @@ class Check:
     high_se: float = float("nan")
 
     @property
-    def bounds(self) -> tuple[float, float]:
-        """The interval the verdict reads: ``(low, high)``, or the point value twice."""
-        if self.interval:
-            return float(self.low), float(self.high)
-        return float(self.estimate), float(self.estimate)
-
-    @property
     def verdict(self) -> str:
         """holds / contradicted / inconclusive (:data:`RULE`)."""
-        lo, hi = self.bounds
+        lo, hi = map(float, (self.low, self.high) if self.interval else (self.estimate,) * 2)
         if not (math.isfinite(lo) and math.isfinite(hi) and math.isfinite(self.estimate)):
             return INCONCLUSIVE
         t = self.threshold
@@ -105,8 +87,7 @@ class Check:
         return HOLDS if ok else CONTRADICTED if bad else INCONCLUSIVE
 
     def mc_margin(self) -> float:
-        """Monte Carlo standard errors from the nearer interval end to the threshold (inf
-        without an interval or an error estimate)."""
+        """Monte Carlo standard errors from the nearer interval end to the threshold (or inf)."""
         if not self.interval:
             return float("inf")
         out = float("inf")
@@ -116,21 +97,14 @@ class Check:
         return out
 
     def describe(self) -> str:
-        """``"median deviation of Mc w20, frames 13.5 [12.1, 14.9] < 18"``: the relation is
-        what the numbers do (``straddles`` where the interval crosses the threshold)."""
+        """``"median deviation of Mc w20, frames 13.5 [12.1, 14.9] < 18"`` (or ``straddles``)."""
         v = self.verdict
-        if v == INCONCLUSIVE:
-            rel = "straddles"
-        elif (v == HOLDS) == self.above:
-            rel = ">"
-        else:
-            rel = "<"
-        if v != INCONCLUSIVE and (v == CONTRADICTED) == self.strict:
-            rel += "="
+        rel = ">" if (v == HOLDS) == self.above else "<"
+        rel += "=" if (v == CONTRADICTED) == self.strict else ""
+        rel = "straddles" if v == INCONCLUSIVE else rel
         return f"{self.quantity} {self.value_text()} {rel} {self.threshold:g}"
 
     def value_text(self) -> str:
-        """The estimate and, with an interval, ``[low, high]``: ``"13.5 [12.1, 14.9]"``."""
         d, sg = self.digits, self.signed
         est = _fmt(self.estimate, d, sg)
         if not self.interval:
@@ -150,21 +124,21 @@ class _Items:
 
 @dataclass(frozen=True, init=False)
 class AllOf(_Items):
-    """Holds when every item holds; contradicted when any item is (Kleene's AND)."""
+    """Kleene's AND."""
 
     items: tuple
 
 
 @dataclass(frozen=True, init=False)
 class AnyOf(_Items):
-    """Holds when any item holds; contradicted when every item is (Kleene's OR)."""
+    """Kleene's OR."""
 
     items: tuple
 
 
 @dataclass(frozen=True)
 class Not:
-    """Holds when the item is contradicted, and the other way round."""
+    """Kleene's NOT."""
 
     item: object
 
@@ -187,8 +161,7 @@ def evaluate(node) -> str:
 
 
 def evidence(node) -> list[Check]:
-    """The checks that decide a formula's verdict, in order: the items that give the verdict
-    (every item where all of them must agree), through ``Not`` unchanged."""
+    """The checks that decide a formula's verdict, in order."""
     if isinstance(node, Check):
         return [node]
     if isinstance(node, Not):
@@ -219,8 +192,8 @@ def checks(node) -> list[Check]:
 
 
 def formula(node) -> str:
-    """The formula as text, checks numbered from 1 in the order of :func:`checks`:
-    ``formula(AllOf(a, Not(b)))`` -> ``"all(c1, not(c2))"``; :func:`parse_formula` reads it."""
+    """``formula(AllOf(a, Not(b)))`` -> ``"all(c1, not(c2))"`` (checks numbered as
+    :func:`checks` lists them)."""
     count = itertools.count(1)
 
     def text(x):
@@ -235,13 +208,8 @@ def formula(node) -> str:
 
 
 def parse_formula(text: str, checks_by_number: dict):
-    """The objects of a :func:`formula` text, given ``{check number: Check}``.
-
-    Raises
-    ------
-    ValueError
-        Text that is not a formula, or a check number not given.
-    """
+    """The objects of a :func:`formula` text, given ``{check number: Check}`` (ValueError:
+    not a formula, or a check number not given)."""
     tokens = re.findall(r"all\(|any\(|not\(|c\d+|,|\)|\S", text)
     pos = 0
 
@@ -281,8 +249,7 @@ def parse_formula(text: str, checks_by_number: dict):
 
 @dataclass(frozen=True)
 class Part:
-    """One testable part of a claim: its text, what decides it (a check or a formula; None:
-    not comparable) and a note (why not comparable, or a remark shown with its reason)."""
+    """One testable part of a claim: its text, a check or formula (None: not comparable), a note."""
 
     text: str
     test: object = None
@@ -296,7 +263,7 @@ class Part:
         return [] if self.test is None else evidence(self.test)
 
     def decisive(self) -> Check | None:
-        """The first check of the evidence: the row a part gets in the intervals table."""
+        """The first check of the evidence (the part's row in the intervals table)."""
         ev = self.evidence()
         return ev[0] if ev else None
 
@@ -327,8 +294,7 @@ def claim_verdict(verdicts) -> str:
 
 
 def claim_reason(parts, contradiction: str = "") -> str:
-    """Which parts hold, and which do not and why; ``contradiction`` (where the paper's own
-    text contradicts itself) is said first."""
+    """Which parts hold, and which do not and why (``contradiction`` first)."""
     head = f"{contradiction.rstrip('.')}. " if contradiction else ""
     vs = [p.verdict for p in parts]
     if vs and all(v == HOLDS for v in vs):

@@ -1,7 +1,5 @@
-"""What a claim is made of: :class:`Claim`, the :class:`ClaimContext` it is decided on (and
-the readings of Method C and OPW a context can be put under), its :class:`Assessment`, and
-the columns of the claims, parts and checks tables. Imports only the rules, the bootstrap and
-the evidence.
+"""What a claim is made of: :class:`Claim`, the :class:`ClaimContext` it is decided on, its
+:class:`Assessment`, and the columns of the claims, parts and checks tables.
 
 Paper: FP-DTW Sections 5-7; OPW poster Section 5.
 """
@@ -16,7 +14,7 @@ from fpdtw.paper.claims.evidence import Evidence
 from fpdtw.paper.numbers import WINDOWS
 from fpdtw.registry import method_c_name
 
-#: The notebooks' JSON under ``results/<mode>/figs/``: Fig. 8, the OPW poster's figures.
+#: The notebooks' JSON under ``results/<mode>/figs/``.
 FIG8_JSON = "10_fig8_walk_pair.json"
 OPW_FIG4_JSON = "13_opw_fig4.json"
 OPW_FIG56_JSON = "14_opw_fig5_fig6.json"
@@ -34,8 +32,7 @@ PART_COLUMNS = ("claim", "part", "text", "verdict", "formula", "checks", "quanti
                 "verdict_same_movements", "verdict_authors_fbx", "verdict_hdm05",
                 "verdict_paper_shaped", "verdict_literal", "verdict_plugin",
                 "verdict_eq2_other")  # fmt: skip
-#: Columns of the checks table (``claims_checks.csv``): every check of every part on every
-#: body of evidence.
+#: Columns of the checks table (``claims_checks.csv``).
 CHECK_COLUMNS = ("body", "claim", "part", "formula", "check", "quantity", "estimate", "low",
                  "high", "low_se", "high_se", "threshold", "relation", "interval",
                  "verdict")  # fmt: skip
@@ -45,13 +42,13 @@ BODIES = ("all", "seed2", "same_movements", "authors_fbx", "hdm05", "paper_shape
           "eq2_other_paper_shaped")  # fmt: skip
 #: The bodies under the other reading of eq. 2 (keys of ``claim_contexts``).
 EQ2_OTHER = ("eq2_other", "eq2_other_authors_fbx", "eq2_other_hdm05", "eq2_other_paper_shaped")
-#: The second bootstrap seed's offset from :data:`fpdtw.paper.claims.bootstrap.SEED`.
+#: The second bootstrap seed's offset from ``bootstrap.SEED``.
 SEED2_OFFSET = 1
 #: Method C's readings the claims table is evaluated under: column suffix -> reading.
 READINGS = {"": "square", "_literal": "literal"}
 #: The other bodies of evidence, as column suffixes of ``holds``.
 OTHER_EVIDENCE = ("same_movements", "authors_fbx", "hdm05", "paper_shaped")
-#: OPW's other reading: the OPW notebooks' facts hold it under ``readings`` -> this name.
+#: OPW's other reading (the OPW notebooks' facts: ``readings`` -> this name).
 OPW_PLUGIN = "plugin"
 
 
@@ -65,14 +62,12 @@ class Assessment:
 
 @dataclass
 class ClaimContext:
-    """Everything the claims read, made from a run by
-    :func:`fpdtw.paper.claims.contexts.load_context` or by :meth:`from_facts`.
+    """Everything the claims read (:func:`~fpdtw.paper.claims.contexts.load_context`).
 
-    ``ev``: the pairs' :class:`Evidence` (None: no experiment results); ``timing``: rows of
-    :func:`fpdtw.paper.figures.timing.time_per_frame_rows`; ``fig8``, ``opw_fig4``,
-    ``opw_fig56``: the notebooks' JSON; ``counts``: motions, movements and pairs; ``alias``:
-    Method C's reading (:func:`reading_alias`); ``open_ev``: the open run's evidence (Q
-    rows); ``plain``: ``make bench``'s plain NumPy steps (claim 4b); ``bench``: its report.
+    ``ev``: the pairs' :class:`Evidence` (None: no results); ``timing``: rows of
+    :func:`fpdtw.paper.figures.timing.time_per_frame_rows`; ``alias``: Method C's reading
+    (:func:`reading_alias`); ``open_ev``: the open run's (Q rows); ``plain``, ``bench``:
+    ``make bench``'s plain NumPy steps (claim 4b) and report.
     """
 
     mode: str = "full"
@@ -91,15 +86,14 @@ class ClaimContext:
         return replace(self, ev=ev)
 
     def timing_rows(self) -> list | None:
-        """The timing rows under this context's reading: a reading's Mc rows stand for the
-        paper's names (None without timings)."""
+        """The timing rows under this context's reading (None without timings)."""
         if not self.timing:
             return None
         by = {r["algorithm"]: r for r in self.timing}
         out = []
         for r in self.timing:
             name = r["algorithm"]
-            if "(" in name:  # another reading's row: used only if the reading asks for it
+            if "(" in name:  # another reading's row
                 continue
             src = by.get(self.alias.get(name, name))
             if src is not None:
@@ -120,9 +114,7 @@ class ClaimContext:
 
     @classmethod
     def from_facts(cls, mode="full", **facts) -> ClaimContext:
-        """A context holding only a notebook's own facts (``fig8``, ``opw_fig4``,
-        ``opw_fig56``, ``counts``, ``timing``, ``plain``): claims that need the pairs come
-        out "not computed".
+        """A context holding only a notebook's own facts: claims on the pairs are "not computed".
 
         Paper: FP-DTW Sections 5-7; OPW poster Section 5.
         """
@@ -134,8 +126,7 @@ class ClaimContext:
 
 
 def opw_reading(ctx, reading: str = OPW_PLUGIN):
-    """The context with the OPW notebooks' facts of another reading of OPW (stored under
-    ``readings`` -> name in their JSON), or None when neither holds it.
+    """The context with the OPW notebooks' facts of another reading of OPW, or None.
 
     Paper: OPW poster Section 5; the authors' MotionBuilder plugin.
     """
@@ -150,32 +141,21 @@ def opw_reading(ctx, reading: str = OPW_PLUGIN):
 
 
 def reading_alias(reading: str) -> dict:
-    """Mc name -> its results' name under a reading of Algorithm 3 ({} for ``"square"``):
-    ``reading_alias("literal")["Mc w40 + Type V@60Hz"]`` is
-    ``"Mc w40 (literal window) + Type V@60Hz"``."""
+    """Mc name -> its results' name under a reading of Algorithm 3 ({} for ``"square"``)."""
     if reading == "square":
         return {}
-    out = {}
-    for w in WINDOWS:
-        for typev in (False, True):
-            for rate in ("", "@60Hz"):
-                out[method_c_name(w, "square", typev) + rate] = (
-                    method_c_name(w, reading, typev) + rate
-                )
-    return out
+    keys = [(w, t, r) for w in WINDOWS for t in (False, True) for r in ("", "@60Hz")]
+    return {method_c_name(w, "square", t) + r: method_c_name(w, reading, t) + r for w, t, r in keys}
 
 
 @dataclass(frozen=True)
 class Claim:
     """One claim: what the paper says and how our results decide it, part by part.
 
-    ``assess(ctx)`` returns an :class:`Assessment`, or a string: why ours is not computed.
-    ``stable``: False for claims read from timings. ``pairs``: decided on the experiment
-    pairs (so per dataset, per selection and under the readings). ``contradiction``: where
-    the paper's own text contradicts itself, said first in the reason. ``beyond``: not a
-    claim of the papers (verdict n/a). ``question``: beyond the papers but decided on the
-    open run by the same rules (:mod:`fpdtw.paper.claims.open`). ``opw``: a claim of the OPW
-    poster (so decided under the plugin reading of OPW too).
+    ``assess(ctx)``: an :class:`Assessment`, or why ours is not computed. ``stable``: False
+    when read from timings. ``pairs``: decided on the experiment pairs. ``contradiction``:
+    where the paper contradicts itself. ``beyond``: not a claim of the papers (n/a).
+    ``question``: a Q row, decided on the open run. ``opw``: an OPW poster claim.
     """
 
     id: str
@@ -194,20 +174,11 @@ class Claim:
         """``ours``, ``holds``, ``reason`` and the evaluated parts on one context."""
         got = self.assess(ctx)
         if isinstance(got, str):
-            return dict(
-                ours=f"not computed ({got})", holds=R.NA, reason=f"not computed: {got}", parts=[]
-            )
+            why = f"not computed: {got}"
+            return dict(ours=f"not computed ({got})", holds=R.NA, reason=why, parts=[])
         if self.beyond:
-            return dict(
-                ours=got.ours,
-                holds=R.NA,
-                parts=[],
-                reason="not a claim of the papers: runs beyond them, shown for reference",
-            )
+            why = "not a claim of the papers: runs beyond them, shown for reference"
+            return dict(ours=got.ours, holds=R.NA, parts=[], reason=why)
         verdict = R.claim_verdict(p.verdict for p in got.parts)
-        return dict(
-            ours=got.ours,
-            holds=verdict,
-            parts=got.parts,
-            reason=R.claim_reason(got.parts, self.contradiction),
-        )
+        reason = R.claim_reason(got.parts, self.contradiction)
+        return dict(ours=got.ours, holds=verdict, parts=got.parts, reason=reason)

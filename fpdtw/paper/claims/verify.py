@@ -20,8 +20,7 @@ from fpdtw.paper.claims import rules as R
 from fpdtw.paper.claims.evaluation import seed_verdict
 from fpdtw.paper.claims.types import BODIES, PART_COLUMNS
 
-#: claims_intervals.csv's column of each body's part verdict (the headline: ``verdict``,
-#: with the second seed applied; bodies without a column are checked at the claim level).
+#: claims_intervals.csv's column of each body's part verdict.
 PART_COLUMN = {b: f"verdict_{b}" for b in BODIES if f"verdict_{b}" in PART_COLUMNS}
 PART_COLUMN["all"] = "verdict"
 #: claims.csv's column of each body's claim verdict.
@@ -42,21 +41,14 @@ def check_from_row(row: dict) -> R.Check:
     rel = row["relation"]
     if rel not in (">", ">=", "<", "<="):
         raise ValueError(f"check {row['part']}#{row['check']}: relation {rel!r}")
-    return R.Check(
-        row["quantity"],
-        _float(row["estimate"]),
-        _float(row["low"]),
-        _float(row["high"]),
-        _float(row["threshold"]),
-        above=rel.startswith(">"),
-        interval=row["interval"] == "True",
-        strict=len(rel) == 1,
-    )
+    est, lo, hi, t = (_float(row[k]) for k in ("estimate", "low", "high", "threshold"))
+    kw = dict(above=rel.startswith(">"), interval=row["interval"] == "True", strict=len(rel) == 1)
+    return R.Check(row["quantity"], est, lo, hi, t, **kw)
 
 
 def part_verdicts(checks: list[dict]) -> tuple[dict, list[str]]:
     """Each (body, claim, part)'s verdict recomputed from its check rows, and the check rows
-    whose stored verdict disagrees with the recomputed one."""
+    whose stored verdict disagrees."""
     groups: dict = {}
     for row in checks:
         groups.setdefault((row["body"], row["claim"], row["part"]), []).append(row)
@@ -77,8 +69,7 @@ def part_verdicts(checks: list[dict]) -> tuple[dict, list[str]]:
 
 
 def verify(folder) -> list[str]:
-    """Every disagreement between the verdicts stored in ``folder`` (``claims.csv``,
-    ``claims_intervals.csv``, ``claims_checks.csv``) and those recomputed from the checks."""
+    """Every disagreement between the verdicts stored in ``folder`` and those recomputed."""
     folder = Path(folder)
     claims = _read(folder / "claims.csv")
     parts = _read(folder / "claims_intervals.csv")
