@@ -358,8 +358,7 @@ def parse_bvh_header(lines, path=None, *, stream: bool = False) -> BVHHeader:
     a rate or ``Frames:`` outside :mod:`fpdtw.limits`.
     """
     motion_at = next(
-        (i for i, s in enumerate(lines) if s.split()[:1] and s.split()[0].upper() == "MOTION"),
-        None,
+        (i for i, s in enumerate(lines) if s.split()[:1] and s.split()[0].upper() == "MOTION"), None
     )
     if motion_at is None:
         raise MotionFormatError(path, "no MOTION section", line=len(lines) if stream else None)

@@ -57,13 +57,7 @@ class MotionFeatures:
 
     @classmethod
     def from_motion(
-        cls,
-        motion,
-        joints=PAPER_JOINTS,
-        position_joints=None,
-        *,
-        rest_frame=None,
-        rig=None,
+        cls, motion, joints=PAPER_JOINTS, position_joints=None, *, rest_frame=None, rig=None
     ):
         """Cut the features out of a :class:`~fpdtw.motion.Motion`.
 

@@ -95,13 +95,7 @@ NAMINGS = {"asf": ASF_NAMES, "bvh": ASF_NAMES, "fbx": FBX_NAMES}
 ALL_JOINTS = OPW_JOINTS
 
 #: The built-in joint maps (``joint_maps/<name>.csv``), tried after the source format's own.
-BUILTIN_JOINT_MAPS = (
-    "authors_fbx",
-    "mixamo",
-    "cmu_bvh_motionbuilder",
-    "asf",
-    "cmu_bvh_asf_names",
-)
+BUILTIN_JOINT_MAPS = ("authors_fbx", "mixamo", "cmu_bvh_motionbuilder", "asf", "cmu_bvh_asf_names")
 _FIRST_BY_SOURCE = {
     "fbx": ("authors_fbx", "mixamo"),
     "asf": ("asf",),

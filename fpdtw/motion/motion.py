@@ -19,12 +19,7 @@ import numpy as np
 
 from fpdtw import limits
 from fpdtw.errors import LimitError, MotionFormatError
-from fpdtw.motion.joints import (
-    OPW_JOINTS,
-    PAPER_JOINTS,
-    find_joint_map,
-    missing_joints_message,
-)
+from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS, find_joint_map, missing_joints_message
 from fpdtw.motion.rotations import (
     check_order,
     euler_to_quat,

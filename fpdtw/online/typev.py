@@ -87,9 +87,7 @@ class TypeV:
         """Plain-text rendering of the state table with the meaning of each state."""
         rows = self.as_table()
         width = max(len(c) for r in rows for c in r)
-        lines = [
-            "Forward Type V: advance of the input frame per target frame -> next state",
-        ]
+        lines = ["Forward Type V: advance of the input frame per target frame -> next state"]
         for r in rows:
             lines.append("  ".join(c.ljust(width) for c in r))
         lines.append(f"start state: {self.states[self.start]}; advances > {MAX_ADVANCE}: never")

@@ -1032,8 +1032,4 @@ def run_group(aligners, T: MotionFeatures) -> list:
     return list(M)
 
 
-__all__ = [
-    "B_CORNER",
-    "WindowAligner",
-    "WindowSnapshot",
-]
+__all__ = ["B_CORNER", "WindowAligner", "WindowSnapshot"]
