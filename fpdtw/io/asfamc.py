@@ -41,8 +41,7 @@ def complete_order(applied: str) -> str:
     """Rotation order from the axes present, the missing ones appended in X, Y, Z order.
 
     A missing axis has a zero angle, so it may go anywhere: ``"XZ"`` -> ``"XZY"``, ``""``
-    -> ``"XYZ"``.
-    """
+    -> ``"XYZ"``."""
     return applied + "".join(a for a in "XYZ" if a not in applied)
 
 
@@ -54,8 +53,7 @@ class AsfSkeleton:
     ``dofs``: each joint's rotational dofs in file order; ``root_order``: the AMC root
     channels; ``directions`` (J, 3) and ``lengths`` (J,): unit bone directions and lengths
     at rest (zero for the root); ``angle_unit`` ("deg" or "rad"); ``length_scale``
-    (``:units length``); ``path``.
-    """
+    (``:units length``); ``path``."""
 
     skeleton: Skeleton
     dofs: tuple
@@ -103,8 +101,7 @@ def read_asf(path) -> AsfSkeleton:
 
     MotionFormatError, naming the file and line, for missing sections or fields, bad
     numbers, unknown or duplicate bones, translation or length dofs, or a hierarchy that
-    does not reach every bone exactly once.
-    """
+    does not reach every bone exactly once."""
     path = Path(path)
     err = partial(MotionFormatError, path)
     lines = read_lines(path)
@@ -326,8 +323,7 @@ def find_asf(amc_path) -> Path:
 
     ``HDM_<actor>.asf`` for ``HDM_<actor>_...amc``, then ``<subject>.asf`` for
     ``<subject>_<take>.amc``, in its folder or a parent; else the only ``.asf`` in its
-    folder; else MotionFormatError saying where it looked.
-    """
+    folder; else MotionFormatError saying where it looked."""
     amc_path = Path(amc_path)
     stem = amc_path.stem
     folders = [amc_path.parent, *amc_path.parent.resolve().parents]
@@ -456,8 +452,7 @@ def _amc_checked(path, lines, asf, layout, width):
 def _amc_fast(lines, layout, width):
     """Vectorised parse of a regular AMC file (the same bones in the same order every frame).
 
-    ``(data, unit)`` as :func:`_amc_checked`, or None to let it find what is wrong.
-    """
+    ``(data, unit)`` as :func:`_amc_checked`, or None to let it find what is wrong."""
     unit = None
     i = 0
     n = len(lines)
@@ -516,8 +511,7 @@ def read_amc(path, skeleton_or_asf_path=None, *, fps=None, name=None) -> Motion:
     ``euler`` (F, J, 3) holds the AMC values in degrees, ``root_translation`` ``TX TY TZ``.
     MotionFormatError, naming the file, line and frame, for an empty file, no frames, a
     frame missing a bone with dofs, a bad value, an unknown, dof-less or repeated bone,
-    frame numbers not consecutive, unknown keywords, or limits (:mod:`fpdtw.limits`).
-    """
+    frame numbers not consecutive, unknown keywords, or limits (:mod:`fpdtw.limits`)."""
     path = Path(path)
     if fps is None:
         fps = amc_fps(path)

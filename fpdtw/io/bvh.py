@@ -201,8 +201,7 @@ class BVHHeader:
 
     The one parser of :func:`read_bvh` and ``fpdtw serve``: a streamed take and the same
     file give identical frames, errors and limits. ``frames`` is None in a stream;
-    ``end_line`` is the ``Frame Time:`` line's number.
-    """
+    ``end_line`` is the ``Frame Time:`` line's number."""
 
     def __init__(self, path, joints, frames, fps, end_line):
         self.path = path
@@ -241,8 +240,7 @@ class BVHHeader:
         """The values (n_channels,) of one motion line.
 
         MotionFormatError for a missing, extra, non-numeric or non-finite value, naming ``line``
-        and ``frame`` (0-based).
-        """
+        and ``frame`` (0-based)."""
         toks = text.split()
         if len(toks) != self.n_channels:
             kind = "missing" if len(toks) < self.n_channels else "extra"
@@ -287,8 +285,7 @@ class BVHHeader:
         """Refuse non-root position channels of ``data`` that differ from those of ``first``.
 
         The MotionFormatError names the first differing line when given ``lines`` (a stream),
-        else the CHANNELS line.
-        """
+        else the CHANNELS line."""
         if not len(self._pos):
             return
         cols = self._pos[:, 0]
@@ -342,8 +339,7 @@ def parse_bvh_header(lines, path=None, *, stream: bool = False) -> BVHHeader:
     ``path``: named in errors; ``stream``: ``Frames:`` may be missing and is ignored.
     MotionFormatError (naming the file and line) for no MOTION, bad braces or CHANNELS, too
     many channels, a missing or malformed ``Frames:`` or ``Frame Time:``, a frame time <= 0,
-    a rate or ``Frames:`` outside :mod:`fpdtw.limits`.
-    """
+    a rate or ``Frames:`` outside :mod:`fpdtw.limits`."""
     err = partial(MotionFormatError, path)
     motion_at = next(
         (i for i, s in enumerate(lines) if s.split()[:1] and s.split()[0].upper() == "MOTION"), None
@@ -396,8 +392,7 @@ def read_bvh(path, *, name=None) -> Motion:
     Joint names are resolved by the ASF naming (CMU's BVH keeps it), or the FBX naming if
     that finds more. MotionFormatError (naming the file, line and 0-based frame) for what
     :func:`parse_bvh_header` refuses, an empty file, ``Frames:`` not matching the data
-    lines, a bad motion line, or varying non-root position channels.
-    """
+    lines, a bad motion line, or varying non-root position channels."""
     path = Path(path)
     err = partial(MotionFormatError, path)
     lines = read_lines(path)
@@ -438,8 +433,7 @@ def bvh_pose(motion: Motion) -> tuple:
     rotations rests in the pose they give (global rest rotations ``G^0``,
     :func:`fpdtw.motion.rig.rest_rotations`): each joint turns by ``Delta_j = G_p^0 pre_j R_j
     post_j (G_j^0)^-1`` and its offset is ``G_p^0 offset_j``, so the file rests in the
-    motion's pose with the same forward kinematics. Without them: the motion's own.
-    """
+    motion's pose with the same forward kinematics. Without them: the motion's own."""
 
     sk = motion.skeleton
     euler = motion.euler.copy()
@@ -471,8 +465,7 @@ def bvh_lines(motion: Motion, *, precision: int = 6) -> tuple[list[str], list[st
     """A motion as the lines of a BVH file: header (through ``Frame Time:``) and motion lines.
 
     What :func:`write_bvh` writes and ``fpdtw stream`` sends; ``precision``: decimals.
-    MotionFormatError for a joint name BVH cannot hold.
-    """
+    MotionFormatError for a joint name BVH cannot hold."""
     sk = motion.skeleton
     for n in sk.joint_names:
         if not n or any(c.isspace() for c in n) or "{" in n or "}" in n:
@@ -520,8 +513,7 @@ def write_bvh(motion: Motion, path, *, precision: int = 6) -> Path:
 
     Three rotation channels per joint in its order, the root's position channels, a zero
     ``End Site`` per leaf, depth first, resting as :func:`bvh_pose` says: forward kinematics
-    of the file equals the motion's. MotionFormatError for a joint name BVH cannot hold.
-    """
+    of the file equals the motion's. MotionFormatError for a joint name BVH cannot hold."""
     path = Path(path)
     try:
         header, lines = bvh_lines(motion, precision=precision)

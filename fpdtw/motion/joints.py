@@ -115,8 +115,7 @@ def resolve_joint_map(joint_names, naming):
     """Canonical name -> skeleton joint name, by the candidates of ``naming``.
 
     ``naming``: a dict of candidates or a key of :data:`NAMINGS`; namespaces and case are
-    ignored; names without a match are left out.
-    """
+    ignored; names without a match are left out."""
     if isinstance(naming, str):
         naming = NAMINGS[naming]
     bare = _by_bare_name(joint_names)
@@ -170,8 +169,7 @@ def read_joint_map(path) -> dict:
     """Read a joint map CSV ``joint,name``: ``{our joint: the rig's joint name}``.
 
     MotionFormatError for a file that is not UTF-8 text, no ``joint,name`` header, a row
-    without two cells, an unknown joint or a joint mapped twice (naming the file and line).
-    """
+    without two cells, an unknown joint or a joint mapped twice (naming the file and line)."""
     p = Path(path)
     try:
         text = p.read_text(encoding="utf-8-sig")
@@ -206,8 +204,7 @@ def find_joint_map(joint_names, source: str = "", maps=()) -> tuple:
     The first of ``maps`` (the user's) whose every joint the skeleton has (``"user map
     1"``); else the first built-in map (the ``source`` format's first) with all of
     :data:`ALL_JOINTS`, else with the 8 cost joints; else the usual names (:data:`NAMINGS`)
-    that find the most (``"usual names"``). Names match without case and namespace.
-    """
+    that find the most (``"usual names"``). Names match without case and namespace."""
     for i, m in enumerate(maps):
         jm = _apply(m, joint_names)
         if len(jm) == len(m):
@@ -230,8 +227,7 @@ def missing_joints_message(missing, have, what: str = "") -> str:
     """The message for joints no joint map finds.
 
     It names the joints ``missing`` (ours), those the skeleton ``have``, what they are for,
-    and the way out (``--joint-map``).
-    """
+    and the way out (``--joint-map``)."""
     what = f" ({what})" if what else ""
     s = "s" if len(missing) > 1 else ""
     return (

@@ -44,8 +44,7 @@ class LiveTarget:
     ``joints``: cost joints; ``position_joints``: whose root-relative positions the frames
     carry (OPW), rescaled by :func:`fpdtw.motion.rig.position_scale` of ``input_body_size``
     and the skeleton's; ``gap``: "slerp" or "hold"; ``where``: what errors name (None: a
-    stream). MotionFormatError for a joint the skeleton lacks or an implausible offset.
-    """
+    stream). MotionFormatError for a joint the skeleton lacks or an implausible offset."""
 
     def __init__(
         self,
@@ -164,8 +163,7 @@ class LiveTarget:
         capture time, or with ``arrival`` its arrival time (frames that arrived together are
         consecutive); ``line``, ``frame``: named in errors. MotionFormatError for a value beyond
         :data:`fpdtw.limits.MAX_ABS_VALUE`, a time not after the previous, a gap beyond
-        :data:`fpdtw.limits.MAX_GAP_S`, or too many ticks.
-        """
+        :data:`fpdtw.limits.MAX_GAP_S`, or too many ticks."""
         euler = np.asarray(euler, dtype=float).reshape(self.skeleton.n_joints, 3)
         r = np.asarray(root_translation, dtype=float).reshape(3)
         t = float(t)

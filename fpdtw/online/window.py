@@ -72,8 +72,7 @@ def _forecast_columns(Tq, Te, q, first, last, codes, F, c0=0, shift=0, hold=Fals
 def _forecast_window(Tq, Te, q, w, with_prev, codes, F, shift=0, hold=False):
     """Fill ``F`` (k, 4, ncols) with the step's target window; return ncols.
 
-    ``with_prev`` (B, C's "square-tn"): T_n first; ``shift = 1``: from the first forecast.
-    """
+    ``with_prev`` (B, C's "square-tn"): T_n first; ``shift = 1``: from the first forecast."""
     c0 = 0
     if with_prev:
         for j in range(Tq.shape[1]):
@@ -587,8 +586,7 @@ def _store_frame(k, Tq, Te, q, fq, fe):
 @numba.njit(cache=True)
 def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
     """The whole ``step`` in one call: store the frame in row ``q``, step, store ``M[q]``;
-    -1 (a frame of another shape) or -2 (weighted joints): the caller takes the general path.
-    """
+    -1 (a frame of another shape) or -2 (weighted joints): the caller takes the general path."""
     if iwork[_HEADER + P_WEIGHTED] != 0:
         return -2
     if not _store_frame(Iq.shape[1], Tq, Te, q, fq, fe):
@@ -613,8 +611,7 @@ class WindowCache:
     The forecast at a target frame, and each cost cell against it, is the same for Methods B
     and C at every window and reading: aligners given one cache (of input ``I``, windows up
     to ``w_max``) and fed the same frames in lockstep compute each once. Other frames at the
-    same step empty it: the maps are the same with or without it (tested).
-    """
+    same step empty it: the maps are the same with or without it (tested)."""
 
     def __init__(self, I: MotionFeatures, w_max: int):
         self.I = I
@@ -672,8 +669,7 @@ class WindowAligner(OnlineAligner):
     allow (:mod:`fpdtw.online.typev`); once the input is exhausted the hold at ``m`` is
     forced whatever the state. Non-default ``options`` are named in brackets (``"Mc w40
     (literal window)"``). ``record=True`` keeps a :class:`WindowSnapshot` of the last step
-    in ``last_window``. Subclasses give :meth:`params` and :meth:`_window_record`.
-    """
+    in ``last_window``. Subclasses give :meth:`params` and :meth:`_window_record`."""
 
     #: Method letter in names ("Ma", "Mb", "Mc").
     label = "M?"
@@ -777,8 +773,7 @@ class WindowAligner(OnlineAligner):
     def name_for(cls, w: int, typev: bool = False, **options) -> str:
         """The name of a configuration, e.g. ``"Mc w40 (literal window)"``.
 
-        ``MethodC.name_for(40, window="literal")``; ``typev`` adds ``" + Type V"``.
-        """
+        ``MethodC.name_for(40, window="literal")``; ``typev`` adds ``" + Type V"``."""
         settings = cls._resolve_options(options)
         labels = [
             cls.options[key][1][value]
@@ -892,8 +887,7 @@ class ForecastAligner(WindowAligner):
     """Common base of Methods B and C: warm-up, end of input, then a forecast window.
 
     Warm-up ``n < s`` (``s = 2``): ``M_{n+1} = min(M_n + 1, m)`` (the paper's ``n + 1``
-    from ``M_0 = 0``); ``M_n >= m``: ``m``.
-    """
+    from ``M_0 = 0``); ``M_n >= m``: ``m``."""
 
     #: Smoothing window: frames needed before forecasting (dead reckoning: 2).
     s = SMOOTHING
@@ -916,8 +910,7 @@ class ForecastAligner(WindowAligner):
         floor(w / 2))``, chosen on 2026-11-24 after the 1 s band's results, before any run of
         it) does not compute them, the conclusion's global constraint. A step with no row inside
         the band raises ValueError; a band with Type V is refused. ``weights="travel"``: eq. 1
-        weighted by :func:`fpdtw.weights.joint_weights` of the input.
-        """
+        weighted by :func:`fpdtw.weights.joint_weights` of the input."""
         super().__init__(I, w, constraint=constraint, record=record, **options)
         if self.settings.get("band", "none") != "none":
             if self.constraint is not None:
