@@ -18,35 +18,16 @@ from pathlib import Path
 from fpdtw.errors import MotionFormatError
 
 #: The FP-DTW paper's 8 joints (Section 4), in a fixed order.
-PAPER_JOINTS = (
-    "left_hip",
-    "right_hip",
-    "left_knee",
-    "right_knee",
-    "left_shoulder",
-    "right_shoulder",
-    "left_elbow",
-    "right_elbow",
+PAPER_JOINTS = tuple(
+    "left_hip right_hip left_knee right_knee "
+    "left_shoulder right_shoulder left_elbow right_elbow".split()
 )
 
 #: The OPW poster's 16 joints (eq. 5), in the poster's order.
-OPW_JOINTS = (
-    "head",
-    "center_hip",
-    "right_hip",
-    "left_hip",
-    "middle_chest",
-    "upper_chest",
-    "left_shoulder",
-    "right_shoulder",
-    "left_elbow",
-    "right_elbow",
-    "left_wrist",
-    "right_wrist",
-    "left_knee",
-    "right_knee",
-    "left_ankle",
-    "right_ankle",
+OPW_JOINTS = tuple(
+    "head center_hip right_hip left_hip middle_chest upper_chest left_shoulder right_shoulder "
+    "left_elbow right_elbow left_wrist right_wrist left_knee right_knee left_ankle "
+    "right_ankle".split()
 )
 
 #: ASF/AMC naming (HDM05, and CMU's BVH exports which keep the ASF bone names).
