@@ -434,7 +434,6 @@ def bvh_pose(motion: Motion) -> tuple:
     :func:`fpdtw.motion.rig.rest_rotations`): each joint turns by ``Delta_j = G_p^0 pre_j R_j
     post_j (G_j^0)^-1`` and its offset is ``G_p^0 offset_j``, so the file rests in the
     motion's pose with the same forward kinematics. Without them: the motion's own."""
-
     sk = motion.skeleton
     euler = motion.euler.copy()
     offsets = sk.offsets.copy()

@@ -87,7 +87,6 @@ class MotionFeatures:
         """Features from raw arrays (tests, synthetic data).
 
         ``euler`` defaults to the quaternions in ``orders`` (default ``"XYZ"``); ``rig`` to None."""
-
         quats = np.ascontiguousarray(quat_normalize(np.asarray(quats, dtype=np.float64)))
         k = quats.shape[1]
         orders = tuple(orders) if orders is not None else ("XYZ",) * k
@@ -139,7 +138,6 @@ def pair_features(
 
     Paper: FP-DTW eq. 1 (local rotations, made comparable across rigs); OPW poster eq. 5.
     """
-
     I, T = (
         MotionFeatures.from_motion(mo, joints, position_joints, rest_frame=rest, rig=rig)
         for mo, rest, rig in zip((input_motion, target_motion), rest_frames, rigs)

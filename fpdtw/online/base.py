@@ -159,7 +159,6 @@ class OnlineAligner(ABC):
         :attr:`T_orders` serve the forecasts; the rig decides what eq. 1 compares
         (:func:`fpdtw.motion.rig.cost_input`, to :meth:`_use_input`). AlignmentError for bad orders.
         """
-
         I = self.I
         k = np.shape(I.quats)[1]
         orders = I.orders if frame.orders is None else frame.orders
