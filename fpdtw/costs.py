@@ -41,8 +41,7 @@ def _acos01(x):
     """arccos(x) for x in [0, 1], branch-free (vectorisable), within 1 ulp of libm.
 
     x <= 1/2: acos = pi/2 - asin(x); x > 1/2: acos = 2 asin(sqrt((1 - x)/2)) (exact
-    argument reduction: 1 - x is exact for x >= 1/2).
-    """
+    argument reduction: 1 - x is exact for x >= 1/2)."""
     big = x > 0.5
     z = (1.0 - x) * 0.5 if big else x * x
     s = math.sqrt(z) if big else x

@@ -36,8 +36,7 @@ def order_codes(orders) -> np.ndarray:
 @numba.njit(cache=True, inline="always")
 def _euler_to_quat(ex, ey, ez, code):
     """Quaternion (w, x, y, z) of Euler angles in degrees (x, y, z) for order ``code``:
-    ``q = q_a3 q_a2 q_a1`` for the axes applied in that order; the sign is not normalised.
-    """
+    ``q = q_a3 q_a2 q_a1`` for the axes applied in that order; the sign is not normalised."""
     w = 1.0
     x = 0.0
     y = 0.0

@@ -50,19 +50,9 @@ MAX_HEADER_BYTES = 2**20
 MAX_GAP_S = 10.0
 
 #: keyword of :func:`override` -> (environment variable, default, type)
-_LIMITS = {
-    "min_fps": ("FPDTW_MIN_FPS", MIN_FPS, float),
-    "max_fps": ("FPDTW_MAX_FPS", MAX_FPS, float),
-    "max_frames": ("FPDTW_MAX_FRAMES", MAX_FRAMES, int),
-    "max_file_bytes": ("FPDTW_MAX_FILE_BYTES", MAX_FILE_BYTES, int),
-    "max_abs_value": ("FPDTW_MAX_ABS_VALUE", MAX_ABS_VALUE, float),
-    "max_matrix_bytes": ("FPDTW_MAX_MATRIX_BYTES", MAX_MATRIX_BYTES, int),
-    "history_frames": ("FPDTW_HISTORY_FRAMES", HISTORY_FRAMES, int),
-    "max_channels": ("FPDTW_MAX_CHANNELS", MAX_CHANNELS, int),
-    "max_line_bytes": ("FPDTW_MAX_LINE_BYTES", MAX_LINE_BYTES, int),
-    "max_header_bytes": ("FPDTW_MAX_HEADER_BYTES", MAX_HEADER_BYTES, int),
-    "max_gap_s": ("FPDTW_MAX_GAP_S", MAX_GAP_S, float),
-}
+_NAMES = "MIN_FPS MAX_FPS MAX_FRAMES MAX_FILE_BYTES MAX_ABS_VALUE MAX_MATRIX_BYTES HISTORY_FRAMES"
+_NAMES += " MAX_CHANNELS MAX_LINE_BYTES MAX_HEADER_BYTES MAX_GAP_S"
+_LIMITS = {n.lower(): (f"FPDTW_{n}", globals()[n], type(globals()[n])) for n in _NAMES.split()}
 _overrides: dict[str, float] = {}
 
 #: How to get an alignment of long takes without n x m memory.

@@ -128,8 +128,7 @@ def stick_skip_index(M, m: int) -> float:
     Fig. 7's diagonal), > 0 skips; ``M`` and ``m`` as in :func:`step_counts`.
 
     Paper: FP-DTW Section 5 (reading of Fig. 7: "hot areas under the diagonal indicate
-    ... sticking ... above the diagonal ... skipping").
-    """
+    ... sticking ... above the diagonal ... skipping")."""
     M = _as_map(M).astype(np.float64)
     n = max(M.size - 1, 1)
     return float(np.median(M / max(m, 1) - np.arange(M.size) / n))

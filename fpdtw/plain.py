@@ -1,12 +1,10 @@
 """The papers' equations and algorithms in plain NumPy, line by line in their notation.
 
 What to read beside the papers, and what the notebooks step through on real motions: no
-numba, no scratch buffers, one function per equation or algorithm (eq. 1, offline DTW and
-OE-DTW, the forecast, Algorithms 1-3 for Methods A, B and C, the Type V constraint, eqs. 2
-and 3, one step of the poster's OPW). The fast kernels (:mod:`fpdtw.costs`, :mod:`fpdtw.dtw`,
-:mod:`fpdtw.online`, :mod:`fpdtw.metrics`) name their plain version ("Plain version:
-fpdtw.plain.xxx"), and ``tests/test_plain.py`` holds the two equal. What neither paper
-describes (OLTW, the global band, Method C's other window readings, ...) is compiled only.
+numba, one function per equation or algorithm. The fast kernels name their plain version
+("Plain version: fpdtw.plain.xxx"), and ``tests/test_plain.py`` holds the two equal. What
+neither paper describes (OLTW, the global band, Method C's other window readings, ...) is
+compiled only.
 
 Notation (FP-DTW paper, Section 3): the input ``I = {I_0..I_m}`` (the recording, fully
 known), the target ``T = {T_0..T_n}`` (the live motion, received so far), the incoming
@@ -188,8 +186,7 @@ def path_to_map(path, n: int) -> np.ndarray:
 def oe_dtw_end_points(C) -> np.ndarray:
     """Open-end DTW's end point after each target frame: ``e_q = argmin_i D[i, q]``.
 
-    Column ``q`` of ``D`` depends only on target frames ``0..q``, so one accumulation gives
-    what OE-DTW computes a column per arriving frame.
+    Column ``q`` of ``D`` depends only on target frames ``0..q``: one accumulation for all.
 
     Parameters
     ----------
@@ -468,8 +465,7 @@ def method_a_step(I, T, M, w: int = 2, allowed=None) -> Step:
         return Step(M_n, "end")  # line 5
     C = np.array([geo_distance(I.quats[M_n + i], T.quats[n + 1]) for i in range(w_i + 1)])  # 7-9
     ok = allowed_rows(allowed, w_i + 1)
-    # Type V (Section 6): a row the state does not allow is never chosen (its cost is
-    # skipped by the argmin); Method A has no accumulation, so only the choice changes
+    # Type V (Section 6): a row the state does not allow is never chosen (no accumulation)
     r = checked_choice(ok, int(np.argmin(np.where(ok, C, np.inf))))
     return Step(M_n + r, "window", w_i, C[:, None], M_n=M_n, q=n + 1)  # line 10
 
@@ -508,8 +504,7 @@ def method_b_step(I, T, M, w: int, allowed=None) -> Step:
     C = cost_matrix(I.quats[M_n : M_n + w_i + 1], F)  # line 12
     ok = allowed_rows(allowed, len(C))
     # Type V mask rule (Section 6): C[r, 1] = +inf for every row r the state does not
-    # allow, BEFORE accumulating. The mask changes the costs the path is plotted through
-    # (D and so the path, hence P_1), not only which of the unchanged P_1 is accepted.
+    # allow, BEFORE accumulating: it changes D and the path (hence P_1), not only its check.
     C[~ok, 1] = np.inf
     D = accumulate(C)  # line 13
     D[0, 0] = 10000.0  # line 14: the path must leave (0, 0) through (1, 0) or (0, 1)

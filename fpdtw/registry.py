@@ -8,10 +8,7 @@ V"``; non-default options in brackets by their labels in the class's ``options``
 (``"OPW (derivative)"``). :func:`resolve` turns a name into an :class:`Algorithm`,
 :func:`make_online` builds its aligner, :func:`align` runs a pair.
 
-Adding an aligner: write its :class:`~fpdtw.online.base.OnlineAligner` subclass and add
-one :class:`Entry` to :data:`ENTRIES`, e.g. ``Entry("OLTW", "OLTW", "oltw", True,
-online("fpdtw.online.oltw:OLTW"), "c", 120)``; the runner, the command line, the benchmark
-and the figures then know it by name.
+Adding an aligner: its class and one :class:`Entry` in :data:`ENTRIES` (docs/layout.md).
 
 Notebook: 11_fig9_typev.ipynb
 """

@@ -18,8 +18,7 @@ def load_motion(path, **kwargs):
 
     ``kwargs`` go to the reader (``fps=``, ``name=``; ``skeleton=`` for AMC, else the
     ``.asf`` next to it). MotionFormatError for an unknown extension, a file
-    :func:`check_input_file` refuses, or one the reader rejects.
-    """
+    :func:`check_input_file` refuses, or one the reader rejects."""
     p = Path(path)
     kind = READERS.get(p.suffix.lower())
     if kind is None:

@@ -22,8 +22,7 @@ def check_input_file(path: Path) -> int:
     """Size in bytes of a motion file about to be read whole.
 
     MotionFormatError for no such file, a directory, not a regular file (a FIFO would
-    block), unreadable, or larger than :data:`fpdtw.limits.MAX_FILE_BYTES`.
-    """
+    block), unreadable, or larger than :data:`fpdtw.limits.MAX_FILE_BYTES`."""
     try:
         st = os.stat(path)
     except FileNotFoundError:
@@ -43,8 +42,7 @@ def decode_text(data: bytes) -> str:
 
     A UTF-8 or UTF-16 mark selects the encoding (and is dropped); latin-1 never fails
     (HDM05 headers hold umlauts), also for UTF-8 that does not decode after its mark.
-    UnicodeDecodeError for a UTF-16 mark followed by other bytes.
-    """
+    UnicodeDecodeError for a UTF-16 mark followed by other bytes."""
     for bom, encoding in _BOMS:
         if data.startswith(bom):
             body = data[len(bom) :]

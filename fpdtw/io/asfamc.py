@@ -19,6 +19,7 @@ import math
 import os
 import re
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -40,8 +41,7 @@ def complete_order(applied: str) -> str:
     """Rotation order from the axes present, the missing ones appended in X, Y, Z order.
 
     A missing axis has a zero angle, so it may go anywhere: ``"XZ"`` -> ``"XZY"``, ``""``
-    -> ``"XYZ"``.
-    """
+    -> ``"XYZ"``."""
     return applied + "".join(a for a in "XYZ" if a not in applied)
 
 
@@ -53,8 +53,7 @@ class AsfSkeleton:
     ``dofs``: each joint's rotational dofs in file order; ``root_order``: the AMC root
     channels; ``directions`` (J, 3) and ``lengths`` (J,): unit bone directions and lengths
     at rest (zero for the root); ``angle_unit`` ("deg" or "rad"); ``length_scale``
-    (``:units length``); ``path``.
-    """
+    (``:units length``); ``path``."""
 
     skeleton: Skeleton
     dofs: tuple
@@ -76,22 +75,17 @@ class AsfSkeleton:
 
 
 def _floats(path, tokens, line, what, count=None):
+    err = partial(MotionFormatError, path)
     if count is not None and len(tokens) != count:
-        raise MotionFormatError(
-            path,
-            f"{what} needs {count} number(s), got {len(tokens)}: {' '.join(tokens)!r}",
-            line=line,
+        raise err(
+            f"{what} needs {count} number(s), got {len(tokens)}: {' '.join(tokens)!r}", line=line
         )
     try:
         vals = [float(t) for t in tokens]
     except ValueError:
-        raise MotionFormatError(
-            path, f"{what}: non-numeric value in {' '.join(tokens)!r}", line=line
-        ) from None
+        raise err(f"{what}: non-numeric value in {' '.join(tokens)!r}", line=line) from None
     if not all(math.isfinite(v) for v in vals):
-        raise MotionFormatError(
-            path, f"{what}: non-finite value in {' '.join(tokens)!r}", line=line
-        )
+        raise err(f"{what}: non-finite value in {' '.join(tokens)!r}", line=line)
     return vals
 
 
@@ -107,9 +101,9 @@ def read_asf(path) -> AsfSkeleton:
 
     MotionFormatError, naming the file and line, for missing sections or fields, bad
     numbers, unknown or duplicate bones, translation or length dofs, or a hierarchy that
-    does not reach every bone exactly once.
-    """
+    does not reach every bone exactly once."""
     path = Path(path)
+    err = partial(MotionFormatError, path)
     lines = read_lines(path)
     units = {"length": 1.0, "angle": "deg"}
     root = {}
@@ -129,22 +123,22 @@ def read_asf(path) -> AsfSkeleton:
         tok = s.split()
         if tok[0].startswith(":"):
             if bone is not None:
-                raise MotionFormatError(path, "bone block not closed with 'end'", line=ln)
+                raise err("bone block not closed with 'end'", line=ln)
             section = tok[0][1:].lower()
             seen_sections.add(section)
             if section == "units" and len(tok) > 1:
-                raise MotionFormatError(path, "':units' takes its values on later lines", line=ln)
+                raise err("':units' takes its values on later lines", line=ln)
             continue
         if section == "units":
             key = tok[0].lower()
             if key == "length":
                 (scale,) = _floats(path, tok[1:], ln, "units length", 1)
                 if scale <= 0:
-                    raise MotionFormatError(path, f"units length must be > 0, got {scale}", line=ln)
+                    raise err(f"units length must be > 0, got {scale}", line=ln)
                 units["length"] = scale
             elif key == "angle":
                 if len(tok) != 2 or tok[1].lower() not in ("deg", "rad"):
-                    raise MotionFormatError(path, "units angle must be 'deg' or 'rad'", line=ln)
+                    raise err("units angle must be 'deg' or 'rad'", line=ln)
                 units["angle"] = tok[1].lower()
             # mass and others: not needed
         elif section == "root":
@@ -153,8 +147,7 @@ def read_asf(path) -> AsfSkeleton:
                 chans = tuple(t.upper() for t in tok[1:])
                 bad = [c for c in chans if c not in _ROOT_CHANNELS]
                 if bad or len(set(chans)) != len(chans) or not chans:
-                    raise MotionFormatError(
-                        path,
+                    raise err(
                         f"root order {' '.join(tok[1:])!r}: expected distinct channels "
                         f"from {' '.join(_ROOT_CHANNELS)}",
                         line=ln,
@@ -162,54 +155,50 @@ def read_asf(path) -> AsfSkeleton:
                 root["order"] = chans
             elif key == "axis":
                 if len(tok) != 2:
-                    raise MotionFormatError(path, "root axis must be one order, e.g. XYZ", line=ln)
+                    raise err("root axis must be one order, e.g. XYZ", line=ln)
                 root["axis"] = _order(path, tok[1], ln, "root axis")
             elif key in ("position", "orientation"):
                 root[key] = _floats(path, tok[1:], ln, f"root {key}", 3)
             else:
-                raise MotionFormatError(path, f"unknown root field {tok[0]!r}", line=ln)
+                raise err(f"unknown root field {tok[0]!r}", line=ln)
         elif section == "bonedata":
             key = tok[0].lower()
             if key == "begin":
                 if bone is not None:
-                    raise MotionFormatError(path, "'begin' inside a bone block", line=ln)
+                    raise err("'begin' inside a bone block", line=ln)
                 bone = {"line": ln}
             elif bone is None:
-                raise MotionFormatError(path, f"{tok[0]!r} outside a begin/end bone block", line=ln)
+                raise err(f"{tok[0]!r} outside a begin/end bone block", line=ln)
             elif key == "end":
                 for need in ("name", "direction", "length", "axis"):
                     if need not in bone:
-                        raise MotionFormatError(
-                            path, f"bone {bone.get('name', '?')!r} has no {need!r}", line=ln
-                        )
+                        raise err(f"bone {bone.get('name', '?')!r} has no {need!r}", line=ln)
                 bones[bone["name"]] = bone
                 bone_list.append(bone["name"])
                 bone = None
             elif key == "name":
                 if len(tok) != 2:
-                    raise MotionFormatError(path, "bone name must be one word", line=ln)
+                    raise err("bone name must be one word", line=ln)
                 name = tok[1]
                 if name in bones or name == "root":
-                    raise MotionFormatError(path, f"duplicate bone name {name!r}", line=ln)
+                    raise err(f"duplicate bone name {name!r}", line=ln)
                 bone["name"] = name
             elif key == "direction":
                 d = np.array(_floats(path, tok[1:], ln, "direction", 3))
                 scale = np.abs(d).max()
                 if scale < 1e-12:
-                    raise MotionFormatError(path, "bone direction is zero", line=ln)
+                    raise err("bone direction is zero", line=ln)
                 d = d / scale  # the norm of (1e300, 0, 0) itself would overflow
                 bone["direction"] = d / np.linalg.norm(d)
             elif key == "length":
                 (length,) = _floats(path, tok[1:], ln, "length", 1)
                 if length < 0:
-                    raise MotionFormatError(path, f"negative bone length {length}", line=ln)
+                    raise err(f"negative bone length {length}", line=ln)
                 bone["length"] = length
             elif key == "axis":
                 if len(tok) != 5:
-                    raise MotionFormatError(
-                        path,
-                        "axis needs three angles and an order, e.g. 'axis 0 0 20 XYZ'",
-                        line=ln,
+                    raise err(
+                        "axis needs three angles and an order, e.g. 'axis 0 0 20 XYZ'", line=ln
                     )
                 bone["axis"] = _floats(path, tok[1:4], ln, "axis", 3)
                 bone["order"] = _order(path, tok[4], ln, "axis")
@@ -217,11 +206,11 @@ def read_asf(path) -> AsfSkeleton:
                 dofs = tuple(t.lower() for t in tok[1:])
                 unsupported = [d for d in dofs if d not in _ROT_DOFS]
                 if unsupported:
-                    raise MotionFormatError(
-                        path, f"unsupported dof(s) {' '.join(unsupported)} (only rx ry rz)", line=ln
+                    raise err(
+                        f"unsupported dof(s) {' '.join(unsupported)} (only rx ry rz)", line=ln
                     )
                 if len(set(dofs)) != len(dofs):
-                    raise MotionFormatError(path, f"repeated dof in {' '.join(dofs)!r}", line=ln)
+                    raise err(f"repeated dof in {' '.join(dofs)!r}", line=ln)
                 bone["dofs"] = dofs
             # id, limits (and their continuation lines), bodymass, cofmass: ignored
         elif section == "hierarchy":
@@ -233,32 +222,30 @@ def read_asf(path) -> AsfSkeleton:
                 hier_state = "closed"
                 continue
             if hier_state != "open":
-                raise MotionFormatError(path, "hierarchy line outside begin/end", line=ln)
+                raise err("hierarchy line outside begin/end", line=ln)
             par, kids = tok[0], tok[1:]
             if par != "root" and par not in bones:
-                raise MotionFormatError(path, f"hierarchy names unknown bone {par!r}", line=ln)
+                raise err(f"hierarchy names unknown bone {par!r}", line=ln)
             for kid in kids:
                 if kid not in bones:
-                    raise MotionFormatError(path, f"hierarchy names unknown bone {kid!r}", line=ln)
+                    raise err(f"hierarchy names unknown bone {kid!r}", line=ln)
                 if kid in parent_of:
-                    raise MotionFormatError(
-                        path, f"bone {kid!r} has two parents ({parent_of[kid]}, {par})", line=ln
-                    )
+                    raise err(f"bone {kid!r} has two parents ({parent_of[kid]}, {par})", line=ln)
                 parent_of[kid] = par
                 children.setdefault(par, []).append(kid)
         # other sections (:version, :name, :documentation, :skin...): ignored
 
     if not lines or not seen_sections:
-        raise MotionFormatError(path, "empty file or not an ASF file (no ':' sections)")
+        raise err("empty file or not an ASF file (no ':' sections)")
     if bone is not None:
-        raise MotionFormatError(path, "file ends inside a bone block", line=len(lines))
+        raise err("file ends inside a bone block", line=len(lines))
     for need in ("root", "bonedata", "hierarchy"):
         if need not in seen_sections:
-            raise MotionFormatError(path, f"no ':{need}' section")
+            raise err(f"no ':{need}' section")
     if hier_state != "closed":
-        raise MotionFormatError(path, "':hierarchy' has no begin/end block")
+        raise err("':hierarchy' has no begin/end block")
     if "order" not in root or "axis" not in root:
-        raise MotionFormatError(path, "':root' needs 'order' and 'axis'")
+        raise err("':root' needs 'order' and 'axis'")
 
     # depth-first order from the root, children in hierarchy order
     names = ["root"]
@@ -272,9 +259,7 @@ def read_asf(path) -> AsfSkeleton:
         stack.extend((k, me) for k in reversed(children.get(name, [])))
     orphans = [b for b in bone_list if b not in names]
     if orphans:
-        raise MotionFormatError(
-            path, f"bone(s) not reachable from root in ':hierarchy': {', '.join(orphans)}"
-        )
+        raise err(f"bone(s) not reachable from root in ':hierarchy': {', '.join(orphans)}")
 
     to_deg = 1.0 if units["angle"] == "deg" else 180.0 / math.pi
     J = len(names)
@@ -338,8 +323,7 @@ def find_asf(amc_path) -> Path:
 
     ``HDM_<actor>.asf`` for ``HDM_<actor>_...amc``, then ``<subject>.asf`` for
     ``<subject>_<take>.amc``, in its folder or a parent; else the only ``.asf`` in its
-    folder; else MotionFormatError saying where it looked.
-    """
+    folder; else MotionFormatError saying where it looked."""
     amc_path = Path(amc_path)
     stem = amc_path.stem
     folders = [amc_path.parent, *amc_path.parent.resolve().parents]
@@ -376,6 +360,7 @@ def amc_fps(path) -> float:
 
 def _amc_checked(path, lines, asf, layout, width):
     """Parse AMC frames line by line, erring precisely on the first problem: (data, unit)."""
+    err = partial(MotionFormatError, path)
     sk = asf.skeleton
     dofless = {sk.joint_names[j] for j in range(1, sk.n_joints) if not asf.dofs[j]}
     rows = []
@@ -388,8 +373,7 @@ def _amc_checked(path, lines, asf, layout, width):
     def close_frame(end_line):
         missing = [b for b in layout if b not in seen]
         if missing:
-            raise MotionFormatError(
-                path,
+            raise err(
                 f"frame lacks bone(s) {', '.join(missing)} before line {end_line} "
                 "(truncated frame, or a file that is not fully specified)",
                 line=frame_line,
@@ -404,10 +388,10 @@ def _amc_checked(path, lines, asf, layout, width):
         tok = s.split()
         if s[0] == ":":
             if frame_no is not None:
-                raise MotionFormatError(path, f"keyword {tok[0]!r} after the first frame", line=ln)
+                raise err(f"keyword {tok[0]!r} after the first frame", line=ln)
             key = tok[0].upper()
             if key not in _AMC_KEYWORDS:
-                raise MotionFormatError(path, f"unknown AMC keyword {tok[0]!r}", line=ln)
+                raise err(f"unknown AMC keyword {tok[0]!r}", line=ln)
             unit = _AMC_KEYWORDS[key] or unit
             continue
         if len(tok) == 1 and tok[0].isdigit():
@@ -415,8 +399,7 @@ def _amc_checked(path, lines, asf, layout, width):
             if frame_no is not None:
                 close_frame(ln)
                 if number != frame_no + 1:
-                    raise MotionFormatError(
-                        path,
+                    raise err(
                         f"frame number {number} does not follow frame {frame_no}",
                         line=ln,
                         frame=number,
@@ -426,7 +409,7 @@ def _amc_checked(path, lines, asf, layout, width):
             seen = set()
             continue
         if frame_no is None:
-            raise MotionFormatError(path, f"data before the first frame number: {s!r}", line=ln)
+            raise err(f"data before the first frame number: {s!r}", line=ln)
         bone = tok[0]
         spec = layout.get(bone)
         if spec is None:
@@ -435,37 +418,32 @@ def _amc_checked(path, lines, asf, layout, width):
                 if bone in dofless
                 else f"unknown bone {bone!r} (not in the skeleton {asf.path})"
             )
-            raise MotionFormatError(path, why, line=ln, frame=frame_no)
+            raise err(why, line=ln, frame=frame_no)
         start, k = spec
         if len(tok) - 1 != k:
             dof = " ".join(asf.root_order) if bone == "root" else " ".join(asf.dofs[sk.index(bone)])
-            raise MotionFormatError(
-                path,
+            raise err(
                 f"bone {bone!r} has {len(tok) - 1} value(s), expected {k} ({dof})",
                 line=ln,
                 frame=frame_no,
             )
         if bone in seen:
-            raise MotionFormatError(
-                path, f"bone {bone!r} repeated in a frame", line=ln, frame=frame_no
-            )
+            raise err(f"bone {bone!r} repeated in a frame", line=ln, frame=frame_no)
         seen.add(bone)
         try:
             vals = [float(t) for t in tok[1:]]
         except ValueError:
-            raise MotionFormatError(
-                path, f"non-numeric value on bone {bone!r}: {s!r}", line=ln, frame=frame_no
+            raise err(
+                f"non-numeric value on bone {bone!r}: {s!r}", line=ln, frame=frame_no
             ) from None
         for v in vals:
             if not math.isfinite(v):
-                raise MotionFormatError(
-                    path, f"non-finite value on bone {bone!r}: {s!r}", line=ln, frame=frame_no
-                )
+                raise err(f"non-finite value on bone {bone!r}: {s!r}", line=ln, frame=frame_no)
         row[start : start + k] = vals
 
     if frame_no is None:
         what = "empty file" if not any(x.strip() for x in lines) else "no frames"
-        raise MotionFormatError(path, what)
+        raise err(what)
     close_frame(len(lines) + 1)
 
     return np.asarray(rows, dtype=float), unit
@@ -474,8 +452,7 @@ def _amc_checked(path, lines, asf, layout, width):
 def _amc_fast(lines, layout, width):
     """Vectorised parse of a regular AMC file (the same bones in the same order every frame).
 
-    ``(data, unit)`` as :func:`_amc_checked`, or None to let it find what is wrong.
-    """
+    ``(data, unit)`` as :func:`_amc_checked`, or None to let it find what is wrong."""
     unit = None
     i = 0
     n = len(lines)
@@ -534,8 +511,7 @@ def read_amc(path, skeleton_or_asf_path=None, *, fps=None, name=None) -> Motion:
     ``euler`` (F, J, 3) holds the AMC values in degrees, ``root_translation`` ``TX TY TZ``.
     MotionFormatError, naming the file, line and frame, for an empty file, no frames, a
     frame missing a bone with dofs, a bad value, an unknown, dof-less or repeated bone,
-    frame numbers not consecutive, unknown keywords, or limits (:mod:`fpdtw.limits`).
-    """
+    frame numbers not consecutive, unknown keywords, or limits (:mod:`fpdtw.limits`)."""
     path = Path(path)
     if fps is None:
         fps = amc_fps(path)

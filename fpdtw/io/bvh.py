@@ -16,6 +16,7 @@ from __future__ import annotations
 import dataclasses
 import io
 import math
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -64,6 +65,7 @@ def check_start(token: str, path, line: int) -> None:
 
 def _parse_hierarchy(path, lines):
     """Joints (parents first) from the HIERARCHY lines."""
+    err = partial(MotionFormatError, path)
     toks = [(t, ln) for ln, raw in enumerate(lines, 1) for t in raw.split()]
     end_line = len(lines) + 1  # the MOTION line
     pos = 0
@@ -71,22 +73,20 @@ def _parse_hierarchy(path, lines):
     def take(what):
         nonlocal pos
         if pos >= len(toks):
-            raise MotionFormatError(
-                path, f"HIERARCHY ends while expecting {what} (missing '}}'?)", line=end_line
-            )
+            raise err(f"HIERARCHY ends while expecting {what} (missing '}}'?)", line=end_line)
         pos += 1
         return toks[pos - 1]
 
     def expect(word, after):
         t, ln = take(f"{word!r} after {after}")
         if t != word:
-            raise MotionFormatError(path, f"expected {word!r} after {after}, got {t!r}", line=ln)
+            raise err(f"expected {word!r} after {after}, got {t!r}", line=ln)
 
     t, ln = take("HIERARCHY")
     check_start(t, path, ln)
     t, ln = take("ROOT")
     if t.upper() != "ROOT":
-        raise MotionFormatError(path, f"expected ROOT, got {t!r}", line=ln)
+        raise err(f"expected ROOT, got {t!r}", line=ln)
     name, ln = take("the root's name")
     expect("{", f"ROOT {name}")
     joints = [_Joint(name, -1, ln)]
@@ -102,41 +102,34 @@ def _parse_hierarchy(path, lines):
                 try:
                     vals.append(float(v))
                 except ValueError:
-                    raise MotionFormatError(
-                        path, f"OFFSET value {v!r} is not a number", line=vln
-                    ) from None
+                    raise err(f"OFFSET value {v!r} is not a number", line=vln) from None
             if not all(math.isfinite(v) for v in vals):
-                raise MotionFormatError(path, "non-finite OFFSET value", line=ln)
+                raise err("non-finite OFFSET value", line=ln)
             if cur is None:
                 if end_offset.get(len(stack)):
-                    raise MotionFormatError(path, "End Site has two OFFSETs", line=ln)
+                    raise err("End Site has two OFFSETs", line=ln)
                 end_offset[len(stack)] = True
             else:
                 if joints[cur].offset is not None:
-                    raise MotionFormatError(
-                        path, f"joint {joints[cur].name!r} has two OFFSETs", line=ln
-                    )
+                    raise err(f"joint {joints[cur].name!r} has two OFFSETs", line=ln)
                 joints[cur].offset = vals
         elif t == "CHANNELS":
             if cur is None:
-                raise MotionFormatError(path, "End Site cannot have CHANNELS", line=ln)
+                raise err("End Site cannot have CHANNELS", line=ln)
             jt = joints[cur]
             if jt.channels is not None:
-                raise MotionFormatError(path, f"joint {jt.name!r} has two CHANNELS", line=ln)
+                raise err(f"joint {jt.name!r} has two CHANNELS", line=ln)
             n_tok, nln = take("the channel count")
             try:
                 n = int(n_tok)
             except ValueError:
-                raise MotionFormatError(
-                    path, f"channel count {n_tok!r} is not an integer", line=nln
-                ) from None
+                raise err(f"channel count {n_tok!r} is not an integer", line=nln) from None
             names = []
             while pos < len(toks) and toks[pos][1] == ln:
                 names.append(toks[pos][0])
                 pos += 1
             if len(names) != n or n < 0:
-                raise MotionFormatError(
-                    path,
+                raise err(
                     f"channel count mismatch: CHANNELS {n} lists {len(names)} channel(s) "
                     f"for joint {jt.name!r}",
                     line=ln,
@@ -145,28 +138,24 @@ def _parse_hierarchy(path, lines):
             for c in names:
                 key = c.lower()
                 if key not in _CHANNELS:
-                    raise MotionFormatError(
-                        path, f"unknown channel {c!r} on joint {jt.name!r}", line=ln
-                    )
+                    raise err(f"unknown channel {c!r} on joint {jt.name!r}", line=ln)
                 if key in chans:
-                    raise MotionFormatError(
-                        path, f"channel {c!r} repeated on joint {jt.name!r}", line=ln
-                    )
+                    raise err(f"channel {c!r} repeated on joint {jt.name!r}", line=ln)
                 chans.append(key)
             jt.channels = chans
             jt.chan_line = ln
         elif t == "JOINT":
             if cur is None:
-                raise MotionFormatError(path, "End Site cannot have child joints", line=ln)
+                raise err("End Site cannot have child joints", line=ln)
             name, nln = take("a joint name")
             if name in ("{", "}"):
-                raise MotionFormatError(path, "JOINT without a name", line=nln)
+                raise err("JOINT without a name", line=nln)
             expect("{", f"JOINT {name}")
             joints.append(_Joint(name, cur, nln))
             stack.append(len(joints) - 1)
         elif t == "End":
             if cur is None:
-                raise MotionFormatError(path, "End Site inside an End Site", line=ln)
+                raise err("End Site inside an End Site", line=ln)
             expect("Site", "End")
             expect("{", "End Site")
             stack.append(None)
@@ -175,25 +164,23 @@ def _parse_hierarchy(path, lines):
             stack.pop()
             if cur is None:
                 if not end_offset.pop(len(stack) + 1):
-                    raise MotionFormatError(path, "End Site without OFFSET", line=ln)
+                    raise err("End Site without OFFSET", line=ln)
                 continue
             jt = joints[cur]
             if jt.offset is None:
-                raise MotionFormatError(path, f"joint {jt.name!r} has no OFFSET", line=ln)
+                raise err(f"joint {jt.name!r} has no OFFSET", line=ln)
             if jt.channels is None:
-                raise MotionFormatError(path, f"joint {jt.name!r} has no CHANNELS", line=ln)
+                raise err(f"joint {jt.name!r} has no CHANNELS", line=ln)
         else:
-            raise MotionFormatError(path, f"unexpected {t!r} in HIERARCHY", line=ln)
+            raise err(f"unexpected {t!r} in HIERARCHY", line=ln)
     if pos < len(toks):
         t, ln = toks[pos]
         what = "a second ROOT (unsupported)" if t.upper() == "ROOT" else f"{t!r}"
-        raise MotionFormatError(
-            path, f"{what} after the root's closing '}}' (unbalanced braces?)", line=ln
-        )
+        raise err(f"{what} after the root's closing '}}' (unbalanced braces?)", line=ln)
     seen = {}
     for jt in joints:
         if jt.name in seen:
-            raise MotionFormatError(path, f"duplicate joint name {jt.name!r}", line=jt.line)
+            raise err(f"duplicate joint name {jt.name!r}", line=jt.line)
         seen[jt.name] = jt
     return joints
 
@@ -214,8 +201,7 @@ class BVHHeader:
 
     The one parser of :func:`read_bvh` and ``fpdtw serve``: a streamed take and the same
     file give identical frames, errors and limits. ``frames`` is None in a stream;
-    ``end_line`` is the ``Frame Time:`` line's number.
-    """
+    ``end_line`` is the ``Frame Time:`` line's number."""
 
     def __init__(self, path, joints, frames, fps, end_line):
         self.path = path
@@ -254,8 +240,7 @@ class BVHHeader:
         """The values (n_channels,) of one motion line.
 
         MotionFormatError for a missing, extra, non-numeric or non-finite value, naming ``line``
-        and ``frame`` (0-based).
-        """
+        and ``frame`` (0-based)."""
         toks = text.split()
         if len(toks) != self.n_channels:
             kind = "missing" if len(toks) < self.n_channels else "extra"
@@ -300,8 +285,7 @@ class BVHHeader:
         """Refuse non-root position channels of ``data`` that differ from those of ``first``.
 
         The MotionFormatError names the first differing line when given ``lines`` (a stream),
-        else the CHANNELS line.
-        """
+        else the CHANNELS line."""
         if not len(self._pos):
             return
         cols = self._pos[:, 0]
@@ -355,14 +339,13 @@ def parse_bvh_header(lines, path=None, *, stream: bool = False) -> BVHHeader:
     ``path``: named in errors; ``stream``: ``Frames:`` may be missing and is ignored.
     MotionFormatError (naming the file and line) for no MOTION, bad braces or CHANNELS, too
     many channels, a missing or malformed ``Frames:`` or ``Frame Time:``, a frame time <= 0,
-    a rate or ``Frames:`` outside :mod:`fpdtw.limits`.
-    """
+    a rate or ``Frames:`` outside :mod:`fpdtw.limits`."""
+    err = partial(MotionFormatError, path)
     motion_at = next(
-        (i for i, s in enumerate(lines) if s.split()[:1] and s.split()[0].upper() == "MOTION"),
-        None,
+        (i for i, s in enumerate(lines) if s.split()[:1] and s.split()[0].upper() == "MOTION"), None
     )
     if motion_at is None:
-        raise MotionFormatError(path, "no MOTION section", line=len(lines) if stream else None)
+        raise err("no MOTION section", line=len(lines) if stream else None)
     joints = _parse_hierarchy(path, lines[:motion_at])
     n_ch = sum(len(j.channels) for j in joints)
     limits.check_channels(n_ch, path, line=motion_at)
@@ -376,9 +359,9 @@ def parse_bvh_header(lines, path=None, *, stream: bool = False) -> BVHHeader:
             rest = iter([(ln, s)])
             continue
         if s is None:
-            raise MotionFormatError(path, f"MOTION section has no {label!r} line", line=len(lines))
+            raise err(f"MOTION section has no {label!r} line", line=len(lines))
         if not _is_key(s, key):
-            raise MotionFormatError(path, f"expected {label!r}, got {s!r}", line=ln)
+            raise err(f"expected {label!r}, got {s!r}", line=ln)
         header[key] = (s.partition(":")[2].strip(), ln)
     n_frames = None
     if not stream:
@@ -386,17 +369,17 @@ def parse_bvh_header(lines, path=None, *, stream: bool = False) -> BVHHeader:
         try:
             n_frames = int(value)
         except ValueError:
-            raise MotionFormatError(path, f"Frames: {value!r} is not an integer", line=ln) from None
+            raise err(f"Frames: {value!r} is not an integer", line=ln) from None
         if n_frames < 1:
-            raise MotionFormatError(path, f"Frames: {n_frames} (need at least one frame)", line=ln)
+            raise err(f"Frames: {n_frames} (need at least one frame)", line=ln)
         limits.check_file_frames(n_frames, path, line=ln)
     value, ln = header["frame time"]
     try:
         frame_time = float(value)
     except ValueError:
-        raise MotionFormatError(path, f"Frame Time: {value!r} is not a number", line=ln) from None
+        raise err(f"Frame Time: {value!r} is not a number", line=ln) from None
     if not math.isfinite(frame_time) or frame_time <= 0:
-        raise MotionFormatError(path, f"Frame Time must be > 0, got {value}", line=ln)
+        raise err(f"Frame Time must be > 0, got {value}", line=ln)
     raw = 1.0 / frame_time  # inf for a frame time below about 1e-308
     fps = _fps_from_frame_time(frame_time) if math.isfinite(raw) else raw
     fps = limits.check_file_fps(fps, path, line=ln, source=f"Frame Time {value} s")
@@ -409,12 +392,12 @@ def read_bvh(path, *, name=None) -> Motion:
     Joint names are resolved by the ASF naming (CMU's BVH keeps it), or the FBX naming if
     that finds more. MotionFormatError (naming the file, line and 0-based frame) for what
     :func:`parse_bvh_header` refuses, an empty file, ``Frames:`` not matching the data
-    lines, a bad motion line, or varying non-root position channels.
-    """
+    lines, a bad motion line, or varying non-root position channels."""
     path = Path(path)
+    err = partial(MotionFormatError, path)
     lines = read_lines(path)
     if not any(s.strip() for s in lines):
-        raise MotionFormatError(path, "empty file")
+        raise err("empty file")
     header = parse_bvh_header(lines, path)
     rest = [(i + 1, s) for i, s in enumerate(lines) if i >= header.end_line and s.strip()]
     n_frames = header.frames
@@ -423,12 +406,11 @@ def read_bvh(path, *, name=None) -> Motion:
             header.parse_line(s, ln, k)
         msg = f"Frames: {n_frames} but the file has only {len(rest)} data line(s)"
         ln = rest[-1][0] if rest else header.end_line
-        raise MotionFormatError(path, msg, line=ln, frame=len(rest))
+        raise err(msg, line=ln, frame=len(rest))
     rows = [header.parse_line(s, ln, k) for k, (ln, s) in enumerate(rest[:n_frames])]
     if len(rest) > n_frames:
         header.parse_line(rest[n_frames][1], rest[n_frames][0], n_frames)
-        raise MotionFormatError(
-            path,
+        raise err(
             f"Frames: {n_frames} but the file has {len(rest)} data lines",
             line=rest[n_frames][0],
             frame=n_frames,
@@ -451,9 +433,7 @@ def bvh_pose(motion: Motion) -> tuple:
     rotations rests in the pose they give (global rest rotations ``G^0``,
     :func:`fpdtw.motion.rig.rest_rotations`): each joint turns by ``Delta_j = G_p^0 pre_j R_j
     post_j (G_j^0)^-1`` and its offset is ``G_p^0 offset_j``, so the file rests in the
-    motion's pose with the same forward kinematics. Without them: the motion's own.
-    """
-
+    motion's pose with the same forward kinematics. Without them: the motion's own."""
     sk = motion.skeleton
     euler = motion.euler.copy()
     offsets = sk.offsets.copy()
@@ -484,8 +464,7 @@ def bvh_lines(motion: Motion, *, precision: int = 6) -> tuple[list[str], list[st
     """A motion as the lines of a BVH file: header (through ``Frame Time:``) and motion lines.
 
     What :func:`write_bvh` writes and ``fpdtw stream`` sends; ``precision``: decimals.
-    MotionFormatError for a joint name BVH cannot hold.
-    """
+    MotionFormatError for a joint name BVH cannot hold."""
     sk = motion.skeleton
     for n in sk.joint_names:
         if not n or any(c.isspace() for c in n) or "{" in n or "}" in n:
@@ -533,8 +512,7 @@ def write_bvh(motion: Motion, path, *, precision: int = 6) -> Path:
 
     Three rotation channels per joint in its order, the root's position channels, a zero
     ``End Site`` per leaf, depth first, resting as :func:`bvh_pose` says: forward kinematics
-    of the file equals the motion's. MotionFormatError for a joint name BVH cannot hold.
-    """
+    of the file equals the motion's. MotionFormatError for a joint name BVH cannot hold."""
     path = Path(path)
     try:
         header, lines = bvh_lines(motion, precision=precision)

@@ -55,8 +55,7 @@ def read_fbx(path, *, fps=None, name=None) -> Motion:
     ``fps`` is used only when no curve has two keys (else it must match the grid's);
     ``name`` defaults to the file stem. MotionFormatError, naming the file, for a missing,
     empty, truncated or non-FBX file, no animation, no skeleton, or anything the module
-    docstring rejects.
-    """
+    docstring rejects."""
     p = Path(path)
     if check_input_file(p) == 0:
         raise MotionFormatError(p, "empty file")
@@ -345,8 +344,7 @@ def _rotation_curves(nodes, orders, pre, post, Q, values, sampled, p):
     """Euler angles (F, J, 3) of each joint's Lcl Rotation curve node.
 
     The one whose angles give ufbx's evaluated ``Q[:, j] = pre_j R(angles) post_j`` at every
-    frame.
-    """
+    frame."""
     F, J = Q.shape[:2]
     cand = [i for i, s in enumerate(sampled) if s is not None]
     E = np.stack([sampled[i] for i in cand]) if cand else np.zeros((0, F, 3))

@@ -25,8 +25,7 @@ class Frame:
 
     ``quats`` (k, 4) of the k cost joints; ``euler`` (k, 3) the same in degrees, unwrapped
     over the frames so far; ``positions`` (p, 3) root-relative (OPW) or None; ``orders`` and
-    ``rig`` (None: the input motion's; a take's frames share those of its first).
-    """
+    ``rig`` (None: the input motion's; a take's frames share those of its first)."""
 
     quats: np.ndarray
     euler: np.ndarray
@@ -43,8 +42,7 @@ class MotionFeatures:
     their ``orders`` (for the forecasts), ``fps``, root-relative ``positions`` (F, p, 3) or
     None, ``name``, ``rig`` (:func:`fpdtw.motion.rig.rig_transform`; None: unknown, taken to
     be the other's) and ``body_size`` (:func:`fpdtw.motion.rig.body_size`; None without
-    positions).
-    """
+    positions)."""
 
     quats: np.ndarray
     euler: np.ndarray
@@ -57,20 +55,13 @@ class MotionFeatures:
 
     @classmethod
     def from_motion(
-        cls,
-        motion,
-        joints=PAPER_JOINTS,
-        position_joints=None,
-        *,
-        rest_frame=None,
-        rig=None,
+        cls, motion, joints=PAPER_JOINTS, position_joints=None, *, rest_frame=None, rig=None
     ):
         """Cut the features out of a :class:`~fpdtw.motion.Motion`.
 
         ``joints``: the cost joints (default the paper's 8); ``position_joints``: whose
         root-relative positions to include (None: no forward kinematics); ``rig``: default
-        computed, from ``rest_frame`` if given.
-        """
+        computed, from ``rest_frame`` if given."""
         quats = np.ascontiguousarray(motion.rotations(joints), dtype=np.float64)
         euler = np.ascontiguousarray(unwrap_degrees(motion.eulers(joints), axis=0))
         if rig is None:
@@ -95,9 +86,7 @@ class MotionFeatures:
     ):
         """Features from raw arrays (tests, synthetic data).
 
-        ``euler`` defaults to the quaternions in ``orders`` (default ``"XYZ"``); ``rig`` to None.
-        """
-
+        ``euler`` defaults to the quaternions in ``orders`` (default ``"XYZ"``); ``rig`` to None."""
         quats = np.ascontiguousarray(quat_normalize(np.asarray(quats, dtype=np.float64)))
         k = quats.shape[1]
         orders = tuple(orders) if orders is not None else ("XYZ",) * k
@@ -149,7 +138,6 @@ def pair_features(
 
     Paper: FP-DTW eq. 1 (local rotations, made comparable across rigs); OPW poster eq. 5.
     """
-
     I, T = (
         MotionFeatures.from_motion(mo, joints, position_joints, rest_frame=rest, rig=rig)
         for mo, rest, rig in zip((input_motion, target_motion), rest_frames, rigs)

@@ -18,35 +18,16 @@ from pathlib import Path
 from fpdtw.errors import MotionFormatError
 
 #: The FP-DTW paper's 8 joints (Section 4), in a fixed order.
-PAPER_JOINTS = (
-    "left_hip",
-    "right_hip",
-    "left_knee",
-    "right_knee",
-    "left_shoulder",
-    "right_shoulder",
-    "left_elbow",
-    "right_elbow",
+PAPER_JOINTS = tuple(
+    "left_hip right_hip left_knee right_knee "
+    "left_shoulder right_shoulder left_elbow right_elbow".split()
 )
 
 #: The OPW poster's 16 joints (eq. 5), in the poster's order.
-OPW_JOINTS = (
-    "head",
-    "center_hip",
-    "right_hip",
-    "left_hip",
-    "middle_chest",
-    "upper_chest",
-    "left_shoulder",
-    "right_shoulder",
-    "left_elbow",
-    "right_elbow",
-    "left_wrist",
-    "right_wrist",
-    "left_knee",
-    "right_knee",
-    "left_ankle",
-    "right_ankle",
+OPW_JOINTS = tuple(
+    "head center_hip right_hip left_hip middle_chest upper_chest left_shoulder right_shoulder "
+    "left_elbow right_elbow left_wrist right_wrist left_knee right_knee left_ankle "
+    "right_ankle".split()
 )
 
 #: ASF/AMC naming (HDM05, and CMU's BVH exports which keep the ASF bone names).
@@ -95,13 +76,7 @@ NAMINGS = {"asf": ASF_NAMES, "bvh": ASF_NAMES, "fbx": FBX_NAMES}
 ALL_JOINTS = OPW_JOINTS
 
 #: The built-in joint maps (``joint_maps/<name>.csv``), tried after the source format's own.
-BUILTIN_JOINT_MAPS = (
-    "authors_fbx",
-    "mixamo",
-    "cmu_bvh_motionbuilder",
-    "asf",
-    "cmu_bvh_asf_names",
-)
+BUILTIN_JOINT_MAPS = ("authors_fbx", "mixamo", "cmu_bvh_motionbuilder", "asf", "cmu_bvh_asf_names")
 _FIRST_BY_SOURCE = {
     "fbx": ("authors_fbx", "mixamo"),
     "asf": ("asf",),
@@ -121,8 +96,7 @@ def resolve_joint_map(joint_names, naming):
     """Canonical name -> skeleton joint name, by the candidates of ``naming``.
 
     ``naming``: a dict of candidates or a key of :data:`NAMINGS`; namespaces and case are
-    ignored; names without a match are left out.
-    """
+    ignored; names without a match are left out."""
     if isinstance(naming, str):
         naming = NAMINGS[naming]
     bare = _by_bare_name(joint_names)
@@ -176,8 +150,7 @@ def read_joint_map(path) -> dict:
     """Read a joint map CSV ``joint,name``: ``{our joint: the rig's joint name}``.
 
     MotionFormatError for a file that is not UTF-8 text, no ``joint,name`` header, a row
-    without two cells, an unknown joint or a joint mapped twice (naming the file and line).
-    """
+    without two cells, an unknown joint or a joint mapped twice (naming the file and line)."""
     p = Path(path)
     try:
         text = p.read_text(encoding="utf-8-sig")
@@ -212,8 +185,7 @@ def find_joint_map(joint_names, source: str = "", maps=()) -> tuple:
     The first of ``maps`` (the user's) whose every joint the skeleton has (``"user map
     1"``); else the first built-in map (the ``source`` format's first) with all of
     :data:`ALL_JOINTS`, else with the 8 cost joints; else the usual names (:data:`NAMINGS`)
-    that find the most (``"usual names"``). Names match without case and namespace.
-    """
+    that find the most (``"usual names"``). Names match without case and namespace."""
     for i, m in enumerate(maps):
         jm = _apply(m, joint_names)
         if len(jm) == len(m):
@@ -236,8 +208,7 @@ def missing_joints_message(missing, have, what: str = "") -> str:
     """The message for joints no joint map finds.
 
     It names the joints ``missing`` (ours), those the skeleton ``have``, what they are for,
-    and the way out (``--joint-map``).
-    """
+    and the way out (``--joint-map``)."""
     what = f" ({what})" if what else ""
     s = "s" if len(missing) > 1 else ""
     return (

@@ -62,8 +62,7 @@ def frame_quats(euler, codes) -> np.ndarray:
     """Local rotations (J, 4), ``w >= 0``, of one frame's Euler angles ``euler`` (J, 3).
 
     ``codes``: :func:`order_codes` of the joints' orders. Bit for bit
-    :func:`fpdtw.motion.motion.joint_quats`.
-    """
+    :func:`fpdtw.motion.motion.joint_quats`."""
     E = np.ascontiguousarray(euler, dtype=np.float64)
     out = np.empty((E.shape[0], 4))
     _frame_quats(E, codes, _AXES, out)

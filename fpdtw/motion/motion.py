@@ -19,12 +19,7 @@ import numpy as np
 
 from fpdtw import limits
 from fpdtw.errors import LimitError, MotionFormatError
-from fpdtw.motion.joints import (
-    OPW_JOINTS,
-    PAPER_JOINTS,
-    find_joint_map,
-    missing_joints_message,
-)
+from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS, find_joint_map, missing_joints_message
 from fpdtw.motion.rotations import (
     check_order,
     euler_to_quat,
@@ -43,8 +38,7 @@ def _euler_near(q, order, ref):
     """Euler angles of ``q`` (N, 4) in ``order`` on the branch nearest ``ref`` (N, 3).
 
     Of the triples ``(a, b, c)`` and ``(a + 180, 180 - b, c + 180)``, each up to multiples
-    of 360.
-    """
+    of 360."""
     e = quat_to_euler(q, order)
     cols = [_AXIS[c] for c in order]
     alt = e.copy()
@@ -65,8 +59,7 @@ def _euler_near(q, order, ref):
 def joint_quats(euler, orders) -> np.ndarray:
     """Local rotations (F, J, 4), ``w >= 0``, from Euler angles (F, J, 3), per joint order.
 
-    The same for any number of frames: motions and streamed frames alike compute them here.
-    """
+    The same for any number of frames: motions and streamed frames alike compute them here."""
     euler = np.asarray(euler, dtype=float)
     q = np.empty(euler.shape[:2] + (4,))
     by_order = np.array(orders)
@@ -82,8 +75,7 @@ def blend_poses(q0, q1, e0, e1, r0, r1, a, orders, joints=None):
     As :meth:`Motion.retime` and the live target make them: rotations ``q0, q1`` (N, J, 4)
     by slerp, root translations ``r0, r1`` (N, 3) linearly, Euler angles (N, len(joints), 3)
     from the slerped quaternions in ``orders``, on the branch nearest the linear
-    interpolation of ``e0, e1`` (N, J, 3), so they stay continuous. Each row on its own.
-    """
+    interpolation of ``e0, e1`` (N, J, 3), so they stay continuous. Each row on its own."""
     q = quat_slerp(q0, q1, a[:, None] * np.ones(q0.shape[1]))
     r = (1 - a)[:, None] * r0 + a[:, None] * r1
     a3 = a[:, None, None]
@@ -102,8 +94,7 @@ def blend_poses(q0, q1, e0, e1, r0, r1, a, orders, joints=None):
 def sample_points(x, n: int):
     """The frames either side of positions ``x`` (N,), in frames, and the fraction between.
 
-    Returns ``(i0, i1, a)`` for an ``n``-frame motion; within 1e-9 below a frame counts as it.
-    """
+    Returns ``(i0, i1, a)`` for an ``n``-frame motion; within 1e-9 below a frame counts as it."""
     i0 = np.minimum(np.floor(x + 1e-9).astype(np.int64), n - 1)
     i1 = np.minimum(i0 + 1, n - 1)
     a = np.clip(x - i0, 0.0, 1.0)
@@ -121,8 +112,7 @@ class Skeleton:
     ``joint_names`` (J,) parents first; ``parents`` (J,) int, -1 for the root (one, first);
     ``offsets`` (J, 3) from the parent, in its frame; ``rotation_orders`` (J,);
     ``pre_rotations``, ``post_rotations`` (J, 4): fixed rotations around the animated one
-    (default identity); ``units``: the length unit, for information.
-    """
+    (default identity); ``units``: the length unit, for information."""
 
     joint_names: tuple
     parents: np.ndarray
@@ -181,8 +171,7 @@ class Motion:
     skeleton name (default :func:`fpdtw.motion.joints.find_joint_map`).
 
     MotionFormatError for shapes that do not fit, no frames, a rate that is not positive, a
-    non-finite value or one beyond :data:`fpdtw.limits.MAX_ABS_VALUE`.
-    """
+    non-finite value or one beyond :data:`fpdtw.limits.MAX_ABS_VALUE`."""
 
     name: str
     fps: float
@@ -284,8 +273,7 @@ class Motion:
         """Skeleton indices (int64) of ``joints``, by canonical or own names.
 
         Else a MotionFormatError naming the file, every joint missing, those the skeleton has
-        and ``--joint-map``; ``what`` says what the joints are for.
-        """
+        and ``--joint-map``; ``what`` says what the joints are for."""
         names = self.skeleton.joint_names
         own = [self.joint_map.get(name, name) for name in joints]
         missing = [j for j, o in zip(joints, own) if o not in names]
@@ -372,8 +360,7 @@ class Motion:
         """A new motion whose frame ``k`` is this one at time ``t[k]`` (s).
 
         Poses by :func:`blend_poses`; where ``t`` falls on a frame, its angles and quaternions
-        exactly.
-        """
+        exactly."""
         t = np.asarray(t, dtype=float)
         x = np.clip(t, 0.0, self.duration) * self.fps
         i0, i1, a = sample_points(x, self.n_frames)

@@ -192,8 +192,7 @@ def body_size(motion) -> float:
     """A body's length along its skeleton, in the motion's unit, whatever the pose.
 
     Root to head plus root to ankle (both legs' mean), summed over the bone offsets;
-    MotionFormatError without a head or an ankle.
-    """
+    MotionFormatError without a head or an ankle."""
     idx = motion.require_joints(("head", "left_ankle", "right_ankle"), "a body's size")
     return skeleton_body_size(motion.skeleton, *idx)
 
@@ -257,8 +256,7 @@ def bone_directions(motion, joints=PAPER_JOINTS) -> np.ndarray:
     without one.
 
     Paper: FP-DTW eq. 2 ("a one unit length vector along the joint's orientation",
-    read as the bone).
-    """
+    read as the bone)."""
     sk = motion.skeleton
     parents = np.asarray(sk.parents)
     out = np.empty((len(joints), 3))

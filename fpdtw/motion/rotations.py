@@ -58,8 +58,7 @@ class UnwrapDegrees:
     """:func:`unwrap_degrees` along time, one frame at a time, bit for bit.
 
     Called with ``a[0], a[1], ...`` it returns ``unwrap_degrees(a, axis=0)[k]``
-    (numpy.unwrap's operations).
-    """
+    (numpy.unwrap's operations)."""
 
     _PERIOD = 2 * np.pi
 

@@ -1,18 +1,16 @@
 """A motion that arrives one frame at a time: the live target of an online alignment.
 
-:class:`LiveTarget` turns captured frames, as they arrive, into frames at the INPUT's
-rate ("ticks"), causally. Slots: frame 0 is slot 0; a frame ``dt`` after the previous one
-(capture time, else arrival) takes the next slot, or after a GAP (``dt > 1.5 P``, ``P``
-the frame period) slot ``previous + round(dt / P)``, so that frame numbers stay the
-capture's. Tick ``k`` is the target at ``k / rate`` s, where :meth:`Motion.resample` puts
-it: a received frame when it falls on one (within
-:data:`~fpdtw.motion.motion.EXACT_FRAMES`), else blended between the two received
-consecutive slots (:func:`~fpdtw.motion.motion.blend_poses`) as soon as the later one is
-in (at most one target period of delay). Ticks inside a gap are filled when it ends:
-``gap="slerp"`` (default) interpolates across it, ``"hold"`` repeats the frame before
-it. A take streamed without loss gives the frames and map of ``fpdtw align`` bit for bit
-(but a tick just after a received frame at another rate, whose root translation moves by
-at most 1e-6 of a frame offline). docs/live.md says why and measures both gap rules.
+:class:`LiveTarget` turns captured frames, as they arrive, into frames at the INPUT's rate
+("ticks"), causally (docs/live.md: dropped frames, other capture rates, both gap rules
+measured). A frame ``dt > 1.5 P`` (``P`` the frame period) after the previous one (capture
+time, else arrival) ends a GAP and takes slot ``previous + round(dt / P)``. Tick ``k`` is the
+target at ``k / rate`` s, where :meth:`Motion.resample` puts it: a received frame when it
+falls on one (within :data:`~fpdtw.motion.motion.EXACT_FRAMES`), else blended between the two
+received consecutive slots (:func:`~fpdtw.motion.motion.blend_poses`) once the later one is
+in. Ticks inside a gap are filled when it ends (``gap="slerp"``, default, or ``"hold"``). A
+take streamed without loss gives the frames and map of ``fpdtw align`` bit for bit (but a
+tick just after a received frame at another rate, whose root translation moves by at most
+1e-6 of a frame offline).
 """
 
 from __future__ import annotations
@@ -44,8 +42,7 @@ class LiveTarget:
     ``joints``: cost joints; ``position_joints``: whose root-relative positions the frames
     carry (OPW), rescaled by :func:`fpdtw.motion.rig.position_scale` of ``input_body_size``
     and the skeleton's; ``gap``: "slerp" or "hold"; ``where``: what errors name (None: a
-    stream). MotionFormatError for a joint the skeleton lacks or an implausible offset.
-    """
+    stream). MotionFormatError for a joint the skeleton lacks or an implausible offset."""
 
     def __init__(
         self,
@@ -164,8 +161,7 @@ class LiveTarget:
         capture time, or with ``arrival`` its arrival time (frames that arrived together are
         consecutive); ``line``, ``frame``: named in errors. MotionFormatError for a value beyond
         :data:`fpdtw.limits.MAX_ABS_VALUE`, a time not after the previous, a gap beyond
-        :data:`fpdtw.limits.MAX_GAP_S`, or too many ticks.
-        """
+        :data:`fpdtw.limits.MAX_GAP_S`, or too many ticks."""
         euler = np.asarray(euler, dtype=float).reshape(self.skeleton.n_joints, 3)
         r = np.asarray(root_translation, dtype=float).reshape(3)
         t = float(t)

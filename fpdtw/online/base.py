@@ -47,8 +47,7 @@ def compiled_frame(frame, i: int, capacity: int, Tp):
     """``(quats, euler)`` of a streamed frame a compiled step can take, else None.
 
     Plain 2-D ndarrays and room for row ``i`` (its positions stored in ``Tp[i]``); None
-    sends the frame the general way.
-    """
+    sends the frame the general way."""
     fq, fe, p = frame.quats, frame.euler, frame.positions
     if not (
         i < capacity
@@ -71,8 +70,7 @@ class OnlineAligner(ABC):
     (``M``). With a bounded :attr:`history`, once the buffers hold
     :data:`fpdtw.limits.HISTORY_FRAMES` rows only the latest ``max(history, 16)`` are kept
     (from :attr:`history_start` on); ``history = None`` or ``record=True`` keeps all.
-    :meth:`_step`'s ``q`` is the new frame's ROW in the buffers.
-    """
+    :meth:`_step`'s ``q`` is the new frame's ROW in the buffers."""
 
     #: Short name used in results and figures (e.g. ``"Mc w40"``).
     name = "online"
@@ -161,7 +159,6 @@ class OnlineAligner(ABC):
         :attr:`T_orders` serve the forecasts; the rig decides what eq. 1 compares
         (:func:`fpdtw.motion.rig.cost_input`, to :meth:`_use_input`). AlignmentError for bad orders.
         """
-
         I = self.I
         k = np.shape(I.quats)[1]
         orders = I.orders if frame.orders is None else frame.orders
@@ -209,8 +206,7 @@ class OnlineAligner(ABC):
 class JointMajorInput:
     """Mixin: the input for eq. 1 kept C-contiguous and joint-major.
 
-    ``_Iq`` (m + 1, k, 4) and ``_Isoa`` (k, 4, m + 1), as compared with the take's rig.
-    """
+    ``_Iq`` (m + 1, k, 4) and ``_Isoa`` (k, 4, m + 1), as compared with the take's rig."""
 
     def _use_input(self, Iq, orders) -> None:
         if Iq is not getattr(self, "_Iq", None):
@@ -221,8 +217,7 @@ class JointMajorInput:
 def run_online(aligner: OnlineAligner, T: MotionFeatures, *, reset=True):
     """Run an online aligner over target ``T`` frame by frame: ``(M, seconds)``.
 
-    The int64 map (n,) and each ``step`` call's wall time (n,); ``reset``: reset first.
-    """
+    The int64 map (n,) and each ``step`` call's wall time (n,); ``reset``: reset first."""
     if reset:
         aligner.reset()
     n = T.n_frames
@@ -242,8 +237,7 @@ def run_together(aligners, T: MotionFeatures, *, reset=True) -> list:
 
     Every aligner gets frame q before any gets q + 1, so aligners sharing a
     :class:`~fpdtw.online.window.WindowCache` compute shared work once; each map is the one
-    :func:`run_online` gives. Returns one int64 map (n,) per aligner, in order.
-    """
+    :func:`run_online` gives. Returns one int64 map (n,) per aligner, in order."""
     aligners = list(aligners)
     if reset:
         for a in aligners:

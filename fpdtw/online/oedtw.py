@@ -27,8 +27,7 @@ def _oe_column(Isoa, t, prev, cur, first, wd, norm_offset, c):
 
     From ``prev``; the end point is the argmin of ``cur`` (lowest i on ties), or with
     ``norm_offset >= 0`` of ``cur[i] / (norm_offset + i)`` (dtw-python's N+M normalisation).
-    ``Isoa``: the input joint-major (k, 4, m+1); ``c``: scratch.
-    """
+    ``Isoa``: the input joint-major (k, 4, m+1); ``c``: scratch."""
     m1 = cur.shape[0]
     _geo_line(t, Isoa, 0, m1, c, c)  # c[i] = geoDistance(I_i, t) (eq. 1)
     if first:

@@ -55,8 +55,7 @@ def _work_views(work, c, k):
     """OLTW's float64 scratch as views of one buffer.
 
     The band ``D`` (c, c), the last c target frames joint-major ``R`` (k, 4, c) (frame q' in
-    slot ``q' % c``), ``d`` (c) and ``acc`` (c).
-    """
+    slot ``q' % c``), ``d`` (c) and ``acc`` (c)."""
     D = work[: c * c].reshape((c, c))
     R = work[c * c : c * c + 4 * k * c].reshape((k, 4, c))
     o = c * c + 4 * k * c
@@ -68,8 +67,7 @@ def _new_band_line(Iq, Isoa, R, D, dl, acc, c, i, q, column, wts):
     """Evaluate the new line at the corner (i, q): target column q (``column``) or input row i.
 
     In the ring ``D`` (cell (i', q') at ``D[i' % c, q' % c]``; outside the band unreachable);
-    its eq. 1 costs first, in one vectorised pass, bit-identical to ``_geo_frame``.
-    """
+    its eq. 1 costs first, in one vectorised pass, bit-identical to ``_geo_frame``."""
     lo = max(0, (i if column else q) - c + 1)
     hi = (i if column else q) + 1
     if column:
@@ -153,8 +151,7 @@ def _apply(Iq, Isoa, R, D, dl, acc, st, c, inc, wts):
 def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normalize, log, wts):
     """Receive target frame ``q_new``; grow the matrix; return (M_q, number of log rows).
 
-    ``st`` (5,): corner i, corner q, previous increment, run count, pending increment.
-    """
+    ``st`` (5,): corner i, corner q, previous increment, run count, pending increment."""
     m = Iq.shape[0] - 1
     D, R, dl, acc = _work_views(work, c, Iq.shape[1])
     s = q_new % c
@@ -303,8 +300,7 @@ class OLTW(JointMajorInput, OnlineAligner):
         """Every GetInc decision so far (``record=True``), int64 (N, 7).
 
         Columns: target frame, corner ``i``, corner ``q``, increment, reason (``BY_*``), argmin
-        cell ``i*``, ``q*`` (-1 if none).
-        """
+        cell ``i*``, ``q*`` (-1 if none)."""
         if not self.record:
             raise AlignmentError("decisions are kept only with record=True")
         if not self._decisions:

@@ -87,9 +87,7 @@ class TypeV:
         """Plain-text rendering of the state table with the meaning of each state."""
         rows = self.as_table()
         width = max(len(c) for r in rows for c in r)
-        lines = [
-            "Forward Type V: advance of the input frame per target frame -> next state",
-        ]
+        lines = ["Forward Type V: advance of the input frame per target frame -> next state"]
         for r in rows:
             lines.append("  ".join(c.ljust(width) for c in r))
         lines.append(f"start state: {self.states[self.start]}; advances > {MAX_ADVANCE}: never")
@@ -129,8 +127,7 @@ def typev_violation(M, m=None):
     """First target frame (int) at which map ``M`` breaks forward Type V, or None.
 
     Only the frames up to the first mapped to ``m`` are checked; the path may start at any
-    ``M_0``: only the advances count.
-    """
+    ``M_0``: only the advances count."""
     M = np.asarray(M, dtype=np.int64)
     if M.ndim != 1:
         raise ValueError(f"expected a 1-d map, got shape {M.shape}")
@@ -154,8 +151,7 @@ def is_legal_typev(M, m=None) -> bool:
 def lowest_cells(M) -> np.ndarray:
     """Lowest input cell of each target row of the path read forward from ``M``.
 
-    ``M_{t-1} + 1`` after an advance, ``M_t`` on a hold.
-    """
+    ``M_{t-1} + 1`` after an advance, ``M_t`` on a hold."""
     M = np.asarray(M, dtype=np.int64)
     L = M.copy()
     adv = np.diff(M) > 0

@@ -1,10 +1,8 @@
 """Shared machinery of the FP-DTW window methods A, B and C (Algorithms 1-3), compiled.
 
-The optimised twin of :func:`fpdtw.plain.method_a_step`, ``method_b_step`` and
-``method_c_step`` (read those first; ``tests/test_plain.py`` holds the maps equal): numba
-kernels for one step, :func:`_window_step` being the whole step of any method;
-:class:`WindowSnapshot`, the debug record behind Figs. 2 and 4; the base classes
-:class:`WindowAligner` and :class:`ForecastAligner`.
+Numba twins of :func:`fpdtw.plain.method_a_step`, ``method_b_step`` and ``method_c_step``
+(``tests/test_plain.py`` holds the maps equal; :func:`_window_step` is any method's step),
+:class:`WindowSnapshot` (Figs. 2 and 4), :class:`WindowAligner` and :class:`ForecastAligner`.
 
 Window rows are ``I_{M_n}..I_{M_n+w_i}``: ``w_i`` is the last row's offset here (not
 everywhere: :func:`fpdtw.plain.method_c_step` writes Algorithm 3's line 6 as printed).
@@ -23,7 +21,6 @@ w = 10 1.08-1.19x); the two flat work buffers and the int64 parameter vector it 
 
 from __future__ import annotations
 
-import math
 from abc import abstractmethod
 from dataclasses import dataclass
 
@@ -39,17 +36,14 @@ from fpdtw.online.base import OnlineAligner, check_count, check_input, compiled_
 from fpdtw.online.typev import MAX_ADVANCE, resolve_constraint
 from fpdtw.weights import joint_weights
 
-_TWO_OVER_PI = 2.0 / math.pi
-
 #: ``D[0, 0]`` is set to this before Method B back-tracks (Algorithm 2).
 B_CORNER = 10000.0
 
 
 @numba.njit(cache=True)
 def _forecast_columns(Tq, Te, q, first, last, codes, F, c0=0, shift=0, hold=False):
-    """Fill ``F[j, :, c0 + i]``, i = first..last-1, with the frame ``i + shift`` ahead of T[q].
-
-    T_{n+1} = T[q] itself at 0 (always with ``hold``), else dead reckoning.
+    """Fill ``F[j, :, c0 + i]``, i = first..last-1, with the frame ``i + shift`` ahead of T[q]
+    (T[q] itself at 0 or with ``hold``, else dead reckoning).
 
     Plain version: fpdtw.plain.forecast_joints, then fpdtw.plain.euler_to_quat.
     """
@@ -78,8 +72,7 @@ def _forecast_columns(Tq, Te, q, first, last, codes, F, c0=0, shift=0, hold=Fals
 def _forecast_window(Tq, Te, q, w, with_prev, codes, F, shift=0, hold=False):
     """Fill ``F`` (k, 4, ncols) with the step's target window; return ncols.
 
-    ``with_prev`` (B, C's "square-tn"): T_n first; ``shift = 1``: from the first forecast.
-    """
+    ``with_prev`` (B, C's "square-tn"): T_n first; ``shift = 1``: from the first forecast."""
     c0 = 0
     if with_prev:
         for j in range(Tq.shape[1]):
@@ -103,10 +96,8 @@ def _cost_window(Iq, start, nrows, F, ncols, C, wts):
 
 @numba.njit(cache=True)
 def _fill_shared(Iq, Tq, Te, q, codes, start, nrows, w, c0, C, cF, cG, cN, cMeta, cKey):
-    """Fill ``C[:nrows, c0:c0 + w]`` from a :class:`WindowCache`, computing what it lacks.
-
-    A new step, or other frames at the same step (``cKey``), empties it first.
-    """
+    """Fill ``C[:nrows, c0:c0 + w]`` from a :class:`WindowCache`, computing what it lacks
+    (a new step, or other frames at the same step (``cKey``), empties it first)."""
     k = Tq.shape[1]
     same = cMeta[0] == q
     if same:
@@ -168,10 +159,8 @@ def _is_allowed(r, limit, allow):
 
 @numba.njit(cache=True)
 def _accumulate_reverse(C, nrows, ncols, D, open_end=False, wd=1.0):
-    """Reverse accumulation from the far corner back to (0, 0).
-
-    Symmetric1 (``wd = 1``) or dtw-python's symmetric2 (``wd = 2``); ``open_end``: the path
-    may end in any row of the last column (Tormene et al.'s open end, time reversed).
+    """Reverse accumulation from the far corner back to (0, 0), symmetric1 (``wd = 1``) or
+    symmetric2 (``wd = 2``); ``open_end``: the path may end in any row of the last column.
 
     Plain version: fpdtw.plain.reverse_accumulate.
     """
@@ -189,10 +178,9 @@ def _accumulate_reverse(C, nrows, ncols, D, open_end=False, wd=1.0):
 
 @numba.njit(cache=True)
 def _backtrack_lowest(D, nrows, ncols, P, path, input_first=False):
-    """Method B's back-track from the far corner to (0, 0) with the overwrite rule.
-
-    Ties: the diagonal, then the target step (``input_first``: the input step). ``P[c]``
-    ends as the lowest row visited in column c; returns the number of cells in ``path``.
+    """Method B's back-track to (0, 0): ties to the diagonal, then the target step
+    (``input_first``: the input step); ``P[c]``: the lowest row visited in column c.
+    Returns the number of cells in ``path``.
 
     Plain version: fpdtw.plain.backtrack, then fpdtw.plain.path_to_map (the lowest rows).
     """
@@ -227,9 +215,8 @@ def _backtrack_lowest(D, nrows, ncols, P, path, input_first=False):
 
 @numba.njit(cache=True)
 def _choose_b(C, nrows, ncols, limit, allow, D, P, path, input_first):
-    """Method B on a filled window: returns (P_1, path length).
-
-    Type V mask, accumulate, ``D[0, 0] = 10000``, back-track.
+    """Method B on a filled window (mask, accumulate, ``D[0, 0] = 10000``, back-track):
+    returns (P_1, path length).
 
     Plain version: fpdtw.plain.method_b_step (lines 13-16).
     """
@@ -248,10 +235,8 @@ C_SQUARE, C_LITERAL, C_SQUARE_TN, C_OPEN_END, C_NORMALISED = 0, 1, 2, 3, 4
 
 @numba.njit(cache=True)
 def _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high):
-    """Method C on a filled window: returns the chosen offset, -1 if no row is allowed.
-
-    Type V mask, reverse accumulation (by ``reading``), argmin of column 0; ties low, or
-    high with ``ties_high``.
+    """Method C on a filled window (mask, reverse accumulation by ``reading``, argmin of
+    column 0, ties low or with ``ties_high`` high): the offset, -1 if no row is allowed.
 
     Plain version: fpdtw.plain.method_c_step (lines 12-13).
     """
@@ -275,10 +260,8 @@ def _choose_c(C, nrows, ncols, limit, allow, D, score, reading, ties_high):
 
 @numba.njit(cache=True)
 def _choose_a(Iq, t, start, nrows, limit, allow, c, ties_high, wts):
-    """Method A's window: returns the chosen offset, -1 if no row is allowed.
-
-    ``c[r]`` = eq. 1 of I[start + r] and t; the argmin over the allowed rows (ties as
-    :func:`_choose_c`).
+    """Method A's window: ``c[r]`` = eq. 1 of I[start + r] and t; the argmin over the
+    allowed rows (ties as :func:`_choose_c`), -1 if no row is allowed.
 
     Plain version: fpdtw.plain.method_a_step (lines 7-10).
     """
@@ -335,10 +318,8 @@ def _mask_band(C, nrows, col, q, start, band):
 
 @numba.njit(cache=True)
 def _clip_band(start, nrows, q, band):
-    """``(first, rows)``: the rows of the window inside the band.
-
-    ``(0, nrows)`` when no row is (then masked, and refused by :func:`_check_band`).
-    """
+    """``(first, rows)``: the rows of the window inside the band; ``(0, nrows)`` when no
+    row is (then masked, and refused by :func:`_check_band`)."""
     lo = max(0, q - band - start)
     hi = min(nrows - 1, q + band - start)
     if lo > hi:
@@ -429,8 +410,7 @@ def _window_step(
     ``cF..cKey``: a :class:`WindowCache` (with ``P_SHARED``); ``out``: the step's record;
     ``wts``: eq. 1's joint weights, or empty for eq. 1 as written; the rest scratch.
 
-    Plain version: fpdtw.plain.method_a_step, fpdtw.plain.method_b_step and
-    fpdtw.plain.method_c_step (one step each; fpdtw.plain.run steps through a target).
+    Plain version: fpdtw.plain.method_a_step, method_b_step and method_c_step.
     """
     method = prm[P_METHOD]
     if method == METHOD_A:
@@ -509,10 +489,8 @@ def _run_group(
     Iq, Tq, Te, codes, params, table, M, F, C, D, Pcol, path, score, cF, cG, cN, cMeta, cKey,
     wts,
 ):  # fmt: skip
-    """Every aligner of ``params`` (one row each) over the whole target, in lockstep.
-
-    The scratch is shared (the steps run in turn); ``M`` (aligners, frames) gets the maps.
-    """
+    """Every aligner of ``params`` (one row each) over the whole target, in lockstep, with
+    shared scratch; ``M`` (aligners, frames) gets the maps."""
     n = Tq.shape[0]
     A = params.shape[0]
     state = np.zeros((A, 1), dtype=np.int64)
@@ -541,10 +519,8 @@ def _work_sizes(k: int, W: int, ns: int) -> tuple:
 
 @numba.njit(cache=True)
 def _head_views(work, iwork):
-    """``prm, table, tv, out`` and column 0 of ``C``: all Method A needs, in one reshape.
-
-    Each of :func:`_work_views`' reshapes costs about 0.1 us.
-    """
+    """``prm, table, tv, out`` and column 0 of ``C``: all Method A needs, in one reshape
+    (each of :func:`_work_views`' reshapes costs about 0.1 us)."""
     W = iwork[_H_W]
     ns = iwork[_H_NS]
     i = _HEADER
@@ -560,11 +536,9 @@ def _head_views(work, iwork):
 
 @numba.njit(cache=True)
 def _work_views(work, iwork):
-    """An aligner's scratch, parameters and state as views of two flat buffers.
-
-    ``work`` (float64) and ``iwork`` (int64, after the header ``k, W, ns``): a compiled call
-    costs about 0.1 us per array argument, and :func:`_stream_step` runs once per frame.
-    """
+    """An aligner's scratch, parameters and state as views of ``work`` (float64) and
+    ``iwork`` (int64, after the header ``k, W, ns``): a compiled call costs about 0.1 us per
+    array argument, and :func:`_stream_step` runs once per frame."""
     k = iwork[_H_K]
     W = iwork[_H_W]
     ns = iwork[_H_NS]
@@ -611,11 +585,8 @@ def _store_frame(k, Tq, Te, q, fq, fe):
 
 @numba.njit(cache=True)
 def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
-    """The whole ``step`` in one call: store the frame in row ``q``, step, store ``M[q]``.
-
-    -1 for a frame of another shape, -2 for weighted joints: the caller takes the general
-    path.
-    """
+    """The whole ``step`` in one call: store the frame in row ``q``, step, store ``M[q]``;
+    -1 (a frame of another shape) or -2 (weighted joints): the caller takes the general path."""
     if iwork[_HEADER + P_WEIGHTED] != 0:
         return -2
     if not _store_frame(Iq.shape[1], Tq, Te, q, fq, fe):
@@ -640,8 +611,7 @@ class WindowCache:
     The forecast at a target frame, and each cost cell against it, is the same for Methods B
     and C at every window and reading: aligners given one cache (of input ``I``, windows up
     to ``w_max``) and fed the same frames in lockstep compute each once. Other frames at the
-    same step empty it: the maps are the same with or without it (tested).
-    """
+    same step empty it: the maps are the same with or without it (tested)."""
 
     def __init__(self, I: MotionFeatures, w_max: int):
         self.I = I
@@ -699,8 +669,7 @@ class WindowAligner(OnlineAligner):
     allow (:mod:`fpdtw.online.typev`); once the input is exhausted the hold at ``m`` is
     forced whatever the state. Non-default ``options`` are named in brackets (``"Mc w40
     (literal window)"``). ``record=True`` keeps a :class:`WindowSnapshot` of the last step
-    in ``last_window``. Subclasses give :meth:`params` and :meth:`_window_record`.
-    """
+    in ``last_window``. Subclasses give :meth:`params` and :meth:`_window_record`."""
 
     #: Method letter in names ("Ma", "Mb", "Mc").
     label = "M?"
@@ -804,8 +773,7 @@ class WindowAligner(OnlineAligner):
     def name_for(cls, w: int, typev: bool = False, **options) -> str:
         """The name of a configuration, e.g. ``"Mc w40 (literal window)"``.
 
-        ``MethodC.name_for(40, window="literal")``; ``typev`` adds ``" + Type V"``.
-        """
+        ``MethodC.name_for(40, window="literal")``; ``typev`` adds ``" + Type V"``."""
         settings = cls._resolve_options(options)
         labels = [
             cls.options[key][1][value]
@@ -839,11 +807,8 @@ class WindowAligner(OnlineAligner):
         return self.last_window
 
     def step(self, frame: Frame) -> int:
-        """Receive ``T_{n+1}``, return ``M_{n+1}``.
-
-        One compiled call (:func:`_stream_step`) in the common case, else the general path after
-        checking the frame's shape.
-        """
+        """Receive ``T_{n+1}``, return ``M_{n+1}``: one compiled call (:func:`_stream_step`)
+        in the common case, else the general path after checking the frame's shape."""
         if self.n_received == 0:
             self._begin_take(frame)
         i = self.n_received - self._start
@@ -922,8 +887,7 @@ class ForecastAligner(WindowAligner):
     """Common base of Methods B and C: warm-up, end of input, then a forecast window.
 
     Warm-up ``n < s`` (``s = 2``): ``M_{n+1} = min(M_n + 1, m)`` (the paper's ``n + 1``
-    from ``M_0 = 0``); ``M_n >= m``: ``m``.
-    """
+    from ``M_0 = 0``); ``M_n >= m``: ``m``."""
 
     #: Smoothing window: frames needed before forecasting (dead reckoning: 2).
     s = SMOOTHING
@@ -946,8 +910,7 @@ class ForecastAligner(WindowAligner):
         floor(w / 2))``, chosen on 2026-11-24 after the 1 s band's results, before any run of
         it) does not compute them, the conclusion's global constraint. A step with no row inside
         the band raises ValueError; a band with Type V is refused. ``weights="travel"``: eq. 1
-        weighted by :func:`fpdtw.weights.joint_weights` of the input.
-        """
+        weighted by :func:`fpdtw.weights.joint_weights` of the input."""
         super().__init__(I, w, constraint=constraint, record=record, **options)
         if self.settings.get("band", "none") != "none":
             if self.constraint is not None:
@@ -983,11 +946,8 @@ class ForecastAligner(WindowAligner):
 
 
 def run_group(aligners, T: MotionFeatures) -> list:
-    """Run Method B and C aligners of one input over target ``T`` in one compiled loop.
-
-    Their maps (int64 (n,) each), those of streaming each (tested), without a Python call
-    per frame.
-    """
+    """Run Method B and C aligners of one input over target ``T`` in one compiled loop: their
+    maps (int64 (n,) each), those of streaming each, without a Python call per frame."""
     aligners = list(aligners)
     if not aligners:
         return []
@@ -1032,8 +992,4 @@ def run_group(aligners, T: MotionFeatures) -> list:
     return list(M)
 
 
-__all__ = [
-    "B_CORNER",
-    "WindowAligner",
-    "WindowSnapshot",
-]
+__all__ = ["B_CORNER", "WindowAligner", "WindowSnapshot"]
