@@ -237,13 +237,13 @@ readme-results: $(EXECUTED) | figures/ENVIRONMENT.md
 	$(PY) -m fpdtw.app.readme $(READMES) --update
 
 # did this run reproduce the committed figures? Every deterministic file byte for byte
-# (the timing outputs, fpdtw.paper.provenance.TIMING_OUTPUTS, may differ)
+# (the timing outputs, fpdtw.app.publish.TIMING_OUTPUTS, may differ)
 check-figures:
-	$(PY) -m fpdtw.paper.provenance --compare-figures
+	$(PY) -m fpdtw.app.publish --compare-figures
 
-# what made the figures: package versions, Python, commit, CPU (fpdtw.paper.provenance)
+# what made the figures: package versions, Python, commit, CPU (fpdtw.app.publish)
 figures/ENVIRONMENT.md: $(EXECUTED)
-	$(PY) -m fpdtw.paper.provenance --markdown $@
+	$(PY) -m fpdtw.app.publish --markdown $@
 
 build/notebooks/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(LIB_SRC)
 	@$(EXECUTE) $< $@
@@ -295,14 +295,14 @@ book-check: $(BOOK)
 	$(PY) -m fpdtw.app.browser build/book --screenshots build/book/screenshots
 
 # notebook order and one target per figure or table (`make figures/fig5_similarity.pdf` runs
-# its notebook and what that needs): generated from the one map, fpdtw/paper/figure_map.py
+# its notebook and what that needs): generated from the one map, fpdtw/app/figure_map.py
 define FIGURE_RULE
 figures/$(1).%: build/notebooks/$(2).ipynb
 	@test -f $$@ || { echo "$(2) did not write $$@"; exit 1; }
 endef
-build/figure_map.mk: fpdtw/paper/figure_map.py
+build/figure_map.mk: fpdtw/app/figure_map.py
 	mkdir -p $(dir $@)
-	$(PYTHON) fpdtw/paper/figure_map.py makefile > $@.part && mv $@.part $@
+	$(PYTHON) fpdtw/app/figure_map.py makefile > $@.part && mv $@.part $@
 -include build/figure_map.mk
 
 # a release's files: the sdist (every file of the repository: MANIFEST.in) and the wheel
