@@ -134,7 +134,7 @@ $(NUMBA_STAMP): $(LIB_SRC)
 	mkdir -p $(NUMBA_CACHE_DIR) && touch $@
 
 $(DATA_STAMP): $(STAMP) $(wildcard data_manifest/*.toml)
-	$(PY) -m fpdtw.paper.datasets fetch
+	$(PY) -m fpdtw.app.cli data fetch
 	mkdir -p $(dir $@) && touch $@
 
 # The notebooks get ruff's checks (imports, unused names, line length) but not its
@@ -254,10 +254,10 @@ build/notebooks/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP)
 # at a time (order-only prerequisite), as when the notebooks ran them.
 GRID_DEPS := $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(LIB_SRC) $(RUNNER_SRC)
 build/grids/%.done: $(GRID_DEPS)
-	$(PY) -W ignore::RuntimeWarning:runpy -m fpdtw.paper.runner.run --mode $*
+	$(PY) -m fpdtw.app.cli experiments run --mode $*
 	@mkdir -p $(@D) && touch $@
 $(SMOKE_DIR)/grids/%.done: $(GRID_DEPS)
-	$(SMOKE_ENV) $(PY) -W ignore::RuntimeWarning:runpy -m fpdtw.paper.runner.run --mode $*
+	$(SMOKE_ENV) $(PY) -m fpdtw.app.cli experiments run --mode $*
 	@mkdir -p $(@D) && touch $@
 build/grids/study.done: | build/grids/full.done
 $(SMOKE_DIR)/grids/smoke-study.done: | $(SMOKE_DIR)/grids/smoke.done
