@@ -6,14 +6,9 @@ the cache (``<cache>/<mirror_prefix>/<path>``; archives in ``<cache>/_archives/`
 returns its path. Sources: with ``FPDTW_MIRROR`` set, only the mirror (a folder, or an
 ``http(s)://`` base URL); else the file's ``url`` or its member of the cut archive.
 
-Every file goes through a temporary file next to its destination, is verified (sha256,
-else the git blob SHA-1; a file with neither is refused) and only then renamed into place.
-A cached file is hashed against the manifest every time :func:`fetch` returns it (no index
-of sizes and times to fool; all 341 files, 158 MiB, take about 0.3 s); one that does not
-match is fetched again. :func:`verify` re-hashes a whole cache.
-
-Command line: ``fpdtw data fetch|verify|cite`` (:mod:`fpdtw.app.commands`; ``make data``
-runs ``fetch`` with ``FPDTW_MIRROR`` set).
+Every file is verified before it is renamed into place, and every time :func:`fetch`
+returns it from the cache (the guarantee: ``docs/data.md``). Command line: ``fpdtw data
+fetch|verify|cite`` (:mod:`fpdtw.app.commands`).
 """
 
 from __future__ import annotations
@@ -55,13 +50,7 @@ MIRROR_HINT = (
 
 @dataclass(frozen=True)
 class FileEntry:
-    """One file of a dataset, as its manifest lists it (keys: ``data_manifest/README.md``).
-
-    ``path`` is relative to the dataset (POSIX); ``kind`` is ``"motion"`` or ``"skeleton"``
-    (an HDM05 ASF); a file comes from ``url`` or from ``member`` of ``archive``; at least
-    one of ``sha256`` and ``git_blob_sha1`` is needed to fetch it; ``available_here``:
-    whether the local mirror holds it (False for the 15 missing FBX takes).
-    """
+    """One file of a dataset, as its manifest lists it (keys: ``data_manifest/README.md``)."""
 
     path: str
     kind: str
@@ -381,8 +370,8 @@ def _mirror_hint(e: FileEntry) -> str:
     if not e.available_here:
         hint += (
             "; the manifest marks this file as not available in the local mirror "
-            "(fetch_all(available_only=True) / `python -m fpdtw.paper.datasets fetch` "
-            "without --all skip such files)"
+            "(fetch_all(available_only=True) / `fpdtw data fetch` without --all skip such "
+            "files)"
         )
     return hint
 

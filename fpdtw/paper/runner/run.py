@@ -2,11 +2,8 @@
 
 Per pair of a mode's selection (:mod:`~fpdtw.paper.runner.selection`) and algorithm of its
 grid (:mod:`~fpdtw.paper.runner.grid`): the map ``M`` (target frame -> input frame), the
-similarity (eq. 2) and the deviation (eq. 3) from the DTW map at the same rate, in frames.
-Methods B and C of a pair run in one compiled loop sharing a
-:class:`fpdtw.online.window.WindowCache` (the maps of separate runs; tested); the grid does
-not time frames (``make bench`` does). Files, under ``results_dir()/<mode>/``, every write
-atomic:
+similarity (eq. 2) and the deviation (eq. 3) from the DTW map at the same rate, in frames
+(no timings: ``make bench``). Files, under ``results_dir()/<mode>/``, every write atomic:
 
 ``pairs.json``
     ``{"mode", "selection", "counts", "pairs": [{"id", "dataset", "movement", "input",
