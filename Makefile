@@ -134,7 +134,7 @@ $(NUMBA_STAMP): $(LIB_SRC)
 	mkdir -p $(NUMBA_CACHE_DIR) && touch $@
 
 $(DATA_STAMP): $(STAMP) $(wildcard data_manifest/*.toml)
-	$(PY) -m fpdtw.paper.datasets fetch
+	$(PY) -m fpdtw.app.cli data fetch
 	mkdir -p $(dir $@) && touch $@
 
 # The notebooks get ruff's checks (imports, unused names, line length) but not its
@@ -237,13 +237,13 @@ readme-results: $(EXECUTED) | figures/ENVIRONMENT.md
 	$(PY) -m fpdtw.app.readme $(READMES) --update
 
 # did this run reproduce the committed figures? Every deterministic file byte for byte
-# (the timing outputs, fpdtw.paper.provenance.TIMING_OUTPUTS, may differ)
+# (the timing outputs, fpdtw.app.publish.TIMING_OUTPUTS, may differ)
 check-figures:
-	$(PY) -m fpdtw.paper.provenance --compare-figures
+	$(PY) -m fpdtw.app.publish --compare-figures
 
-# what made the figures: package versions, Python, commit, CPU (fpdtw.paper.provenance)
+# what made the figures: package versions, Python, commit, CPU (fpdtw.app.publish)
 figures/ENVIRONMENT.md: $(EXECUTED)
-	$(PY) -m fpdtw.paper.provenance --markdown $@
+	$(PY) -m fpdtw.app.publish --markdown $@
 
 build/notebooks/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(LIB_SRC)
 	@$(EXECUTE) $< $@
@@ -254,10 +254,10 @@ build/notebooks/%.ipynb: notebooks/%.ipynb $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP)
 # at a time (order-only prerequisite), as when the notebooks ran them.
 GRID_DEPS := $(STAMP) $(DATA_STAMP) $(NUMBA_STAMP) $(LIB_SRC) $(RUNNER_SRC)
 build/grids/%.done: $(GRID_DEPS)
-	$(PY) -W ignore::RuntimeWarning:runpy -m fpdtw.paper.runner.run --mode $*
+	$(PY) -m fpdtw.app.cli experiments run --mode $*
 	@mkdir -p $(@D) && touch $@
 $(SMOKE_DIR)/grids/%.done: $(GRID_DEPS)
-	$(SMOKE_ENV) $(PY) -W ignore::RuntimeWarning:runpy -m fpdtw.paper.runner.run --mode $*
+	$(SMOKE_ENV) $(PY) -m fpdtw.app.cli experiments run --mode $*
 	@mkdir -p $(@D) && touch $@
 build/grids/study.done: | build/grids/full.done
 $(SMOKE_DIR)/grids/smoke-study.done: | $(SMOKE_DIR)/grids/smoke.done
@@ -295,14 +295,14 @@ book-check: $(BOOK)
 	$(PY) -m fpdtw.app.browser build/book --screenshots build/book/screenshots
 
 # notebook order and one target per figure or table (`make figures/fig5_similarity.pdf` runs
-# its notebook and what that needs): generated from the one map, fpdtw/paper/figure_map.py
+# its notebook and what that needs): generated from the one map, fpdtw/app/figure_map.py
 define FIGURE_RULE
 figures/$(1).%: build/notebooks/$(2).ipynb
 	@test -f $$@ || { echo "$(2) did not write $$@"; exit 1; }
 endef
-build/figure_map.mk: fpdtw/paper/figure_map.py
+build/figure_map.mk: fpdtw/app/figure_map.py
 	mkdir -p $(dir $@)
-	$(PYTHON) fpdtw/paper/figure_map.py makefile > $@.part && mv $@.part $@
+	$(PYTHON) fpdtw/app/figure_map.py makefile > $@.part && mv $@.part $@
 -include build/figure_map.mk
 
 # a release's files: the sdist (every file of the repository: MANIFEST.in) and the wheel

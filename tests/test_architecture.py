@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from fpdtw import plain, registry
+from fpdtw.app import figure_map
 from fpdtw.online.base import OnlineAligner
-from fpdtw.paper import figure_map
 from fpdtw.paper.paths import REPO_ROOT
 
 PKG = REPO_ROOT / "fpdtw"

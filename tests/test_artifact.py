@@ -249,7 +249,7 @@ def test_each_command_regenerates_its_claims_number():
     claims table, over the full grid) for a claim decided on the experiment pairs, else a
     notebook that prints the claim after its figure (never a figure alone, such as Fig. 1's one
     pair for claim 7, whose number counts every pair)."""
-    from fpdtw.paper.figure_map import NOTEBOOKS
+    from fpdtw.app.figure_map import NOTEBOOKS
 
     deciding = _notebooks_deciding()
     made_by = {m: nb.stem for nb in NOTEBOOKS for m in nb.makes}

@@ -16,9 +16,9 @@ import pytest
 
 matplotlib.use("Agg")
 
-from fpdtw.app import book  # noqa: E402
+from fpdtw.app import book, figure_map  # noqa: E402
 from fpdtw.app.execute import execute, part_path  # noqa: E402
-from fpdtw.paper import claims, figure_map  # noqa: E402
+from fpdtw.paper import claims  # noqa: E402
 
 
 def _png() -> bytes:

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import pytest
 
+from fpdtw.app import cli
 from fpdtw.errors import DataFetchError, ManifestError
 from fpdtw.paper import datasets as data
 
@@ -573,31 +574,31 @@ def test_fetch_all_from_local_mirror(mirror_root, cache, monkeypatch, capsys):
 def test_verify_fails_on_an_empty_cache_and_says_how_many(mirror_root, cache, monkeypatch, capsys):
     """Audit case: before, verify of an empty cache printed "0 verified" and exited 0."""
     monkeypatch.setenv("FPDTW_MIRROR", str(mirror_root))
-    assert data.main(["verify"]) == 1
+    assert cli.main(["data", "verify"]) == 1
     out = capsys.readouterr().out
     assert "0 verified, 0 corrupt, 341 missing, 15 skipped" in out
     assert "FAILED: 341 of 341 files missing or wrong" in out
-    assert data.main(["verify", "--all", "--dataset", "authors_fbx"]) == 1
+    assert cli.main(["data", "verify", "--all", "--dataset", "authors_fbx"]) == 1
     assert "63 missing, 0 skipped" in capsys.readouterr().out
     monkeypatch.delenv("FPDTW_MIRROR")  # upstream has every file: all 356 are required
-    assert data.main(["verify"]) == 1
+    assert cli.main(["data", "verify"]) == 1
     assert "356 missing" in capsys.readouterr().out
 
 
 def test_command_line(mirror_root, cache, monkeypatch, capsys):
     monkeypatch.setenv("FPDTW_MIRROR", str(mirror_root))
-    assert data.main(["cite", "--dataset", "hdm05"]) == 0
+    assert cli.main(["data", "cite", "--dataset", "hdm05"]) == 0
     assert "CC BY-SA 3.0 Unported" in capsys.readouterr().out
-    assert data.main(["fetch", "--dataset", "cmu", "--quiet"]) == 0
+    assert cli.main(["data", "fetch", "--dataset", "cmu", "--quiet"]) == 0
     assert "1 files verified" in capsys.readouterr().out
-    assert data.main(["fetch", "--dataset", "cmu", "--file", "18_01.bvh", "--quiet"]) == 0
+    assert cli.main(["data", "fetch", "--dataset", "cmu", "--file", "18_01.bvh", "--quiet"]) == 0
     assert capsys.readouterr().out.strip() == str(cache / "cmu" / "18_01.bvh")
-    assert data.main(["verify", "--dataset", "cmu"]) == 0
+    assert cli.main(["data", "verify", "--dataset", "cmu"]) == 0
     flip_byte(cache / "cmu" / "18_01.bvh")
-    assert data.main(["verify", "--dataset", "cmu"]) == 1
-    assert data.main(["fetch", "--dataset", "nope"]) == 1
+    assert cli.main(["data", "verify", "--dataset", "cmu"]) == 1
+    assert cli.main(["data", "fetch", "--dataset", "nope"]) == 1
     assert "no manifest for dataset 'nope'" in capsys.readouterr().err
-    assert data.main(["fetch", "--dataset", "authors_fbx", "--all", "--quiet"]) == 1
+    assert cli.main(["data", "fetch", "--dataset", "authors_fbx", "--all", "--quiet"]) == 1
     assert "15 FAILED" in capsys.readouterr().out
-    assert data.main(["fetch", "--file", "x.bvh"]) == 2  # as `fpdtw data fetch` does
+    assert cli.main(["data", "fetch", "--file", "x.bvh"]) == 2
     assert "--file needs exactly one --dataset" in capsys.readouterr().err

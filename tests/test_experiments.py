@@ -348,7 +348,7 @@ def test_adding_an_algorithm_computes_only_it(reference, results_root, counting)
 
 
 def test_load_results_without_a_run_says_what_to_do(results_root):
-    with pytest.raises(FileNotFoundError, match="fpdtw.paper.runner.run --smoke"):
+    with pytest.raises(FileNotFoundError, match="fpdtw experiments run --smoke"):
         E.load_results("smoke")
 
 

@@ -1,4 +1,5 @@
-"""What made a result: the environment record carried by runs, the bench, facts, figures."""
+"""What made a result: the environment record carried by runs, the bench, facts, figures
+(fpdtw.paper.provenance), and its publishing (fpdtw.app.publish)."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ import numba
 import numpy as np
 import scipy
 
+from fpdtw.app import publish
 from fpdtw.paper import provenance
 from fpdtw.paper.paths import REPO_ROOT
 
@@ -42,7 +44,7 @@ def test_versions_line_and_markdown_page():
     assert "commit" not in line  # stable across commits: it goes into claims.md
     other = json.loads(json.dumps(env))
     other["packages"]["numpy"] = "1.0.0"
-    md = provenance.environment_markdown(env, {"results/full": other, "results/same": env})
+    md = publish.environment_markdown(env, {"results/full": other, "results/same": env})
     assert md.startswith("# The environment that made these figures")
     assert f"| numba | {numba.__version__} | computes results |" in md
     assert "**results/full** was computed with different versions" in md
@@ -57,7 +59,7 @@ def test_command_line_writes_the_page(tmp_path, monkeypatch):
     env["packages"]["scipy"] = "0.1"
     run.write_text(json.dumps({"environment": env}))
     out = tmp_path / "ENVIRONMENT.md"
-    assert provenance.main(["--markdown", str(out)]) == 0
+    assert publish.main(["--markdown", str(out)]) == 0
     text = out.read_text()
     assert "commit" in text and "**results/full** was computed with different versions" in text
 
@@ -94,7 +96,7 @@ def test_compare_figures_tells_deterministic_from_timing_outputs(tmp_path):
     git("init", "-q")
     git("add", ".")
     git("-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "init")
-    same = provenance.compare_figures(tmp_path)
+    same = publish.compare_figures(tmp_path)
     assert same["same"] == [
         "fig5_similarity.png",
         "fig6_deviation.csv",
@@ -104,7 +106,7 @@ def test_compare_figures_tells_deterministic_from_timing_outputs(tmp_path):
     (fig / "table2_time_per_frame.csv").write_bytes(b"other times")
     (fig / "fig6_deviation.csv").write_bytes(b"other numbers")
     (fig / "fig5_similarity.png").unlink()
-    res = provenance.compare_figures(tmp_path)
+    res = publish.compare_figures(tmp_path)
     assert res == {
         "same": [],
         "differ": ["fig6_deviation.csv"],
@@ -114,12 +116,12 @@ def test_compare_figures_tells_deterministic_from_timing_outputs(tmp_path):
 
 
 def test_timing_outputs_are_committed_outputs():
-    for name in provenance.TIMING_OUTPUTS:
+    for name in publish.TIMING_OUTPUTS:
         assert (REPO_ROOT / "figures" / name).is_file(), name
 
 
 #: How figures/ENVIRONMENT.md says the figures came from a checkout with uncommitted changes
-#: (fpdtw.paper.provenance.environment_markdown).
+#: (fpdtw.app.publish.environment_markdown).
 UNCOMMITTED = "with uncommitted changes"
 #: The commit of the figures committed before this check existed: they were made from a
 #: checkout with uncommitted changes. The next `make figures` from a clean tree replaces
@@ -134,7 +136,7 @@ def test_the_committed_figures_come_from_a_clean_tree():
 
     env = provenance.environment(machine=False)
     dirty = dict(env, fpdtw=dict(env["fpdtw"], commit="abc1234", dirty=True))
-    assert f"commit abc1234 {UNCOMMITTED}" in provenance.environment_markdown(dirty)
+    assert f"commit abc1234 {UNCOMMITTED}" in publish.environment_markdown(dirty)
     text = (REPO_ROOT / "figures" / "ENVIRONMENT.md").read_text(encoding="utf-8")
     line = next(ln for ln in text.splitlines() if ln.startswith("- fpdtw "))
     if UNCOMMITTED in line and KNOWN_DIRTY in line:

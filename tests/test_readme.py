@@ -225,7 +225,7 @@ def test_outcome_block_of_a_table_from_before_the_short_column():
 
 def test_counts_times_and_data_blocks(tmp_path):
     from fpdtw.app import readme
-    from fpdtw.paper.provenance import TIMING_OUTPUTS
+    from fpdtw.app.publish import TIMING_OUTPUTS
 
     root, figs = tmp_path / "root", tmp_path / "figs"
     (root / "notebooks").mkdir(parents=True)

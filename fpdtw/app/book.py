@@ -12,7 +12,7 @@ written as MathML by this module (a Sphinx extension, :func:`setup`), which brow
 themselves, instead of by MathJax from the web.
 
 What this module writes into the Sphinx source folder (``build/book-src/``), from the one
-figure map (:mod:`fpdtw.paper.figure_map`), the claims JSON of notebook 12
+figure map (:mod:`fpdtw.app.figure_map`), the claims JSON of notebook 12
 (:func:`fpdtw.paper.claims.save_claims`) and the tables of notebooks 01 and 05:
 
 ``index.md``
@@ -54,7 +54,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
-from fpdtw.paper import figure_map
+from fpdtw.app import figure_map
 from fpdtw.paper.paths import REPO_ROOT
 
 #: Words for the verdicts of the claims table (the ``holds`` column).
@@ -178,7 +178,7 @@ class Page:
     title : str
         The notebook's first heading (the figure map's words when it has none).
     paper : str
-        What it reproduces (:attr:`fpdtw.paper.figure_map.Notebook.paper`).
+        What it reproduces (:attr:`fpdtw.app.figure_map.Notebook.paper`).
     makes : tuple of str
         The figures and tables it writes.
     executed : bool
@@ -241,7 +241,7 @@ def claim_notebooks(evidence: str, notebooks=figure_map.NOTEBOOKS) -> tuple:
     Parameters
     ----------
     evidence : str
-    notebooks : sequence of fpdtw.paper.figure_map.Notebook
+    notebooks : sequence of fpdtw.app.figure_map.Notebook
 
     Returns
     -------

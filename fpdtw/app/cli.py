@@ -468,7 +468,7 @@ def build_parser() -> argparse.ArgumentParser:
         "The datasets listed in data_manifest/ (authors' FBX takes, HDM05, CMU): "
         "fetch them into the verified cache, re-check the cache, or print licences and "
         "citations. Set FPDTW_MIRROR to a folder or URL holding a copy to fetch offline.",
-        "fpdtw.paper.datasets:add_data_commands",
+        "fpdtw.app.commands:add_data_commands",
     )
     e = _command_group(
         sub,
@@ -478,7 +478,7 @@ def build_parser() -> argparse.ArgumentParser:
         "The experiment grid behind the figures and tables: every ordered pair of takes "
         "of a movement, every algorithm, resumably, in worker processes here or as tasks "
         "on a Dask cluster (--scheduler). The notebook 05_run_experiments runs the same.",
-        "fpdtw.paper.runner.run:add_experiments_commands",
+        "fpdtw.app.commands:add_experiments_commands",
     )
     ap.commands = {
         "align": a, "live": lv, "serve": sv, "stream": st, "data": d, "experiments": e
@@ -868,13 +868,13 @@ def _cmd_stream(args, log) -> int:
 
 
 def _cmd_data(args) -> int:
-    from fpdtw.paper.datasets import run_data_command
+    from fpdtw.app.commands import run_data_command
 
     return run_data_command(args, prog=PROG)
 
 
 def _cmd_experiments(args) -> int:
-    from fpdtw.paper.runner.run import run_command
+    from fpdtw.app.commands import run_command
 
     return run_command(args, prog=f"{PROG} experiments {args.experiments_command}")
 

@@ -2,18 +2,70 @@
 
 :class:`fpdtw.paper.runner.parallel.Executor` runs the grid with joblib on this machine; given
 a scheduler address (``fpdtw experiments run --scheduler tcp://host:port`` or
-``FPDTW_SCHEDULER``) it hands its tasks to :func:`map_on_cluster` here, which needs
-``pip install fpdtw[cluster]`` (dask and distributed). What a task computes and the files it
-writes do not depend on where it ran (``tests/test_cluster.py`` runs a real local cluster).
+``FPDTW_SCHEDULER``) it checks it with :func:`scheduler_address`, connects with
+:func:`connect`, hands its tasks to :func:`map_on_cluster` and disconnects with
+:func:`close`, all here, which needs ``pip install fpdtw[cluster]`` (dask and distributed).
+What a task computes and the files it writes do not depend on where it ran
+(``tests/test_cluster.py`` runs a real local cluster).
 """
 
 from __future__ import annotations
 
+import re
 import uuid
 
 from distributed import Client, KilledWorker, as_completed
 
 from fpdtw.errors import ClusterError
+from fpdtw.paper.runner.parallel import LOCAL
+
+#: Protocols of a scheduler address.
+SCHEMES = ("tcp", "tls")
+_HOST = re.compile(r"^(\[[0-9A-Fa-f:.%a-zA-Z]+\]|[A-Za-z0-9]([A-Za-z0-9._-]*[A-Za-z0-9])?)$")
+
+
+def scheduler_address(text) -> str | None:
+    """A Dask scheduler address in full (``tcp://host:port``), or None for no cluster.
+
+    ``text``: ``tcp://host:port``, ``tls://host:port`` or ``host:port`` (TCP), IPv6 hosts in
+    brackets (``tcp://[::1]:8786``); None, ``""`` and ``"local"`` mean no cluster. A
+    malformed address raises ClusterError naming what is wrong.
+    """
+    if text is None:
+        return None
+    s = str(text).strip()
+    if s in ("", LOCAL):
+        return None
+    where = f"scheduler address {str(text)!r}"
+    example = "e.g. tcp://10.0.0.5:8786 (8786 is the port `dask scheduler` listens on by default)"
+    scheme, sep, rest = s.partition("://")
+    if not sep:
+        scheme, rest = "tcp", s
+    if scheme not in SCHEMES:
+        raise ClusterError(
+            f"{where}: unknown protocol {scheme!r}; use tcp://host:port or tls://host:port"
+        )
+    if not rest or any(c in rest for c in "/?#@ "):
+        raise ClusterError(f"{where}: expected {scheme}://host:port and nothing else, {example}")
+    if rest.startswith("["):  # an IPv6 host
+        host, _, after = rest.partition("]")
+        host += "]"
+        if not after.startswith(":"):
+            raise ClusterError(f"{where}: no port, expected {scheme}://[host]:port, {example}")
+        port = after[1:]
+    elif rest.count(":") > 1:
+        raise ClusterError(f"{where}: IPv6 hosts go in brackets, e.g. {scheme}://[::1]:8786")
+    else:
+        host, colon, port = rest.partition(":")
+        if not colon:
+            raise ClusterError(f"{where}: no port, expected {scheme}://host:port, {example}")
+    if not host:
+        raise ClusterError(f"{where}: no host, expected {scheme}://host:port, {example}")
+    if not _HOST.match(host):
+        raise ClusterError(f"{where}: {host!r} is not a host name or IP address")
+    if not port.isdigit() or not 1 <= int(port) <= 65535:
+        raise ClusterError(f"{where}: the port {port!r} is not a number from 1 to 65535")
+    return f"{scheme}://{host}:{int(port)}"
 
 
 def connect(ex):
@@ -117,4 +169,15 @@ def map_on_cluster(ex, fn, tasks, desc, progress, keys):
                 pass
 
 
-__all__ = ["connect", "map_on_cluster"]
+def close(ex) -> None:
+    """Close the connection the executor ``ex`` opened (:func:`connect`)."""
+    if ex._client is not None:
+        try:
+            ex._client.close(timeout=10)
+        except Exception:  # closing a connection the cluster already dropped
+            pass
+    ex._client = None
+    ex._own = False
+
+
+__all__ = ["close", "connect", "map_on_cluster", "scheduler_address"]

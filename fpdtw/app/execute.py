@@ -12,9 +12,8 @@ notebook behind (the ``.part`` file shows where it stopped). The source is never
 papermill's cell-by-cell progress bar shows when the terminal is interactive.
 
 The long experiment grids (notebooks 05 and 15) are run by the Makefile before their
-notebooks, in the terminal, with the runner's own progress bar
-(``python -m fpdtw.paper.runner.run --mode full``); the notebooks then load the finished
-results.
+notebooks, in the terminal, with the runner's own progress bar (``python -m fpdtw.app.cli
+experiments run --mode full``); the notebooks then load the finished results.
 """
 
 from __future__ import annotations

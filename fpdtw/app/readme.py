@@ -389,8 +389,8 @@ def outcome_block(rows) -> str:
 
 def counts_block(root, figures_dir) -> str:
     """How many notebooks ``notebooks/`` holds, how many files ``figures/``, and how many of
-    those are timing outputs (:data:`fpdtw.paper.provenance.TIMING_OUTPUTS`)."""
-    from fpdtw.paper.provenance import TIMING_OUTPUTS
+    those are timing outputs (:data:`fpdtw.app.publish.TIMING_OUTPUTS`)."""
+    from fpdtw.app.publish import TIMING_OUTPUTS
 
     nbs = sorted(Path(root, "notebooks").glob("*.ipynb"))
     files = [f for f in Path(figures_dir).iterdir() if f.is_file() and not f.name.startswith(".")]
@@ -398,7 +398,7 @@ def counts_block(root, figures_dir) -> str:
     return (
         f"`make figures` runs the {len(nbs)} notebooks of `notebooks/` and writes the "
         f"{len(files)} files of `figures/`. Of these, {len(timing)} are timing outputs "
-        "(`fpdtw.paper.provenance.TIMING_OUTPUTS`: measured times, and the files that quote "
+        "(`fpdtw.app.publish.TIMING_OUTPUTS`: measured times, and the files that quote "
         "them), which differ from run to run; `make check-figures` compares every other file "
         "with the committed one, byte for byte."
     )
@@ -485,7 +485,7 @@ def _not_obtainable(dataset: str, text: str) -> str:
 
 def notebooks_block(_figures_dir=None) -> str:
     """The table of notebooks: what each makes and reproduces (the figure map)."""
-    from fpdtw.paper.figure_map import readme_table
+    from fpdtw.app.figure_map import readme_table
 
     return readme_table().rstrip("\n")
 
@@ -683,8 +683,8 @@ def claim_targets(row, figures_dir) -> list[str]:
     first file it makes), whose notebook prints the claim; :data:`CLAIMS_TARGET` when it
     names none.
     """
+    from fpdtw.app.figure_map import NOTEBOOKS
     from fpdtw.paper.claims import CLAIMS
-    from fpdtw.paper.figure_map import NOTEBOOKS
 
     claim = next((c for c in CLAIMS if c.id == str(row["id"])), None)
     if claim is not None and claim.pairs:
@@ -705,7 +705,7 @@ def claim_targets(row, figures_dir) -> list[str]:
 
 
 def _notebook_of(target) -> str:
-    from fpdtw.paper.figure_map import NOTEBOOKS
+    from fpdtw.app.figure_map import NOTEBOOKS
 
     stem = Path(target).name.split(".")[0]
     nb = next(nb for nb in NOTEBOOKS if stem in nb.makes)

@@ -6,28 +6,18 @@ the cache (``<cache>/<mirror_prefix>/<path>``; archives in ``<cache>/_archives/`
 returns its path. Sources: with ``FPDTW_MIRROR`` set, only the mirror (a folder, or an
 ``http(s)://`` base URL); else the file's ``url`` or its member of the cut archive.
 
-Every file goes through a temporary file next to its destination, is verified (sha256,
-else the git blob SHA-1; a file with neither is refused) and only then renamed into place.
-A cached file is hashed against the manifest every time :func:`fetch` returns it (no index
-of sizes and times to fool; all 341 files, 158 MiB, take about 0.3 s); one that does not
-match is fetched again. :func:`verify` re-hashes a whole cache.
-
-Command line (``make data`` runs the first with ``FPDTW_MIRROR`` set)::
-
-    python -m fpdtw.paper.datasets fetch  [--dataset NAME ...] [--all] [--file PATH] [--quiet]
-    python -m fpdtw.paper.datasets verify [--dataset NAME ...] [--all]
-    python -m fpdtw.paper.datasets cite   [--dataset NAME ...]
+Every file is verified before it is renamed into place, and every time :func:`fetch`
+returns it from the cache (the guarantee: ``docs/data.md``). Command line: ``fpdtw data
+fetch|verify|cite`` (:mod:`fpdtw.app.commands`).
 """
 
 from __future__ import annotations
 
-import argparse
 import contextlib
 import hashlib
 import os
 import re
 import shutil
-import sys
 import tempfile
 import time
 import tomllib
@@ -60,13 +50,7 @@ MIRROR_HINT = (
 
 @dataclass(frozen=True)
 class FileEntry:
-    """One file of a dataset, as its manifest lists it (keys: ``data_manifest/README.md``).
-
-    ``path`` is relative to the dataset (POSIX); ``kind`` is ``"motion"`` or ``"skeleton"``
-    (an HDM05 ASF); a file comes from ``url`` or from ``member`` of ``archive``; at least
-    one of ``sha256`` and ``git_blob_sha1`` is needed to fetch it; ``available_here``:
-    whether the local mirror holds it (False for the 15 missing FBX takes).
-    """
+    """One file of a dataset, as its manifest lists it (keys: ``data_manifest/README.md``)."""
 
     path: str
     kind: str
@@ -386,8 +370,8 @@ def _mirror_hint(e: FileEntry) -> str:
     if not e.available_here:
         hint += (
             "; the manifest marks this file as not available in the local mirror "
-            "(fetch_all(available_only=True) / `python -m fpdtw.paper.datasets fetch` "
-            "without --all skip such files)"
+            "(fetch_all(available_only=True) / `fpdtw data fetch` without --all skip such "
+            "files)"
         )
     return hint
 
@@ -681,83 +665,3 @@ def cite(dataset: _Datasets = None) -> str:
         f"{m.name}: {m.title}\n  Licence: {m.licence}\n  Cite: {m.citation}\n  Source: {m.upstream}"
         for m in _as_manifests(dataset)
     )
-
-
-# -- command line ---------------------------------------------------------------------
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message):  # exit code 1 (not argparse's 2) on bad usage
-        self.print_usage(sys.stderr)
-        self.exit(1, f"{self.prog}: error: {message}\n")
-
-
-def add_data_commands(sub) -> None:
-    """Add ``fetch``, ``verify`` and ``cite`` to argparse subparsers (here and ``fpdtw data``)."""
-    help_ds = "dataset name, repeatable (authors_fbx, hdm05, cmu; default: all)"
-    help_all = (
-        "files the manifest marks as not in the local mirror "
-        "(the default when FPDTW_MIRROR is unset)"
-    )
-    f = sub.add_parser("fetch", help="fetch files into the cache, verified by hash")
-    f.add_argument("--dataset", action="append", help=help_ds)
-    f.add_argument("--all", action="store_true", help="also try the " + help_all)
-    f.add_argument("--file", help="fetch only this file (needs one --dataset)")
-    f.add_argument("--quiet", action="store_true", help="no progress bars")
-    v = sub.add_parser(
-        "verify",
-        help="re-hash every cached file; exit 1 if any listed file is missing or wrong",
-    )
-    v.add_argument("--dataset", action="append", help=help_ds)
-    v.add_argument("--all", action="store_true", help="also require the " + help_all)
-    c = sub.add_parser("cite", help="print licences and citations")
-    c.add_argument("--dataset", action="append", help=help_ds)
-
-
-def run_data_command(args, prog: str) -> int:
-    """Carry out ``args.data_command``; the exit code: 0 on success, 1 when a file is
-    missing, wrong or cannot be fetched, 2 for ``--file`` without exactly one ``--dataset``."""
-    command = args.data_command
-    if command == "fetch" and args.file is not None and len(args.dataset or []) != 1:
-        print(f"{prog}: error: fetch --file needs exactly one --dataset", file=sys.stderr)
-        return 2
-    try:
-        if command == "cite":
-            print(cite(args.dataset))
-            return 0
-        if command == "verify":
-            report = verify(args.dataset, available_only=None if not args.all else False)
-            print(f"cache {paths.data_dir()}: {report.summary()}")
-            return 0 if report.ok else 1
-        mirror = paths.mirror()
-        print(
-            f"cache {paths.data_dir()}; source: "
-            + (f"FPDTW_MIRROR={mirror}" if mirror else "upstream URLs"),
-            file=sys.stderr,
-        )
-        if args.file is not None:
-            print(fetch(args.dataset[0], args.file, progress=not args.quiet))
-            return 0
-        report = fetch_all(
-            args.dataset,
-            available_only=None if not args.all else False,
-            progress=not args.quiet,
-            strict=False,
-        )
-        print(report.summary())
-        return 0 if report.ok else 1
-    except (DataFetchError, ManifestError) as exc:
-        print(f"{prog}: error: {exc}", file=sys.stderr)
-        return 1
-
-
-def main(argv: list[str] | None = None, prog: str = "python -m fpdtw.paper.datasets") -> int:
-    """``python -m fpdtw.paper.datasets fetch|verify|cite`` (as ``fpdtw data``); the exit code."""
-    ap = _Parser(prog=prog, description="Fetch, verify and cite the datasets.")
-    sub = ap.add_subparsers(dest="data_command", required=True, parser_class=_Parser)
-    add_data_commands(sub)
-    return run_data_command(ap.parse_args(argv), prog)
-
-
-if __name__ == "__main__":
-    sys.exit(main())

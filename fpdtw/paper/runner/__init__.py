@@ -2,7 +2,7 @@
 
 * :mod:`.selection`: which motions and pairs (the modes' selections);
 * :mod:`.grid`: which algorithms each mode runs;
-* :mod:`.run`: the run (work units, workers, chunks, the result files) and its command line;
+* :mod:`.run`: the run (work units, workers, chunks, the result files);
 * :mod:`.results`: reading and writing the result files (:class:`Results`).
 """
 

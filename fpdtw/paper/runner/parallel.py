@@ -1,16 +1,15 @@
 """Where the grid's work runs: joblib on this machine's cores, or the workers of a Dask cluster.
 
 :class:`Executor` runs a function over tasks and yields the results as they finish, in
-joblib processes here (the default) or as tasks on a Dask cluster whose scheduler address is
-given (``--scheduler tcp://host:port`` or ``FPDTW_SCHEDULER``; :mod:`fpdtw.app.cluster`).
-What a task computes and writes does not depend on where it ran. What the workers need, and
-what happens when one dies: ``docs/cluster.md``.
+joblib processes here (the default) or, given a scheduler address (``--scheduler
+tcp://host:port`` or ``FPDTW_SCHEDULER``), as tasks on a Dask cluster through the tools'
+optional part :mod:`fpdtw.app.cluster`, imported only then. What a task computes and writes
+does not depend on where it ran; what the workers need: ``docs/cluster.md``.
 """
 
 from __future__ import annotations
 
 import os
-import re
 import sys
 from collections.abc import Callable, Iterator, Sequence
 
@@ -25,62 +24,6 @@ SCHEDULER_ENV = "FPDTW_SCHEDULER"
 LOCAL = "local"
 #: Seconds to wait for the scheduler to answer.
 CONNECT_TIMEOUT = 20.0
-#: Protocols of a scheduler address.
-SCHEMES = ("tcp", "tls")
-_HOST = re.compile(r"^(\[[0-9A-Fa-f:.%a-zA-Z]+\]|[A-Za-z0-9]([A-Za-z0-9._-]*[A-Za-z0-9])?)$")
-
-
-def scheduler_address(text) -> str | None:
-    """A Dask scheduler address in full (``tcp://host:port``), or None for no cluster.
-
-    ``text``: ``tcp://host:port``, ``tls://host:port`` or ``host:port`` (TCP), IPv6 hosts in
-    brackets (``tcp://[::1]:8786``); None, ``""`` and ``"local"`` mean no cluster. A
-    malformed address raises ClusterError naming what is wrong.
-    """
-    if text is None:
-        return None
-    s = str(text).strip()
-    if s in ("", LOCAL):
-        return None
-    where = f"scheduler address {str(text)!r}"
-    example = "e.g. tcp://10.0.0.5:8786 (8786 is the port `dask scheduler` listens on by default)"
-    scheme, sep, rest = s.partition("://")
-    if not sep:
-        scheme, rest = "tcp", s
-    if scheme not in SCHEMES:
-        raise ClusterError(
-            f"{where}: unknown protocol {scheme!r}; use tcp://host:port or tls://host:port"
-        )
-    if not rest or any(c in rest for c in "/?#@ "):
-        raise ClusterError(f"{where}: expected {scheme}://host:port and nothing else, {example}")
-    if rest.startswith("["):  # an IPv6 host
-        host, _, after = rest.partition("]")
-        host += "]"
-        if not after.startswith(":"):
-            raise ClusterError(f"{where}: no port, expected {scheme}://[host]:port, {example}")
-        port = after[1:]
-    elif rest.count(":") > 1:
-        raise ClusterError(f"{where}: IPv6 hosts go in brackets, e.g. {scheme}://[::1]:8786")
-    else:
-        host, colon, port = rest.partition(":")
-        if not colon:
-            raise ClusterError(f"{where}: no port, expected {scheme}://host:port, {example}")
-    if not host:
-        raise ClusterError(f"{where}: no host, expected {scheme}://host:port, {example}")
-    if not _HOST.match(host):
-        raise ClusterError(f"{where}: {host!r} is not a host name or IP address")
-    if not port.isdigit() or not 1 <= int(port) <= 65535:
-        raise ClusterError(f"{where}: the port {port!r} is not a number from 1 to 65535")
-    return f"{scheme}://{host}:{int(port)}"
-
-
-def scheduler_from_env() -> str | None:
-    """The scheduler named by ``FPDTW_SCHEDULER`` (checked), or None when it is unset."""
-    value = os.environ.get(SCHEDULER_ENV, "")
-    try:
-        return scheduler_address(value)
-    except ClusterError as e:
-        raise ClusterError(f"{SCHEDULER_ENV}: {e}") from None
 
 
 def _cluster():
@@ -95,6 +38,24 @@ def _cluster():
             f"{SCHEDULER_ENV} to use this machine's cores"
         ) from None
     return cluster
+
+
+def scheduler_address(text) -> str | None:
+    """A Dask scheduler address in full (``tcp://host:port``), or None for no cluster (None,
+    ``""``, ``"local"``); any other text is checked by
+    :func:`fpdtw.app.cluster.scheduler_address` (ClusterError naming what is wrong)."""
+    if text is None or str(text).strip() in ("", LOCAL):
+        return None
+    return _cluster().scheduler_address(text)
+
+
+def scheduler_from_env() -> str | None:
+    """The scheduler named by ``FPDTW_SCHEDULER`` (checked), or None when it is unset."""
+    value = os.environ.get(SCHEDULER_ENV, "")
+    try:
+        return scheduler_address(value)
+    except ClusterError as e:
+        raise ClusterError(f"{SCHEDULER_ENV}: {e}") from None
 
 
 class Executor:
@@ -156,14 +117,8 @@ class Executor:
 
     def close(self) -> None:
         """Close the connection this executor opened (a client given to it stays open)."""
-        if self._own and self._client is not None:
-            try:
-                self._client.close(timeout=10)
-            except Exception:  # closing a connection the cluster already dropped
-                pass
         if self._own:
-            self._client = None
-            self._own = False
+            _cluster().close(self)
 
     def describe(self) -> dict:
         """What ran the tasks, for ``run.json``: ``{"backend": "joblib", "n_jobs"}`` or

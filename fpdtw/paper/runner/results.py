@@ -227,7 +227,7 @@ def load_results(mode: str = "full", eq2: str | None = None) -> Results:
     if not (folder / "run.json").is_file():
         flag = " --smoke" if mode == "smoke" else ""
         raise FileNotFoundError(
-            f"no finished {mode!r} run in {folder}; run `python -m fpdtw.paper.runner.run{flag}` "
+            f"no finished {mode!r} run in {folder}; run `fpdtw experiments run{flag}` "
             "or notebooks/05_run_experiments.ipynb first"
         )
     return Results(folder, eq2=eq2)

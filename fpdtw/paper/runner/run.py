@@ -2,11 +2,8 @@
 
 Per pair of a mode's selection (:mod:`~fpdtw.paper.runner.selection`) and algorithm of its
 grid (:mod:`~fpdtw.paper.runner.grid`): the map ``M`` (target frame -> input frame), the
-similarity (eq. 2) and the deviation (eq. 3) from the DTW map at the same rate, in frames.
-Methods B and C of a pair run in one compiled loop sharing a
-:class:`fpdtw.online.window.WindowCache` (the maps of separate runs; tested); the grid does
-not time frames (``make bench`` does). Files, under ``results_dir()/<mode>/``, every write
-atomic:
+similarity (eq. 2) and the deviation (eq. 3) from the DTW map at the same rate, in frames
+(no timings: ``make bench``). Files, under ``results_dir()/<mode>/``, every write atomic:
 
 ``pairs.json``
     ``{"mode", "selection", "counts", "pairs": [{"id", "dataset", "movement", "input",
@@ -26,8 +23,8 @@ Resuming: a run killed at any point resumes from its finished chunks and ends wi
 algorithms, pairs, data hashes, every source file) decides "nothing changed"; the *base key*
 (mode, selection, data hashes, pairs, :data:`CACHE_FORMAT`, the library's source,
 :func:`compute_files`) whether a chunk is valid; a run that adds an algorithm computes only
-it. One run at a time per results folder. Command line: ``fpdtw experiments run`` (or
-``python -m fpdtw.paper.runner.run``); on a Dask cluster: :mod:`~fpdtw.paper.runner.parallel`.
+it. One run at a time per results folder. Command line: ``fpdtw experiments run``
+(:mod:`fpdtw.app.commands`); on a Dask cluster: :mod:`~fpdtw.paper.runner.parallel`.
 
 Paper: FP-DTW Section 4 (pairs), eq. 2 and eq. 3, Figs. 5-7 and 10, Tables 1 and 2.
 Notebook: 05_run_experiments.ipynb
@@ -35,7 +32,6 @@ Notebook: 05_run_experiments.ipynb
 
 from __future__ import annotations
 
-import argparse
 import datetime as _dt
 import functools
 import hashlib
@@ -43,8 +39,6 @@ import json
 import os
 import shutil
 import socket
-import sys
-import textwrap
 import time
 from collections import Counter, OrderedDict
 from dataclasses import dataclass
@@ -53,8 +47,7 @@ from pathlib import Path
 import numpy as np
 
 from fpdtw import registry
-from fpdtw.argtypes import positive_float, positive_int
-from fpdtw.errors import AlignmentError, FpdtwError, MotionFormatError
+from fpdtw.errors import AlignmentError, MotionFormatError
 from fpdtw.metrics import deviation, joint_trajectories, trajectory_scores
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.motion.joints import OPW_JOINTS
@@ -69,10 +62,8 @@ from fpdtw.paper.runner.grid import (
 )
 from fpdtw.paper.runner.parallel import (
     CONNECT_TIMEOUT,
-    SCHEDULER_ENV,
     ClusterError,
     Executor,
-    scheduler_address,
     scheduler_from_env,
 )
 from fpdtw.paper.runner.results import (
@@ -790,155 +781,3 @@ def run_experiments(
     save_json(runf, run)
     say(f"done in {run['wall_seconds']:.1f} s ({runs} pair x algorithm runs)")
     return Results(out)
-
-
-def _scheduler_option(text):
-    try:
-        return scheduler_address(text) or "local"
-    except ClusterError as e:
-        raise argparse.ArgumentTypeError(str(e)) from None
-
-
-_RUN_EPILOG = f"""\
-where it runs:
-  joblib worker processes on this machine (--jobs), unless a Dask scheduler is given
-  (--scheduler tcp://host:port, or {SCHEDULER_ENV}=tcp://host:port): then every work unit
-  is a task on that cluster. Workers need this package (the same commit), the data cache
-  (FPDTW_DATA_DIR: a shared folder, or `fpdtw data fetch` on each) and the results folder
-  at the same path (a shared filesystem). The result files are the same bytes either way.
-
-resuming:
-  a run stopped at any point (Ctrl-C, a killed process, a lost worker) goes on from the
-  finished work units when run again; a run with nothing left to do returns at once.
-
-examples:
-  fpdtw experiments run --smoke
-  fpdtw experiments run --jobs 8 --results /scratch/me/fpdtw-results
-  dask scheduler --port 8786 &   dask worker tcp://HOST:8786 --nthreads 1 --nworkers 4 &
-  fpdtw experiments run --scheduler tcp://HOST:8786 --results /shared/fpdtw-results"""
-
-
-def add_run_arguments(ap: argparse.ArgumentParser) -> None:
-    """Add the options of ``fpdtw experiments run`` (and ``python -m fpdtw.paper.runner.run``)."""
-    ap.add_argument(
-        "--mode",
-        choices=sorted(SELECTIONS),
-        default="full",
-        help="which selection and algorithm list (default full; study: notebook 15)",
-    )
-    ap.add_argument("--smoke", action="store_true", help="the same as --mode smoke")
-    ap.add_argument(
-        "--jobs",
-        type=positive_int,
-        default=2,
-        metavar="N",
-        help="worker processes on this machine (default 2; unused with --scheduler)",
-    )
-    ap.add_argument(
-        "--algorithms",
-        nargs="+",
-        default=None,
-        metavar="NAME",
-        help="algorithm names (default: the mode's list)",
-    )
-    ap.add_argument(
-        "--results",
-        metavar="DIR",
-        default=None,
-        help="results root; the run writes DIR/<mode>/ (default: FPDTW_RESULTS_DIR, "
-        "else results/ of the checkout)",
-    )
-    ap.add_argument(
-        "--scheduler",
-        type=_scheduler_option,
-        default=None,
-        metavar="ADDRESS",
-        help=f"Dask scheduler, tcp://host:port: run the work units on that cluster "
-        f"(default: {SCHEDULER_ENV} if set; 'local': this machine whatever it says)",
-    )
-    ap.add_argument(
-        "--connect-timeout",
-        type=positive_float,
-        default=CONNECT_TIMEOUT,
-        metavar="SECONDS",
-        help=f"how long to wait for the scheduler to answer (default {CONNECT_TIMEOUT:g})",
-    )
-    ap.add_argument("--quiet", action="store_true", help="no progress output")
-
-
-def add_experiments_commands(sub) -> None:
-    """Add the action ``run`` to an argparse subparsers object (``fpdtw experiments run``)."""
-    r = sub.add_parser(
-        "run",
-        help="run the experiment grid (resumable; on this machine or a Dask cluster)",
-        description=textwrap.fill(
-            "Run every algorithm of a mode over every pair of its selection and write the "
-            "result files (algorithms/*.npz, pairs.json, summary.json, run.json) under the "
-            "results folder, resumably.",
-            88,
-        ),
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-        epilog=_RUN_EPILOG,
-    )
-    add_run_arguments(r)
-
-
-def run_command(args, prog: str) -> int:
-    """Carry out a run from parsed options; the exit code: 0 on success, 2 on a usage error
-    (a malformed ``FPDTW_SCHEDULER``, an unknown algorithm), 1 when the run cannot go on, 130
-    when interrupted (run again to resume). Errors: one line on stderr starting with ``prog``.
-    """
-    mode = "smoke" if args.smoke else args.mode
-    scheduler = args.scheduler
-    if scheduler is None:
-        try:
-            scheduler = scheduler_from_env() or "local"
-        except ClusterError as e:
-            print(f"{prog}: error: {e}", file=sys.stderr)
-            return 2
-    try:
-        res = run_experiments(
-            mode,
-            args.algorithms,
-            args.jobs,
-            not args.quiet,
-            results=args.results,
-            scheduler=scheduler,
-            connect_timeout=args.connect_timeout,
-        )
-    except KeyboardInterrupt:
-        print(f"{prog}: interrupted; run the same command again to resume", file=sys.stderr)
-        return 130
-    except AlignmentError as e:  # an unknown algorithm name
-        print(f"{prog}: error: {e}", file=sys.stderr)
-        return 2
-    except (FpdtwError, OSError) as e:
-        print(f"{prog}: error: {' '.join(str(e).split())}", file=sys.stderr)
-        return 1
-    if not args.quiet:
-        for name in res.algorithms:
-            s = res.summary["algorithms"][name]
-            print(
-                f"{name:40s} similarity median {s['similarity_median']:6.3f}  "
-                f"deviation median {s['deviation_median']:7.2f} frames"
-            )
-    return 0
-
-
-def main(argv=None) -> int:
-    """``python -m fpdtw.paper.runner.run``: the same as ``fpdtw experiments run``."""
-    ap = argparse.ArgumentParser(
-        prog="python -m fpdtw.paper.runner.run",
-        description=__doc__.split("\n")[0],
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-        epilog=_RUN_EPILOG,
-    )
-    add_run_arguments(ap)
-    return run_command(ap.parse_args(argv), ap.prog)
-
-
-if __name__ == "__main__":
-    # run the importable module's main: worker processes must find the functions by name
-    from fpdtw.paper.runner.run import main as _main
-
-    sys.exit(_main())

@@ -1,7 +1,7 @@
 """The one map from notebook to the figures and tables it makes, and what it reproduces.
 
 The Makefile's per-figure rules and notebook order come from it (``python
-fpdtw/paper/figure_map.py makefile > build/figure_map.mk``; standard library only, so make
+fpdtw/app/figure_map.py makefile > build/figure_map.mk``; standard library only, so make
 can run it before the environment exists); docs/notebooks.md's table and each notebook's
 "Makes:" line are checked against it. Adding a figure: one notebook, one module in
 :mod:`fpdtw.paper.figures`, one row here.
@@ -109,7 +109,7 @@ def readme_table() -> str:
 
 def makefile() -> str:
     """Make rules: one target per figure or table, and the order between notebooks."""
-    out = ["# generated from fpdtw/paper/figure_map.py: do not edit"]
+    out = ["# generated from fpdtw/app/figure_map.py: do not edit"]
     for nb in NOTEBOOKS:
         for stem in nb.makes:
             out.append(f"$(eval $(call FIGURE_RULE,{stem},{nb.stem}))")
