@@ -1,5 +1,5 @@
-"""argparse types shared by the command lines (``fpdtw`` and ``python -m
-fpdtw.paper.runner.run``): a bad value is a usage error that says what was expected."""
+"""argparse types shared by the command lines (``fpdtw``, :mod:`fpdtw.app.cli`): a bad value
+is a usage error that says what was expected."""
 
 from __future__ import annotations
 

@@ -194,7 +194,3 @@ class DerivativeAligner(OnlineAligner):
                 f"{np.shape(self._frame.quats)[0]} joints"
             )
         return self.inner.step(self._diff(self._frame, orders))
-
-
-__all__ = ["IDENTITY", "DerivativeAligner", "DerivativeFrames", "derivative_features",
-           "derivative_quats", "derivative_rig"]  # fmt: skip

@@ -309,7 +309,3 @@ def utw_map(m: int, n: int) -> np.ndarray:
         return np.zeros(1, dtype=np.int64)
     q = np.arange(n + 1, dtype=np.int64)
     return (2 * q * m + n) // (2 * n)
-
-
-__all__ = ["DTWResult", "STEP_PATTERNS", "accumulate", "backtrack", "check_dtw_size",
-           "diagonal_weight", "dtw", "dtw_pair", "path_to_map", "utw_map"]  # fmt: skip

@@ -18,7 +18,6 @@ import numba
 import numpy as np
 
 from fpdtw.motion.rotations import ORDERS, check_order
-from fpdtw.plain import forecast_joints
 
 #: ``ORDER_AXES[code]`` = axes (0=X, 1=Y, 2=Z) of rotation order ``ORDERS[code]`` in the
 #: order they are applied to a vector (``"XYZ"``: X first, so R = Rz Ry Rx).
@@ -324,8 +323,3 @@ def forecast_error_curve(motions_features, method: str, levels, H: int) -> np.nd
     if count == 0:
         raise ValueError(f"no motion has more than {t0 + H} frames: nothing to evaluate")
     return total / count
-
-
-__all__ = ["FORECASTERS", "ORDER_AXES", "dead_reckoning", "euler_to_quat_fast",
-           "exponential_smoothing", "forecast_error_curve", "forecast_joints", "holt",
-           "level_to_alpha", "order_codes"]  # fmt: skip

@@ -228,12 +228,3 @@ def check_bytes(nbytes: int, paths, what: str, hint: str = HINT_LONG) -> None:
     why = _beyond("max_matrix_bytes", nbytes, format_bytes)
     if why:
         raise LimitError(paths, f"{what} ({format_bytes(nbytes)}), {why}; {hint}")
-
-
-__all__ = ["HINT_LONG", "HISTORY_FRAMES", "MAX_ABS_VALUE", "MAX_CHANNELS",
-           "MAX_FILE_BYTES", "MAX_FPS", "MAX_FRAMES", "MAX_GAP_S", "MAX_HEADER_BYTES",
-           "MAX_LINE_BYTES", "MAX_MATRIX_BYTES", "MIN_FPS", "MIN_FRAMES", "band_bytes",
-           "check_bytes", "check_channels", "check_file_fps", "check_file_frames",
-           "check_file_size", "check_frames", "check_min_frames", "dtw_bytes",
-           "env_name", "format_bytes", "fps_problem", "fps_range", "get", "override",
-           "window_bytes"]  # fmt: skip

@@ -442,10 +442,3 @@ def similarity(
     if flat == "skip":
         return float(np.nanmean(r)) if np.isfinite(r).any() else float("nan")
     return float(np.mean(r))
-
-
-__all__ = ["BONE_AXIS", "DEVIATION_FRAMES", "FLAT_RANGE", "FLAT_RULES",
-           "ONE_FLAT_SCORE", "TAU_VARIANTS", "deviation", "exhausted_share",
-           "hold_share", "in_range", "is_monotonic", "joint_trajectories",
-           "kendall_tau_b", "similarity", "similarity_per_axis", "step_counts",
-           "stick_skip_index", "trajectory_scores"]  # fmt: skip

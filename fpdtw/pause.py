@@ -101,7 +101,3 @@ def insert_pause(T, at: int | None = None, length: int | None = None, seed: int 
         positions=hold_frames(T.positions, at, length),
         name=f"{T.name}+pause",
     )
-
-
-__all__ = ["PAUSE_SECONDS", "PAUSE_SEED", "PAUSE_SPAN", "hold_frames", "insert_pause",
-           "pause_plan", "pause_seed"]  # fmt: skip

@@ -114,7 +114,3 @@ def auto_window(I) -> int:
     Notebook: 16_open_questions.ipynb
     """
     return window_from_period(dominant_period(I.quats, I.fps), I.fps)
-
-
-__all__ = ["FALLBACK_W", "MAX_PERIOD_S", "MIN_PEAK", "MIN_PERIOD_S", "MIN_W",
-           "auto_window", "autocorrelation", "dominant_period", "window_from_period"]  # fmt: skip

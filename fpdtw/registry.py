@@ -345,7 +345,3 @@ def align(name: str, I: MotionFeatures, T: MotionFeatures):
 
 #: Method C's readings of Algorithm 3's window, the default first (:class:`fpdtw.online.MethodC`).
 C_READINGS = (MethodC.options["window"][0], *MethodC.options["window"][1])
-
-__all__ = ["C_READINGS", "DERIVATIVE", "ENTRIES", "TYPE_V_SUFFIX", "Algorithm", "Entry",
-           "align", "baselines", "by_cli", "make_online", "method_c_name", "name",
-           "resolve"]  # fmt: skip

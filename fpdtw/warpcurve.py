@@ -205,6 +205,3 @@ def _auto_slopes(x, y) -> list:
         lim = 3.0 * min(abs(a), abs(b))
         m[i] = c if abs(c) <= lim else (lim if c > 0 else -lim)
     return m
-
-
-__all__ = ["WarpCurve"]

@@ -44,6 +44,3 @@ def joint_weights(I) -> np.ndarray:
     if mean == 0.0:
         return np.ones(Q.shape[1])
     return travel / mean
-
-
-__all__ = ["joint_weights"]

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import pytest
 
-from fpdtw.app import cli
+from fpdtw.app import cli, commands
 from fpdtw.errors import DataFetchError, ManifestError
 from fpdtw.paper import datasets as data
 
@@ -238,10 +238,10 @@ def test_labels_and_helpers():
     asf = data.skeleton_file("hdm05", CLIP_A)
     assert asf.path == "HDM05_cut_amc/HDM_bd.asf"
     assert data.skeleton_file("cmu", "18_01.bvh") is None
-    text = data.cite()
+    text = commands.cite()
     for m in data.manifests():
         assert m.licence in text and m.citation in text
-    assert data.cite("cmu").count("Licence:") == 1
+    assert commands.cite("cmu").count("Licence:") == 1
 
 
 _GOOD = """
@@ -509,33 +509,33 @@ def test_verify_detects_corrupted_cached_file(mirror_root, cache, monkeypatch):
     monkeypatch.setenv("FPDTW_MIRROR", str(mirror_root))
     p = data.fetch("cmu", progress=False)
     data.fetch("hdm05", CLIP_A, progress=False)
-    r = data.verify(["cmu", "hdm05"])
+    r = commands.verify(["cmu", "hdm05"])
     assert sorted(r.verified) == sorted(["cmu/18_01.bvh", f"hdm05/{CLIP_A}"])
     assert len(r.missing) == 291 and r.extra == [] and r.corrupt == []
     assert not r.ok and "FAILED: 291 of 293 files missing or wrong" in r.summary()
-    assert data.verify("cmu").ok
+    assert commands.verify("cmu").ok
 
     flip_byte(p)
     st = p.stat()
     os.utime(p, ns=(st.st_atime_ns, st.st_mtime_ns + 1_000_000_000))
     expected = data.load_manifest("cmu").files[0].sha256
-    r = data.verify()
-    assert not data.verify("cmu").ok
+    r = commands.verify()
+    assert not commands.verify("cmu").ok
     assert [k for k, _ in r.corrupt] == ["cmu/18_01.bvh"]
     assert expected in r.corrupt[0][1] and sha256_of(p) in r.corrupt[0][1]
     assert "CORRUPT cmu/18_01.bvh" in r.summary()
 
     (cache / "cmu" / "stray.bvh").write_bytes(b"x")
-    assert data.verify("cmu").extra == ["cmu/stray.bvh"]
+    assert commands.verify("cmu").extra == ["cmu/stray.bvh"]
     data.fetch("cmu", progress=False)  # replaces the corrupt copy
-    assert data.verify("cmu").ok
+    assert commands.verify("cmu").ok
 
 
 def test_fetch_all_from_local_mirror(mirror_root, cache, monkeypatch, capsys):
     """All 48 + 5 + 287 + 1 available files from the mirror folder; timing is printed."""
     monkeypatch.setenv("FPDTW_MIRROR", str(mirror_root))
     t0 = time.perf_counter()
-    report = data.fetch_all(progress=False)
+    report = commands.fetch_all(progress=False)
     seconds = time.perf_counter() - t0
     with capsys.disabled():
         print(f"\n[test_data] fetch_all from the local mirror: 341 files in {seconds:.2f} s")
@@ -550,24 +550,24 @@ def test_fetch_all_from_local_mirror(mirror_root, cache, monkeypatch, capsys):
 
     calls = count_hashing(monkeypatch)
     t0 = time.perf_counter()
-    again = data.fetch_all(progress=False)
+    again = commands.fetch_all(progress=False)
     seconds = time.perf_counter() - t0
     with capsys.disabled():
         print(f"[test_data] fetch_all again, every cached file hashed: {seconds:.2f} s")
     assert len(calls) == 341 and len(again.fetched) == 341  # each one proven again
 
-    r = data.verify()  # FPDTW_MIRROR is set: the 15 takes not in it are skipped
+    r = commands.verify()  # FPDTW_MIRROR is set: the 15 takes not in it are skipped
     assert r.ok and len(r.verified) == 341 and r.missing == [] and r.extra == []
     assert len(r.skipped) == 15
-    r = data.verify(available_only=False)
+    r = commands.verify(available_only=False)
     assert not r.ok and len(r.missing) == 15
 
     # trying the 15 unavailable takes too: everything else is done, then they are reported
-    report = data.fetch_all("authors_fbx", available_only=False, progress=False, strict=False)
+    report = commands.fetch_all("authors_fbx", available_only=False, progress=False, strict=False)
     assert len(report.fetched) == 48 and len(report.failed) == 15
     assert all("FPDTW_MIRROR" in msg for _, _, msg in report.failed)
     with pytest.raises(DataFetchError) as info:
-        data.fetch_all("authors_fbx", available_only=False, progress=False)
+        commands.fetch_all("authors_fbx", available_only=False, progress=False)
     assert len(info.value.report.failed) == 15 and "15 FAILED" in str(info.value)
 
 

@@ -14,11 +14,23 @@ from __future__ import annotations
 import argparse
 import sys
 import textwrap
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from tqdm import tqdm
 
 from fpdtw.argtypes import positive_float, positive_int
 from fpdtw.errors import AlignmentError, ClusterError, DataFetchError, FpdtwError, ManifestError
 from fpdtw.paper import paths
-from fpdtw.paper.datasets import cite, fetch, fetch_all, verify
+from fpdtw.paper.datasets import (
+    Datasets,
+    as_manifests,
+    fetch,
+    fetch_entry,
+    file_hashes,
+    hash_problems,
+)
 from fpdtw.paper.runner.parallel import (
     CONNECT_TIMEOUT,
     SCHEDULER_ENV,
@@ -29,6 +41,156 @@ from fpdtw.paper.runner.run import run_experiments
 from fpdtw.paper.runner.selection import SELECTIONS
 
 # -- fpdtw data ---------------------------------------------------------------------------
+
+
+@dataclass
+class FetchReport:
+    """What :func:`fetch_all` did: the verified files in the cache, the (dataset, path) not
+    tried (not in the local mirror), the (dataset, path, message) that failed, the time."""
+
+    fetched: list[Path] = field(default_factory=list)
+    skipped: list[tuple[str, str]] = field(default_factory=list)
+    failed: list[tuple[str, str, str]] = field(default_factory=list)
+    seconds: float = 0.0
+
+    @property
+    def ok(self) -> bool:
+        """No file that was tried failed."""
+        return not self.failed
+
+    def summary(self) -> str:
+        """A few human-readable lines."""
+        lines = [f"{len(self.fetched)} files verified in the cache ({self.seconds:.1f} s)"]
+        if self.skipped:
+            lines.append(f"{len(self.skipped)} skipped (not available in the local mirror):")
+            lines += [f"  {d}: {p}" for d, p in self.skipped]
+        if self.failed:
+            lines.append(f"{len(self.failed)} FAILED:")
+            lines += [f"  {msg}" for _, _, msg in self.failed]
+        return "\n".join(lines)
+
+
+def fetch_all(
+    datasets: Datasets = None, *, available_only=None, progress=True, strict=True
+) -> FetchReport:
+    """Fetch every file of some datasets (default: all), verified; report what could not be had.
+
+    ``available_only`` (default: whether ``FPDTW_MIRROR`` is set; upstream has every file)
+    skips the files the manifest marks as not in the local mirror; ``strict`` raises
+    DataFetchError, with the report as its ``report``, if any file failed.
+    """
+    ms = as_manifests(datasets)
+    if available_only is None:
+        available_only = paths.mirror() is not None
+    report = FetchReport()
+    t0 = time.perf_counter()
+    cache = paths.data_dir()
+    todo = []
+    for m in ms:
+        for e in m.files:
+            if available_only and not e.available_here:
+                report.skipped.append((m.name, e.path))
+            else:
+                todo.append((m, e))
+    with tqdm(total=len(todo), unit="file", desc="fetch", disable=not progress) as bar:
+        for m, e in todo:
+            bar.set_postfix_str(m.name, refresh=False)
+            try:
+                p = fetch_entry(m, e, cache, progress=False, archive_progress=progress)
+                report.fetched.append(p)
+            except DataFetchError as exc:
+                report.failed.append((m.name, e.path, str(exc)))
+            bar.update()
+    report.seconds = time.perf_counter() - t0
+    if strict and report.failed:
+        exc = DataFetchError(report.summary())
+        exc.report = report
+        raise exc
+    return report
+
+
+@dataclass
+class VerifyReport:
+    """What :func:`verify` found, as cache-relative paths: ``verified``, ``corrupt`` (with
+    what differs), ``missing``, ``skipped`` (missing but not in the local mirror, when only
+    those are checked) and ``extra`` (in a dataset's folder, listed by no manifest)."""
+
+    verified: list[str] = field(default_factory=list)
+    corrupt: list[tuple[str, str]] = field(default_factory=list)
+    missing: list[str] = field(default_factory=list)
+    skipped: list[str] = field(default_factory=list)
+    extra: list[str] = field(default_factory=list)
+
+    @property
+    def ok(self) -> bool:
+        """Every file checked is in the cache and matches the manifest."""
+        return not self.corrupt and not self.missing
+
+    def summary(self, *, show: int = 10) -> str:
+        """A few human-readable lines (at most ``show`` missing files listed)."""
+        lines = [
+            f"{len(self.verified)} verified, {len(self.corrupt)} corrupt, "
+            f"{len(self.missing)} missing, {len(self.skipped)} skipped (not in the local "
+            f"mirror), {len(self.extra)} unlisted"
+        ]
+        lines += [f"  CORRUPT {p}: {why}" for p, why in self.corrupt]
+        lines += [f"  MISSING {p}" for p in self.missing[:show]]
+        if len(self.missing) > show:
+            lines.append(f"  ... and {len(self.missing) - show} more missing")
+        lines += [f"  unlisted {p}" for p in self.extra]
+        if not self.ok:
+            bad = len(self.corrupt) + len(self.missing)
+            checked = bad + len(self.verified)
+            lines.append(
+                f"FAILED: {bad} of {checked} files missing or wrong; `fpdtw data fetch` "
+                "fetches them again"
+            )
+        return "\n".join(lines)
+
+
+def verify(dataset: Datasets = None, *, available_only: bool | None = None) -> VerifyReport:
+    """Re-hash every cached file of some datasets (default: all) against the manifests.
+
+    Corrupt files are reported, not deleted (the next :func:`fetch` replaces them).
+    ``available_only`` (default: whether ``FPDTW_MIRROR`` is set) counts an uncached file
+    that is not in the local mirror as skipped, not missing.
+    """
+    cache = paths.data_dir()
+    if available_only is None:
+        available_only = paths.mirror() is not None
+    report = VerifyReport()
+    for m in as_manifests(dataset):
+        listed = set()
+        for e in m.files:
+            key = f"{m.mirror_prefix}/{e.path}"
+            listed.add(key)
+            p = cache / key
+            if not p.is_file():
+                skip = available_only and not e.available_here
+                (report.skipped if skip else report.missing).append(key)
+                continue
+            problems = hash_problems(e, file_hashes(p))
+            if e.sha256 is None and e.git_blob_sha1 is None:
+                problems = ["the manifest gives no hash to verify it by"]
+            if problems:
+                report.corrupt.append((key, "; ".join(problems)))
+            else:
+                report.verified.append(key)
+        root = cache / m.mirror_prefix
+        if root.is_dir():
+            for p in sorted(root.rglob("*")):
+                key = p.relative_to(cache).as_posix()
+                if p.is_file() and key not in listed:
+                    report.extra.append(key)
+    return report
+
+
+def cite(dataset: Datasets = None) -> str:
+    """Title, licence, citation and source of some datasets (default: all), as plain text."""
+    return "\n\n".join(
+        f"{m.name}: {m.title}\n  Licence: {m.licence}\n  Cite: {m.citation}\n  Source: {m.upstream}"
+        for m in as_manifests(dataset)
+    )
 
 
 def add_data_commands(sub) -> None:

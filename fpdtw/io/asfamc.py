@@ -569,6 +569,3 @@ def read_amc(path, skeleton_or_asf_path=None, *, fps=None, name=None) -> Motion:
         source="asf",
         path=str(path),
     )
-
-
-__all__ = ["AsfSkeleton", "amc_fps", "complete_order", "find_asf", "read_amc", "read_asf"]

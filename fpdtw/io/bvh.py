@@ -520,16 +520,3 @@ def write_bvh(motion: Motion, path, *, precision: int = 6) -> Path:
         raise MotionFormatError(path, e.reason) from None
     path.write_text("\n".join(header + lines) + "\n")
     return path
-
-
-__all__ = [
-    "BVHHeader",
-    "bvh_euler",
-    "bvh_pose",
-    "bvh_lines",
-    "check_start",
-    "is_header_end",
-    "parse_bvh_header",
-    "read_bvh",
-    "write_bvh",
-]

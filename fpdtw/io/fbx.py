@@ -392,6 +392,3 @@ def _rotation_curves(nodes, orders, pre, post, Q, values, sampled, p):
             "at every frame of the take reproduces ufbx's evaluation of its rotation",
         )
     return euler
-
-
-__all__ = ["read_fbx", "UFBX_ROTATION_ORDERS"]

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
+from fpdtw.motion.joints import PAPER_JOINTS
 from fpdtw.motion.rig import RigTransform, position_scale, rig_transform
 from fpdtw.motion.rig import body_size as _body_size
 from fpdtw.motion.rotations import quat_normalize, quat_to_euler, unwrap_degrees
@@ -145,6 +145,3 @@ def pair_features(
     if position_joints is not None:
         T = T.scaled_positions(position_scale(I.body_size, T.body_size, positions))
     return I, T
-
-
-__all__ = ["Frame", "MotionFeatures", "OPW_JOINTS", "PAPER_JOINTS", "pair_features"]

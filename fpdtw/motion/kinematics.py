@@ -140,6 +140,3 @@ def frame_positions(skeleton, quats, root_translation, joints=None, root_relativ
     )
     out = pos if joints is None else pos[np.asarray(joints)]
     return out - pos[0] if root_relative else out
-
-
-__all__ = ["frame_positions", "frame_quats", "order_codes"]

@@ -271,23 +271,3 @@ def bone_directions(motion, joints=PAPER_JOINTS) -> np.ndarray:
         c = kids[int(np.argmax(lengths))]
         out[i] = sk.offsets[c] / lengths.max()
     return out
-
-
-__all__ = [
-    "POSITION_RULES",
-    "POSITION_UNIT_RATIO",
-    "RigTransform",
-    "TRAJECTORY_FRAMES",
-    "body_size",
-    "bone_directions",
-    "common_rotations",
-    "cost_input",
-    "global_rotations",
-    "pair_rotations",
-    "position_scale",
-    "rest_rotations",
-    "rig_transform",
-    "skeleton_body_size",
-    "skeleton_rig",
-    "trajectory_rotations",
-]

@@ -256,6 +256,3 @@ class LiveTarget:
             np.ascontiguousarray(q[self._cost]), self._unwrap(e), pos, self.orders, self.rig
         )
         return k, frame, filled
-
-
-__all__ = ["GAP_PERIODS", "GAP_RULES", "LiveTarget"]

@@ -84,6 +84,3 @@ def band_cells(M, m: int, w: int, method: str, band: str = "half-w"):
         full.append((w_i + 1) * cols)
         banded.append(rows * cols)
     return tuple(np.array(x, dtype=np.int64) for x in (qs, full, banded))
-
-
-__all__ = ["BAND_SECONDS", "band_cells", "band_half_width", "band_rows", "band_window"]

@@ -40,6 +40,3 @@ class MethodA(WindowAligner):
 
     def _window_record(self, nrows: int, ncols: int, npath: int) -> dict:
         return dict(C=self._C[:nrows, :1].copy())
-
-
-__all__ = ["MethodA"]

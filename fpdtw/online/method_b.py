@@ -49,6 +49,3 @@ class MethodB(ForecastAligner):
             path=self._path[:npath][::-1].copy(),
             P=self._P[:ncols].copy(),
         )
-
-
-__all__ = ["MethodB"]

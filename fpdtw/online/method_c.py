@@ -102,6 +102,3 @@ class MethodC(ForecastAligner):
             D=self._D[:nrows, :ncols].copy(),
             score=self._score[:nrows].copy(),
         )
-
-
-__all__ = ["READINGS", "MethodC"]

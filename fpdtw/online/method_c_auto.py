@@ -26,6 +26,3 @@ class MethodCAuto(MethodC):
         super().__init__(
             I, auto_window(I), constraint=constraint, record=record, cache=cache, **options
         )
-
-
-__all__ = ["MethodCAuto"]

@@ -160,6 +160,3 @@ class OEDTW(JointMajorInput, OnlineAligner):
         D = np.ascontiguousarray(self._cols[: q + 1, : e + 1].T)
         C = _geo_block(self._Iq[: e + 1], self._Tq[: q + 1], np.empty_like(D))
         return _backtrack(D, C, self._wd, True)
-
-
-__all__ = ["OEDTW"]

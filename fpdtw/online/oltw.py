@@ -325,6 +325,3 @@ def run_pair(I: MotionFeatures, T: MotionFeatures, pair_info=None, *, c: int = 1
     Paper: FP-DTW reference 3 (Dixon 2005); the evaluation of Section 4.
     """
     return run_online(OLTW(I, c), T)
-
-
-__all__ = ["BOTH", "BY_ARGMIN", "BY_RUNCOUNT", "BY_WARMUP", "INPUT", "OLTW", "TARGET", "run_pair"]

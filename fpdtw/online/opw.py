@@ -215,6 +215,3 @@ class OPW(OnlineAligner):
             "s": np.array([e.s for e in d], dtype=np.int64),
             "x_last": np.array([e.x_last for e in d], dtype=float),
         }
-
-
-__all__ = ["OPW", "OPWDecision", "READINGS", "interpolate_positions", "opw_step"]

@@ -57,6 +57,3 @@ class AdaptiveOPW(OPW):
         self.gammas.append(self.gamma)
         super()._opw_step(t, last)
         self.gamma = next_gamma(self.gamma, [e.s for e in self.decisions[-8:]])
-
-
-__all__ = ["FACTOR", "GAMMA_MAX", "GAMMA_MIN", "GAMMA_START", "RUN", "AdaptiveOPW", "next_gamma"]

@@ -187,16 +187,3 @@ def dtw_python_accepts(M) -> bool:
     highest = np.full(q + 1, -1, dtype=np.int64)
     np.maximum.at(highest, np.asarray(al.index1), np.asarray(al.index2))
     return bool(np.array_equal(highest, M))
-
-
-__all__ = [
-    "MAX_ADVANCE",
-    "TYPE_V",
-    "TypeV",
-    "dtw_python_accepts",
-    "is_legal_typev",
-    "legal_prefix",
-    "lowest_cells",
-    "resolve_constraint",
-    "typev_violation",
-]

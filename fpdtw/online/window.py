@@ -990,6 +990,3 @@ def run_group(aligners, T: MotionFeatures) -> list:
         np.empty((2 * W, 2), dtype=np.int64), np.empty(W), *holder._cache_arrays, wts,
     )  # fmt: skip
     return list(M)
-
-
-__all__ = ["B_CORNER", "WindowAligner", "WindowSnapshot"]

@@ -31,7 +31,7 @@ from fpdtw.paper.runner import grid as G
 _SFX = {120: "", 60: "@60Hz"}
 #: The open questions, in the papers' order (Q1-Q3: FP-DTW; Q4-Q6: OPW).
 QUESTION_IDS = ("Q1", "Q2", "Q3", "Q4", "Q5", "Q6")
-_NO_RUN = "no results of the open run (notebook 16: python -m fpdtw.paper.runner.run --mode open)"
+_NO_RUN = "no results of the open run (notebook 16: fpdtw experiments run --mode open)"
 
 
 def open_mode(mode: str) -> str:
