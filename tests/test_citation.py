@@ -13,6 +13,7 @@ import jsonschema
 import pytest
 import yaml
 
+from fpdtw.app import cli
 from fpdtw.paper import datasets as data
 from fpdtw.paper.paths import REPO_ROOT
 
@@ -41,7 +42,7 @@ def _printed_citations() -> dict[str, str]:
     """Dataset name -> the citation `fpdtw data cite` prints for it."""
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
-        assert data.main(["cite"], prog="fpdtw data") == 0
+        assert cli.main(["data", "cite"]) == 0
     blocks = out.getvalue().strip().split("\n\n")
     cites = {}
     for block in blocks:
