@@ -69,47 +69,27 @@ class SilentChoice(NamedTuple):
 
 #: The paper's silent choices, by key.
 SILENT_CHOICES = {
-    "ties": SilentChoice(
-        "ties go to the lowest offset (Methods A, C)",
-        "ties go to the highest offset",
-        ("ties", "high"), "AC",
-    ),
-    "backtrack": SilentChoice(
-        "Method B's back-track prefers the diagonal, then the target step",
-        "the diagonal, then the input step",
-        ("backtrack", "input-first"), "B",
-    ),
-    "forecast": SilentChoice(
-        "dead reckoning in Euler angles (the paper)",
-        "zero-order hold: every forecast frame is T_{n+1}",
-        ("forecast", "hold"), "BC",
-    ),
-    "forecast_start": SilentChoice(
-        "Method C's forecast window starts with T_{n+1} itself",
-        "it starts with the first prediction T^_{n+2}",
-        ("forecast_start", "next"), "C",
-    ),
-    "start": SilentChoice(
-        "M_0 = 0 (both motions start together)",
-        "M_0 = the best match of T_0 among I_0..I_w",
-        ("start", "best"), "ABC",
-    ),
-    "deviation_frames": SilentChoice(
-        "eq. 3 averages over the n frames q = 1..n, as printed",
-        "over all n + 1 target frames q = 0..n",
-        None, "ABC",
-    ),
-    "flat_axis": SilentChoice(
-        "eq. 2: an axis flat in only one motion scores 0",
-        "such an axis is left out of the average",
-        None, "ABC",
-    ),
+    "ties": SilentChoice("ties go to the lowest offset (Methods A, C)",
+                         "ties go to the highest offset", ("ties", "high"), "AC"),
+    "backtrack": SilentChoice("Method B's back-track prefers the diagonal, then the target step",
+                              "the diagonal, then the input step", ("backtrack", "input-first"),
+                              "B"),
+    "forecast": SilentChoice("dead reckoning in Euler angles (the paper)",
+                             "zero-order hold: every forecast frame is T_{n+1}",
+                             ("forecast", "hold"), "BC"),
+    "forecast_start": SilentChoice("Method C's forecast window starts with T_{n+1} itself",
+                                   "it starts with the first prediction T^_{n+2}",
+                                   ("forecast_start", "next"), "C"),
+    "start": SilentChoice("M_0 = 0 (both motions start together)",
+                          "M_0 = the best match of T_0 among I_0..I_w", ("start", "best"), "ABC"),
+    "deviation_frames": SilentChoice("eq. 3 averages over the n frames q = 1..n, as printed",
+                                     "over all n + 1 target frames q = 0..n", None, "ABC"),
+    "flat_axis": SilentChoice("eq. 2: an axis flat in only one motion scores 0",
+                              "such an axis is left out of the average", None, "ABC"),
     "after_input": SilentChoice(
         "once the input is exhausted the map holds at m (forced, even under Type V), "
         "and those frames are scored",
-        "frames after the first frame mapped to m are not scored",
-        None, "ABC",
-    ),
+        "frames after the first frame mapped to m are not scored", None, "ABC"),
 }  # fmt: skip
 
 #: Per method, the algorithms a silent choice is run on: every FP-DTW configuration of the
