@@ -58,8 +58,7 @@ def plot_forecast_error(err, levels, ax=None, title=None, logy=False):
         ax.plot(i, err[li], color=color, lw=2.0 if li == 0 else 1.2, label=f"s = {s}")
     if logy:
         ax.set_yscale("log")
-    ax.set_xlim(1, err.shape[1])
-    ax.set_xlabel("frames ahead i")
+    ax.set(xlim=(1, err.shape[1]), xlabel="frames ahead i")
     ax.set_ylabel("mean geodesic error (eq. 1, 8 joints)")
     if title:
         ax.set_title(title, fontsize=9)

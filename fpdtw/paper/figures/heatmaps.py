@@ -93,8 +93,7 @@ def plot_heatmap(H, ax=None, *, norm=None, title=None):
     ax.plot([0, 1], [0, 1], ls=(0, (2, 3)), color="w", lw=0.6, alpha=0.7)
     if title:
         ax.set_title(title, fontsize=9)
-    ax.set_xticks([0, 0.5, 1])
-    ax.set_yticks([0, 0.5, 1])
+    ax.set(xticks=[0, 0.5, 1], yticks=[0, 0.5, 1])
     ax.tick_params(labelsize=7)
     return fig, ax
 

@@ -81,12 +81,10 @@ def plot_oedtw_paths(oe: OEDTW, q: int, ax=None):
         ax.annotate(f"$e_{{{t}}} = {int(E[t])}$", (t, E[t]), xytext=xytext,
                     textcoords="offset points", color=color, fontsize=9,
                     arrowprops={"arrowstyle": "-", "color": color})  # fmt: skip
-    ax.set_xlim(-0.5, q + 1.5)
-    ax.set_ylim(-0.5, rows - 0.5)
+    ax.set(xlim=(-0.5, q + 1.5), ylim=(-0.5, rows - 0.5))
     ax.xaxis.set_major_locator(MaxNLocator(integer=True))
     ax.yaxis.set_major_locator(MaxNLocator(integer=True))
-    ax.set_xlabel("target frame t")
-    ax.set_ylabel("input frame i")
+    ax.set(xlabel="target frame t", ylabel="input frame i")
     ax.legend(loc="upper left", fontsize=7, facecolor="0.75", framealpha=0.9)
     return fig, ax
 
@@ -110,9 +108,7 @@ def plot_end_points(E, ax=None):
                    label=f"backward jump, $e_{{q+1}} < e_q$ ({jumps.size} in all)")  # fmt: skip
 
     draw(ax, 0, E.size, 0)
-    ax.set_xlim(0, E.size - 1)
-    ax.set_ylim(0, max(int(E.max()), E.size - 1))
-    ax.set_xlabel("target frame q")
+    ax.set(xlim=(0, E.size - 1), ylim=(0, max(int(E.max()), E.size - 1)), xlabel="target frame q")
     ax.set_ylabel("input frame (end point $e_q$)")
     ax.legend(loc="upper left", fontsize=8)
     if jumps.size:

@@ -52,8 +52,7 @@ def plot_period(I, ax=None):
     if P is not None:
         ax.axvline(P / I.fps, color="C3", lw=1.2, label=f"period {P} frames ({P / I.fps:.2f} s)")
         ax.axvline(P / (2 * I.fps), color="C0", lw=1.0, ls="--", label="half the period")
-    ax.set_xlabel("lag (s)")
-    ax.set_ylabel("autocorrelation")
+    ax.set(xlabel="lag (s)", ylabel="autocorrelation")
     ax.set_title(f"{I.name}: {'acyclic' if P is None else 'cyclic'}")
     ax.legend(fontsize=7, loc="upper right")
     return fig, ax
@@ -273,7 +272,6 @@ def plot_pause_example(I, T, name: str = "Mc w40", ax=None):
     for who, col in (("DTW", "k"), (name, "C3")):
         ax.plot(registry.align(who, I, Tp)[0], color=col, lw=1.2, label=f"{who}, with the pause")
         ax.plot(registry.align(who, I, T)[0], color=col, lw=0.8, ls="--", label=f"{who}, without")
-    ax.set_xlabel("target frame")
-    ax.set_ylabel("input frame")
+    ax.set(xlabel="target frame", ylabel="input frame")
     ax.legend(fontsize=7)
     return fig, ax

@@ -85,10 +85,7 @@ def plot_warp_curves(result: dict, ax=None):
             k = c.keys
             k = k[k[:, 0] <= D]
             ax.plot(k[:, 0], k[:, 1], "o" if name == "OPW" else "x", color=COLORS[name], ms=2.5)
-    ax.set_xlim(0, D)
-    ax.set_ylim(0, D)
-    ax.set_aspect("equal")
-    ax.set_xlabel("live time t (s), motion B")
+    ax.set(xlim=(0, D), ylim=(0, D), aspect="equal", xlabel="live time t (s), motion B")
     ax.set_ylabel("warped time t' (s), motion A")
     return fig, ax
 
@@ -105,8 +102,7 @@ def plot_deviation(result: dict, ax=None):
     _threshold(ax)
     ax.set_xlim(0, result["duration"])
     ax.set_ylim(0, max(HOYET_MS * 1.15, ax.get_ylim()[1]))
-    ax.set_xlabel("live time t (s)")
-    ax.set_ylabel("deviation from example (ms)")
+    ax.set(xlabel="live time t (s)", ylabel="deviation from example (ms)")
     return fig, ax
 
 
@@ -124,8 +120,7 @@ def plot_slope_change(result: dict, ax=None):
         )  # fmt: skip
     ax.set_xlim(0, result["duration"])
     ax.set_ylim(bottom=0)
-    ax.set_xlabel("live time t (s)")
-    ax.set_ylabel("slope change (%)")
+    ax.set(xlabel="live time t (s)", ylabel="slope change (%)")
     return fig, ax
 
 
@@ -171,9 +166,7 @@ def plot_fig4(results: list, labels=None):
 def _pooled_axes(ax, ticks, ticklabels, xlabel):
     """The 150 ms line, the x ticks and the labels of a figure of pooled boxes."""
     _threshold(ax)
-    ax.set_xticks(ticks)
-    ax.set_xticklabels(ticklabels)
-    ax.set_xlabel(xlabel)
+    ax.set(xticks=ticks, xticklabels=ticklabels, xlabel=xlabel)
     ax.set_ylabel("deviation from example (ms)")
     ax.set_ylim(bottom=0)
     ax.legend(fontsize=8, loc="upper left")
@@ -276,8 +269,7 @@ def plot_readings(sweeps, ax=None):
     ax.plot([g5], [OPW_MAX_DEVIATION_MS], "kx", ms=8,
             label=f"poster: max {OPW_MAX_DEVIATION_MS:.0f} ms")  # fmt: skip
     ax.axhline(HOYET_MS, color="tab:red", ls=":", lw=1, label=f"{HOYET_MS:.0f} ms")
-    ax.set_yscale("log")
-    ax.set_xlabel("warp parameter gamma (%)")
+    ax.set(yscale="log", xlabel="warp parameter gamma (%)")
     ax.set_ylabel("deviation from example (ms): mean solid, max dashed")
     ax.legend(fontsize=7, loc="upper left", ncol=2)
     add_note(
@@ -320,8 +312,7 @@ def plot_curve_construction(curve, ax=None, *, window=None, relative=False, labe
     k = curve.keys
     k = k[(k[:, 0] >= lo) & (k[:, 0] <= hi)]
     ax.plot(k[:, 0], k[:, 1] - sh * k[:, 0], "o", color="black", ms=4, label="keys P0, P3")
-    ax.set_xlim(lo, hi)
-    ax.set_xlabel("live time t (s)")
+    ax.set(xlim=(lo, hi), xlabel="live time t (s)")
     ax.set_ylabel("t' - t (s)" if relative else "warped time t' (s)")
     ax.legend(fontsize=8)
     add_note(

@@ -26,8 +26,7 @@ def plot_mechanism(profile: dict, ax=None, w=None):
             continue
         label = f"{reading}: f(0) - f(1) = {p['excess']:.2f} (median), holds {p['hold']:.1%}"
         ax.plot(p["r"], p["mean_f"], marker="o", ms=3, label=label)
-    ax.set_xlabel("row offset r (input frame $M_n + r$)")
-    ax.set_ylabel("mean rest-of-path cost f(r)")
+    ax.set(xlabel="row offset r (input frame $M_n + r$)", ylabel="mean rest-of-path cost f(r)")
     title = "Method C: cost of the path after the first cell, per row"
     ax.set_title(title + (f" (w = {w})" if w else ""), fontsize=9)
     ax.legend(fontsize=7)

@@ -317,11 +317,8 @@ def plot_table1(rows, ax=None):
                 label=f"{r['source']}, {r['rate_hz']} Hz, UTW median (thin)",
             )  # fmt: skip
     ax.set_xscale("log", base=2)
-    ax.set_xticks(list(WINDOWS))
-    ax.set_xticklabels([str(w) for w in WINDOWS])
-    ax.set_xlabel("window w (frames)")
-    ax.set_ylabel("median similarity (eq. 2)")
-    ax.set_title("Table 1")
+    ax.set(xticks=list(WINDOWS), xticklabels=[str(w) for w in WINDOWS], xlabel="window w (frames)")
+    ax.set(ylabel="median similarity (eq. 2)", title="Table 1")
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0)
     ax.grid(alpha=0.3)
     return fig, ax

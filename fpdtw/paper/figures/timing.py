@@ -158,11 +158,8 @@ def plot_time_vs_w(rows, ax=None):
     ax.axhline(1e6 / 120, color="red", lw=0.8)
     ax.text(10, 1e6 / 120 * 1.1, "120 Hz budget: 8333 us", color="red", fontsize=8)
     ax.set_xscale("log", base=2)
-    ax.set_yscale("log")
-    ax.set_xticks(list(WINDOWS))
-    ax.set_xticklabels([str(w) for w in WINDOWS])
-    ax.set_xlabel("window w (frames)")
-    ax.set_ylabel("time per target frame (us)")
+    ax.set(yscale="log", xticks=list(WINDOWS), xticklabels=[str(w) for w in WINDOWS])
+    ax.set(xlabel="window w (frames)", ylabel="time per target frame (us)")
     ax.legend(fontsize=7, loc="center right")
     ax.grid(alpha=0.3, which="both")
     return fig, ax

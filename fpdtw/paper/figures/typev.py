@@ -80,13 +80,11 @@ def _draw_local_paths(ax, paths, labels, ticks, title, legend):
         jitter = 0.06 * (k - 2)
         ax.plot(P[:, 0] + jitter, P[:, 1] + jitter, "o-", color=cmap(k), ms=4, lw=1.5, label=label)
     ax.plot([0], [0], "s", color="black", ms=8)
-    ax.set_xticks(ticks)
-    ax.set_yticks(ticks)
+    ax.set(xticks=ticks, yticks=ticks)
     ax.grid(color="0.85", lw=0.6)
     ax.set_aspect("equal")
     ax.tick_params(labelsize=7)
-    ax.set_xlabel("target frame (relative)")
-    ax.set_ylabel("input frame (relative)")
+    ax.set(xlabel="target frame (relative)", ylabel="input frame (relative)")
     ax.set_title(title, fontsize=9)
     ax.legend(fontsize=7, title=legend[0], title_fontsize=7, loc=legend[1])
 
@@ -134,8 +132,7 @@ def plot_constrained_path(M, ax=None, M_free=None):
     for t in range(1, M.size):
         ax.annotate(states[t], (t, M[t]), xytext=(0, 7), textcoords="offset points",
                     ha="center", fontsize=6, color="tab:purple")  # fmt: skip
-    ax.set_xlabel("target frame")
-    ax.set_ylabel("input frame")
+    ax.set(xlabel="target frame", ylabel="input frame")
     ax.set_title(
         "(path) state in force when each target frame is mapped (N: no hold allowed, "
         "A1: just advanced by 1, H1: held once)",

@@ -106,10 +106,8 @@ def plot_paths_over_cost(D, maps: dict, ax=None, names=("", "")):
     for name, M in maps.items():
         lw = 2.2 if name == "DTW" else 1.4
         ax.plot(q, np.asarray(M), color=ALGORITHM_COLORS.get(name), lw=lw, label=name)
-    ax.set_xlim(-0.5, D.shape[1] - 0.5)
-    ax.set_ylim(-0.5, D.shape[0] - 0.5)
-    ax.set_xlabel(f"target frame {names[1]}".strip())
-    ax.set_ylabel(f"input frame {names[0]}".strip())
+    ax.set(xlim=(-0.5, D.shape[1] - 0.5), ylim=(-0.5, D.shape[0] - 0.5))
+    ax.set(xlabel=f"target frame {names[1]}".strip(), ylabel=f"input frame {names[0]}".strip())
     ax.legend(loc="upper left", fontsize=8, framealpha=0.9)
     return fig, ax
 
@@ -180,8 +178,7 @@ def plot_aligned_poses(mI, mT, maps: dict, frames):
             plot_skeleton(pts[c], skel.parents, ax=ax, view=FBX_SIDE_VIEW, color=colour, lw=1.2)
             ax.set_xlim(-lim_h, lim_h)
             ax.set_ylim(*lim_v)
-            ax.set_xticks([])
-            ax.set_yticks([])
+            ax.set(xticks=[], yticks=[])
             for sp in ax.spines.values():
                 sp.set_visible(False)
             if key is None:

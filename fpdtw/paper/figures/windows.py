@@ -95,13 +95,10 @@ def plot_method_a_window(M, step, ax=None, before: int = 6, after: int = 1):
         Patch(fill=False, ec="tab:red", lw=2,
               label=f"chosen $M_{{{q}}} = M_{{{q - 1}}} + {s.M - start} = {s.M}$"),
     ]  # fmt: skip
-    ax.set_xlim(t0 - 0.5, t1 + 0.5)
-    ax.set_ylim(r0 - 0.5, r1 + 0.5)
-    ax.set_xticks(np.arange(t0, t1 + 1))
+    ax.set(xlim=(t0 - 0.5, t1 + 0.5), ylim=(r0 - 0.5, r1 + 0.5), xticks=np.arange(t0, t1 + 1))
     ax.set_yticks(np.arange(r0, r1 + 1))
     ax.tick_params(labelsize=7)
-    ax.set_xlabel("target frame (T)")
-    ax.set_ylabel("input frame (I)")
+    ax.set(xlabel="target frame (T)", ylabel="input frame (I)")
     ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.95)
     ax.set_title(f"Method A ($w$ = 2), target frame {q}", fontsize=9)
     return fig, ax
