@@ -320,14 +320,6 @@ def hash_problems(e: FileEntry, h: dict) -> list[str]:
     return out
 
 
-def _check_verifiable(m: Manifest, e: FileEntry) -> None:
-    if e.sha256 is None and e.git_blob_sha1 is None:
-        raise DataFetchError(
-            f"{m.name}: {e.path}: the manifest gives neither sha256 nor git_blob_sha1, "
-            "so the file cannot be verified and is refused"
-        )
-
-
 @contextlib.contextmanager
 def _staging(dest: Path) -> Iterator[Path]:
     """A temporary file next to ``dest``, removed on exit unless renamed into place."""
@@ -460,7 +452,11 @@ def fetch_entry(
 ) -> Path:
     """Fetch one entry; ``progress``: per-file download bar, ``archive_progress``: archive
     bar. A cached copy is hashed on every call: returned if it matches, else fetched again."""
-    _check_verifiable(m, e)
+    if e.sha256 is None and e.git_blob_sha1 is None:
+        raise DataFetchError(
+            f"{m.name}: {e.path}: the manifest gives neither sha256 nor git_blob_sha1, "
+            "so the file cannot be verified and is refused"
+        )
     dest = cache / m.mirror_prefix / e.path
     if dest.is_file():
         if not hash_problems(e, file_hashes(dest)):

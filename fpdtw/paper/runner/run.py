@@ -167,19 +167,6 @@ def compute_files() -> list:
     return out
 
 
-def _feature_file(folder: Path, record, digest: str, crop, src: str) -> Path:
-    key = _hash([CACHE_FORMAT, digest, crop, src])[:16]
-    return folder / f"{record.name}_{key}.npz"
-
-
-def _features_of(motion) -> dict:
-    try:
-        f = MotionFeatures.from_motion(motion, position_joints=OPW_JOINTS)
-    except MotionFormatError:  # a skeleton without every OPW joint: no positions
-        f = MotionFeatures.from_motion(motion)
-    return f
-
-
 def _build_feature_file(record, path: Path, crop, code: str) -> Path:
     """Load one motion, build its 120 Hz and 60 Hz features and save them (worker; ``code``:
     the run's :func:`_code_key`)."""
@@ -191,7 +178,10 @@ def _build_feature_file(record, path: Path, crop, code: str) -> Path:
         motion = motion.crop(0.0, crop)
     arrays = {}
     for tag, mo in (("120", motion), ("60", motion.resample(LOW_FPS))):
-        f = _features_of(mo)
+        try:
+            f = MotionFeatures.from_motion(mo, position_joints=OPW_JOINTS)
+        except MotionFormatError:  # a skeleton without every OPW joint: no positions
+            f = MotionFeatures.from_motion(mo)
         arrays[f"quats{tag}"] = f.quats
         arrays[f"euler{tag}"] = f.euler
         if f.positions is not None:
@@ -308,7 +298,10 @@ def build_features(
     folder.mkdir(parents=True, exist_ok=True)
     crop = plan.selection.crop_seconds
     src = source_hash(compute_files())
-    files = [_feature_file(folder, r, d, crop, src) for r, d in zip(plan.motions, plan.sha256)]
+    files = [
+        folder / f"{r.name}_{_hash([CACHE_FORMAT, d, crop, src])[:16]}.npz"
+        for r, d in zip(plan.motions, plan.sha256)
+    ]
     code = _code_key()
     _reuse_features(folder, files)
     todo = [(r, p, crop, code) for r, p in zip(plan.motions, files) if not p.is_file()]
@@ -344,10 +337,6 @@ def _await_files(paths: list, ready, what: str, folder: Path) -> None:
             f"{VISIBLE_TIMEOUT:g} s (e.g. {Path(missing[0]).name}): the results folder must be "
             "on a filesystem this machine and every worker share, at the same path (--results)"
         )
-
-
-def _unit_id(index: int, record) -> str:
-    return f"{index:04d}_{record.name}"
 
 
 def _chunk_algorithms(path: Path, base_key: str) -> set:
@@ -524,13 +513,6 @@ def _now() -> str:
     return _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
 
 
-def _outputs_exist(out: Path, run: dict) -> bool:
-    files = [out / "pairs.json", out / "summary.json"]
-    for a in run.get("algorithms", []):
-        files.append(out / "algorithms" / f"{a['slug']}.npz")
-    return all(f.is_file() for f in files)
-
-
 def _remove_temporaries(out: Path) -> None:
     """Temporary files a killed run left in the runner's own files and folders."""
     for name in ("pairs.json", "summary.json", "run.json"):
@@ -573,7 +555,7 @@ def _compute(executor: Executor, mode, plan, specs, out: Path, base_key, progres
     for p in plan.pairs:
         i = p["input_index"]
         if i not in units:
-            uid = _unit_id(i, plan.motions[i])
+            uid = f"{i:04d}_{plan.motions[i].name}"
             units[i] = {"id": uid, "chunk": str(out / "chunks" / f"{uid}.npz"), "pairs": []}
         units[i]["pairs"].append(p)
     units = list(units.values())
@@ -681,7 +663,9 @@ def run_experiments(
 
     runf = out / "run.json"
     prev = load_json(runf) if runf.is_file() else {}
-    if prev.get("config_key") == config_key and _outputs_exist(out, prev):
+    outputs = [out / "pairs.json", out / "summary.json"]
+    outputs += [out / "algorithms" / f"{a['slug']}.npz" for a in prev.get("algorithms", [])]
+    if prev.get("config_key") == config_key and all(f.is_file() for f in outputs):
         say(f"{mode}: nothing to do (config key {config_key[:12]} matches, all outputs in {out})")
         return Results(out)
     if not prev:
