@@ -134,8 +134,7 @@ def assess_q6(ctx):
         return why
     raised = ev.better("OPW" + G.PAUSE_SUFFIX, "OPW", "deviation")
     part = Part(
-        "the pause raises OPW's median deviation (with minus without, paired, above 0)",
-        Not(raised),
+        "the pause raises OPW's median deviation (with minus without, paired, above 0)", Not(raised)
     )
     findings = []
     for n in G.PAUSE_METHODS:

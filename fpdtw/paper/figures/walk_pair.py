@@ -19,10 +19,7 @@ from fpdtw.period import dominant_period
 from fpdtw.registry import align
 
 #: (dataset, path) of the input and the target motion of the walk pair.
-WALK_PAIR = (
-    ("authors_fbx", "MoCapData/Walk_01.fbx"),
-    ("authors_fbx", "MoCapData/Walk_02.fbx"),
-)
+WALK_PAIR = (("authors_fbx", "MoCapData/Walk_01.fbx"), ("authors_fbx", "MoCapData/Walk_02.fbx"))
 #: Seconds kept of each motion in smoke runs.
 SMOKE_SECONDS = 2.0
 #: The algorithms of the paper's Fig. 8, unconstrained.

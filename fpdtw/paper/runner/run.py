@@ -55,17 +55,8 @@ from fpdtw.online.window import WindowCache, run_group
 from fpdtw.paper import catalog, numbers, provenance
 from fpdtw.paper.atomic import TMP_SUFFIX, tmp_path
 from fpdtw.paper.paths import results_dir
-from fpdtw.paper.runner.grid import (
-    mode_algorithms,
-    split_rate,
-    split_transform,
-)
-from fpdtw.paper.runner.parallel import (
-    CONNECT_TIMEOUT,
-    ClusterError,
-    Executor,
-    scheduler_from_env,
-)
+from fpdtw.paper.runner.grid import mode_algorithms, split_rate, split_transform
+from fpdtw.paper.runner.parallel import CONNECT_TIMEOUT, ClusterError, Executor, scheduler_from_env
 from fpdtw.paper.runner.results import (
     BASE_FPS,
     LOW_FPS,
@@ -286,11 +277,7 @@ def _reuse_features(folder: Path, files: list) -> int:
 
 
 def build_features(
-    plan: PairSelection,
-    folder: Path,
-    n_jobs=2,
-    progress=True,
-    executor: Executor | None = None,
+    plan: PairSelection, folder: Path, n_jobs=2, progress=True, executor: Executor | None = None
 ) -> list:
     """The feature cache files in ``folder`` of every motion of a plan, one per motion, built
     where missing (on ``executor``, else ``n_jobs`` joblib processes) or copied from another
