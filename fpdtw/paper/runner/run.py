@@ -235,9 +235,7 @@ def _code_key() -> str:
     return f"{CACHE_FORMAT}:{source_hash(compute_files())}"
 
 
-@functools.lru_cache(maxsize=1)
-def _worker_code_key() -> str:
-    return _code_key()
+_worker_code_key = functools.lru_cache(maxsize=1)(_code_key)
 
 
 def _check_code(expected: str) -> None:
@@ -260,10 +258,8 @@ def _reuse_features(folder: Path, files: list) -> int:
     siblings = [d for d in siblings if d.is_dir() and d.resolve() != folder.resolve()]
     n = 0
     for p in files:
-        if p.is_file():
-            continue
         src = next((d / p.name for d in siblings if (d / p.name).is_file()), None)
-        if src is None:
+        if p.is_file() or src is None:
             continue
         tmp = tmp_path(p)
         try:
