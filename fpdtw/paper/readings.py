@@ -267,13 +267,10 @@ def choice_values(results, name: str, variant: str, features=None) -> dict:
     return out
 
 
-def _choice_medians(results, name, features, variant):
-    """Median similarity and deviation of ``name`` (120 Hz) under a metric-side variant."""
-    vals = choice_values(results, name, variant, features)
-    sim0, dev0 = _medians(results, name)  # where the variant leaves a metric as it is
-    sim = float(np.nanmedian(vals["similarity"])) if "similarity" in vals else sim0
-    dev = float(np.nanmedian(vals["deviation"])) if "deviation" in vals else dev0
-    return sim, dev
+_DETAIL_KEYS = (
+    "choice algorithm similarity_ours similarity_alternative deviation_ours "
+    "deviation_alternative verdict_changes"
+).split()
 
 
 def silent_choice_rows(results, features=None) -> tuple[list[dict], list[dict]]:
@@ -305,19 +302,11 @@ def silent_choice_rows(results, features=None) -> tuple[list[dict], list[dict]]:
                     continue
                 s1, d1 = _medians(results, alt)
             else:
-                s1, d1 = _choice_medians(results, name, features, key)
+                vals = choice_values(results, name, key, features)  # a metric it leaves: ours
+                s1 = float(np.nanmedian(vals["similarity"])) if "similarity" in vals else s0
+                d1 = float(np.nanmedian(vals["deviation"])) if "deviation" in vals else d0
             flips = _passes(s0, d0, bench["similarity"]) != _passes(s1, d1, bench["similarity"])
-            rows.append(
-                dict(
-                    choice=key,
-                    algorithm=name,
-                    similarity_ours=s0,
-                    similarity_alternative=s1,
-                    deviation_ours=d0,
-                    deviation_alternative=d1,
-                    verdict_changes=bool(flips),
-                )
-            )
+            rows.append(dict(zip(_DETAIL_KEYS, (key, name, s0, s1, d0, d1, bool(flips)))))
         detail += rows
         summary.append(
             dict(
