@@ -558,26 +558,19 @@ def _work_views(work, iwork):
 
 
 @numba.njit(cache=True)
-def _store_frame(k, Tq, Te, q, fq, fe):
-    """Store a streamed frame in row ``q`` of ``Tq, Te``; False (none stored) for another shape."""
-    if fq.shape[0] != k or fq.shape[1] != 4 or fe.shape[0] != k or fe.shape[1] != 3:
-        return False
-    for j in range(k):
-        for a in range(4):
-            Tq[q, j, a] = fq[j, a]
-        for a in range(3):
-            Te[q, j, a] = fe[j, a]
-    return True
-
-
-@numba.njit(cache=True)
 def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
     """The whole ``step`` in one call: store the frame in row ``q``, step, store ``M[q]``;
     -1 (a frame of another shape) or -2 (weighted joints): the caller takes the general path."""
     if iwork[_HEADER + P_WEIGHTED] != 0:
         return -2
-    if not _store_frame(Iq.shape[1], Tq, Te, q, fq, fe):
-        return -1
+    k = Iq.shape[1]
+    if fq.shape[0] != k or fq.shape[1] != 4 or fe.shape[0] != k or fe.shape[1] != 3:
+        return -1  # none stored
+    for j in range(k):
+        for a in range(4):
+            Tq[q, j, a] = fq[j, a]
+        for a in range(3):
+            Te[q, j, a] = fe[j, a]
     if iwork[_HEADER + P_METHOD] == METHOD_A:
         prm, table, tv, out, c = _head_views(work, iwork)
         m = _a_step(Iq, Tq, q, M, tv, prm, table, c, out, work[0:0])
