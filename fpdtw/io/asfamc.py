@@ -121,6 +121,7 @@ def read_asf(path) -> AsfSkeleton:
         if not s:
             continue
         tok = s.split()
+        key = tok[0].lower()
         if tok[0].startswith(":"):
             if bone is not None:
                 raise err("bone block not closed with 'end'", line=ln)
@@ -130,7 +131,6 @@ def read_asf(path) -> AsfSkeleton:
                 raise err("':units' takes its values on later lines", line=ln)
             continue
         if section == "units":
-            key = tok[0].lower()
             if key == "length":
                 (scale,) = _floats(path, tok[1:], ln, "units length", 1)
                 if scale <= 0:
@@ -142,7 +142,6 @@ def read_asf(path) -> AsfSkeleton:
                 units["angle"] = tok[1].lower()
             # mass and others: not needed
         elif section == "root":
-            key = tok[0].lower()
             if key == "order":
                 chans = tuple(t.upper() for t in tok[1:])
                 bad = [c for c in chans if c not in _ROOT_CHANNELS]
@@ -162,7 +161,6 @@ def read_asf(path) -> AsfSkeleton:
             else:
                 raise err(f"unknown root field {tok[0]!r}", line=ln)
         elif section == "bonedata":
-            key = tok[0].lower()
             if key == "begin":
                 if bone is not None:
                     raise err("'begin' inside a bone block", line=ln)
@@ -214,12 +212,8 @@ def read_asf(path) -> AsfSkeleton:
                 bone["dofs"] = dofs
             # id, limits (and their continuation lines), bodymass, cofmass: ignored
         elif section == "hierarchy":
-            key = tok[0].lower()
-            if key == "begin":
-                hier_state = "open"
-                continue
-            if key == "end":
-                hier_state = "closed"
+            if key in ("begin", "end"):
+                hier_state = "open" if key == "begin" else "closed"
                 continue
             if hier_state != "open":
                 raise err("hierarchy line outside begin/end", line=ln)

@@ -38,13 +38,6 @@ _CHANNELS = {
 _AXIS_NAME = "XYZ"
 
 
-def _fps_from_frame_time(ft: float) -> float:
-    n = round(1.0 / ft)
-    if n >= 1 and abs(ft * n - 1.0) < 1e-4:
-        return float(n)
-    return 1.0 / ft
-
-
 class _Joint:
     __slots__ = ("name", "parent", "offset", "channels", "line", "chan_line")
 
@@ -380,8 +373,10 @@ def parse_bvh_header(lines, path=None, *, stream: bool = False) -> BVHHeader:
         raise err(f"Frame Time: {value!r} is not a number", line=ln) from None
     if not math.isfinite(frame_time) or frame_time <= 0:
         raise err(f"Frame Time must be > 0, got {value}", line=ln)
-    raw = 1.0 / frame_time  # inf for a frame time below about 1e-308
-    fps = _fps_from_frame_time(frame_time) if math.isfinite(raw) else raw
+    fps = 1.0 / frame_time  # inf for a frame time below about 1e-308
+    n = round(fps) if math.isfinite(fps) else 0
+    if n >= 1 and abs(frame_time * n - 1.0) < 1e-4:
+        fps = float(n)  # a whole rate printed with rounding
     fps = limits.check_file_fps(fps, path, line=ln, source=f"Frame Time {value} s")
     return BVHHeader(path, joints, n_frames, fps, ln)
 

@@ -134,17 +134,14 @@ class OnlineAligner(ABC):
             new[: old.shape[0]] = old
             setattr(self, name, new)
 
-    def _keep_rows(self) -> int | None:
-        """Rows to keep when compacting, or None to keep everything."""
-        if self.history is None or getattr(self, "record", False):
-            return None
-        return max(int(self.history), _MIN_KEEP)
-
     def _make_room(self) -> None:
         """The buffers are full: compact them (bounded history) or grow them."""
         rows = self._Tq.shape[0]
-        keep = self._keep_rows()
-        if keep is None or rows < max(self._history_rows, 2 * keep):
+        if self.history is None or getattr(self, "record", False):
+            self._grow()  # keep everything
+            return
+        keep = max(int(self.history), _MIN_KEEP)
+        if rows < max(self._history_rows, 2 * keep):
             self._grow()
             return
         shift = rows - keep

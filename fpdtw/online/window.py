@@ -375,10 +375,7 @@ def _a_step(Iq, Tq, q, M, state, prm, table, c, out, wts):
     """
     m = Iq.shape[0] - 1
     w = prm[P_W]
-    out[1] = 0
-    out[2] = 0
-    out[3] = 0
-    out[4] = 0
+    out[1:5] = 0
     if q == 0:
         out[0] = STEP_FIRST
         return _first_frame(Iq, Tq, w, m, prm[P_START_BEST] != 0, wts)
@@ -417,10 +414,7 @@ def _window_step(
         return _a_step(Iq, Tq, q, M, state, prm, table, C[:, 0], out, wts)
     m = Iq.shape[0] - 1
     w = prm[P_W]
-    out[1] = 0
-    out[2] = 0
-    out[3] = 0
-    out[4] = 0
+    out[1:5] = 0
     if q == 0:
         out[0] = STEP_FIRST
         return _first_frame(Iq, Tq, w, m, prm[P_START_BEST] != 0, wts)
@@ -510,13 +504,6 @@ _H_K, _H_W, _H_NS = 0, 1, 2
 _HEADER = 3
 
 
-def _work_sizes(k: int, W: int, ns: int) -> tuple:
-    """Lengths of the float64 and int64 work buffers."""
-    floats = W * W + k * 4 * W + W * W + W + 4 * k + 1 + 12 * k
-    ints = _HEADER + N_PARAMS + 4 * ns + 1 + N_OUT + k + W + 4 * W + 1 + 2
-    return floats, ints
-
-
 @numba.njit(cache=True)
 def _head_views(work, iwork):
     """``prm, table, tv, out`` and column 0 of ``C``: all Method A needs, in one reshape
@@ -571,26 +558,19 @@ def _work_views(work, iwork):
 
 
 @numba.njit(cache=True)
-def _store_frame(k, Tq, Te, q, fq, fe):
-    """Store a streamed frame in row ``q`` of ``Tq, Te``; False (none stored) for another shape."""
-    if fq.shape[0] != k or fq.shape[1] != 4 or fe.shape[0] != k or fe.shape[1] != 3:
-        return False
-    for j in range(k):
-        for a in range(4):
-            Tq[q, j, a] = fq[j, a]
-        for a in range(3):
-            Te[q, j, a] = fe[j, a]
-    return True
-
-
-@numba.njit(cache=True)
 def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
     """The whole ``step`` in one call: store the frame in row ``q``, step, store ``M[q]``;
     -1 (a frame of another shape) or -2 (weighted joints): the caller takes the general path."""
     if iwork[_HEADER + P_WEIGHTED] != 0:
         return -2
-    if not _store_frame(Iq.shape[1], Tq, Te, q, fq, fe):
-        return -1
+    k = Iq.shape[1]
+    if fq.shape[0] != k or fq.shape[1] != 4 or fe.shape[0] != k or fe.shape[1] != 3:
+        return -1  # none stored
+    for j in range(k):
+        for a in range(4):
+            Tq[q, j, a] = fq[j, a]
+        for a in range(3):
+            Te[q, j, a] = fe[j, a]
     if iwork[_HEADER + P_METHOD] == METHOD_A:
         prm, table, tv, out, c = _head_views(work, iwork)
         m = _a_step(Iq, Tq, q, M, tv, prm, table, c, out, work[0:0])
@@ -721,10 +701,10 @@ class WindowAligner(OnlineAligner):
             if self.constraint is None
             else np.ascontiguousarray(self.constraint.table, dtype=np.int64)
         )
-        nf, ni = _work_sizes(k, W, table.shape[0])
-        self._work = np.zeros(nf)
-        self._iwork = np.zeros(ni, dtype=np.int64)
-        self._iwork[[_H_K, _H_W, _H_NS]] = k, W, table.shape[0]
+        ns = table.shape[0]
+        self._work = np.zeros(W * W + k * 4 * W + W * W + W + 4 * k + 1 + 12 * k)
+        self._iwork = np.zeros(_HEADER + N_PARAMS + 4 * ns + 1 + N_OUT + k + 5 * W + 3, np.int64)
+        self._iwork[[_H_K, _H_W, _H_NS]] = k, W, ns
         (
             self._F, self._C, self._D, self._score, cF, cG, cKey, self._params, self._table,
             self._codes, self._tv, self._P, self._path, self._out, cN, cMeta,
@@ -735,7 +715,8 @@ class WindowAligner(OnlineAligner):
         self._placeholder = (cF, cG, cN, cMeta, cKey)
         super().__init__(I)
         self._configure()
-        self.name = self._make_name()
+        name = self.name_for(self.w, **self.settings)
+        self.name = name if self.constraint is None else f"{name} + {self.constraint.name}"
 
     def _configure(self) -> None:
         """Fill the parameter vector; choose the cache arrays and the one-call path."""
@@ -788,11 +769,6 @@ class WindowAligner(OnlineAligner):
     @classmethod
     def _base_name_for(cls, w: int) -> str:
         return f"{cls.label} w{w}"
-
-    def _make_name(self) -> str:
-        c = self.constraint
-        name = self.name_for(self.w, **self.settings)
-        return name if c is None else f"{name} + {c.name}"
 
     def reset(self) -> None:
         super().reset()
