@@ -108,6 +108,65 @@ def test_the_check_would_catch_an_upward_import(tmp_path):
     assert "fpdtw.paper.numbers" in _imports(f)
 
 
+def _import_cycles(pkg: Path) -> list:
+    """The import circles among the modules of package folder ``pkg``, imports inside
+    functions included: each as a sorted list of module names (a strongly connected
+    component of more than one module, or a module importing itself)."""
+    files = {}
+    for f in pkg.rglob("*.py"):
+        parts = f.relative_to(pkg.parent).with_suffix("").parts
+        files[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = f
+    graph = {}
+    for mod, f in files.items():
+        found = {m for m in _imports(f) if m in files}
+        # ``from fpdtw.x import y`` with y a module: the edge is to y, not to fpdtw.x
+        found -= {m for m in found if any(o.startswith(m + ".") for o in found)}
+        graph[mod] = found
+    index, low, stack, on, out = {}, {}, [], set(), []
+
+    def visit(v):  # Tarjan's strongly connected components
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in graph[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while not comp or comp[-1] != v:
+                comp.append(stack.pop())
+                on.discard(comp[-1])
+            if len(comp) > 1 or v in graph[v]:
+                out.append(sorted(comp))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return out
+
+
+def test_no_import_circles():
+    """No module of fpdtw reaches itself through its imports, at module level or inside a
+    function (issue "a small library": the claims' circle was hidden by in-function
+    imports)."""
+    assert _import_cycles(PKG) == []
+
+
+def test_the_circle_check_would_catch_one_hidden_in_a_function(tmp_path):
+    pkg = tmp_path / "fpdtw"
+    (pkg / "app").mkdir(parents=True)
+    (pkg / "__init__.py").write_text("")
+    (pkg / "app" / "__init__.py").write_text("")
+    (pkg / "app" / "a.py").write_text("from fpdtw.app.b import X\n")
+    (pkg / "app" / "b.py").write_text("X = 1\n\ndef f():\n    from fpdtw.app import a\n")
+    assert _import_cycles(pkg) == [["fpdtw.app.a", "fpdtw.app.b"]]
+    (pkg / "app" / "b.py").write_text("X = 1\n")
+    assert _import_cycles(pkg) == []
+
+
 def test_the_plain_algorithms_live_in_the_package():
     """fpdtw.plain holds the plain versions of the algorithms, the ones the tests compare
     the fast kernels with; tests/reference holds test data only (synthetic motions, edited

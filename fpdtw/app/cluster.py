@@ -17,25 +17,21 @@ import uuid
 from distributed import Client, KilledWorker, as_completed
 
 from fpdtw.errors import ClusterError
-from fpdtw.paper.runner.parallel import LOCAL
 
 #: Protocols of a scheduler address.
 SCHEMES = ("tcp", "tls")
 _HOST = re.compile(r"^(\[[0-9A-Fa-f:.%a-zA-Z]+\]|[A-Za-z0-9]([A-Za-z0-9._-]*[A-Za-z0-9])?)$")
 
 
-def scheduler_address(text) -> str | None:
-    """A Dask scheduler address in full (``tcp://host:port``), or None for no cluster.
+def scheduler_address(text) -> str:
+    """A Dask scheduler address in full (``tcp://host:port``).
 
     ``text``: ``tcp://host:port``, ``tls://host:port`` or ``host:port`` (TCP), IPv6 hosts in
-    brackets (``tcp://[::1]:8786``); None, ``""`` and ``"local"`` mean no cluster. A
-    malformed address raises ClusterError naming what is wrong.
+    brackets (``tcp://[::1]:8786``); "no cluster" (None, ``""``, ``"local"``) is the caller's
+    (:func:`fpdtw.paper.runner.parallel.scheduler_address`). A malformed address raises
+    ClusterError naming what is wrong.
     """
-    if text is None:
-        return None
     s = str(text).strip()
-    if s in ("", LOCAL):
-        return None
     where = f"scheduler address {str(text)!r}"
     example = "e.g. tcp://10.0.0.5:8786 (8786 is the port `dask scheduler` listens on by default)"
     scheme, sep, rest = s.partition("://")
