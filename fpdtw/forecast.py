@@ -1,7 +1,7 @@
 """Forecasting joint rotations: dead reckoning and smoothing (FP-DTW Section 3.2, Fig. 3).
 
 Methods B and C forecast the target by dead reckoning on unwrapped Euler angles
-(``forecastJoints``, :func:`fpdtw.plain.forecast_joints`, also importable from here), then
+(``forecastJoints``, :func:`fpdtw.plain.forecast_joints`), then
 turn the forecast into quaternions in each joint's rotation order for eq. 1
 (:func:`euler_to_quat_fast`; the window methods inline its kernel). For Fig. 3, three
 forecasters predict ``i = 1..H`` frames ahead: :func:`dead_reckoning`,

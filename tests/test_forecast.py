@@ -12,12 +12,12 @@ from fpdtw.forecast import (
     euler_to_quat_fast,
     exponential_smoothing,
     forecast_error_curve,
-    forecast_joints,
     holt,
     level_to_alpha,
     order_codes,
 )
 from fpdtw.motion.rotations import ORDERS, euler_to_quat
+from fpdtw.plain import forecast_joints
 
 
 def test_euler_to_quat_fast_equals_rotations_up_to_sign():
