@@ -258,8 +258,10 @@ def _reuse_features(folder: Path, files: list) -> int:
     siblings = [d for d in siblings if d.is_dir() and d.resolve() != folder.resolve()]
     n = 0
     for p in files:
+        if p.is_file():
+            continue
         src = next((d / p.name for d in siblings if (d / p.name).is_file()), None)
-        if p.is_file() or src is None:
+        if src is None:
             continue
         tmp = tmp_path(p)
         try:
