@@ -1,13 +1,9 @@
 """Forecasting joint rotations: dead reckoning and smoothing (FP-DTW Section 3.2, Fig. 3).
 
-Methods B and C forecast the target by dead reckoning on unwrapped Euler angles
-(``forecastJoints``, :func:`fpdtw.plain.forecast_joints`), then
-turn the forecast into quaternions in each joint's rotation order for eq. 1
-(:func:`euler_to_quat_fast`; the window methods inline its kernel). For Fig. 3, three
-forecasters predict ``i = 1..H`` frames ahead: :func:`dead_reckoning`,
-:func:`exponential_smoothing` and :func:`holt`, a smoothing level ``s`` read as ``alpha =
-2 / (s + 1)`` (:func:`level_to_alpha`); :func:`forecast_error_curve` measures their eq. 1
-error.
+Methods B and C dead-reckon the target on unwrapped Euler angles (``forecastJoints``), then
+turn the forecast into quaternions for eq. 1 (:func:`euler_to_quat_fast`; the window methods
+inline its kernel). Fig. 3's forecasters read a smoothing level ``s`` as ``alpha = 2 / (s + 1)``
+(:func:`level_to_alpha`); :func:`forecast_error_curve` measures their eq. 1 error.
 """
 
 from __future__ import annotations
@@ -17,19 +13,9 @@ import math
 import numba
 import numpy as np
 
-from fpdtw.motion.rotations import ORDERS, check_order
+from fpdtw.motion.kinematics import ORDER_AXES, order_codes
 
-#: ``ORDER_AXES[code]`` = axes (0=X, 1=Y, 2=Z) of rotation order ``ORDERS[code]`` in the
-#: order they are applied to a vector (``"XYZ"``: X first, so R = Rz Ry Rx).
-ORDER_AXES = np.array([["XYZ".index(a) for a in o] for o in ORDERS], dtype=np.int64)
-
-_HALF_RAD_PER_DEG = math.pi / 360.0  # half-angle in radians per degree
-
-
-def order_codes(orders) -> np.ndarray:
-    """Indices into :data:`fpdtw.motion.rotations.ORDERS` (int64, shape (k,)) of one
-    rotation order per joint, e.g. ``("ZXY", "XYZ")``; ValueError for another order."""
-    return np.array([ORDERS.index(check_order(o)) for o in orders], dtype=np.int64)
+_HALF_RAD_PER_DEG = math.pi / 360.0
 
 
 @numba.njit(cache=True, inline="always")
@@ -103,9 +89,6 @@ def euler_to_quat_fast(E, orders) -> np.ndarray:
     out = np.empty((flat.shape[0], k, 4))
     _euler_to_quat_block(flat, codes, out)
     return out.reshape(lead + (k, 4))
-
-
-# --- forecasters for Fig. 3 ------------------------------------------------------------
 
 
 def level_to_alpha(s) -> float:

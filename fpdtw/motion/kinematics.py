@@ -1,11 +1,8 @@
-"""One frame at a time, compiled: the rotations and joint positions of a streamed frame.
+"""One frame at a time, compiled (a Motion's scipy and NumPy calls take tens of microseconds).
 
-A :class:`~fpdtw.motion.Motion` computes rotations (scipy) and positions (NumPy forward
-kinematics) for all its frames at once, at tens of microseconds per call. These kernels
-do one frame operation for operation as their twins (same products and order, no fused
-multiply-add), so bit for bit: :func:`fpdtw.motion.motion.joint_quats` for
-:func:`frame_quats`, :meth:`~fpdtw.motion.Motion.forward_kinematics` for
-:func:`frame_positions` (tested on real motions and random angles).
+The kernels do one frame operation for operation as their twins (no fused multiply-add), so
+bit for bit (tested): :func:`frame_quats` as :func:`fpdtw.motion.motion.joint_quats`,
+:func:`frame_positions` as :meth:`~fpdtw.motion.Motion.forward_kinematics`.
 """
 
 from __future__ import annotations
@@ -17,8 +14,8 @@ import numpy as np
 
 from fpdtw.motion.rotations import ORDERS, check_order
 
-#: ``_AXES[code]``: the axes (0 = X, 1 = Y, 2 = Z) of ``ORDERS[code]`` in the order applied.
-_AXES = np.array([["XYZ".index(a) for a in o] for o in ORDERS], dtype=np.int64)
+#: ``ORDER_AXES[code]``: the axes (0 = X, 1 = Y, 2 = Z) of ``ORDERS[code]`` in the order applied.
+ORDER_AXES = np.array([["XYZ".index(a) for a in o] for o in ORDERS], dtype=np.int64)
 _RAD_PER_DEG = math.pi / 180.0
 
 
@@ -54,18 +51,19 @@ def _frame_quats(E, codes, axes, out):
 
 
 def order_codes(orders) -> np.ndarray:
-    """Codes (indices into :data:`fpdtw.motion.rotations.ORDERS`) of rotation orders."""
+    """Indices into :data:`fpdtw.motion.rotations.ORDERS`, int64 (k,), of rotation orders.
+
+    ValueError for another order."""
     return np.array([ORDERS.index(check_order(o)) for o in orders], dtype=np.int64)
 
 
 def frame_quats(euler, codes) -> np.ndarray:
     """Local rotations (J, 4), ``w >= 0``, of one frame's Euler angles ``euler`` (J, 3).
 
-    ``codes``: :func:`order_codes` of the joints' orders. Bit for bit
-    :func:`fpdtw.motion.motion.joint_quats`."""
+    ``codes``: :func:`order_codes` of the joints' orders."""
     E = np.ascontiguousarray(euler, dtype=np.float64)
     out = np.empty((E.shape[0], 4))
-    _frame_quats(E, codes, _AXES, out)
+    _frame_quats(E, codes, ORDER_AXES, out)
     return out
 
 
