@@ -1,9 +1,8 @@
 """Frame-to-frame costs: FP-DTW eq. 1 (geodesic) and OPW poster eq. 5 (positions).
 
-Eq. 1 is ``sum_j (2/pi) arccos |q_a . q_b|``, the dot product clipped to [0, 1]. Its
-``arccos`` is :func:`_acos01`, a branch-free polynomial within 1 ulp of libm's (tested),
-about five times faster; every cost in fpdtw uses it, so offline DTW, OE-DTW and the window
-methods see bit-identical costs. The numba kernels are what the online methods call.
+Eq. 1's ``arccos`` is :func:`_acos01`, a branch-free polynomial within 1 ulp of libm's
+(tested), about five times faster; every cost in fpdtw uses it, so offline DTW, OE-DTW and
+the window methods see bit-identical costs.
 """
 
 from __future__ import annotations
@@ -113,10 +112,9 @@ def _geo_frame(qa, qb):
 
 @numba.njit(cache=True)
 def _geo_line_w(a, B, lo, hi, acc, out, wts):
-    """``out[c] = geoDistance(a, B[:, :, lo + c])`` for ``c < hi - lo``, weighted as
-    :func:`_geo_frame_w`; a : float64 (k, 4); B : float64 (k, 4, n), joint-major (so the
-    loop over frames vectorises); acc : scratch. The same operations in the same order as
-    :func:`_geo_frame_w`, so bit-identical to it.
+    """``out[c] = geoDistance(a, B[:, :, lo + c])`` for ``c < hi - lo``, bit-identical to
+    :func:`_geo_frame_w`; a (k, 4); B (k, 4, n) joint-major, so the loop over frames
+    vectorises; acc: scratch.
 
     Plain version: fpdtw.plain.geo_distance.
     """

@@ -55,8 +55,7 @@ def derivative_quats(quats) -> np.ndarray:
 
 
 def derivative_rig(rig: RigTransform | None) -> RigTransform | None:
-    """The rig transform of a motion's derivative: ``(A, A^-1)`` of the motion's ``(A, B)``
-    (None stays None)."""
+    """The rig transform of a motion's derivative: ``(A, A^-1)`` of its ``(A, B)``; None: None."""
     if rig is None:
         return None
     return RigTransform(rig.left, quat_conj(rig.left))
@@ -68,9 +67,7 @@ def _euler(dq: np.ndarray, orders) -> np.ndarray:
 
 
 def derivative_features(F: MotionFeatures) -> MotionFeatures:
-    """The derivative motion of ``F`` (module docstring): frame-to-frame rotations, their
-    unwrapped Euler angles and position differences, the rig of :func:`derivative_rig`,
-    named ``F.name + " (derivative)"``.
+    """The derivative motion of ``F`` (module docstring), named ``F.name + " (derivative)"``.
 
     Parameters
     ----------

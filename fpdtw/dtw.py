@@ -60,10 +60,8 @@ def _check_cost(C, what="cost matrix", finite=True) -> np.ndarray:
 
 @numba.njit(cache=True)
 def _accumulate(C, wd, D):
-    """Fill ``D`` (same shape as ``C``) with the accumulated cost; ``wd`` = diagonal weight.
-
-    Each cell is ``min(D[i-1, j-1] + wd*c, D[i-1, j] + c, D[i, j-1] + c)``, dtw-python's
-    floating-point operations, so ``D`` agrees bit for bit.
+    """Fill ``D`` (shape of ``C``) with the accumulated cost, ``wd`` the diagonal weight, by
+    dtw-python's floating-point operations (so bit for bit).
 
     Plain version: fpdtw.plain.accumulate.
     """

@@ -1,16 +1,8 @@
 """Plausible ranges and size limits, checked before anything of that size is allocated.
 
-A motion file or an option decides how much memory and time fpdtw uses (a BVH ``Frame
-Time: 1e-300`` is a 1e300 Hz motion, ``--fps 1e6`` turns 5 s into 5 million frames, DTW of
-two one-hour takes needs ``432001 x 432001`` cells). Past a limit the error names the
-file(s), the number, the limit and the way out: implausible file content is a
-:class:`~fpdtw.errors.MotionFormatError` of that file, a request too large for files that
-are fine a :class:`~fpdtw.errors.LimitError`. Each limit's comment says why its number;
-docs/limits.md tables what checks each. Override a limit with its environment variable
-(``FPDTW_`` and its name, read at every check) or in Python::
-
-    with fpdtw.limits.override(max_matrix_bytes=8 * 2**30):
-        result = dtw_pair(I, T)
+docs/limits.md tables the limits, what checks each and the errors past them; each limit's
+comment says why its number. A limit is overridden by its environment variable (``FPDTW_``
+and its name, read at every check) or :func:`override`.
 """
 
 from __future__ import annotations
@@ -141,8 +133,7 @@ def check_file_fps(fps: float, path, *, line: int | None = None, source: str = "
 
 
 def _beyond(name: str, value, show=str) -> str | None:
-    """``"more than the limit of <limit> (<env var>)"`` when ``value`` exceeds the limit
-    ``name``, else None (``show`` formats the limit)."""
+    """``"more than the limit of <limit> (<env var>)"`` past limit ``name`` (``show``) or None."""
     hi = get(name)
     if value <= hi:
         return None
@@ -212,8 +203,7 @@ def dtw_bytes(rows: int, cols: int) -> int:
 
 
 def window_bytes(w: int) -> int:
-    """Bytes of the window matrices of Methods B and C, at most two float64
-    ``(w + 1) x (w + 1)`` (Method A needs less)."""
+    """Bytes of Methods B and C's window matrices, at most two float64 ``(w + 1) x (w + 1)``."""
     return 16 * (int(w) + 1) ** 2
 
 

@@ -2,8 +2,7 @@
 
 :func:`kendall_tau_b` is an ``O(n log n)`` numba kernel (Knight 1966: sort by ``(x, y)``,
 count the inversions of ``y`` by merge sort) that agrees with ``scipy.stats.kendalltau``
-(variant ``"b"``) at about 1/100 of its cost. The readings of eq. 2 are the options of
-:func:`similarity`; docs/eq2_reading.md discusses which rotation turns its vector.
+at about 1/100 of its cost. The readings of eq. 2 are the options of :func:`similarity`.
 """
 
 from __future__ import annotations

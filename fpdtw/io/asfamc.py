@@ -444,9 +444,8 @@ def _amc_checked(path, lines, asf, layout, width):
 
 
 def _amc_fast(lines, layout, width):
-    """Vectorised parse of a regular AMC file (the same bones in the same order every frame).
-
-    ``(data, unit)`` as :func:`_amc_checked`, or None to let it find what is wrong."""
+    """``(data, unit)`` of a regular AMC file (the same bones in the same order every frame),
+    vectorised, as :func:`_amc_checked`; or None to let it find what is wrong."""
     unit = None
     i = 0
     n = len(lines)

@@ -341,10 +341,8 @@ def _angle(a, b):
 
 
 def _rotation_curves(nodes, orders, pre, post, Q, values, sampled, p):
-    """Euler angles (F, J, 3) of each joint's Lcl Rotation curve node.
-
-    The one whose angles give ufbx's evaluated ``Q[:, j] = pre_j R(angles) post_j`` at every
-    frame."""
+    """Euler angles (F, J, 3) of each joint's Lcl Rotation curve node: the one whose angles
+    give ufbx's evaluated ``Q[:, j] = pre_j R(angles) post_j`` at every frame."""
     F, J = Q.shape[:2]
     cand = [i for i, s in enumerate(sampled) if s is not None]
     E = np.stack([sampled[i] for i in cand]) if cand else np.zeros((0, F, 3))

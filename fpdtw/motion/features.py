@@ -1,10 +1,4 @@
-"""Per-frame features the aligners consume.
-
-An aligner sees :class:`Frame` records cut from a :class:`MotionFeatures`: the cost
-joints' local rotations (eq. 1), their Euler angles unwrapped over time (dead reckoning)
-and optionally joint positions (the OPW poster's eq. 5). Each carries its rotation orders
-and its :class:`~fpdtw.motion.rig.RigTransform`; None means the input motion's.
-"""
+"""The features aligners consume: a whole motion's (:class:`MotionFeatures`), a frame's."""
 
 from __future__ import annotations
 

@@ -1,10 +1,7 @@
-"""Canonical joint names and how each data source names them.
+"""Canonical joint names, how each data source names them, and joint maps (docs/align.md).
 
-The FP-DTW paper compares 8 joints (Section 4: hips, knees, shoulders, elbows), the OPW
-poster the positions of 16 (eq. 5). A rotation joint is the one that moves the limb
-("left_hip" is ASF ``lfemur``, "left_shoulder" the upper arm, not the clavicle). Joint
-maps are CSV files ``joint,name`` (our joint -> the rig's); :func:`find_joint_map` picks a
-user's, then a built-in one (``fpdtw/motion/joint_maps/``), then the usual names.
+A rotation joint is the one that moves the limb ("left_hip" is ASF ``lfemur``,
+"left_shoulder" the upper arm, not the clavicle).
 """
 
 from __future__ import annotations

@@ -1,13 +1,8 @@
-"""One motion type for every source format.
+"""One motion type for every source format: :class:`Skeleton` and :class:`Motion`.
 
-A :class:`Motion` holds per-frame LOCAL joint rotations (quaternions, and the Euler angles
-they came from in each joint's order), the root translation and a :class:`Skeleton`.
-Forward kinematics, joint ``j`` with parent ``p``::
-
-    G_j = G_p * T(offset_j) * pre_j * R_j(t) * post_j
-
-the root at ``offset_root + root_translation[t]``. ASF ``axis`` and FBX pre/post
-rotations live in ``pre``/``post``; BVH has the identity there.
+Forward kinematics, joint ``j`` with parent ``p``: ``G_j = G_p T(offset_j) pre_j R_j(t) post_j``,
+the root at ``offset_root + root_translation[t]``. ASF ``axis`` and FBX pre/post rotations
+live in ``pre``/``post``; BVH has the identity there.
 """
 
 from __future__ import annotations
@@ -35,10 +30,8 @@ _AXIS = {"X": 0, "Y": 1, "Z": 2}
 
 
 def _euler_near(q, order, ref):
-    """Euler angles of ``q`` (N, 4) in ``order`` on the branch nearest ``ref`` (N, 3).
-
-    Of the triples ``(a, b, c)`` and ``(a + 180, 180 - b, c + 180)``, each up to multiples
-    of 360."""
+    """Euler angles of ``q`` (N, 4) in ``order`` nearest ``ref`` (N, 3): ``(a, b, c)`` or
+    ``(a + 180, 180 - b, c + 180)``, each up to multiples of 360."""
     e = quat_to_euler(q, order)
     cols = [_AXIS[c] for c in order]
     alt = e.copy()
@@ -57,9 +50,7 @@ def _euler_near(q, order, ref):
 
 
 def joint_quats(euler, orders) -> np.ndarray:
-    """Local rotations (F, J, 4), ``w >= 0``, from Euler angles (F, J, 3), per joint order.
-
-    The same for any number of frames: motions and streamed frames alike compute them here."""
+    """Local rotations (F, J, 4), ``w >= 0``, from Euler angles (F, J, 3), per joint order."""
     euler = np.asarray(euler, dtype=float)
     q = np.empty(euler.shape[:2] + (4,))
     by_order = np.array(orders)
@@ -70,12 +61,11 @@ def joint_quats(euler, orders) -> np.ndarray:
 
 
 def blend_poses(q0, q1, e0, e1, r0, r1, a, orders, joints=None):
-    """Poses a fraction ``a`` (N,) of the way between two poses: ``(q, euler, r)``.
+    """Poses a fraction ``a`` (N,) of the way between two poses, row by row: ``(q, euler, r)``.
 
-    As :meth:`Motion.retime` and the live target make them: rotations ``q0, q1`` (N, J, 4)
-    by slerp, root translations ``r0, r1`` (N, 3) linearly, Euler angles (N, len(joints), 3)
-    from the slerped quaternions in ``orders``, on the branch nearest the linear
-    interpolation of ``e0, e1`` (N, J, 3), so they stay continuous. Each row on its own."""
+    Rotations ``q0, q1`` (N, J, 4) by slerp, root translations ``r0, r1`` (N, 3) linearly,
+    Euler angles (N, len(joints), 3) of the slerped quaternions in ``orders``, on the branch
+    nearest the linear interpolation of ``e0, e1`` (N, J, 3)."""
     q = quat_slerp(q0, q1, a[:, None] * np.ones(q0.shape[1]))
     r = (1 - a)[:, None] * r0 + a[:, None] * r1
     a3 = a[:, None, None]
@@ -92,9 +82,8 @@ def blend_poses(q0, q1, e0, e1, r0, r1, a, orders, joints=None):
 
 
 def sample_points(x, n: int):
-    """The frames either side of positions ``x`` (N,), in frames, and the fraction between.
-
-    Returns ``(i0, i1, a)`` for an ``n``-frame motion; within 1e-9 below a frame counts as it."""
+    """``(i0, i1, a)``: the frames of an ``n``-frame motion either side of positions ``x`` (N,),
+    in frames, and the fraction between; within 1e-9 below a frame counts as it."""
     i0 = np.minimum(np.floor(x + 1e-9).astype(np.int64), n - 1)
     i1 = np.minimum(i0 + 1, n - 1)
     a = np.clip(x - i0, 0.0, 1.0)
@@ -370,7 +359,6 @@ class Motion:
         )
         exact = np.abs(x - np.rint(x)) < EXACT_FRAMES
         if exact.any():
-            # frames that fall on an input frame keep its angles and rotation exactly
             near = np.rint(x[exact]).astype(np.int64)
             euler[exact] = self.euler[near]
             q[exact] = self.quats[near]

@@ -1,18 +1,11 @@
 """A pose that means the same on every rig: rotations away from the rest pose, in world axes.
 
-Eq. 1 compares LOCAL rotations, whose meaning depends on the rig (ASF axis frames, FBX
-pre/post rotations, BVH world-aligned axes). For joint ``j`` with parent ``p``, rest
-global rotations ``G^0`` and local rotation ``L_j(t)``::
-
-    Delta_j(t) = G_p^0 L_j(t) (G_j^0)^-1 = A_j R_j(t) B_j
-
-(``A_j = G_p^0 pre_j``, ``B_j = post_j (G_j^0)^-1``: :class:`RigTransform`) is the bone's
-rotation away from its rest orientation in world axes, the same on rigs whose rest poses
-have the same shape. For one rig, conjugation keeps angles: eq. 1 on ``Delta`` is eq. 1
-on the local rotations, so motions of one rig (every pair of the papers) are compared by
-their raw local rotations, and others with the input expressed in the target's rig
-(:func:`cost_input`). The rest pose is the rig's own (zero animated rotations), or a
-frame (``rest_frame``). docs/align.md gives the limits and measurements.
+Joint ``j`` with parent ``p``, rest global rotations ``G^0``, local rotation ``L_j(t)``:
+``Delta_j(t) = G_p^0 L_j(t) (G_j^0)^-1 = A_j R_j(t) B_j`` (``A_j = G_p^0 pre_j``, ``B_j =
+post_j (G_j^0)^-1``: :class:`RigTransform`). For one rig eq. 1 on ``Delta`` is eq. 1 on the
+local rotations (conjugation keeps angles), so motions of one rig are compared by their raw
+local rotations, others with the input expressed in the target's rig (:func:`cost_input`).
+docs/align.md gives the limits and measurements.
 """
 
 from __future__ import annotations
@@ -250,10 +243,8 @@ def trajectory_rotations(motion, frame: str = "local", joints=PAPER_JOINTS) -> n
 
 
 def bone_directions(motion, joints=PAPER_JOINTS) -> np.ndarray:
-    """Each joint's bone direction (k, 3), in the joint's own axes.
-
-    The unit offset to its child with the longest offset; MotionFormatError for a joint
-    without one.
+    """Each joint's bone direction (k, 3) in its own axes: the unit offset to its child with
+    the longest offset (MotionFormatError without one).
 
     Paper: FP-DTW eq. 2 ("a one unit length vector along the joint's orientation",
     read as the bone)."""

@@ -55,10 +55,8 @@ def unwrap_degrees(angles, axis=0):
 
 
 class UnwrapDegrees:
-    """:func:`unwrap_degrees` along time, one frame at a time, bit for bit.
-
-    Called with ``a[0], a[1], ...`` it returns ``unwrap_degrees(a, axis=0)[k]``
-    (numpy.unwrap's operations)."""
+    """:func:`unwrap_degrees` along time, one frame at a time: called with ``a[0], a[1], ...``
+    it returns ``unwrap_degrees(a, axis=0)[k]`` bit for bit (numpy.unwrap's operations)."""
 
     _PERIOD = 2 * np.pi
 

@@ -1,16 +1,10 @@
 """A motion that arrives one frame at a time: the live target of an online alignment.
 
 :class:`LiveTarget` turns captured frames, as they arrive, into frames at the INPUT's rate
-("ticks"), causally (docs/live.md: dropped frames, other capture rates, both gap rules
-measured). A frame ``dt > 1.5 P`` (``P`` the frame period) after the previous one (capture
-time, else arrival) ends a GAP and takes slot ``previous + round(dt / P)``. Tick ``k`` is the
-target at ``k / rate`` s, where :meth:`Motion.resample` puts it: a received frame when it
-falls on one (within :data:`~fpdtw.motion.motion.EXACT_FRAMES`), else blended between the two
-received consecutive slots (:func:`~fpdtw.motion.motion.blend_poses`) once the later one is
-in. Ticks inside a gap are filled when it ends (``gap="slerp"``, default, or ``"hold"``). A
-take streamed without loss gives the frames and map of ``fpdtw align`` bit for bit (but a
-tick just after a received frame at another rate, whose root translation moves by at most
-1e-6 of a frame offline).
+("ticks"), causally; docs/live.md gives the rules for dropped frames (gaps) and other capture
+rates, both measured. A take streamed without loss gives the frames and map of ``fpdtw
+align`` bit for bit (but a tick just after a received frame at another rate, whose root
+translation moves by at most 1e-6 of a frame offline).
 """
 
 from __future__ import annotations

@@ -1,7 +1,6 @@
 """The global band of notebook 16 (Q3; beyond the papers, whose Section 7 suggests one).
 
-The window aligners apply it inside their compiled steps; these functions call the same
-kernels on one window, and :func:`band_cells` counts from a map the cells a band saves.
+The window aligners apply it in their compiled steps; these functions call the same kernels.
 """
 
 from __future__ import annotations
@@ -15,9 +14,8 @@ BAND_SECONDS = ForecastAligner.BAND_SECONDS
 
 
 def band_half_width(band: str, w: int, fps: float) -> int:
-    """Half-width ``B`` in frames of a band option (``"none"``: 0).
-
-    ``"1s"``: ``round(fps)``; ``"half-w"``: ``floor(w / 2)``; each at least 1.
+    """Half-width ``B`` in frames of a band option: ``"none"`` 0, ``"1s"`` ``round(fps)``,
+    ``"half-w"`` ``floor(w / 2)``; both at least 1.
 
     Paper: FP-DTW Section 7 (conclusion: a global constraint).
     """
@@ -31,9 +29,8 @@ def band_half_width(band: str, w: int, fps: float) -> int:
 
 
 def band_rows(start: int, rows: int, q: int, band: int) -> np.ndarray:
-    """Which rows of a window lie inside the band: bool (rows,).
-
-    Row ``r`` (offset from ``M_n = start``) when ``|start + r - q| <= band``.
+    """Which rows ``r`` of a window (offsets from ``M_n = start``) lie inside the band,
+    ``|start + r - q| <= band``: bool (rows,).
 
     Paper: FP-DTW Section 7 (conclusion: a global constraint).
     Notebook: 16_open_questions.ipynb
@@ -44,9 +41,8 @@ def band_rows(start: int, rows: int, q: int, band: int) -> np.ndarray:
 
 
 def band_window(start: int, w_i: int, q: int, band: int):
-    """Offsets ``(first, last)`` of the rows of ``I_{start}..I_{start + w_i}`` inside the band.
-
-    None when no row is inside.
+    """Offsets ``(first, last)`` of the rows of ``I_{start}..I_{start + w_i}`` inside the band,
+    or None.
 
     Paper: FP-DTW Section 7 (conclusion: a global constraint).
     Notebook: 16_open_questions.ipynb

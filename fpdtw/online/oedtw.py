@@ -1,11 +1,9 @@
 """Open-end DTW (OE-DTW, Tormene et al. 2009), computed incrementally.
 
 After each target frame ``T_q``, the input frame ``e_q`` where the cheapest alignment of
-the whole prefix ``T_0..T_q`` with some ``I_0..I_e`` ends: the open-end variant of
-:mod:`fpdtw.dtw` (rows = input frames), one accumulated column per frame, ``O(m)``. The
-end points may move backwards (the FP-DTW paper's Fig. 1); to draw that, every column is
-kept for :meth:`OEDTW.path` (``O(m x frames)`` memory, bounded by
-:data:`fpdtw.limits.MAX_MATRIX_BYTES`).
+``T_0..T_q`` with some ``I_0..I_e`` ends (rows = input frames), one accumulated column per
+frame, ``O(m)``. The end points may move backwards (the FP-DTW paper's Fig. 1); to draw that,
+every column is kept for :meth:`OEDTW.path`.
 """
 
 from __future__ import annotations

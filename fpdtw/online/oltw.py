@@ -52,10 +52,8 @@ _LOG_COLS = 7
 
 @numba.njit(cache=True)
 def _work_views(work, c, k):
-    """OLTW's float64 scratch as views of one buffer.
-
-    The band ``D`` (c, c), the last c target frames joint-major ``R`` (k, 4, c) (frame q' in
-    slot ``q' % c``), ``d`` (c) and ``acc`` (c)."""
+    """OLTW's float64 scratch as views of one buffer: the band ``D`` (c, c), the last c target
+    frames joint-major ``R`` (k, 4, c) (frame q' in slot ``q' % c``), ``d`` and ``acc`` (c)."""
     D = work[: c * c].reshape((c, c))
     R = work[c * c : c * c + 4 * k * c].reshape((k, 4, c))
     o = c * c + 4 * k * c
@@ -149,9 +147,8 @@ def _apply(Iq, Isoa, R, D, dl, acc, st, c, inc, wts):
 
 @numba.njit(cache=True)
 def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normalize, log, wts):
-    """Receive target frame ``q_new``; grow the matrix; return (M_q, number of log rows).
-
-    ``st`` (5,): corner i, corner q, previous increment, run count, pending increment."""
+    """Receive target frame ``q_new``, grow the matrix: (M_q, number of log rows). ``st`` (5,):
+    corner i, corner q, previous increment, run count, pending increment."""
     m = Iq.shape[0] - 1
     D, R, dl, acc = _work_views(work, c, Iq.shape[1])
     s = q_new % c

@@ -93,10 +93,8 @@ READINGS = {
 
 @dataclass(frozen=True)
 class OPWDecision:
-    """One OPW step.
-
-    Live time ``t``; ``t_warped = f(t)`` before it; ``costs`` (p_0, p_1, p_2); the decision
-    ``s`` (0 slow the recording down, 1 keep, 2 speed it up); ``x_last`` after it."""
+    """One OPW step at live time ``t``: ``t_warped = f(t)`` before it, ``costs`` (p_0, p_1, p_2),
+    the decision ``s`` (0 slow the recording down, 1 keep, 2 speed it up), ``x_last`` after it."""
 
     t: float
     t_warped: float

@@ -18,7 +18,6 @@ The start state is N whatever ``M_0`` (a Type V path leaves its start diagonally
 Advance 1 is always allowed, so a window of two rows always has a candidate; only once
 the input is exhausted is a hold at ``m`` forced, which may break the constraint:
 legality is asserted up to the first frame mapped to ``m`` (:func:`legal_prefix`).
-:func:`dtw_python_accepts` checks a map against dtw-python itself.
 
 Paper: FP-DTW Section 6, Fig. 9.
 Notebook: 11_fig9_typev.ipynb
