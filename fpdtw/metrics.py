@@ -93,10 +93,9 @@ def deviation(P_a, P_b, frames: str = "printed") -> float:
 
 
 def step_counts(M, m: int) -> dict:
-    """Counts of the steps ``q = 1..n`` of a map ``M`` (int, shape (n + 1,)) by what they
-    did, ``m`` the last input frame: a dict of ``steps`` (n), ``exhausted`` (taken after
-    the input ran out, ``M_{q-1} >= m``), ``live`` (the others) and ``holds`` (live steps
-    with ``M_q = M_{q-1}``)."""
+    """Counts of the steps ``q = 1..n`` of a map ``M`` (int, shape (n + 1,)) by what they did, ``m``
+    the last input frame: a dict of ``steps`` (n), ``exhausted`` (taken after the input ran out,
+    ``M_{q-1} >= m``), ``live`` (the others) and ``holds`` (live steps with ``M_q = M_{q-1}``)."""
     M = _as_map(M)
     live = M[:-1] < m
     return dict(
@@ -391,10 +390,9 @@ def similarity_per_axis(
 def trajectory_scores(
     XA, XT, one_flat: float = ONE_FLAT_SCORE, *, tau: str = "b", flat: str = "zero"
 ) -> np.ndarray:
-    """Per-axis scores of eq. 2 from trajectories already warped: ``XA``, ``XT`` (float64,
-    shape (n + 1, k, 3)) -> (k, 3); ``joint_trajectories(I)[M]`` is the warped input's, so
-    many maps of one pair reuse each motion's trajectories. Options as
-    :func:`similarity_per_axis`.
+    """Per-axis scores of eq. 2 from trajectories already warped: ``XA``, ``XT`` (float64, shape (n
+    + 1, k, 3)) -> (k, 3); ``joint_trajectories(I)[M]`` is the warped input's, so many maps of one
+    pair reuse each motion's trajectories. Options as :func:`similarity_per_axis`.
 
     Paper: FP-DTW eq. 2.
     """

@@ -1,13 +1,12 @@
 """Targets with a held pose inserted: the OPW poster's "periods of standing still".
 
-The OPW poster's conclusion warns that its method "may not work consistently if there are
-periods of standing still"; to measure that, a pause is inserted in the TARGET, the input
-left unchanged. The rule (committed in cbb3316, before Q6's first results in cfc7b1d, and
-unchanged since; docs/history.md): frame ``a`` drawn uniformly from the middle 60 % of the
-target, ``[ceil(0.2 (F - 1)), floor(0.8 (F - 1))]``, is repeated ``L = round(u * fps)``
-more times, ``u`` uniform in 0.5-2 s (quaternions, Euler angles and positions alike); both
-draws come from a generator seeded by :data:`PAUSE_SEED` and the target's name, so a take
-gets the same pause in every pair.
+The OPW poster's conclusion warns that its method "may not work consistently if there are periods of
+standing still"; to measure that, a pause is inserted in the TARGET, the input left unchanged. The
+rule (committed in cbb3316, before Q6's first results in cfc7b1d, and unchanged since;
+docs/history.md): frame ``a`` drawn uniformly from the middle 60 % of the target, ``[ceil(0.2 (F -
+1)), floor(0.8 (F - 1))]``, is repeated ``L = round(u * fps)`` more times, ``u`` uniform in 0.5-2 s
+(quaternions, Euler angles and positions alike); both draws come from a generator seeded by
+:data:`PAUSE_SEED` and the target's name, so a take gets the same pause in every pair.
 
 Paper: OPW poster Section 6 (conclusion: standing still).
 Notebook: 16_open_questions.ipynb

@@ -1,16 +1,15 @@
 """Acclaim ASF (skeleton) and AMC (motion) readers, as used by HDM05 and CMU.
 
-An ASF bone has a unit ``direction``, a ``length`` and an axis frame ``C_j`` (``axis 0 0
-20 XYZ``: ``C = Rz(20) Ry(0) Rx(0)``); an AMC frame gives each bone's rotation ``M_j`` in
-that frame, Euler angles in dof order (``dof rx ry rz``: order ``"XYZ"``; a missing dof
-is zero). The Acclaim rule ``F_j = F_p C_p^-1 C_j M_j`` is read in the rest-aligned frame
-``G_j = F_j C_j^-1 = G_p C_j M_j C_j^-1``: joint ``j`` is bone ``j`` at its START (joint 0
-the root), ``offset_j`` = the parent bone's ``direction * length`` (zero under the root;
-the root's own: ``:root position``), ``pre_j = C_j``, ``post_j = C_j^-1``, ``R_j = M_j``;
-the root's translation is the AMC ``TX TY TZ``. All-zero AMC values give the ASF rest
-pose. Lengths stay in the file's unit (HDM05 and CMU: ``:units length 0.45``, 1 unit =
-1/0.45 inch); angles become degrees (ASF by ``:units angle``, AMC by its ``:DEGREES`` /
-``:RADIANS`` header, else the ASF's).
+An ASF bone has a unit ``direction``, a ``length`` and an axis frame ``C_j`` (``axis 0 0 20 XYZ``:
+``C = Rz(20) Ry(0) Rx(0)``); an AMC frame gives each bone's rotation ``M_j`` in that frame, Euler
+angles in dof order (``dof rx ry rz``: order ``"XYZ"``; a missing dof is zero). The Acclaim rule
+``F_j = F_p C_p^-1 C_j M_j`` is read in the rest-aligned frame ``G_j = F_j C_j^-1 = G_p C_j M_j
+C_j^-1``: joint ``j`` is bone ``j`` at its START (joint 0 the root), ``offset_j`` = the parent
+bone's ``direction * length`` (zero under the root; the root's own: ``:root position``), ``pre_j =
+C_j``, ``post_j = C_j^-1``, ``R_j = M_j``; the root's translation is the AMC ``TX TY TZ``. All-zero
+AMC values give the ASF rest pose. Lengths stay in the file's unit (HDM05 and CMU: ``:units length
+0.45``, 1 unit = 1/0.45 inch); angles become degrees (ASF by ``:units angle``, AMC by its
+``:DEGREES`` / ``:RADIANS`` header, else the ASF's).
 """
 
 from __future__ import annotations
@@ -50,10 +49,9 @@ class AsfSkeleton:
     """A parsed ASF file: the :class:`~fpdtw.motion.Skeleton` plus what the AMC reader needs.
 
     ``skeleton``: rest-aligned, ``("root", bones...)`` depth first in ``:hierarchy`` order;
-    ``dofs``: each joint's rotational dofs in file order; ``root_order``: the AMC root
-    channels; ``directions`` (J, 3) and ``lengths`` (J,): unit bone directions and lengths
-    at rest (zero for the root); ``angle_unit`` ("deg" or "rad"); ``length_scale``
-    (``:units length``); ``path``."""
+    ``dofs``: each joint's rotational dofs in file order; ``root_order``: the AMC root channels;
+    ``directions`` (J, 3) and ``lengths`` (J,): unit bone directions and lengths at rest (zero for
+    the root); ``angle_unit`` ("deg" or "rad"); ``length_scale`` (``:units length``); ``path``."""
 
     skeleton: Skeleton
     dofs: tuple

@@ -1,14 +1,13 @@
 """Biovision BVH reader and writer.
 
-A joint's local transform is ``T(OFFSET) * R``, ``R`` composed from its rotation channels
-as listed, outermost first: ``Zrotation Yrotation Xrotation`` is order ``"XYZ"``
-(identity pre/post rotations). Missing rotation channels are zero (order completed as
-:func:`~fpdtw.io.asfamc.complete_order`). Root position channels become
-``Motion.root_translation``, added to the root OFFSET (the usual rule; Blender and
-``bvhio`` ignore the OFFSET, the same whenever it is zero, as in CMU's files). Non-root
-position channels must be constant: their value replaces the OFFSET (as Blender and
-``bvhio`` read them). ``End Site`` offsets are checked and dropped. The frame rate
-``1 / Frame Time`` snaps to an integer rate printed rounded (``0.033333`` -> 30 Hz).
+A joint's local transform is ``T(OFFSET) * R``, ``R`` composed from its rotation channels as listed,
+outermost first: ``Zrotation Yrotation Xrotation`` is order ``"XYZ"`` (identity pre/post rotations).
+Missing rotation channels are zero (order completed as :func:`~fpdtw.io.asfamc.complete_order`).
+Root position channels become ``Motion.root_translation``, added to the root OFFSET (the usual rule;
+Blender and ``bvhio`` ignore the OFFSET, the same whenever it is zero, as in CMU's files). Non-root
+position channels must be constant: their value replaces the OFFSET (as Blender and ``bvhio`` read
+them). ``End Site`` offsets are checked and dropped. The frame rate ``1 / Frame Time`` snaps to an
+integer rate printed rounded (``0.033333`` -> 30 Hz).
 """
 
 from __future__ import annotations

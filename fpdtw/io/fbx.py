@@ -1,24 +1,22 @@
 """Read FBX motion files (the authors' dataset) into a :class:`~fpdtw.motion.Motion`.
 
-Parsed by ufbx through **pufbx 0.1.0** (vendors ufbx 0.21.2), the one binding that
-exposes rotation orders, node properties, keyframes and ufbx's animation baking (pyufbx
-0.0.7 exposes none of these; the tests use it to cross-check the frame rate). Its gaps,
-worked around: no ``Scene.settings``, so the frame rate is the keyframe grid's (every
-joint is keyed at every 1/120 s; tested against pyufbx's time mode); no link from a
-curve node to its property, so each joint's ``Lcl Rotation`` curves are the ones whose
-angles, with the joint's pre/post rotation, reproduce ufbx's own evaluation
-(``bake_anim``) at every frame to 1e-6 rad (different curves that tie are an error);
+Parsed by ufbx through **pufbx 0.1.0** (vendors ufbx 0.21.2), the one binding that exposes rotation
+orders, node properties, keyframes and ufbx's animation baking (pyufbx 0.0.7 exposes none of these;
+the tests use it to cross-check the frame rate). Its gaps, worked around: no ``Scene.settings``, so
+the frame rate is the keyframe grid's (every joint is keyed at every 1/120 s; tested against
+pyufbx's time mode); no link from a curve node to its property, so each joint's ``Lcl Rotation``
+curves are the ones whose angles, with the joint's pre/post rotation, reproduce ufbx's own
+evaluation (``bake_anim``) at every frame to 1e-6 rad (different curves that tie are an error);
 ``bake_anim`` leaks about 2 MB per read (read each file once).
 
-Read: the bone nodes depth first from the one bone whose parent is not a bone, with
-their rotation order, ``PreRotation`` and inverse ``PostRotation`` (ufbx's
-``T * Rpre * R * Rpost^-1``); offsets = the animated local translation as ufbx evaluates
-it (in 24 of 48 takes up to 0.28 cm from the static ``Lcl Translation``), the root's
-zero; frames: the take's range on the key grid (the authors' extra key at t = 0 is not a
-frame); angles: the keyed ``Lcl Rotation`` values as stored, in degrees; lengths in file
-units. Rejected (MotionFormatError): nodes above the skeleton that move, animated
-scaling, several animation layers, spherical rotation orders, rotation curves not keyed
-at every frame (unless constant), non-root bones whose translation varies.
+Read: the bone nodes depth first from the one bone whose parent is not a bone, with their rotation
+order, ``PreRotation`` and inverse ``PostRotation`` (ufbx's ``T * Rpre * R * Rpost^-1``); offsets =
+the animated local translation as ufbx evaluates it (in 24 of 48 takes up to 0.28 cm from the static
+``Lcl Translation``), the root's zero; frames: the take's range on the key grid (the authors' extra
+key at t = 0 is not a frame); angles: the keyed ``Lcl Rotation`` values as stored, in degrees;
+lengths in file units. Rejected (MotionFormatError): nodes above the skeleton that move, animated
+scaling, several animation layers, spherical rotation orders, rotation curves not keyed at every
+frame (unless constant), non-root bones whose translation varies.
 """
 
 from __future__ import annotations
@@ -52,10 +50,9 @@ _BONE = 5  # ufbx_element_type UFBX_ELEMENT_BONE
 def read_fbx(path, *, fps=None, name=None) -> Motion:
     """Read one FBX take (binary or ASCII) as a motion (``source="fbx"``, file units).
 
-    ``fps`` is used only when no curve has two keys (else it must match the grid's);
-    ``name`` defaults to the file stem. MotionFormatError, naming the file, for a missing,
-    empty, truncated or non-FBX file, no animation, no skeleton, or anything the module
-    docstring rejects."""
+    ``fps`` is used only when no curve has two keys (else it must match the grid's); ``name``
+    defaults to the file stem. MotionFormatError, naming the file, for a missing, empty, truncated
+    or non-FBX file, no animation, no skeleton, or anything the module docstring rejects."""
     p = Path(path)
     if check_input_file(p) == 0:
         raise MotionFormatError(p, "empty file")

@@ -32,11 +32,10 @@ class Frame:
 class MotionFeatures:
     """Feature arrays of a whole motion.
 
-    ``quats`` (F, k, 4) and ``euler`` (F, k, 3; degrees, unwrapped) of the k cost joints,
-    their ``orders`` (for the forecasts), ``fps``, root-relative ``positions`` (F, p, 3) or
-    None, ``name``, ``rig`` (:func:`fpdtw.motion.rig.rig_transform`; None: unknown, taken to
-    be the other's) and ``body_size`` (:func:`fpdtw.motion.rig.body_size`; None without
-    positions)."""
+    ``quats`` (F, k, 4) and ``euler`` (F, k, 3; degrees, unwrapped) of the k cost joints, their
+    ``orders`` (for the forecasts), ``fps``, root-relative ``positions`` (F, p, 3) or None,
+    ``name``, ``rig`` (:func:`fpdtw.motion.rig.rig_transform`; None: unknown, taken to be the
+    other's) and ``body_size`` (:func:`fpdtw.motion.rig.body_size`; None without positions)."""
 
     quats: np.ndarray
     euler: np.ndarray

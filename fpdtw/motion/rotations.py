@@ -1,10 +1,9 @@
 """Rotations: unit quaternions and Euler angles.
 
-Quaternions are ``(w, x, y, z)``, Hamilton product, acting as ``v' = q v q*``. Euler
-angles are stored in degrees as ``(x, y, z)`` columns whatever the order. A rotation
-order lists the axes in the order they are APPLIED (extrinsic; FBX ``eEulerXYZ``, ASF
-``axis XYZ``): ``"XYZ"`` is ``R = Rz Ry Rx``, which BVH writes ``Zrotation Yrotation
-Xrotation`` (outermost first).
+Quaternions are ``(w, x, y, z)``, Hamilton product, acting as ``v' = q v q*``. Euler angles are
+stored in degrees as ``(x, y, z)`` columns whatever the order. A rotation order lists the axes in
+the order they are APPLIED (extrinsic; FBX ``eEulerXYZ``, ASF ``axis XYZ``): ``"XYZ"`` is ``R = Rz
+Ry Rx``, which BVH writes ``Zrotation Yrotation Xrotation`` (outermost first).
 """
 
 from __future__ import annotations

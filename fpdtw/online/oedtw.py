@@ -68,9 +68,8 @@ def _oe_step(Isoa, Tq, cols, q, wd, norm_offset, c):
 class OEDTW(JointMajorInput, OnlineAligner):
     """Open-end DTW: ``step`` returns the best end point ``e_q`` (not monotonic).
 
-    ``step_pattern``: "symmetric1" or "symmetric2" (:func:`fpdtw.dtw.accumulate`);
-    ``normalize``: divide by ``(q + 1) + (i + 1)`` first, as dtw-python's
-    ``open_end=True`` (symmetric2 only).
+    ``step_pattern``: "symmetric1" or "symmetric2" (:func:`fpdtw.dtw.accumulate`); ``normalize``:
+    divide by ``(q + 1) + (i + 1)`` first, as dtw-python's ``open_end=True`` (symmetric2 only).
 
     Plain version: fpdtw.plain.oe_dtw_end_points (symmetric1, not normalised).
     Paper: FP-DTW Section 2 and Fig. 1 (Tormene et al. 2009).

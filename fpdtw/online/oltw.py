@@ -1,25 +1,23 @@
 """Dixon's on-line time warping (OLTW; DAFx 2005, the FP-DTW paper's ref. 3) as an aligner.
 
-OLTW grows a DTW matrix one row or column at a time, inside a band of ``c`` cells behind
-the corner, deciding after each growth which way to grow next (no forecast). Dixon's live
-``u`` (his "rows", ``t``) is the TARGET here (``q``), his reference ``v`` (``j``) the
-INPUT (``i``): his ``Row``/``Column``/``Both`` are ``TARGET``/``INPUT``/``BOTH``.
-``GetInc``: BOTH while ``q + 1 < c`` (``warmup=False`` skips it); after more than
-``max_run_count`` equal increments, the other one; else the lowest-cost cell of the
-newest column and row: the corner -> BOTH, an earlier input frame -> TARGET, an earlier
-target frame -> INPUT. GetInc is called once per loop (his pseudocode calls it three
-times; every implementation we know calls it once).
+OLTW grows a DTW matrix one row or column at a time, inside a band of ``c`` cells behind the corner,
+deciding after each growth which way to grow next (no forecast). Dixon's live ``u`` (his "rows",
+``t``) is the TARGET here (``q``), his reference ``v`` (``j``) the INPUT (``i``): his
+``Row``/``Column``/``Both`` are ``TARGET``/``INPUT``/``BOTH``. ``GetInc``: BOTH while ``q + 1 < c``
+(``warmup=False`` skips it); after more than ``max_run_count`` equal increments, the other one; else
+the lowest-cost cell of the newest column and row: the corner -> BOTH, an earlier input frame ->
+TARGET, an earlier target frame -> INPUT. GetInc is called once per loop (his pseudocode calls it
+three times; every implementation we know calls it once).
 
-Choices (* where Dixon is silent): eq. 1 as local cost; ``D = min(D[i-1, q] + d,
-D[i, q-1] + d, D[i-1, q-1] + 2 d)`` (Dixon's weights, as pymatchmaker reads them);
-(*) costs compared normalised, ``D / (1 + i + q)`` (``normalize=False``: raw); (*) cells
-outside the ``c x c`` block behind the corner are unreachable; (*) ties: the first
-minimum, the newest column by increasing ``i`` then the newest row by increasing ``q``
-(pymatchmaker's order); (*) once ``i = m`` every increment is TARGET (hold at ``m``).
-Streaming: a frame applies the increment waiting for it, then INPUT increments until
-GetInc asks for TARGET or BOTH, which waits for the next frame; ``M_q`` is the corner's
-input index then (never decreasing). Defaults ``c = 120`` (1 s at 120 Hz; Dixon's 500 is
-10 s of his audio) and ``max_run_count = 3`` (Dixon's).
+Choices (* where Dixon is silent): eq. 1 as local cost; ``D = min(D[i-1, q] + d, D[i, q-1] + d,
+D[i-1, q-1] + 2 d)`` (Dixon's weights, as pymatchmaker reads them); (*) costs compared normalised,
+``D / (1 + i + q)`` (``normalize=False``: raw); (*) cells outside the ``c x c`` block behind the
+corner are unreachable; (*) ties: the first minimum, the newest column by increasing ``i`` then the
+newest row by increasing ``q`` (pymatchmaker's order); (*) once ``i = m`` every increment is TARGET
+(hold at ``m``). Streaming: a frame applies the increment waiting for it, then INPUT increments
+until GetInc asks for TARGET or BOTH, which waits for the next frame; ``M_q`` is the corner's input
+index then (never decreasing). Defaults ``c = 120`` (1 s at 120 Hz; Dixon's 500 is 10 s of his
+audio) and ``max_run_count = 3`` (Dixon's).
 
 Paper: FP-DTW reference 3 (Dixon 2005), an extra online baseline.
 Notebook: 20_align_a_live_performance.ipynb
@@ -207,12 +205,11 @@ def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normaliz
 class OLTW(JointMajorInput, OnlineAligner):
     """Dixon's on-line time warping behind the streaming interface (module docstring).
 
-    ``c``: the search width in frames (>= 2, default 120); ``max_run_count``: Dixon's
-    MaxRunCount (default 3); ``warmup``: BOTH until the band is full (False: the argmin at
-    once); ``normalize``: compare costs divided by ``1 + i + q``; ``constraint``: None only
-    (the common signature); ``record``: keep :attr:`decisions` and :attr:`path`;
-    ``weights="travel"``: eq. 1 weighted by :func:`fpdtw.weights.joint_weights` (beyond the
-    papers, notebook 16's Q2).
+    ``c``: the search width in frames (>= 2, default 120); ``max_run_count``: Dixon's MaxRunCount
+    (default 3); ``warmup``: BOTH until the band is full (False: the argmin at once); ``normalize``:
+    compare costs divided by ``1 + i + q``; ``constraint``: None only (the common signature);
+    ``record``: keep :attr:`decisions` and :attr:`path`; ``weights="travel"``: eq. 1 weighted by
+    :func:`fpdtw.weights.joint_weights` (beyond the papers, notebook 16's Q2).
 
     Paper: FP-DTW reference 3 (Dixon, DAFx 2005).
     Notebook: 20_align_a_live_performance.ipynb
