@@ -254,10 +254,6 @@ class Motion:
         """Copy with some fields replaced (like :func:`dataclasses.replace`)."""
         return dataclasses.replace(self, **changes)
 
-    def joint_indices(self, joints=PAPER_JOINTS) -> np.ndarray:
-        """Skeleton indices of joints given by canonical or own names (:meth:`require_joints`)."""
-        return self.require_joints(joints)
-
     def require_joints(self, joints=PAPER_JOINTS, what: str = "") -> np.ndarray:
         """Skeleton indices (int64) of ``joints``, by canonical or own names.
 
@@ -271,6 +267,8 @@ class Motion:
                 self.path or self.name, missing_joints_message(missing, names, what)
             )
         return np.asarray([names.index(o) for o in own], dtype=np.int64)
+
+    joint_indices = require_joints
 
     def with_joint_map(self, *maps) -> Motion:
         """This motion with the first of ``maps`` (then the built-in maps) its skeleton fits."""
