@@ -244,7 +244,8 @@ def dtw(C, step_pattern: str = "symmetric1") -> DTWResult:
 
 
 def dtw_pair(I, T, step_pattern: str = "symmetric1") -> DTWResult:
-    """DTW between two motions with the geodesic cost (eq. 1).
+    """DTW between two motions with the geodesic cost (eq. 1); LimitError, before allocating,
+    past :data:`fpdtw.limits.MAX_MATRIX_BYTES`.
 
     Parameters
     ----------
@@ -256,11 +257,6 @@ def dtw_pair(I, T, step_pattern: str = "symmetric1") -> DTWResult:
     Returns
     -------
     DTWResult
-
-    Raises
-    ------
-    LimitError
-        Past :data:`fpdtw.limits.MAX_MATRIX_BYTES`, before allocating.
 
     Paper: FP-DTW eq. 1 and Section 4.
     Notebook: 10_fig8_walk_pair.ipynb

@@ -109,7 +109,6 @@ def _read_scene(pufbx, scene, p, fps, name) -> Motion:
     # bounded before anything of F frames is baked or allocated
     F = limits.check_file_frames(int(round(span)) + 1, p)
 
-    # ufbx's own evaluation of every node's local transform at the frames
     baked = _bake(pufbx, scene, stack, fps, t0, F, p)
     local = {}
     for n in nodes + above:

@@ -30,9 +30,7 @@ POSITION_RULES = ("auto", "raw", "body-size")
 
 @dataclass(frozen=True, eq=False)
 class RigTransform:
-    """The two fixed quaternions per cost joint that map it into the common representation.
-
-    ``left`` ``A_j`` and ``right`` ``B_j`` (k, 4): ``Delta_j = A_j R_j B_j``.
+    """The fixed quaternions ``left`` ``A_j`` and ``right`` ``B_j`` (k, 4) per cost joint.
 
     Paper: FP-DTW eq. 1 (its local rotations, made comparable across rigs).
     """

@@ -205,11 +205,10 @@ def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normaliz
 class OLTW(JointMajorInput, OnlineAligner):
     """Dixon's on-line time warping behind the streaming interface (module docstring).
 
-    ``c``: the search width in frames (>= 2, default 120); ``max_run_count``: Dixon's MaxRunCount
-    (default 3); ``warmup``: BOTH until the band is full (False: the argmin at once); ``normalize``:
-    compare costs divided by ``1 + i + q``; ``constraint``: None only (the common signature);
-    ``record``: keep :attr:`decisions` and :attr:`path`; ``weights="travel"``: eq. 1 weighted by
-    :func:`fpdtw.weights.joint_weights` (beyond the papers, notebook 16's Q2).
+    ``c``: the search width in frames (>= 2); ``max_run_count``: Dixon's MaxRunCount; ``warmup``:
+    BOTH until the band is full (False: the argmin at once); ``normalize``: compare costs divided
+    by ``1 + i + q``; ``constraint``: None only; ``record``: keep :attr:`decisions` and
+    :attr:`path`; ``weights="travel"``: eq. 1 weighted by :func:`fpdtw.weights.joint_weights`.
 
     Paper: FP-DTW reference 3 (Dixon, DAFx 2005).
     Notebook: 20_align_a_live_performance.ipynb

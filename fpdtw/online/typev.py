@@ -8,11 +8,10 @@ this forward form; the lowest would give the time-reversed rule). Per target fra
 input then advances by 0..3, and a run of holds (0s) is at most 2 long and directly
 follows an advance of exactly 1. As a state machine (Fig. 9 iii/iv; "-" not allowed)::
 
-    state  meaning                                           0    1    2    3
-    N      no hold allowed: start, after an advance of 2/3,  -    A1   N    N
-           after the second hold
-    A1     just advanced by exactly 1                        H1   A1   N    N
-    H1     held once after an advance of 1                   N    A1   N    N
+    state  meaning                                               0    1    2    3
+    N      no hold: start, after an advance of 2/3 or two holds  -    A1   N    N
+    A1     just advanced by exactly 1                            H1   A1   N    N
+    H1     held once after an advance of 1                       N    A1   N    N
 
 The start state is N whatever ``M_0`` (a Type V path leaves its start diagonally).
 Advance 1 is always allowed, so a window of two rows always has a candidate; only once
