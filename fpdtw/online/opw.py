@@ -25,8 +25,7 @@ notes; * where it is silent or contradicts itself):
 The plugin reading (``reading="plugin"``, the authors' MotionBuilder plugin,
 matRandall/realTimeDTW): ``reference="ratio"`` reads A at ``(t + i omega) D_A / x_last``, and
 ``clock="frames"`` steps at the first frame strictly after the previous step plus ``omega``. Its
-readme states the opposite direction: ``direction="readme"``. :attr:`OPW.M` is the realised map,
-:attr:`OPW.curve` the final curve (a new key also changes the slope at the previous one).
+readme states the opposite direction: ``direction="readme"``.
 """
 
 from __future__ import annotations
