@@ -31,7 +31,6 @@ def load_motion(path, **kwargs):
     if kind == "asfamc":
         skeleton = kwargs.pop("skeleton", None)
         return read_amc(p, skeleton, **kwargs)
-
     return read_bvh(p, **kwargs)
 
 

@@ -257,15 +257,12 @@ def read_asf(path) -> AsfSkeleton:
     J = len(names)
     directions = np.zeros((J, 3))
     lengths = np.zeros(J)
-    orders = []
-    axes = np.zeros((J, 3))
-    axis_orders = []
-    dofs = []
     root_rot = "".join(c[1] for c in root["order"] if c.startswith("R"))
-    orders.append(complete_order(root_rot))
+    orders = [complete_order(root_rot)]
+    axes = np.zeros((J, 3))
     axes[0] = np.asarray(root.get("orientation", [0.0, 0.0, 0.0])) * to_deg
-    axis_orders.append(root["axis"])
-    dofs.append(())
+    axis_orders = [root["axis"]]
+    dofs = [()]
     for j, name in enumerate(names[1:], 1):
         b = bones[name]
         directions[j] = b["direction"]

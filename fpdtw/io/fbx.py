@@ -76,12 +76,7 @@ def _msg(exc) -> str:
 def _read_scene(pufbx, scene, p, fps, name) -> Motion:
     nodes, parents, above = _skeleton_nodes(scene, p)
     names = [n.name for n in nodes]
-    orders, pre, post = [], [], []
-    for n in nodes:
-        order, q_pre, q_post = _node_rotation_setup(n, p)
-        orders.append(order)
-        pre.append(q_pre)
-        post.append(q_post)
+    orders, pre, post = zip(*(_node_rotation_setup(n, p) for n in nodes))
     pre, post = np.array(pre), np.array(post)
 
     stacks = scene.anim_stacks

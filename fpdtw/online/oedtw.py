@@ -28,10 +28,7 @@ def _oe_column(Isoa, t, prev, cur, first, wd, norm_offset, c):
     ``Isoa``: the input joint-major (k, 4, m+1); ``c``: scratch."""
     m1 = cur.shape[0]
     _geo_line(t, Isoa, 0, m1, c, c)  # c[i] = geoDistance(I_i, t) (eq. 1)
-    if first:
-        x = c[0]
-    else:
-        x = prev[0] + c[0]
+    x = c[0] if first else prev[0] + c[0]
     cur[0] = x
     for i in range(1, m1):
         ci = c[i]

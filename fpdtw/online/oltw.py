@@ -135,10 +135,7 @@ def _apply(Iq, Isoa, R, D, dl, acc, st, c, inc, wts):
     if inc == 2 or inc == 3:  # INPUT or BOTH
         st[0] += 1
         _new_band_line(Iq, Isoa, R, D, dl, acc, c, st[0], st[1], False, wts)
-    if inc == st[2]:
-        st[3] += 1
-    else:
-        st[3] = 1
+    st[3] = st[3] + 1 if inc == st[2] else 1
     if inc != 3:
         st[2] = inc
 
@@ -155,11 +152,7 @@ def _oltw_step(Iq, Isoa, Tq, base, q_new, work, st, c, max_run, warmup, normaliz
             R[j, a, s] = Tq[q_new - base, j, a]
     if q_new == 0:
         D[0, 0] = _geo_frame_w(Iq[0], Tq[0 - base], wts)
-        st[0] = 0
-        st[1] = 0
-        st[2] = 0
-        st[3] = 0
-        st[4] = 0
+        st[:] = 0
     else:
         _apply(Iq, Isoa, R, D, dl, acc, st, c, st[4], wts)  # the increment that waited for it
     n = 0
