@@ -30,7 +30,7 @@ import textwrap
 from pathlib import Path
 
 from fpdtw import registry
-from fpdtw.argtypes import frame_number, positive_int
+from fpdtw.app.argtypes import frame_number, positive_int
 
 PROG = "fpdtw"
 

@@ -20,7 +20,7 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-from fpdtw.argtypes import positive_float, positive_int
+from fpdtw.app.argtypes import positive_float, positive_int
 from fpdtw.errors import AlignmentError, ClusterError, DataFetchError, FpdtwError, ManifestError
 from fpdtw.paper import paths
 from fpdtw.paper.datasets import (
