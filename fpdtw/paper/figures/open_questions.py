@@ -131,17 +131,12 @@ def _variant_rows(ev, bases, suffix: str) -> list[dict]:
     for n in bases:
         b = f"{n} ({suffix})"
         for who in (n, b):
-            ds = ev.better(b, n, "similarity") if who == b else None
-            dd = ev.better(b, n, "deviation") if who == b else None
-            rows.append(
-                dict(algorithm=who, **_medians(ev, who),
-                     sim_change=ds.estimate if ds else None,
-                     sim_change_low=ds.low if ds else None,
-                     sim_change_high=ds.high if ds else None,
-                     dev_change=dd.estimate if dd else None,
-                     dev_change_low=dd.low if dd else None,
-                     dev_change_high=dd.high if dd else None)
-            )  # fmt: skip
+            change = {}
+            for key, metric in (("sim", "similarity"), ("dev", "deviation")):
+                c = ev.better(b, n, metric) if who == b else None
+                for end in ("", "_low", "_high"):
+                    change[f"{key}_change{end}"] = getattr(c, end[1:] or "estimate", None)
+            rows.append(dict(algorithm=who, **_medians(ev, who), **change))
     return rows
 
 
