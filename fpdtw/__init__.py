@@ -7,8 +7,8 @@ aligners behind one streaming interface (:class:`OnlineAligner`, :class:`MethodC
 :class:`OPW`, :class:`OLTW`, ...; :func:`make_online` and :func:`align` take the papers'
 names, "Mc w40 + Type V"); the metrics :func:`similarity` (eq. 2) and :func:`deviation`
 (eq. 3); the OPW :class:`WarpCurve`; beyond the papers :func:`auto_window`,
-:func:`joint_weights`, :class:`AdaptiveOPW`, :func:`derivative_features` and
-:func:`insert_pause`; the errors (all :class:`FpdtwError`). :mod:`fpdtw.plain` holds the
+:func:`joint_weights`, :class:`AdaptiveOPW` and :func:`derivative_features`; the
+errors (all :class:`FpdtwError`). :mod:`fpdtw.plain` holds the
 papers' equations and algorithms in plain NumPy, line by line.
 """
 
@@ -41,7 +41,6 @@ from fpdtw.online import (
     run_online,
 )
 from fpdtw.online.opw_adaptive import AdaptiveOPW
-from fpdtw.pause import insert_pause
 from fpdtw.period import auto_window, dominant_period
 from fpdtw.registry import align, make_online
 from fpdtw.warpcurve import WarpCurve
@@ -56,4 +55,4 @@ __all__ = ["OEDTW", "OLTW", "OPW", "OPW_JOINTS", "PAPER_JOINTS", "AlignmentError
            "align", "derivative_features", "deviation", "dtw", "dtw_pair",
            "geo_distance", "geodesic_cost_matrix", "joint_weights", "load_motion",
            "make_online", "plain", "position_cost_matrix", "run_online", "similarity",
-           "utw_map", "AdaptiveOPW", "insert_pause", "auto_window", "dominant_period"]  # fmt: skip
+           "utw_map", "AdaptiveOPW", "auto_window", "dominant_period"]  # fmt: skip

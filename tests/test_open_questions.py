@@ -16,10 +16,10 @@ from fpdtw.online.base import run_online
 from fpdtw.paper import claims
 from fpdtw.paper.claims import ClaimContext
 from fpdtw.paper.claims.evidence import Evidence
+from fpdtw.paper.pause import insert_pause, pause_plan, pause_seed
 from fpdtw.paper.runner.grid import OPEN_ALGORITHMS, PAUSE_METHODS, PAUSE_SUFFIX
 from fpdtw.paper.runner.run import resolve_algorithm, transform_target
 from fpdtw.paper.runner.selection import SELECTIONS, pair_selection
-from fpdtw.pause import insert_pause, pause_plan, pause_seed
 from fpdtw.period import auto_window, autocorrelation, dominant_period, window_from_period
 
 

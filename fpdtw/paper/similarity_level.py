@@ -25,11 +25,11 @@ from fpdtw.paper import catalog
 from fpdtw.paper import numbers as N
 from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.figures.paper_vs_ours import side_by_side
+from fpdtw.paper.pause import hold_frames, pause_plan, pause_seed
 from fpdtw.paper.runner.grid import split_transform
 from fpdtw.paper.runner.results import EQ2_READINGS, RESCORERS, STORED_EQ2, slug
 from fpdtw.paper.runner.run import BASE_FPS
 from fpdtw.paper.runner.selection import Selection, pair_selection
-from fpdtw.pause import hold_frames, pause_plan, pause_seed
 
 #: Algorithms of the table (the paper's Table 1 gives UTW and Mc w40 at 120 Hz).
 LEVEL_ALGORITHMS = ("UTW", "DTW", "Mc w40")

@@ -20,6 +20,7 @@ from fpdtw.paper import opw_eval as oe
 from fpdtw.paper.claims.open import BEST_FIXED, band_removed_share, per_movement_windows
 from fpdtw.paper.figures.plotting import new_axes
 from fpdtw.paper.numbers import WINDOWS
+from fpdtw.paper.pause import insert_pause, pause_plan, pause_seed
 from fpdtw.paper.runner.grid import (
     BAND_1S,
     BAND_BASES,
@@ -29,7 +30,6 @@ from fpdtw.paper.runner.grid import (
     PAUSE_SUFFIX,
     WEIGHT_BASES,
 )
-from fpdtw.pause import insert_pause, pause_plan, pause_seed
 from fpdtw.period import MAX_PERIOD_S, MIN_PEAK, autocorrelation, dominant_period
 
 _SFX = {120: "", 60: "@60Hz"}

@@ -5,7 +5,7 @@ literal window, the online baselines OPW and OLTW); ``"study"`` / ``"smoke-study
 :data:`STUDY_ALGORITHMS` (notebook 15's readings of Algorithm 3 and the paper's silent
 choices); ``"open"`` / ``"smoke-open"``: :data:`OPEN_ALGORITHMS` (notebook 16's open
 questions). A name ending in ``"@60Hz"`` runs at 60 Hz; one ending in ``"@pause"`` runs on
-the targets with a held pose inserted (:func:`fpdtw.pause.insert_pause`).
+the targets with a held pose inserted (:func:`fpdtw.paper.pause.insert_pause`).
 """
 
 from __future__ import annotations
@@ -114,7 +114,7 @@ def choice_variant(name: str, choice: SilentChoice) -> str:
 #: What notebook 15 computes by default (modes "study" and "smoke-study").
 STUDY_ALGORITHMS = _study_algorithms()
 
-#: Suffix of a name run on the targets with a pause inserted (:func:`fpdtw.pause.insert_pause`).
+#: Suffix of a name run on targets with a pause inserted (:func:`fpdtw.paper.pause.insert_pause`).
 PAUSE_SUFFIX = "@pause"
 #: Q1 (the window from the input's period): Mc auto beside every fixed window, 120 and 60 Hz.
 OPEN_Q1 = tuple(

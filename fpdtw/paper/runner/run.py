@@ -55,6 +55,7 @@ from fpdtw.online.window import WindowCache, run_group
 from fpdtw.paper import catalog, numbers, provenance
 from fpdtw.paper.atomic import TMP_SUFFIX, tmp_path
 from fpdtw.paper.paths import results_dir
+from fpdtw.paper.pause import insert_pause
 from fpdtw.paper.runner.grid import mode_algorithms, split_rate, split_transform
 from fpdtw.paper.runner.parallel import CONNECT_TIMEOUT, ClusterError, Executor, scheduler_from_env
 from fpdtw.paper.runner.results import (
@@ -75,7 +76,6 @@ from fpdtw.paper.runner.selection import (
     format_counts,
     pair_selection,
 )
-from fpdtw.pause import insert_pause
 
 #: Bump when the feature cache or chunk layout, or what this module computes, changes.
 CACHE_FORMAT = 3
