@@ -559,7 +559,7 @@ def method_c_step(I, T, M, w: int, allowed=None) -> Step:
     ok = allowed_rows(allowed, rows)
     # Type V mask rule (Section 6): C[r, 0] = +inf for every row r the state does not
     # allow, BEFORE accumulating: an allowed row's D[r, 0] may no longer reach the far
-    # corner through a masked (r + 1, 0) (fpdtw.paper.readings.type_v_mask_changes).
+    # corner through a masked (r + 1, 0) (notebook 15 counts the maps this changes).
     C[~ok, 0] = np.inf
     D = reverse_accumulate(C)  # line 12
     score = D[:, 0].copy()

@@ -386,6 +386,7 @@ def type_v_mask_changes(pairs, windows=WINDOWS) -> list[dict]:
     reading, per window ``w``.
 
     Paper: FP-DTW Section 6 (Type V), Algorithm 3.
+    Notebook: 15_readings_of_algorithm_3.ipynb
     """
     pairs = list(pairs)
     rows = []
