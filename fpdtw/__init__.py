@@ -16,13 +16,7 @@ from fpdtw import plain
 from fpdtw.costs import geo_distance, geodesic_cost_matrix, position_cost_matrix
 from fpdtw.derivative import derivative_features
 from fpdtw.dtw import dtw, dtw_pair, utw_map
-from fpdtw.errors import (
-    AlignmentError,
-    DataFetchError,
-    FpdtwError,
-    ManifestError,
-    MotionFormatError,
-)
+from fpdtw.errors import AlignmentError, FpdtwError, MotionFormatError
 from fpdtw.io import load_motion
 from fpdtw.metrics import deviation, similarity
 from fpdtw.motion.features import Frame, MotionFeatures
@@ -49,7 +43,7 @@ from fpdtw.weights import joint_weights
 __version__ = "0.1.0"
 
 __all__ = ["OEDTW", "OLTW", "OPW", "OPW_JOINTS", "PAPER_JOINTS", "AlignmentError",
-           "DataFetchError", "FpdtwError", "Frame", "LiveTarget", "ManifestError",
+           "FpdtwError", "Frame", "LiveTarget",
            "MethodA", "MethodB", "MethodC", "Motion", "MotionFeatures",
            "MotionFormatError", "OnlineAligner", "Skeleton", "TypeV", "WarpCurve",
            "align", "derivative_features", "deviation", "dtw", "dtw_pair",

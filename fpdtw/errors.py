@@ -41,14 +41,6 @@ class MotionFormatError(FpdtwError, ValueError):
         super().__init__(f"{head}{message}")
 
 
-class DataFetchError(FpdtwError, RuntimeError):
-    """A data file could not be fetched or failed verification against the manifest."""
-
-
-class ManifestError(FpdtwError, ValueError):
-    """A data manifest file is malformed."""
-
-
 class AlignmentError(FpdtwError, ValueError):
     """Bad arguments to an aligner (e.g. a window of 0, mismatched joints)."""
 

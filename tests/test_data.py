@@ -22,7 +22,6 @@ from pathlib import Path
 import pytest
 
 from fpdtw.app import cli, commands
-from fpdtw.errors import DataFetchError, ManifestError
 from fpdtw.paper import datasets as data
 
 AUTHORS_URL = (
@@ -279,7 +278,7 @@ sha256 = "%s"
 def test_malformed_manifest_names_file_and_key(tmp_path, monkeypatch, text, needle):
     monkeypatch.setenv("FPDTW_MANIFEST_DIR", str(tmp_path))
     (tmp_path / "toy.toml").write_text(text)
-    with pytest.raises(ManifestError) as info:
+    with pytest.raises(data.ManifestError) as info:
         data.load_manifest("toy")
     assert "toy.toml" in str(info.value) and needle in str(info.value)
 
@@ -289,7 +288,7 @@ def test_good_toy_manifest_and_unknown_name(tmp_path, monkeypatch):
     (tmp_path / "toy.toml").write_text(_GOOD)
     m = data.load_manifest("toy")
     assert m.files[0].path == "a/b.bvh" and m.files[0].available_here
-    with pytest.raises(ManifestError, match="no manifest for dataset 'nope'"):
+    with pytest.raises(data.ManifestError, match="no manifest for dataset 'nope'"):
         data.load_manifest("nope")
 
 
@@ -315,9 +314,9 @@ def test_fetch_from_mirror_folder_and_path_forms(mirror_root, cache, monkeypatch
     p = data.fetch("authors_fbx", "MoCapData/3_Jumps_02_.fbx", progress=False)
     assert p == data.cache_path("authors_fbx", "3_Jumps_02_.fbx")
     assert sha256_of(p) == data.load_manifest("authors_fbx").entry(p.name).sha256
-    with pytest.raises(DataFetchError, match="292 files"):
+    with pytest.raises(data.DataFetchError, match="292 files"):
         data.fetch("hdm05")
-    with pytest.raises(DataFetchError, match="not a file of this dataset"):
+    with pytest.raises(data.DataFetchError, match="not a file of this dataset"):
         data.fetch("hdm05", "nothing.amc")
 
 
@@ -334,7 +333,7 @@ def test_tampered_file_is_refused(mirror_root, cache, tmp_path, monkeypatch, ove
             monkeypatch.setenv("FPDTW_MIRROR", base)
         else:
             monkeypatch.setenv("FPDTW_MIRROR", str(fake))
-        with pytest.raises(DataFetchError) as info:
+        with pytest.raises(data.DataFetchError) as info:
             data.fetch("cmu", progress=False)
     msg = str(info.value)
     assert "cmu" in msg and "18_01.bvh" in msg and expected in msg and actual in msg
@@ -343,18 +342,18 @@ def test_tampered_file_is_refused(mirror_root, cache, tmp_path, monkeypatch, ove
 
 def test_missing_file_names_file_and_mirror(mirror_root, cache, monkeypatch):
     monkeypatch.setenv("FPDTW_MIRROR", str(mirror_root))
-    with pytest.raises(DataFetchError) as info:
+    with pytest.raises(data.DataFetchError) as info:
         data.fetch("authors_fbx", "Slow_Walk_01.fbx", progress=False)
     msg = str(info.value)
     assert "Slow_Walk_01.fbx" in msg and "FPDTW_MIRROR" in msg and str(mirror_root) in msg
     with serve(mirror_root) as (base, _):
         monkeypatch.setenv("FPDTW_MIRROR", base)
-        with pytest.raises(DataFetchError) as info:
+        with pytest.raises(data.DataFetchError) as info:
             data.fetch("authors_fbx", "Slow_Walk_01.fbx", progress=False)
     msg = str(info.value)
     assert "HTTP 404" in msg and "FPDTW_MIRROR" in msg and "Slow_Walk_01.fbx" in msg
     monkeypatch.setenv("FPDTW_MIRROR", str(mirror_root / "no_such_folder"))
-    with pytest.raises(DataFetchError, match="neither an http"):
+    with pytest.raises(data.DataFetchError, match="neither an http"):
         data.fetch("cmu", progress=False)
     assert files_under(cache) == []
 
@@ -367,7 +366,7 @@ def test_upstream_unreachable_says_how_to_set_mirror(cache):
     m = dataclasses.replace(
         m, files=(dataclasses.replace(m.files[0], url=f"http://127.0.0.1:{port}/x.bvh"),)
     )
-    with pytest.raises(DataFetchError) as info:
+    with pytest.raises(data.DataFetchError) as info:
         data.fetch(m, progress=False)
     msg = str(info.value)
     assert "18_01.bvh" in msg and f"127.0.0.1:{port}" in msg and "set FPDTW_MIRROR" in msg
@@ -390,10 +389,12 @@ def test_authors_file_verified_by_git_blob_only(mirror_root, cache, monkeypatch)
     e = dataclasses.replace(m.entry("Walk_02.fbx"), sha256=None, size=None)
     assert data.fetch(m, e, progress=False).is_file()
     wrong = dataclasses.replace(m.entry("Walk_03.fbx"), sha256=None, git_blob_sha1="0" * 40)
-    with pytest.raises(DataFetchError, match="git blob SHA-1 expected 0{40}, actual [0-9a-f]{40}"):
+    with pytest.raises(
+        data.DataFetchError, match="git blob SHA-1 expected 0{40}, actual [0-9a-f]{40}"
+    ):
         data.fetch(m, wrong, progress=False)
     neither = dataclasses.replace(wrong, git_blob_sha1=None)
-    with pytest.raises(DataFetchError, match="refused"):
+    with pytest.raises(data.DataFetchError, match="refused"):
         data.fetch(m, neither, progress=False)
     assert files_under(cache / "mocap_single_person_actions") == ["MoCapData/Walk_02.fbx"]
 
@@ -431,7 +432,7 @@ def test_file_changed_in_place_with_its_mtime_restored_is_not_trusted(
     flip_byte(p, 1000)
     os.utime(p, ns=(st.st_atime_ns, st.st_mtime_ns))
     monkeypatch.setenv("FPDTW_MIRROR", str(cache / "nowhere"))
-    with pytest.raises(DataFetchError, match="18_01.bvh"):
+    with pytest.raises(data.DataFetchError, match="18_01.bvh"):
         data.fetch("cmu", progress=False)
     assert not p.exists()
 
@@ -481,7 +482,7 @@ def test_archive_flow_extracts_only_listed_members(mirror_root, cache, tmp_path)
     assert files_under(cache) == sorted(
         ["_archives/HDM05_cut_amc.zip", f"hdm05/{CLIP_A}", f"hdm05/{CLIP_B}"]
     )
-    with pytest.raises(DataFetchError, match="has no member"):
+    with pytest.raises(data.DataFetchError, match="has no member"):
         data.fetch(m, "HDM05_cut_amc/squat1Reps/HDM_bd_squat1Reps_002_120.amc", progress=False)
     assert no_temp_files(cache)
 
@@ -497,7 +498,7 @@ def test_archive_with_tampered_member_is_refused(mirror_root, cache, tmp_path):
     actual = hashlib.sha256(bytes(content)).hexdigest()
     with serve(site) as (base, _):
         m = _hdm05_with_archive(f"{base}/HDM05_cut_amc.zip")
-        with pytest.raises(DataFetchError) as info:
+        with pytest.raises(data.DataFetchError) as info:
             data.fetch(m, CLIP_A, progress=False)
     msg = str(info.value)
     assert CLIP_A in msg and expected in msg and actual in msg
@@ -566,7 +567,7 @@ def test_fetch_all_from_local_mirror(mirror_root, cache, monkeypatch, capsys):
     report = commands.fetch_all("authors_fbx", available_only=False, progress=False, strict=False)
     assert len(report.fetched) == 48 and len(report.failed) == 15
     assert all("FPDTW_MIRROR" in msg for _, _, msg in report.failed)
-    with pytest.raises(DataFetchError) as info:
+    with pytest.raises(data.DataFetchError) as info:
         commands.fetch_all("authors_fbx", available_only=False, progress=False)
     assert len(info.value.report.failed) == 15 and "15 FAILED" in str(info.value)
 

@@ -21,10 +21,12 @@ from pathlib import Path
 from tqdm import tqdm
 
 from fpdtw.app.argtypes import positive_float, positive_int
-from fpdtw.errors import AlignmentError, ClusterError, DataFetchError, FpdtwError, ManifestError
+from fpdtw.errors import AlignmentError, ClusterError, FpdtwError
 from fpdtw.paper import paths
 from fpdtw.paper.datasets import (
+    DataFetchError,
     Datasets,
+    ManifestError,
     as_manifests,
     fetch,
     fetch_entry,

@@ -30,7 +30,7 @@ import jsonschema
 import pooch
 import requests
 
-from fpdtw.errors import DataFetchError, ManifestError
+from fpdtw.errors import FpdtwError
 from fpdtw.paper import paths
 
 ARCHIVE_DIR = "_archives"  # cache sub-folder of downloaded archives
@@ -41,6 +41,14 @@ MIRROR_HINT = (
     "no network here? set FPDTW_MIRROR to a folder or base URL holding a copy laid out as "
     "<mirror>/<dataset folder>/<path> (for example FPDTW_MIRROR=/path/to/a/copy)"
 )
+
+
+class DataFetchError(FpdtwError, RuntimeError):
+    """A data file could not be fetched or failed verification against the manifest."""
+
+
+class ManifestError(FpdtwError, ValueError):
+    """A data manifest file is malformed."""
 
 
 # -- manifests -------------------------------------------------------------------------
