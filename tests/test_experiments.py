@@ -165,12 +165,13 @@ def test_slugs_and_names():
 
 def test_the_computation_is_keyed_by_the_library_source():
     """A chunk stays valid while the library does not change: the files outside
-    fpdtw/paper and fpdtw/app, and the catalogue that loads the motions."""
+    fpdtw/paper and fpdtw/app, the catalogue that loads the motions and the pause inserted
+    into targets."""
     files = E.compute_files()
     for f in ("online/method_c.py", "metrics.py", "io/fbx.py", "registry.py", "paper/catalog.py"):
         assert f in files
     assert not [f for f in files if f.startswith("app/")]
-    assert {f for f in files if f.startswith("paper/")} == {"paper/catalog.py"}
+    assert {f for f in files if f.startswith("paper/")} == {"paper/catalog.py", "paper/pause.py"}
     assert E.source_hash(files) != E.source_hash()
 
 

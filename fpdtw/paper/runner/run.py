@@ -145,15 +145,19 @@ def source_hash(files=None) -> str:
     return h.hexdigest()
 
 
+#: The reproduction's files that decide a run's targets (see :func:`compute_files`).
+_PAPER_COMPUTE = ("paper/catalog.py", "paper/pause.py")
+
+
 def compute_files() -> list:
     """The source files whose code decides the features, maps and scores of a run: the
-    library (every module outside ``fpdtw/paper`` and ``fpdtw/app``) and the catalogue that
-    loads the motions; editing the rest keeps a finished run's chunks (a change to what this
-    module computes bumps :data:`CACHE_FORMAT`)."""
+    library (every module outside ``fpdtw/paper`` and ``fpdtw/app``), the catalogue that
+    loads the motions and the pause inserted into targets; editing the rest keeps a finished
+    run's chunks (a change to what this module computes bumps :data:`CACHE_FORMAT`)."""
     out = []
     for p in sorted(_PKG_ROOT.rglob("*.py")):
         rel = p.relative_to(_PKG_ROOT)
-        if rel.parts[0] not in ("paper", "app") or rel == Path("paper/catalog.py"):
+        if rel.parts[0] not in ("paper", "app") or str(rel) in _PAPER_COMPUTE:
             out.append(str(rel))
     return out
 
