@@ -1,9 +1,8 @@
 """Run the experiment grid over every pair of a selection, in parallel and resumably.
 
-Per pair of a mode's selection (:mod:`~fpdtw.paper.runner.selection`) and algorithm of its
-grid (:mod:`~fpdtw.paper.runner.grid`): the map ``M`` (target frame -> input frame), the
-similarity (eq. 2) and the deviation (eq. 3) from the DTW map at the same rate, in frames
-(no timings: ``make bench``). Files, under ``results_dir()/<mode>/``, every write atomic:
+Per pair of a mode's selection (:mod:`.selection`) and algorithm of its grid (:mod:`.grid`):
+the map ``M`` (target frame -> input frame), the similarity (eq. 2) and the deviation (eq. 3)
+from DTW's map at the same rate, in frames. Under ``results_dir()/<mode>/``, written atomically:
 
 ``pairs.json``
     ``{"mode", "selection", "counts", "pairs": [{"id", "dataset", "movement", "input",
@@ -12,19 +11,15 @@ similarity (eq. 2) and the deviation (eq. 3) from the DTW map at the same rate, 
 ``algorithms/<slug>.npz``
     ``pair_id`` (P,) int32, ``offsets`` (P+1,) int64, ``maps`` int32 (pair k's map is
     ``maps[offsets[k]:offsets[k+1]]``), ``similarity``, ``deviation`` (P,) float64.
-``summary.json`` (:func:`summarize`); ``run.json``
-    Keys, what was computed and where, times, the environment (not deterministic).
-``features/``, ``chunks/``
-    Caches: each motion's features; one chunk per work unit (an input motion against every
-    other take of its movement, every algorithm).
+``summary.json`` (:func:`summarize`); ``run.json`` (keys, what was computed where, times,
+the environment: not deterministic); caches ``features/`` (per motion) and ``chunks/`` (per
+work unit: an input motion against every other take of its movement, every algorithm).
 
-Resuming: a run killed at any point resumes from its finished chunks and ends with the same
-``algorithms/*.npz``, ``pairs.json`` and ``summary.json``. The *config key* (mode,
+A killed run resumes from its finished chunks to the same files. The *config key* (mode,
 algorithms, pairs, data hashes, every source file) decides "nothing changed"; the *base key*
-(mode, selection, data hashes, pairs, :data:`CACHE_FORMAT`, the library's source,
-:func:`compute_files`) whether a chunk is valid; a run that adds an algorithm computes only
-it. One run at a time per results folder. Command line: ``fpdtw experiments run``
-(:mod:`fpdtw.app.commands`); on a Dask cluster: :mod:`~fpdtw.paper.runner.parallel`.
+(mode, selection, data hashes, pairs, :data:`CACHE_FORMAT`, :func:`compute_files`' source)
+whether a chunk is valid; an added algorithm is computed alone. One run at a time per
+results folder. Command line: ``fpdtw experiments run``; on Dask: :mod:`.parallel`.
 
 Paper: FP-DTW Section 4 (pairs), eq. 2 and eq. 3, Figs. 5-7 and 10, Tables 1 and 2.
 Notebook: 05_run_experiments.ipynb
@@ -53,7 +48,7 @@ from fpdtw.motion.features import MotionFeatures
 from fpdtw.motion.joints import OPW_JOINTS
 from fpdtw.online.window import WindowCache, run_group
 from fpdtw.paper import catalog, numbers, provenance
-from fpdtw.paper.atomic import TMP_SUFFIX, tmp_path
+from fpdtw.paper.atomic import TMP_SUFFIX, write_atomic
 from fpdtw.paper.paths import results_dir
 from fpdtw.paper.runner.grid import mode_algorithms, split_rate, split_transform
 from fpdtw.paper.runner.parallel import CONNECT_TIMEOUT, ClusterError, Executor, scheduler_from_env
@@ -250,28 +245,16 @@ def _check_code(expected: str) -> None:
         )
 
 
-def _reuse_features(folder: Path, files: list) -> int:
+def _reuse_features(folder: Path, files: list) -> None:
     """Copy into ``folder`` the missing feature files another mode of the same results folder
-    built (a name holds the hash of everything that decides the bytes), whole or not at all;
-    returns how many were copied."""
+    built (a name holds the hash of everything that decides the bytes), whole or not at all."""
     siblings = [d / "features" for d in folder.parent.parent.iterdir() if d.is_dir()]
     siblings = [d for d in siblings if d.is_dir() and d.resolve() != folder.resolve()]
-    n = 0
     for p in files:
-        if p.is_file():
-            continue
-        src = next((d / p.name for d in siblings if (d / p.name).is_file()), None)
-        if src is None:
-            continue
-        tmp = tmp_path(p)
-        try:
-            shutil.copyfile(src, tmp)
-            os.replace(tmp, p)
-            n += 1
-        finally:
-            if tmp.exists():
-                tmp.unlink()
-    return n
+        if not p.is_file():
+            src = next((d / p.name for d in siblings if (d / p.name).is_file()), None)
+            if src is not None:
+                write_atomic(p, src.read_bytes())
 
 
 def build_features(
@@ -293,8 +276,7 @@ def build_features(
     if todo:
         ex = executor if executor is not None else Executor(n_jobs)
         keys = [f"fpdtw-features-{p.stem}" for _, p, _, _ in todo]
-        for _ in ex.map(_build_feature_file, todo, desc="features", progress=progress, keys=keys):
-            pass
+        list(ex.map(_build_feature_file, todo, desc="features", progress=progress, keys=keys))
         if ex.kind == "dask":
             _await_files([p for _, p, _, _ in todo], Path.is_file, "feature files", folder)
     keep = {p.name for p in files}
@@ -349,7 +331,7 @@ def _pair_maps(specs: list, I: MotionFeatures, T: MotionFeatures, info: dict) ->
     for s in specs:
         if s.name not in out:
             out[s.name] = s.algorithm.run(I, T)[0]
-    return {name: _check_map(s, out[s.name], I, T, info) for s in specs for name in [s.name]}
+    return {s.name: _check_map(s, out[s.name], I, T, info) for s in specs}
 
 
 def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: str) -> dict:
@@ -381,10 +363,7 @@ def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: s
             T = transform_target(transform, T)
             maps = _pair_maps(group, I, T, {**info, "fps": fps})
             dtw_spec = next((s for s in group if s.algorithm.family == "DTW"), None)
-            if dtw_spec is None:
-                dtw = registry.align("DTW", I, T)[0]
-            else:
-                dtw = maps[dtw_spec.name]
+            dtw = registry.align("DTW", I, T)[0] if dtw_spec is None else maps[dtw_spec.name]
             XI, XT = joint_trajectories(I.quats), joint_trajectories(T.quats)
             for s in group:
                 M = maps[s.name]
@@ -393,17 +372,15 @@ def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: s
                 per[s.name]["sim"].append(float(np.mean(trajectory_scores(XI[M], XT))))
                 per[s.name]["dev"].append(deviation(dtw, M))
                 runs += 1
-    ids = np.array([p["id"] for p in pairs], dtype=np.int32)
+    ids = [p["id"] for p in pairs]
     for s in specs:
-        maps, sim, dev = per[s.name]["maps"], per[s.name]["sim"], per[s.name]["dev"]
-        offsets = np.concatenate([[0], np.cumsum([len(M) for M in maps])]).astype(np.int64)
-        values = (ids, offsets, np.concatenate(maps).astype(np.int32),
-                  np.array(sim, dtype=np.float64), np.array(dev, dtype=np.float64))  # fmt: skip
-        arrays.update({f"{s.slug}.{k}": v for k, v in zip(_FIELDS, values)})
+        maps = per[s.name]["maps"]
+        fields = _fields(ids, [len(M) for M in maps], maps, per[s.name]["sim"], per[s.name]["dev"])
+        arrays.update({f"{s.slug}.{k}": v for k, v in fields.items()})
     meta = {
         "unit": unit["id"],
         "base_key": base_key,
-        "pair_ids": [p["id"] for p in pairs],
+        "pair_ids": ids,
         "algorithms": sorted(keep | {s.name for s in specs}),
     }
     arrays[_META] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
@@ -414,6 +391,14 @@ def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: s
 
 #: The arrays of an algorithm's results, in file order (chunks and ``algorithms/*.npz``).
 _FIELDS = ("pair_id", "offsets", "maps", "similarity", "deviation")
+
+
+def _fields(ids, lengths, maps, sim, dev) -> dict:
+    """:data:`_FIELDS` from per-pair (or per-chunk) parts: ids, map lengths, maps, scores."""
+    offsets = np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64)
+    ids, maps = np.hstack(ids).astype(np.int32), np.concatenate(maps).astype(np.int32)
+    sim, dev = np.hstack(sim).astype(np.float64), np.hstack(dev).astype(np.float64)
+    return dict(zip(_FIELDS, (ids, offsets, maps, sim, dev), strict=True))
 
 
 def _assemble(out: Path, specs: list, units: list, n_pairs: int) -> None:
@@ -432,14 +417,8 @@ def _assemble(out: Path, specs: list, units: list, n_pairs: int) -> None:
         if not np.array_equal(ids, np.arange(n_pairs)):
             raise RuntimeError(f"{s.name}: chunks do not cover pairs 0..{n_pairs - 1} in order")
         lengths = np.concatenate(acc["offsets"])
-        save_npz(
-            out / "algorithms" / f"{s.slug}.npz",
-            pair_id=ids,
-            offsets=np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64),
-            maps=np.concatenate(acc["maps"]).astype(np.int32),
-            similarity=np.concatenate(acc["similarity"]).astype(np.float64),
-            deviation=np.concatenate(acc["deviation"]).astype(np.float64),
-        )
+        fields = _fields(ids, lengths, acc["maps"], acc["similarity"], acc["deviation"])
+        save_npz(out / "algorithms" / f"{s.slug}.npz", **fields)
 
 
 def _stats(x) -> dict:
@@ -476,6 +455,7 @@ def summarize(results: Results) -> dict:
         s, d = _stats(sim), _stats(dev)
         u = utw.get(fps)
         dev_ms = dev * 1000.0 / fps
+        passes_sim = None if u is None else numbers.passes_similarity(s["median"], u)
         algos[name] = {
             "fps": fps,
             "online": results.is_online(name),
@@ -486,9 +466,7 @@ def summarize(results: Results) -> dict:
             "frac_above_utw_median": None if u is None else float(np.mean(sim > u)),
             "frac_deviation_below_18": float(np.mean(dev < numbers.DEVIATION_BENCHMARK_FRAMES)),
             "frac_deviation_below_150ms": float(np.mean(dev_ms < numbers.DEVIATION_BENCHMARK_MS)),
-            "passes_similarity_benchmark": None
-            if u is None
-            else numbers.passes_similarity(s["median"], u),
+            "passes_similarity_benchmark": passes_sim,
             "passes_deviation_benchmark": numbers.passes_deviation(d["median"], fps),
         }
     return {"eq2": results.eq2, "benchmarks": bench, "algorithms": algos}
@@ -509,10 +487,8 @@ def _remove_temporaries(out: Path) -> None:
 
 
 def _pairs_json(mode, plan, feature_files) -> dict:
-    frames = {}
-    for i, f in enumerate(feature_files):
-        a = _load_features_file(str(f))
-        frames[i] = (a["quats120"].shape[0] - 1, a["quats60"].shape[0] - 1)
+    files = [_load_features_file(str(f)) for f in feature_files]
+    frames = [(a["quats120"].shape[0] - 1, a["quats60"].shape[0] - 1) for a in files]
     pairs = []
     for p in plan.pairs:
         q = {k: v for k, v in p.items() if k not in ("input_index", "target_index")}
