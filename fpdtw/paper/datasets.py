@@ -1,14 +1,9 @@
-"""Data manifests and verified fetching of the motion datasets.
+"""Data manifests and verified fetching of the motion datasets (the guarantee: ``docs/data.md``).
 
-One TOML manifest per dataset in ``data_manifest/`` (see its README) lists every file:
-path, upstream URL or archive member, size, hash, labels. :func:`fetch` puts a file into
-the cache (``<cache>/<mirror_prefix>/<path>``; archives in ``<cache>/_archives/``) and
-returns its path. Sources: with ``FPDTW_MIRROR`` set, only the mirror (a folder, or an
-``http(s)://`` base URL); else the file's ``url`` or its member of the cut archive.
-
-Every file is verified before it is renamed into place, and every time :func:`fetch`
-returns it from the cache (the guarantee: ``docs/data.md``). Command line: ``fpdtw data
-fetch|verify|cite`` (:mod:`fpdtw.app.commands`).
+One TOML manifest per dataset in ``data_manifest/`` (its README: the keys). :func:`fetch` puts
+a verified file into the cache, ``<cache>/<mirror_prefix>/<path>``, from ``FPDTW_MIRROR`` (a
+folder or base URL) if set, else from its ``url`` or its member of an archive (kept in
+``<cache>/_archives/``). Command line: ``fpdtw data fetch|verify|cite``.
 """
 
 from __future__ import annotations
@@ -41,9 +36,6 @@ MIRROR_HINT = (
     "no network here? set FPDTW_MIRROR to a folder or base URL holding a copy laid out as "
     "<mirror>/<dataset folder>/<path> (for example FPDTW_MIRROR=/path/to/a/copy)"
 )
-
-
-# -- manifests -------------------------------------------------------------------------
 
 
 @dataclass(frozen=True)
@@ -288,9 +280,6 @@ def cache_path(dataset: str | Manifest, path: str | FileEntry) -> Path:
     return paths.data_dir() / m.mirror_prefix / m.entry(path).path
 
 
-# -- hashing -------------------------------------------------------------------------
-
-
 def file_hashes(path: str | os.PathLike) -> dict:
     """``{"size", "sha256", "git_blob_sha1"}`` of a file from one read (the blob SHA-1 is
     git's id of the content, ``sha1(b"blob <size>\\0" + content)``)."""
@@ -331,9 +320,6 @@ def _staging(dest: Path) -> Iterator[Path]:
         yield tmp
     finally:
         tmp.unlink(missing_ok=True)
-
-
-# -- sources --------------------------------------------------------------------------
 
 
 def _download(url: str, tmp: Path, *, progress: bool, what: str, hint: str) -> None:
@@ -444,9 +430,6 @@ def _from_archive(m: Manifest, e: FileEntry, tmp: Path, cache: Path, *, progress
     return f"{a.url} (member {info.filename})"
 
 
-# -- fetching -------------------------------------------------------------------------
-
-
 def fetch_entry(
     m: Manifest, e: FileEntry, cache: Path, *, progress: bool, archive_progress: bool
 ) -> Path:
@@ -488,13 +471,11 @@ def fetch_entry(
 def fetch(
     dataset: str | Manifest, path: str | os.PathLike | FileEntry | None = None, *, progress=True
 ) -> Path:
-    """Fetch one file into the cache (if not there yet), verified; its path
-    ``<cache>/<mirror_prefix>/<path>``, holding exactly the manifest's content.
+    """The path of one file in the cache, fetched if not there yet, verified against the manifest.
 
-    ``path``: the file's path in the manifest (``"MoCapData/Walk_01.fbx"``), its name if
-    unique (``"Walk_01.fbx"``) or its entry; omitted only for a dataset of one file.
-    DataFetchError when it is not in the manifest, not available from the source tried (the
-    message says how to set ``FPDTW_MIRROR``) or not matching the manifest (nothing kept).
+    ``path``: its path in the manifest (``"MoCapData/Walk_01.fbx"``), its name if unique or its
+    entry; omitted only for a dataset of one file. DataFetchError: not in the manifest, not
+    available from the source tried (the message names ``FPDTW_MIRROR``) or not matching.
     """
     m = _as_manifest(dataset)
     if path is None:

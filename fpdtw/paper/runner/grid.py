@@ -1,11 +1,6 @@
-"""The experiment grid: which algorithms each mode runs, by the registry's names.
-
-Modes ``"full"`` / ``"smoke"``: :func:`default_algorithms` (the paper's evaluation, Method C's
-literal window, the online baselines OPW and OLTW); ``"study"`` / ``"smoke-study"``:
-:data:`STUDY_ALGORITHMS` (notebook 15's readings of Algorithm 3 and the paper's silent
-choices); ``"open"`` / ``"smoke-open"``: :data:`OPEN_ALGORITHMS` (notebook 16's open
-questions). A name ending in ``"@60Hz"`` runs at 60 Hz; one ending in ``"@pause"`` runs on
-the targets with a held pose inserted (:func:`fpdtw.pause.insert_pause`).
+"""The experiment grid: which algorithms each mode runs (:func:`mode_algorithms`), by the
+registry's names; ``"@60Hz"`` at the end runs one at 60 Hz, ``"@pause"`` on the targets with a
+held pose inserted (:func:`fpdtw.pause.insert_pause`).
 """
 
 from __future__ import annotations
