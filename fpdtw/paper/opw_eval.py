@@ -5,11 +5,9 @@ warped by the example curve g into ``B(t) = A(g(t))``, aligned to B by OPW and b
 DTW smoothed by the poster's Fig. 3 rule; each curve measured against g at 50 Hz.
 
 Two readings of the whole protocol (:data:`READINGS`): ``"poster"``, the poster's text as
-:mod:`fpdtw.online.opw` reads it (root-relative positions, the Fig. 3 DTW baseline), and
-``"plugin"``, as the authors' MotionBuilder plugin (matRandall/realTimeDTW) runs it
-(global-ratio reference times, the frame clock, world positions, and its "standard DTW"
-baseline, a per-sample best match forced monotone: :func:`best_match_curve`). Where OPW
-reads the recording is a switch of its own: ``read_at="eq4"`` (default) or ``"listing"``
+:mod:`fpdtw.online.opw` reads it, and ``"plugin"``, as the authors' MotionBuilder plugin
+(matRandall/realTimeDTW) runs it (:class:`OPWReading`: what differs). Where OPW reads the
+recording is a switch of its own: ``read_at="eq4"`` (default) or ``"listing"``
 (:data:`READ_AT_READINGS`, :func:`read_at_table`).
 """
 
@@ -30,20 +28,19 @@ from fpdtw.paper import numbers
 from fpdtw.paper.catalog import load
 from fpdtw.warpcurve import WarpCurve
 
-# The poster's protocol (values and sources in fpdtw.paper.numbers).
-OMEGA = numbers.OPW_OMEGA_S  # OPW's sample period (s): 25 steps per second
-GAMMA = numbers.OPW_GAMMA  # the warp parameter of Figs. 4 and 5
-CROP_S = numbers.OPW_CROP_S  # every motion is cropped to its first CROP_S seconds
-SAMPLE_RATE = numbers.OPW_SAMPLE_RATE_HZ  # curves are compared at this rate (Hz)
-OFFSET = numbers.OPW_OFFSET_S  # the offset of the example curve's middle key (s)
-HOYET_MS = numbers.PERCEPTUAL_THRESHOLD_MS  # Hoyet et al. 2012's threshold (ms)
+# The poster's protocol (what each is, and where printed: fpdtw.paper.numbers).
+OMEGA, GAMMA, CROP_S = numbers.OPW_OMEGA_S, numbers.OPW_GAMMA, numbers.OPW_CROP_S
+SAMPLE_RATE, OFFSET = numbers.OPW_SAMPLE_RATE_HZ, numbers.OPW_OFFSET_S
+HOYET_MS = numbers.PERCEPTUAL_THRESHOLD_MS
 
 
 @dataclass(frozen=True)
 class OPWReading:
     """One reading of OPW and its evaluation: ``reference``, ``clock``, ``direction`` and
     ``read_at`` are :class:`fpdtw.online.opw.OPW`'s options; ``root_relative``: positions
-    relative to the root (poster) or world (plugin); ``baseline``: ``"DTW"`` or ``"best match"``.
+    relative to the root (poster) or world (plugin); ``baseline``: ``"DTW"`` (the poster's
+    Fig. 3 curve) or ``"best match"`` (the plugin's "standard DTW": :func:`best_match_curve`).
+    The plugin reads with global-ratio reference times, the frame clock and world positions.
     """
 
     name: str
@@ -231,9 +228,11 @@ def plugin_period(fps: float) -> float:
     return math.floor(1000.0 / float(fps) + 1e-9) / 1000.0
 
 
-def _positions_at(P, fps: float, times) -> np.ndarray:
-    """Positions (F, p, 3) at ``times`` (s), linear between frames, clamped to the ends."""
-    x = np.clip(np.asarray(times, dtype=float) * fps, 0.0, P.shape[0] - 1)
+def _plugin_positions(motion, period: float, root_relative: bool) -> np.ndarray:
+    """OPW joints' positions (F, 16, 3) every ``period`` s, linear between frames, clamped."""
+    times = np.arange(max(1, int(np.ceil(motion.duration / period - 1e-9)))) * period
+    P = motion.positions(OPW_JOINTS, root_relative=root_relative)
+    x = np.clip(times * motion.fps, 0.0, P.shape[0] - 1)
     i0 = np.minimum(np.floor(x + 1e-9).astype(np.int64), P.shape[0] - 1)
     i1 = np.minimum(i0 + 1, P.shape[0] - 1)
     a = np.clip(x - i0, 0.0, 1.0)[:, None, None]
@@ -279,11 +278,8 @@ def best_match_curve(A, B, root_relative: bool = False) -> WarpCurve:
     P = plugin_period(A.fps)
     if not P > 0:
         raise ValueError(f"period must be positive, got {P}")
-    tA = np.arange(max(1, int(np.ceil(A.duration / P - 1e-9)))) * P
-    tB = np.arange(max(1, int(np.ceil(B.duration / P - 1e-9)))) * P
-    PA = _positions_at(A.positions(OPW_JOINTS, root_relative=root_relative), A.fps, tA)
-    PB = _positions_at(B.positions(OPW_JOINTS, root_relative=root_relative), B.fps, tB)
-    return best_match_warp(best_match_map(position_cost_matrix(PA, PB)), P, B.duration)
+    C = position_cost_matrix(*(_plugin_positions(M, P, root_relative) for M in (A, B)))
+    return best_match_warp(best_match_map(C), P, B.duration)
 
 
 def best_match_warp(M, period: float, span: float | None = None) -> WarpCurve:
@@ -386,8 +382,7 @@ def evaluate(
     Paper: OPW poster Sections 4-5, Figs. 4-6.
     Notebook: 13_opw_fig4.ipynb
     """
-    rows = _runs({"": motion}, (offset,), (gamma,), omega, as_reading(reading))
-    return next(rows)[1]
+    return next(_runs({"": motion}, (offset,), (gamma,), omega, as_reading(reading)))[1]
 
 
 def _runs(motions: dict, offsets, gammas, omega, rd):
