@@ -76,6 +76,7 @@ from fpdtw.pause import insert_pause
 CACHE_FORMAT = 3
 
 _PKG_ROOT = Path(__file__).resolve().parents[2]
+_CATALOG = Path("paper/catalog.py")  # the one module of the reproduction that decides numbers
 _META = "__meta__"
 
 
@@ -145,12 +146,8 @@ def compute_files() -> list:
     library (every module outside ``fpdtw/paper`` and ``fpdtw/app``) and the catalogue that
     loads the motions; editing the rest keeps a finished run's chunks (a change to what this
     module computes bumps :data:`CACHE_FORMAT`)."""
-    out = []
-    for p in sorted(_PKG_ROOT.rglob("*.py")):
-        rel = p.relative_to(_PKG_ROOT)
-        if rel.parts[0] not in ("paper", "app") or rel == Path("paper/catalog.py"):
-            out.append(str(rel))
-    return out
+    rels = [p.relative_to(_PKG_ROOT) for p in sorted(_PKG_ROOT.rglob("*.py"))]
+    return [str(r) for r in rels if r.parts[0] not in ("paper", "app") or r == _CATALOG]
 
 
 def _build_feature_file(record, path: Path, crop, code: str) -> Path:
@@ -190,14 +187,9 @@ def load_features(path, fps: float = BASE_FPS) -> MotionFeatures:
     (F, 16, 3) of the OPW joints."""
     a = _load_features_file(str(path))
     tag = "120" if fps == BASE_FPS else "60"
-    return MotionFeatures(
-        a[f"quats{tag}"],
-        a[f"euler{tag}"],
-        tuple(str(o) for o in a["orders"]),
-        float(a[f"fps{tag}"]),
-        a.get(f"positions{tag}"),
-        str(a["name"]),
-    )
+    q, e, p = (a.get(f"{k}{tag}") for k in ("quats", "euler", "positions"))
+    orders = tuple(str(o) for o in a["orders"])
+    return MotionFeatures(q, e, orders, float(a[f"fps{tag}"]), p, str(a["name"]))
 
 
 def pair_features(results, fps: float = BASE_FPS):
@@ -279,11 +271,15 @@ def build_features(
         list(ex.map(_build_feature_file, todo, desc="features", progress=progress, keys=keys))
         if ex.kind == "dask":
             _await_files([p for _, p, _, _ in todo], Path.is_file, "feature files", folder)
-    keep = {p.name for p in files}
-    for p in folder.glob("*.npz"):  # features of another crop or older code
+    _prune(folder, {p.name for p in files})  # features of another crop or older code
+    return files
+
+
+def _prune(folder: Path, keep: set) -> None:
+    """Remove the ``.npz`` files of ``folder`` not named in ``keep``."""
+    for p in folder.glob("*.npz"):
         if p.name not in keep:
             p.unlink()
-    return files
 
 
 #: Seconds to wait for files that cluster workers wrote to appear here (network filesystems).
@@ -521,10 +517,7 @@ def _compute(executor: Executor, mode, plan, specs, out: Path, base_key, progres
         units[i]["pairs"].append(p)
     units = list(units.values())
     (out / "chunks").mkdir(exist_ok=True)
-    keep = {Path(u["chunk"]).name for u in units}
-    for p in (out / "chunks").glob("*.npz"):  # units of another selection
-        if p.name not in keep:
-            p.unlink()
+    _prune(out / "chunks", {Path(u["chunk"]).name for u in units})  # another selection's units
 
     tasks, recomputed = [], set()
     frames = {i: load_features(f).n_frames for i, f in enumerate(feature_files)}
@@ -541,17 +534,15 @@ def _compute(executor: Executor, mode, plan, specs, out: Path, base_key, progres
         return units, tasks, recomputed, []
     say(f"computing {len(tasks)} of {len(units)} units ({len(recomputed)} algorithms)")
     code = _code_key()
-    jobs, keys = [], []
+    jobs = []
     for _, u, missing in tasks:
         used = sorted({i for p in u["pairs"] for i in (p["input_index"], p["target_index"])})
-        files = {i: str(feature_files[i]) for i in used}
-        jobs.append((u, missing, files, base_key, code))
-        keys.append(f"fpdtw-unit-{u['id']}")
-    work, seen = [], set()
+        jobs.append((u, missing, {i: str(feature_files[i]) for i in used}, base_key, code))
+    keys = [f"fpdtw-unit-{u['id']}" for _, u, _ in tasks]
+    work = []
     for r in executor.map(_compute_unit, jobs, desc="units", progress=progress, keys=keys):
-        if r["unit"] in seen:  # a task's result delivered twice
+        if any(w["unit"] == r["unit"] for w in work):  # a task's result delivered twice
             raise RuntimeError(f"unit {r['unit']} was computed twice in one run")
-        seen.add(r["unit"])
         work.append(r)
     if len(work) != len(jobs):
         raise RuntimeError(f"{len(jobs) - len(work)} units of {len(jobs)} were never computed")
@@ -657,11 +648,8 @@ def run_experiments(
     runs = sum(r["runs"] for r in work)
 
     # per-algorithm files: (re)written where something changed
-    prev_algos = (
-        {a["name"]: a for a in prev.get("algorithms", [])}
-        if prev.get("base_key") == base_key
-        else {}
-    )
+    same_base = prev.get("base_key") == base_key
+    prev_algos = {a["name"]: a for a in prev.get("algorithms", [])} if same_base else {}
     assemble = [
         s
         for s in specs
@@ -685,14 +673,10 @@ def run_experiments(
         elif (out / "algorithms" / f"{a['slug']}.npz").is_file():
             info.append(a)
     info += list(new.values())
-    listed = {a["slug"] for a in info}
-    for p in (out / "algorithms").glob("*.npz"):
-        if p.stem not in listed:
-            p.unlink()
+    _prune(out / "algorithms", {f"{a['slug']}.npz" for a in info})
     shutil.rmtree(out / "timings", ignore_errors=True)  # written by runs before CACHE_FORMAT 2
 
-    summary = summarize(Results(out, algorithms=info))
-    save_json(out / "summary.json", summary)
+    save_json(out / "summary.json", summarize(Results(out, algorithms=info)))
 
     run = {
         "config_key": config_key,
