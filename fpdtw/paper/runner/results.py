@@ -95,10 +95,7 @@ class AlgorithmResult(dict):
     ``similarity``, ``deviation``) plus ``name``, ``fps`` and ``map`` (:meth:`map`)."""
 
     def __init__(self, arrays: dict, name: str, fps: float):
-        super().__init__(arrays)
-        self["name"] = name
-        self["fps"] = fps
-        self["map"] = self.map
+        super().__init__(arrays, name=name, fps=fps, map=self.map)
 
     def map(self, k: int) -> np.ndarray:
         """The map of pair ``k``: int32 array of shape (n + 1,), target frame -> input frame."""
@@ -119,10 +116,9 @@ RESCORERS: dict = {}
 
 
 def default_eq2() -> str:
-    """The reading of eq. 2 the results are scored with: ``$FPDTW_EQ2`` or ``"transform"``.
-
-    ``"transform"`` (each joint's whole local transform, as the authors' toolkit reads it:
-    ``docs/eq2_reading.md``) is the default since 2026-11-24; ``"local"`` (the raw animated
+    """The reading of eq. 2 the results are scored with: ``$FPDTW_EQ2`` or ``"transform"``
+    (each joint's whole local transform, as the authors' toolkit reads it:
+    ``docs/eq2_reading.md``), the default since 2026-11-24; ``"local"`` (the raw animated
     rotation, the stored scores) before, one switch away.
 
     Paper: FP-DTW eq. 2.
