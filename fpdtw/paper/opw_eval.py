@@ -207,17 +207,14 @@ def dtw_curve(A, B, omega: float = OMEGA, root_relative: bool = True) -> WarpCur
     res = dtw(position_cost_matrix(PA, PB))
     xs, ys = [], []
     for i, j in res.path[fig3_key_points(res.path)][:-1]:
-        x = j * omega
-        if xs and x <= xs[-1]:
-            continue
-        xs.append(x)
-        ys.append(i * omega)
+        if not xs or j * omega > xs[-1]:
+            xs.append(j * omega)
+            ys.append(i * omega)
     DA, DB = A.duration, B.duration
     while xs and xs[-1] >= DB:
         xs.pop()
         ys.pop()
-    xs.append(DB)
-    ys.append(DA)
+    xs, ys = xs + [DB], ys + [DA]
     if len(xs) < 2:
         xs, ys = [0.0, DB], [0.0, DA]
     return WarpCurve(xs, ys)
@@ -581,8 +578,8 @@ def fig5_fig6_facts(
         "gamma_fig5": gamma,
         "fig5": plain(table5),
         "fig6": plain(table6),
-        "largest_offset_max_below_150ms_s": max(ok_max) if ok_max else None,
-        "largest_offset_mean_below_150ms_s": max(ok_mean) if ok_mean else None,
+        "largest_offset_max_below_150ms_s": max(ok_max, default=None),
+        "largest_offset_mean_below_150ms_s": max(ok_mean, default=None),
         "removed_gamma5_range_over_offsets": [_r(min(removed5)), _r(max(removed5))],
         "removed_gamma5_mean_over_offsets": _r(np.mean(removed5)),
         "removed_gamma5_at_offset": None if at is None else _r(opw5[at]["removed"]),
