@@ -255,8 +255,7 @@ def dataset_file_list(dataset: str | Manifest, *, available_only: bool = False) 
 
 
 def motion_files(dataset: str | Manifest, *, available_only: bool = False) -> list[FileEntry]:
-    """Entries of the motion files (not skeletons), in manifest order, or of those in the
-    local mirror.
+    """Entries of the motion files (not skeletons) in manifest order (``available_only``: here).
 
     Paper: Section 4 (the authors' 21 movements x 3 takes; whole HDM05 classes).
     """

@@ -126,8 +126,7 @@ FIG4_MOTIONS = (
 
 
 def example_curve(duration: float = CROP_S, offset: float = OFFSET) -> WarpCurve:
-    """The poster's example warp g (live -> recording time): keys (0, 0), (D/2, D/2 + offset),
-    (D, D).
+    """The poster's example warp g (live -> recording): keys (0, 0), (D/2, D/2 + offset), (D, D).
 
     Paper: OPW poster Section 5, Figs. 4 and 5.
     Notebook: 13_opw_fig4.ipynb
@@ -307,8 +306,7 @@ def sample_times(duration: float, rate: float = SAMPLE_RATE) -> np.ndarray:
 
 
 def deviation_ms(curve: WarpCurve, example: WarpCurve, rate: float = SAMPLE_RATE) -> dict:
-    """|curve(t) - example(t)| in ms at ``rate`` Hz over the example's span: ``t``, ``ms``
-    (arrays), ``mean``, ``max``.
+    """|curve - example| in ms at ``rate`` Hz over the example's span: ``t``, ``ms``, mean, max.
 
     Paper: OPW poster Fig. 4 (middle row), Figs. 5 and 6.
     """
@@ -471,8 +469,7 @@ def summary_row(result: dict, label: str = "") -> list[dict]:
 def sweep(
     motions: dict, offsets=(OFFSET,), gammas=(GAMMA,), omega: float = OMEGA, reading="poster"
 ) -> list:
-    """:func:`summary_row` rows of :func:`evaluate` over every motion, offset and gamma,
-    each with ``ms``, its deviation samples.
+    """:func:`summary_row` rows of :func:`evaluate` per motion, offset and gamma, with ``ms``.
 
     Paper: OPW poster Figs. 5 and 6.
     Notebook: 14_opw_fig5_fig6.ipynb

@@ -38,8 +38,7 @@ def _cluster():
 
 def scheduler_address(text) -> str | None:
     """A Dask scheduler address in full (``tcp://host:port``), or None for no cluster (None,
-    ``""``, ``"local"``); any other text is checked by
-    :func:`fpdtw.app.cluster.scheduler_address` (ClusterError naming what is wrong)."""
+    ``""``, ``"local"``); other text: :func:`fpdtw.app.cluster.scheduler_address` checks it."""
     if text is None or str(text).strip() in ("", LOCAL):
         return None
     return _cluster().scheduler_address(text)

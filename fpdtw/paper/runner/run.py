@@ -495,12 +495,9 @@ def _pairs_json(mode, plan, feature_files) -> dict:
 
 
 def _compute(executor: Executor, mode, plan, specs, out: Path, base_key, progress, say, phases):
-    """The features, ``pairs.json`` and every missing chunk of a run (on ``executor``).
-
-    Returns ``(units, tasks, recomputed, work)``: every unit, the ``(cost, unit, missing
-    specs)`` computed, the names of the algorithms computed and each computed unit's result,
-    one per task. ``phases`` gets the wall seconds of the features and of the units.
-    """
+    """The features, ``pairs.json`` and every missing chunk of a run (on ``executor``): every
+    unit, the ``(cost, unit, missing specs)`` computed, the names of the algorithms computed,
+    each computed unit's result; ``phases`` gets the seconds of features and units."""
     t0 = time.perf_counter()
     feature_files = build_features(plan, out / "features", progress=progress, executor=executor)
     save_json(out / "pairs.json", _pairs_json(mode, plan, feature_files))
@@ -579,8 +576,7 @@ def run_experiments(
     (default :func:`fpdtw.paper.paths.results_dir`; on a cluster, a folder every worker sees
     at the same path); ``scheduler``: a Dask scheduler address or client (default
     ``FPDTW_SCHEDULER`` if set, else joblib; ``"local"``: joblib whatever it says).
-    ClusterError: a malformed or unreachable scheduler, a worker with other fpdtw code, a
-    task whose workers kept dying, files the workers wrote that are not visible here.
+    ClusterError: a bad scheduler, a worker with other code, workers dying, files not seen here.
 
     Paper: FP-DTW Sections 4-6.
     Notebook: 05_run_experiments.ipynb
