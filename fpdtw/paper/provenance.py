@@ -40,11 +40,8 @@ OUTPUTS = ("figures", "README.md", "ARTIFACT.md", "docs")
 
 
 def git_commit(root: Path = REPO_ROOT) -> dict:
-    """``{"commit": sha, "dirty": bool}`` of the source checkout (None, None outside one).
-
-    ``dirty``: a tracked file other than :data:`OUTPUTS` (what ``make figures`` rewrites
-    while it runs; none of them changes a figure) differs from the commit.
-    """
+    """``{"commit": sha, "dirty": bool}`` of the source checkout (None, None outside one);
+    dirty: a tracked file other than :data:`OUTPUTS` (none changes a figure) differs."""
     try:
         sha = subprocess.run(
             ["git", "-C", str(root), "rev-parse", "HEAD"],

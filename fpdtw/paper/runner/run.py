@@ -142,10 +142,9 @@ def source_hash(files=None) -> str:
 
 
 def compute_files() -> list:
-    """The source files whose code decides the features, maps and scores of a run: the
-    library (every module outside ``fpdtw/paper`` and ``fpdtw/app``) and the catalogue that
-    loads the motions; editing the rest keeps a finished run's chunks (a change to what this
-    module computes bumps :data:`CACHE_FORMAT`)."""
+    """The source files that decide a run's features, maps and scores: the library (outside
+    ``fpdtw/paper`` and ``fpdtw/app``) and the catalogue; editing the rest keeps a run's chunks
+    (a change to what this module computes bumps :data:`CACHE_FORMAT`)."""
     rels = [p.relative_to(_PKG_ROOT) for p in sorted(_PKG_ROOT.rglob("*.py"))]
     return [str(r) for r in rels if r.parts[0] not in ("paper", "app") or r == _CATALOG]
 
@@ -252,9 +251,8 @@ def _reuse_features(folder: Path, files: list) -> None:
 def build_features(
     plan: PairSelection, folder: Path, n_jobs=2, progress=True, executor: Executor | None = None
 ) -> list:
-    """The feature cache files in ``folder`` of every motion of a plan, one per motion, built
-    where missing (on ``executor``, else ``n_jobs`` joblib processes) or copied from another
-    mode (:func:`_reuse_features`)."""
+    """The feature cache file in ``folder`` of each motion of a plan, copied from another mode
+    or built where missing (on ``executor``, else ``n_jobs`` joblib processes)."""
     folder.mkdir(parents=True, exist_ok=True)
     crop = plan.selection.crop_seconds
     src = source_hash(compute_files())
@@ -315,8 +313,7 @@ def _chunk_algorithms(path: Path, base_key: str) -> set:
 
 def _pair_maps(specs: list, I: MotionFeatures, T: MotionFeatures, info: dict) -> dict:
     """``{name: M}`` of every spec on one pair at one rate: Methods B and C in one compiled
-    loop (:func:`fpdtw.online.window.run_group`) sharing one :class:`WindowCache`, the
-    others on their own."""
+    loop sharing one :class:`WindowCache` (:func:`~fpdtw.online.window.run_group`)."""
     out = {}
     shared = [s for s in specs if s.algorithm.shares_window]
     if shared:
@@ -424,12 +421,10 @@ def _stats(x) -> dict:
 
 
 def summarize(results: Results) -> dict:
-    """The content of ``summary.json`` (deterministic): ``"eq2"`` (the reading the
-    similarities are scored with), ``"benchmarks"`` (UTW's median similarity at 120 and 60
-    Hz, None without UTW; the deviation benchmark in frames and ms) and, per algorithm,
-    ``"algorithms"``: its medians, means and quartiles, the shares of pairs above UTW's
-    median and below the deviation benchmark, and whether its medians pass each benchmark
-    (paper Section 5: below 150 ms, 18 frames at 120 Hz, 9 at 60 Hz).
+    """The content of ``summary.json`` (deterministic): ``"eq2"`` (the reading scored with),
+    ``"benchmarks"`` (UTW's median similarity at 120 and 60 Hz, None without UTW; the deviation
+    benchmark) and per algorithm its medians, means, quartiles, shares of pairs above UTW's
+    median and below the deviation benchmark, and whether its medians pass each benchmark.
 
     Paper: FP-DTW Section 5 (benchmarks), Figs. 5-6, Tables 1-2.
     """

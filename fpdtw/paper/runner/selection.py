@@ -81,14 +81,11 @@ SELECTIONS = {
 
 @dataclass
 class PairSelection:
-    """Motions and ordered pairs of a :class:`Selection`, from the manifests (nothing loaded).
-
-    ``motions``: every motion in a pair, in manifest order, with ``sha256`` (its content hash,
-    and its skeleton's for HDM05); ``pairs``: ``id, dataset, movement, input, target,
-    input_path, target_path, input_index, target_index`` (indices into ``motions``);
-    ``counts``: motions, movements, pairs per dataset and ``"total"``; ``rows``: one per
-    movement; ``dropped``: movements with fewer than two takes.
-    """
+    """Motions and ordered pairs of a :class:`Selection`, from the manifests (nothing loaded):
+    ``motions`` in manifest order with ``sha256`` (content hash, plus the skeleton's for HDM05);
+    ``pairs`` (``id, dataset, movement, input, target, input_path, target_path, input_index,
+    target_index``); ``counts`` per dataset and ``"total"``; ``rows`` one per movement;
+    ``dropped``: movements with fewer than two takes."""
 
     selection: Selection
     motions: list
