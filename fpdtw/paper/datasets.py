@@ -322,8 +322,7 @@ def _staging(dest: Path) -> Iterator[Path]:
 
 
 def _download(url: str, tmp: Path, *, progress: bool, what: str, hint: str) -> None:
-    """Download ``url`` into ``tmp`` with pooch; DataFetchError (ending in ``hint``) if
-    unavailable."""
+    """Download ``url`` into ``tmp`` with pooch; DataFetchError (ending in ``hint``) if not."""
     downloader = pooch.HTTPDownloader(progressbar=bool(progress), chunk_size=1 << 20)
     try:
         downloader(url, str(tmp), None)
@@ -378,8 +377,7 @@ def _from_mirror(m: Manifest, e: FileEntry, tmp: Path, mirror: str, *, progress:
 
 
 def _archive_path(m: Manifest, a: Archive, cache: Path, *, progress: bool) -> Path:
-    """The archive in ``<cache>/_archives/``, downloaded once (verified if it has a sha256;
-    its members are verified anyway)."""
+    """The archive in ``<cache>/_archives/``, downloaded once (checked by its sha256 if given)."""
     dest = cache / ARCHIVE_DIR / a.filename
     what = f"{m.name}: archive {a.name}"
     if dest.is_file():

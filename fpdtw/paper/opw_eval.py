@@ -370,9 +370,8 @@ def run_opw(A, B, omega: float = OMEGA, gamma: float = GAMMA, reading="poster") 
 def evaluate(
     motion, offset: float = OFFSET, gamma: float = GAMMA, omega: float = OMEGA, reading="poster"
 ) -> dict:
-    """The poster's test on one motion cropped to 2.5 s: the parameters, ``curves``
-    (``"example"`` and :data:`METHODS`), per method ``deviation``, ``slope`` and
-    ``removed``, and OPW's ``decisions`` and map ``M``.
+    """The poster's test on one motion cropped to 2.5 s: the parameters, ``curves`` (``"example"``,
+    :data:`METHODS`), per method ``deviation``, ``slope``, ``removed``; OPW's ``decisions``, ``M``.
 
     Paper: OPW poster Sections 4-5, Figs. 4-6.
     Notebook: 13_opw_fig4.ipynb

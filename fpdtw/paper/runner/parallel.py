@@ -105,8 +105,7 @@ class Executor:
 
     def describe(self) -> dict:
         """What ran the tasks, for ``run.json``: ``{"backend": "joblib", "n_jobs"}`` or
-        ``{"backend": "dask", "scheduler", "workers", "threads"}`` (the last two once
-        connected)."""
+        ``{"backend": "dask", "scheduler", "workers", "threads"}`` (the last two once connected)."""
         if self.kind == "joblib":
             return {"backend": "joblib", "n_jobs": self.n_jobs}
         return {"backend": "dask", "scheduler": self.address, **self._cluster}
