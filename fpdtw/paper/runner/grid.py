@@ -23,8 +23,7 @@ LITERAL_NAMES = MC_LITERAL_NAMES + tuple(method_c_name(w, "literal") + "@60Hz" f
 
 def default_algorithms() -> tuple:
     """What modes "full" and "smoke" compute: the paper's algorithms, Table 1 at 60 Hz, the
-    registry's online baselines (:func:`fpdtw.registry.baselines`, read at each call: an
-    aligner registered as a baseline joins the grid) and Method C's literal window."""
+    registry's baselines (read at each call: a new one joins) and Method C's literal window."""
     return tuple(PAPER_NAMES) + TABLE1_60HZ_NAMES + registry.baselines() + LITERAL_NAMES
 
 

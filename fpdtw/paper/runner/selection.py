@@ -23,13 +23,12 @@ DATASETS = ("authors_fbx", "hdm05")
 class Selection:
     """Which motions take part in an experiment run (None: no limit).
 
-    ``datasets``: manifest names, in order; ``movements``: keep only these; at most
-    ``takes_per_movement`` takes of each movement: the first ones in manifest order, or, with
-    a ``sample_seed``, drawn without replacement (then in manifest order) by a generator
-    seeded by that number, the dataset and the movement; ``subsample_takes``: then at most
-    this many of those, drawn again with ``sample_seed + 1``; ``crop_seconds``: every motion
-    cropped to its first seconds; ``max_movements``: at most this many movements per dataset,
-    the first with two takes (the smoke runs of notebooks 15 and 16: a test of the code path).
+    ``datasets``: manifest names, in order; ``movements``: only these; ``takes_per_movement``:
+    at most this many takes of each, the first in manifest order or, with a ``sample_seed``,
+    drawn without replacement (kept in manifest order) seeded by it, the dataset and the
+    movement; ``subsample_takes``: then at most this many, drawn with ``sample_seed + 1``;
+    ``crop_seconds``: each motion cropped to its first seconds; ``max_movements``: the first
+    this many movements with two takes per dataset (smoke runs of notebooks 15 and 16).
     """
 
     datasets: tuple = DATASETS
