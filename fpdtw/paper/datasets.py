@@ -1,14 +1,9 @@
-"""Data manifests and verified fetching of the motion datasets.
+"""Data manifests and verified fetching of the motion datasets (the guarantee: ``docs/data.md``).
 
-One TOML manifest per dataset in ``data_manifest/`` (see its README) lists every file:
-path, upstream URL or archive member, size, hash, labels. :func:`fetch` puts a file into
-the cache (``<cache>/<mirror_prefix>/<path>``; archives in ``<cache>/_archives/``) and
-returns its path. Sources: with ``FPDTW_MIRROR`` set, only the mirror (a folder, or an
-``http(s)://`` base URL); else the file's ``url`` or its member of the cut archive.
-
-Every file is verified before it is renamed into place, and every time :func:`fetch`
-returns it from the cache (the guarantee: ``docs/data.md``). Command line: ``fpdtw data
-fetch|verify|cite`` (:mod:`fpdtw.app.commands`).
+One TOML manifest per dataset in ``data_manifest/`` (its README: the keys). :func:`fetch` puts
+a verified file into the cache, ``<cache>/<mirror_prefix>/<path>``, from ``FPDTW_MIRROR`` (a
+folder or base URL) if set, else from its ``url`` or its member of an archive (kept in
+``<cache>/_archives/``). Command line: ``fpdtw data fetch|verify|cite``.
 """
 
 from __future__ import annotations
@@ -49,9 +44,6 @@ class DataFetchError(FpdtwError, RuntimeError):
 
 class ManifestError(FpdtwError, ValueError):
     """A data manifest file is malformed."""
-
-
-# -- manifests -------------------------------------------------------------------------
 
 
 @dataclass(frozen=True)
@@ -271,8 +263,7 @@ def dataset_file_list(dataset: str | Manifest, *, available_only: bool = False) 
 
 
 def motion_files(dataset: str | Manifest, *, available_only: bool = False) -> list[FileEntry]:
-    """Entries of the motion files (not skeletons), in manifest order, or of those in the
-    local mirror.
+    """Entries of the motion files (not skeletons) in manifest order (``available_only``: here).
 
     Paper: Section 4 (the authors' 21 movements x 3 takes; whole HDM05 classes).
     """
@@ -294,9 +285,6 @@ def cache_path(dataset: str | Manifest, path: str | FileEntry) -> Path:
     """Where a file is (or would be) cached: ``<cache>/<mirror_prefix>/<path>``."""
     m = _as_manifest(dataset)
     return paths.data_dir() / m.mirror_prefix / m.entry(path).path
-
-
-# -- hashing -------------------------------------------------------------------------
 
 
 def file_hashes(path: str | os.PathLike) -> dict:
@@ -341,12 +329,8 @@ def _staging(dest: Path) -> Iterator[Path]:
         tmp.unlink(missing_ok=True)
 
 
-# -- sources --------------------------------------------------------------------------
-
-
 def _download(url: str, tmp: Path, *, progress: bool, what: str, hint: str) -> None:
-    """Download ``url`` into ``tmp`` with pooch; DataFetchError (ending in ``hint``) if
-    unavailable."""
+    """Download ``url`` into ``tmp`` with pooch; DataFetchError (ending in ``hint``) if not."""
     downloader = pooch.HTTPDownloader(progressbar=bool(progress), chunk_size=1 << 20)
     try:
         downloader(url, str(tmp), None)
@@ -401,8 +385,7 @@ def _from_mirror(m: Manifest, e: FileEntry, tmp: Path, mirror: str, *, progress:
 
 
 def _archive_path(m: Manifest, a: Archive, cache: Path, *, progress: bool) -> Path:
-    """The archive in ``<cache>/_archives/``, downloaded once (verified if it has a sha256;
-    its members are verified anyway)."""
+    """The archive in ``<cache>/_archives/``, downloaded once (checked by its sha256 if given)."""
     dest = cache / ARCHIVE_DIR / a.filename
     what = f"{m.name}: archive {a.name}"
     if dest.is_file():
@@ -452,9 +435,6 @@ def _from_archive(m: Manifest, e: FileEntry, tmp: Path, cache: Path, *, progress
     return f"{a.url} (member {info.filename})"
 
 
-# -- fetching -------------------------------------------------------------------------
-
-
 def fetch_entry(
     m: Manifest, e: FileEntry, cache: Path, *, progress: bool, archive_progress: bool
 ) -> Path:
@@ -496,13 +476,11 @@ def fetch_entry(
 def fetch(
     dataset: str | Manifest, path: str | os.PathLike | FileEntry | None = None, *, progress=True
 ) -> Path:
-    """Fetch one file into the cache (if not there yet), verified; its path
-    ``<cache>/<mirror_prefix>/<path>``, holding exactly the manifest's content.
+    """The path of one file in the cache, fetched if not there yet, verified against the manifest.
 
-    ``path``: the file's path in the manifest (``"MoCapData/Walk_01.fbx"``), its name if
-    unique (``"Walk_01.fbx"``) or its entry; omitted only for a dataset of one file.
-    DataFetchError when it is not in the manifest, not available from the source tried (the
-    message says how to set ``FPDTW_MIRROR``) or not matching the manifest (nothing kept).
+    ``path``: its path in the manifest (``"MoCapData/Walk_01.fbx"``), its name if unique or its
+    entry; omitted only for a dataset of one file. DataFetchError: not in the manifest, not
+    available from the source tried (the message names ``FPDTW_MIRROR``) or not matching.
     """
     m = _as_manifest(dataset)
     if path is None:

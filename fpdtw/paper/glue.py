@@ -22,8 +22,7 @@ def data_numbers(pairs) -> dict:
     for ds in ("authors_fbx", "hdm05"):
         out[f"pairs_{ds}"] = counts.get(ds, {}).get("pairs", 0)
     out["hdm05_share"] = out["pairs_hdm05"] / total["pairs"] if total["pairs"] else 0.0
-    clips: dict = {}
-    per_movement: dict = {}
+    clips, per_movement = {}, {}
     for p in pairs:
         key = (p["dataset"], p["movement"])
         per_movement[key] = per_movement.get(key, 0) + 1

@@ -5,11 +5,9 @@ warped by the example curve g into ``B(t) = A(g(t))``, aligned to B by OPW and b
 DTW smoothed by the poster's Fig. 3 rule; each curve measured against g at 50 Hz.
 
 Two readings of the whole protocol (:data:`READINGS`): ``"poster"``, the poster's text as
-:mod:`fpdtw.online.opw` reads it (root-relative positions, the Fig. 3 DTW baseline), and
-``"plugin"``, as the authors' MotionBuilder plugin (matRandall/realTimeDTW) runs it
-(global-ratio reference times, the frame clock, world positions, and its "standard DTW"
-baseline, a per-sample best match forced monotone: :func:`best_match_curve`). Where OPW
-reads the recording is a switch of its own: ``read_at="eq4"`` (default) or ``"listing"``
+:mod:`fpdtw.online.opw` reads it, and ``"plugin"``, as the authors' MotionBuilder plugin
+(matRandall/realTimeDTW) runs it (:class:`OPWReading`: what differs). Where OPW reads the
+recording is a switch of its own: ``read_at="eq4"`` (default) or ``"listing"``
 (:data:`READ_AT_READINGS`, :func:`read_at_table`).
 """
 
@@ -30,20 +28,19 @@ from fpdtw.paper import numbers
 from fpdtw.paper.catalog import load
 from fpdtw.warpcurve import WarpCurve
 
-# The poster's protocol (values and sources in fpdtw.paper.numbers).
-OMEGA = numbers.OPW_OMEGA_S  # OPW's sample period (s): 25 steps per second
-GAMMA = numbers.OPW_GAMMA  # the warp parameter of Figs. 4 and 5
-CROP_S = numbers.OPW_CROP_S  # every motion is cropped to its first CROP_S seconds
-SAMPLE_RATE = numbers.OPW_SAMPLE_RATE_HZ  # curves are compared at this rate (Hz)
-OFFSET = numbers.OPW_OFFSET_S  # the offset of the example curve's middle key (s)
-HOYET_MS = numbers.PERCEPTUAL_THRESHOLD_MS  # Hoyet et al. 2012's threshold (ms)
+# The poster's protocol (what each is, and where printed: fpdtw.paper.numbers).
+OMEGA, GAMMA, CROP_S = numbers.OPW_OMEGA_S, numbers.OPW_GAMMA, numbers.OPW_CROP_S
+SAMPLE_RATE, OFFSET = numbers.OPW_SAMPLE_RATE_HZ, numbers.OPW_OFFSET_S
+HOYET_MS = numbers.PERCEPTUAL_THRESHOLD_MS
 
 
 @dataclass(frozen=True)
 class OPWReading:
     """One reading of OPW and its evaluation: ``reference``, ``clock``, ``direction`` and
     ``read_at`` are :class:`fpdtw.online.opw.OPW`'s options; ``root_relative``: positions
-    relative to the root (poster) or world (plugin); ``baseline``: ``"DTW"`` or ``"best match"``.
+    relative to the root (poster) or world (plugin); ``baseline``: ``"DTW"`` (the poster's
+    Fig. 3 curve) or ``"best match"`` (the plugin's "standard DTW": :func:`best_match_curve`).
+    The plugin reads with global-ratio reference times, the frame clock and world positions.
     """
 
     name: str
@@ -129,8 +126,7 @@ FIG4_MOTIONS = (
 
 
 def example_curve(duration: float = CROP_S, offset: float = OFFSET) -> WarpCurve:
-    """The poster's example warp g (live -> recording time): keys (0, 0), (D/2, D/2 + offset),
-    (D, D).
+    """The poster's example warp g (live -> recording): keys (0, 0), (D/2, D/2 + offset), (D, D).
 
     Paper: OPW poster Section 5, Figs. 4 and 5.
     Notebook: 13_opw_fig4.ipynb
@@ -210,17 +206,14 @@ def dtw_curve(A, B, omega: float = OMEGA, root_relative: bool = True) -> WarpCur
     res = dtw(position_cost_matrix(PA, PB))
     xs, ys = [], []
     for i, j in res.path[fig3_key_points(res.path)][:-1]:
-        x = j * omega
-        if xs and x <= xs[-1]:
-            continue
-        xs.append(x)
-        ys.append(i * omega)
+        if not xs or j * omega > xs[-1]:
+            xs.append(j * omega)
+            ys.append(i * omega)
     DA, DB = A.duration, B.duration
     while xs and xs[-1] >= DB:
         xs.pop()
         ys.pop()
-    xs.append(DB)
-    ys.append(DA)
+    xs, ys = xs + [DB], ys + [DA]
     if len(xs) < 2:
         xs, ys = [0.0, DB], [0.0, DA]
     return WarpCurve(xs, ys)
@@ -231,9 +224,11 @@ def plugin_period(fps: float) -> float:
     return math.floor(1000.0 / float(fps) + 1e-9) / 1000.0
 
 
-def _positions_at(P, fps: float, times) -> np.ndarray:
-    """Positions (F, p, 3) at ``times`` (s), linear between frames, clamped to the ends."""
-    x = np.clip(np.asarray(times, dtype=float) * fps, 0.0, P.shape[0] - 1)
+def _plugin_positions(motion, period: float, root_relative: bool) -> np.ndarray:
+    """OPW joints' positions (F, 16, 3) every ``period`` s, linear between frames, clamped."""
+    times = np.arange(max(1, int(np.ceil(motion.duration / period - 1e-9)))) * period
+    P = motion.positions(OPW_JOINTS, root_relative=root_relative)
+    x = np.clip(times * motion.fps, 0.0, P.shape[0] - 1)
     i0 = np.minimum(np.floor(x + 1e-9).astype(np.int64), P.shape[0] - 1)
     i1 = np.minimum(i0 + 1, P.shape[0] - 1)
     a = np.clip(x - i0, 0.0, 1.0)[:, None, None]
@@ -279,11 +274,8 @@ def best_match_curve(A, B, root_relative: bool = False) -> WarpCurve:
     P = plugin_period(A.fps)
     if not P > 0:
         raise ValueError(f"period must be positive, got {P}")
-    tA = np.arange(max(1, int(np.ceil(A.duration / P - 1e-9)))) * P
-    tB = np.arange(max(1, int(np.ceil(B.duration / P - 1e-9)))) * P
-    PA = _positions_at(A.positions(OPW_JOINTS, root_relative=root_relative), A.fps, tA)
-    PB = _positions_at(B.positions(OPW_JOINTS, root_relative=root_relative), B.fps, tB)
-    return best_match_warp(best_match_map(position_cost_matrix(PA, PB)), P, B.duration)
+    C = position_cost_matrix(*(_plugin_positions(M, P, root_relative) for M in (A, B)))
+    return best_match_warp(best_match_map(C), P, B.duration)
 
 
 def best_match_warp(M, period: float, span: float | None = None) -> WarpCurve:
@@ -314,8 +306,7 @@ def sample_times(duration: float, rate: float = SAMPLE_RATE) -> np.ndarray:
 
 
 def deviation_ms(curve: WarpCurve, example: WarpCurve, rate: float = SAMPLE_RATE) -> dict:
-    """|curve(t) - example(t)| in ms at ``rate`` Hz over the example's span: ``t``, ``ms``
-    (arrays), ``mean``, ``max``.
+    """|curve - example| in ms at ``rate`` Hz over the example's span: ``t``, ``ms``, mean, max.
 
     Paper: OPW poster Fig. 4 (middle row), Figs. 5 and 6.
     """
@@ -379,15 +370,13 @@ def run_opw(A, B, omega: float = OMEGA, gamma: float = GAMMA, reading="poster") 
 def evaluate(
     motion, offset: float = OFFSET, gamma: float = GAMMA, omega: float = OMEGA, reading="poster"
 ) -> dict:
-    """The poster's test on one motion cropped to 2.5 s: the parameters, ``curves``
-    (``"example"`` and :data:`METHODS`), per method ``deviation``, ``slope`` and
-    ``removed``, and OPW's ``decisions`` and map ``M``.
+    """The poster's test on one motion cropped to 2.5 s: the parameters, ``curves`` (``"example"``,
+    :data:`METHODS`), per method ``deviation``, ``slope``, ``removed``; OPW's ``decisions``, ``M``.
 
     Paper: OPW poster Sections 4-5, Figs. 4-6.
     Notebook: 13_opw_fig4.ipynb
     """
-    rows = _runs({"": motion}, (offset,), (gamma,), omega, as_reading(reading))
-    return next(rows)[1]
+    return next(_runs({"": motion}, (offset,), (gamma,), omega, as_reading(reading)))[1]
 
 
 def _runs(motions: dict, offsets, gammas, omega, rd):
@@ -479,8 +468,7 @@ def summary_row(result: dict, label: str = "") -> list[dict]:
 def sweep(
     motions: dict, offsets=(OFFSET,), gammas=(GAMMA,), omega: float = OMEGA, reading="poster"
 ) -> list:
-    """:func:`summary_row` rows of :func:`evaluate` over every motion, offset and gamma,
-    each with ``ms``, its deviation samples.
+    """:func:`summary_row` rows of :func:`evaluate` per motion, offset and gamma, with ``ms``.
 
     Paper: OPW poster Figs. 5 and 6.
     Notebook: 14_opw_fig5_fig6.ipynb
@@ -586,8 +574,8 @@ def fig5_fig6_facts(
         "gamma_fig5": gamma,
         "fig5": plain(table5),
         "fig6": plain(table6),
-        "largest_offset_max_below_150ms_s": max(ok_max) if ok_max else None,
-        "largest_offset_mean_below_150ms_s": max(ok_mean) if ok_mean else None,
+        "largest_offset_max_below_150ms_s": max(ok_max, default=None),
+        "largest_offset_mean_below_150ms_s": max(ok_mean, default=None),
         "removed_gamma5_range_over_offsets": [_r(min(removed5)), _r(max(removed5))],
         "removed_gamma5_mean_over_offsets": _r(np.mean(removed5)),
         "removed_gamma5_at_offset": None if at is None else _r(opw5[at]["removed"]),

@@ -1,8 +1,7 @@
 """What made a result: package versions, Python, the package's git commit, the machine.
 
-Every run's ``run.json``, ``results/bench.json`` and the figure notebooks' facts carry
-:func:`environment` (``figures/ENVIRONMENT.md``: :mod:`fpdtw.app.publish`); figures and
-the claims table carry no commit and no machine, so they stay byte-stable.
+Runs' ``run.json``, ``results/bench.json`` and the figure notebooks' facts carry
+:func:`environment`; figures and the claims table carry no commit and no machine (byte-stable).
 """
 
 from __future__ import annotations
@@ -41,11 +40,8 @@ OUTPUTS = ("figures", "README.md", "ARTIFACT.md", "docs")
 
 
 def git_commit(root: Path = REPO_ROOT) -> dict:
-    """``{"commit": sha, "dirty": bool}`` of the source checkout (None, None outside one).
-
-    ``dirty``: a tracked file other than :data:`OUTPUTS` (what ``make figures`` rewrites
-    while it runs; none of them changes a figure) differs from the commit.
-    """
+    """``{"commit": sha, "dirty": bool}`` of the source checkout (None, None outside one);
+    dirty: a tracked file other than :data:`OUTPUTS` (none changes a figure) differs."""
     try:
         sha = subprocess.run(
             ["git", "-C", str(root), "rev-parse", "HEAD"],
@@ -64,11 +60,9 @@ def git_commit(root: Path = REPO_ROOT) -> dict:
 def cpu_info() -> dict:
     """The CPU: ``model``, ``cores`` (logical), ``simd`` (its flags of :data:`SIMD_FLAGS`),
     ``mhz`` (core 0's clock, or None), ``machine``, ``llvm_cpu`` (what numba compiles for)."""
-    model, flags, mhz = platform.processor() or None, set(), None
-    try:
+    model, flags, mhz, text = platform.processor() or None, set(), None, ""
+    with contextlib.suppress(OSError):
         text = Path("/proc/cpuinfo").read_text()
-    except OSError:
-        text = ""
     for line in text.splitlines():
         key, _, value = line.partition(":")
         key = key.strip()
@@ -77,10 +71,8 @@ def cpu_info() -> dict:
         elif key == "flags" and not flags:
             flags = set(value.split())
         elif key == "cpu MHz" and mhz is None:
-            try:
+            with contextlib.suppress(ValueError):
                 mhz = round(float(value), 0)
-            except ValueError:
-                pass
     return {
         "model": model,
         "cores": os.cpu_count(),

@@ -1,11 +1,6 @@
-"""The experiment grid: which algorithms each mode runs, by the registry's names.
-
-Modes ``"full"`` / ``"smoke"``: :func:`default_algorithms` (the paper's evaluation, Method C's
-literal window, the online baselines OPW and OLTW); ``"study"`` / ``"smoke-study"``:
-:data:`STUDY_ALGORITHMS` (notebook 15's readings of Algorithm 3 and the paper's silent
-choices); ``"open"`` / ``"smoke-open"``: :data:`OPEN_ALGORITHMS` (notebook 16's open
-questions). A name ending in ``"@60Hz"`` runs at 60 Hz; one ending in ``"@pause"`` runs on
-the targets with a held pose inserted (:func:`fpdtw.paper.pause.insert_pause`).
+"""The experiment grid: which algorithms each mode runs (:func:`mode_algorithms`), by the
+registry's names; ``"@60Hz"`` at the end runs one at 60 Hz, ``"@pause"`` on the targets with a
+held pose inserted (:func:`fpdtw.paper.pause.insert_pause`).
 """
 
 from __future__ import annotations
@@ -28,8 +23,7 @@ LITERAL_NAMES = MC_LITERAL_NAMES + tuple(method_c_name(w, "literal") + "@60Hz" f
 
 def default_algorithms() -> tuple:
     """What modes "full" and "smoke" compute: the paper's algorithms, Table 1 at 60 Hz, the
-    registry's online baselines (:func:`fpdtw.registry.baselines`, read at each call: an
-    aligner registered as a baseline joins the grid) and Method C's literal window."""
+    registry's baselines (read at each call: a new one joins) and Method C's literal window."""
     return tuple(PAPER_NAMES) + TABLE1_60HZ_NAMES + registry.baselines() + LITERAL_NAMES
 
 
@@ -92,16 +86,11 @@ SILENT_CHOICES = {
         "frames after the first frame mapped to m are not scored", None, "ABC"),
 }  # fmt: skip
 
-#: Per method, the algorithms a silent choice is run on: every FP-DTW configuration of the
-#: paper at 120 Hz (the robustness column of the claims table).
-CHOICE_TARGETS = {
-    m: tuple(n for n in PAPER_NAMES if n.startswith(f"M{m.lower()}")) for m in ("A", "B", "C")
-}
-
 
 def choice_targets(choice: SilentChoice) -> list:
-    """The algorithms of :data:`CHOICE_TARGETS` a silent choice touches."""
-    return [n for method in choice.methods for n in CHOICE_TARGETS[method]]
+    """The algorithms a silent choice is run on: every FP-DTW configuration of the paper at
+    120 Hz of the methods it touches (the robustness column of the claims table)."""
+    return [n for m in choice.methods for n in PAPER_NAMES if n.startswith(f"M{m.lower()}")]
 
 
 def choice_variant(name: str, choice: SilentChoice) -> str:

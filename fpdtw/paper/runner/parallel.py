@@ -1,10 +1,6 @@
-"""Where the grid's work runs: joblib on this machine's cores, or the workers of a Dask cluster.
-
-:class:`Executor` runs a function over tasks and yields the results as they finish, in
-joblib processes here (the default) or, given a scheduler address (``--scheduler
-tcp://host:port`` or ``FPDTW_SCHEDULER``), as tasks on a Dask cluster through the tools'
-optional part :mod:`fpdtw.app.cluster`, imported only then. What a task computes and writes
-does not depend on where it ran; what the workers need: ``docs/cluster.md``.
+"""Where the grid's work runs: joblib on this machine's cores, or the workers of a Dask cluster
+(through the tools' optional part :mod:`fpdtw.app.cluster`, imported only then). What a task
+computes and writes does not depend on where it ran; what the workers need: ``docs/cluster.md``.
 """
 
 from __future__ import annotations
@@ -42,8 +38,7 @@ def _cluster():
 
 def scheduler_address(text) -> str | None:
     """A Dask scheduler address in full (``tcp://host:port``), or None for no cluster (None,
-    ``""``, ``"local"``); any other text is checked by
-    :func:`fpdtw.app.cluster.scheduler_address` (ClusterError naming what is wrong)."""
+    ``""``, ``"local"``); other text: :func:`fpdtw.app.cluster.scheduler_address` checks it."""
     if text is None or str(text).strip() in ("", LOCAL):
         return None
     return _cluster().scheduler_address(text)
@@ -61,20 +56,14 @@ def scheduler_from_env() -> str | None:
 class Executor:
     """Runs a function over tasks with joblib on this machine or on a Dask cluster.
 
-    ``n_jobs``: joblib processes (1: this process; unused on a cluster). ``scheduler``: a
-    Dask scheduler address (:func:`scheduler_address`) or a connected
-    ``distributed.Client`` (the caller closes it); None or ``"local"``: joblib. ``say``
-    prints what the executor does (default silent). The connection is made when there is
-    first something to compute, and closed by :meth:`close` (or a ``with`` block).
+    ``n_jobs``: joblib processes (1: this process). ``scheduler``: a Dask scheduler address
+    (:func:`scheduler_address`) or a connected ``distributed.Client`` (the caller closes it);
+    None or ``"local"``: joblib. ``say`` prints what it does. It connects when first there is
+    something to compute; :meth:`close` (or a ``with`` block) closes.
     """
 
     def __init__(
-        self,
-        n_jobs: int = 2,
-        scheduler=None,
-        *,
-        connect_timeout: float = CONNECT_TIMEOUT,
-        say: Callable | None = None,
+        self, n_jobs: int = 2, scheduler=None, *, connect_timeout: float = CONNECT_TIMEOUT, say=None
     ):
         self.n_jobs = int(n_jobs)
         self.connect_timeout = float(connect_timeout)
@@ -95,14 +84,8 @@ class Executor:
     @staticmethod
     def progress_bar(total: int, desc: str, progress: bool):
         """The progress bar of a map (stderr; a no-op bar when ``progress`` is False)."""
-        return tqdm(
-            total=total,
-            desc=desc,
-            disable=not progress,
-            file=sys.stderr,
-            mininterval=1.0,
-            smoothing=0.05,
-        )
+        kw = dict(disable=not progress, file=sys.stderr, mininterval=1.0, smoothing=0.05)
+        return tqdm(total=total, desc=desc, **kw)
 
     @property
     def kind(self) -> str:
@@ -122,8 +105,7 @@ class Executor:
 
     def describe(self) -> dict:
         """What ran the tasks, for ``run.json``: ``{"backend": "joblib", "n_jobs"}`` or
-        ``{"backend": "dask", "scheduler", "workers", "threads"}`` (the last two once
-        connected)."""
+        ``{"backend": "dask", "scheduler", "workers", "threads"}`` (the last two once connected)."""
         if self.kind == "joblib":
             return {"backend": "joblib", "n_jobs": self.n_jobs}
         return {"backend": "dask", "scheduler": self.address, **self._cluster}
@@ -143,21 +125,13 @@ class Executor:
         return _cluster().connect(self)
 
     def map(
-        self,
-        fn: Callable,
-        tasks: Sequence[tuple],
-        *,
-        desc: str,
-        progress: bool = True,
-        keys: Sequence[str] | None = None,
+        self, fn: Callable, tasks: Sequence[tuple], *, desc: str, progress=True, keys=None
     ) -> Iterator:
-        """Yield ``fn(*task)`` for every task, in the order they finish.
+        """Yield ``fn(*task)`` (``fn`` module-level) for every task, in the order they finish.
 
-        ``fn`` is a module-level function (workers import it by name); ``tasks`` are the
-        arguments of each call, most expensive first; ``keys`` name the Dask tasks (each
-        call adds its own suffix). ClusterError: the scheduler cannot be reached, lost a
-        task's workers too often or cancelled a task; ``fn``'s own errors are raised as
-        they are.
+        ``tasks``: the arguments of each call, most expensive first; ``keys`` name the Dask
+        tasks. ClusterError: the scheduler cannot be reached, lost a task's workers too often
+        or cancelled a task; ``fn``'s own errors are raised as they are.
         """
         if not tasks:
             return

@@ -1,11 +1,8 @@
 """The result files of the experiments: deterministic atomic writers, and the reader.
 
-:func:`save_npz` writes a ``.npz`` byte for byte the same for the same arrays (unlike
-:func:`numpy.savez`, which stamps the time: entries in the order given, uncompressed, dated
-1980-01-01, fixed permissions); :func:`save_json` writes JSON in the caller's key order.
-Both write a temporary file and rename it into place, so a reader never sees half a file.
-:func:`load_results` reads a run of :func:`fpdtw.paper.runner.run.run_experiments` (file
-formats: :mod:`fpdtw.paper.runner.run`) into a :class:`Results`.
+:func:`save_npz` writes the same bytes for the same arrays (:func:`numpy.savez` stamps the
+time), :func:`save_json` JSON in the caller's key order, both atomically; :func:`load_results`
+reads a run (file formats: :mod:`fpdtw.paper.runner.run`) into a :class:`Results`.
 """
 
 from __future__ import annotations
@@ -29,7 +26,8 @@ _ZIP_MODE = 0o100644 << 16
 
 
 def npz_bytes(arrays: dict) -> bytes:
-    """The bytes of a deterministic ``.npz`` of ``{entry name: array}`` (no object arrays)."""
+    """The bytes of a deterministic ``.npz`` of ``{entry name: array}`` (no object arrays):
+    entries in the order given, uncompressed, dated 1980-01-01, fixed permissions."""
     buf = io.BytesIO()
     with zipfile.ZipFile(buf, "w", compression=zipfile.ZIP_STORED) as zf:
         for name, value in arrays.items():
@@ -97,10 +95,7 @@ class AlgorithmResult(dict):
     ``similarity``, ``deviation``) plus ``name``, ``fps`` and ``map`` (:meth:`map`)."""
 
     def __init__(self, arrays: dict, name: str, fps: float):
-        super().__init__(arrays)
-        self["name"] = name
-        self["fps"] = fps
-        self["map"] = self.map
+        super().__init__(arrays, name=name, fps=fps, map=self.map)
 
     def map(self, k: int) -> np.ndarray:
         """The map of pair ``k``: int32 array of shape (n + 1,), target frame -> input frame."""
@@ -121,10 +116,9 @@ RESCORERS: dict = {}
 
 
 def default_eq2() -> str:
-    """The reading of eq. 2 the results are scored with: ``$FPDTW_EQ2`` or ``"transform"``.
-
-    ``"transform"`` (each joint's whole local transform, as the authors' toolkit reads it:
-    ``docs/eq2_reading.md``) is the default since 2026-11-24; ``"local"`` (the raw animated
+    """The reading of eq. 2 the results are scored with: ``$FPDTW_EQ2`` or ``"transform"``
+    (each joint's whole local transform, as the authors' toolkit reads it:
+    ``docs/eq2_reading.md``), the default since 2026-11-24; ``"local"`` (the raw animated
     rotation, the stored scores) before, one switch away.
 
     Paper: FP-DTW eq. 2.

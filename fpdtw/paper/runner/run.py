@@ -1,9 +1,8 @@
 """Run the experiment grid over every pair of a selection, in parallel and resumably.
 
-Per pair of a mode's selection (:mod:`~fpdtw.paper.runner.selection`) and algorithm of its
-grid (:mod:`~fpdtw.paper.runner.grid`): the map ``M`` (target frame -> input frame), the
-similarity (eq. 2) and the deviation (eq. 3) from the DTW map at the same rate, in frames
-(no timings: ``make bench``). Files, under ``results_dir()/<mode>/``, every write atomic:
+Per pair of a mode's selection (:mod:`.selection`) and algorithm of its grid (:mod:`.grid`):
+the map ``M`` (target frame -> input frame), the similarity (eq. 2) and the deviation (eq. 3)
+from DTW's map at the same rate, in frames. Under ``results_dir()/<mode>/``, written atomically:
 
 ``pairs.json``
     ``{"mode", "selection", "counts", "pairs": [{"id", "dataset", "movement", "input",
@@ -12,19 +11,15 @@ similarity (eq. 2) and the deviation (eq. 3) from the DTW map at the same rate, 
 ``algorithms/<slug>.npz``
     ``pair_id`` (P,) int32, ``offsets`` (P+1,) int64, ``maps`` int32 (pair k's map is
     ``maps[offsets[k]:offsets[k+1]]``), ``similarity``, ``deviation`` (P,) float64.
-``summary.json`` (:func:`summarize`); ``run.json``
-    Keys, what was computed and where, times, the environment (not deterministic).
-``features/``, ``chunks/``
-    Caches: each motion's features; one chunk per work unit (an input motion against every
-    other take of its movement, every algorithm).
+``summary.json`` (:func:`summarize`); ``run.json`` (keys, what was computed where, times,
+the environment: not deterministic); caches ``features/`` (per motion) and ``chunks/`` (per
+work unit: an input motion against every other take of its movement, every algorithm).
 
-Resuming: a run killed at any point resumes from its finished chunks and ends with the same
-``algorithms/*.npz``, ``pairs.json`` and ``summary.json``. The *config key* (mode,
+A killed run resumes from its finished chunks to the same files. The *config key* (mode,
 algorithms, pairs, data hashes, every source file) decides "nothing changed"; the *base key*
-(mode, selection, data hashes, pairs, :data:`CACHE_FORMAT`, the library's source,
-:func:`compute_files`) whether a chunk is valid; a run that adds an algorithm computes only
-it. One run at a time per results folder. Command line: ``fpdtw experiments run``
-(:mod:`fpdtw.app.commands`); on a Dask cluster: :mod:`~fpdtw.paper.runner.parallel`.
+(mode, selection, data hashes, pairs, :data:`CACHE_FORMAT`, :func:`compute_files`' source)
+whether a chunk is valid; an added algorithm is computed alone. One run at a time per
+results folder. Command line: ``fpdtw experiments run``; on Dask: :mod:`.parallel`.
 
 Paper: FP-DTW Section 4 (pairs), eq. 2 and eq. 3, Figs. 5-7 and 10, Tables 1 and 2.
 Notebook: 05_run_experiments.ipynb
@@ -53,7 +48,7 @@ from fpdtw.motion.features import MotionFeatures
 from fpdtw.motion.joints import OPW_JOINTS
 from fpdtw.online.window import WindowCache, run_group
 from fpdtw.paper import catalog, numbers, provenance
-from fpdtw.paper.atomic import TMP_SUFFIX, tmp_path
+from fpdtw.paper.atomic import TMP_SUFFIX, write_atomic
 from fpdtw.paper.paths import results_dir
 from fpdtw.paper.pause import insert_pause
 from fpdtw.paper.runner.grid import mode_algorithms, split_rate, split_transform
@@ -81,6 +76,8 @@ from fpdtw.paper.runner.selection import (
 CACHE_FORMAT = 3
 
 _PKG_ROOT = Path(__file__).resolve().parents[2]
+#: The reproduction's modules that decide numbers: the catalogue and the pause in targets.
+_PAPER_COMPUTE = ("paper/catalog.py", "paper/pause.py")
 _META = "__meta__"
 
 
@@ -145,21 +142,13 @@ def source_hash(files=None) -> str:
     return h.hexdigest()
 
 
-#: The reproduction's files that decide a run's targets (see :func:`compute_files`).
-_PAPER_COMPUTE = ("paper/catalog.py", "paper/pause.py")
-
-
 def compute_files() -> list:
-    """The source files whose code decides the features, maps and scores of a run: the
-    library (every module outside ``fpdtw/paper`` and ``fpdtw/app``), the catalogue that
-    loads the motions and the pause inserted into targets; editing the rest keeps a finished
-    run's chunks (a change to what this module computes bumps :data:`CACHE_FORMAT`)."""
-    out = []
-    for p in sorted(_PKG_ROOT.rglob("*.py")):
-        rel = p.relative_to(_PKG_ROOT)
-        if rel.parts[0] not in ("paper", "app") or str(rel) in _PAPER_COMPUTE:
-            out.append(str(rel))
-    return out
+    """The source files that decide a run's features, maps and scores: the library (outside
+    ``fpdtw/paper`` and ``fpdtw/app``), the catalogue and the pause inserted into targets;
+    editing the rest keeps a run's chunks (a change to what this module computes bumps
+    :data:`CACHE_FORMAT`)."""
+    rels = [p.relative_to(_PKG_ROOT) for p in sorted(_PKG_ROOT.rglob("*.py"))]
+    return [str(r) for r in rels if r.parts[0] not in ("paper", "app") or str(r) in _PAPER_COMPUTE]
 
 
 def _build_feature_file(record, path: Path, crop, code: str) -> Path:
@@ -199,14 +188,9 @@ def load_features(path, fps: float = BASE_FPS) -> MotionFeatures:
     (F, 16, 3) of the OPW joints."""
     a = _load_features_file(str(path))
     tag = "120" if fps == BASE_FPS else "60"
-    return MotionFeatures(
-        a[f"quats{tag}"],
-        a[f"euler{tag}"],
-        tuple(str(o) for o in a["orders"]),
-        float(a[f"fps{tag}"]),
-        a.get(f"positions{tag}"),
-        str(a["name"]),
-    )
+    q, e, p = (a.get(f"{k}{tag}") for k in ("quats", "euler", "positions"))
+    orders = tuple(str(o) for o in a["orders"])
+    return MotionFeatures(q, e, orders, float(a[f"fps{tag}"]), p, str(a["name"]))
 
 
 def pair_features(results, fps: float = BASE_FPS):
@@ -254,36 +238,23 @@ def _check_code(expected: str) -> None:
         )
 
 
-def _reuse_features(folder: Path, files: list) -> int:
+def _reuse_features(folder: Path, files: list) -> None:
     """Copy into ``folder`` the missing feature files another mode of the same results folder
-    built (a name holds the hash of everything that decides the bytes), whole or not at all;
-    returns how many were copied."""
+    built (a name holds the hash of everything that decides the bytes), whole or not at all."""
     siblings = [d / "features" for d in folder.parent.parent.iterdir() if d.is_dir()]
     siblings = [d for d in siblings if d.is_dir() and d.resolve() != folder.resolve()]
-    n = 0
     for p in files:
-        if p.is_file():
-            continue
-        src = next((d / p.name for d in siblings if (d / p.name).is_file()), None)
-        if src is None:
-            continue
-        tmp = tmp_path(p)
-        try:
-            shutil.copyfile(src, tmp)
-            os.replace(tmp, p)
-            n += 1
-        finally:
-            if tmp.exists():
-                tmp.unlink()
-    return n
+        if not p.is_file():
+            src = next((d / p.name for d in siblings if (d / p.name).is_file()), None)
+            if src is not None:
+                write_atomic(p, src.read_bytes())
 
 
 def build_features(
     plan: PairSelection, folder: Path, n_jobs=2, progress=True, executor: Executor | None = None
 ) -> list:
-    """The feature cache files in ``folder`` of every motion of a plan, one per motion, built
-    where missing (on ``executor``, else ``n_jobs`` joblib processes) or copied from another
-    mode (:func:`_reuse_features`)."""
+    """The feature cache file in ``folder`` of each motion of a plan, copied from another mode
+    or built where missing (on ``executor``, else ``n_jobs`` joblib processes)."""
     folder.mkdir(parents=True, exist_ok=True)
     crop = plan.selection.crop_seconds
     src = source_hash(compute_files())
@@ -297,15 +268,18 @@ def build_features(
     if todo:
         ex = executor if executor is not None else Executor(n_jobs)
         keys = [f"fpdtw-features-{p.stem}" for _, p, _, _ in todo]
-        for _ in ex.map(_build_feature_file, todo, desc="features", progress=progress, keys=keys):
-            pass
+        list(ex.map(_build_feature_file, todo, desc="features", progress=progress, keys=keys))
         if ex.kind == "dask":
             _await_files([p for _, p, _, _ in todo], Path.is_file, "feature files", folder)
-    keep = {p.name for p in files}
-    for p in folder.glob("*.npz"):  # features of another crop or older code
+    _prune(folder, {p.name for p in files})  # features of another crop or older code
+    return files
+
+
+def _prune(folder: Path, keep: set) -> None:
+    """Remove the ``.npz`` files of ``folder`` not named in ``keep``."""
+    for p in folder.glob("*.npz"):
         if p.name not in keep:
             p.unlink()
-    return files
 
 
 #: Seconds to wait for files that cluster workers wrote to appear here (network filesystems).
@@ -341,8 +315,7 @@ def _chunk_algorithms(path: Path, base_key: str) -> set:
 
 def _pair_maps(specs: list, I: MotionFeatures, T: MotionFeatures, info: dict) -> dict:
     """``{name: M}`` of every spec on one pair at one rate: Methods B and C in one compiled
-    loop (:func:`fpdtw.online.window.run_group`) sharing one :class:`WindowCache`, the
-    others on their own."""
+    loop sharing one :class:`WindowCache` (:func:`~fpdtw.online.window.run_group`)."""
     out = {}
     shared = [s for s in specs if s.algorithm.shares_window]
     if shared:
@@ -353,7 +326,7 @@ def _pair_maps(specs: list, I: MotionFeatures, T: MotionFeatures, info: dict) ->
     for s in specs:
         if s.name not in out:
             out[s.name] = s.algorithm.run(I, T)[0]
-    return {name: _check_map(s, out[s.name], I, T, info) for s in specs for name in [s.name]}
+    return {s.name: _check_map(s, out[s.name], I, T, info) for s in specs}
 
 
 def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: str) -> dict:
@@ -385,10 +358,7 @@ def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: s
             T = transform_target(transform, T)
             maps = _pair_maps(group, I, T, {**info, "fps": fps})
             dtw_spec = next((s for s in group if s.algorithm.family == "DTW"), None)
-            if dtw_spec is None:
-                dtw = registry.align("DTW", I, T)[0]
-            else:
-                dtw = maps[dtw_spec.name]
+            dtw = registry.align("DTW", I, T)[0] if dtw_spec is None else maps[dtw_spec.name]
             XI, XT = joint_trajectories(I.quats), joint_trajectories(T.quats)
             for s in group:
                 M = maps[s.name]
@@ -397,17 +367,15 @@ def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: s
                 per[s.name]["sim"].append(float(np.mean(trajectory_scores(XI[M], XT))))
                 per[s.name]["dev"].append(deviation(dtw, M))
                 runs += 1
-    ids = np.array([p["id"] for p in pairs], dtype=np.int32)
+    ids = [p["id"] for p in pairs]
     for s in specs:
-        maps, sim, dev = per[s.name]["maps"], per[s.name]["sim"], per[s.name]["dev"]
-        offsets = np.concatenate([[0], np.cumsum([len(M) for M in maps])]).astype(np.int64)
-        values = (ids, offsets, np.concatenate(maps).astype(np.int32),
-                  np.array(sim, dtype=np.float64), np.array(dev, dtype=np.float64))  # fmt: skip
-        arrays.update({f"{s.slug}.{k}": v for k, v in zip(_FIELDS, values)})
+        maps = per[s.name]["maps"]
+        fields = _fields(ids, [len(M) for M in maps], maps, per[s.name]["sim"], per[s.name]["dev"])
+        arrays.update({f"{s.slug}.{k}": v for k, v in fields.items()})
     meta = {
         "unit": unit["id"],
         "base_key": base_key,
-        "pair_ids": [p["id"] for p in pairs],
+        "pair_ids": ids,
         "algorithms": sorted(keep | {s.name for s in specs}),
     }
     arrays[_META] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
@@ -418,6 +386,14 @@ def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: s
 
 #: The arrays of an algorithm's results, in file order (chunks and ``algorithms/*.npz``).
 _FIELDS = ("pair_id", "offsets", "maps", "similarity", "deviation")
+
+
+def _fields(ids, lengths, maps, sim, dev) -> dict:
+    """:data:`_FIELDS` from per-pair (or per-chunk) parts: ids, map lengths, maps, scores."""
+    offsets = np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64)
+    ids, maps = np.hstack(ids).astype(np.int32), np.concatenate(maps).astype(np.int32)
+    sim, dev = np.hstack(sim).astype(np.float64), np.hstack(dev).astype(np.float64)
+    return dict(zip(_FIELDS, (ids, offsets, maps, sim, dev), strict=True))
 
 
 def _assemble(out: Path, specs: list, units: list, n_pairs: int) -> None:
@@ -436,14 +412,8 @@ def _assemble(out: Path, specs: list, units: list, n_pairs: int) -> None:
         if not np.array_equal(ids, np.arange(n_pairs)):
             raise RuntimeError(f"{s.name}: chunks do not cover pairs 0..{n_pairs - 1} in order")
         lengths = np.concatenate(acc["offsets"])
-        save_npz(
-            out / "algorithms" / f"{s.slug}.npz",
-            pair_id=ids,
-            offsets=np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64),
-            maps=np.concatenate(acc["maps"]).astype(np.int32),
-            similarity=np.concatenate(acc["similarity"]).astype(np.float64),
-            deviation=np.concatenate(acc["deviation"]).astype(np.float64),
-        )
+        fields = _fields(ids, lengths, acc["maps"], acc["similarity"], acc["deviation"])
+        save_npz(out / "algorithms" / f"{s.slug}.npz", **fields)
 
 
 def _stats(x) -> dict:
@@ -453,12 +423,10 @@ def _stats(x) -> dict:
 
 
 def summarize(results: Results) -> dict:
-    """The content of ``summary.json`` (deterministic): ``"eq2"`` (the reading the
-    similarities are scored with), ``"benchmarks"`` (UTW's median similarity at 120 and 60
-    Hz, None without UTW; the deviation benchmark in frames and ms) and, per algorithm,
-    ``"algorithms"``: its medians, means and quartiles, the shares of pairs above UTW's
-    median and below the deviation benchmark, and whether its medians pass each benchmark
-    (paper Section 5: below 150 ms, 18 frames at 120 Hz, 9 at 60 Hz).
+    """The content of ``summary.json`` (deterministic): ``"eq2"`` (the reading scored with),
+    ``"benchmarks"`` (UTW's median similarity at 120 and 60 Hz, None without UTW; the deviation
+    benchmark) and per algorithm its medians, means, quartiles, shares of pairs above UTW's
+    median and below the deviation benchmark, and whether its medians pass each benchmark.
 
     Paper: FP-DTW Section 5 (benchmarks), Figs. 5-6, Tables 1-2.
     """
@@ -480,6 +448,7 @@ def summarize(results: Results) -> dict:
         s, d = _stats(sim), _stats(dev)
         u = utw.get(fps)
         dev_ms = dev * 1000.0 / fps
+        passes_sim = None if u is None else numbers.passes_similarity(s["median"], u)
         algos[name] = {
             "fps": fps,
             "online": results.is_online(name),
@@ -490,9 +459,7 @@ def summarize(results: Results) -> dict:
             "frac_above_utw_median": None if u is None else float(np.mean(sim > u)),
             "frac_deviation_below_18": float(np.mean(dev < numbers.DEVIATION_BENCHMARK_FRAMES)),
             "frac_deviation_below_150ms": float(np.mean(dev_ms < numbers.DEVIATION_BENCHMARK_MS)),
-            "passes_similarity_benchmark": None
-            if u is None
-            else numbers.passes_similarity(s["median"], u),
+            "passes_similarity_benchmark": passes_sim,
             "passes_deviation_benchmark": numbers.passes_deviation(d["median"], fps),
         }
     return {"eq2": results.eq2, "benchmarks": bench, "algorithms": algos}
@@ -513,10 +480,8 @@ def _remove_temporaries(out: Path) -> None:
 
 
 def _pairs_json(mode, plan, feature_files) -> dict:
-    frames = {}
-    for i, f in enumerate(feature_files):
-        a = _load_features_file(str(f))
-        frames[i] = (a["quats120"].shape[0] - 1, a["quats60"].shape[0] - 1)
+    files = [_load_features_file(str(f)) for f in feature_files]
+    frames = [(a["quats120"].shape[0] - 1, a["quats60"].shape[0] - 1) for a in files]
     pairs = []
     for p in plan.pairs:
         q = {k: v for k, v in p.items() if k not in ("input_index", "target_index")}
@@ -527,12 +492,9 @@ def _pairs_json(mode, plan, feature_files) -> dict:
 
 
 def _compute(executor: Executor, mode, plan, specs, out: Path, base_key, progress, say, phases):
-    """The features, ``pairs.json`` and every missing chunk of a run (on ``executor``).
-
-    Returns ``(units, tasks, recomputed, work)``: every unit, the ``(cost, unit, missing
-    specs)`` computed, the names of the algorithms computed and each computed unit's result,
-    one per task. ``phases`` gets the wall seconds of the features and of the units.
-    """
+    """The features, ``pairs.json`` and every missing chunk of a run (on ``executor``): every
+    unit, the ``(cost, unit, missing specs)`` computed, the names of the algorithms computed,
+    each computed unit's result; ``phases`` gets the seconds of features and units."""
     t0 = time.perf_counter()
     feature_files = build_features(plan, out / "features", progress=progress, executor=executor)
     save_json(out / "pairs.json", _pairs_json(mode, plan, feature_files))
@@ -549,10 +511,7 @@ def _compute(executor: Executor, mode, plan, specs, out: Path, base_key, progres
         units[i]["pairs"].append(p)
     units = list(units.values())
     (out / "chunks").mkdir(exist_ok=True)
-    keep = {Path(u["chunk"]).name for u in units}
-    for p in (out / "chunks").glob("*.npz"):  # units of another selection
-        if p.name not in keep:
-            p.unlink()
+    _prune(out / "chunks", {Path(u["chunk"]).name for u in units})  # another selection's units
 
     tasks, recomputed = [], set()
     frames = {i: load_features(f).n_frames for i, f in enumerate(feature_files)}
@@ -569,17 +528,15 @@ def _compute(executor: Executor, mode, plan, specs, out: Path, base_key, progres
         return units, tasks, recomputed, []
     say(f"computing {len(tasks)} of {len(units)} units ({len(recomputed)} algorithms)")
     code = _code_key()
-    jobs, keys = [], []
+    jobs = []
     for _, u, missing in tasks:
         used = sorted({i for p in u["pairs"] for i in (p["input_index"], p["target_index"])})
-        files = {i: str(feature_files[i]) for i in used}
-        jobs.append((u, missing, files, base_key, code))
-        keys.append(f"fpdtw-unit-{u['id']}")
-    work, seen = [], set()
+        jobs.append((u, missing, {i: str(feature_files[i]) for i in used}, base_key, code))
+    keys = [f"fpdtw-unit-{u['id']}" for _, u, _ in tasks]
+    work = []
     for r in executor.map(_compute_unit, jobs, desc="units", progress=progress, keys=keys):
-        if r["unit"] in seen:  # a task's result delivered twice
+        if any(w["unit"] == r["unit"] for w in work):  # a task's result delivered twice
             raise RuntimeError(f"unit {r['unit']} was computed twice in one run")
-        seen.add(r["unit"])
         work.append(r)
     if len(work) != len(jobs):
         raise RuntimeError(f"{len(jobs) - len(work)} units of {len(jobs)} were never computed")
@@ -616,8 +573,7 @@ def run_experiments(
     (default :func:`fpdtw.paper.paths.results_dir`; on a cluster, a folder every worker sees
     at the same path); ``scheduler``: a Dask scheduler address or client (default
     ``FPDTW_SCHEDULER`` if set, else joblib; ``"local"``: joblib whatever it says).
-    ClusterError: a malformed or unreachable scheduler, a worker with other fpdtw code, a
-    task whose workers kept dying, files the workers wrote that are not visible here.
+    ClusterError: a bad scheduler, a worker with other code, workers dying, files not seen here.
 
     Paper: FP-DTW Sections 4-6.
     Notebook: 05_run_experiments.ipynb
@@ -685,11 +641,8 @@ def run_experiments(
     runs = sum(r["runs"] for r in work)
 
     # per-algorithm files: (re)written where something changed
-    prev_algos = (
-        {a["name"]: a for a in prev.get("algorithms", [])}
-        if prev.get("base_key") == base_key
-        else {}
-    )
+    same_base = prev.get("base_key") == base_key
+    prev_algos = {a["name"]: a for a in prev.get("algorithms", [])} if same_base else {}
     assemble = [
         s
         for s in specs
@@ -713,14 +666,10 @@ def run_experiments(
         elif (out / "algorithms" / f"{a['slug']}.npz").is_file():
             info.append(a)
     info += list(new.values())
-    listed = {a["slug"] for a in info}
-    for p in (out / "algorithms").glob("*.npz"):
-        if p.stem not in listed:
-            p.unlink()
+    _prune(out / "algorithms", {f"{a['slug']}.npz" for a in info})
     shutil.rmtree(out / "timings", ignore_errors=True)  # written by runs before CACHE_FORMAT 2
 
-    summary = summarize(Results(out, algorithms=info))
-    save_json(out / "summary.json", summary)
+    save_json(out / "summary.json", summarize(Results(out, algorithms=info)))
 
     run = {
         "config_key": config_key,

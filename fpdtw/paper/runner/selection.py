@@ -1,9 +1,5 @@
-"""Which motions and which ordered pairs an experiment run takes (paper Section 4).
-
-Every ORDERED pair (input, target) of distinct takes of the same movement: the authors'
-FBX takes available here grouped by movement, and the HDM05 clips grouped by class. Pair ids
-follow (dataset, movement, input, target) in manifest order. :data:`SELECTIONS` holds the
-selection of each mode.
+"""Which motions and which ordered pairs an experiment run takes (paper Section 4): the
+authors' FBX takes available here grouped by movement, the HDM05 clips grouped by class.
 
 Notebook: 05_run_experiments.ipynb
 """
@@ -27,13 +23,12 @@ DATASETS = ("authors_fbx", "hdm05")
 class Selection:
     """Which motions take part in an experiment run (None: no limit).
 
-    ``datasets``: manifest names, in order; ``movements``: keep only these; at most
-    ``takes_per_movement`` takes of each movement: the first ones in manifest order, or, with
-    a ``sample_seed``, drawn without replacement (then in manifest order) by a generator
-    seeded by that number, the dataset and the movement; ``subsample_takes``: then at most
-    this many of those, drawn again with ``sample_seed + 1``; ``crop_seconds``: every motion
-    cropped to its first seconds; ``max_movements``: at most this many movements per dataset,
-    the first with two takes (the smoke runs of notebooks 15 and 16: a test of the code path).
+    ``datasets``: manifest names, in order; ``movements``: only these; ``takes_per_movement``:
+    at most this many takes of each, the first in manifest order or, with a ``sample_seed``,
+    drawn without replacement (kept in manifest order) seeded by it, the dataset and the
+    movement; ``subsample_takes``: then at most this many, drawn with ``sample_seed + 1``;
+    ``crop_seconds``: each motion cropped to its first seconds; ``max_movements``: the first
+    this many movements with two takes per dataset (smoke runs of notebooks 15 and 16).
     """
 
     datasets: tuple = DATASETS
@@ -66,14 +61,9 @@ OPEN_TAKES = 2
 #: Movements per dataset of the smoke runs of notebooks 15 and 16 (``make test`` time).
 SMOKE_MOVEMENTS = 8
 
-#: The selection of each mode: ``"full"`` every take (whole classes); ``"smoke"`` the
-#: first two takes of every movement, both directions (2 pairs per movement), cropped to
-#: 2 s; ``"study"`` (notebook 15) the paper-shaped selection, at most 8 takes per movement
-#: drawn with a fixed seed (the authors' movements have 3 takes, so all of them stay);
-#: ``"smoke-study"`` the smoke selection on its first :data:`SMOKE_MOVEMENTS` movements of
-#: each dataset; ``"open"`` (notebook 16) a subsample of the paper-shaped selection: of its
-#: takes of each movement, :data:`OPEN_TAKES` drawn with seed ``PAPER_SHAPED_SEED + 1``;
-#: ``"smoke-open"`` as ``"smoke-study"``.
+#: The selection of each mode: ``"full"`` every take (whole classes); ``"smoke"`` 2 pairs per
+#: movement cropped to 2 s; ``"study"`` (notebook 15) paper-shaped (the authors' movements have
+#: 3 takes: all stay); ``"open"`` (notebook 16) a subsample of it (drawn with seed + 1).
 SELECTIONS = {
     "full": Selection(),
     "smoke": Selection(takes_per_movement=2, crop_seconds=2.0),
@@ -90,14 +80,11 @@ SELECTIONS = {
 
 @dataclass
 class PairSelection:
-    """Motions and ordered pairs of a :class:`Selection`, from the manifests (nothing loaded).
-
-    ``motions``: every motion in a pair, in manifest order, with ``sha256`` (its content hash,
-    and its skeleton's for HDM05); ``pairs``: ``id, dataset, movement, input, target,
-    input_path, target_path, input_index, target_index`` (indices into ``motions``);
-    ``counts``: motions, movements, pairs per dataset and ``"total"``; ``rows``: one per
-    movement; ``dropped``: movements with fewer than two takes.
-    """
+    """Motions and ordered pairs of a :class:`Selection`, from the manifests (nothing loaded):
+    ``motions`` in manifest order with ``sha256`` (content hash, plus the skeleton's for HDM05);
+    ``pairs`` (``id, dataset, movement, input, target, input_path, target_path, input_index,
+    target_index``); ``counts`` per dataset and ``"total"``; ``rows`` one per movement;
+    ``dropped``: movements with fewer than two takes."""
 
     selection: Selection
     motions: list
@@ -126,8 +113,8 @@ def _draw(recs: list, k: int, seed: int, dataset: str, movement: str) -> list:
 
 
 def pair_selection(selection: Selection | None = None) -> PairSelection:
-    """Every ordered pair of distinct takes of the same movement (default: the ``"full"``
-    mode's selection), in order: dataset, movement, input, target (manifest order).
+    """Every ORDERED pair of distinct takes of the same movement (default: the ``"full"``
+    mode's selection); ids in order of dataset, movement, input, target (manifest order).
 
     Paper: FP-DTW Section 4 ("every permutation of motions with same movement were
     time warped in both directions").
