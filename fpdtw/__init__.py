@@ -7,9 +7,8 @@ aligners behind one streaming interface (:class:`OnlineAligner`, :class:`MethodC
 :class:`OPW`, :class:`OLTW`, ...; :func:`make_online` and :func:`align` take the papers'
 names, "Mc w40 + Type V"); the metrics :func:`similarity` (eq. 2) and :func:`deviation`
 (eq. 3); the OPW :class:`WarpCurve`; beyond the papers :func:`auto_window`,
-:func:`joint_weights`, :class:`AdaptiveOPW` and :func:`derivative_features`; the
-errors (all :class:`FpdtwError`). :mod:`fpdtw.plain` holds the
-papers' equations and algorithms in plain NumPy, line by line.
+:func:`joint_weights`, :class:`AdaptiveOPW` and :func:`derivative_features`; the errors
+(all :class:`FpdtwError`). :mod:`fpdtw.plain`: the papers' equations in plain NumPy.
 """
 
 from fpdtw import plain

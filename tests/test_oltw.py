@@ -340,18 +340,6 @@ def test_bench_online_times_oltw():
     assert rows[0]["median_s"] > 0
 
 
-def test_run_pair_is_the_experiment_hook():
-    """``register_algorithm("OLTW", run_pair)``: a picklable module-level (M, seconds) function."""
-    import pickle
-
-    from fpdtw.online.oltw import run_pair
-
-    I, T, _ = synthetic_pair(150, seed=6)
-    M, seconds = pickle.loads(pickle.dumps(run_pair))(I, T, {"id": 0})
-    np.testing.assert_array_equal(M, run_online(OLTW(I), T)[0])
-    assert seconds.shape == M.shape == (T.n_frames,)
-
-
 @pytest.mark.parametrize("normalize", [True, False])
 def test_ties_go_to_the_first_cell_in_scan_order_as_the_transcription(normalize):
     """Equal path costs: a pose held in both motions makes many cells of the newest column

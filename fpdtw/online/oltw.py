@@ -32,7 +32,7 @@ from fpdtw import limits
 from fpdtw.costs import _geo_frame_w, _geo_line_w
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import MotionFeatures
-from fpdtw.online.base import JointMajorInput, OnlineAligner, check_count, check_input, run_online
+from fpdtw.online.base import JointMajorInput, OnlineAligner, check_count, check_input
 from fpdtw.weights import joint_weights
 
 #: Increment codes.
@@ -303,11 +303,3 @@ class OLTW(JointMajorInput, OnlineAligner):
             if nxt[1] < self.n_received:
                 pts.append(nxt)
         return np.array(pts, dtype=np.int64).reshape(-1, 2)
-
-
-def run_pair(I: MotionFeatures, T: MotionFeatures, pair_info=None, *, c: int = 120):
-    """``(M, seconds)`` of OLTW over one pair: a picklable hook for ``register_algorithm``.
-
-    Paper: FP-DTW reference 3 (Dixon 2005); the evaluation of Section 4.
-    """
-    return run_online(OLTW(I, c), T)
