@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from fpdtw import limits
 from fpdtw.costs import _geo_frame_w, _geo_line, _geo_line_w
 from fpdtw.dtw import _accumulate
 from fpdtw.errors import AlignmentError
@@ -663,8 +664,6 @@ class WindowAligner(OnlineAligner):
     def __init__(self, I: MotionFeatures, w: int, *, constraint=None, record=False, **options):
         check_count(w, "window w", type(self).__name__, minimum=self.min_w)
         check_input(I, who=type(self).__name__)
-        from fpdtw import limits
-
         limits.check_bytes(
             limits.window_bytes(w),
             I.name,
