@@ -948,7 +948,7 @@ def _serve_source(args, log, FI, factory, name, server) -> int:
 
     log(f"serving {name} against input {server.I.n_frames} frames at {FI.fps:g} Hz; reading "
         f"{source.describe()}, skeleton {args.header}; dropped frames: {args.gap}")  # fmt: skip
-    _stage(args, args.source)
+    args.about = (args.source,)  # a URL, not a path (_stage would fold its '//')
     try:
         return run_source(source, performers, once=args.once, out=args.out,
                           idle_timeout=args.idle_timeout, log=log)  # fmt: skip

@@ -24,6 +24,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import importlib
+import os
 import re
 import signal
 import sys
@@ -292,10 +293,13 @@ def run_source(source, make_performers, *, once=False, out=None, idle_timeout=10
             try:
                 conn = await source.connect()
             except OSError as e:
+                why = os.strerror(e.errno) if e.errno else str(e)
                 if take == 0:
-                    raise
+                    raise ConnectionError(
+                        f"cannot connect: {why} (is the capture system broadcasting there?)"
+                    ) from None
                 if not waiting:
-                    log(f"waiting for {source.describe()} ({e.strerror or e})")
+                    log(f"waiting for {source.describe()} ({why})")
                     waiting = True
                 with contextlib.suppress(TimeoutError):
                     await asyncio.wait_for(stop.wait(), RETRY_S)
