@@ -5,8 +5,8 @@ one take of the live performance; every connection gets its own online aligner, 
 the one recorded INPUT.
 
 Protocol (text lines, ``\\n`` or ``\\r\\n``; fpdtw's own: the capture side connects and sends
-lines. A capture tool's own stream needs a client between them: Axis Neuron, for one, is
-itself a TCP server that frames its BVH data with ``||``):
+lines. A capture system's own stream is read by ``fpdtw serve --source``,
+:mod:`fpdtw.app.sources`):
 
 1. The client sends a BVH header: ``HIERARCHY`` through ``Frame Time:`` (a ``Frames:``
    line may come before ``Frame Time:``; its count is ignored). It is parsed by the BVH
