@@ -5,7 +5,9 @@
     fpdtw align INPUT TARGET --method c --window 40 --out map.csv [--export-bvh aligned.bvh]
     fpdtw live  INPUT TARGET --method c --window 40 [--fast] [--animate side_by_side.gif]
     fpdtw serve INPUT --method c --window 40 --listen 127.0.0.1:7447 [--send osc.udp://...]
+    fpdtw serve INPUT --source axis://HOST:7001 --header SKELETON.bvh [--once] [--out MAP.csv]
     fpdtw stream TAKE --to 127.0.0.1:7447 [--rate HZ] [--drop P] [--jitter-ms J] [--seed S]
+    fpdtw stream TAKE [TAKE ...] --as axis [--listen 127.0.0.1:7001] [--fast]
     fpdtw data  fetch|verify|cite
     fpdtw experiments run [--smoke] [--results DIR] [--jobs N] [--scheduler ADDRESS]
 
@@ -115,7 +117,18 @@ the INPUT's rate (slerp between the two latest frames; at most one target period
 limits (fpdtw.limits, each changed by its environment variable): a line 256 KiB
 (FPDTW_MAX_LINE_BYTES), a header 1 MiB (FPDTW_MAX_HEADER_BYTES), 10,000 channels
 (FPDTW_MAX_CHANNELS), a gap 10 s (FPDTW_MAX_GAP_S), 1,000,000 frames per take
-(FPDTW_MAX_FRAMES); SIGINT or SIGTERM stop the server cleanly."""
+(FPDTW_MAX_FRAMES); SIGINT or SIGTERM stop the server cleanly.
+
+--source axis://HOST:PORT (a capture system's own stream instead; docs/live.md):
+  fpdtw connects to Axis Neuron / Axis Studio's BVH string broadcast (Axis is the TCP
+  server, port 7001 by default) and reads frames '<avatar index> <avatar name> v1 ... vN ||';
+  the skeleton and rate come from --header FILE.bvh (same joints; with or without
+  displacement, told apart by the value count). Each avatar index is a performer with its
+  own aligner; --send adds '<avatar index> <avatar name>' to every answer. A take ends when
+  Axis closes the connection; then fpdtw connects again (--once: exits). Unusable frames (a
+  wrong value count, not a number, NaN/inf, cut, over 256 KiB without '||') are dropped,
+  counted and reported; a dropped frame is a gap filled by --gap. --out MAP.csv writes each
+  performer's map as MAP-take<T>-<avatar index>-<avatar name>.csv."""
 
 _METHODS_HELP = "methods:\n" + "\n".join(f"  {k:<7} {v}" for k, v in METHODS.items())
 
@@ -366,7 +379,6 @@ def build_parser() -> argparse.ArgumentParser:
     _add_rig_arguments(sv)
     sv.add_argument(
         "--listen",
-        default=DEFAULT_LISTEN,
         metavar="HOST:PORT",
         help=f"address to listen on (default {DEFAULT_LISTEN}: this machine only; "
         "0.0.0.0:PORT for every interface; port 0: any free port)",
@@ -400,6 +412,25 @@ def build_parser() -> argparse.ArgumentParser:
         help="also send every answer to osc.udp://HOST:PORT (OSC message /fpdtw/frame) or "
         "udp://HOST:PORT (a text line); may be given several times",
     )
+    sv.add_argument(
+        "--source",
+        metavar="URL",
+        help="read takes from a capture system's own stream instead of listening: "
+        "axis://HOST:PORT (Axis Neuron / Axis Studio BVH string broadcast, port 7001)",
+    )
+    sv.add_argument(
+        "--header",
+        metavar="SKELETON.bvh",
+        help="--source axis: a BVH file of the streamed skeleton (its Frame Time is the "
+        "stream's rate; its motion lines are ignored)",
+    )
+    sv.add_argument("--once", action="store_true", help="--source: exit after the first take")
+    sv.add_argument(
+        "--out",
+        "-o",
+        metavar="MAP.csv",
+        help="--source: write each performer's map as MAP-take<T>-<index>-<name>.csv",
+    )
     sv.add_argument("--debug", action="store_true", help="show the traceback of an error")
 
     st = sub.add_parser(
@@ -414,9 +445,26 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=fmt,
         epilog="example:\n  fpdtw stream Walk_02.bvh --to 127.0.0.1:7447 --drop 0.05 --seed 1",
     )
-    st.add_argument("take", metavar="TAKE", help="the take to play (.bvh sent verbatim; "
-                    ".fbx/.amc sent as BVH)")  # fmt: skip
-    st.add_argument("--to", required=True, metavar="HOST:PORT", help="the server")
+    st.add_argument("take", metavar="TAKE", nargs="+", help="the take to play (.bvh sent "
+                    "verbatim; .fbx/.amc sent as BVH); with --as axis, one per avatar")  # fmt: skip
+    st.add_argument("--to", metavar="HOST:PORT", help="the server (fpdtw's own protocol)")
+    st.add_argument(
+        "--as",
+        dest="as_system",
+        choices=["axis"],
+        help="play TAKE as that capture system sends it: axis, as Axis Neuron's BVH string "
+        "broadcast (a TCP server on --listen; avatars 0, 1, ... interleaved)",
+    )
+    st.add_argument(
+        "--listen",
+        metavar="HOST:PORT",
+        help="--as axis: where to serve (default 127.0.0.1:7001; port 0: any free one)",
+    )
+    st.add_argument(
+        "--displacement",
+        action="store_true",
+        help="--as axis: send every joint's position too (Axis' 'with displacement')",
+    )
     st.add_argument(
         "--rate",
         type=_frame_rate,
@@ -519,18 +567,56 @@ def _check_options(args):
         raise UsageError("--stride applies only with --animate")
     if args.command == "serve":
         from fpdtw.app.serve import _Sender, parse_address
+        from fpdtw.app.sources import parse_source
 
         try:
-            parse_address(args.listen)
+            parse_address(args.listen or DEFAULT_LISTEN)
             for url in args.send:
                 _Sender(url).close()
+            if args.source:
+                parse_source(args.source)
         except (ValueError, OSError) as e:
             raise UsageError(f"{e}") from None
+        _check_source_options(args)
+
+
+def _check_source_options(args):
+    """--source and the options that go with it."""
+    if not args.source:
+        for opt, given in (("--header", args.header), ("--once", args.once), ("--out", args.out)):
+            if given:
+                raise UsageError(f"{opt} applies only with --source")
+        return
+    if args.listen:
+        raise UsageError("--listen does not apply with --source: fpdtw connects to the source")
+    if args.source.startswith("axis://") and not args.header:
+        raise UsageError("--source axis:// needs --header SKELETON.bvh (the stream carries no "
+                         "skeleton)")  # fmt: skip
 
 
 def _check_stream_options(args):
     from fpdtw.app.serve import parse_address
 
+    if args.skeleton and Path(args.take[0]).suffix.lower() != ".amc":
+        raise UsageError(f"--skeleton applies to an .amc motion, not {args.take[0]}")
+    if args.as_system:
+        given = [o for o, v in (("--to", args.to), ("--drop", args.drop), ("--jitter-ms",
+                 args.jitter_ms), ("--streams", args.streams != 1), ("--no-timestamps",
+                 args.no_timestamps), ("--out", args.out)) if v]  # fmt: skip
+        if given:
+            raise UsageError(f"{given[0]} does not apply with --as {args.as_system}")
+        try:
+            parse_address(args.listen or "127.0.0.1:0")
+        except ValueError as e:
+            raise UsageError(f"--listen: {e}") from None
+        return
+    for opt, given in (("--listen", args.listen), ("--displacement", args.displacement)):
+        if given:
+            raise UsageError(f"{opt} applies only with --as axis")
+    if len(args.take) > 1:
+        raise UsageError("several TAKEs (one per avatar) apply only with --as axis")
+    if args.to is None:
+        raise UsageError("--to HOST:PORT is required (or --as axis)")
     try:
         host, port = parse_address(args.to)
     except ValueError as e:
@@ -539,8 +625,6 @@ def _check_stream_options(args):
         raise UsageError("--to: port 0 is not a server's port")
     if args.fast and args.jitter_ms:
         raise UsageError("--jitter-ms needs real-time pacing: leave out --fast")
-    if args.skeleton and Path(args.take).suffix.lower() != ".amc":
-        raise UsageError(f"--skeleton applies to an .amc motion, not {args.take}")
 
 
 def _check_window_size(method, window):
@@ -816,7 +900,7 @@ def _cmd_serve(args, log) -> int:
     name = _algorithm_name(args)
     factory = _factory(args)
     warm_up(factory(FI), FI)  # compile / load the numba kernels before the first take
-    host, port = parse_address(args.listen)
+    host, port = parse_address(args.listen or DEFAULT_LISTEN)
     server = Server(
         FI,
         factory,
@@ -830,20 +914,58 @@ def _cmd_serve(args, log) -> int:
         log=log,
     )
     server.warm_up(I)  # and the live target's kernels, on the input's own first frames
+    if args.source:
+        return _serve_source(args, log, FI, factory, name, server)
     sends = "".join(f"; answers also to {u}" for u in args.send)
     log(f"serving {name} against input {_describe(I)}; up to {args.max_clients} takes at "
         f"once; dropped frames: {args.gap}{sends}")  # fmt: skip
-    _stage(args, args.listen)
+    _stage(args, args.listen or DEFAULT_LISTEN)
     return run_server(server, host, port)
+
+
+def _serve_source(args, log, FI, factory, name, server) -> int:
+    """``fpdtw serve --source URL``: takes read from a capture system (fpdtw.app.sources)."""
+    from fpdtw.app.serve import _Sender
+    from fpdtw.app.sources import Performers, parse_source, run_source
+
+    if args.out:
+        _check_output(args.out, "--out")
+    module, host, port = parse_source(args.source)
+    _stage(args, args.header)
+    source = module.Source(host, port, header=args.header)
+    for _, lines in source.header.counts.values():  # the input's joints are in the header
+        s = server._session()
+        for line in lines:
+            s.feed(f"{line}\n".encode("latin-1"), 0.0)
+    senders = [_Sender(u) for u in args.send]
+
+    def performers(take):
+        return Performers(
+            FI, factory, take=take, max_performers=args.max_clients, senders=senders,
+            record=bool(args.out), log=log, position_joints=server.position_joints,
+            gap=args.gap, joint_maps=server.joint_maps,
+        )  # fmt: skip
+
+    log(f"serving {name} against input {server.I.n_frames} frames at {FI.fps:g} Hz; reading "
+        f"{source.describe()}, skeleton {args.header}; dropped frames: {args.gap}")  # fmt: skip
+    args.about = (args.source,)  # a URL, not a path (_stage would fold its '//')
+    try:
+        return run_source(source, performers, once=args.once, out=args.out,
+                          idle_timeout=args.idle_timeout, log=log)  # fmt: skip
+    finally:
+        for s in senders:
+            s.close()
 
 
 def _cmd_stream(args, log) -> int:
     from fpdtw.app.stream import play_many, pooled_table, take_lines, write_answers_csv
 
+    if args.as_system:
+        return _stream_as(args, log)
     if args.out:
         _check_output(args.out, "--out")
-    _stage(args, args.take)
-    lines = take_lines(args.take, args.rate, skeleton=args.skeleton)
+    _stage(args, args.take[0])
+    lines = take_lines(args.take[0], args.rate, skeleton=args.skeleton)
     _stage(args, args.to)
     reports = play_many(
         lines,
@@ -864,6 +986,23 @@ def _cmd_stream(args, log) -> int:
     if errors:
         print(f"{PROG}: error: {args.to}: the server answered {errors[0]!r}", file=sys.stderr)
         return 1
+    return 0
+
+
+def _stream_as(args, log) -> int:
+    """``fpdtw stream TAKE ... --as axis``: the takes as Axis' broadcast, to one client."""
+    from fpdtw.app.source_axis import play_as_axis
+    from fpdtw.app.stream import take_lines
+
+    takes = []
+    for path in args.take:
+        _stage(args, path)
+        takes.append(take_lines(path, args.rate, skeleton=args.skeleton))
+    listen = args.listen or "127.0.0.1:7001"
+    _stage(args, listen)
+    mode = "as fast as read" if args.fast else "in real time"
+    log(f"playing {len(takes)} take(s) as Axis' BVH broadcast {mode}; waiting for a client")
+    play_as_axis(takes, listen, fast=args.fast, displacement=args.displacement)
     return 0
 
 

@@ -5,8 +5,8 @@ one take of the live performance; every connection gets its own online aligner, 
 the one recorded INPUT.
 
 Protocol (text lines, ``\\n`` or ``\\r\\n``; fpdtw's own: the capture side connects and sends
-lines. A capture tool's own stream needs a client between them: Axis Neuron, for one, is
-itself a TCP server that frames its BVH data with ``||``):
+lines. A capture system's own stream is read by ``fpdtw serve --source``,
+:mod:`fpdtw.app.sources`):
 
 1. The client sends a BVH header: ``HIERARCHY`` through ``Frame Time:`` (a ``Frames:``
    line may come before ``Frame Time:``; its count is ignored). It is parsed by the BVH
@@ -347,12 +347,16 @@ class _Sender:
             self._sock.setblocking(False)
             self._dest = info[4]
 
-    def send(self, take: int, index: int, m: int, t: float, latency_us: int) -> None:
+    def send(self, take: int, index: int, m: int, t: float, latency_us: int, performer=()) -> None:
+        """``performer``: (index, name) of the performer the answer is for (a ``--source``
+        with several), appended to the OSC arguments and to the text line."""
         try:
             if self.kind == "osc.udp":
-                self._osc.send_message(OSC_ADDRESS, [int(m), float(t), int(index), int(take)])
+                args = [int(m), float(t), int(index), int(take), *performer]
+                self._osc.send_message(OSC_ADDRESS, args)
             else:
-                line = f"{take} {index} {m} {t:.6f} {latency_us}\n"
+                who = "".join(f" {v}" for v in performer)
+                line = f"{take} {index} {m} {t:.6f} {latency_us}{who}\n"
                 self._sock.sendto(line.encode(), self._dest)
         except OSError:  # nobody listening, buffer full: the alignment goes on
             self.failures += 1
@@ -383,7 +387,12 @@ class _TimedReader(asyncio.StreamReader):
 
     async def timed_line(self):
         """``(line, arrival)``: the next line (with its newline) and when it arrived."""
-        raw = await self.readuntil(b"\n")
+        return await self.timed_until(b"\n")
+
+    async def timed_until(self, separator: bytes):
+        """``(data, arrival)``: the bytes through the next ``separator`` and when the last
+        of them arrived (``readuntil``'s errors: at most the reader's limit is searched)."""
+        raw = await self.readuntil(separator)
         self._consumed += len(raw)
         while self._chunks[0][0] < self._consumed:
             self._chunks.popleft()
