@@ -8,6 +8,8 @@
     fpdtw serve INPUT --source axis://HOST:7001 --header SKELETON.bvh [--once] [--out MAP.csv]
     fpdtw stream TAKE --to 127.0.0.1:7447 [--rate HZ] [--drop P] [--jitter-ms J] [--seed S]
     fpdtw stream TAKE [TAKE ...] --as axis [--listen 127.0.0.1:7001] [--fast]
+    fpdtw serve INPUT --source vmc://0.0.0.0:39539 [--rate 60] [--once] [--out MAP.csv]
+    fpdtw stream TAKE [TAKE ...] --as vmc [--to 127.0.0.1:39539] [--fast]
     fpdtw data  fetch|verify|cite
     fpdtw experiments run [--smoke] [--results DIR] [--jobs N] [--scheduler ADDRESS]
 
@@ -128,7 +130,15 @@ limits (fpdtw.limits, each changed by its environment variable): a line 256 KiB
   Axis closes the connection; then fpdtw connects again (--once: exits). Unusable frames (a
   wrong value count, not a number, NaN/inf, cut, over 256 KiB without '||') are dropped,
   counted and reported; a dropped frame is a gap filled by --gap. --out MAP.csv writes each
-  performer's map as MAP-take<T>-<avatar index>-<avatar name>.csv."""
+  performer's map as MAP-take<T>-<avatar index>-<avatar name>.csv.
+
+--source vmc://HOST:PORT: fpdtw listens for the VMC protocol (OSC over UDP, port 39539 by
+  default): /VMC/Ext/Bone/Pos (Unity HumanBodyBones, local position and quaternion, left-
+  handed Y-up), /VMC/Ext/Root/Pos, a frame ended by /VMC/Ext/T (its time). Each sender
+  address is a performer (index in order of arrival, named HOST:PORT); its skeleton is the
+  bones of its first frame. A take ends after --idle-timeout s of silence. Datagrams that are
+  not OSC or over 32 KiB, bones that are not the skeleton's, NaN/inf, quaternions that are not
+  rotations, duplicated and reordered frames and a flood are dropped and counted."""
 
 _METHODS_HELP = "methods:\n" + "\n".join(f"  {k:<7} {v}" for k, v in METHODS.items())
 
@@ -416,13 +426,21 @@ def build_parser() -> argparse.ArgumentParser:
         "--source",
         metavar="URL",
         help="read takes from a capture system's own stream instead of listening: "
-        "axis://HOST:PORT (Axis Neuron / Axis Studio BVH string broadcast, port 7001)",
+        "axis://HOST:PORT (Axis Neuron / Axis Studio BVH string broadcast, port 7001), "
+        "vmc://HOST:PORT (listen for the VMC protocol, OSC over UDP, port 39539)",
     )
     sv.add_argument(
         "--header",
         metavar="SKELETON.bvh",
         help="--source axis: a BVH file of the streamed skeleton (its Frame Time is the "
         "stream's rate; its motion lines are ignored)",
+    )
+    sv.add_argument(
+        "--rate",
+        type=_frame_rate,
+        metavar="HZ",
+        help="--source vmc: the senders' frame rate (default 60): the period a lost frame "
+        "is measured in; frames are timed by their /VMC/Ext/T",
     )
     sv.add_argument("--once", action="store_true", help="--source: exit after the first take")
     sv.add_argument(
@@ -451,9 +469,11 @@ def build_parser() -> argparse.ArgumentParser:
     st.add_argument(
         "--as",
         dest="as_system",
-        choices=["axis"],
+        choices=["axis", "vmc"],
         help="play TAKE as that capture system sends it: axis, as Axis Neuron's BVH string "
-        "broadcast (a TCP server on --listen; avatars 0, 1, ... interleaved)",
+        "broadcast (a TCP server on --listen; avatars 0, 1, ... interleaved); vmc, as VMC "
+        "protocol senders (OSC bundles over UDP to --to, default 127.0.0.1:39539; one sender "
+        "per TAKE)",
     )
     st.add_argument(
         "--listen",
@@ -583,7 +603,8 @@ def _check_options(args):
 def _check_source_options(args):
     """--source and the options that go with it."""
     if not args.source:
-        for opt, given in (("--header", args.header), ("--once", args.once), ("--out", args.out)):
+        for opt, given in (("--header", args.header), ("--once", args.once), ("--out", args.out),
+                           ("--rate", args.rate)):  # fmt: skip
             if given:
                 raise UsageError(f"{opt} applies only with --source")
         return
@@ -592,6 +613,12 @@ def _check_source_options(args):
     if args.source.startswith("axis://") and not args.header:
         raise UsageError("--source axis:// needs --header SKELETON.bvh (the stream carries no "
                          "skeleton)")  # fmt: skip
+    vmc = args.source.startswith("vmc://")
+    if vmc and args.header:
+        raise UsageError("--header does not apply with --source vmc://: the skeleton comes "
+                         "from the bones sent")  # fmt: skip
+    if args.rate and not vmc:
+        raise UsageError("--rate applies only with --source vmc://")
 
 
 def _check_stream_options(args):
@@ -599,6 +626,19 @@ def _check_stream_options(args):
 
     if args.skeleton and Path(args.take[0]).suffix.lower() != ".amc":
         raise UsageError(f"--skeleton applies to an .amc motion, not {args.take[0]}")
+    if args.as_system == "vmc":
+        given = [o for o, v in (("--listen", args.listen), ("--displacement", args.displacement),
+                 ("--drop", args.drop), ("--jitter-ms", args.jitter_ms), ("--streams",
+                 args.streams != 1), ("--no-timestamps", args.no_timestamps), ("--out",
+                 args.out)) if v]  # fmt: skip
+        if given:
+            raise UsageError(f"{given[0]} does not apply with --as vmc")
+        try:
+            if parse_address(args.to or "127.0.0.1:39539")[1] == 0:
+                raise ValueError("port 0 is not a receiver's port")
+        except ValueError as e:
+            raise UsageError(f"--to: {e}") from None
+        return
     if args.as_system:
         given = [o for o, v in (("--to", args.to), ("--drop", args.drop), ("--jitter-ms",
                  args.jitter_ms), ("--streams", args.streams != 1), ("--no-timestamps",
@@ -614,9 +654,9 @@ def _check_stream_options(args):
         if given:
             raise UsageError(f"{opt} applies only with --as axis")
     if len(args.take) > 1:
-        raise UsageError("several TAKEs (one per avatar) apply only with --as axis")
+        raise UsageError("several TAKEs (one per avatar) apply only with --as axis|vmc")
     if args.to is None:
-        raise UsageError("--to HOST:PORT is required (or --as axis)")
+        raise UsageError("--to HOST:PORT is required (or --as axis|vmc)")
     try:
         host, port = parse_address(args.to)
     except ValueError as e:
@@ -932,22 +972,26 @@ def _serve_source(args, log, FI, factory, name, server) -> int:
         _check_output(args.out, "--out")
     module, host, port = parse_source(args.source)
     _stage(args, args.header)
-    source = module.Source(host, port, header=args.header)
-    for _, lines in source.header.counts.values():  # the input's joints are in the header
-        s = server._session()
-        for line in lines:
-            s.feed(f"{line}\n".encode("latin-1"), 0.0)
+    if args.source.startswith("vmc://"):
+        source = module.Source(host, port, rate=args.rate)
+        skeleton = "from the bones sent"
+    else:
+        source, skeleton = module.Source(host, port, header=args.header), args.header
+        for _, lines in source.header.counts.values():  # the input's joints are in the header
+            s = server._session()
+            for line in lines:
+                s.feed(f"{line}\n".encode("latin-1"), 0.0)
     senders = [_Sender(u) for u in args.send]
 
     def performers(take):
         return Performers(
             FI, factory, take=take, max_performers=args.max_clients, senders=senders,
             record=bool(args.out), log=log, position_joints=server.position_joints,
-            gap=args.gap, joint_maps=server.joint_maps,
+            gap=args.gap, joint_maps=[*server.joint_maps, *getattr(module, "JOINT_MAPS", ())],
         )  # fmt: skip
 
     log(f"serving {name} against input {server.I.n_frames} frames at {FI.fps:g} Hz; reading "
-        f"{source.describe()}, skeleton {args.header}; dropped frames: {args.gap}")  # fmt: skip
+        f"{source.describe()}, skeleton {skeleton}; dropped frames: {args.gap}")  # fmt: skip
     args.about = (args.source,)  # a URL, not a path (_stage would fold its '//')
     try:
         return run_source(source, performers, once=args.once, out=args.out,
@@ -990,9 +1034,26 @@ def _cmd_stream(args, log) -> int:
 
 
 def _stream_as(args, log) -> int:
-    """``fpdtw stream TAKE ... --as axis``: the takes as Axis' broadcast, to one client."""
+    """``fpdtw stream TAKE ... --as axis|vmc``: the takes as Axis' broadcast, to one client,
+    or as VMC senders."""
     from fpdtw.app.source_axis import play_as_axis
     from fpdtw.app.stream import take_lines
+
+    if args.as_system == "vmc":
+        from fpdtw.app.source_vmc import play_as_vmc
+        from fpdtw.io import load_motion
+
+        motions = []
+        for path in args.take:
+            _stage(args, path)
+            m = load_motion(path, **({"skeleton": args.skeleton} if args.skeleton else {}))
+            motions.append(m.resample(args.rate) if args.rate else m)
+        to = args.to or "127.0.0.1:39539"
+        _stage(args, to)
+        mode = "one frame a millisecond" if args.fast else "in real time"
+        log(f"playing {len(motions)} take(s) as VMC senders to {to} {mode}")
+        play_as_vmc(motions, to, fast=args.fast, out=sys.stdout)
+        return 0
 
     takes = []
     for path in args.take:

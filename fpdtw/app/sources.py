@@ -36,7 +36,7 @@ from fpdtw.app.stream import session_map, stamp
 from fpdtw.errors import FpdtwError
 
 #: URL scheme -> the module reading that system's stream.
-SOURCES = {"axis": "fpdtw.app.source_axis"}
+SOURCES = {"axis": "fpdtw.app.source_axis", "vmc": "fpdtw.app.source_vmc"}
 #: A frame arriving this many seconds before its time at the stream's rate is "ahead".
 AHEAD_S = 0.5
 #: A performer whose frames are unusable for this many seconds of its rate in a row ends the
@@ -57,6 +57,13 @@ BAD_KINDS = {
     "refused": "frames of performers beyond --max-clients",
     "cut": "frames cut by the connection closing",
     "oversize": "frames over the size bound",
+    "osc": "datagrams that are not OSC",
+    "bone": "frames with a bone the skeleton lacks",
+    "missing": "frames without a bone or time of the skeleton",
+    "rotation": "frames with a quaternion that is not a rotation",
+    "duplicate": "duplicated frames",
+    "order": "frames older than the one before",
+    "flood": "datagrams dropped by a full queue",
 }
 
 
@@ -165,7 +172,7 @@ class Performers:
         if kind not in self.first_bad:
             self.first_bad[kind] = message
             self.log(f"take {self.take}: {message} (dropped; counted in the summary)")
-        if kind in ("cut", "oversize", "empty", "refused"):
+        if kind in ("cut", "oversize", "empty", "refused", "flood"):
             return
         if perf is None:
             self.loose_run += 1
@@ -177,9 +184,10 @@ class Performers:
         if run > limit:
             raise TakeEnd(f"{message}; {run} unusable frames in a row: the take cannot go on")
 
-    def feed(self, perf: Performer, values: str, arrival: float) -> None:
+    def feed(self, perf: Performer, values: str, arrival: float, t=None) -> None:
         """Frame ``self.frames`` of ``perf``: its BVH channel values (checked by the source),
-        aligned and answered. TakeEnd when its session refuses it."""
+        aligned and answered, at capture time ``t`` (default: its slot at the rate). TakeEnd
+        when its session refuses it."""
         k = perf.slot
         if perf.t0 is None:
             perf.t0 = arrival
@@ -187,7 +195,8 @@ class Performers:
             perf.ahead += 1
         perf.last_arrival = arrival
         try:
-            answer = perf.session.feed(stamp(values, k / perf.fps).encode("latin-1"), arrival)
+            line = stamp(values, k / perf.fps if t is None else t)
+            answer = perf.session.feed(line.encode("latin-1"), arrival)
         except FpdtwError as e:
             raise TakeEnd(
                 f"frame {self.frames} (avatar {perf.key} {perf.name!r}): {_reason(e)}"

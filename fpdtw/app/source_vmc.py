@@ -1,0 +1,565 @@
+"""``vmc://HOST:PORT``: the VMC protocol (markerless webcam trackers, VTuber tools), both ways.
+
+VMC is OSC over UDP; its senders ("Performers") send to a receiver on port 39539 by default,
+so fpdtw LISTENS on ``HOST:PORT`` and only reads. Datagrams are parsed by python-osc
+(:class:`pythonosc.osc_packet.OscPacket`: a message or a bundle, nested bundles flattened).
+The messages read (the rest, blend shapes included, are ignored):
+
+* ``/VMC/Ext/Root/Pos name p.x p.y p.z q.x q.y q.z q.w [s.x s.y s.z o.x o.y o.z]``: the
+  avatar's root in the world (its scale and offset are ignored);
+* ``/VMC/Ext/Bone/Pos name p.x p.y p.z q.x q.y q.z q.w``: a Unity ``HumanBodyBones`` bone's
+  local position and rotation (relative to its parent bone);
+* ``/VMC/Ext/T time``: the sender's relative time in seconds.
+
+**Frames.** The protocol names no frame delimiter; fpdtw takes ``/VMC/Ext/T`` as the end of
+a frame (its time is the frame's capture time) and, for a sender that never sends it, a
+``/VMC/Ext/Root/Pos`` after bones as the start of the next one (then the arrival time
+counts). **Performers**: one per sender address (host:port of its datagrams; VMC carries no
+performer id), named by it. **Skeleton**: the body bones of a performer's first complete
+frame (:data:`PARENTS`, the parent of a bone being its nearest ancestor the sender has), their
+local positions as offsets, identity rotations as the rest pose (a VRM avatar's normalised
+T-pose), sent to its session as the BVH header of that skeleton; later local positions of
+bones other than the hips are not read. **Axes**: Unity's are left-handed, Y up; fpdtw's
+right-handed: :func:`unity_to_fpdtw` mirrors X.
+
+:func:`play_as_vmc` is the other side without hardware: each take a sender, python-osc's own
+UDP client sending one bundle a frame (``fpdtw stream --as vmc``).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import collections
+import socket
+import time
+
+import numpy as np
+from pythonosc import osc_bundle_builder, osc_message_builder, udp_client
+from pythonosc.osc_packet import OscPacket
+
+from fpdtw import limits
+from fpdtw.app.serve import parse_address
+from fpdtw.app.sources import TakeEnd
+from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
+from fpdtw.motion.rotations import quat_mul, quat_normalize, quat_to_euler
+
+#: The VMC protocol's usual receiver port.
+DEFAULT_PORT = 39539
+#: The default rate of a sender (``--rate``): the frame period a gap is measured in.
+DEFAULT_RATE = 60.0
+#: Bytes a datagram may have (a frame of 55 bones and 52 blend shapes is about 8 KiB).
+MAX_DATAGRAM = 32768
+#: Datagrams waiting to be read; more are dropped and counted (a flood).
+MAX_QUEUE = 4096
+#: Sender addresses tracked in one take (each has a frame in the making).
+MAX_SENDERS = 64
+#: A quaternion whose norm is further than this from 1 is not a rotation.
+UNIT_TOLERANCE = 1e-3
+
+_SIDES = ("Left", "Right")
+#: Unity's humanoid body bones read, each with its parent in Unity's humanoid hierarchy.
+PARENTS = {"Hips": None, "Spine": "Hips", "Chest": "Spine", "UpperChest": "Chest",
+           "Neck": "UpperChest", "Head": "Neck"}  # fmt: skip
+for _s in _SIDES:
+    PARENTS.update({f"{_s}UpperLeg": "Hips", f"{_s}LowerLeg": f"{_s}UpperLeg",
+                    f"{_s}Foot": f"{_s}LowerLeg", f"{_s}Toes": f"{_s}Foot",
+                    f"{_s}Shoulder": "UpperChest", f"{_s}UpperArm": f"{_s}Shoulder",
+                    f"{_s}LowerArm": f"{_s}UpperArm", f"{_s}Hand": f"{_s}LowerArm"})  # fmt: skip
+#: The other HumanBodyBones names (eyes, jaw, fingers): valid, not read.
+OTHER_BONES = frozenset(
+    ["LeftEye", "RightEye", "Jaw"]
+    + [f"{s}{f}{p}" for s in _SIDES for f in ("Thumb", "Index", "Middle", "Ring", "Little")
+       for p in ("Proximal", "Intermediate", "Distal")]
+)  # fmt: skip
+
+_FULL = {"center_hip": "Hips", "middle_chest": "Chest", "upper_chest": "UpperChest",
+         "head": "Head"}  # fmt: skip
+for _s, _c in (("Left", "left"), ("Right", "right")):
+    _FULL.update({f"{_c}_hip": f"{_s}UpperLeg", f"{_c}_knee": f"{_s}LowerLeg",
+                  f"{_c}_ankle": f"{_s}Foot", f"{_c}_shoulder": f"{_s}UpperArm",
+                  f"{_c}_elbow": f"{_s}LowerArm", f"{_c}_wrist": f"{_s}Hand"})  # fmt: skip
+#: The built-in joint maps of a VMC skeleton (our joint -> HumanBodyBones), tried in order
+#: after ``--joint-map``'s: all 16 joints; without UpperChest; the paper's 8.
+JOINT_MAPS = (
+    _FULL,
+    {**_FULL, "middle_chest": "Spine", "upper_chest": "Chest"},
+    {j: _FULL[j] for j in PAPER_JOINTS},
+)
+#: Bones a first frame must have to make a skeleton.
+REQUIRED = ("Hips", *JOINT_MAPS[2].values())
+
+#: The emulator: each body bone -> its name in common rigs (ASF/CMU, FBX/Mixamo), first wins.
+RIG_NAMES = {"Hips": ("hip", "root", "Hips", "Pelvis"), "Spine": ("lowerback", "Spine"),
+             "Chest": ("upperback", "Spine1", "Chest"),
+             "UpperChest": ("thorax", "Spine2", "UpperChest"),
+             "Neck": ("lowerneck", "Neck"), "Head": ("head", "Head")}  # fmt: skip
+for _s, _c in (("Left", "l"), ("Right", "r")):
+    RIG_NAMES.update({f"{_s}UpperLeg": (f"{_c}femur", f"{_s}UpLeg", f"{_s}UpperLeg"),
+                      f"{_s}LowerLeg": (f"{_c}tibia", f"{_s}Leg", f"{_s}LowerLeg"),
+                      f"{_s}Foot": (f"{_c}foot", f"{_s}Foot"),
+                      f"{_s}Toes": (f"{_c}toes", f"{_s}ToeBase", f"{_s}Toes"),
+                      f"{_s}Shoulder": (f"{_c}clavicle", f"{_s}Shoulder", f"{_s}Collar"),
+                      f"{_s}UpperArm": (f"{_c}humerus", f"{_s}Arm", f"{_s}UpperArm"),
+                      f"{_s}LowerArm": (f"{_c}radius", f"{_s}ForeArm", f"{_s}LowerArm"),
+                      f"{_s}Hand": (f"{_c}wrist", f"{_s}Hand")})  # fmt: skip
+
+_ORDER = "XYZ"  # the built skeleton's rotation order, written Zrotation Yrotation Xrotation
+_MIRROR = np.array([-1.0, 1.0, 1.0])
+
+
+def unity_to_fpdtw(p, q_xyzw):
+    """Unity's position (..., 3) and quaternion ``x y z w`` (..., 4) in fpdtw's axes:
+    ``(-x, y, z)`` and ``(w, x, -y, -z)``.
+
+    Mirroring X (``M = diag(-1, 1, 1)``) turns Unity's left-handed, Y-up axes into
+    right-handed, Y-up ones with the same up and forward. A rotation ``R`` becomes
+    ``M R M``: about the axis ``M a`` by ``-theta`` (a mirror reverses the sense of turning),
+    that is about ``-M a`` by ``theta``; its quaternion ``(w, -M v)`` keeps the mirrored
+    axis' component and negates the other two. The map is its own inverse."""
+    p = np.asarray(p, dtype=float) * _MIRROR
+    q = np.asarray(q_xyzw, dtype=float)
+    return p, np.stack([q[..., 3], q[..., 0], -q[..., 1], -q[..., 2]], axis=-1)
+
+
+def fpdtw_to_unity(p, q_wxyz):
+    """The inverse of :func:`unity_to_fpdtw`: Unity's position and quaternion ``x y z w``."""
+    p = np.asarray(p, dtype=float) * _MIRROR
+    q = np.asarray(q_wxyz, dtype=float)
+    return p, np.stack([q[..., 1], -q[..., 2], -q[..., 3], q[..., 0]], axis=-1)
+
+
+def nearest_parent(bone: str, have) -> str | None:
+    """The nearest ancestor of ``bone`` in :data:`PARENTS` that ``have`` holds."""
+    p = PARENTS[bone]
+    while p is not None and p not in have:
+        p = PARENTS[p]
+    return p
+
+
+class VmcSkeleton:
+    """The skeleton of a performer, from the body bones of its first frame.
+
+    Attributes
+    ----------
+    bones : list of str
+        Depth first from Hips (the BVH joints, named as the bones).
+    header : list of str
+        Its BVH header (``Frame Time`` of ``rate``).
+    """
+
+    def __init__(self, frame: dict, rate: float):
+        have = [b for b in PARENTS if b in frame]
+        kids = {b: [c for c in have if nearest_parent(c, have) == b] for b in have}
+        self.bones, lines = [], ["HIERARCHY"]
+
+        def joint(b, depth):
+            self.bones.append(b)
+            pad = "  " * depth
+            if b == "Hips":
+                lines.extend(["ROOT Hips", "{", "  OFFSET 0 0 0", "  CHANNELS 6 Xposition "
+                              "Yposition Zposition Zrotation Yrotation Xrotation"])  # fmt: skip
+            else:
+                off = unity_to_fpdtw(frame[b][:3], frame[b][3:])[0]
+                lines.extend([f"{pad}JOINT {b}", pad + "{", f"{pad}  OFFSET "
+                              + " ".join(repr(float(v)) for v in off),
+                              f"{pad}  CHANNELS 3 Zrotation Yrotation Xrotation"])  # fmt: skip
+            for c in kids[b]:
+                joint(c, depth + 1)
+            if not kids[b]:
+                lines.extend([f"{pad}  End Site", pad + "  {", f"{pad}    OFFSET 0 0 0",
+                              pad + "  }"])  # fmt: skip
+            lines.append(pad + "}")
+
+        joint("Hips", 0)
+        self.header = lines + ["MOTION", f"Frame Time: {1.0 / rate!r}"]
+
+    def line(self, frame: dict, root) -> str:
+        """The BVH motion line of a frame (every bone of the skeleton in it; Unity's values)
+        with the root's ``(p, q)`` (Unity's; None: at the origin)."""
+        v = np.array([frame[b] for b in self.bones])
+        p, q = unity_to_fpdtw(v[:, :3], v[:, 3:])
+        q = quat_normalize(q)
+        hips = p[0]
+        if root is not None:
+            rp, rq = unity_to_fpdtw(root[:3], root[3:])
+            rq = quat_normalize(rq)
+            hips = rp + quat_mul(quat_mul(rq, np.r_[0.0, hips]), rq * [1, -1, -1, -1])[1:]
+            q[0] = quat_mul(rq, q[0])
+        e = quat_to_euler(q, _ORDER)[:, ::-1]  # Z Y X, as the channels
+        return " ".join(repr(float(x)) for x in np.r_[hips, e.ravel()])
+
+
+# -- reading ---------------------------------------------------------------------------------
+
+
+class _Receiver(asyncio.DatagramProtocol):
+    """Queues datagrams with their arrival time; counts those a full queue drops."""
+
+    def __init__(self):
+        self.queue = collections.deque()
+        self.dropped = 0
+        self.ready = asyncio.Event()
+
+    def datagram_received(self, data, addr):
+        if len(self.queue) >= MAX_QUEUE:
+            self.dropped += 1
+        else:
+            self.queue.append((data, addr, time.perf_counter()))
+        self.ready.set()
+
+
+class _Sender:
+    """One sender address: its frame in the making and its performer."""
+
+    def __init__(self, addr):
+        self.addr = f"[{addr[0]}]:{addr[1]}" if ":" in addr[0] else f"{addr[0]}:{addr[1]}"
+        self.perf = self.skeleton = self.root = self.problem = None
+        self.bones = {}
+        self.refused = False
+        self.timed = None  # sends /VMC/Ext/T (decided by its first frame)
+        self.t0 = self.last_t = None
+
+    def spoil(self, kind, what):
+        if self.problem is None:
+            self.problem = (kind, what)
+
+
+def framing_error(data: bytes, depth: int = 0) -> str | None:
+    """What is wrong with the framing of an OSC packet (None: nothing): a length that is not
+    a multiple of 4, or a bundle element whose size is not one or passes the end (python-osc
+    reads a cut bundle's first elements without a word)."""
+    if len(data) % 4:
+        return f"{len(data)} bytes, not a multiple of 4"
+    if not data.startswith(b"#bundle\x00"):
+        return None
+    if depth > 8:
+        return "bundles nested more than 8 deep"
+    pos = 16
+    while pos < len(data):
+        size = (
+            int.from_bytes(data[pos : pos + 4], "big", signed=True) if pos + 4 <= len(data) else -1
+        )
+        if size <= 0 or size % 4 or pos + 4 + size > len(data):
+            return f"a bundle element at byte {pos} of size {size} in {len(data)} bytes (cut)"
+        if (why := framing_error(data[pos + 4 : pos + 4 + size], depth + 1)) is not None:
+            return why
+        pos += 4 + size
+    return None
+
+
+def _numbers(args) -> bool:
+    return all(isinstance(a, int | float) and not isinstance(a, bool) for a in args)
+
+
+class Source:
+    """Listens for VMC senders, one take at a time (see the module's docstring).
+
+    Parameters
+    ----------
+    host, port : str, int
+        Where to listen (UDP).
+    rate : float, optional
+        The senders' frame rate (``--rate``; default :data:`DEFAULT_RATE`): the period a gap
+        is measured in and the rate the live target resamples from.
+    header : None
+        Not used: the skeleton comes from the stream (ValueError when given).
+    """
+
+    def __init__(self, host: str, port: int, *, rate=None, header=None):
+        if header is not None:
+            raise ValueError("vmc:// takes no --header: the skeleton comes from the bones sent")
+        self.host, self.port = host, port
+        self.rate = float(rate or DEFAULT_RATE)
+
+    def describe(self) -> str:
+        host = f"[{self.host}]" if ":" in self.host else self.host
+        return f"vmc://{host}:{self.port}"
+
+    async def connect(self):
+        """Bind the UDP port; return the transport and its receiver (OSError when taken)."""
+        loop = asyncio.get_running_loop()
+        transport, proto = await loop.create_datagram_endpoint(
+            _Receiver, local_addr=(self.host, self.port)
+        )
+        sock = transport.get_extra_info("socket")
+        try:
+            sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1 << 22)
+        except OSError:
+            pass
+        return transport, proto
+
+    async def read(self, connection, performers, idle_timeout: float) -> str:
+        """Read datagrams until ``idle_timeout`` s of silence after the first; return how the
+        take ended (TakeEnd when it cannot go on)."""
+        transport, proto = connection
+        self.senders, self.n = {}, 0
+        started = False
+        try:
+            while True:
+                proto.ready.clear()
+                if not proto.queue:
+                    self.flood(proto, performers)
+                    try:
+                        async with asyncio.timeout(idle_timeout if started else None):
+                            await proto.ready.wait()
+                    except TimeoutError:
+                        for s in self.senders.values():
+                            if s.bones or s.problem:
+                                self.finish(s, performers, None, None)
+                        return f"ended: nothing received for {idle_timeout:g} s (--idle-timeout)"
+                started = True
+                for _ in range(64):
+                    if not proto.queue:
+                        break
+                    self.datagram(*proto.queue.popleft(), performers)
+                await asyncio.sleep(0)
+        except TakeEnd:
+            self.flood(proto, performers)
+            raise
+        finally:
+            transport.close()
+
+    def flood(self, proto, performers) -> None:
+        """Count the datagrams a full queue dropped (they came after those queued)."""
+        if proto.dropped:
+            k, proto.dropped = proto.dropped, 0
+            performers.frames += k
+            performers.count_bad(None, "flood", f"datagrams {self.n + 1} to {self.n + k} "
+                                 f"dropped: more than {MAX_QUEUE} waiting (a flood)")  # fmt: skip
+            performers.bad["flood"] += k - 1
+            self.n += k
+
+    def datagram(self, data: bytes, addr, arrival: float, performers) -> None:
+        """One datagram: parsed, its messages added to its sender's frame."""
+        self.n += 1
+        n = self.n
+        s = self.senders.get(addr)
+        if s is None:
+            if len(self.senders) >= MAX_SENDERS:
+                performers.frames += 1
+                return performers.count_bad(None, "refused", f"datagram {n}: more than "
+                                            f"{MAX_SENDERS} sender addresses")  # fmt: skip
+            s = self.senders[addr] = _Sender(addr)
+        where = f"datagram {n} from {s.addr}"
+        if len(data) > MAX_DATAGRAM:
+            performers.frames += 1
+            return performers.count_bad(s.perf, "oversize", f"{where}: {len(data)} bytes, "
+                                        f"more than {MAX_DATAGRAM}")  # fmt: skip
+        try:
+            why = framing_error(data)
+            messages = [] if why else [m.message for m in OscPacket(data).messages]
+        except Exception as e:  # python-osc's parser on hostile bytes: any failure is a refusal
+            why = str(e).splitlines()[0][:80] if str(e) else type(e).__name__
+        if why:
+            performers.frames += 1
+            return performers.count_bad(s.perf, "osc", f"{where}: not an OSC packet ({why})")
+        for m in messages:
+            a, args = m.address, m.params
+            if a == "/VMC/Ext/Bone/Pos":
+                self.bone(s, args, where)
+            elif a == "/VMC/Ext/Root/Pos":
+                if s.bones:
+                    self.finish(s, performers, arrival, None, where)
+                if len(args) not in (8, 14) or not _numbers(args[1:]):
+                    s.spoil("count", f"{where}: /VMC/Ext/Root/Pos with {len(args)} arguments "
+                            "or not numbers, expected name and 7 (or 13) numbers")  # fmt: skip
+                else:
+                    s.root = self.values(s, np.array(args[1:8], dtype=float), "root", where)
+            elif a == "/VMC/Ext/T":
+                if len(args) != 1 or not _numbers(args) or not np.isfinite(args[0]):
+                    s.spoil("number", f"{where}: /VMC/Ext/T {args!r} is not a finite time")
+                    self.finish(s, performers, arrival, None, where)
+                else:
+                    self.finish(s, performers, arrival, float(args[0]), where)
+
+    def values(self, s, v, name, where):
+        """``v`` (p, q) checked: finite, plausible, a unit quaternion (else the frame spoilt)."""
+        if not np.isfinite(v).all():
+            return s.spoil("finite", f"{where}: {name} has NaN or inf")
+        big = limits.get("max_abs_value")
+        if np.abs(v).max() > big:
+            return s.spoil("large", f"{where}: {name} has a value beyond {big:g} "
+                           f"({limits.env_name('max_abs_value')})")  # fmt: skip
+        norm = float(np.linalg.norm(v[3:]))
+        if abs(norm - 1.0) > UNIT_TOLERANCE:
+            return s.spoil("rotation", f"{where}: {name}'s quaternion has norm {norm:.6g}")
+        return v
+
+    def bone(self, s, args, where) -> None:
+        if len(args) != 8 or not isinstance(args[0], str) or not _numbers(args[1:]):
+            return s.spoil("count", f"{where}: /VMC/Ext/Bone/Pos {args[:1]!r} with "
+                           f"{len(args)} arguments, expected name, p.x p.y p.z, q.x q.y q.z "
+                           "q.w")  # fmt: skip
+        name = args[0]
+        if name in OTHER_BONES:
+            return None
+        if name not in PARENTS:
+            return s.spoil("bone", f"{where}: bone {name[:40]!r} is not a body bone of Unity's "
+                           "HumanBodyBones")  # fmt: skip
+        if s.skeleton is not None and name not in s.skeleton.bones:
+            return s.spoil("bone", f"{where}: bone {name!r} is not in this sender's skeleton "
+                           "(its first frame's bones)")  # fmt: skip
+        if name in s.bones:
+            return s.spoil("duplicate", f"{where}: bone {name!r} twice in one frame")
+        v = self.values(s, np.array(args[1:], dtype=float), f"bone {name!r}", where)
+        if v is not None:
+            s.bones[name] = v
+
+    def finish(self, s, performers, arrival, t, where="at the end of the take") -> None:
+        """The end of a sender's frame: checked, then aligned (or counted)."""
+        bones, problem, root = s.bones, s.problem, s.root
+        s.bones, s.problem = {}, None
+        if not bones and problem is None:
+            return None  # a time without bones (e.g. before the sender loads its model)
+        performers.frames += 1
+        if s.refused:
+            return performers.count_bad(None, "refused", f"{where}: sender {s.addr} refused")
+        if problem is not None:
+            return performers.count_bad(s.perf, *problem)
+        if s.perf is None:
+            missing = [b for b in REQUIRED if b not in bones]
+            if missing:
+                return performers.count_bad(None, "missing", f"{where}: the first frame of "
+                                            f"{s.addr} lacks {', '.join(missing)}")  # fmt: skip
+            s.skeleton = VmcSkeleton(bones, self.rate)
+            s.timed = t is not None
+            about = (f"{len(s.skeleton.bones)} bones, frames "
+                     f"{'timed by /VMC/Ext/T' if s.timed else 'timed by arrival'}")  # fmt: skip
+            key = sum(1 for x in self.senders.values() if x.perf is not None)
+            s.perf = performers.add(key, s.addr, s.skeleton.header, self.rate, about)
+            if s.perf is None:
+                s.refused = True
+                return None
+        perf = s.perf
+        missing = [b for b in s.skeleton.bones if b not in bones]
+        if missing:
+            return performers.count_bad(perf, "missing", f"{where}: the frame lacks "
+                                        f"{', '.join(missing[:4])}")  # fmt: skip
+        if s.timed and t is None:
+            return performers.count_bad(perf, "missing", f"{where}: a frame without its "
+                                        "/VMC/Ext/T (a datagram lost or late)")  # fmt: skip
+        clock = t if s.timed else arrival
+        if s.last_t is not None and clock <= s.last_t:
+            kind = "duplicate" if clock == s.last_t else "order"
+            return performers.count_bad(perf, kind, f"{where}: time {clock!r} s, not after "
+                                        f"the previous frame's {s.last_t!r} s")  # fmt: skip
+        if s.t0 is None:
+            s.t0 = clock
+        s.last_t = clock
+        performers.feed(perf, s.skeleton.line(bones, root), arrival, t=clock - s.t0)
+        return None
+
+
+# -- the senders, without hardware --------------------------------------------------------------
+
+
+def rig_bones(skeleton) -> dict:
+    """The body bones a rig has: ``{HumanBodyBones name: its joint index}`` (ValueError
+    without hips or when the bones' nesting is not the rig's)."""
+    found = resolve_joint_map(skeleton.joint_names, RIG_NAMES)
+    index = {n: j for j, n in enumerate(skeleton.joint_names)}
+    out, used = {}, set()
+    for b in PARENTS:
+        if b in found and found[b] not in used:
+            out[b] = index[found[b]]
+            used.add(found[b])
+    if "Hips" not in out:
+        raise ValueError(f"no hips among {', '.join(skeleton.joint_names[:8])}...")
+    for b, j in out.items():
+        p = nearest_parent(b, out)
+        a = skeleton.parents[j]
+        while p is not None and a >= 0 and a != out[p]:
+            a = skeleton.parents[a]
+        if p is not None and a < 0:
+            raise ValueError(f"{skeleton.joint_names[j]} ({b}) is not below "
+                             f"{skeleton.joint_names[out[p]]} ({p})")  # fmt: skip
+    return out
+
+
+def vmc_frames(motion) -> tuple:
+    """A motion as a VMC sender sends it: ``(rate, [datagram bytes per frame])``, one bundle
+    a frame: ``/VMC/Ext/Root/Pos`` (at the origin), ``/VMC/Ext/Bone/Pos`` of each body bone
+    the rig has (:func:`rig_bones`; its rotation relative to the nearest such ancestor, the
+    product of the local rotations between; its rest offset from it), ``/VMC/Ext/OK 1`` and
+    ``/VMC/Ext/T`` (frame ``k`` at ``k / rate``); Unity's axes (:func:`fpdtw_to_unity`)."""
+    sk = motion.skeleton
+    have = rig_bones(sk)
+    local = quat_mul(quat_mul(np.asarray(sk.pre_rotations)[None], motion.quats),
+                     np.asarray(sk.post_rotations)[None])  # fmt: skip
+    root = have["Hips"]
+    msgs = []  # per bone: (name, offsets (F, 3), quats (F, 4))
+    for b, j in have.items():
+        p = nearest_parent(b, have)
+        q, off, a = local[:, j], np.asarray(sk.offsets[j], dtype=float), j
+        while p is not None and sk.parents[a] != have[p]:
+            a = sk.parents[a]
+            q = quat_mul(local[:, a], q)
+            off = off + sk.offsets[a]
+        if b == "Hips":
+            pos = motion.root_translation + sk.offsets[root]
+        else:
+            pos = np.broadcast_to(off, (motion.n_frames, 3))
+        msgs.append((b, *fpdtw_to_unity(pos, q)))
+    out = []
+    for k in range(motion.n_frames):
+        bundle = osc_bundle_builder.OscBundleBuilder(osc_bundle_builder.IMMEDIATELY)
+        bundle.add_content(_message("/VMC/Ext/Root/Pos", "root", *[0.0] * 6, 1.0))
+        for b, pos, q in msgs:
+            bundle.add_content(_message("/VMC/Ext/Bone/Pos", b, *pos[k], *q[k]))
+        bundle.add_content(_message("/VMC/Ext/OK", 1))
+        bundle.add_content(_message("/VMC/Ext/T", k / motion.fps))
+        out.append(bundle.build())
+    return motion.fps, out
+
+
+def _message(address, *args):
+    m = osc_message_builder.OscMessageBuilder(address=address)
+    for a in args:
+        if isinstance(a, str):
+            m.add_arg(a)
+        elif isinstance(a, int):
+            m.add_arg(a, "i")
+        else:
+            m.add_arg(float(a), "f")
+    return m.build()
+
+
+def play_as_vmc(motions, to: str, *, fast=False, out=None) -> int:
+    """Send ``motions`` as VMC senders to ``to`` (``HOST:PORT``): one python-osc UDP client
+    (one sender address) per motion, frames interleaved, frame ``k`` at ``k / rate`` (``fast``:
+    one every millisecond: UDP has no back-pressure). Return the datagrams sent."""
+    host, port = parse_address(to)
+    takes = [vmc_frames(m) for m in motions]
+    clients = [udp_client.UDPClient(host, port) for _ in takes]
+    rates = {r for r, _ in takes}
+    if len(rates) > 1:
+        raise ValueError(f"takes at {sorted(rates)} Hz: play them at one --rate")
+    rate = rates.pop()
+    n = max(len(f) for _, f in takes)
+    t0, sent = time.perf_counter(), 0
+    for k in range(n):
+        due = t0 + (k / 1000 if fast else k / rate)
+        if (wait := due - time.perf_counter()) > 0:
+            time.sleep(wait)
+        for c, (_, frames) in zip(clients, takes, strict=True):
+            if k < len(frames):
+                c.send(frames[k])
+                sent += 1
+    if out is not None:
+        print(f"sent {sent} datagrams ({len(takes)} senders) to {to}", file=out)
+    return sent
+
+
+__all__ = [
+    "DEFAULT_PORT",
+    "DEFAULT_RATE",
+    "JOINT_MAPS",
+    "PARENTS",
+    "Source",
+    "VmcSkeleton",
+    "fpdtw_to_unity",
+    "play_as_vmc",
+    "rig_bones",
+    "unity_to_fpdtw",
+    "vmc_frames",
+]
