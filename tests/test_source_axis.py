@@ -117,7 +117,7 @@ def test_source_urls_and_map_names(tmp_path):
     module, host, port = parse_source("axis://10.0.0.5")
     assert module.DEFAULT_PORT == 7001 and (host, port) == ("10.0.0.5", 7001)
     assert parse_source("axis://[::1]:7005")[1:] == ("::1", 7005)
-    for bad in ("vmc://127.0.0.1:1", "axis://h:0", "127.0.0.1:7001"):
+    for bad in ("kinect://127.0.0.1:1", "axis://h:0", "127.0.0.1:7001"):
         with pytest.raises(ValueError):
             parse_source(bad)
     assert map_path(tmp_path / "m.csv", 2, 1, "Av 1/x").name == "m-take2-1-Av_1_x.csv"

@@ -1,0 +1,432 @@
+"""``fpdtw serve --source vmc://``: the VMC protocol, sent by our own emulator of a sender
+(``fpdtw stream --as vmc``: python-osc's own UDP client and bundle builder) over 127.0.0.1,
+and hostile datagrams.
+
+The recording is CMU 18_01 (31 joints, 30 Hz); the live takes are it retimed (written as
+BVH files), so that the maps are not the identity. The hostile cases are put straight into
+the source's queue (what the socket would hand it), so that no datagram is lost on the way.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import socket
+import subprocess
+import sys
+import threading
+
+import numpy as np
+import pytest
+from pythonosc import osc_bundle_builder
+
+from fpdtw.app import cli
+from fpdtw.app.export import read_map_csv
+from fpdtw.app.source_vmc import (
+    JOINT_MAPS,
+    MAX_DATAGRAM,
+    MAX_QUEUE,
+    Source,
+    VmcSkeleton,
+    _message,
+    _Receiver,
+    fpdtw_to_unity,
+    play_as_vmc,
+    unity_to_fpdtw,
+    vmc_frames,
+)
+from fpdtw.app.sources import Performers, TakeEnd, parse_source
+from fpdtw.app.stream import session_map
+from fpdtw.io import load_motion
+from fpdtw.io.bvh import parse_bvh_header, read_bvh, write_bvh
+from fpdtw.motion.features import MotionFeatures
+from fpdtw.motion.joints import find_joint_map
+from fpdtw.motion.rotations import quat_conj, quat_mul
+from fpdtw.registry import align, resolve
+
+CMU = "cmu/18_01.bvh"
+METHOD = "Mc w40"
+
+
+@pytest.fixture(scope="module")
+def cmu(data_path, tmp_path_factory):
+    """The recording's features and two retimed takes of it (paths)."""
+    path = data_path(CMU)
+    m = load_motion(path)
+    d = tmp_path_factory.mktemp("vmc")
+    s = np.arange(m.n_frames) / m.fps
+    warps = []
+    for name, power in (("warpA", 1.3), ("warpB", 0.8)):
+        t = m.duration * (s / s[-1]) ** power
+        warps.append(write_bvh(m.retime(t, name=name), d / f"{name}.bvh"))
+    return path, MotionFeatures.from_motion(m), warps
+
+
+_OFFLINE = {}
+
+
+def offline_map(FI, take):
+    if take not in _OFFLINE:
+        M, _ = align(METHOD, FI, MotionFeatures.from_motion(read_bvh(take)))
+        _OFFLINE[take] = np.asarray(M, dtype=np.int64)
+    return _OFFLINE[take]
+
+
+def performers(FI, log, **kw):
+    return Performers(FI, resolve(METHOD).make, record=True, log=log.append,
+                      joint_maps=JOINT_MAPS, **kw)  # fmt: skip
+
+
+def loopback(takes, FI, *, idle=0.5):
+    """Send ``takes`` with :func:`play_as_vmc` (python-osc's client, one sender each) to the
+    vmc source on 127.0.0.1: (performers, how the take ended, log)."""
+
+    async def main():
+        source = Source("127.0.0.1", 0, rate=30)
+        conn = await source.connect()
+        port = conn[0].get_extra_info("sockname")[1]
+        log = []
+        perf = performers(FI, log)
+        sender = threading.Thread(target=play_as_vmc, args=(takes, f"127.0.0.1:{port}"),
+                                  kwargs={"fast": True})  # fmt: skip
+        sender.start()
+        try:
+            end = await source.read(conn, perf, idle)
+        except TakeEnd as e:
+            end = f"error: {e}"
+        sender.join()
+        return perf, end, log
+
+    return asyncio.run(main())
+
+
+class _Transport:
+    def close(self):
+        pass
+
+
+def inject(datagrams, FI, *, addr=("127.0.0.1", 5000), idle=0.2):
+    """``datagrams`` handed to the source as its socket would (from ``addr``, or per item
+    ``(bytes, addr)``), nothing lost: (performers, how the take ended, log)."""
+
+    async def main():
+        proto = _Receiver()
+        for d in datagrams:
+            data, a = d if isinstance(d, tuple) else (d, addr)
+            proto.datagram_received(data, a)
+        log = []
+        perf = performers(FI, log)
+        try:
+            end = await Source("127.0.0.1", 0, rate=30).read((_Transport(), proto), perf, idle)
+        except TakeEnd as e:
+            end = f"error: {e}"
+        return perf, end, log
+
+    return asyncio.run(main())
+
+
+# ------------------------------------------------------------------------------ the axes
+def _rotate(q, v):
+    return quat_mul(quat_mul(q, np.r_[0.0, v]), quat_conj(q))[1:]
+
+
+def test_handedness_hand_checked():
+    """Unity (left-handed, Y up): a +90 degree turn about Y takes forward (+Z) to right (+X)
+    (``Quaternion.Euler(0, 90, 0) * Vector3.forward == Vector3.right``); a +90 degree turn
+    about X takes forward to down. With X mirrored, Unity's +Z is (0, 0, 1) and its +X is
+    (-1, 0, 0): the first must take (0, 0, 1) to (-1, 0, 0), a -90 degree turn about Y in
+    fpdtw's right-handed axes; the second (0, 0, 1) to (0, -1, 0), +90 degrees about X."""
+    s = np.sqrt(0.5)
+    p, q = unity_to_fpdtw([1.0, 2.0, 3.0], [0.0, s, 0.0, s])
+    np.testing.assert_array_equal(p, [-1.0, 2.0, 3.0])
+    np.testing.assert_allclose(q, [s, 0.0, -s, 0.0])
+    np.testing.assert_allclose(_rotate(q, [0.0, 0.0, 1.0]), [-1.0, 0.0, 0.0], atol=1e-12)
+    _, q = unity_to_fpdtw([0, 0, 0], [s, 0.0, 0.0, s])
+    np.testing.assert_allclose(_rotate(q, [0.0, 0.0, 1.0]), [0.0, -1.0, 0.0], atol=1e-12)
+    # a general rotation: mirrored, it acts on mirrored vectors as M R M
+    rng = np.random.default_rng(0)
+    qu = rng.normal(size=4)
+    qu /= np.linalg.norm(qu)
+    v = rng.normal(size=3)
+    _, qf = unity_to_fpdtw([0, 0, 0], qu)
+    # Unity's own (left-handed) rotation of v, computed as the same matrix in its axes
+    R = _matrix(np.r_[qu[3], qu[:3]])
+    M = np.diag([-1.0, 1.0, 1.0])
+    np.testing.assert_allclose(_rotate(qf, M @ v), M @ (R @ v), atol=1e-12)
+    p2, q2 = fpdtw_to_unity(*unity_to_fpdtw([1.0, 2.0, 3.0], qu))
+    np.testing.assert_array_equal(p2, [1.0, 2.0, 3.0])
+    np.testing.assert_array_equal(q2, qu)
+
+
+def _matrix(q):
+    w, x, y, z = q
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+    ])  # fmt: skip
+
+
+# ----------------------------------------------------------------------------- the skeleton
+def test_a_skeleton_from_the_bones_sent():
+    """A sender without UpperChest, shoulders and toes: each bone hangs from its
+    nearest ancestor it sends; offsets are the local positions, X mirrored; the joint map
+    is the built-in one without UpperChest."""
+    limbs = ("UpperLeg", "LowerLeg", "Foot", "UpperArm", "LowerArm", "Hand")
+    bones = ["Hips", "Spine", "Chest", "Neck", "Head"]
+    bones += [f"{s}{b}" for s in ("Left", "Right") for b in limbs]
+    frame = {b: np.r_[0.1, 0.2, 0.3, 0.0, 0.0, 0.0, 1.0] for b in bones}
+    sk = VmcSkeleton(frame, 60.0)
+    h = parse_bvh_header(sk.header, None, stream=True)
+    names = list(h.skeleton.joint_names)
+    parent = {n: names[p] if p >= 0 else None for n, p in zip(names, h.skeleton.parents,
+                                                               strict=True)}  # fmt: skip
+    assert parent["Chest"] == "Spine" and parent["Neck"] == "Chest"
+    assert parent["LeftUpperArm"] == "Chest" and parent["LeftHand"] == "LeftLowerArm"
+    np.testing.assert_array_equal(h.skeleton.offsets[names.index("Chest")], [-0.1, 0.2, 0.3])
+    assert h.fps == 60.0
+    jm, label = find_joint_map(names, "bvh", JOINT_MAPS)
+    assert label == "user map 2" and jm["upper_chest"] == "Chest"
+
+
+# --------------------------------------------------------------------- the offline map
+def test_one_performer_gives_the_map_of_fpdtw_align(cmu):
+    """A retimed take sent by python-osc's client, one bundle a frame (float32 values):
+    frame for frame the offline map; nothing lost, filled or unusable."""
+    _, FI, (warp, _) = cmu
+    perf, end, log = loopback([read_bvh(warp)], FI)
+    assert end == "ended: nothing received for 0.5 s (--idle-timeout)"
+    (p,) = perf.by_key.values()
+    assert p.key == 0 and p.name.startswith("127.0.0.1:")
+    np.testing.assert_array_equal(session_map(p.session), offline_map(FI, warp))
+    s = perf.summary()[0]
+    assert s["frames"] == s["ticks"] == 303 and s["lost"] == s["filled"] == 0
+    assert not any(perf.bad.values()) and "22 bones" in s["about"]
+
+
+def test_two_senders_are_two_performers(cmu):
+    _, FI, warps = cmu
+    perf, end, _ = loopback([read_bvh(w) for w in warps], FI)
+    assert end.startswith("ended") and [p.key for p in perf.by_key.values()] == [0, 1]
+    for p, w in zip(perf.by_key.values(), warps, strict=True):
+        np.testing.assert_array_equal(session_map(p.session), offline_map(FI, w))
+    assert perf.frames == 606 and not any(perf.bad.values())
+
+
+def test_the_command_line_end_to_end(cmu, tmp_path):
+    """``fpdtw serve --source vmc:// --once --out`` in its own process; ``fpdtw stream A B
+    --as vmc`` here: one map file per sender, each ``fpdtw align``'s."""
+    path, _, warps = cmu
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    out = tmp_path / "live.csv"
+    serve = subprocess.Popen(
+        [sys.executable, "-m", "fpdtw.app.cli", "serve", str(path), "--source",
+         f"vmc://127.0.0.1:{port}", "--rate", "30", "--once", "--idle-timeout", "1",
+         "--out", str(out)],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    try:
+        assert serve.stdout.readline().strip() == f"connected to vmc://127.0.0.1:{port}"
+        assert cli.main(["stream", *map(str, warps), "--as", "vmc", "--to",
+                         f"127.0.0.1:{port}", "--fast"]) == 0  # fmt: skip
+        assert serve.wait(60) == 0
+        err = serve.stderr.read()
+    finally:
+        if serve.poll() is None:
+            serve.kill()
+        serve.wait()
+        serve.stdout.close()
+        serve.stderr.close()
+    assert "606 frames read; unusable: none" in err
+    files = sorted(tmp_path.glob("live-take1-*.csv"))
+    assert len(files) == 2
+    for f, w in zip(files, warps, strict=True):
+        ref = tmp_path / f"ref-{w.stem}.csv"
+        assert cli.main(["align", str(path), str(w), "-m", "c", "-w", "40", "--out", str(ref)]) == 0
+        np.testing.assert_array_equal(read_map_csv(f)["input_frame"],
+                                      read_map_csv(ref)["input_frame"])  # fmt: skip
+
+
+# ------------------------------------------------------------------------- hostile input
+def _take(cmu):
+    _, FI, (warp, _) = cmu
+    _, frames = vmc_frames(read_bvh(warp))
+    return FI, warp, [b.dgram for b in frames]
+
+
+def _bundle(*messages):
+    b = osc_bundle_builder.OscBundleBuilder(osc_bundle_builder.IMMEDIATELY)
+    for m in messages:
+        b.add_content(m)
+    return b.build().dgram
+
+
+def _with_bone(k, name, *values):
+    """Frame ``k`` of the take with one more (or a replaced) bone message, as a bundle."""
+    return _bundle(
+        _message("/VMC/Ext/Root/Pos", "root", *[0.0] * 6, 1.0),
+        _message("/VMC/Ext/Bone/Pos", name, *values),
+        _message("/VMC/Ext/T", k / 30),
+    )
+
+
+def _spoil_bone(frame: bytes, name: bytes, values) -> bytes:
+    """``frame`` with bone ``name``'s 7 float32 values replaced (they follow its name)."""
+    start = frame.index(name + b"\x00") + (len(name) // 4 + 1) * 4
+    return frame[:start] + np.asarray(values, dtype=">f4").tobytes() + frame[start + 28 :]
+
+
+NAN = [0, 0, 0, np.nan, 0, 0, 1]
+
+
+@pytest.mark.parametrize(
+    "spoil,kind,what",
+    [
+        (lambda f: b"hello, not OSC", "osc", "not an OSC packet"),
+        (lambda f: f[: len(f) // 2], "osc", "not an OSC packet"),
+        (lambda f: f + b"\x00" * MAX_DATAGRAM, "oversize", f"more than {MAX_DATAGRAM}"),
+        (lambda f: _spoil_bone(f, b"LeftUpperLeg", NAN), "finite", "'LeftUpperLeg' has NaN"),
+        (lambda f: _spoil_bone(f, b"Head", [0, 0, 0, np.inf, 0, 0, 1]), "finite", "NaN or inf"),
+        (lambda f: _spoil_bone(f, b"Head", [0, 0, 0, 0.5, 0, 0, 0.5]), "rotation", "norm 0.707"),
+        (lambda f: _spoil_bone(f, b"Head", [1e30, 0, 0, 0, 0, 0, 1]), "large", "beyond"),
+        (lambda f: f.replace(b"LeftToes\x00", b"LeftTail\x00"), "bone", "'LeftTail' is not"),
+        (lambda f: f.replace(b"LeftToes\x00", b"LeftFoot\x00"), "duplicate", "twice in one"),
+    ],
+)
+def test_an_unusable_datagram_is_counted_and_filled(cmu, spoil, kind, what):
+    """Frame 41's datagram spoilt (of the take's first 120): dropped, counted, named by its
+    number; its place is a one-frame gap filled by slerp; every answer before it is the
+    offline map's (an online map is causal: the first 120 frames' answers are its first 120)."""
+    FI, warp, frames = _take(cmu)
+    frames = frames[:120]
+    frames[40] = spoil(frames[40])
+    perf, end, log = inject(frames, FI)
+    assert end.startswith("ended") and perf.bad[kind] == 1 and sum(perf.bad.values()) == 1
+    first = next(m for m in log if "dropped; counted" in m)
+    assert "datagram 41 from 127.0.0.1:5000" in first and what in first, first
+    s = perf.summary()[0]
+    assert (s["frames"], s["ticks"], s["lost"], s["filled"]) == (119, 120, 1, 1)
+    M, ref = session_map(perf.get(0).session), offline_map(FI, warp)
+    assert M.size == 120 and abs(int(M[40]) - int(ref[40])) <= 2
+    np.testing.assert_array_equal(M[:40], ref[:40])
+
+
+def test_duplicated_and_reordered_datagrams(cmu):
+    """A datagram sent twice: the copy is counted, the map is the offline one exactly.
+    Frames 41 and 42 swapped: 42 arrives first (41 is a gap, filled), 41 is counted as
+    older than the frame before."""
+    FI, warp, frames = _take(cmu)
+    perf, end, _ = inject(frames[:41] + [frames[40]] + frames[41:], FI)
+    assert perf.bad["duplicate"] == 1 and sum(perf.bad.values()) == 1
+    np.testing.assert_array_equal(session_map(perf.get(0).session), offline_map(FI, warp))
+    swapped = frames[:40] + [frames[41], frames[40]] + frames[42:]
+    perf, end, log = inject(swapped, FI)
+    assert perf.bad["order"] == 1 and sum(perf.bad.values()) == 1
+    assert any("datagram 42 from 127.0.0.1:5000: time" in m for m in log)
+    s = perf.summary()[0]
+    assert (s["frames"], s["lost"], s["filled"]) == (302, 1, 1)
+
+
+def test_a_first_frame_without_the_needed_bones_and_a_bone_missing_later(cmu):
+    FI, warp, frames = _take(cmu)
+    partial = _with_bone(0, "Hips", 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0)
+    tag = b",sfffffff\x00\x00\x00LeftHand"
+    lacking = frames[50].replace(b"/VMC/Ext/Bone/Pos\x00\x00\x00" + tag,
+                                 b"/VMC/Ext/Blend/Val\x00\x00" + tag)  # fmt: skip
+    assert lacking != frames[50]
+    perf, end, log = inject([partial] + frames[:50] + [lacking] + frames[51:], FI)
+    assert perf.bad["missing"] == 2 and sum(perf.bad.values()) == 2
+    assert any("datagram 1 from 127.0.0.1:5000: the first frame of 127.0.0.1:5000 lacks "
+               "LeftUpperLeg" in m for m in log)  # fmt: skip
+    assert perf.summary()[0]["frames"] == 302 and perf.summary()[0]["filled"] == 1
+
+
+def test_a_flood_is_bounded_counted_and_ends_the_take(cmu):
+    """More datagrams than the queue holds: the excess is dropped and counted at once; the
+    take's frames before the garbage are aligned as usual; the garbage then ends the take
+    with a message naming its datagram."""
+    FI, warp, frames = _take(cmu)
+    flood = frames + [b"\x01" * 20] * (MAX_QUEUE + 700 - len(frames))
+    perf, end, log = inject(flood, FI)
+    assert perf.bad["flood"] == 700
+    assert (
+        end.startswith(
+            "error: frame 334 (avatar 0 '127.0.0.1:5000'): datagram 334 from "
+            "127.0.0.1:5000: not an OSC packet"
+        )
+        and "31 unusable frames" in end
+    )
+    assert any("datagrams 335 to 1034 dropped: more than 4096 waiting" in m for m in log)
+    np.testing.assert_array_equal(session_map(perf.get(0).session), offline_map(FI, warp))
+
+
+def test_senders_beyond_the_bound_and_a_garbage_only_sender(cmu):
+    """Two senders with --max-clients 1: the second's frames are refused, the first's
+    aligned; garbage from a stranger is counted, and only a run of it ends the take."""
+    FI, warp, frames = _take(cmu)
+    a, b = ("127.0.0.1", 5000), ("127.0.0.1", 5001)
+    mixed = [x for f in frames[:60] for x in ((f, a), (f, b))]
+
+    async def main():
+        proto = _Receiver()
+        for d, addr in mixed:
+            proto.datagram_received(d, addr)
+        log = []
+        perf = performers(FI, log, max_performers=1)
+        end = await Source("127.0.0.1", 0, rate=30).read((_Transport(), proto), perf, 0.2)
+        return perf, end
+
+    perf, end = asyncio.run(main())
+    assert end.startswith("ended") and list(perf.by_key) == [0]
+    assert perf.bad["refused"] == 60 and perf.summary()[0]["frames"] == 60
+    perf, end, _ = inject([(b"junk", ("127.0.0.1", 6000))] * 12, FI)
+    assert end.startswith("error: frame 11: datagram 11 from 127.0.0.1:6000: not an OSC")
+
+
+def test_hostile_datagrams_over_loopback(cmu):
+    """Not OSC, cut and oversized datagrams over a real UDP socket, between a take's frames:
+    counted, and the take's map is the offline one."""
+    FI, warp, frames = _take(cmu)
+
+    async def main():
+        source = Source("127.0.0.1", 0, rate=30)
+        conn = await source.connect()
+        port = conn[0].get_extra_info("sockname")[1]
+        log = []
+        perf = performers(FI, log)
+
+        def send():
+            with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+                for k, f in enumerate(frames):
+                    if k in (10, 20, 30):
+                        s.sendto({10: b"not osc", 20: f[:37], 30: f + bytes(MAX_DATAGRAM)}[k],
+                                 ("127.0.0.1", port))  # fmt: skip
+                    s.sendto(f, ("127.0.0.1", port))
+                    threading.Event().wait(0.001)
+
+        t = threading.Thread(target=send)
+        t.start()
+        end = await source.read(conn, perf, 0.5)
+        t.join()
+        return perf, end
+
+    perf, end = asyncio.run(main())
+    assert end.startswith("ended") and perf.bad["osc"] == 2 and perf.bad["oversize"] == 1
+    np.testing.assert_array_equal(session_map(perf.get(0).session), offline_map(FI, warp))
+
+
+# ------------------------------------------------------------------------- usage
+def test_source_url_and_usage_errors(capsys):
+    module, host, port = parse_source("vmc://0.0.0.0")
+    assert module.DEFAULT_PORT == 39539 and (host, port) == ("0.0.0.0", 39539)
+    for args, needle in [
+        (["serve", "IN.bvh", "--source", "vmc://h:1", "--header", "H.bvh"], "--header does not"),
+        (["serve", "IN.bvh", "--source", "axis://h:1", "--header", "H", "--rate", "30"],
+         "--rate applies only with --source vmc"),
+        (["serve", "IN.bvh", "--rate", "30"], "--rate applies only with --source"),
+        (["stream", "A.bvh", "--as", "vmc", "--listen", "h:1"], "--listen does not apply"),
+        (["stream", "A.bvh", "--as", "vmc", "--to", "h:0"], "port 0"),
+    ]:  # fmt: skip
+        assert cli.main(args) == 2
+        assert needle in capsys.readouterr().err
