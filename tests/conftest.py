@@ -11,7 +11,12 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+import numpy as np
 import pytest
+
+from fpdtw.io import load_motion
+from fpdtw.io.bvh import write_bvh
+from fpdtw.motion.features import MotionFeatures
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 # The unit tests read runs with the stored reading of eq. 2 (fake runs have no motions to
@@ -120,3 +125,18 @@ def pytest_collection_modifyitems(config, items):
     if slow:
         config.hook.pytest_deselected(items=slow)
         items[:] = [item for item in items if not item.get_closest_marker("slow")]
+
+
+@pytest.fixture(scope="session")
+def cmu_retimed(data_path, tmp_path_factory):
+    """CMU 18_01 (path, features) and two takes of it retimed by t^1.3 and t^0.8 (BVH paths):
+    the recording and live takes of the capture-source tests."""
+    path = data_path("cmu/18_01.bvh")
+    m = load_motion(path)
+    d = tmp_path_factory.mktemp("retimed")
+    s = np.arange(m.n_frames) / m.fps
+    warps = []
+    for name, power in (("warpA", 1.3), ("warpB", 0.8)):
+        t = m.duration * (s / s[-1]) ** power
+        warps.append(write_bvh(m.retime(t, name=name), d / f"{name}.bvh"))
+    return path, MotionFeatures.from_motion(m), warps

@@ -23,8 +23,7 @@ from fpdtw.app.export import read_map_csv
 from fpdtw.app.source_axis import AxisHeader, Source, axis_frames, serve_axis
 from fpdtw.app.sources import Performers, TakeEnd, map_path, parse_source
 from fpdtw.app.stream import session_map, take_lines
-from fpdtw.io import load_motion
-from fpdtw.io.bvh import parse_bvh_header, read_bvh, write_bvh
+from fpdtw.io.bvh import parse_bvh_header, read_bvh
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.registry import align, resolve
 
@@ -33,17 +32,9 @@ METHOD = "Mc w40"
 
 
 @pytest.fixture(scope="module")
-def cmu(data_path, tmp_path_factory):
+def cmu(cmu_retimed):
     """The recording (path, features) and two retimed takes of it (paths)."""
-    path = data_path(CMU)
-    m = load_motion(path)
-    d = tmp_path_factory.mktemp("axis")
-    s = np.arange(m.n_frames) / m.fps
-    warps = []
-    for name, power in (("warpA", 1.3), ("warpB", 0.8)):
-        t = m.duration * (s / s[-1]) ** power
-        warps.append(write_bvh(m.retime(t, name=name), d / f"{name}.bvh"))
-    return path, MotionFeatures.from_motion(m), warps
+    return cmu_retimed
 
 
 def offline_map(FI, take):

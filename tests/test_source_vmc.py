@@ -36,8 +36,7 @@ from fpdtw.app.source_vmc import (
 )
 from fpdtw.app.sources import Performers, TakeEnd, parse_source
 from fpdtw.app.stream import session_map
-from fpdtw.io import load_motion
-from fpdtw.io.bvh import parse_bvh_header, read_bvh, write_bvh
+from fpdtw.io.bvh import parse_bvh_header, read_bvh
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.motion.joints import find_joint_map
 from fpdtw.motion.rotations import quat_conj, quat_mul
@@ -48,17 +47,9 @@ METHOD = "Mc w40"
 
 
 @pytest.fixture(scope="module")
-def cmu(data_path, tmp_path_factory):
+def cmu(cmu_retimed):
     """The recording's features and two retimed takes of it (paths)."""
-    path = data_path(CMU)
-    m = load_motion(path)
-    d = tmp_path_factory.mktemp("vmc")
-    s = np.arange(m.n_frames) / m.fps
-    warps = []
-    for name, power in (("warpA", 1.3), ("warpB", 0.8)):
-        t = m.duration * (s / s[-1]) ** power
-        warps.append(write_bvh(m.retime(t, name=name), d / f"{name}.bvh"))
-    return path, MotionFeatures.from_motion(m), warps
+    return cmu_retimed
 
 
 _OFFLINE = {}
