@@ -31,6 +31,7 @@ from pathlib import Path
 
 import pytest
 
+from fpdtw.app import cluster as C
 from fpdtw.paper.runner import parallel as P
 from fpdtw.paper.runner import run as E
 from fpdtw.paper.runner.results import load_npz
@@ -237,15 +238,18 @@ def joblib_run(root):
 def delivered(monkeypatch):
     """Every result a run's executor yields, in this process (unit id, worker)."""
     got = []
-    real = P.Executor.map
 
-    def spy(self, fn, tasks, **kw):
-        for r in real(self, fn, tasks, **kw):
-            if isinstance(r, dict) and "unit" in r:
-                got.append((r["unit"], r["worker"]))
-            yield r
+    def spy(real):
+        def map_(self, fn, tasks, **kw):
+            for r in real(self, fn, tasks, **kw):
+                if isinstance(r, dict) and "unit" in r:
+                    got.append((r["unit"], r["worker"]))
+                yield r
 
-    monkeypatch.setattr(P.Executor, "map", spy)
+        return map_
+
+    for cls in (P.Executor, C.DaskExecutor):
+        monkeypatch.setattr(cls, "map", spy(cls.map))
     return got
 
 
@@ -464,18 +468,19 @@ def test_a_worker_with_other_code_refuses(monkeypatch):
 
 
 def test_files_the_workers_wrote_must_be_visible_here(monkeypatch, tmp_path):
-    monkeypatch.setattr(E, "VISIBLE_TIMEOUT", 0.2)
+    monkeypatch.setattr(C, "VISIBLE_TIMEOUT", 0.2)
     (tmp_path / "a.npz").write_bytes(b"x")
-    E._await_files([tmp_path / "a.npz"], Path.is_file, "chunk files", tmp_path)
+    ex = P.make_executor(1, f"tcp://127.0.0.1:{free_port()}")  # connects only to compute
+    ex.settle([tmp_path / "a.npz"], Path.is_file, "chunk files", tmp_path)
     with pytest.raises(P.ClusterError, match="filesystem this machine and every worker share"):
-        E._await_files([tmp_path / "b.npz"], Path.is_file, "chunk files", tmp_path)
+        ex.settle([tmp_path / "b.npz"], Path.is_file, "chunk files", tmp_path)
 
 
 def test_executor_yields_every_result_once_with_either_backend():
     tasks = [(i,) for i in range(7)]
-    with P.Executor(1) as ex:
+    with P.make_executor(1) as ex:
         assert ex.kind == "joblib" and ex.describe() == {"backend": "joblib", "n_jobs": 1}
         assert sorted(ex.map(abs, tasks, desc="t", progress=False)) == list(range(7))
-    assert P.Executor(2, "local").kind == "joblib"
+    assert P.make_executor(2, "local").kind == "joblib"
     with pytest.raises(TypeError, match="address string or a distributed.Client"):
-        P.Executor(2, 8786)
+        P.make_executor(2, 8786)

@@ -68,12 +68,12 @@ def test_the_reproduction_imports_without_the_tools():
         import fpdtw.paper.claims
         import fpdtw.paper.figures
         import fpdtw.paper.runner
-        from fpdtw.paper.runner.parallel import ClusterError, Executor
+        from fpdtw.paper.runner.parallel import ClusterError, make_executor
 
-        with Executor(1) as ex:
+        with make_executor(1) as ex:
             assert list(ex.map(abs, [(-2,), (3,)], desc="x", progress=False)) in ([2, 3], [3, 2])
         try:
-            Executor(1, "tcp://127.0.0.1:1").client()
+            make_executor(1, "tcp://127.0.0.1:1")
         except ClusterError as e:
             assert "fpdtw[cluster]" in str(e), e
         else:

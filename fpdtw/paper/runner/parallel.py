@@ -1,5 +1,5 @@
 """Where the grid's work runs: joblib on this machine's cores, or the workers of a Dask cluster
-(through the tools' optional part :mod:`fpdtw.app.cluster`, imported only then). What a task
+(the tools' optional part :mod:`fpdtw.app.cluster`, imported only then). What a task
 computes and writes does not depend on where it ran; what the workers need: ``docs/cluster.md``.
 """
 
@@ -54,43 +54,20 @@ def scheduler_from_env() -> str | None:
 
 
 class Executor:
-    """Runs a function over tasks with joblib on this machine or on a Dask cluster.
+    """Runs a function over tasks with ``n_jobs`` joblib processes on this machine (1: this
+    process). When a run names a scheduler, :func:`make_executor` gives a Dask cluster's
+    (:class:`fpdtw.app.cluster.DaskExecutor`) instead. A ``with`` block closes it."""
 
-    ``n_jobs``: joblib processes (1: this process). ``scheduler``: a Dask scheduler address
-    (:func:`scheduler_address`) or a connected ``distributed.Client`` (the caller closes it);
-    None or ``"local"``: joblib. ``say`` prints what it does. It connects when first there is
-    something to compute; :meth:`close` (or a ``with`` block) closes.
-    """
+    kind = "joblib"
 
-    def __init__(
-        self, n_jobs: int = 2, scheduler=None, *, connect_timeout: float = CONNECT_TIMEOUT, say=None
-    ):
+    def __init__(self, n_jobs: int = 2):
         self.n_jobs = int(n_jobs)
-        self.connect_timeout = float(connect_timeout)
-        self._say = say or (lambda *a, **k: None)
-        self._client = None
-        self._own = False
-        self._cluster: dict = {}
-        if scheduler is None or isinstance(scheduler, str):
-            self.address = scheduler_address(scheduler)
-        elif hasattr(scheduler, "submit") and hasattr(scheduler, "scheduler_info"):
-            self._client = scheduler
-            self.address = str(getattr(scheduler.scheduler, "address", "") or "client")
-        else:
-            raise TypeError(
-                f"scheduler must be an address string or a distributed.Client, got {scheduler!r}"
-            )
 
     @staticmethod
     def progress_bar(total: int, desc: str, progress: bool):
         """The progress bar of a map (stderr; a no-op bar when ``progress`` is False)."""
         kw = dict(disable=not progress, file=sys.stderr, mininterval=1.0, smoothing=0.05)
         return tqdm(total=total, desc=desc, **kw)
-
-    @property
-    def kind(self) -> str:
-        """``"dask"`` or ``"joblib"``."""
-        return "joblib" if self.address is None else "dask"
 
     def __enter__(self) -> Executor:
         return self
@@ -99,44 +76,26 @@ class Executor:
         self.close()
 
     def close(self) -> None:
-        """Close the connection this executor opened (a client given to it stays open)."""
-        if self._own:
-            _cluster().close(self)
+        """Nothing to close on this machine."""
 
     def describe(self) -> dict:
-        """What ran the tasks, for ``run.json``: ``{"backend": "joblib", "n_jobs"}`` or
-        ``{"backend": "dask", "scheduler", "workers", "threads"}`` (the last two once connected)."""
-        if self.kind == "joblib":
-            return {"backend": "joblib", "n_jobs": self.n_jobs}
-        return {"backend": "dask", "scheduler": self.address, **self._cluster}
+        """What ran the tasks, for ``run.json``: ``{"backend": "joblib", "n_jobs"}``."""
+        return {"backend": "joblib", "n_jobs": self.n_jobs}
 
     @property
     def slots(self) -> int:
-        """Tasks that run at once: n_jobs, or the cluster's threads when connected."""
-        if self.kind == "joblib":
-            return self.n_jobs
-        return int(self._cluster.get("threads", 0))
-
-    def client(self):
-        """The :class:`distributed.Client` (connecting first if needed): see
-        :func:`fpdtw.app.cluster.connect`."""
-        if self.kind != "dask":
-            raise RuntimeError("a joblib executor has no Dask client")
-        return _cluster().connect(self)
+        """Tasks that run at once."""
+        return self.n_jobs
 
     def map(
         self, fn: Callable, tasks: Sequence[tuple], *, desc: str, progress=True, keys=None
     ) -> Iterator:
         """Yield ``fn(*task)`` (``fn`` module-level) for every task, in the order they finish.
 
-        ``tasks``: the arguments of each call, most expensive first; ``keys`` name the Dask
-        tasks. ClusterError: the scheduler cannot be reached, lost a task's workers too often
-        or cancelled a task; ``fn``'s own errors are raised as they are.
+        ``tasks``: the arguments of each call, most expensive first; ``keys`` name the tasks
+        on a cluster. ``fn``'s own errors are raised as they are.
         """
         if not tasks:
-            return
-        if self.kind == "dask":
-            yield from _cluster().map_on_cluster(self, fn, tasks, desc, progress, keys)
             return
         gen = Parallel(n_jobs=self.n_jobs, return_as="generator_unordered", batch_size=1)(
             delayed(fn)(*t) for t in tasks
@@ -148,3 +107,26 @@ class Executor:
                 yield r
         finally:
             bar.close()
+
+    def settle(self, paths: list, ready: Callable, what: str, folder) -> None:
+        """Wait until the files the tasks wrote are here: on this machine they are."""
+
+
+def make_executor(
+    n_jobs: int = 2, scheduler=None, *, connect_timeout: float = CONNECT_TIMEOUT, say=None
+) -> Executor:
+    """The executor of a run: joblib with ``n_jobs`` processes, or the cluster of
+    ``scheduler``: a Dask scheduler address (:func:`scheduler_address`) or a connected
+    ``distributed.Client`` (the caller closes it); None or ``"local"``: joblib. ``say``
+    prints what a cluster executor does; it connects when first there is something to compute.
+    """
+    if scheduler is None or isinstance(scheduler, str):
+        address = scheduler_address(scheduler)
+        if address is None:
+            return Executor(n_jobs)
+        return _cluster().DaskExecutor(address, connect_timeout=connect_timeout, say=say)
+    if hasattr(scheduler, "submit") and hasattr(scheduler, "scheduler_info"):
+        return _cluster().DaskExecutor(scheduler, connect_timeout=connect_timeout, say=say)
+    raise TypeError(
+        f"scheduler must be an address string or a distributed.Client, got {scheduler!r}"
+    )

@@ -42,7 +42,7 @@ from pathlib import Path
 import numpy as np
 
 from fpdtw import registry
-from fpdtw.errors import AlignmentError, MotionFormatError
+from fpdtw.errors import AlignmentError, ClusterError, MotionFormatError
 from fpdtw.metrics import deviation, joint_trajectories, trajectory_scores
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.motion.joints import OPW_JOINTS
@@ -52,7 +52,7 @@ from fpdtw.paper.atomic import TMP_SUFFIX, write_atomic
 from fpdtw.paper.paths import results_dir
 from fpdtw.paper.pause import insert_pause
 from fpdtw.paper.runner.grid import mode_algorithms, split_rate, split_transform
-from fpdtw.paper.runner.parallel import CONNECT_TIMEOUT, ClusterError, Executor, scheduler_from_env
+from fpdtw.paper.runner.parallel import CONNECT_TIMEOUT, Executor, make_executor, scheduler_from_env
 from fpdtw.paper.runner.results import (
     BASE_FPS,
     LOW_FPS,
@@ -269,8 +269,7 @@ def build_features(
         ex = executor if executor is not None else Executor(n_jobs)
         keys = [f"fpdtw-features-{p.stem}" for _, p, _, _ in todo]
         list(ex.map(_build_feature_file, todo, desc="features", progress=progress, keys=keys))
-        if ex.kind == "dask":
-            _await_files([p for _, p, _, _ in todo], Path.is_file, "feature files", folder)
+        ex.settle([p for _, p, _, _ in todo], Path.is_file, "feature files", folder)
     _prune(folder, {p.name for p in files})  # features of another crop or older code
     return files
 
@@ -280,26 +279,6 @@ def _prune(folder: Path, keep: set) -> None:
     for p in folder.glob("*.npz"):
         if p.name not in keep:
             p.unlink()
-
-
-#: Seconds to wait for files that cluster workers wrote to appear here (network filesystems).
-VISIBLE_TIMEOUT = 60.0
-
-
-def _await_files(paths: list, ready, what: str, folder: Path) -> None:
-    """Wait until ``ready(path)`` holds for every path written by cluster workers
-    (ClusterError after :data:`VISIBLE_TIMEOUT` seconds: a folder this process does not see)."""
-    deadline = time.monotonic() + VISIBLE_TIMEOUT
-    missing = [p for p in paths if not ready(p)]
-    while missing and time.monotonic() < deadline:
-        time.sleep(min(1.0, max(0.0, deadline - time.monotonic())))
-        missing = [p for p in missing if not ready(p)]
-    if missing:
-        raise ClusterError(
-            f"{folder}: {len(missing)} {what} the cluster's workers wrote are not here after "
-            f"{VISIBLE_TIMEOUT:g} s (e.g. {Path(missing[0]).name}): the results folder must be "
-            "on a filesystem this machine and every worker share, at the same path (--results)"
-        )
 
 
 def _chunk_algorithms(path: Path, base_key: str) -> set:
@@ -540,15 +519,14 @@ def _compute(executor: Executor, mode, plan, specs, out: Path, base_key, progres
         work.append(r)
     if len(work) != len(jobs):
         raise RuntimeError(f"{len(jobs) - len(work)} units of {len(jobs)} were never computed")
-    if executor.kind == "dask":
-        names = {u["id"]: {s.name for s in missing} for _, u, missing in tasks}
-        _await_files(
-            [Path(u["chunk"]) for _, u, _ in tasks],
-            lambda p: names[p.stem] <= _chunk_algorithms(p, base_key),
-            "chunk files",
-            out / "chunks",
-        )
-        _remove_temporaries(out)  # those of workers that died while writing
+    names = {u["id"]: {s.name for s in missing} for _, u, missing in tasks}
+    executor.settle(
+        [Path(u["chunk"]) for _, u, _ in tasks],
+        lambda p: names[p.stem] <= _chunk_algorithms(p, base_key),
+        "chunk files",
+        out / "chunks",
+    )
+    _remove_temporaries(out)  # those of cluster workers that died while writing
     phases["units"] = round(time.perf_counter() - t0, 3)
     return units, tasks, recomputed, work
 
@@ -594,7 +572,7 @@ def run_experiments(
 
     if scheduler is None:
         scheduler = scheduler_from_env()
-    executor = Executor(n_jobs, scheduler, connect_timeout=connect_timeout, say=say)
+    executor = make_executor(n_jobs, scheduler, connect_timeout=connect_timeout, say=say)
 
     plan = pair_selection(selection)
     if not plan.pairs:
