@@ -11,6 +11,7 @@ Notebook: 15_readings_of_algorithm_3.ipynb
 from __future__ import annotations
 
 import dataclasses
+from collections import Counter
 
 import numpy as np
 
@@ -55,14 +56,10 @@ def map_shape(results, name: str, dataset=None) -> dict:
     (:func:`fpdtw.metrics.stick_skip_index`), ``pairs``."""
     arr = results.get(name)
     m_all, _ = results.frames(name)
-    offsets = np.asarray(arr["offsets"], dtype=np.int64)
-    maps = np.asarray(arr["maps"], dtype=np.int64)
-    total = dict(steps=0, exhausted=0, live=0, holds=0)
-    index = []
+    total, index = Counter(), []
     for k in _pair_rows(results, dataset):
-        M = maps[offsets[k] : offsets[k + 1]]
-        for key, v in step_counts(M, int(m_all[k])).items():
-            total[key] += v
+        M = np.asarray(arr.map(k), dtype=np.int64)
+        total.update(step_counts(M, int(m_all[k])))
         index.append(stick_skip_index(M, int(m_all[k])))
     return dict(
         exhausted=total["exhausted"] / total["steps"] if total["steps"] else 0.0,
@@ -235,14 +232,12 @@ def choice_values(results, name: str, variant: str, features=None) -> dict:
     metrics it changes; the choices of eq. 2 need ``features(k) -> (I, T)``."""
     arr = results.get(name)
     dtw = results.get("DTW" + ("@60Hz" if name.endswith("@60Hz") else ""))
-    offsets, maps = np.asarray(arr["offsets"]), np.asarray(arr["maps"], dtype=np.int64)
-    d_off, d_maps = np.asarray(dtw["offsets"]), np.asarray(dtw["maps"], dtype=np.int64)
     m_all, _ = results.frames(name)
-    P = offsets.size - 1
+    P = np.asarray(arr["offsets"]).size - 1
     sims, devs = np.full(P, np.nan), np.full(P, np.nan)
     for k in range(P):
-        M = maps[offsets[k] : offsets[k + 1]]
-        D = d_maps[d_off[k] : d_off[k + 1]]
+        M = np.asarray(arr.map(k), dtype=np.int64)
+        D = np.asarray(dtw.map(k), dtype=np.int64)
         if variant == "deviation_frames":
             devs[k] = deviation(D, M, frames="all")
             continue
@@ -348,14 +343,11 @@ def selection_rows(full, study, names=HEADLINE_NAMES) -> list[dict]:
     for name in names:
         row = {"algorithm": name}
         for tag, res in (("full", full), ("paper_shaped", study)):
-            if name not in res.algorithms:
-                row[f"similarity_{tag}"] = row[f"deviation_{tag}"] = row[f"passes_{tag}"] = None
-                continue
-            s, d = _medians(res, name)
-            row[f"similarity_{tag}"] = s
-            row[f"deviation_{tag}"] = d
-            passed = _passes(s, d, benchmarks(res)["similarity"])
-            row[f"passes_{tag}"] = verdict.get(passed, "neither")
+            s = d = passed = None
+            if name in res.algorithms:
+                s, d = _medians(res, name)
+                passed = verdict.get(_passes(s, d, benchmarks(res)["similarity"]), "neither")
+            row |= {f"similarity_{tag}": s, f"deviation_{tag}": d, f"passes_{tag}": passed}
         out.append(row)
     return out
 
