@@ -9,6 +9,7 @@ Paper: FP-DTW eq. 2, Table 1.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import io
 import json
@@ -169,12 +170,6 @@ def _algorithm_scores(r: Reading, stored, arrays: dict, index: list, pause_fps=N
     return out
 
 
-def _npy_bytes(a: np.ndarray) -> bytes:
-    buf = io.BytesIO()
-    np.lib.format.write_array(buf, a, allow_pickle=False)
-    return buf.getvalue()
-
-
 def reading_values(results, reading: str = "transform", progress: bool = True):
     """Per-pair eq. 2 of every algorithm of a run under one reading (a name of
     :data:`READINGS`), for :class:`~fpdtw.paper.claims.evidence.Evidence`.
@@ -201,14 +196,12 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
         + ids.tobytes()
     )
     folder = results.folder / "rescored" / reading
-    motions, scores = {}, {}
 
+    @functools.cache
     def arrays(fps: float) -> dict:
-        if fps not in motions:
-            desc = f"motions at {fps:g} Hz"
-            motions[fps] = _load(plan, index, crop, progress, desc, fps, (r.frame,))
-        return motions[fps]
+        return _load(plan, index, crop, progress, f"motions at {fps:g} Hz", fps, (r.frame,))
 
+    @functools.cache
     def compute(name: str) -> np.ndarray:
         stored, fps = results.stored(name), results.fps(name)
         if not np.array_equal(np.asarray(stored["pair_id"], dtype=np.int64), ids):
@@ -223,15 +216,13 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
         v = _algorithm_scores(r, stored, arrays(fps), index, pause)
         for old in folder.glob(f"{slug(name)}.*.npy"):
             old.unlink()
-        write_atomic(path, _npy_bytes(v))
+        buf = io.BytesIO()
+        np.save(buf, v, allow_pickle=False)
+        write_atomic(path, buf.getvalue())
         return v
 
     def values(name: str, metric: str):
-        if metric != "similarity":
-            return None
-        if name not in scores:
-            scores[name] = compute(name)
-        return scores[name]
+        return compute(name) if metric == "similarity" else None
 
     return values
 
