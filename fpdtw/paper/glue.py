@@ -3,8 +3,6 @@
 
 from __future__ import annotations
 
-import numpy as np
-
 from fpdtw.paper.claims import data_counts
 from fpdtw.paper.numbers import DATA
 
@@ -33,7 +31,7 @@ def data_numbers(pairs) -> dict:
     (_, name), n = max(per_movement.items(), key=lambda kv: (kv[1], kv[0]), default=(("", ""), 0))
     out["largest_movement"] = name
     out["largest_movement_share"] = n / total["pairs"] if total["pairs"] else 0.0
-    return {k: out[k].item() if isinstance(out[k], np.generic) else out[k] for k in DATA_NUMBERS}
+    return out
 
 
 def _pairs_by_dataset(n: dict) -> str:
