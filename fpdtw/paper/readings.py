@@ -147,26 +147,21 @@ def reading_signature(rows, dataset: str = "all") -> list[dict]:
     for reading in readings:
         rr = [x for x in rows if x["reading"] == reading and x["dataset"] == dataset]
         at120 = {(x["w"], x["type_v"]): x for x in rr if x["rate_hz"] == 120}
-        w40 = at120.get((40, False))
-        both = [
-            f"w{x['w']}" + (" + Type V" if x["type_v"] else "")
-            for x in at120.values()
-            if x["passes_similarity"] and x["passes_deviation"]
-        ]
-        plain = [x for (_, t), x in at120.items() if not t]
+        both = [k for k, x in at120.items() if x["passes_similarity"] and x["passes_deviation"]]
+        plain = {w: x for (w, t), x in at120.items() if not t}
+        exhausted = [x["exhausted"] for x in plain.values()]
         out.append(
             dict(
                 dataset=dataset,
                 reading=reading,
                 best_w_120=_best_w(rr, 120),
                 best_w_60=_best_w(rr, 60),
-                w10_stick_skip=at120[(10, False)]["stick_skip"] if (10, False) in at120 else None,
-                w80_stick_skip=at120[(80, False)]["stick_skip"] if (80, False) in at120 else None,
-                w40_passes_both=None
-                if w40 is None
-                else bool(w40["passes_similarity"] and w40["passes_deviation"]),
-                pass_both=", ".join(both) or "none",
-                exhausted=float(np.mean([x["exhausted"] for x in plain])) if plain else None,
+                w10_stick_skip=plain[10]["stick_skip"] if 10 in plain else None,
+                w80_stick_skip=plain[80]["stick_skip"] if 80 in plain else None,
+                w40_passes_both=(40, False) in both if 40 in plain else None,
+                pass_both=", ".join(f"w{w}" + (" + Type V" if t else "") for w, t in both)
+                or "none",
+                exhausted=float(np.mean(exhausted)) if exhausted else None,
             )
         )
     return out
@@ -254,12 +249,8 @@ def choice_values(results, name: str, variant: str, features=None) -> dict:
             devs[k] = deviation(D[:end], M[:end])
         else:
             raise ValueError(f"not a metric-side choice: {variant!r}")
-    out = {}
-    if variant != "deviation_frames":
-        out["similarity"] = sims
-    if variant != "flat_axis":
-        out["deviation"] = devs
-    return out
+    left_out = {"deviation_frames": "similarity", "flat_axis": "deviation"}.get(variant)
+    return {k: v for k, v in (("similarity", sims), ("deviation", devs)) if k != left_out}
 
 
 _DETAIL_KEYS = (
