@@ -276,12 +276,11 @@ def file_hashes(path: str | os.PathLike) -> dict:
     size = os.stat(path).st_size
     sha = hashlib.sha256()
     blob = hashlib.sha1(b"blob %d\0" % size)
-    n = 0
     with open(path, "rb") as f:
         while chunk := f.read(1 << 20):
             sha.update(chunk)
             blob.update(chunk)
-            n += len(chunk)
+        n = f.tell()
     if n != size:
         raise DataFetchError(f"{path}: the file changed while it was being hashed")
     return {"size": n, "sha256": sha.hexdigest(), "git_blob_sha1": blob.hexdigest()}
