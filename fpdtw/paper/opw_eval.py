@@ -201,10 +201,8 @@ def dtw_curve(A, B, omega: float = OMEGA, root_relative: bool = True) -> WarpCur
 
     Paper: OPW poster Section 4, Fig. 3, eq. 5.
     """
-    rate = 1.0 / omega
-    PA = A.resample(rate).positions(OPW_JOINTS, root_relative=root_relative)
-    PB = B.resample(rate).positions(OPW_JOINTS, root_relative=root_relative)
-    res = dtw(position_cost_matrix(PA, PB))
+    P = [M.resample(1.0 / omega).positions(OPW_JOINTS, root_relative=root_relative) for M in (A, B)]
+    res = dtw(position_cost_matrix(*P))
     xs, ys = [], []
     for i, j in res.path[fig3_key_points(res.path)][:-1]:
         if (not xs or j * omega > xs[-1]) and j * omega < B.duration:
@@ -418,7 +416,7 @@ def reference_lag(result: dict) -> dict:
     dec = result["decisions"]
     t, tw = dec["t"], dec["t_warped"]
     ref = tw
-    if result.get("reference", "curve") == "ratio":
+    if result["reference"] == "ratio":
         ref = t * result["duration"] / np.r_[result["duration"], dec["x_last"][:-1]]
     g = result["curves"]["example"](t)
     out = {"t": t}
@@ -429,7 +427,7 @@ def reference_lag(result: dict) -> dict:
     return out
 
 
-def summary_row(result: dict, label: str = "") -> list[dict]:
+def summary_row(result: dict, label: str) -> list[dict]:
     """One flat row per method of an :func:`evaluate` result.
 
     Paper: OPW poster Fig. 4.
@@ -437,8 +435,8 @@ def summary_row(result: dict, label: str = "") -> list[dict]:
     """
     return [
         {
-            "motion": label or result["name"],
-            "reading": result.get("reading", "poster"),
+            "motion": label,
+            "reading": result["reading"],
             "method": k,
             "offset_s": result["offset"],
             "gamma": result["gamma"],
@@ -588,19 +586,16 @@ def read_at_table(offset: float = OFFSET, gamma: float = GAMMA) -> list[dict]:
     """
     rows = []
     for mo in FIG4_MOTIONS:
-        A = load_cropped(mo.dataset, mo.path)
-        g = example_curve(A.duration, offset)
-        B = warp_motion(A, g)
+        motion = load(mo.dataset, mo.path)
         for rd in READ_AT_READINGS:
-            opw = run_opw(A, B, OMEGA, gamma, rd)
-            dev = deviation_ms(opw.curve, g)
+            res = evaluate(motion, offset, gamma, OMEGA, rd)
             rows.append({
                 "read_at": rd.read_at,
                 "motion": mo.label,
-                "opw_mean_ms": dev["mean"],
-                "opw_max_ms": dev["max"],
-                "opw_removed": temporal_difference_removed(opw.curve, g),
-                "steps_changed": int(sum(d.s != 1 for d in opw.decisions)),
+                "opw_mean_ms": res["deviation"]["OPW"]["mean"],
+                "opw_max_ms": res["deviation"]["OPW"]["max"],
+                "opw_removed": res["removed"]["OPW"],
+                "steps_changed": int(np.sum(res["decisions"]["s"] != 1)),
             })  # fmt: skip
     return rows
 
