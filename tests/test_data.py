@@ -232,8 +232,7 @@ def test_labels_and_helpers():
     assert len(clips) == 287 and all(e.kind == "motion" and e.movement for e in clips)
     assert len(data.motion_files("authors_fbx")) == 63
     assert len(data.motion_files("authors_fbx", available_only=True)) == 48
-    assert len(data.dataset_file_list("hdm05")) == 292
-    assert len(data.dataset_file_list("authors_fbx", available_only=True)) == 48
+    assert len(data.load_manifest("hdm05").files) == 292
     asf = data.skeleton_file("hdm05", CLIP_A)
     assert asf.path == "HDM05_cut_amc/HDM_bd.asf"
     assert data.skeleton_file("cmu", "18_01.bvh") is None
@@ -312,7 +311,7 @@ def test_fetch_over_http_mirror(mirror_root, cache, monkeypatch):
 def test_fetch_from_mirror_folder_and_path_forms(mirror_root, cache, monkeypatch):
     monkeypatch.setenv("FPDTW_MIRROR", str(mirror_root))
     p = data.fetch("authors_fbx", "MoCapData/3_Jumps_02_.fbx", progress=False)
-    assert p == data.cache_path("authors_fbx", "3_Jumps_02_.fbx")
+    assert p == cache / "mocap_single_person_actions" / "MoCapData" / "3_Jumps_02_.fbx"
     assert sha256_of(p) == data.load_manifest("authors_fbx").entry(p.name).sha256
     with pytest.raises(data.DataFetchError, match="292 files"):
         data.fetch("hdm05")

@@ -6,20 +6,15 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-#: Prefix and suffix of temporary files.
-TMP_PREFIX, TMP_SUFFIX = ".", ".part"
-
-
-def tmp_path(path: Path) -> Path:
-    """The temporary file of :func:`write_atomic` for ``path`` (``.<name>.<pid>.part``)."""
-    return path.with_name(f"{TMP_PREFIX}{path.name}.{os.getpid()}{TMP_SUFFIX}")
+#: Suffix of temporary files.
+TMP_SUFFIX = ".part"
 
 
 def write_atomic(path, data: bytes) -> Path:
     """Write ``data`` to ``path`` (its folder created if needed); returns ``path`` as a Path."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = tmp_path(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}{TMP_SUFFIX}")
     try:
         with open(tmp, "wb") as f:
             f.write(data)

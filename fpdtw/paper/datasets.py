@@ -77,13 +77,6 @@ class Archive:
     name: str
     url: str
     sha256: str | None = None
-    approx_size: str | None = None
-    notes: str | None = None
-
-    @property
-    def filename(self) -> str:
-        """Cache file name: the last component of the URL."""
-        return PurePosixPath(urllib.parse.urlsplit(self.url).path).name or f"{self.name}.zip"
 
 
 @dataclass(frozen=True)
@@ -192,7 +185,9 @@ def _parse_manifest(file: Path) -> Manifest:
             f"{file}: [dataset]: key 'name' is {ds['name']!r} but the file is {file.name}"
         )
     _check_relpath(ds["mirror_prefix"], file, "[dataset] key 'mirror_prefix'")
-    archives = {n: Archive(name=n, **a) for n, a in raw.get("archives", {}).items()}
+    archives = {
+        n: Archive(n, a["url"], a.get("sha256")) for n, a in raw.get("archives", {}).items()
+    }
     entries, seen = [], set()
     for i, f in enumerate(raw["files"]):
         where = _where(raw, ["files", i])
@@ -256,12 +251,6 @@ def as_manifests(datasets: Datasets) -> list[Manifest]:
     return [_as_manifest(d) for d in datasets]
 
 
-def dataset_file_list(dataset: str | Manifest, *, available_only: bool = False) -> list[str]:
-    """Paths (relative to the dataset) of every file, or of those in the local mirror."""
-    m = _as_manifest(dataset)
-    return [e.path for e in m.files if e.available_here or not available_only]
-
-
 def motion_files(dataset: str | Manifest, *, available_only: bool = False) -> list[FileEntry]:
     """Entries of the motion files (not skeletons) in manifest order (``available_only``: here).
 
@@ -281,24 +270,17 @@ def skeleton_file(dataset: str | Manifest, entry: FileEntry | str) -> FileEntry 
     return hits[0] if len(hits) == 1 else None
 
 
-def cache_path(dataset: str | Manifest, path: str | FileEntry) -> Path:
-    """Where a file is (or would be) cached: ``<cache>/<mirror_prefix>/<path>``."""
-    m = _as_manifest(dataset)
-    return paths.data_dir() / m.mirror_prefix / m.entry(path).path
-
-
 def file_hashes(path: str | os.PathLike) -> dict:
     """``{"size", "sha256", "git_blob_sha1"}`` of a file from one read (the blob SHA-1 is
     git's id of the content, ``sha1(b"blob <size>\\0" + content)``)."""
     size = os.stat(path).st_size
     sha = hashlib.sha256()
     blob = hashlib.sha1(b"blob %d\0" % size)
-    n = 0
     with open(path, "rb") as f:
         while chunk := f.read(1 << 20):
             sha.update(chunk)
             blob.update(chunk)
-            n += len(chunk)
+        n = f.tell()
     if n != size:
         raise DataFetchError(f"{path}: the file changed while it was being hashed")
     return {"size": n, "sha256": sha.hexdigest(), "git_blob_sha1": blob.hexdigest()}
@@ -306,25 +288,25 @@ def file_hashes(path: str | os.PathLike) -> dict:
 
 def hash_problems(e: FileEntry, h: dict) -> list[str]:
     """How hashes ``h`` differ from the entry's (empty when they match)."""
-    out = []
-    if e.size is not None and h.get("size") != e.size:
-        out.append(f"size expected {e.size} bytes, actual {h.get('size')}")
-    if e.sha256 is not None and h.get("sha256") != e.sha256:
-        out.append(f"sha256 expected {e.sha256}, actual {h.get('sha256')}")
-    if e.git_blob_sha1 is not None and h.get("git_blob_sha1") != e.git_blob_sha1:
-        out.append(f"git blob SHA-1 expected {e.git_blob_sha1}, actual {h.get('git_blob_sha1')}")
-    return out
+    labels = {"size": "size", "sha256": "sha256", "git_blob_sha1": "git blob SHA-1"}
+    return [
+        f"{label} expected {getattr(e, k)}{' bytes' * (k == 'size')}, actual {h.get(k)}"
+        for k, label in labels.items()
+        if getattr(e, k) is not None and h.get(k) != getattr(e, k)
+    ]
 
 
 @contextlib.contextmanager
 def _staging(dest: Path) -> Iterator[Path]:
-    """A temporary file next to ``dest``, removed on exit unless renamed into place."""
+    """A temporary file next to ``dest``, renamed to ``dest`` if the block ends without an
+    error, else removed."""
     dest.parent.mkdir(parents=True, exist_ok=True)
     fd, name = tempfile.mkstemp(prefix=TMP_PREFIX, suffix=TMP_SUFFIX, dir=dest.parent)
     os.close(fd)
     tmp = Path(name)
     try:
         yield tmp
+        os.replace(tmp, dest)
     finally:
         tmp.unlink(missing_ok=True)
 
@@ -386,7 +368,8 @@ def _from_mirror(m: Manifest, e: FileEntry, tmp: Path, mirror: str, *, progress:
 
 def _archive_path(m: Manifest, a: Archive, cache: Path, *, progress: bool) -> Path:
     """The archive in ``<cache>/_archives/``, downloaded once (checked by its sha256 if given)."""
-    dest = cache / ARCHIVE_DIR / a.filename
+    name = PurePosixPath(urllib.parse.urlsplit(a.url).path).name or f"{a.name}.zip"
+    dest = cache / ARCHIVE_DIR / name
     what = f"{m.name}: archive {a.name}"
     if dest.is_file():
         return dest
@@ -400,7 +383,6 @@ def _archive_path(m: Manifest, a: Archive, cache: Path, *, progress: bool) -> Pa
             )
         if not zipfile.is_zipfile(tmp):
             raise DataFetchError(f"{what}: {a.url} is not a zip archive; discarded")
-        os.replace(tmp, dest)
     return dest
 
 
@@ -461,15 +443,13 @@ def fetch_entry(
             what = f"{m.name}: {e.path}"
             _download(e.url, tmp, progress=progress, what=what, hint=f"; {MIRROR_HINT}")
             source = e.url
-        h = file_hashes(tmp)
-        problems = hash_problems(e, h)
+        problems = hash_problems(e, file_hashes(tmp))
         if problems:
             raise DataFetchError(
                 f"{m.name}: {e.path} from {source} failed verification: "
                 f"{'; '.join(problems)}. The file was discarded."
             )
         os.chmod(tmp, 0o644)
-        os.replace(tmp, dest)
     return dest
 
 

@@ -3,19 +3,14 @@
 
 from __future__ import annotations
 
-import numpy as np
-
 from fpdtw.paper.claims import data_counts
 from fpdtw.paper.numbers import DATA
 
-#: The names :func:`data_numbers` returns.
-DATA_NUMBERS = ("motions", "movements", "pairs", "pairs_authors_fbx", "pairs_hdm05",
-                "hdm05_share", "hdm05_clips_min", "hdm05_clips_max", "largest_movement",
-                "largest_movement_share")  # fmt: skip
-
 
 def data_numbers(pairs) -> dict:
-    """The data behind a run (``Results.pairs``): :data:`DATA_NUMBERS` as plain Python values."""
+    """The data behind a run (``Results.pairs``) as plain Python values: ``motions``,
+    ``movements``, ``pairs``, ``pairs_<dataset>``, ``hdm05_share``, ``hdm05_clips_min|max``
+    (clips per class), ``largest_movement`` and ``largest_movement_share`` (of the pairs)."""
     counts = data_counts(pairs)
     total = counts["total"]
     out = {k: total[k] for k in ("motions", "movements", "pairs")}
@@ -33,7 +28,7 @@ def data_numbers(pairs) -> dict:
     (_, name), n = max(per_movement.items(), key=lambda kv: (kv[1], kv[0]), default=(("", ""), 0))
     out["largest_movement"] = name
     out["largest_movement_share"] = n / total["pairs"] if total["pairs"] else 0.0
-    return {k: out[k].item() if isinstance(out[k], np.generic) else out[k] for k in DATA_NUMBERS}
+    return out
 
 
 def _pairs_by_dataset(n: dict) -> str:

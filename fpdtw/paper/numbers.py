@@ -17,9 +17,6 @@ DATA = {"motions": 333, "movements": 44, "pairs": 3248}
 #: Section 4: "Fifty seven from Reference 8 and 267 from widely used HDM05 dataset" (the
 #: authors' takes and HDM05's motions; as printed they add up to 324, not 333).
 DATA_SOURCES = {"authors_fbx": 57, "hdm05": 267}
-#: Section 4: the joints of the costs and the similarity, "hip, knees, shoulder and elbows"
-#: (hips and shoulders 3 DOF, knees 1 DOF, elbows 2 DOF): 8 joints.
-N_JOINTS = 8
 #: Section 4: the motions were sampled at 120 Hz.
 SAMPLE_RATE_HZ = 120
 #: Section 4: "the period of a typical walking gait is between 0.82 and 0.9 Hz" (a gait

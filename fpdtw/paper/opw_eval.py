@@ -22,6 +22,7 @@ from fpdtw.costs import position_cost_matrix
 from fpdtw.dtw import dtw
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.motion.joints import OPW_JOINTS
+from fpdtw.motion.motion import sample_points
 from fpdtw.online.base import run_online
 from fpdtw.online.opw import OPW
 from fpdtw.paper import numbers
@@ -200,23 +201,16 @@ def dtw_curve(A, B, omega: float = OMEGA, root_relative: bool = True) -> WarpCur
 
     Paper: OPW poster Section 4, Fig. 3, eq. 5.
     """
-    rate = 1.0 / omega
-    PA = A.resample(rate).positions(OPW_JOINTS, root_relative=root_relative)
-    PB = B.resample(rate).positions(OPW_JOINTS, root_relative=root_relative)
-    res = dtw(position_cost_matrix(PA, PB))
+    P = [M.resample(1.0 / omega).positions(OPW_JOINTS, root_relative=root_relative) for M in (A, B)]
+    res = dtw(position_cost_matrix(*P))
     xs, ys = [], []
     for i, j in res.path[fig3_key_points(res.path)][:-1]:
-        if not xs or j * omega > xs[-1]:
+        if (not xs or j * omega > xs[-1]) and j * omega < B.duration:
             xs.append(j * omega)
             ys.append(i * omega)
-    DA, DB = A.duration, B.duration
-    while xs and xs[-1] >= DB:
-        xs.pop()
-        ys.pop()
-    xs, ys = xs + [DB], ys + [DA]
-    if len(xs) < 2:
-        xs, ys = [0.0, DB], [0.0, DA]
-    return WarpCurve(xs, ys)
+    if not xs:
+        xs, ys = [0.0], [0.0]
+    return WarpCurve(xs + [B.duration], ys + [A.duration])
 
 
 def plugin_period(fps: float) -> float:
@@ -228,10 +222,8 @@ def _plugin_positions(motion, period: float, root_relative: bool) -> np.ndarray:
     """OPW joints' positions (F, 16, 3) every ``period`` s, linear between frames, clamped."""
     times = np.arange(max(1, int(np.ceil(motion.duration / period - 1e-9)))) * period
     P = motion.positions(OPW_JOINTS, root_relative=root_relative)
-    x = np.clip(times * motion.fps, 0.0, P.shape[0] - 1)
-    i0 = np.minimum(np.floor(x + 1e-9).astype(np.int64), P.shape[0] - 1)
-    i1 = np.minimum(i0 + 1, P.shape[0] - 1)
-    a = np.clip(x - i0, 0.0, 1.0)[:, None, None]
+    i0, i1, a = sample_points(np.clip(times * motion.fps, 0.0, P.shape[0] - 1), P.shape[0])
+    a = a[:, None, None]
     return (1.0 - a) * P[i0] + a * P[i1]
 
 
@@ -257,10 +249,8 @@ def best_match_keys(M) -> np.ndarray:
     """
     M = np.asarray(M, dtype=np.int64)
     n = M.size
-    keep = [i for i in range(1, n) if M[i] != M[i - 1] + 1 and (i == n - 1 or M[i + 1] != M[i])]
-    if not keep or keep[-1] != n - 1:
-        keep.append(n - 1)
-    return np.asarray(keep, dtype=np.int64)
+    keep = [i for i in range(1, n - 1) if M[i] != M[i - 1] + 1 and M[i + 1] != M[i]]
+    return np.asarray(keep + [n - 1], dtype=np.int64)
 
 
 def best_match_curve(A, B, root_relative: bool = False) -> WarpCurve:
@@ -424,25 +414,20 @@ def reference_lag(result: dict) -> dict:
     Notebook: 13_opw_fig4.ipynb
     """
     dec = result["decisions"]
-    g = result["curves"]["example"]
     t, tw = dec["t"], dec["t_warped"]
-    if result.get("reference", "curve") == "ratio":
-        before = np.r_[result["duration"], dec["x_last"][:-1]]
-        ref = t * result["duration"] / before
-    else:
-        ref = tw
-    ref_ms = 1000.0 * (ref - g(t))
-    curve_ms = 1000.0 * (tw - g(t))
-    return {
-        "t": t,
-        "reference_ms": ref_ms,
-        "curve_ms": curve_ms,
-        "reference_mean_abs_ms": float(np.abs(ref_ms).mean()) if t.size else 0.0,
-        "curve_mean_abs_ms": float(np.abs(curve_ms).mean()) if t.size else 0.0,
-    }
+    ref = tw
+    if result["reference"] == "ratio":
+        ref = t * result["duration"] / np.r_[result["duration"], dec["x_last"][:-1]]
+    g = result["curves"]["example"](t)
+    out = {"t": t}
+    for name, times in (("reference", ref), ("curve", tw)):
+        ms = 1000.0 * (times - g)
+        out[f"{name}_ms"] = ms
+        out[f"{name}_mean_abs_ms"] = float(np.abs(ms).mean()) if t.size else 0.0
+    return out
 
 
-def summary_row(result: dict, label: str = "") -> list[dict]:
+def summary_row(result: dict, label: str) -> list[dict]:
     """One flat row per method of an :func:`evaluate` result.
 
     Paper: OPW poster Fig. 4.
@@ -450,8 +435,8 @@ def summary_row(result: dict, label: str = "") -> list[dict]:
     """
     return [
         {
-            "motion": label or result["name"],
-            "reading": result.get("reading", "poster"),
+            "motion": label,
+            "reading": result["reading"],
             "method": k,
             "offset_s": result["offset"],
             "gamma": result["gamma"],
@@ -504,7 +489,7 @@ def pooled(rows: list, method: str, **match) -> dict:
 
 
 def _r(v, digits=3):
-    return None if v is None else round(float(v), digits)
+    return round(float(v), digits)
 
 
 def _range(rows, key, digits):
@@ -601,19 +586,16 @@ def read_at_table(offset: float = OFFSET, gamma: float = GAMMA) -> list[dict]:
     """
     rows = []
     for mo in FIG4_MOTIONS:
-        A = load_cropped(mo.dataset, mo.path)
-        g = example_curve(A.duration, offset)
-        B = warp_motion(A, g)
+        motion = load(mo.dataset, mo.path)
         for rd in READ_AT_READINGS:
-            opw = run_opw(A, B, OMEGA, gamma, rd)
-            dev = deviation_ms(opw.curve, g)
+            res = evaluate(motion, offset, gamma, OMEGA, rd)
             rows.append({
                 "read_at": rd.read_at,
                 "motion": mo.label,
-                "opw_mean_ms": dev["mean"],
-                "opw_max_ms": dev["max"],
-                "opw_removed": temporal_difference_removed(opw.curve, g),
-                "steps_changed": int(sum(d.s != 1 for d in opw.decisions)),
+                "opw_mean_ms": res["deviation"]["OPW"]["mean"],
+                "opw_max_ms": res["deviation"]["OPW"]["max"],
+                "opw_removed": res["removed"]["OPW"],
+                "steps_changed": int(np.sum(res["decisions"]["s"] != 1)),
             })  # fmt: skip
     return rows
 

@@ -30,8 +30,7 @@ def data_dir() -> Path:
 
 def mirror() -> str | None:
     """The mirror given by ``FPDTW_MIRROR`` (folder or base URL, docs/data.md), or None."""
-    value = os.environ.get("FPDTW_MIRROR", "").strip()
-    return value or None
+    return os.environ.get("FPDTW_MIRROR", "").strip() or None
 
 
 def manifest_dir() -> Path:

@@ -42,16 +42,15 @@ OUTPUTS = ("figures", "README.md", "ARTIFACT.md", "docs")
 def git_commit(root: Path = REPO_ROOT) -> dict:
     """``{"commit": sha, "dirty": bool}`` of the source checkout (None, None outside one);
     dirty: a tracked file other than :data:`OUTPUTS` (none changes a figure) differs."""
+
+    def git(*args: str) -> str:
+        cmd = ["git", "-C", str(root), *args]
+        return subprocess.run(cmd, capture_output=True, text=True, timeout=10, check=True).stdout
+
     try:
-        sha = subprocess.run(
-            ["git", "-C", str(root), "rev-parse", "HEAD"],
-            capture_output=True, text=True, timeout=10, check=True,
-        ).stdout.strip()  # fmt: skip
-        status = subprocess.run(
-            ["git", "-C", str(root), "status", "--porcelain", "--untracked-files=no",
-             "--", ".", *(f":(exclude){p}" for p in OUTPUTS)],
-            capture_output=True, text=True, timeout=10, check=True,
-        ).stdout  # fmt: skip
+        sha = git("rev-parse", "HEAD").strip()
+        excluded = (f":(exclude){p}" for p in OUTPUTS)
+        status = git("status", "--porcelain", "--untracked-files=no", "--", ".", *excluded)
     except (OSError, subprocess.SubprocessError):
         return {"commit": None, "dirty": None}
     return {"commit": sha, "dirty": bool(status.strip())}

@@ -11,6 +11,7 @@ Notebook: 15_readings_of_algorithm_3.ipynb
 from __future__ import annotations
 
 import dataclasses
+from collections import Counter
 
 import numpy as np
 
@@ -55,14 +56,10 @@ def map_shape(results, name: str, dataset=None) -> dict:
     (:func:`fpdtw.metrics.stick_skip_index`), ``pairs``."""
     arr = results.get(name)
     m_all, _ = results.frames(name)
-    offsets = np.asarray(arr["offsets"], dtype=np.int64)
-    maps = np.asarray(arr["maps"], dtype=np.int64)
-    total = dict(steps=0, exhausted=0, live=0, holds=0)
-    index = []
+    total, index = Counter(), []
     for k in _pair_rows(results, dataset):
-        M = maps[offsets[k] : offsets[k + 1]]
-        for key, v in step_counts(M, int(m_all[k])).items():
-            total[key] += v
+        M = np.asarray(arr.map(k), dtype=np.int64)
+        total.update(step_counts(M, int(m_all[k])))
         index.append(stick_skip_index(M, int(m_all[k])))
     return dict(
         exhausted=total["exhausted"] / total["steps"] if total["steps"] else 0.0,
@@ -150,26 +147,21 @@ def reading_signature(rows, dataset: str = "all") -> list[dict]:
     for reading in readings:
         rr = [x for x in rows if x["reading"] == reading and x["dataset"] == dataset]
         at120 = {(x["w"], x["type_v"]): x for x in rr if x["rate_hz"] == 120}
-        w40 = at120.get((40, False))
-        both = [
-            f"w{x['w']}" + (" + Type V" if x["type_v"] else "")
-            for x in at120.values()
-            if x["passes_similarity"] and x["passes_deviation"]
-        ]
-        plain = [x for (_, t), x in at120.items() if not t]
+        both = [k for k, x in at120.items() if x["passes_similarity"] and x["passes_deviation"]]
+        plain = {w: x for (w, t), x in at120.items() if not t}
+        exhausted = [x["exhausted"] for x in plain.values()]
         out.append(
             dict(
                 dataset=dataset,
                 reading=reading,
                 best_w_120=_best_w(rr, 120),
                 best_w_60=_best_w(rr, 60),
-                w10_stick_skip=at120[(10, False)]["stick_skip"] if (10, False) in at120 else None,
-                w80_stick_skip=at120[(80, False)]["stick_skip"] if (80, False) in at120 else None,
-                w40_passes_both=None
-                if w40 is None
-                else bool(w40["passes_similarity"] and w40["passes_deviation"]),
-                pass_both=", ".join(both) or "none",
-                exhausted=float(np.mean([x["exhausted"] for x in plain])) if plain else None,
+                w10_stick_skip=plain[10]["stick_skip"] if 10 in plain else None,
+                w80_stick_skip=plain[80]["stick_skip"] if 80 in plain else None,
+                w40_passes_both=(40, False) in both if 40 in plain else None,
+                pass_both=", ".join(f"w{w}" + (" + Type V" if t else "") for w, t in both)
+                or "none",
+                exhausted=float(np.mean(exhausted)) if exhausted else None,
             )
         )
     return out
@@ -235,14 +227,12 @@ def choice_values(results, name: str, variant: str, features=None) -> dict:
     metrics it changes; the choices of eq. 2 need ``features(k) -> (I, T)``."""
     arr = results.get(name)
     dtw = results.get("DTW" + ("@60Hz" if name.endswith("@60Hz") else ""))
-    offsets, maps = np.asarray(arr["offsets"]), np.asarray(arr["maps"], dtype=np.int64)
-    d_off, d_maps = np.asarray(dtw["offsets"]), np.asarray(dtw["maps"], dtype=np.int64)
     m_all, _ = results.frames(name)
-    P = offsets.size - 1
+    P = np.asarray(arr["offsets"]).size - 1
     sims, devs = np.full(P, np.nan), np.full(P, np.nan)
     for k in range(P):
-        M = maps[offsets[k] : offsets[k + 1]]
-        D = d_maps[d_off[k] : d_off[k + 1]]
+        M = np.asarray(arr.map(k), dtype=np.int64)
+        D = np.asarray(dtw.map(k), dtype=np.int64)
         if variant == "deviation_frames":
             devs[k] = deviation(D, M, frames="all")
             continue
@@ -259,12 +249,8 @@ def choice_values(results, name: str, variant: str, features=None) -> dict:
             devs[k] = deviation(D[:end], M[:end])
         else:
             raise ValueError(f"not a metric-side choice: {variant!r}")
-    out = {}
-    if variant != "deviation_frames":
-        out["similarity"] = sims
-    if variant != "flat_axis":
-        out["deviation"] = devs
-    return out
+    left_out = {"deviation_frames": "similarity", "flat_axis": "deviation"}.get(variant)
+    return {k: v for k, v in (("similarity", sims), ("deviation", devs)) if k != left_out}
 
 
 _DETAIL_KEYS = (
@@ -348,14 +334,11 @@ def selection_rows(full, study, names=HEADLINE_NAMES) -> list[dict]:
     for name in names:
         row = {"algorithm": name}
         for tag, res in (("full", full), ("paper_shaped", study)):
-            if name not in res.algorithms:
-                row[f"similarity_{tag}"] = row[f"deviation_{tag}"] = row[f"passes_{tag}"] = None
-                continue
-            s, d = _medians(res, name)
-            row[f"similarity_{tag}"] = s
-            row[f"deviation_{tag}"] = d
-            passed = _passes(s, d, benchmarks(res)["similarity"])
-            row[f"passes_{tag}"] = verdict.get(passed, "neither")
+            s = d = passed = None
+            if name in res.algorithms:
+                s, d = _medians(res, name)
+                passed = verdict.get(_passes(s, d, benchmarks(res)["similarity"]), "neither")
+            row |= {f"similarity_{tag}": s, f"deviation_{tag}": d, f"passes_{tag}": passed}
         out.append(row)
     return out
 

@@ -9,6 +9,7 @@ Paper: FP-DTW eq. 2, Table 1.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import io
 import json
@@ -127,28 +128,27 @@ def pair_arrays(results, k: int) -> tuple:
     return tuple(_motion_arrays(plan.motions[i], crop) for i in index[k])
 
 
-def rescore(results, readings=READINGS, algorithms=LEVEL_ALGORITHMS, progress=True) -> dict:
-    """Per-pair eq. 2 of a run's stored maps (120 Hz) under each reading:
-    ``scores[reading.name][algorithm]``, float64 (P,); ValueError when ``ours`` differs
-    from the stored scores.
+def rescore(results) -> dict:
+    """Per-pair eq. 2 of a run's stored maps (120 Hz) of :data:`LEVEL_ALGORITHMS` under each
+    of :data:`READINGS`: ``scores[reading.name][algorithm]``, float64 (P,); ValueError when
+    ``ours`` differs from the stored scores.
 
     Paper: FP-DTW eq. 2.
     """
     plan, index, crop = _plan(results)
-    arrays = _load(plan, index, crop, progress, "motions")
-    stored = {a: results.stored(a) for a in algorithms}
+    arrays = _load(plan, index, crop, True, "motions")
+    stored = {a: results.stored(a) for a in LEVEL_ALGORITHMS}
     scores = {
-        r.name: {a: _algorithm_scores(r, stored[a], arrays, index) for a in algorithms}
-        for r in tqdm(readings, desc="readings", disable=not progress)
+        r.name: {a: _algorithm_scores(r, stored[a], arrays, index) for a in LEVEL_ALGORITHMS}
+        for r in tqdm(READINGS, desc="readings")
     }
-    if "ours" in scores:
-        for a in algorithms:
-            want = np.asarray(stored[a]["similarity"], dtype=np.float64)
-            if not np.allclose(scores["ours"][a], want, atol=1e-12, equal_nan=True):
-                raise ValueError(
-                    f"{results.folder}: eq. 2 of {a} recomputed from the motions differs "
-                    "from the run's stored scores (other data or code than the run's)"
-                )
+    for a in LEVEL_ALGORITHMS:
+        want = np.asarray(stored[a]["similarity"], dtype=np.float64)
+        if not np.allclose(scores["ours"][a], want, atol=1e-12, equal_nan=True):
+            raise ValueError(
+                f"{results.folder}: eq. 2 of {a} recomputed from the motions differs "
+                "from the run's stored scores (other data or code than the run's)"
+            )
     return scores
 
 
@@ -167,12 +167,6 @@ def _algorithm_scores(r: Reading, stored, arrays: dict, index: list, pause_fps=N
             T = {**T, r.frame: hold_frames(T[r.frame], at, length)}
         out[k] = _score(r, arrays[i], T, np.asarray(stored.map(k), dtype=np.int64))
     return out
-
-
-def _npy_bytes(a: np.ndarray) -> bytes:
-    buf = io.BytesIO()
-    np.lib.format.write_array(buf, a, allow_pickle=False)
-    return buf.getvalue()
 
 
 def reading_values(results, reading: str = "transform", progress: bool = True):
@@ -201,14 +195,12 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
         + ids.tobytes()
     )
     folder = results.folder / "rescored" / reading
-    motions, scores = {}, {}
 
+    @functools.cache
     def arrays(fps: float) -> dict:
-        if fps not in motions:
-            desc = f"motions at {fps:g} Hz"
-            motions[fps] = _load(plan, index, crop, progress, desc, fps, (r.frame,))
-        return motions[fps]
+        return _load(plan, index, crop, progress, f"motions at {fps:g} Hz", fps, (r.frame,))
 
+    @functools.cache
     def compute(name: str) -> np.ndarray:
         stored, fps = results.stored(name), results.fps(name)
         if not np.array_equal(np.asarray(stored["pair_id"], dtype=np.int64), ids):
@@ -223,36 +215,30 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
         v = _algorithm_scores(r, stored, arrays(fps), index, pause)
         for old in folder.glob(f"{slug(name)}.*.npy"):
             old.unlink()
-        write_atomic(path, _npy_bytes(v))
+        buf = io.BytesIO()
+        np.save(buf, v, allow_pickle=False)
+        write_atomic(path, buf.getvalue())
         return v
 
     def values(name: str, metric: str):
-        if metric != "similarity":
-            return None
-        if name not in scores:
-            scores[name] = compute(name)
-        return scores[name]
+        return compute(name) if metric == "similarity" else None
 
     return values
 
 
-def similarity_level_rows(results, scores=None, progress=True) -> list[dict]:
+def similarity_level_rows(results) -> list[dict]:
     """Notebook 17's table: median eq. 2 of UTW, DTW and Mc w40 per reading and dataset
-    (``all``, then each) beside the paper's (``scores``: :func:`rescore`'s, computed when
-    missing).
+    (``all``, then each) beside the paper's, from :func:`rescore`.
 
     Paper: FP-DTW eq. 2, Table 1.
     Notebook: 17_similarity_level.ipynb
     """
-    if scores is None:
-        scores = rescore(results, progress=progress)
+    scores = rescore(results)
     datasets = np.array([p["dataset"] for p in results.pairs])
     groups = [("all", np.ones(datasets.size, bool))]
     groups += [(d, datasets == d) for d in sorted(set(datasets.tolist()))]
     rows = []
     for r in READINGS:
-        if r.name not in scores:
-            continue
         for d, mask in groups:
             med = {a: float(np.nanmedian(scores[r.name][a][mask])) for a in LEVEL_ALGORITHMS}
             row = dict(reading=r.name, changes=r.changes, dataset=d, pairs=int(mask.sum()))

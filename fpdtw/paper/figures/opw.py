@@ -44,41 +44,29 @@ def clips_note(labels=None) -> str:
 
 
 def add_note(fig, text: str):
-    """Put (or replace) an OPW figure's footnote, wrapped to the figure's width."""
+    """Put an OPW figure's footnote, wrapped to the figure's width."""
     width = max(60, int(fig.get_figwidth() * 16))
     wrapped = "\n".join(textwrap.fill(par, width) for par in text.split("\n"))
-    for t in fig.texts:
-        if t.get_gid() == "opw_note":
-            t.set_text(wrapped)
-            return t
-    t = fig.text(0.01, 0.0, wrapped, ha="left", va="top", fontsize=7.5, color="0.2")
-    t.set_gid("opw_note")
-    return t
+    fig.text(0.01, 0.0, wrapped, ha="left", va="top", fontsize=7.5, color="0.2", gid="opw_note")
 
 
 def _labels_of(rows) -> list:
     return list(dict.fromkeys(r["motion"] for r in rows if "motion" in r))
 
 
-def _baseline(result: dict) -> str:
-    """The result's baseline method (its reading's; ``"DTW"`` for older results)."""
-    return result.get("baseline", "DTW")
-
-
 def _threshold(ax):
     ax.axhline(HOYET_MS, color="tab:red", ls="--", lw=1, label=f"{HOYET_MS:.0f} ms")
 
 
-def plot_warp_curves(result: dict, ax=None):
-    """Example, baseline and OPW warp curves of one motion, keys marked (Fig. 4, top row).
+def plot_warp_curves(result: dict, ax):
+    """Example, baseline and OPW warp curves of one motion on ``ax``, keys marked.
 
     Paper: OPW poster Fig. 4 (top row).
     """
-    fig, ax = new_axes(ax)
     D = result["duration"]
     t = np.linspace(0.0, D, 501)
     ax.plot([0, D], [0, D], color="0.7", lw=0.8, ls=":", label="identity")
-    for name in ("example", _baseline(result), "OPW"):
+    for name in ("example", result["baseline"], "OPW"):
         c = result["curves"][name]
         ax.plot(t, c(t), color=COLORS[name], lw=1.6 if name == "example" else 1.2, label=name)
         if name != "example":
@@ -87,7 +75,6 @@ def plot_warp_curves(result: dict, ax=None):
             ax.plot(k[:, 0], k[:, 1], "o" if name == "OPW" else "x", color=COLORS[name], ms=2.5)
     ax.set(xlim=(0, D), ylim=(0, D), aspect="equal", xlabel="live time t (s), motion B")
     ax.set_ylabel("warped time t' (s), motion A")
-    return fig, ax
 
 
 def plot_deviation(result: dict, ax=None):
@@ -96,7 +83,7 @@ def plot_deviation(result: dict, ax=None):
     Paper: OPW poster Fig. 4 (middle row).
     """
     fig, ax = new_axes(ax)
-    for name in (_baseline(result), "OPW"):
+    for name in (result["baseline"], "OPW"):
         d = result["deviation"][name]
         ax.plot(d["t"], d["ms"], color=COLORS[name], lw=1.2, label=f"{name} (mean {d['mean']:.0f})")
     _threshold(ax)
@@ -106,13 +93,12 @@ def plot_deviation(result: dict, ax=None):
     return fig, ax
 
 
-def plot_slope_change(result: dict, ax=None):
-    """Change of slope between 50 Hz samples, % of 90 degrees (Fig. 4 bottom row).
+def plot_slope_change(result: dict, ax):
+    """Change of slope between 50 Hz samples on ``ax``, % of 90 degrees.
 
     Paper: OPW poster Fig. 4 (bottom row).
     """
-    fig, ax = new_axes(ax)
-    for name in ("example", _baseline(result), "OPW"):
+    for name in ("example", result["baseline"], "OPW"):
         s = result["slope"][name]
         ax.plot(
             s["t"], s["pct"], color=COLORS[name], lw=0.8 if name == "example" else 1.2,
@@ -121,10 +107,9 @@ def plot_slope_change(result: dict, ax=None):
     ax.set_xlim(0, result["duration"])
     ax.set_ylim(bottom=0)
     ax.set(xlabel="live time t (s)", ylabel="slope change (%)")
-    return fig, ax
 
 
-def plot_fig4(results: list, labels=None):
+def plot_fig4(results: list, labels: list):
     """Poster Fig. 4: one column per motion: warp curves, deviation, slope change.
 
     Paper: OPW poster Fig. 4.
@@ -132,31 +117,27 @@ def plot_fig4(results: list, labels=None):
     """
     n = len(results)
     fig, axes = plt.subplots(3, n, figsize=(4.2 * n, 11), squeeze=False)
-    labels = labels or [r["name"] for r in results]
     for c, (res, lab) in enumerate(zip(results, labels)):
-        plot_warp_curves(res, axes[0, c])
-        axes[0, c].set_title(f"{lab}\n({res['name']})", fontsize=10)
-        plot_deviation(res, axes[1, c])
-        plot_slope_change(res, axes[2, c])
-        if c:
-            for r in range(3):
+        for r, plot in enumerate((plot_warp_curves, plot_deviation, plot_slope_change)):
+            plot(res, axes[r, c])
+            if c:
                 axes[r, c].set_ylabel("")
-    ymax = max(a.get_ylim()[1] for a in axes[1])
-    smax = max(a.get_ylim()[1] for a in axes[2])
-    for c in range(n):
-        axes[1, c].set_ylim(0, ymax)
-        axes[2, c].set_ylim(0, smax)
-        axes[1, c].legend(fontsize=7, loc="upper right")
+        axes[0, c].set_title(f"{lab}\n({res['name']})", fontsize=10)
+    for row in axes[1:]:
+        top = max(a.get_ylim()[1] for a in row)
+        for a in row:
+            a.set_ylim(0, top)
+    for a in axes[1]:
+        a.legend(fontsize=7, loc="upper right")
     axes[0, 0].legend(fontsize=7, loc="upper left")
     axes[2, 0].legend(fontsize=7, loc="upper right")
     fig.tight_layout()
-    base = _baseline(results[0]) if results else "DTW"
     add_note(
         fig,
         "Top: warp curves t' = f(t), live time t of B against the time t' of A it shows "
-        f"(black: the example curve g that made B; {base} and OPW: the curves they recover, "
-        "marks at their keys; dotted: no warp). Middle: deviation |f(t) - g(t)| of each "
-        "curve at 50 Hz, in ms (legend: its mean); dashed red: 150 ms (Hoyet et al.). "
+        f"(black: the example curve g that made B; {results[0]['baseline']} and OPW: the curves "
+        "they recover, marks at their keys; dotted: no warp). Middle: deviation |f(t) - g(t)| of "
+        "each curve at 50 Hz, in ms (legend: its mean); dashed red: 150 ms (Hoyet et al.). "
         "Bottom: change of slope between 50 Hz samples, % of 90 degrees. "
         "One motion per column, no pooling, no whiskers.\n" + clips_note(labels),
     )
@@ -172,39 +153,41 @@ def _pooled_axes(ax, ticks, ticklabels, xlabel):
     ax.legend(fontsize=8, loc="upper left")
 
 
-def _boxes(ax, groups, positions, color, width):
-    """Boxes of pooled samples, whiskers from minimum to maximum, black medians."""
+def _boxes(ax, rows, key, values, positions, name, width, label):
+    """Per value of ``key`` a box at ``positions`` over the samples ``ms`` of ``name``'s rows
+    pooled, whiskers from minimum to maximum, black medians; a line through the means.
+    Returns the pooled samples."""
+    groups = [
+        np.concatenate([r["ms"] for r in rows if r["method"] == name and r[key] == v])
+        for v in values
+    ]
     bp = ax.boxplot(
         groups, positions=positions, widths=width, whis=(0, 100), patch_artist=True,
         showfliers=False, manage_ticks=False,
     )  # fmt: skip
     for box in bp["boxes"]:
-        box.set_facecolor(color)
+        box.set_facecolor(COLORS[name])
         box.set_alpha(0.55)
     for line in bp["medians"]:
         line.set_color("black")
-    return bp
+    ax.plot(positions, [g.mean() for g in groups], "-o", color=COLORS[name], ms=3, label=label)
+    return groups
 
 
-def plot_deviation_vs_offset(rows: list, ax=None, *, baseline: str = "DTW", note=True):
+def plot_deviation_vs_offset(rows: list, *, baseline: str = "DTW", note=True):
     """Poster Fig. 5: deviation of ``baseline`` and OPW against the example's offset, one box
     per offset over every motion's 50 Hz samples pooled, a line through the means.
 
     Paper: OPW poster Fig. 5.
     Notebook: 14_opw_fig5_fig6.ipynb
     """
-    fig, ax = new_axes(ax, figsize=(8, 4.5))
+    fig, ax = plt.subplots(figsize=(8, 4.5))
     offsets = sorted({r["offset_s"] for r in rows})
     step = min(np.diff(offsets)) if len(offsets) > 1 else 0.1
     w = 0.35 * step
     for k, name in enumerate((baseline, "OPW")):
-        groups = [
-            np.concatenate([r["ms"] for r in rows if r["method"] == name and r["offset_s"] == o])
-            for o in offsets
-        ]
         pos = np.asarray(offsets) + (k - 0.5) * w * 1.1
-        _boxes(ax, groups, pos, COLORS[name], w)
-        ax.plot(pos, [g.mean() for g in groups], "-o", color=COLORS[name], ms=3, label=name)
+        _boxes(ax, rows, "offset_s", offsets, pos, name, w, name)
     _pooled_axes(
         ax, offsets, [f"{o:.2f}" for o in offsets], "offset of the example curve's middle key (s)"
     )
@@ -219,20 +202,18 @@ def plot_deviation_vs_offset(rows: list, ax=None, *, baseline: str = "DTW", note
     return fig, ax
 
 
-def plot_deviation_vs_gamma(rows: list, ax=None):
+def plot_deviation_vs_gamma(rows: list):
     """Poster Fig. 6: OPW's deviation against gamma, boxes as :func:`plot_deviation_vs_offset`.
 
     Paper: OPW poster Fig. 6.
     Notebook: 14_opw_fig5_fig6.ipynb
     """
-    fig, ax = new_axes(ax, figsize=(8, 4.5))
+    fig, ax = plt.subplots(figsize=(8, 4.5))
     rows = [r for r in rows if r["method"] == "OPW"]
     gammas = sorted({r["gamma"] for r in rows})
-    groups = [np.concatenate([r["ms"] for r in rows if r["gamma"] == g]) for g in gammas]
     pct = 100 * np.asarray(gammas)
     step = min(np.diff(pct)) if len(pct) > 1 else 1.0
-    _boxes(ax, groups, pct, COLORS["OPW"], 0.6 * step)
-    ax.plot(pct, [g.mean() for g in groups], "-o", color=COLORS["OPW"], ms=3, label="OPW mean")
+    groups = _boxes(ax, rows, "gamma", gammas, pct, "OPW", 0.6 * step, "OPW mean")
     ax.plot(pct, [g.max() for g in groups], "--", color=COLORS["OPW"], lw=1, label="OPW max")
     every = max(1, len(pct) // 15)
     _pooled_axes(ax, pct[::every], [f"{p:.0f}" for p in pct[::every]], "warp parameter gamma (%)")
@@ -246,14 +227,14 @@ def plot_deviation_vs_gamma(rows: list, ax=None):
     return fig, ax
 
 
-def plot_readings(sweeps, ax=None):
+def plot_readings(sweeps):
     """OPW's pooled deviation against gamma under each reading (``(OPWReading, sweep rows)``
     pairs), beside the poster's numbers; log axis.
 
     Paper: OPW poster Figs. 4 and 6; the authors' MotionBuilder plugin.
     Notebook: 14_opw_fig5_fig6.ipynb
     """
-    fig, ax = new_axes(ax, figsize=(8, 4.8))
+    fig, ax = plt.subplots(figsize=(8, 4.8))
     cmap = plt.get_cmap("tab10")
     for k, (rd, rows) in enumerate(sweeps):
         gs = sorted({r["gamma"] for r in rows})
@@ -282,7 +263,7 @@ def plot_readings(sweeps, ax=None):
     return fig, ax
 
 
-def plot_curve_construction(curve, ax=None, *, window=None, relative=False, label=None):
+def plot_curve_construction(curve, *, window=None, relative=False, label=None):
     """A warp curve with its keys and Bezier control polygons (poster Fig. 2, Table 1).
 
     ``window``: the live-time range shown; ``relative``: plot ``t' - t``; ``label``: the
@@ -291,24 +272,20 @@ def plot_curve_construction(curve, ax=None, *, window=None, relative=False, labe
     Paper: OPW poster Fig. 2 and Table 1.
     Notebook: 13_opw_fig4.ipynb
     """
-    fig, ax = new_axes(ax)
+    fig, ax = plt.subplots()
     lo, hi = window if window is not None else (curve.x[0], curve.x[-1])
     t = np.linspace(lo, hi, 400)
     sh = 1.0 if relative else 0.0
     ax.plot(t, curve(t) - sh * t, color=COLORS["OPW"], lw=1.5, label="warp curve")
-    first = True
-    for P in curve.control_points():
-        if P[3, 0] < lo or P[0, 0] > hi:
-            continue
-        P = P.copy()
+    shown = [P.copy() for P in curve.control_points() if P[3, 0] >= lo and P[0, 0] <= hi]
+    for i, P in enumerate(shown):
         P[:, 1] -= sh * P[:, 0]
         ax.plot(P[:2, 0], P[:2, 1], "-", color="0.5", lw=0.8)
         ax.plot(P[2:, 0], P[2:, 1], "-", color="0.5", lw=0.8)
         ax.plot(
             P[1:3, 0], P[1:3, 1], "s", color="0.5", ms=3,
-            label="control points P1, P2" if first else None,
+            label="control points P1, P2" if i == 0 else None,
         )  # fmt: skip
-        first = False
     k = curve.keys
     k = k[(k[:, 0] >= lo) & (k[:, 0] <= hi)]
     ax.plot(k[:, 0], k[:, 1] - sh * k[:, 0], "o", color="black", ms=4, label="keys P0, P3")
