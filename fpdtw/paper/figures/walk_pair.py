@@ -44,21 +44,22 @@ FIG8_STATEMENT_RULES = {
 FBX_SIDE_VIEW = (2, 1)
 
 
-def load_walk_pair(smoke: bool = False, seconds: float = SMOKE_SECONDS):
-    """The walk pair's motions, input first (120 Hz); cropped to ``seconds`` in smoke runs.
+def load_walk_pair(smoke: bool = False, seconds: float = SMOKE_SECONDS, pair=WALK_PAIR):
+    """The walk pair's motions (or ``pair``'s, ``(dataset, path)``), input first (120 Hz);
+    cropped to ``seconds`` in smoke runs.
 
     Paper: FP-DTW Fig. 8 (a walk pair; ours is the authors' Walk_01 -> Walk_02).
     Notebook: 02_fig1_oedtw.ipynb, 10_fig8_walk_pair.ipynb
     """
-    motions = [load(ds, path) for ds, path in WALK_PAIR]
+    motions = [load(ds, path) for ds, path in pair]
     if smoke:
         motions = [m.crop(0.0, seconds) for m in motions]
     return motions[0], motions[1]
 
 
-def walk_pair_features(smoke: bool = False, seconds: float = SMOKE_SECONDS):
-    """The walk pair as :class:`~fpdtw.motion.features.MotionFeatures` ``(I, T)``."""
-    mI, mT = load_walk_pair(smoke, seconds)
+def walk_pair_features(smoke: bool = False, seconds: float = SMOKE_SECONDS, pair=WALK_PAIR):
+    """The walk pair (or ``pair``) as :class:`~fpdtw.motion.features.MotionFeatures` ``(I, T)``."""
+    mI, mT = load_walk_pair(smoke, seconds, pair)
     return MotionFeatures.from_motion(mI), MotionFeatures.from_motion(mT)
 
 
@@ -173,9 +174,7 @@ def plot_aligned_poses(mI, mT, maps: dict, frames):
             skel = mT.skeleton if key is None else mI.skeleton
             colour = ALGORITHM_COLORS.get(key, "black")
             plot_skeleton(pts[c], skel.parents, ax=ax, view=FBX_SIDE_VIEW, color=colour, lw=1.2)
-            ax.set_xlim(-lim_h, lim_h)
-            ax.set_ylim(*lim_v)
-            ax.set(xticks=[], yticks=[])
+            ax.set(xlim=(-lim_h, lim_h), ylim=lim_v, xticks=[], yticks=[])
             for sp in ax.spines.values():
                 sp.set_visible(False)
             if key is None:
@@ -220,10 +219,7 @@ def walk_pair_cases(smoke: bool = False, seconds: float = SMOKE_SECONDS) -> list
     """
     cases = []
     for a, b in walk_pairs():
-        motions = [load(a), load(b)]
-        if smoke:
-            motions = [x.crop(0.0, seconds) for x in motions]
-        I, T = (MotionFeatures.from_motion(x) for x in motions)
+        I, T = walk_pair_features(smoke, seconds, [(r.dataset, r.path) for r in (a, b)])
         (ci, si), (ct, st) = gait_cycle(I), gait_cycle(T)
         maps = align_all(I, T, ("DTW", "Mb w80", "Mc w20", "Mc w80"))
         cases.append(
@@ -237,14 +233,10 @@ def _longest_early_hold(M, m: int, before: float) -> tuple[int, int]:
     """``(length, start)`` of the longest hold on an input frame other than m starting
     before target frame ``before``; ``(0, -1)`` if none."""
     M = np.asarray(M)
-    edges = np.flatnonzero(np.diff(M) != 0) + 1
-    starts = np.concatenate([[0], edges])
-    ends = np.concatenate([edges, [M.size]])
-    best = (0, -1)
-    for s0, e0 in zip(starts, ends):
-        if s0 < before and M[s0] != m and e0 - s0 > best[0]:
-            best = (int(e0 - s0), int(s0))
-    return best
+    starts = np.flatnonzero(np.diff(M, prepend=M[0] - 1) != 0)
+    lengths = np.where((starts < before) & (M[starts] != m), np.diff(starts, append=M.size), 0)
+    k = int(np.argmax(lengths))
+    return (int(lengths[k]), int(starts[k])) if lengths[k] else (0, -1)
 
 
 def fig8_statements(cases) -> list[dict]:
