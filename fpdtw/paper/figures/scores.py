@@ -167,8 +167,7 @@ def plot_score_boxes(
     boxes = []  # (name, position, width, colour) of each box
     for i, (name, tv) in enumerate(figure_names(names, typev)):
         if tv is None:
-            kind = "offline" if name in ("DTW", "UTW") else "plain"
-            boxes.append((name, i, 0.6, COLOURS[kind]))
+            boxes.append((name, i, 0.6, COLOURS["offline" if name in ("DTW", "UTW") else "plain"]))
         else:
             boxes += [
                 (name, i - 0.2, 0.36, COLOURS["plain"]),

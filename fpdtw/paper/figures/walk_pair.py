@@ -229,14 +229,13 @@ def walk_pair_cases(smoke: bool = False, seconds: float = SMOKE_SECONDS) -> list
     return cases
 
 
-def _longest_early_hold(M, m: int, before: float) -> tuple[int, int]:
-    """``(length, start)`` of the longest hold on an input frame other than m starting
-    before target frame ``before``; ``(0, -1)`` if none."""
+def _longest_early_hold(M, m: int, before: float) -> int:
+    """Length of the longest hold on an input frame other than m starting before target
+    frame ``before``; 0 if none."""
     M = np.asarray(M)
     starts = np.flatnonzero(np.diff(M, prepend=M[0] - 1) != 0)
     lengths = np.where((starts < before) & (M[starts] != m), np.diff(starts, append=M.size), 0)
-    k = int(np.argmax(lengths))
-    return (int(lengths[k]), int(starts[k])) if lengths[k] else (0, -1)
+    return int(lengths.max())
 
 
 def fig8_statements(cases) -> list[dict]:
@@ -270,7 +269,7 @@ def fig8_statements(cases) -> list[dict]:
         m = int(c.get("m", max(int(v.max()) for v in maps.values())))
         n = P.size - 1
         d20 = deviation(P, maps["Mc w20"])
-        hold, _ = _longest_early_hold(maps["Mc w20"], m, n / 3.0)
+        hold = _longest_early_hold(maps["Mc w20"], m, n / 3.0)
         lead = int(np.max(maps["Mc w80"] - P))
         db80 = deviation(P, maps["Mb w80"])
         ci, ct = int(c["input_cycle"]), int(c["target_cycle"])
