@@ -15,6 +15,7 @@ if os.environ.get("MPLBACKEND") is None and "ipykernel" not in sys.modules:
 
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.patches import Patch
 
 from fpdtw.errors import AlignmentError
 from fpdtw.paper.atomic import write_atomic
@@ -76,11 +77,10 @@ def beyond_paper(name: str) -> bool:
 def style_beyond_paper(ax, names, patches) -> list:
     """Set apart the algorithms beyond the paper on an axes with one algorithm per x tick
     (``patches[name]``: their boxes): grey, hatched, a dashed line before each run of them.
-    Returns the names styled.
+    Returns the style's legend entry if any name is beyond the paper, else ``[]``.
     """
     flags = [beyond_paper(n) for n in names]
-    out = [n for n, b in zip(names, flags) if b]
-    for n in out:
+    for n in [n for n, b in zip(names, flags) if b]:
         for patch in patches.get(n, []):
             patch.set(**BEYOND_PAPER_PATCH)
     for t in ax.get_xticklabels():
@@ -99,7 +99,7 @@ def style_beyond_paper(ax, names, patches) -> list:
                 ha="left", va="top", fontsize=8, zorder=7, **BEYOND_PAPER_TEXT,
             )  # fmt: skip
             txt.set_gid("beyond_paper_label")
-    return out
+    return [Patch(**BEYOND_PAPER_PATCH, label=BEYOND_PAPER_LABEL)] if any(flags) else []
 
 
 def style_beyond_paper_panel(ax, name: str) -> bool:

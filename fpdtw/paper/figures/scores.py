@@ -16,12 +16,7 @@ from fpdtw.paper.claims.evidence import shared_evidence
 from fpdtw.paper.claims.paper_claims import best_window_test
 from fpdtw.paper.claims.rules import evaluate
 from fpdtw.paper.claims.types import reading_alias
-from fpdtw.paper.figures.plotting import (
-    BEYOND_PAPER_LABEL,
-    BEYOND_PAPER_PATCH,
-    new_axes,
-    style_beyond_paper,
-)
+from fpdtw.paper.figures.plotting import new_axes, style_beyond_paper
 from fpdtw.paper.numbers import FPDTW_NAMES, WINDOWS
 from fpdtw.registry import TYPE_V_SUFFIX, method_c_name
 
@@ -235,8 +230,7 @@ def plot_score_boxes(
     boxes_of = {}  # each name's boxes, "+ Type V" with its base
     for n, b in zip(drawn, bp["boxes"]):
         boxes_of.setdefault(n.removesuffix(TYPE_V_SUFFIX), []).append(b)
-    if style_beyond_paper(ax, names, patches=boxes_of):
-        handles.append(Patch(**BEYOND_PAPER_PATCH, label=BEYOND_PAPER_LABEL))
+    handles += style_beyond_paper(ax, names, patches=boxes_of)
     if intervals:
         handles.append(Line2D([], [], color="k", lw=2.2, label="95 % interval of the median"))
         if metric == "similarity":

@@ -129,15 +129,15 @@ def plot_joint_curves(I: MotionFeatures, T: MotionFeatures, maps: dict, joint=1)
     hi = max(s[1].max() for s in series)
     pad = 0.05 * (hi - lo + 1e-9)
     for ax, (label, E), key in zip(axes, series, [None] + list(maps)):
-        for a, style in zip(range(3), ("-", "--", ":")):
-            colour = ALGORITHM_COLORS.get(key, "black")
+        colour = ALGORITHM_COLORS.get(key, "black")
+        for a, style in enumerate(("-", "--", ":")):
             ax.plot(q, E[:, a], style, color=colour, lw=1.1, label="xyz"[a])
         ax.set_ylim(lo - pad, hi + pad)
         ax.set_title(label, fontsize=8, loc="left", pad=2)
         ax.tick_params(labelsize=7)
     axes[0].legend(loc="lower right", bbox_to_anchor=(1.0, 1.0), fontsize=7, ncol=4,
                    title="right hip Euler angle", title_fontsize=7, frameon=False)  # fmt: skip
-    axes[len(series) - 1].set_xlabel("target frame")
+    axes[-1].set_xlabel("target frame")
     fig.supylabel("degrees", fontsize=8)
     return fig, axes
 

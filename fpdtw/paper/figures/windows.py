@@ -33,12 +33,8 @@ def first_leaving(steps, via, q_min: int = 0):
     Notebook: 03_fig2_fig4_windows.ipynb
     """
     via = tuple(int(v) for v in via)
-    for s in steps:
-        if s.kind != "window" or s.q < q_min or s.path is None or len(s.path) < 2:
-            continue
-        if tuple(int(v) for v in s.path[1]) == via:
-            return s
-    return None
+    drawn = (s for s in steps if s.kind == "window" and s.q >= q_min and s.path is not None)
+    return next((s for s in drawn if len(s.path) > 1 and tuple(map(int, s.path[1])) == via), None)
 
 
 def step_facts(step) -> dict:
