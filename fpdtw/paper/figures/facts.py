@@ -28,13 +28,10 @@ def _plain(x):
         return [_plain(v) for v in x]
     if isinstance(x, np.ndarray):
         return _plain(x.tolist())
-    if isinstance(x, bool | np.bool_):
-        return bool(x)
-    if isinstance(x, int | np.integer):
-        return int(x)
-    if isinstance(x, float | np.floating):
-        v = float(x)
-        return float(f"{v:.6g}") if math.isfinite(v) else None
+    if isinstance(x, np.generic):
+        x = x.item()
+    if isinstance(x, float):
+        return float(f"{x:.6g}") if math.isfinite(x) else None
     return x
 
 

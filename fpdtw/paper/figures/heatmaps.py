@@ -28,9 +28,6 @@ def fig7_names() -> tuple:
     ) + registry.baselines()  # fmt: skip
 
 
-#: :func:`fig7_names` with the registry as built in.
-FIG7_NAMES = fig7_names()
-
 #: The algorithms of the paper's Fig. 10 (each without and with the Type V constraint).
 FIG10_NAMES = ("Ma", "Mc w10", "Mc w80")
 
@@ -98,34 +95,31 @@ def plot_heatmap(H, ax=None, *, norm=None, title=None):
     return fig, ax
 
 
-def _grid(results, names, bins, maps, n_rows, n_cols):
-    """Every heat map of ``names`` (``maps`` first), a figure of panels and their scale."""
-    maps = dict(maps)
-    for n in names:
-        if n not in maps:
-            maps[n] = heatmap(results, n, bins)
+def _grid(results, cells, shape, bins, maps, labels, titles=None):
+    """Heat maps on one colour scale, each name of ``cells`` at its panel ``(row, column)``
+    of a grid of ``shape`` (``maps`` first, the others computed), the other panels hidden;
+    tick labels and axis ``labels`` (x, y) on the left and lowest panels only; one colour bar."""
+    maps = {**maps, **{n: heatmap(results, n, bins) for n, _ in cells if n not in maps}}
     size = 2.2
     fig, axes = plt.subplots(
-        n_rows, n_cols, figsize=(size * n_cols + 0.8, size * n_rows + 0.4), squeeze=False
+        *shape, figsize=(size * shape[1] + 0.8, size * shape[0] + 0.4), squeeze=False
     )
-    return maps, fig, axes, shared_norm([maps[n] for n in names])
-
-
-def _finish(fig, axes, norm):
-    """Tick labels on the left and lowest visible panels only; one colour bar."""
-    n_rows, n_cols = axes.shape
-    for r in range(n_rows):
-        for c in range(n_cols):
-            ax = axes[r, c]
-            below = [axes[k, c].get_visible() for k in range(r + 1, n_rows)]
-            ax.tick_params(labelleft=c == 0, labelbottom=not any(below))
-            if c != 0:
-                ax.set_ylabel("")
-            if any(below):
-                ax.set_xlabel("")
+    norm = shared_norm([maps[n] for n, _ in cells])
+    for ax in axes.flat:
+        ax.set_visible(False)
+    for n, at in cells:
+        axes[at].set_visible(True)
+        plot_heatmap(maps[n], axes[at], norm=norm, title=(titles or {}).get(n, n))
+        style_beyond_paper_panel(axes[at], n)
+    for (r, c), ax in np.ndenumerate(axes):
+        below = any(axes[k, c].get_visible() for k in range(r + 1, shape[0]))
+        ax.tick_params(labelleft=c == 0, labelbottom=not below)
+        ax.set_xlabel("" if below else labels[0], fontsize=8)
+        ax.set_ylabel(labels[1] if c == 0 else "", fontsize=8)
     sm = plt.cm.ScalarMappable(norm=norm, cmap="magma")
     cb = fig.colorbar(sm, ax=axes, shrink=0.6, pad=0.02)
     cb.set_label("fraction of path mass per cell", fontsize=8)
+    return fig, axes
 
 
 def plot_heatmap_grid(results, names=None, ncols=5, bins=100, maps=None, titles=None):
@@ -138,17 +132,9 @@ def plot_heatmap_grid(results, names=None, ncols=5, bins=100, maps=None, titles=
     maps = maps or {}
     names = fig7_names() if names is None else names
     names = [n for n in names if n in maps or n in set(results.algorithms)]
-    maps, fig, axes, norm = _grid(results, names, bins, maps, -(-len(names) // ncols), ncols)
-    for ax, n in zip(axes.flat, names):
-        plot_heatmap(maps[n], ax, norm=norm, title=(titles or {}).get(n, n))
-        style_beyond_paper_panel(ax, n)
-    for ax in axes.flat[len(names) :]:
-        ax.set_visible(False)
-    for ax in axes.flat:
-        ax.set_xlabel("target time q / n", fontsize=8)
-        ax.set_ylabel("input time M_q / m", fontsize=8)
-    _finish(fig, axes, norm)
-    return fig, axes
+    cells = [(n, divmod(i, ncols)) for i, n in enumerate(names)]
+    labels = ("target time q / n", "input time M_q / m")
+    return _grid(results, cells, (-(-len(names) // ncols), ncols), bins, maps, labels, titles)
 
 
 def plot_typev_heatmaps(results, bases=FIG10_NAMES, bins=100, per_row=None, maps=None):
@@ -158,18 +144,10 @@ def plot_typev_heatmaps(results, bases=FIG10_NAMES, bins=100, per_row=None, maps
     Notebook: 08_fig7_fig10_heatmaps.ipynb
     """
     per_row = per_row or len(bases)
-    names = [n for b in bases for n in (b, b + TYPE_V_SUFFIX)]
-    blocks = -(-len(bases) // per_row)
-    maps, fig, axes, norm = _grid(results, names, bins, maps or {}, 2 * blocks, per_row)
-    for ax in axes.flat:
-        ax.set_visible(False)
-    for i, b in enumerate(bases):
-        r, c = divmod(i, per_row)
-        for j, n in enumerate((b, b + TYPE_V_SUFFIX)):
-            ax = axes[2 * r + j, c]
-            ax.set_visible(True)
-            plot_heatmap(maps[n], ax, norm=norm, title=n)
-            ax.set_ylabel("input M_q / m", fontsize=8)
-            ax.set_xlabel("target q / n", fontsize=8)
-    _finish(fig, axes, norm)
-    return fig, axes
+    cells = [
+        (n, (2 * (i // per_row) + j, i % per_row))
+        for i, b in enumerate(bases)
+        for j, n in enumerate((b, b + TYPE_V_SUFFIX))
+    ]
+    shape = (2 * -(-len(bases) // per_row), per_row)
+    return _grid(results, cells, shape, bins, maps or {}, ("target q / n", "input M_q / m"))

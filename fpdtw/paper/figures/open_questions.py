@@ -33,6 +33,20 @@ from fpdtw.paper.runner.grid import (
 from fpdtw.period import MAX_PERIOD_S, MIN_PEAK, autocorrelation, dominant_period
 
 _SFX = {120: "", 60: "@60Hz"}
+#: The panels of the Q1-Q5 figures: the median's key, its interval's key prefix, the y label.
+_PANELS = (
+    ("similarity", "sim", "median similarity (eq. 2)"),
+    ("deviation", "dev", "median deviation (frames)"),
+)
+
+
+def _errorbars(ax, x, rows, key: str, pre: str, **kw):
+    """The medians ``r[key]`` of ``rows`` at ``x``, with their intervals ``r[pre + "_low"]``
+    .. ``r[pre + "_high"]``."""
+    lo, hi = pre + "_low", pre + "_high"
+    y = np.array([r[key] for r in rows])
+    err = np.array([[r[key] - r[lo] for r in rows], [r[hi] - r[key] for r in rows]])
+    ax.errorbar(x, y, yerr=err, fmt="o", ms=4, capsize=2, **kw)
 
 
 def plot_period(I, ax=None):
@@ -73,12 +87,11 @@ def window_rows(ev) -> list[dict]:
 
     Notebook: 16_open_questions.ipynb
     """
-    rows = []
-    for rate in (120, 60):
-        for base in ("Mc auto", *(f"Mc w{w}" for w in WINDOWS)):
-            m = _medians(ev, base + _SFX[rate], utw_gap=True)
-            rows.append(dict(algorithm=base, rate=rate, **m))
-    return rows
+    return [
+        dict(algorithm=base, rate=rate, **_medians(ev, base + _SFX[rate], utw_gap=True))
+        for rate in (120, 60)
+        for base in ("Mc auto", *(f"Mc w{w}" for w in WINDOWS))
+    ]
 
 
 def plot_windows(ev, rows):
@@ -89,19 +102,15 @@ def plot_windows(ev, rows):
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.2))
     for rate, dx, col in ((120, -0.12, "C0"), (60, 0.12, "C1")):
         rr = [r for r in rows if r["rate"] == rate]
-        x = np.arange(len(rr)) + dx
-        for ax, key, lo, hi in ((axes[0], "similarity", "sim_low", "sim_high"),
-                                (axes[1], "deviation", "dev_low", "dev_high")):  # fmt: skip
-            y = np.array([r[key] for r in rr])
-            err = np.array([[r[key] - r[lo] for r in rr], [r[hi] - r[key] for r in rr]])
-            ax.errorbar(x, y, yerr=err, fmt="o", color=col, ms=4, capsize=2, label=f"{rate} Hz")
+        for ax, (key, pre, _) in zip(axes, _PANELS):
+            _errorbars(ax, np.arange(len(rr)) + dx, rr, key, pre, color=col, label=f"{rate} Hz")
         u = ev.median("UTW" + _SFX[rate], "similarity")
         axes[0].axhline(u, color=col, lw=0.8, ls=":", label=f"UTW median {rate} Hz")
         axes[1].axhline(18 * rate / 120, color=col, lw=0.8, ls=":", label=f"150 ms at {rate} Hz")
     labels = [r["algorithm"] for r in rows if r["rate"] == 120]
-    for ax, t in ((axes[0], "median similarity (eq. 2)"), (axes[1], "median deviation (frames)")):
+    for ax, (*_, ylabel) in zip(axes, _PANELS):
         ax.set_xticks(range(len(labels)), labels, rotation=30, fontsize=8)
-        ax.set_ylabel(t)
+        ax.set_ylabel(ylabel)
         ax.legend(fontsize=6)
     fig.tight_layout()
     return fig, axes
@@ -113,16 +122,13 @@ def movement_rows(ev) -> list[dict]:
 
     Notebook: 16_open_questions.ipynb
     """
-    out = []
-    for rate in (120, 60):
-        for r in per_movement_windows(ev, rate):
-            out.append(
-                dict(rate=rate, movement=r["movement"], pairs=r["pairs"], auto=r["auto"],
-                     best_w=r["best_w"], best=r["best"],
-                     overall=r[f"w{BEST_FIXED[rate]}"], beats_best=r["beats"],
-                     beats_overall=bool(r["auto"] > r[f"w{BEST_FIXED[rate]}"]))
-            )  # fmt: skip
-    return out
+    return [
+        dict(rate=rate, movement=r["movement"], pairs=r["pairs"], auto=r["auto"],
+             best_w=r["best_w"], best=r["best"], overall=r[f"w{BEST_FIXED[rate]}"],
+             beats_best=r["beats"], beats_overall=bool(r["auto"] > r[f"w{BEST_FIXED[rate]}"]))
+        for rate in (120, 60)
+        for r in per_movement_windows(ev, rate)
+    ]  # fmt: skip
 
 
 def _variant_rows(ev, bases, suffix: str) -> list[dict]:
@@ -144,17 +150,13 @@ def _plot_variants(ev, rows, mark: str):
     """:func:`_variant_rows` drawn, the names containing ``mark`` in colour."""
     fig, axes = plt.subplots(1, 2, figsize=(9, 3.2))
     x = np.arange(len(rows))
-    cols = ["0.4" if mark not in r["algorithm"] else "C2" for r in rows]
-    for ax, key, lo, hi in ((axes[0], "similarity", "sim_low", "sim_high"),
-                            (axes[1], "deviation", "dev_low", "dev_high")):  # fmt: skip
+    for ax, (key, pre, ylabel) in zip(axes, _PANELS):
         for i, r in enumerate(rows):
-            ax.errorbar(x[i], r[key], yerr=[[r[key] - r[lo]], [r[hi] - r[key]]], fmt="o",
-                        color=cols[i], ms=4, capsize=2)  # fmt: skip
+            _errorbars(ax, x[i], [r], key, pre, color="C2" if mark in r["algorithm"] else "0.4")
         ax.set_xticks(x, [r["algorithm"] for r in rows], rotation=30, fontsize=7)
+        ax.set_ylabel(ylabel)
     axes[0].axhline(ev.median("UTW", "similarity"), color="k", lw=0.8, ls=":", label="UTW median")
     axes[1].axhline(18, color="k", lw=0.8, ls=":", label="18 frames (150 ms)")
-    axes[0].set_ylabel("median similarity (eq. 2)")
-    axes[1].set_ylabel("median deviation (frames)")
     for ax in axes:
         ax.legend(fontsize=7)
     fig.tight_layout()
@@ -169,11 +171,10 @@ def band_rows(ev) -> list[dict]:
     """
     rows = []
     for n in BAND_BASES:
-        group = _variant_rows(ev, [n], BAND_1S) + _variant_rows(ev, [n], BAND_HALF_W)[1:]
-        for r in group:
-            a = r["algorithm"]
-            r["cells_removed"] = None if a == n else band_removed_share(ev, a)
-        rows += group
+        rows += _variant_rows(ev, [n], BAND_1S) + _variant_rows(ev, [n], BAND_HALF_W)[1:]
+    for r in rows:
+        a = r["algorithm"]
+        r["cells_removed"] = None if a in BAND_BASES else band_removed_share(ev, a)
     return rows
 
 
@@ -239,13 +240,11 @@ def plot_pause(ev, rows, ax=None):
     """
     fig, ax = new_axes(ax, figsize=(8, 3.2))
     x = np.arange(len(rows))
-    for key, lo, hi, dx, col, lab in (("without", "without_low", "without_high", -0.12, "0.4",
-                                       "target as recorded"),
-                                      ("with_pause", "with_low", "with_high", 0.12, "C3",
-                                       "pause of 0.5-2 s inserted")):  # fmt: skip
-        y = np.array([r[key] for r in rows])
-        err = np.array([[r[key] - r[lo] for r in rows], [r[hi] - r[key] for r in rows]])
-        ax.errorbar(x + dx, y, yerr=err, fmt="o", color=col, ms=4, capsize=2, label=lab)
+    for key, pre, dx, col, lab in (
+        ("without", "without", -0.12, "0.4", "target as recorded"),
+        ("with_pause", "with", 0.12, "C3", "pause of 0.5-2 s inserted"),
+    ):
+        _errorbars(ax, x + dx, rows, key, pre, color=col, label=lab)
     ax.axhline(18, color="k", lw=0.8, ls=":", label="18 frames (150 ms)")
     ax.set_yscale("symlog", linthresh=10)
     ax.set_xticks(x, [r["method"] for r in rows], rotation=30, fontsize=8)

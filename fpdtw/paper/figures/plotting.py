@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 import os
 import sys
 from pathlib import Path
@@ -17,6 +18,7 @@ import numpy as np  # noqa: E402
 from matplotlib.patches import Patch
 
 from fpdtw.errors import AlignmentError
+from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.numbers import PAPER_NAMES  # noqa: E402
 from fpdtw.paper.paths import figures_dir  # noqa: E402
 from fpdtw.registry import name as canonical
@@ -40,16 +42,12 @@ def image(ax, A, label: str, cmap="viridis"):
 def save_figure(fig, name: str) -> list[Path]:
     """Save a figure as ``<name>.pdf`` and ``<name>.png`` in
     :func:`fpdtw.paper.paths.figures_dir` with stable metadata; returns both paths."""
-    folder = figures_dir()
-    folder.mkdir(parents=True, exist_ok=True)
     out = []
     with matplotlib.rc_context({"svg.hashsalt": "fpdtw", "pdf.compression": 6}):
         for ext, meta in (("pdf", _PDF_META), ("png", _PNG_META)):
-            path = folder / f"{name}.{ext}"
-            tmp = path.with_suffix(f".{ext}.part")
-            fig.savefig(tmp, format=ext, dpi=150, metadata=meta, bbox_inches="tight")
-            os.replace(tmp, path)
-            out.append(path)
+            buf = io.BytesIO()
+            fig.savefig(buf, format=ext, dpi=150, metadata=meta, bbox_inches="tight")
+            out.append(write_atomic(figures_dir() / f"{name}.{ext}", buf.getvalue()))
     return out
 
 
@@ -76,39 +74,32 @@ def beyond_paper(name: str) -> bool:
     return canonical(a.entry.key, a.value, a.typev) not in PAPER_NAMES
 
 
-def beyond_paper_handle():
-    """A legend entry for the style: a grey hatched patch labelled "beyond the paper"."""
-    return Patch(**BEYOND_PAPER_PATCH, label=BEYOND_PAPER_LABEL)
-
-
 def style_beyond_paper(ax, names, patches) -> list:
     """Set apart the algorithms beyond the paper on an axes with one algorithm per x tick
     (``patches[name]``: their boxes): grey, hatched, a dashed line before each run of them.
-    Returns the names styled.
+    Returns the style's legend entry if any name is beyond the paper, else ``[]``.
     """
-    names = list(names)
-    out = [n for n in names if beyond_paper(n)]
-    for n in out:
+    flags = [beyond_paper(n) for n in names]
+    for n in [n for n, b in zip(names, flags) if b]:
         for patch in patches.get(n, []):
             patch.set(**BEYOND_PAPER_PATCH)
     for t in ax.get_xticklabels():
         if beyond_paper(t.get_text()):
             t.set(**BEYOND_PAPER_TEXT)
     first = True
-    for k in range(1, len(names)):
-        a, b = beyond_paper(names[k - 1]), beyond_paper(names[k])
-        if a == b:
+    for k in range(1, len(flags)):
+        if flags[k - 1] == flags[k]:
             continue
         at = k - 0.5
         ax.axvline(at, color="0.4", ls="--", lw=0.9).set_gid("beyond_paper_separator")
-        if b and first:
+        if flags[k] and first:
             first = False
             txt = ax.text(
                 at, 0.98, f" {BEYOND_PAPER_LABEL} →", transform=ax.get_xaxis_transform(),
                 ha="left", va="top", fontsize=8, zorder=7, **BEYOND_PAPER_TEXT,
             )  # fmt: skip
             txt.set_gid("beyond_paper_label")
-    return out
+    return [Patch(**BEYOND_PAPER_PATCH, label=BEYOND_PAPER_LABEL)] if any(flags) else []
 
 
 def style_beyond_paper_panel(ax, name: str) -> bool:

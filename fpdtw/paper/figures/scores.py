@@ -16,7 +16,7 @@ from fpdtw.paper.claims.evidence import shared_evidence
 from fpdtw.paper.claims.paper_claims import best_window_test
 from fpdtw.paper.claims.rules import evaluate
 from fpdtw.paper.claims.types import reading_alias
-from fpdtw.paper.figures.plotting import beyond_paper_handle, new_axes, style_beyond_paper
+from fpdtw.paper.figures.plotting import new_axes, style_beyond_paper
 from fpdtw.paper.numbers import FPDTW_NAMES, WINDOWS
 from fpdtw.registry import TYPE_V_SUFFIX, method_c_name
 
@@ -35,6 +35,8 @@ BASE_NAMES = base_names()
 
 #: Colours: unconstrained online algorithms, offline baselines, "+ Type V" (pink, as the paper).
 COLOURS = {"plain": "#8fb3d9", "offline": "#bdbdbd", "typev": "#f4a6c8"}
+#: Their legend entries, in legend order.
+_KIND_LABELS = {"offline": "offline", "plain": "online, no constraint", "typev": "+ Type V"}
 
 _METRICS = ("similarity", "deviation")
 
@@ -143,9 +145,8 @@ def _clip_top(bp, bench: float) -> float:
 
 
 def plot_score_boxes(
-    results, metric="similarity", names=None, typev=True, ax=None, yscale="linear",
-    intervals=True, clip=None,
-):  # fmt: skip
+    results, metric="similarity", names=None, typev=True, ax=None, intervals=True, clip=None
+):
     """Fig. 5 / Fig. 6: box plot of a score per algorithm, with the benchmark line.
 
     Each FP-DTW algorithm gets two boxes, without constraint (blue) and "+ Type V" (pink).
@@ -155,16 +156,13 @@ def plot_score_boxes(
     Paper: FP-DTW Fig. 5 (similarity, eq. 2) and Fig. 6 (deviation, eq. 3).
     Notebook: 06_fig5_fig6_scores.ipynb
     """
-    if yscale not in ("linear", "log"):
-        raise ValueError(f"yscale must be 'linear' or 'log', got {yscale!r}")
     fig, ax = new_axes(ax, figsize=(12, 4.5))
     have = set(results.algorithms)
     names = [n for n in (base_names() if names is None else names) if n in have]  # as run
     boxes = []  # (name, position, width, colour) of each box
     for i, (name, tv) in enumerate(figure_names(names, typev)):
         if tv is None:
-            kind = "offline" if name in ("DTW", "UTW") else "plain"
-            boxes.append((name, i, 0.6, COLOURS[kind]))
+            boxes.append((name, i, 0.6, COLOURS["offline" if name in ("DTW", "UTW") else "plain"]))
         else:
             boxes += [
                 (name, i - 0.2, 0.36, COLOURS["plain"]),
@@ -193,11 +191,10 @@ def plot_score_boxes(
             band = ax.axhspan(lo, hi, color="red", alpha=0.10, lw=0, zorder=0.5)
             band.set_gid("benchmark_ci")
     handles = [
-        Patch(facecolor=COLOURS["offline"], edgecolor="0.25", label="offline"),
-        Patch(facecolor=COLOURS["plain"], edgecolor="0.25", label="online, no constraint"),
+        Patch(facecolor=COLOURS[kind], edgecolor="0.25", label=label)
+        for kind, label in _KIND_LABELS.items()
+        if typev or kind != "typev"
     ]
-    if typev:
-        handles.append(Patch(facecolor=COLOURS["typev"], edgecolor="0.25", label="+ Type V"))
     if metric == "similarity":
         line_colour = "red"
         handles.append(Line2D([], [], color="red", lw=1.2,
@@ -212,9 +209,7 @@ def plot_score_boxes(
         line_colour = "blue"
         handles.append(Line2D([], [], color="blue", lw=1.2,
                               label=f"benchmark: {bench:g} frames (150 ms)"))  # fmt: skip
-        ax.set_ylabel("deviation from DTW (eq. 3), frames")
-    ax.set_yscale(yscale)
-    if metric == "deviation" and yscale == "linear":
+        ax.set_ylabel("deviation from DTW (eq. 3), frames (linear)")
         top = float(clip) if clip is not None else _clip_top(bp, bench)
         ax.set_ylim(0.0, top)
         above = [int(np.sum(v > top)) for v in data]
@@ -227,7 +222,6 @@ def plot_score_boxes(
         handles.append(Line2D([], [], ls="", marker="^", ms=5, color="0.2",
                               label=f"\u25b2k: k values above {top:.0f} frames, not drawn "
                               f"({sum(above)} of {total})"))  # fmt: skip
-        ax.set_ylabel(ax.get_ylabel() + " (linear)")
     line = ax.axhline(bench, color=line_colour, lw=1.2, zorder=5)
     line.set_gid("benchmark")
     ax.set_xticks(range(len(names)))
@@ -236,9 +230,7 @@ def plot_score_boxes(
     boxes_of = {}  # each name's boxes, "+ Type V" with its base
     for n, b in zip(drawn, bp["boxes"]):
         boxes_of.setdefault(n.removesuffix(TYPE_V_SUFFIX), []).append(b)
-    beyond = style_beyond_paper(ax, names, patches=boxes_of)
-    if beyond:
-        handles.append(beyond_paper_handle())
+    handles += style_beyond_paper(ax, names, patches=boxes_of)
     if intervals:
         handles.append(Line2D([], [], color="k", lw=2.2, label="95 % interval of the median"))
         if metric == "similarity":
@@ -280,8 +272,7 @@ def table1_rows(results, reading="square", with_paper=True) -> list[dict]:
         for source, med in (("paper", paper), (label, ours)):
             if med is None:
                 continue
-            row = {"rate_hz": rate, "source": source}
-            row.update({f"w{w}": med.get(w) for w in WINDOWS})
+            row = {"rate_hz": rate, "source": source, **{f"w{w}": med.get(w) for w in WINDOWS}}
             row["UTW"] = med["UTW"]
             row["best_w"] = best_window({w: med[w] for w in WINDOWS if med.get(w) is not None})
             row["above_utw"] = " ".join(

@@ -32,7 +32,6 @@ def save_table(rows: list[dict], name: str, columns=None, floatfmt=".3f", note="
     recomputed from). Returns the two paths.
     """
     folder = figures_dir()
-    folder.mkdir(parents=True, exist_ok=True)
     columns = list(columns or (rows[0].keys() if rows else []))
     buf = io.StringIO()
     w = csv.DictWriter(buf, fieldnames=columns, lineterminator="\n", extrasaction="ignore")

@@ -38,10 +38,8 @@ def pair_maps(results, name: str):
     arr = results.get(name)
     m, _ = results.frames(name)
     m_of = {int(p["id"]): int(m[i]) for i, p in enumerate(results.pairs)}
-    offsets = np.asarray(arr["offsets"], dtype=np.int64)
-    maps = np.asarray(arr["maps"])
-    for k, pid in enumerate(np.asarray(arr["pair_id"])):
-        yield maps[offsets[k] : offsets[k + 1]], m_of[int(pid)]
+    for k, pid in enumerate(arr["pair_id"]):
+        yield arr.map(k), m_of[int(pid)]
 
 
 def exhausted_fraction(results, name: str) -> dict:
@@ -70,13 +68,9 @@ def time_per_frame_rows(bench: dict, results=None, names=None) -> list[dict]:
     Notebook: 09_table2_timing.ipynb
     """
     by = {r["name"]: r for r in list(bench.get("online", [])) + list(bench.get("oe_dtw", []))}
-    if names is None:
-        names = [n for n in timed_names() if n in by]
     rows = []
-    for name in names:
-        b = by.get(name)
-        if b is None:
-            continue
+    for name in [n for n in (timed_names() if names is None else names) if n in by]:
+        b = by[name]
         a = resolve(name)
         method, w, typev = a.family, (a.w if a.family in ("B", "C") else None), a.typev
         ex = None

@@ -47,14 +47,13 @@ def typev_states(M) -> list:
     Paper: FP-DTW Fig. 9 iii-iv.
     Notebook: 11_fig9_typev.ipynb
     """
-    tv = TYPE_V
     M = np.asarray(M, dtype=np.int64)
     out = [""]
-    state = tv.start
+    state = TYPE_V.start
     for q in range(1, M.size):
-        out.append(tv.states[state])
+        out.append(TYPE_V.states[state])
         adv = int(M[q] - M[q - 1])
-        state = tv.next_state(state, adv)
+        state = TYPE_V.next_state(state, adv)
         if state < 0:
             raise ValueError(f"advance {adv} at target frame {q} is not allowed in state {out[-1]}")
     return out

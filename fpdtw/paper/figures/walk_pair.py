@@ -44,21 +44,22 @@ FIG8_STATEMENT_RULES = {
 FBX_SIDE_VIEW = (2, 1)
 
 
-def load_walk_pair(smoke: bool = False, seconds: float = SMOKE_SECONDS):
-    """The walk pair's motions, input first (120 Hz); cropped to ``seconds`` in smoke runs.
+def load_walk_pair(smoke: bool = False, seconds: float = SMOKE_SECONDS, pair=WALK_PAIR):
+    """The walk pair's motions (or ``pair``'s, ``(dataset, path)``), input first (120 Hz);
+    cropped to ``seconds`` in smoke runs.
 
     Paper: FP-DTW Fig. 8 (a walk pair; ours is the authors' Walk_01 -> Walk_02).
     Notebook: 02_fig1_oedtw.ipynb, 10_fig8_walk_pair.ipynb
     """
-    motions = [load(ds, path) for ds, path in WALK_PAIR]
+    motions = [load(ds, path) for ds, path in pair]
     if smoke:
         motions = [m.crop(0.0, seconds) for m in motions]
     return motions[0], motions[1]
 
 
-def walk_pair_features(smoke: bool = False, seconds: float = SMOKE_SECONDS):
-    """The walk pair as :class:`~fpdtw.motion.features.MotionFeatures` ``(I, T)``."""
-    mI, mT = load_walk_pair(smoke, seconds)
+def walk_pair_features(smoke: bool = False, seconds: float = SMOKE_SECONDS, pair=WALK_PAIR):
+    """The walk pair (or ``pair``) as :class:`~fpdtw.motion.features.MotionFeatures` ``(I, T)``."""
+    mI, mT = load_walk_pair(smoke, seconds, pair)
     return MotionFeatures.from_motion(mI), MotionFeatures.from_motion(mT)
 
 
@@ -128,15 +129,15 @@ def plot_joint_curves(I: MotionFeatures, T: MotionFeatures, maps: dict, joint=1)
     hi = max(s[1].max() for s in series)
     pad = 0.05 * (hi - lo + 1e-9)
     for ax, (label, E), key in zip(axes, series, [None] + list(maps)):
-        for a, style in zip(range(3), ("-", "--", ":")):
-            colour = ALGORITHM_COLORS.get(key, "black")
+        colour = ALGORITHM_COLORS.get(key, "black")
+        for a, style in enumerate(("-", "--", ":")):
             ax.plot(q, E[:, a], style, color=colour, lw=1.1, label="xyz"[a])
         ax.set_ylim(lo - pad, hi + pad)
         ax.set_title(label, fontsize=8, loc="left", pad=2)
         ax.tick_params(labelsize=7)
     axes[0].legend(loc="lower right", bbox_to_anchor=(1.0, 1.0), fontsize=7, ncol=4,
                    title="right hip Euler angle", title_fontsize=7, frameon=False)  # fmt: skip
-    axes[len(series) - 1].set_xlabel("target frame")
+    axes[-1].set_xlabel("target frame")
     fig.supylabel("degrees", fontsize=8)
     return fig, axes
 
@@ -173,9 +174,7 @@ def plot_aligned_poses(mI, mT, maps: dict, frames):
             skel = mT.skeleton if key is None else mI.skeleton
             colour = ALGORITHM_COLORS.get(key, "black")
             plot_skeleton(pts[c], skel.parents, ax=ax, view=FBX_SIDE_VIEW, color=colour, lw=1.2)
-            ax.set_xlim(-lim_h, lim_h)
-            ax.set_ylim(*lim_v)
-            ax.set(xticks=[], yticks=[])
+            ax.set(xlim=(-lim_h, lim_h), ylim=lim_v, xticks=[], yticks=[])
             for sp in ax.spines.values():
                 sp.set_visible(False)
             if key is None:
@@ -220,10 +219,7 @@ def walk_pair_cases(smoke: bool = False, seconds: float = SMOKE_SECONDS) -> list
     """
     cases = []
     for a, b in walk_pairs():
-        motions = [load(a), load(b)]
-        if smoke:
-            motions = [x.crop(0.0, seconds) for x in motions]
-        I, T = (MotionFeatures.from_motion(x) for x in motions)
+        I, T = walk_pair_features(smoke, seconds, [(r.dataset, r.path) for r in (a, b)])
         (ci, si), (ct, st) = gait_cycle(I), gait_cycle(T)
         maps = align_all(I, T, ("DTW", "Mb w80", "Mc w20", "Mc w80"))
         cases.append(
@@ -233,18 +229,13 @@ def walk_pair_cases(smoke: bool = False, seconds: float = SMOKE_SECONDS) -> list
     return cases
 
 
-def _longest_early_hold(M, m: int, before: float) -> tuple[int, int]:
-    """``(length, start)`` of the longest hold on an input frame other than m starting
-    before target frame ``before``; ``(0, -1)`` if none."""
+def _longest_early_hold(M, m: int, before: float) -> int:
+    """Length of the longest hold on an input frame other than m starting before target
+    frame ``before``; 0 if none."""
     M = np.asarray(M)
-    edges = np.flatnonzero(np.diff(M) != 0) + 1
-    starts = np.concatenate([[0], edges])
-    ends = np.concatenate([edges, [M.size]])
-    best = (0, -1)
-    for s0, e0 in zip(starts, ends):
-        if s0 < before and M[s0] != m and e0 - s0 > best[0]:
-            best = (int(e0 - s0), int(s0))
-    return best
+    starts = np.flatnonzero(np.diff(M, prepend=M[0] - 1) != 0)
+    lengths = np.where((starts < before) & (M[starts] != m), np.diff(starts, append=M.size), 0)
+    return int(lengths.max())
 
 
 def fig8_statements(cases) -> list[dict]:
@@ -278,7 +269,7 @@ def fig8_statements(cases) -> list[dict]:
         m = int(c.get("m", max(int(v.max()) for v in maps.values())))
         n = P.size - 1
         d20 = deviation(P, maps["Mc w20"])
-        hold, _ = _longest_early_hold(maps["Mc w20"], m, n / 3.0)
+        hold = _longest_early_hold(maps["Mc w20"], m, n / 3.0)
         lead = int(np.max(maps["Mc w80"] - P))
         db80 = deviation(P, maps["Mb w80"])
         ci, ct = int(c["input_cycle"]), int(c["target_cycle"])

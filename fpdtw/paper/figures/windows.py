@@ -33,12 +33,8 @@ def first_leaving(steps, via, q_min: int = 0):
     Notebook: 03_fig2_fig4_windows.ipynb
     """
     via = tuple(int(v) for v in via)
-    for s in steps:
-        if s.kind != "window" or s.q < q_min or s.path is None or len(s.path) < 2:
-            continue
-        if tuple(int(v) for v in s.path[1]) == via:
-            return s
-    return None
+    drawn = (s for s in steps if s.kind == "window" and s.q >= q_min and s.path is not None)
+    return next((s for s in drawn if len(s.path) > 1 and tuple(map(int, s.path[1])) == via), None)
 
 
 def step_facts(step) -> dict:
@@ -110,13 +106,13 @@ def _rect(x, y0, height, color, lw, inset=0.0):
                      fill=False, ec=color, lw=lw, zorder=5)  # fmt: skip
 
 
-def _window_heatmap(ax, A, start, col_labels, mask=None, label="", annotate=True):
-    """Heat map of a window matrix (rows input offsets, columns forecast frames)."""
+def _window_heatmap(ax, A, start, col_labels, label, hide_corner=False, annotate=True):
+    """Heat map of a window matrix (rows input offsets, columns forecast frames), the
+    non-finite cells and, with ``hide_corner``, ``A[0, 0]`` left blank."""
     A = np.asarray(A, dtype=float)
-    shown = A.copy()
-    if mask is not None:
-        shown[mask] = np.nan
-    shown[~np.isfinite(shown)] = np.nan
+    shown = np.where(np.isfinite(A), A, np.nan)
+    if hide_corner:
+        shown[0, 0] = np.nan
     image(ax, shown, label, mpl.colormaps["viridis"].with_extremes(bad="0.92"))
     nr, nc = A.shape
     ax.set_xticks(np.arange(nc))
@@ -124,6 +120,7 @@ def _window_heatmap(ax, A, start, col_labels, mask=None, label="", annotate=True
     step = max(1, nr // 12)
     ax.set_yticks(np.arange(0, nr, step))
     ax.set_yticklabels([f"{start + r}" for r in range(0, nr, step)], fontsize=7)
+    ax.set_xlabel("forecast window F (target frames)")
     ax.set_ylabel(f"input frame ($I_{{M_n + r}}$, $M_n$ = {start})")
     if annotate:
         vals = shown[np.isfinite(shown)]
@@ -143,15 +140,8 @@ def _mark_x(ax, col, row, label):
 
 def forecast_labels(n_cols: int, with_prev: bool) -> list:
     """Column labels of a forecast window, from ``T_n`` (``with_prev``, Method B) or ``T_{n+1}``."""
-    out = []
-    for c in range(n_cols):
-        if with_prev and c == 0:
-            out.append("$F_0$\n$=T_n$")
-        elif (with_prev and c == 1) or (not with_prev and c == 0):
-            out.append(f"$F_{c}$\n$=T_{{n+1}}$")
-        else:
-            out.append(f"$F_{{{c}}}$")
-    return out
+    first = ["$F_0$\n$=T_n$", "$F_1$\n$=T_{n+1}$"] if with_prev else ["$F_0$\n$=T_{n+1}$"]
+    return (first + [f"$F_{{{c}}}$" for c in range(len(first), n_cols)])[:n_cols]
 
 
 def plot_method_b_window(step, ax=None, which: str = "D", annotate=True):
@@ -166,10 +156,8 @@ def plot_method_b_window(step, ax=None, which: str = "D", annotate=True):
         raise ValueError("a Method B window step (with a path) is needed")
     fig, ax = new_axes(ax, figsize=(6, 5))
     A = s.D if which == "D" else s.C
-    mask = np.zeros(A.shape, dtype=bool)
-    mask[0, 0] = which == "D"
     label = "accumulated cost D" if which == "D" else "cost C (eq. 1)"
-    _window_heatmap(ax, A, s.M_n, forecast_labels(A.shape[1], True), mask, label, annotate)
+    _window_heatmap(ax, A, s.M_n, forecast_labels(A.shape[1], True), label, which == "D", annotate)
     extra = []
     if which == "D":
         ax.text(0, 0, f"{B_CORNER:.0f}", ha="center", va="center", fontsize=6, color="tab:red",
@@ -188,7 +176,6 @@ def plot_method_b_window(step, ax=None, which: str = "D", annotate=True):
         f"(r, c) = {via}",
         fontsize=9,
     )
-    ax.set_xlabel("forecast window F (target frames)")
     handles, _ = ax.get_legend_handles_labels()
     ax.legend(handles=handles + extra, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.13))
     return fig, ax
@@ -203,8 +190,7 @@ def plot_method_c_window(step, ax=None):
     s = _window_step(step, "Method C")
     fig, ax = new_axes(ax, figsize=(6, 5))
     D = np.asarray(s.D)
-    labels = forecast_labels(D.shape[1], False)
-    _window_heatmap(ax, D, s.M_n, labels, label="reverse-accumulated cost D")
+    _window_heatmap(ax, D, s.M_n, forecast_labels(D.shape[1], False), "reverse-accumulated cost D")
     nr, nc = D.shape
     off = s.M - s.M_n
     _mark_x(ax, 0, off, f"X: argmin of column 0, $M_{{n+1}} = {s.M_n} + {off} = {s.M}$")
@@ -218,6 +204,5 @@ def plot_method_c_window(step, ax=None):
         f"Method C ($w$ = {D.shape[1]}), target frame {s.q}: reverse accumulation, argmin of $F_0$",
         fontsize=9,
     )
-    ax.set_xlabel("forecast window F (target frames)")
     ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.13))
     return fig, ax
