@@ -521,38 +521,34 @@ CLAIMS = [
     Claim("B1", "Beyond the papers: the OPW poster's method and Dixon's OLTW (the FP-DTW paper's "
           "ref. 3) run on the FP-DTW pairs, against the same two benchmarks",
           "not in the papers", _claim_b1, "Figs. 5, 6, 7; " + _SCORES[12:], beyond=True),
-    Claim("Q1", "Beyond the papers (FP-DTW conclusion: the forecast window below half the period "
-          "of the movement cycle): Method C with w from the input's dominant period (Mc auto) "
-          "passes both benchmarks at 120 and 60 Hz and beats a fixed window",
-          "an open question (not tested in the papers)", assess_q1,
-          "notebook 16; open_q1_windows, open_q1_movements", question=True),
-    Claim("Q2", "Beyond the papers (FP-DTW conclusion: pre-process the recorded motion to weight "
-          "joints): weighting eq. 1's joints by how much each moves in the recorded motion lets "
-          "Mb w40, Mc w40 and OLTW pass both benchmarks and improves each",
-          "an open question (not tested in the papers)", assess_q2,
-          "notebook 16; open_q2_weights", question=True),
-    Claim("Q3", "Beyond the papers (FP-DTW conclusion: a global constraint, fewer cells to "
-          "calculate): a band of half the window (w/2 frames) around the uniform-time diagonal, "
-          "its window rows outside the band not computed, lets Mb w40, Mc w40 and Mc w80 pass "
-          "both benchmarks, improves each, removes cells from their windows and lowers their "
-          "per-frame time (make bench); first reading: a 1 s band",
-          "an open question (not tested in the papers)", assess_q3,
-          "notebook 16; open_q3_band, open_q3_cost", question=True, stable=False),
-    Claim("Q4", "Beyond the papers (OPW conclusion: adjust gamma by a feedback loop): OPW with "
-          "gamma adapted from its own recent decisions passes both benchmarks on the FP-DTW "
-          "pairs and improves on OPW at gamma 5 %",
-          "an open question (not tested in the papers)", assess_q4,
-          "notebook 16; open_q4_gamma", question=True),
-    Claim("Q5", "Beyond the papers (OPW conclusion: Keogh and Pazzani's derivative DTW): "
-          "derivative costs (frame-to-frame rotations and position differences) let Method C "
-          "(Mc w40) and OPW pass both benchmarks and improve each",
-          "an open question (not tested in the papers)", assess_q5,
-          "notebook 16; open_q5_derivative", question=True),
-    Claim("Q6", "Beyond the poster's tests (OPW conclusion: OPW 'may not work consistently if "
-          "there are periods of standing still'): a pause of 0.5-2 s inserted in the target "
-          "raises OPW's median deviation (the other online methods: findings, not parts)",
-          "an open question (not tested in the papers)", assess_q6,
-          "notebook 16; open_q6_pause", question=True),
+    *(Claim(f"Q{k}", text, "an open question (not tested in the papers)", assess,
+            f"notebook 16; {tables}", question=True, stable=k != 3)
+      for k, text, assess, tables in (
+        (1, "Beyond the papers (FP-DTW conclusion: the forecast window below half the period of "
+         "the movement cycle): Method C with w from the input's dominant period (Mc auto) passes "
+         "both benchmarks at 120 and 60 Hz and beats a fixed window",
+         assess_q1, "open_q1_windows, open_q1_movements"),
+        (2, "Beyond the papers (FP-DTW conclusion: pre-process the recorded motion to weight "
+         "joints): weighting eq. 1's joints by how much each moves in the recorded motion lets "
+         "Mb w40, Mc w40 and OLTW pass both benchmarks and improves each",
+         assess_q2, "open_q2_weights"),
+        (3, "Beyond the papers (FP-DTW conclusion: a global constraint, fewer cells to calculate): "
+         "a band of half the window (w/2 frames) around the uniform-time diagonal, its window "
+         "rows outside the band not computed, lets Mb w40, Mc w40 and Mc w80 pass both "
+         "benchmarks, improves each, removes cells from their windows and lowers their "
+         "per-frame time (make bench); first reading: a 1 s band",
+         assess_q3, "open_q3_band, open_q3_cost"),
+        (4, "Beyond the papers (OPW conclusion: adjust gamma by a feedback loop): OPW with gamma "
+         "adapted from its own recent decisions passes both benchmarks on the FP-DTW pairs and "
+         "improves on OPW at gamma 5 %", assess_q4, "open_q4_gamma"),
+        (5, "Beyond the papers (OPW conclusion: Keogh and Pazzani's derivative DTW): derivative "
+         "costs (frame-to-frame rotations and position differences) let Method C (Mc w40) and "
+         "OPW pass both benchmarks and improve each", assess_q5, "open_q5_derivative"),
+        (6, "Beyond the poster's tests (OPW conclusion: OPW 'may not work consistently if there "
+         "are periods of standing still'): a pause of 0.5-2 s inserted in the target raises "
+         "OPW's median deviation (the other online methods: findings, not parts)",
+         assess_q6, "open_q6_pause"),
+    )),
 ]  # fmt: skip
 
 

@@ -44,8 +44,6 @@ BODIES = ("all", "seed2", "same_movements", "authors_fbx", "hdm05", "paper_shape
 EQ2_OTHER = ("eq2_other", "eq2_other_authors_fbx", "eq2_other_hdm05", "eq2_other_paper_shaped")
 #: The second bootstrap seed's offset from ``bootstrap.SEED``.
 SEED2_OFFSET = 1
-#: Method C's readings the claims table is evaluated under: column suffix -> reading.
-READINGS = {"": "square", "_literal": "literal"}
 #: The other bodies of evidence, as column suffixes of ``holds``.
 OTHER_EVIDENCE = ("same_movements", "authors_fbx", "hdm05", "paper_shaped")
 #: OPW's other reading (the OPW notebooks' facts: ``readings`` -> this name).
@@ -81,9 +79,6 @@ class ClaimContext:
     open_ev: Evidence | None = None
     plain: list | None = None
     bench: dict | None = None
-
-    def with_evidence(self, ev) -> ClaimContext:
-        return replace(self, ev=ev)
 
     def timing_rows(self) -> list | None:
         """The timing rows under this context's reading (None without timings)."""
@@ -125,16 +120,14 @@ class ClaimContext:
         return cls(mode=mode, **facts)
 
 
-def opw_reading(ctx, reading: str = OPW_PLUGIN):
-    """The context with the OPW notebooks' facts of another reading of OPW, or None.
+def opw_reading(ctx):
+    """The context with the OPW notebooks' facts of the authors' plugin reading, or None.
 
     Paper: OPW poster Section 5; the authors' MotionBuilder plugin.
     """
-
-    def sub(d):
-        return ((d or {}).get("readings") or {}).get(reading)
-
-    fig4, fig56 = sub(ctx.opw_fig4), sub(ctx.opw_fig56)
+    fig4, fig56 = (
+        ((d or {}).get("readings") or {}).get(OPW_PLUGIN) for d in (ctx.opw_fig4, ctx.opw_fig56)
+    )
     if fig4 is None and fig56 is None:
         return None
     return replace(ctx, opw_fig4=fig4, opw_fig56=fig56)
