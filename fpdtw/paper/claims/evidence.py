@@ -31,23 +31,6 @@ def _digest(*parts: bytes) -> str:
     return h.hexdigest()[:32]
 
 
-def _cached(folder, key: str, compute) -> np.ndarray:
-    """``compute()`` once per key, kept in ``folder/<key>.npy`` (None: no disk cache)."""
-    if folder is None:
-        return compute()
-    path = folder / f"{key}.npy"
-    try:
-        return np.load(path, allow_pickle=False)
-    except (FileNotFoundError, ValueError, OSError):
-        pass
-    out = compute()
-    buf = io.BytesIO()
-    np.save(buf, out, allow_pickle=False)
-    folder.mkdir(parents=True, exist_ok=True)
-    write_atomic(path, buf.getvalue())
-    return out
-
-
 def _check(quantity: str, estimate: float, replicates, threshold: float, **kw) -> Check:
     """A check whose interval and Monte Carlo errors come from bootstrap replicates."""
     lo, hi, lo_se, hi_se = bs.interval_error(replicates)
@@ -199,10 +182,8 @@ class Evidence:
         key = ("reps", name, metric)
         if key not in self._cache:
             v = self.values(name, metric)
-            self._cache[key] = _cached(
-                self._cache_dir(),
-                _digest(self.weights_key.encode(), v.tobytes()),
-                lambda: bs.weighted_medians(v, self.weights, self.cols),
+            self._cache[key] = self._on_disk(
+                (v.tobytes(),), lambda: bs.weighted_medians(v, self.weights, self.cols)
             )
         return self._cache[key]
 
@@ -210,18 +191,36 @@ class Evidence:
         """``sum(w * numerator) / sum(w * denominator)`` on every resample (cached on disk)."""
         num = np.asarray(numerator, dtype=np.float64)
         den = np.asarray(denominator, dtype=np.float64)
-        key = _digest(self.weights_key.encode(), b"ratio", num.tobytes(), den.tobytes())
-        return _cached(
-            self._cache_dir(), key, lambda: bs.weighted_ratios(num, den, self.weights, self.cols)
-        )
+        parts = (b"ratio", num.tobytes(), den.tobytes())
+        return self._on_disk(parts, lambda: bs.weighted_ratios(num, den, self.weights, self.cols))
 
-    def _cache_dir(self):
+    def _on_disk(self, parts, compute) -> np.ndarray:
+        """``compute()`` once per weights and ``parts``, kept in the run's ``bootstrap/<key>.npy``
+        (a run without a folder: no disk cache)."""
         folder = getattr(self.results, "folder", None)
-        return None if folder is None else folder / "bootstrap"
+        if folder is None:
+            return compute()
+        path = folder / "bootstrap" / f"{_digest(self.weights_key.encode(), *parts)}.npy"
+        try:
+            return np.load(path, allow_pickle=False)
+        except (FileNotFoundError, ValueError, OSError):
+            pass
+        out = compute()
+        buf = io.BytesIO()
+        np.save(buf, out, allow_pickle=False)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        write_atomic(path, buf.getvalue())
+        return out
 
     def interval(self, name: str, metric: str) -> tuple[float, float]:
         """95 % interval of the median of ``name``."""
         return bs.interval(self.replicates(name, metric))
+
+    def _difference(self, a: str, b: str, metric: str, quantity: str, **kw) -> Check:
+        """The difference of the medians of ``a`` and ``b`` against 0."""
+        est = self.median(a, metric) - self.median(b, metric)
+        reps = self.replicates(a, metric) - self.replicates(b, metric)
+        return _check(quantity, est, reps, 0.0, signed=True, **kw)
 
     def passes(self, name: str, metric: str) -> Check:
         """``name`` passes the benchmark of ``metric`` (paper Section 5): median similarity
@@ -229,9 +228,7 @@ class Evidence:
         rate = 60 if name.endswith("@60Hz") else 120
         if metric == "similarity":
             u = "UTW@60Hz" if rate == 60 else "UTW"
-            est = self.median(name, metric) - self.median(u, metric)
-            reps = self.replicates(name, metric) - self.replicates(u, metric)
-            return _check(f"{name} median similarity minus UTW's", est, reps, 0.0, signed=True)
+            return self._difference(name, u, metric, f"{name} median similarity minus UTW's")
         return _check(f"{name} median deviation, frames", self.median(name, metric),
                       self.replicates(name, metric), N.deviation_benchmark_frames(rate),
                       above=False, digits=1)  # fmt: skip
@@ -247,11 +244,9 @@ class Evidence:
     def better(self, a: str, b: str, metric: str) -> Check:
         """``a`` is better than ``b``: the difference of their medians above 0 (similarity) or
         below 0 (deviation)."""
-        est = self.median(a, metric) - self.median(b, metric)
-        reps = self.replicates(a, metric) - self.replicates(b, metric)
         sim = metric == "similarity"
-        return _check(f"median {metric} of {a} minus {b}", est, reps, 0.0, above=sim,
-                      signed=True, digits=3 if sim else 1)  # fmt: skip
+        return self._difference(a, b, metric, f"median {metric} of {a} minus {b}", above=sim,
+                                digits=3 if sim else 1)  # fmt: skip
 
     def improves(self, a: str, b: str):
         """``a`` improves on ``b``: median similarity higher AND median deviation lower."""
@@ -288,10 +283,9 @@ class Evidence:
         src = self.source(name)
         arr = self.results.get(src)
         m_all, _ = self.results.frames(src)
-        m_of = {int(p["id"]): int(m_all[i]) for i, p in enumerate(self.results.pairs)}
         pos = {int(pid): k for k, pid in enumerate(arr["pair_id"])}
-        for pid in self._pair_ids:
-            yield arr.map(pos[int(pid)]), m_of[int(pid)]
+        for pid, r in zip(self._pair_ids, self.rows):
+            yield arr.map(pos[int(pid)]), int(m_all[r])
 
     def exhausted_counts(self, name: str) -> tuple[np.ndarray, np.ndarray]:
         """Per pair: target frames ``q >= 1`` with the input exhausted (``M_{q-1} >= m``), and

@@ -88,13 +88,9 @@ class Check:
 
     def mc_margin(self) -> float:
         """Monte Carlo standard errors from the nearer interval end to the threshold (or inf)."""
-        if not self.interval:
-            return float("inf")
-        out = float("inf")
-        for end, se in ((self.low, self.low_se), (self.high, self.high_se)):
-            if math.isfinite(end) and math.isfinite(se) and se > 0:
-                out = min(out, abs(end - self.threshold) / se)
-        return out
+        ends = ((self.low, self.low_se), (self.high, self.high_se)) if self.interval else ()
+        ok = [(e, se) for e, se in ends if math.isfinite(e) and math.isfinite(se) and se > 0]
+        return min([float("inf"), *(abs(e - self.threshold) / se for e, se in ok)])
 
     def describe(self) -> str:
         """``"median deviation of Mc w20, frames 13.5 [12.1, 14.9] < 18"`` (or ``straddles``)."""
@@ -174,12 +170,7 @@ def evidence(node) -> list[Check]:
         chosen = [x for x in items if evaluate(x) == v]
     else:
         chosen = list(items)
-    out = []
-    for x in chosen:
-        for c in evidence(x):
-            if c not in out:
-                out.append(c)
-    return out
+    return list(dict.fromkeys(c for x in chosen for c in evidence(x)))
 
 
 def checks(node) -> list[Check]:
@@ -210,15 +201,12 @@ def formula(node) -> str:
 def parse_formula(text: str, checks_by_number: dict):
     """The objects of a :func:`formula` text, given ``{check number: Check}`` (ValueError:
     not a formula, or a check number not given)."""
-    tokens = re.findall(r"all\(|any\(|not\(|c\d+|,|\)|\S", text)
-    pos = 0
+    tokens = iter(re.findall(r"all\(|any\(|not\(|c\d+|,|\)|\S", text))
 
     def take():
-        nonlocal pos
-        if pos >= len(tokens):
+        if (tok := next(tokens, None)) is None:
             raise ValueError(f"formula {text!r} ends early")
-        pos += 1
-        return tokens[pos - 1]
+        return tok
 
     def node():
         tok = take()
@@ -242,7 +230,7 @@ def parse_formula(text: str, checks_by_number: dict):
         raise ValueError(f"formula {text!r}: unexpected {tok!r}")
 
     out = node()
-    if pos != len(tokens):
+    if next(tokens, None) is not None:
         raise ValueError(f"formula {text!r}: text after the end")
     return out
 

@@ -81,19 +81,13 @@ class ClaimContext:
     bench: dict | None = None
 
     def timing_rows(self) -> list | None:
-        """The timing rows under this context's reading (None without timings)."""
+        """The timing rows under this context's reading (None without timings); the rows of
+        another reading (``"Mc w40 (literal window)"``) stand in for their names."""
         if not self.timing:
             return None
         by = {r["algorithm"]: r for r in self.timing}
-        out = []
-        for r in self.timing:
-            name = r["algorithm"]
-            if "(" in name:  # another reading's row
-                continue
-            src = by.get(self.alias.get(name, name))
-            if src is not None:
-                out.append({**src, "algorithm": name})
-        return out
+        names = [r["algorithm"] for r in self.timing if "(" not in r["algorithm"]]
+        return [{**by[src], "algorithm": n} for n in names if (src := self.alias.get(n, n)) in by]
 
     def fig8_devs(self) -> dict | None:
         """Algorithm -> Fig. 8 deviation (frames) under this context's reading."""
@@ -101,8 +95,6 @@ class ClaimContext:
         if not (isinstance(d, dict) and d and all(isinstance(x, int | float) for x in d.values())):
             return None
         devs = {k: float(x) for k, x in d.items()}
-        if not self.alias:
-            return devs
         out = {n: v for n, v in devs.items() if n not in self.alias}
         out.update({n: devs[s] for n, s in self.alias.items() if s in devs})
         return out or None
