@@ -7,6 +7,7 @@ Notebook: 12_claims.ipynb
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import io
 
@@ -29,6 +30,19 @@ def _digest(*parts: bytes) -> str:
     for p in parts:
         h.update(len(p).to_bytes(8, "little") + p)
     return h.hexdigest()[:32]
+
+
+def _memo(method):
+    """A method whose result is kept per arguments in the evidence's ``_cache``."""
+
+    @functools.wraps(method)
+    def cached(self, *args):
+        key = (method.__name__, *args)
+        if key not in self._cache:
+            self._cache[key] = method(self, *args)
+        return self._cache[key]
+
+    return cached
 
 
 def _check(quantity: str, estimate: float, replicates, threshold: float, **kw) -> Check:
@@ -76,7 +90,6 @@ class Evidence:
         self.alias = dict(alias or {})
         self._values = values
         self.label = label
-        self._design = self._W = self._key = None
         self._owner = None  # the evidence whose weights these pairs use (None: its own)
         self._cols = None  # columns of the owner's weights holding these pairs (None: all)
         self._cache = {}
@@ -92,13 +105,13 @@ class Evidence:
         out._owner = self._owner or self
         base = np.arange(self.n_pairs) if self._cols is None else self._cols
         out._cols = base[idx]
-        out._key = _digest(self.weights_key.encode(), out._cols.tobytes())
+        out.weights_key = _digest(self.weights_key.encode(), out._cols.tobytes())
         return out
 
     def reading(self, alias=None, values=None, label=None) -> Evidence:
         """The same pairs and weights under another reading of the names or the metrics."""
         out = self.again(label=label, alias=alias, values=values)
-        out._owner, out._cols, out._key = self._owner or self, self._cols, self.weights_key
+        out._owner, out._cols, out.weights_key = self._owner or self, self._cols, self.weights_key
         return out
 
     def again(self, **changes) -> Evidence:
@@ -108,30 +121,24 @@ class Evidence:
         kw = {k: getattr(self, k) for k in names} | {"values": self._values}
         return Evidence(self.results, **kw | {k: v for k, v in changes.items() if v is not None})
 
-    @property
+    @functools.cached_property
     def design(self) -> bs.PairDesign:
-        if self._design is None:
-            self._design = bs.PairDesign.from_pairs([self.results.pairs[i] for i in self.rows])
-        return self._design
+        return bs.PairDesign.from_pairs([self.results.pairs[i] for i in self.rows])
 
-    @property
+    @functools.cached_property
     def weights_key(self) -> str:
         """Digest of what decides the bootstrap weights: the key of the replicates' disk cache."""
-        if self._key is None:
-            d = self.design
-            parts = [a.tobytes() for a in (d.dataset, d.movement, d.input, d.target)]
-            spec = f"{_CACHE_VERSION}:{self.scheme}:{self.n_resamples}:{self.seed}"
-            self._key = _digest(spec.encode(), *parts)
-        return self._key
+        d = self.design
+        parts = [a.tobytes() for a in (d.dataset, d.movement, d.input, d.target)]
+        spec = f"{_CACHE_VERSION}:{self.scheme}:{self.n_resamples}:{self.seed}"
+        return _digest(spec.encode(), *parts)
 
-    @property
+    @functools.cached_property
     def weights(self) -> np.ndarray:
         """Bootstrap weights, shape (n_resamples, P_all), computed on first need."""
         if self._owner is not None:
             return self._owner.weights
-        if self._W is None:
-            self._W = bs.resample_weights(self.design, self.scheme, self.n_resamples, self.seed)
-        return self._W
+        return bs.resample_weights(self.design, self.scheme, self.n_resamples, self.seed)
 
     @property
     def cols(self) -> np.ndarray:
@@ -153,23 +160,19 @@ class Evidence:
         have = set(self.results.algorithms)
         return all(self.source(n) in have for n in names)
 
+    @_memo
     def values(self, name: str, metric: str) -> np.ndarray:
         """Per-pair values of a metric for ``name``, in the order of :attr:`rows`."""
         if metric not in METRICS:
             raise ValueError(f"metric must be one of {METRICS}, got {metric!r}")
-        key = ("values", name, metric)
-        if key not in self._cache:
-            src = self.source(name)
-            v = self._values(src, metric) if self._values is not None else None
-            if v is None:
-                arr = self.results.get(src)
-                pos = np.empty(int(np.max(arr["pair_id"])) + 1, dtype=np.int64)
-                pos[np.asarray(arr["pair_id"], dtype=np.int64)] = np.arange(arr["pair_id"].size)
-                v = np.asarray(arr[metric], dtype=np.float64)[pos[self._pair_ids]]
-            else:
-                v = np.asarray(v, dtype=np.float64)[self.rows]
-            self._cache[key] = v
-        return self._cache[key]
+        src = self.source(name)
+        v = self._values(src, metric) if self._values is not None else None
+        if v is not None:
+            return np.asarray(v, dtype=np.float64)[self.rows]
+        arr = self.results.get(src)
+        pos = np.empty(int(np.max(arr["pair_id"])) + 1, dtype=np.int64)
+        pos[np.asarray(arr["pair_id"], dtype=np.int64)] = np.arange(arr["pair_id"].size)
+        return np.asarray(arr[metric], dtype=np.float64)[pos[self._pair_ids]]
 
     def median(self, name: str, metric: str) -> float:
         """Median over this evidence's pairs (finite values)."""
@@ -177,15 +180,13 @@ class Evidence:
         v = v[np.isfinite(v)]
         return float(np.median(v)) if v.size else float("nan")
 
+    @_memo
     def replicates(self, name: str, metric: str) -> np.ndarray:
         """The median on every bootstrap resample, shape (n_resamples,), cached on disk."""
-        key = ("reps", name, metric)
-        if key not in self._cache:
-            v = self.values(name, metric)
-            self._cache[key] = self._on_disk(
-                (v.tobytes(),), lambda: bs.weighted_medians(v, self.weights, self.cols)
-            )
-        return self._cache[key]
+        v = self.values(name, metric)
+        return self._on_disk(
+            (v.tobytes(),), lambda: bs.weighted_medians(v, self.weights, self.cols)
+        )
 
     def ratio_replicates(self, numerator, denominator) -> np.ndarray:
         """``sum(w * numerator) / sum(w * denominator)`` on every resample (cached on disk)."""
@@ -287,33 +288,29 @@ class Evidence:
         for pid, r in zip(self._pair_ids, self.rows):
             yield arr.map(pos[int(pid)]), int(m_all[r])
 
+    @_memo
     def exhausted_counts(self, name: str) -> tuple[np.ndarray, np.ndarray]:
         """Per pair: target frames ``q >= 1`` with the input exhausted (``M_{q-1} >= m``), and
         all frames ``q >= 1``."""
-        key = ("exhausted", name)
-        if key not in self._cache:
-            counts = [(np.count_nonzero(M[:-1] >= m), M.size - 1) for M, m in self._maps(name)]
-            self._cache[key] = tuple(np.array(counts, dtype=np.float64).T.copy())
-        return self._cache[key]
+        counts = [(np.count_nonzero(M[:-1] >= m), M.size - 1) for M, m in self._maps(name)]
+        return tuple(np.array(counts, dtype=np.float64).T.copy())
 
+    @_memo
     def band_cells(self, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Per pair, from the maps of a band variant of Method B or C: its window steps, their
         cells without and with the band, and the summed share removed; float64 (P,) each.
 
         Paper: FP-DTW Section 7 (conclusion: a global constraint).
         """
-        key = ("band_cells", name)
-        if key not in self._cache:
-            a = resolve(self.source(name).partition("@")[0])
-            band = a.options.get("band", "none")
-            if a.family not in ("B", "C") or band == "none" or "window" in a.options:
-                raise ValueError(f"{name!r}: not a band variant of Method B or C (square window)")
-            out = []
-            for M, m in self._maps(name):
-                _, full, banded = band_cells(M, m, a.w, a.family, band)
-                out.append((full.size, full.sum(), banded.sum(), np.sum(1.0 - banded / full)))
-            self._cache[key] = tuple(np.array(out, dtype=np.float64).T.copy())
-        return self._cache[key]
+        a = resolve(self.source(name).partition("@")[0])
+        band = a.options.get("band", "none")
+        if a.family not in ("B", "C") or band == "none" or "window" in a.options:
+            raise ValueError(f"{name!r}: not a band variant of Method B or C (square window)")
+        out = []
+        for M, m in self._maps(name):
+            _, full, banded = band_cells(M, m, a.w, a.family, band)
+            out.append((full.size, full.sum(), banded.sum(), np.sum(1.0 - banded / full)))
+        return tuple(np.array(out, dtype=np.float64).T.copy())
 
     def backward_jumps(self, name: str) -> np.ndarray:
         """Per pair: 1 when the map moves backwards at least once (``M_{q+1} < M_q``)."""
