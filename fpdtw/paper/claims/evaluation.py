@@ -114,10 +114,12 @@ def evaluate_claims(claims, contexts, robustness=None, checks=None):
             c = p.decisive()
             ci = (c.low, c.high) if c is not None and c.interval else (None, None)
             pr = dict(claim=claim.id, part=label, text=p.text, verdict=verdicts[k], ci_low=ci[0])
-            pr |= dict(ci_high=ci[1], threshold=c.threshold if c else None, mc_margin=_mc_margin(p))
+            pr |= dict(ci_high=ci[1], threshold=c.threshold if c else None)
             pr |= dict(quantity=c.quantity if c else "", estimate=c.estimate if c else None)
-            pr["formula"] = R.formula(p.test) if p.test is not None else ""
-            pr["checks"] = len(R.checks(p.test)) if p.test is not None else 0
+            cs = [] if p.test is None else R.checks(p.test)
+            pr |= dict(formula="" if p.test is None else R.formula(p.test), checks=len(cs))
+            m = min((x.mc_margin() for x in cs), default=float("inf"))  # in Monte Carlo errors
+            pr["mc_margin"] = round(float(m), 1) if np.isfinite(m) else None
             for key in (*T.OTHER_EVIDENCE, "literal", T.OPW_PLUGIN, "seed2", "eq2_other"):
                 pr[f"verdict_{key}"] = _verdict(others[key], k)
             part_out.append({c: pr[c] for c in T.PART_COLUMNS})
@@ -131,14 +133,6 @@ def evaluate_claims(claims, contexts, robustness=None, checks=None):
 def _verdict(got, k: int) -> str:
     """The verdict of part ``k`` of an evaluated claim (n/a where it has none)."""
     return got["parts"][k].verdict if got and k < len(got["parts"]) else R.NA
-
-
-def _mc_margin(part) -> float | None:
-    """The smallest :meth:`~fpdtw.paper.claims.rules.Check.mc_margin` of the part's checks."""
-    if part.test is None:
-        return None
-    m = min((c.mc_margin() for c in R.checks(part.test)), default=float("inf"))
-    return None if not np.isfinite(m) else round(float(m), 1)
 
 
 def build_claims(mode="full", results=None, claims=None, *, robustness=True, with_parts=False,
