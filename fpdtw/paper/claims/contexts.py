@@ -6,6 +6,7 @@ Paper: FP-DTW Sections 5-7; OPW poster Section 5.
 
 from __future__ import annotations
 
+import operator
 from dataclasses import replace
 
 import numpy as np
@@ -73,10 +74,7 @@ def paper_shaped_rows(results, mode: str = "full"):
     path = results_dir() / study_mode(mode == "smoke") / "pairs.json"
     if not path.is_file():
         return None
-
-    def key(p):
-        return p["dataset"], p["movement"], p["input"], p["target"]
-
+    key = operator.itemgetter("dataset", "movement", "input", "target")
     row = {key(p): i for i, p in enumerate(results.pairs)}
     rows = [row.get(key(p)) for p in load_json(path)["pairs"]]
     return np.array(sorted(r for r in rows if r is not None), dtype=np.int64)

@@ -22,11 +22,9 @@ def _interval_text(parts, labels) -> str:
     out = []
     for label, p in zip(labels, parts):
         c = p.decisive()
-        if c is None:
-            out.append(f"{label}: {p.verdict}")
-            continue
-        point = "" if c.interval else " (no resampling)"
-        out.append(f"{label}: {c.value_text()} vs {c.threshold:g}{point}")
+        point = "" if c is None or c.interval else " (no resampling)"
+        text = p.verdict if c is None else f"{c.value_text()} vs {c.threshold:g}{point}"
+        out.append(f"{label}: {text}")
     return "; ".join(out)
 
 
@@ -171,8 +169,7 @@ def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None, with_pa
         if with_parts:
             raise ValueError("with_parts needs results or facts, not a table of rows")
         by = {r["id"]: r for r in rows}
-        missing = [i for i in ids if i not in by]
-        if missing:
+        if missing := [i for i in ids if i not in by]:
             raise KeyError(f"no rows {missing} in the claims table given")
         return [by[i] for i in ids]
     subset = claims_by_id(ids)

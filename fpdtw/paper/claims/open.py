@@ -89,16 +89,15 @@ def assess_q1(ctx):
     ]
     if why := missing(ev, names, _NO_RUN):
         return why
-    parts, words = [], []
-    for rate in (120, 60):
-        parts.append(Part(f"at {rate} Hz Mc auto passes both benchmarks",
-                          ev.passes_both("Mc auto" + _SFX[rate])))  # fmt: skip
+    words = []
+    parts = [Part(f"at {rate} Hz Mc auto passes both benchmarks",
+                  ev.passes_both("Mc auto" + _SFX[rate])) for rate in (120, 60)]  # fmt: skip
     for rate in (120, 60):
         auto, best = "Mc auto" + _SFX[rate], f"Mc w{BEST_FIXED[rate]}{_SFX[rate]}"
         rows = per_movement_windows(ev, rate)
         mv = movements_of(ev)  # each movement weighs 1 in the share, split over its pairs
-        size = {r["movement"]: np.count_nonzero(mv == r["movement"]) for r in rows}
-        beats = {r["movement"]: float(r["beats"]) / size[r["movement"]] for r in rows}
+        size = {r["movement"]: r["pairs"] for r in rows}
+        beats = {r["movement"]: float(r["beats"]) / r["pairs"] for r in rows}
         parts.append(Part(
             f"at {rate} Hz Mc auto beats the best fixed w chosen per movement in more than half "
             "the movements",

@@ -585,7 +585,6 @@ SHORT = {
 def claims_by_id(ids) -> list:
     """The :class:`Claim` objects of ``ids``, in that order (KeyError names an unknown id)."""
     by = {c.id: c for c in CLAIMS}
-    missing = [i for i in ids if str(i) not in by]
-    if missing:
+    if missing := [i for i in ids if str(i) not in by]:
         raise KeyError(f"no claims {missing} in the table (ids: {', '.join(by)})")
     return [by[str(i)] for i in ids]

@@ -106,8 +106,7 @@ class ClaimContext:
         Paper: FP-DTW Sections 5-7; OPW poster Section 5.
         """
         allowed = {"fig8", "opw_fig4", "opw_fig56", "counts", "timing", "plain"}
-        unknown = set(facts) - allowed
-        if unknown:
+        if unknown := set(facts) - allowed:
             raise TypeError(f"unknown facts {sorted(unknown)}; allowed: {sorted(allowed)}")
         return cls(mode=mode, **facts)
 
