@@ -95,12 +95,9 @@ def evaluate_claims(claims, contexts, robustness=None, checks=None):
         row["interval"] = _interval_text(main["parts"], labels)
         row |= {f"holds_{k}": R.NA if o is None else o["holds"] for k, o in others.items()}
         row["eq2_other"] = other_eq2(getattr(contexts[""].ev, "results", None)) or R.NA
-        lit, plug = others["literal"], others[T.OPW_PLUGIN]
-        row["ours_literal"] = lit["ours"] if lit else "not computed"
-        if not claim.opw:
-            row["ours_plugin"] = R.NA
-        else:
-            row["ours_plugin"] = plug["ours"] if plug else "not computed (no plugin reading)"
+        row["ours_literal"] = (others["literal"] or {"ours": "not computed"})["ours"]
+        plug = others[T.OPW_PLUGIN] or {"ours": "not computed (no plugin reading)"}
+        row["ours_plugin"] = plug["ours"] if claim.opw else R.NA
         rob = (robustness or {}).get(claim.id)
         if not claim.pairs or claim.beyond:
             rob = "n/a (not decided on the pairs)"

@@ -90,8 +90,9 @@ class Evidence:
         self.alias = dict(alias or {})
         self._values = values
         self.label = label
-        self._owner = None  # the evidence whose weights these pairs use (None: its own)
-        self._cols = None  # columns of the owner's weights holding these pairs (None: all)
+        self._owner = self  # the evidence whose weights these pairs use
+        #: Columns of :attr:`weights` that hold this evidence's pairs, in order.
+        self.cols = np.arange(self.rows.size)
         self._cache = {}
         ids = np.array([int(p["id"]) for p in results.pairs], dtype=np.int64)
         self._pair_ids = ids[self.rows]
@@ -102,16 +103,14 @@ class Evidence:
         keep = np.asarray(keep)
         idx = np.flatnonzero(keep) if keep.dtype == bool else keep.astype(np.int64)
         out = self.again(rows=self.rows[idx], label=label)
-        out._owner = self._owner or self
-        base = np.arange(self.n_pairs) if self._cols is None else self._cols
-        out._cols = base[idx]
-        out.weights_key = _digest(self.weights_key.encode(), out._cols.tobytes())
+        out._owner, out.cols = self._owner, self.cols[idx]
+        out.weights_key = _digest(self.weights_key.encode(), out.cols.tobytes())
         return out
 
     def reading(self, alias=None, values=None, label=None) -> Evidence:
         """The same pairs and weights under another reading of the names or the metrics."""
         out = self.again(label=label, alias=alias, values=values)
-        out._owner, out._cols, out.weights_key = self._owner or self, self._cols, self.weights_key
+        out._owner, out.cols, out.weights_key = self._owner, self.cols, self.weights_key
         return out
 
     def again(self, **changes) -> Evidence:
@@ -136,16 +135,9 @@ class Evidence:
     @functools.cached_property
     def weights(self) -> np.ndarray:
         """Bootstrap weights, shape (n_resamples, P_all), computed on first need."""
-        if self._owner is not None:
+        if self._owner is not self:
             return self._owner.weights
         return bs.resample_weights(self.design, self.scheme, self.n_resamples, self.seed)
-
-    @property
-    def cols(self) -> np.ndarray:
-        """Columns of :attr:`weights` that hold this evidence's pairs, in order."""
-        if self._cols is not None:
-            return self._cols
-        return np.arange((self._owner or self).n_pairs)
 
     @property
     def n_pairs(self) -> int:

@@ -119,7 +119,6 @@ def assess_q1(ctx):
 
 
 def assess_q6(ctx):
-    """Our value and the part of Q6, or why not computed."""
     ev = ctx.open_ev
     if why := missing(ev, [n + s for n in G.PAUSE_METHODS for s in ("", G.PAUSE_SUFFIX)], _NO_RUN):
         return why

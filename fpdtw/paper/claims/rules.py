@@ -252,19 +252,14 @@ class Part:
 
     def decisive(self) -> Check | None:
         """The first check of the evidence (the part's row in the intervals table)."""
-        ev = self.evidence()
-        return ev[0] if ev else None
+        return next(iter(self.evidence()), None)
 
     def explain(self) -> str:
-        """``"<text>: <verdict> (<evidence>)"``, at most three checks named."""
-        v = self.verdict
-        if self.test is None:
-            return f"{self.text}: {v} ({self.note})" if self.note else f"{self.text}: {v}"
+        """``"<text>: <verdict> (<evidence>; <note>)"``, at most three checks named."""
         ev = self.evidence()
-        shown = "; ".join(c.describe() for c in ev[:3])
-        more = f"; +{len(ev) - 3} more" if len(ev) > 3 else ""
-        note = f"; {self.note}" if self.note else ""
-        return f"{self.text}: {v} ({shown}{more}{note})"
+        said = [c.describe() for c in ev[:3]] + ([f"+{len(ev) - 3} more"] if len(ev) > 3 else [])
+        said += [self.note] if self.note else []
+        return f"{self.text}: {self.verdict}" + (f" ({'; '.join(said)})" if said else "")
 
 
 def claim_verdict(verdicts) -> str:
