@@ -94,8 +94,7 @@ class Evidence:
         #: Columns of :attr:`weights` that hold this evidence's pairs, in order.
         self.cols = np.arange(self.rows.size)
         self._cache = {}
-        ids = np.array([int(p["id"]) for p in results.pairs], dtype=np.int64)
-        self._pair_ids = ids[self.rows]
+        self._pair_ids = np.array([int(results.pairs[r]["id"]) for r in self.rows], np.int64)
 
     def restrict(self, keep, label: str) -> Evidence:
         """The same evidence on some of its pairs (``keep``: bool mask or indices into
@@ -316,13 +315,11 @@ _SHARED: dict = {}
 
 def shared_evidence(results, dataset=None) -> Evidence:
     """The evidence of a run's pairs (or of one dataset's), made once per run."""
-    key = id(results)
-    hit = _SHARED.get(key)
+    hit = _SHARED.get(id(results))
     if hit is None or hit[0] is not results:
         if len(_SHARED) > 8:  # a long session: forget older runs
             _SHARED.clear()
-        hit = (results, Evidence(results), {})
-        _SHARED[key] = hit
+        hit = _SHARED[id(results)] = (results, Evidence(results), {})
     _, ev, subsets = hit
     if dataset is None:
         return ev

@@ -13,7 +13,7 @@ from fpdtw.paper import numbers as N
 from fpdtw.paper import opw_eval
 from fpdtw.paper.claims.evidence import missing
 from fpdtw.paper.claims.open import assess_q1, assess_q2, assess_q3, assess_q4, assess_q5, assess_q6
-from fpdtw.paper.claims.rules import AllOf, Not, Part, point
+from fpdtw.paper.claims.rules import AllOf, Not, Part, checks, point
 from fpdtw.paper.claims.types import FIG8_JSON, OPW_FIG4_JSON, OPW_FIG56_JSON, Assessment, Claim
 from fpdtw.paper.figures.timing import growth_ratio
 from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES, TYPE_V, WINDOWS
@@ -34,22 +34,18 @@ def _names(xs) -> str:
     return ", ".join(xs) if xs else "none"
 
 
-def _point_pass(ev, name, metric) -> bool:
-    """Passes by the medians alone (what the paper's figures show), without intervals."""
-    c = ev.passes(name, metric)
-    return c.estimate > c.threshold if c.above else c.estimate < c.threshold
-
-
-def _both_by_median(ev, name) -> bool:
-    return _point_pass(ev, name, "similarity") and _point_pass(ev, name, "deviation")
+def _by_median(test) -> bool:
+    """Every check of ``test`` passes by its estimate alone (the medians the paper's figures
+    show), without intervals."""
+    return all(
+        c.estimate > c.threshold if c.above else c.estimate < c.threshold for c in checks(test)
+    )
 
 
 @_on_pairs("UTW", *FPDTW_NAMES)
 def _claim1(ev):
     names = list(FPDTW_NAMES)
-    by_median = [
-        n for n in names if _point_pass(ev, n, "similarity") or _point_pass(ev, n, "deviation")
-    ]
+    by_median = [n for n in names if any(_by_median(c) for c in checks(ev.passes_either(n)))]
     named = list(N.PASS_EITHER_UNCONSTRAINED)
     parts = [Part(f"{n} passes a benchmark", ev.passes_either(n)) for n in named]
     others = [n for n in names if n not in named]
@@ -61,7 +57,7 @@ def _claim1(ev):
 @_on_pairs("UTW", *N.PASS_BOTH)
 def _claim2(ev):
     names = list(N.PASS_BOTH)
-    by_median = [n for n in names if _both_by_median(ev, n)]
+    by_median = [n for n in names if _by_median(ev.passes_both(n))]
     parts = [Part(f"{n} passes both benchmarks", ev.passes_both(n)) for n in names]
     return Assessment(f"pass both (by medians): {_names(by_median)}", parts)
 
@@ -69,7 +65,7 @@ def _claim2(ev):
 @_on_pairs("UTW", *FPDTW_NAMES, *FPDTW_TYPEV_NAMES)
 def _claim2b(ev):
     others = [n for n in FPDTW_NAMES + FPDTW_TYPEV_NAMES if n not in N.PASS_BOTH]
-    by_median = [n for n in others if _both_by_median(ev, n)]
+    by_median = [n for n in others if _by_median(ev.passes_both(n))]
     part = Part(
         "no FP-DTW algorithm other than the three named passes both benchmarks",
         AllOf(*[Not(ev.passes_both(n)) for n in others]),
@@ -209,12 +205,7 @@ def _claim6(ev):
         Part(f"Type V does not improve {', '.join(c_no)}",
              AllOf(*[Not(ev.improves(n + TYPE_V, n)) for n in c_no])),
     ]  # fmt: skip
-    both = [
-        n
-        for n in FPDTW_NAMES
-        if ev.median(n + TYPE_V, "similarity") > ev.median(n, "similarity")
-        and ev.median(n + TYPE_V, "deviation") < ev.median(n, "deviation")
-    ]
+    both = [n for n in FPDTW_NAMES if _by_median(ev.improves(n + TYPE_V, n))]
     return Assessment(f"improved (by medians): {_names(both)}", parts)
 
 
