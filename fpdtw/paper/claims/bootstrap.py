@@ -98,8 +98,7 @@ def resample_weights(
             k = motions.size
             for c in range(int(copies[:, gi].max())):
                 C = rng.multinomial(k, np.full(k, 1.0 / k), size=n)
-                live = copies[:, gi] > c
-                _add_pair_weights(W, rows, li, lt, C, live)
+                _add_pair_weights(W, rows, li, lt, C, copies[:, gi] > c)  # live: still drawn
     return W
 
 

@@ -141,8 +141,7 @@ def build_claims(mode="full", results=None, claims=None, *, robustness=True, wit
     Notebook: 12_claims.ipynb
     """
     claims = CLAIMS if claims is None else claims
-    if results is None:
-        results = load_results(mode)
+    results = load_results(mode) if results is None else results
     contexts = claim_contexts(load_context(results, mode), results, mode)
     rob = claim_robustness(claims, mode) if robustness else None
     checks = []

@@ -181,18 +181,6 @@ def short_rows(rows, parts=None) -> list[dict]:
     return out
 
 
-def bootstrap_note() -> str:
-    """Which question each resampling answers, and the seeds (under every claims table)."""
-    return (
-        f"Intervals: {bs.N_RESAMPLES} resamples of a two-stage cluster bootstrap (seed "
-        f"{bs.SEED}; second seed {bs.SEED + T.SEED2_OFFSET}). The verdict resamples movements "
-        "within each dataset, then motions within each movement: it answers 'would this hold "
-        "for other movements like these, recorded again?'. 'Movements fixed' resamples the "
-        "motions only: 'would it hold for other takes of these movements?'. Monte Carlo "
-        f"errors of the interval ends: batch means over {bs.MC_BATCHES} batches."
-    )
-
-
 def save_claims(rows, mode="full", parts=None, meta=None, checks=None, power=None):
     """Write ``claims.csv|md`` and, when given, ``claims_intervals`` (``parts``),
     ``claims_checks`` and ``claims_power``, then ``results/<mode>/claims.json``; returns the
@@ -200,7 +188,15 @@ def save_claims(rows, mode="full", parts=None, meta=None, checks=None, power=Non
 
     Notebook: 12_claims.ipynb
     """
-    boot = bootstrap_note()
+    # which question each resampling answers, and the seeds (under every claims table)
+    boot = (
+        f"Intervals: {bs.N_RESAMPLES} resamples of a two-stage cluster bootstrap (seed "
+        f"{bs.SEED}; second seed {bs.SEED + T.SEED2_OFFSET}). The verdict resamples movements "
+        "within each dataset, then motions within each movement: it answers 'would this hold "
+        "for other movements like these, recorded again?'. 'Movements fixed' resamples the "
+        "motions only: 'would it hold for other takes of these movements?'. Monte Carlo "
+        f"errors of the interval ends: batch means over {bs.MC_BATCHES} batches."
+    )
     note = (
         f"{R.RULE}\n\n{boot}\n\nComputed with {versions_line()}. The commit and the "
         "machine that made these figures: ENVIRONMENT.md. Every column: claims.csv; every "

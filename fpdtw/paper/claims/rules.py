@@ -285,12 +285,9 @@ def claim_reason(parts, contradiction: str = "") -> str:
             return head + _sentence(parts[0].explain())
         weakest = "; ".join(p.decisive().describe() for p in parts if p.decisive() is not None)
         return head + f"All {len(parts)} parts hold ({weakest})"
-    held = [p.text for p in parts if p.verdict == HOLDS]
-    failing = [p.explain() for p in parts if p.verdict != HOLDS]
-    out = head + _sentence("; ".join(failing))
-    if held:
-        out += ". Holds: " + "; ".join(held)
-    return out
+    held = "; ".join(p.text for p in parts if p.verdict == HOLDS)
+    failing = "; ".join(p.explain() for p in parts if p.verdict != HOLDS)
+    return head + _sentence(failing) + (f". Holds: {held}" if held else "")
 
 
 def _sentence(text: str) -> str:

@@ -32,16 +32,12 @@ def _read(path: Path) -> list[dict]:
         return list(csv.DictReader(f))
 
 
-def _float(text: str) -> float:
-    return float("nan") if text in ("", "nan") else float(text)
-
-
 def check_from_row(row: dict) -> R.Check:
     """The :class:`~fpdtw.paper.claims.rules.Check` of one row of ``claims_checks.csv``."""
     rel = row["relation"]
     if rel not in (">", ">=", "<", "<="):
         raise ValueError(f"check {row['part']}#{row['check']}: relation {rel!r}")
-    est, lo, hi, t = (_float(row[k]) for k in ("estimate", "low", "high", "threshold"))
+    est, lo, hi, t = (float(row[k] or "nan") for k in ("estimate", "low", "high", "threshold"))
     kw = dict(above=rel.startswith(">"), interval=row["interval"] == "True", strict=len(rel) == 1)
     return R.Check(row["quantity"], est, lo, hi, t, **kw)
 
