@@ -51,9 +51,7 @@ def check_rows(body: str, claim_id: str, label: str, part) -> list[dict]:
 
 def seed_verdict(first: str, second: str | None) -> str:
     """A headline part's verdict with both seeds (``ON_THRESHOLD`` where they disagree)."""
-    if second in (None, R.NA) or second == first:
-        return first
-    return R.ON_THRESHOLD
+    return first if second in (None, R.NA, first) else R.ON_THRESHOLD
 
 
 def _applies(claim, key: str) -> bool:
@@ -76,7 +74,7 @@ def evaluate_claims(claims, contexts, robustness=None, checks=None):
         main = claim.evaluate(contexts[""])
         labels = [R.part_label(claim.id, k) for k in range(len(main["parts"]))]
         others = {}
-        for key in (*T.OTHER_EVIDENCE, "literal", T.OPW_PLUGIN, "seed2", *T.EQ2_OTHER):
+        for key in T.BODIES[1:]:  # every body but the headline ("all")
             c = contexts.get(key)
             others[key] = claim.evaluate(c) if c is not None and _applies(claim, key) else None
         seed2 = others["seed2"]
@@ -118,9 +116,8 @@ def evaluate_claims(claims, contexts, robustness=None, checks=None):
             for key in (*T.OTHER_EVIDENCE, "literal", T.OPW_PLUGIN, "seed2", "eq2_other"):
                 pr[f"verdict_{key}"] = _verdict(others[key], k)
             part_out.append({c: pr[c] for c in T.PART_COLUMNS})
-        bodies = {"all": main, **others} if checks is not None else {}
-        for body in T.BODIES:
-            for k, p in enumerate((bodies.get(body) or {}).get("parts", [])):
+        for body, got in ({"all": main, **others} if checks is not None else {}).items():
+            for k, p in enumerate((got or {}).get("parts", [])):
                 checks += check_rows(body, claim.id, R.part_label(claim.id, k), p)
     return rows, part_out
 

@@ -179,10 +179,8 @@ class Evidence:
             (v.tobytes(),), lambda: bs.weighted_medians(v, self.weights, self.cols)
         )
 
-    def ratio_replicates(self, numerator, denominator) -> np.ndarray:
-        """``sum(w * numerator) / sum(w * denominator)`` on every resample (cached on disk)."""
-        num = np.asarray(numerator, dtype=np.float64)
-        den = np.asarray(denominator, dtype=np.float64)
+    def ratio_replicates(self, num, den) -> np.ndarray:
+        """``sum(w * num) / sum(w * den)`` (float64 arrays) on every resample, cached on disk."""
         parts = (b"ratio", num.tobytes(), den.tobytes())
         return self._on_disk(parts, lambda: bs.weighted_ratios(num, den, self.weights, self.cols))
 
