@@ -120,13 +120,10 @@ def claim_contexts(ctx, results=None, mode="full") -> dict:
 def other_eq2(results) -> str | None:
     """The reading of eq. 2 other than the one ``results`` scores with (None: a run without
     readings or without its selection, which cannot be rescored)."""
-    eq2 = getattr(results, "eq2", None)
-    if eq2 is None:
+    if (eq2 := getattr(results, "eq2", None)) is None:
         return None
     other = next(r for r in EQ2_READINGS if r != eq2)
-    if other != STORED_EQ2 and not getattr(results, "selection", None):
-        return None
-    return other
+    return other if other == STORED_EQ2 or getattr(results, "selection", None) else None
 
 
 def _other_eq2_values(results):
