@@ -54,20 +54,16 @@ class PairDesign:
     @classmethod
     def from_pairs(cls, pairs) -> PairDesign:
         """The design of ``Results.pairs`` rows, codes in sorted order of the labels."""
-        ds = [p["dataset"] for p in pairs]
         mv = [(p["dataset"], p["movement"]) for p in pairs]
-        mo = sorted(
-            {(p["dataset"], p["movement"], p[k]) for p in pairs for k in ("input", "target")}
-        )
-        d_code = {x: i for i, x in enumerate(sorted(set(ds)))}
-        m_code = {x: i for i, x in enumerate(sorted(set(mv)))}
-        o_code = {x: i for i, x in enumerate(mo)}
-        return cls(
-            dataset=np.array([d_code[x] for x in ds], dtype=np.int64),
-            movement=np.array([m_code[x] for x in mv], dtype=np.int64),
-            input=np.array([o_code[(*x, p["input"])] for x, p in zip(mv, pairs)], np.int64),
-            target=np.array([o_code[(*x, p["target"])] for x, p in zip(mv, pairs)], np.int64),
-        )
+        mo = {k: [(*x, p[k]) for x, p in zip(mv, pairs)] for k in ("input", "target")}
+        motions = mo["input"] + mo["target"]
+        return cls(_codes([x[0] for x in mv]), _codes(mv), *(_codes(mo[k], motions) for k in mo))
+
+
+def _codes(labels, universe=None) -> np.ndarray:
+    """Each label's position among the sorted distinct ``universe`` (default: the labels)."""
+    code = {x: i for i, x in enumerate(sorted(set(labels if universe is None else universe)))}
+    return np.array([code[x] for x in labels], dtype=np.int64)
 
 
 def resample_weights(
@@ -102,8 +98,7 @@ def resample_weights(
             k = motions.size
             for c in range(int(copies[:, gi].max())):
                 C = rng.multinomial(k, np.full(k, 1.0 / k), size=n)
-                live = copies[:, gi] > c
-                _add_pair_weights(W, rows, li, lt, C, live)
+                _add_pair_weights(W, rows, li, lt, C, copies[:, gi] > c)  # live: still drawn
     return W
 
 

@@ -6,7 +6,7 @@ Paper: FP-DTW Sections 5-7; OPW poster Section 5.
 
 from __future__ import annotations
 
-import json
+import operator
 from dataclasses import replace
 
 import numpy as np
@@ -33,14 +33,14 @@ def load_context(results, mode="full") -> T.ClaimContext:
     if bench is not None:
         timing = time_per_frame_rows(bench, names=list(TIMED_NAMES)) or None
         plain = bench.get("plain") or None
-    figs = results_dir() / mode / "figs"
+    figs = results_dir() / mode / "figs"  # load_bench(path): any JSON file, None if absent
     return T.ClaimContext(
         mode=mode,
         ev=Evidence(results),
         timing=timing,
-        fig8=_read_json(figs / T.FIG8_JSON),
-        opw_fig4=_read_json(figs / T.OPW_FIG4_JSON),
-        opw_fig56=_read_json(figs / T.OPW_FIG56_JSON),
+        fig8=load_bench(figs / T.FIG8_JSON),
+        opw_fig4=load_bench(figs / T.OPW_FIG4_JSON),
+        opw_fig56=load_bench(figs / T.OPW_FIG56_JSON),
         counts=getattr(results, "counts", None) or data_counts(results.pairs),
         open_ev=open_evidence(mode),
         plain=plain,
@@ -69,23 +69,12 @@ def data_counts(pairs) -> dict:
     return out
 
 
-def _read_json(path):
-    try:
-        with open(path) as fh:
-            return json.load(fh)
-    except FileNotFoundError:
-        return None
-
-
 def paper_shaped_rows(results, mode: str = "full"):
     """Indices into ``results.pairs`` of the study run's pairs (notebook 15), or None."""
     path = results_dir() / study_mode(mode == "smoke") / "pairs.json"
     if not path.is_file():
         return None
-
-    def key(p):
-        return p["dataset"], p["movement"], p["input"], p["target"]
-
+    key = operator.itemgetter("dataset", "movement", "input", "target")
     row = {key(p): i for i, p in enumerate(results.pairs)}
     rows = [row.get(key(p)) for p in load_json(path)["pairs"]]
     return np.array(sorted(r for r in rows if r is not None), dtype=np.int64)
@@ -93,57 +82,48 @@ def paper_shaped_rows(results, mode: str = "full"):
 
 def claim_contexts(ctx, results=None, mode="full") -> dict:
     """Every body of evidence of the table: key (``""``: all pairs) -> context (or None)."""
-    alias = T.reading_alias("literal")
-    literal = ctx.ev.reading(alias=alias, label="literal window") if ctx.ev is not None else None
-    out = {
-        "": ctx,
-        **{k: None for k in T.OTHER_EVIDENCE},
-        "literal": replace(ctx, ev=literal, alias=alias),
-        T.OPW_PLUGIN: T.opw_reading(ctx),
-        "seed2": None,
-    }
-    if ctx.ev is not None or ctx.open_ev is not None:
+    ev, alias = ctx.ev, T.reading_alias("literal")
+    literal = ev.reading(alias=alias, label="literal window") if ev is not None else None
+    out = dict.fromkeys(("", *T.OTHER_EVIDENCE, "literal", T.OPW_PLUGIN, "seed2", *T.EQ2_OTHER))
+    out[""], out["literal"] = ctx, replace(ctx, ev=literal, alias=alias)
+    out[T.OPW_PLUGIN] = T.opw_reading(ctx)
+    if ev is not None or ctx.open_ev is not None:
 
-        def reseeded(ev):
-            if ev is not None:
-                return ev.again(seed=ev.seed + T.SEED2_OFFSET, label=f"{ev.label} (second seed)")
+        def reseeded(e):
+            if e is not None:
+                return e.again(seed=e.seed + T.SEED2_OFFSET, label=f"{e.label} (second seed)")
 
-        out["seed2"] = replace(ctx, ev=reseeded(ctx.ev), open_ev=reseeded(ctx.open_ev))
-    out |= dict.fromkeys(T.EQ2_OTHER)
-    ev = ctx.ev
+        out["seed2"] = replace(ctx, ev=reseeded(ev), open_ev=reseeded(ctx.open_ev))
     if ev is None:
         return out
     other = _other_eq2_values(ev.results)
-    out["same_movements"] = ctx.with_evidence(ev.again(scheme="motions", label="these movements"))
+    out["same_movements"] = replace(ctx, ev=ev.again(scheme="motions", label="these movements"))
     ds = np.array([ev.results.pairs[r]["dataset"] for r in ev.rows])
     if other is not None:
         o = ev.reading(values=other, label=f"eq. 2 {other_eq2(ev.results)}")
-        out["eq2_other"] = ctx.with_evidence(o)
+        out["eq2_other"] = replace(ctx, ev=o)
     for d in DATASETS:
         if np.any(ds == d):
-            out[d] = ctx.with_evidence(ev.restrict(ds == d, d))
+            out[d] = replace(ctx, ev=ev.restrict(ds == d, d))
             if other is not None:
-                out[f"eq2_other_{d}"] = ctx.with_evidence(o.restrict(ds == d, d))
+                out[f"eq2_other_{d}"] = replace(ctx, ev=o.restrict(ds == d, d))
     rows = paper_shaped_rows(ev.results, mode) if results is not None else None
     if rows is not None and rows.size:
         label = "paper-shaped selection"
-        out["paper_shaped"] = ctx.with_evidence(ev.again(rows=rows, label=label))
+        out["paper_shaped"] = replace(ctx, ev=ev.again(rows=rows, label=label))
         if other is not None:
             o = ev.again(rows=rows, values=other, label=label)
-            out["eq2_other_paper_shaped"] = ctx.with_evidence(o)
+            out["eq2_other_paper_shaped"] = replace(ctx, ev=o)
     return out
 
 
 def other_eq2(results) -> str | None:
     """The reading of eq. 2 other than the one ``results`` scores with (None: a run without
     readings or without its selection, which cannot be rescored)."""
-    eq2 = getattr(results, "eq2", None)
-    if eq2 is None:
+    if (eq2 := getattr(results, "eq2", None)) is None:
         return None
     other = next(r for r in EQ2_READINGS if r != eq2)
-    if other != STORED_EQ2 and not getattr(results, "selection", None):
-        return None
-    return other
+    return other if other == STORED_EQ2 or getattr(results, "selection", None) else None
 
 
 def _other_eq2_values(results):

@@ -22,11 +22,9 @@ def _interval_text(parts, labels) -> str:
     out = []
     for label, p in zip(labels, parts):
         c = p.decisive()
-        if c is None:
-            out.append(f"{label}: {p.verdict}")
-            continue
-        point = "" if c.interval else " (no resampling)"
-        out.append(f"{label}: {c.value_text()} vs {c.threshold:g}{point}")
+        point = "" if c is None or c.interval else " (no resampling)"
+        text = p.verdict if c is None else f"{c.value_text()} vs {c.threshold:g}{point}"
+        out.append(f"{label}: {text}")
     return "; ".join(out)
 
 
@@ -53,9 +51,7 @@ def check_rows(body: str, claim_id: str, label: str, part) -> list[dict]:
 
 def seed_verdict(first: str, second: str | None) -> str:
     """A headline part's verdict with both seeds (``ON_THRESHOLD`` where they disagree)."""
-    if second in (None, R.NA) or second == first:
-        return first
-    return R.ON_THRESHOLD
+    return first if second in (None, R.NA, first) else R.ON_THRESHOLD
 
 
 def _applies(claim, key: str) -> bool:
@@ -78,7 +74,7 @@ def evaluate_claims(claims, contexts, robustness=None, checks=None):
         main = claim.evaluate(contexts[""])
         labels = [R.part_label(claim.id, k) for k in range(len(main["parts"]))]
         others = {}
-        for key in (*T.OTHER_EVIDENCE, "literal", T.OPW_PLUGIN, "seed2", *T.EQ2_OTHER):
+        for key in T.BODIES[1:]:  # every body but the headline ("all")
             c = contexts.get(key)
             others[key] = claim.evaluate(c) if c is not None and _applies(claim, key) else None
         seed2 = others["seed2"]
@@ -97,12 +93,9 @@ def evaluate_claims(claims, contexts, robustness=None, checks=None):
         row["interval"] = _interval_text(main["parts"], labels)
         row |= {f"holds_{k}": R.NA if o is None else o["holds"] for k, o in others.items()}
         row["eq2_other"] = other_eq2(getattr(contexts[""].ev, "results", None)) or R.NA
-        lit, plug = others["literal"], others[T.OPW_PLUGIN]
-        row["ours_literal"] = lit["ours"] if lit else "not computed"
-        if not claim.opw:
-            row["ours_plugin"] = R.NA
-        else:
-            row["ours_plugin"] = plug["ours"] if plug else "not computed (no plugin reading)"
+        row["ours_literal"] = (others["literal"] or {"ours": "not computed"})["ours"]
+        plug = others[T.OPW_PLUGIN] or {"ours": "not computed (no plugin reading)"}
+        row["ours_plugin"] = plug["ours"] if claim.opw else R.NA
         rob = (robustness or {}).get(claim.id)
         if not claim.pairs or claim.beyond:
             rob = "n/a (not decided on the pairs)"
@@ -114,16 +107,17 @@ def evaluate_claims(claims, contexts, robustness=None, checks=None):
             c = p.decisive()
             ci = (c.low, c.high) if c is not None and c.interval else (None, None)
             pr = dict(claim=claim.id, part=label, text=p.text, verdict=verdicts[k], ci_low=ci[0])
-            pr |= dict(ci_high=ci[1], threshold=c.threshold if c else None, mc_margin=_mc_margin(p))
+            pr |= dict(ci_high=ci[1], threshold=c.threshold if c else None)
             pr |= dict(quantity=c.quantity if c else "", estimate=c.estimate if c else None)
-            pr["formula"] = R.formula(p.test) if p.test is not None else ""
-            pr["checks"] = len(R.checks(p.test)) if p.test is not None else 0
+            cs = [] if p.test is None else R.checks(p.test)
+            pr |= dict(formula="" if p.test is None else R.formula(p.test), checks=len(cs))
+            m = min((x.mc_margin() for x in cs), default=float("inf"))  # in Monte Carlo errors
+            pr["mc_margin"] = round(float(m), 1) if np.isfinite(m) else None
             for key in (*T.OTHER_EVIDENCE, "literal", T.OPW_PLUGIN, "seed2", "eq2_other"):
                 pr[f"verdict_{key}"] = _verdict(others[key], k)
             part_out.append({c: pr[c] for c in T.PART_COLUMNS})
-        bodies = {"all": main, **others} if checks is not None else {}
-        for body in T.BODIES:
-            for k, p in enumerate((bodies.get(body) or {}).get("parts", [])):
+        for body, got in ({"all": main, **others} if checks is not None else {}).items():
+            for k, p in enumerate((got or {}).get("parts", [])):
                 checks += check_rows(body, claim.id, R.part_label(claim.id, k), p)
     return rows, part_out
 
@@ -131,14 +125,6 @@ def evaluate_claims(claims, contexts, robustness=None, checks=None):
 def _verdict(got, k: int) -> str:
     """The verdict of part ``k`` of an evaluated claim (n/a where it has none)."""
     return got["parts"][k].verdict if got and k < len(got["parts"]) else R.NA
-
-
-def _mc_margin(part) -> float | None:
-    """The smallest :meth:`~fpdtw.paper.claims.rules.Check.mc_margin` of the part's checks."""
-    if part.test is None:
-        return None
-    m = min((c.mc_margin() for c in R.checks(part.test)), default=float("inf"))
-    return None if not np.isfinite(m) else round(float(m), 1)
 
 
 def build_claims(mode="full", results=None, claims=None, *, robustness=True, with_parts=False,
@@ -152,8 +138,7 @@ def build_claims(mode="full", results=None, claims=None, *, robustness=True, wit
     Notebook: 12_claims.ipynb
     """
     claims = CLAIMS if claims is None else claims
-    if results is None:
-        results = load_results(mode)
+    results = load_results(mode) if results is None else results
     contexts = claim_contexts(load_context(results, mode), results, mode)
     rob = claim_robustness(claims, mode) if robustness else None
     checks = []
@@ -177,8 +162,7 @@ def claim_rows(ids, mode="full", results=None, *, rows=None, facts=None, with_pa
         if with_parts:
             raise ValueError("with_parts needs results or facts, not a table of rows")
         by = {r["id"]: r for r in rows}
-        missing = [i for i in ids if i not in by]
-        if missing:
+        if missing := [i for i in ids if i not in by]:
             raise KeyError(f"no rows {missing} in the claims table given")
         return [by[i] for i in ids]
     subset = claims_by_id(ids)

@@ -7,6 +7,7 @@ Notebook: 12_claims.ipynb
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import io
 
@@ -31,21 +32,17 @@ def _digest(*parts: bytes) -> str:
     return h.hexdigest()[:32]
 
 
-def _cached(folder, key: str, compute) -> np.ndarray:
-    """``compute()`` once per key, kept in ``folder/<key>.npy`` (None: no disk cache)."""
-    if folder is None:
-        return compute()
-    path = folder / f"{key}.npy"
-    try:
-        return np.load(path, allow_pickle=False)
-    except (FileNotFoundError, ValueError, OSError):
-        pass
-    out = compute()
-    buf = io.BytesIO()
-    np.save(buf, out, allow_pickle=False)
-    folder.mkdir(parents=True, exist_ok=True)
-    write_atomic(path, buf.getvalue())
-    return out
+def _memo(method):
+    """A method whose result is kept per arguments in the evidence's ``_cache``."""
+
+    @functools.wraps(method)
+    def cached(self, *args):
+        key = (method.__name__, *args)
+        if key not in self._cache:
+            self._cache[key] = method(self, *args)
+        return self._cache[key]
+
+    return cached
 
 
 def _check(quantity: str, estimate: float, replicates, threshold: float, **kw) -> Check:
@@ -93,12 +90,11 @@ class Evidence:
         self.alias = dict(alias or {})
         self._values = values
         self.label = label
-        self._design = self._W = self._key = None
-        self._owner = None  # the evidence whose weights these pairs use (None: its own)
-        self._cols = None  # columns of the owner's weights holding these pairs (None: all)
+        self._owner = self  # the evidence whose weights these pairs use
+        #: Columns of :attr:`weights` that hold this evidence's pairs, in order.
+        self.cols = np.arange(self.rows.size)
         self._cache = {}
-        ids = np.array([int(p["id"]) for p in results.pairs], dtype=np.int64)
-        self._pair_ids = ids[self.rows]
+        self._pair_ids = np.array([int(results.pairs[r]["id"]) for r in self.rows], np.int64)
 
     def restrict(self, keep, label: str) -> Evidence:
         """The same evidence on some of its pairs (``keep``: bool mask or indices into
@@ -106,16 +102,14 @@ class Evidence:
         keep = np.asarray(keep)
         idx = np.flatnonzero(keep) if keep.dtype == bool else keep.astype(np.int64)
         out = self.again(rows=self.rows[idx], label=label)
-        out._owner = self._owner or self
-        base = np.arange(self.n_pairs) if self._cols is None else self._cols
-        out._cols = base[idx]
-        out._key = _digest(self.weights_key.encode(), out._cols.tobytes())
+        out._owner, out.cols = self._owner, self.cols[idx]
+        out.weights_key = _digest(self.weights_key.encode(), out.cols.tobytes())
         return out
 
     def reading(self, alias=None, values=None, label=None) -> Evidence:
         """The same pairs and weights under another reading of the names or the metrics."""
         out = self.again(label=label, alias=alias, values=values)
-        out._owner, out._cols, out._key = self._owner or self, self._cols, self.weights_key
+        out._owner, out.cols, out.weights_key = self._owner, self.cols, self.weights_key
         return out
 
     def again(self, **changes) -> Evidence:
@@ -125,37 +119,24 @@ class Evidence:
         kw = {k: getattr(self, k) for k in names} | {"values": self._values}
         return Evidence(self.results, **kw | {k: v for k, v in changes.items() if v is not None})
 
-    @property
+    @functools.cached_property
     def design(self) -> bs.PairDesign:
-        if self._design is None:
-            self._design = bs.PairDesign.from_pairs([self.results.pairs[i] for i in self.rows])
-        return self._design
+        return bs.PairDesign.from_pairs([self.results.pairs[i] for i in self.rows])
 
-    @property
+    @functools.cached_property
     def weights_key(self) -> str:
         """Digest of what decides the bootstrap weights: the key of the replicates' disk cache."""
-        if self._key is None:
-            d = self.design
-            parts = [a.tobytes() for a in (d.dataset, d.movement, d.input, d.target)]
-            spec = f"{_CACHE_VERSION}:{self.scheme}:{self.n_resamples}:{self.seed}"
-            self._key = _digest(spec.encode(), *parts)
-        return self._key
+        d = self.design
+        parts = [a.tobytes() for a in (d.dataset, d.movement, d.input, d.target)]
+        spec = f"{_CACHE_VERSION}:{self.scheme}:{self.n_resamples}:{self.seed}"
+        return _digest(spec.encode(), *parts)
 
-    @property
+    @functools.cached_property
     def weights(self) -> np.ndarray:
         """Bootstrap weights, shape (n_resamples, P_all), computed on first need."""
-        if self._owner is not None:
+        if self._owner is not self:
             return self._owner.weights
-        if self._W is None:
-            self._W = bs.resample_weights(self.design, self.scheme, self.n_resamples, self.seed)
-        return self._W
-
-    @property
-    def cols(self) -> np.ndarray:
-        """Columns of :attr:`weights` that hold this evidence's pairs, in order."""
-        if self._cols is not None:
-            return self._cols
-        return np.arange((self._owner or self).n_pairs)
+        return bs.resample_weights(self.design, self.scheme, self.n_resamples, self.seed)
 
     @property
     def n_pairs(self) -> int:
@@ -170,23 +151,19 @@ class Evidence:
         have = set(self.results.algorithms)
         return all(self.source(n) in have for n in names)
 
+    @_memo
     def values(self, name: str, metric: str) -> np.ndarray:
         """Per-pair values of a metric for ``name``, in the order of :attr:`rows`."""
         if metric not in METRICS:
             raise ValueError(f"metric must be one of {METRICS}, got {metric!r}")
-        key = ("values", name, metric)
-        if key not in self._cache:
-            src = self.source(name)
-            v = self._values(src, metric) if self._values is not None else None
-            if v is None:
-                arr = self.results.get(src)
-                pos = np.empty(int(np.max(arr["pair_id"])) + 1, dtype=np.int64)
-                pos[np.asarray(arr["pair_id"], dtype=np.int64)] = np.arange(arr["pair_id"].size)
-                v = np.asarray(arr[metric], dtype=np.float64)[pos[self._pair_ids]]
-            else:
-                v = np.asarray(v, dtype=np.float64)[self.rows]
-            self._cache[key] = v
-        return self._cache[key]
+        src = self.source(name)
+        v = self._values(src, metric) if self._values is not None else None
+        if v is not None:
+            return np.asarray(v, dtype=np.float64)[self.rows]
+        arr = self.results.get(src)
+        pos = np.empty(int(np.max(arr["pair_id"])) + 1, dtype=np.int64)
+        pos[np.asarray(arr["pair_id"], dtype=np.int64)] = np.arange(arr["pair_id"].size)
+        return np.asarray(arr[metric], dtype=np.float64)[pos[self._pair_ids]]
 
     def median(self, name: str, metric: str) -> float:
         """Median over this evidence's pairs (finite values)."""
@@ -194,34 +171,46 @@ class Evidence:
         v = v[np.isfinite(v)]
         return float(np.median(v)) if v.size else float("nan")
 
+    @_memo
     def replicates(self, name: str, metric: str) -> np.ndarray:
         """The median on every bootstrap resample, shape (n_resamples,), cached on disk."""
-        key = ("reps", name, metric)
-        if key not in self._cache:
-            v = self.values(name, metric)
-            self._cache[key] = _cached(
-                self._cache_dir(),
-                _digest(self.weights_key.encode(), v.tobytes()),
-                lambda: bs.weighted_medians(v, self.weights, self.cols),
-            )
-        return self._cache[key]
-
-    def ratio_replicates(self, numerator, denominator) -> np.ndarray:
-        """``sum(w * numerator) / sum(w * denominator)`` on every resample (cached on disk)."""
-        num = np.asarray(numerator, dtype=np.float64)
-        den = np.asarray(denominator, dtype=np.float64)
-        key = _digest(self.weights_key.encode(), b"ratio", num.tobytes(), den.tobytes())
-        return _cached(
-            self._cache_dir(), key, lambda: bs.weighted_ratios(num, den, self.weights, self.cols)
+        v = self.values(name, metric)
+        return self._on_disk(
+            (v.tobytes(),), lambda: bs.weighted_medians(v, self.weights, self.cols)
         )
 
-    def _cache_dir(self):
+    def ratio_replicates(self, num, den) -> np.ndarray:
+        """``sum(w * num) / sum(w * den)`` (float64 arrays) on every resample, cached on disk."""
+        parts = (b"ratio", num.tobytes(), den.tobytes())
+        return self._on_disk(parts, lambda: bs.weighted_ratios(num, den, self.weights, self.cols))
+
+    def _on_disk(self, parts, compute) -> np.ndarray:
+        """``compute()`` once per weights and ``parts``, kept in the run's ``bootstrap/<key>.npy``
+        (a run without a folder: no disk cache)."""
         folder = getattr(self.results, "folder", None)
-        return None if folder is None else folder / "bootstrap"
+        if folder is None:
+            return compute()
+        path = folder / "bootstrap" / f"{_digest(self.weights_key.encode(), *parts)}.npy"
+        try:
+            return np.load(path, allow_pickle=False)
+        except (FileNotFoundError, ValueError, OSError):
+            pass
+        out = compute()
+        buf = io.BytesIO()
+        np.save(buf, out, allow_pickle=False)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        write_atomic(path, buf.getvalue())
+        return out
 
     def interval(self, name: str, metric: str) -> tuple[float, float]:
         """95 % interval of the median of ``name``."""
         return bs.interval(self.replicates(name, metric))
+
+    def _difference(self, a: str, b: str, metric: str, quantity: str, **kw) -> Check:
+        """The difference of the medians of ``a`` and ``b`` against 0."""
+        est = self.median(a, metric) - self.median(b, metric)
+        reps = self.replicates(a, metric) - self.replicates(b, metric)
+        return _check(quantity, est, reps, 0.0, signed=True, **kw)
 
     def passes(self, name: str, metric: str) -> Check:
         """``name`` passes the benchmark of ``metric`` (paper Section 5): median similarity
@@ -229,9 +218,7 @@ class Evidence:
         rate = 60 if name.endswith("@60Hz") else 120
         if metric == "similarity":
             u = "UTW@60Hz" if rate == 60 else "UTW"
-            est = self.median(name, metric) - self.median(u, metric)
-            reps = self.replicates(name, metric) - self.replicates(u, metric)
-            return _check(f"{name} median similarity minus UTW's", est, reps, 0.0, signed=True)
+            return self._difference(name, u, metric, f"{name} median similarity minus UTW's")
         return _check(f"{name} median deviation, frames", self.median(name, metric),
                       self.replicates(name, metric), N.deviation_benchmark_frames(rate),
                       above=False, digits=1)  # fmt: skip
@@ -247,11 +234,9 @@ class Evidence:
     def better(self, a: str, b: str, metric: str) -> Check:
         """``a`` is better than ``b``: the difference of their medians above 0 (similarity) or
         below 0 (deviation)."""
-        est = self.median(a, metric) - self.median(b, metric)
-        reps = self.replicates(a, metric) - self.replicates(b, metric)
         sim = metric == "similarity"
-        return _check(f"median {metric} of {a} minus {b}", est, reps, 0.0, above=sim,
-                      signed=True, digits=3 if sim else 1)  # fmt: skip
+        return self._difference(a, b, metric, f"median {metric} of {a} minus {b}", above=sim,
+                                digits=3 if sim else 1)  # fmt: skip
 
     def improves(self, a: str, b: str):
         """``a`` improves on ``b``: median similarity higher AND median deviation lower."""
@@ -288,38 +273,33 @@ class Evidence:
         src = self.source(name)
         arr = self.results.get(src)
         m_all, _ = self.results.frames(src)
-        m_of = {int(p["id"]): int(m_all[i]) for i, p in enumerate(self.results.pairs)}
         pos = {int(pid): k for k, pid in enumerate(arr["pair_id"])}
-        for pid in self._pair_ids:
-            yield arr.map(pos[int(pid)]), m_of[int(pid)]
+        for pid, r in zip(self._pair_ids, self.rows):
+            yield arr.map(pos[int(pid)]), int(m_all[r])
 
+    @_memo
     def exhausted_counts(self, name: str) -> tuple[np.ndarray, np.ndarray]:
         """Per pair: target frames ``q >= 1`` with the input exhausted (``M_{q-1} >= m``), and
         all frames ``q >= 1``."""
-        key = ("exhausted", name)
-        if key not in self._cache:
-            counts = [(np.count_nonzero(M[:-1] >= m), M.size - 1) for M, m in self._maps(name)]
-            self._cache[key] = tuple(np.array(counts, dtype=np.float64).T.copy())
-        return self._cache[key]
+        counts = [(np.count_nonzero(M[:-1] >= m), M.size - 1) for M, m in self._maps(name)]
+        return tuple(np.array(counts, dtype=np.float64).T.copy())
 
+    @_memo
     def band_cells(self, name: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Per pair, from the maps of a band variant of Method B or C: its window steps, their
         cells without and with the band, and the summed share removed; float64 (P,) each.
 
         Paper: FP-DTW Section 7 (conclusion: a global constraint).
         """
-        key = ("band_cells", name)
-        if key not in self._cache:
-            a = resolve(self.source(name).partition("@")[0])
-            band = a.options.get("band", "none")
-            if a.family not in ("B", "C") or band == "none" or "window" in a.options:
-                raise ValueError(f"{name!r}: not a band variant of Method B or C (square window)")
-            out = []
-            for M, m in self._maps(name):
-                _, full, banded = band_cells(M, m, a.w, a.family, band)
-                out.append((full.size, full.sum(), banded.sum(), np.sum(1.0 - banded / full)))
-            self._cache[key] = tuple(np.array(out, dtype=np.float64).T.copy())
-        return self._cache[key]
+        a = resolve(self.source(name).partition("@")[0])
+        band = a.options.get("band", "none")
+        if a.family not in ("B", "C") or band == "none" or "window" in a.options:
+            raise ValueError(f"{name!r}: not a band variant of Method B or C (square window)")
+        out = []
+        for M, m in self._maps(name):
+            _, full, banded = band_cells(M, m, a.w, a.family, band)
+            out.append((full.size, full.sum(), banded.sum(), np.sum(1.0 - banded / full)))
+        return tuple(np.array(out, dtype=np.float64).T.copy())
 
     def backward_jumps(self, name: str) -> np.ndarray:
         """Per pair: 1 when the map moves backwards at least once (``M_{q+1} < M_q``)."""
@@ -333,13 +313,11 @@ _SHARED: dict = {}
 
 def shared_evidence(results, dataset=None) -> Evidence:
     """The evidence of a run's pairs (or of one dataset's), made once per run."""
-    key = id(results)
-    hit = _SHARED.get(key)
+    hit = _SHARED.get(id(results))
     if hit is None or hit[0] is not results:
         if len(_SHARED) > 8:  # a long session: forget older runs
             _SHARED.clear()
-        hit = (results, Evidence(results), {})
-        _SHARED[key] = hit
+        hit = _SHARED[id(results)] = (results, Evidence(results), {})
     _, ev, subsets = hit
     if dataset is None:
         return ev

@@ -1,7 +1,8 @@
 """Claims beyond the papers: the questions they leave open (Q1-Q6), decided on the open run.
 
 Each is decided by the same rules on the runner's mode ``"open"`` (a seeded subsample of the
-paper-shaped selection). Each question's parts were committed with its rule before its first
+paper-shaped selection); ``assess_qN(ctx)`` gives our value and the parts of QN, or why not
+computed. Each question's parts were committed with its rule before its first
 committed results (Q1, Q6: cbb3316; Q3: 8914ef2; Q4: 64f220a; Q2: 0b05346; Q5: d1a2385; all
 2026-11-23, after the papers' claims tables; docs/history.md).
 
@@ -82,23 +83,21 @@ def _variant_parts(ev, n, b, improves: str) -> list:
 
 
 def assess_q1(ctx):
-    """Our value and the parts of Q1, or why not computed."""
     ev = ctx.open_ev
     names = [
         n + _SFX[r] for r in (120, 60) for n in ("Mc auto", "UTW", *(f"Mc w{w}" for w in WINDOWS))
     ]
     if why := missing(ev, names, _NO_RUN):
         return why
-    parts, words = [], []
-    for rate in (120, 60):
-        parts.append(Part(f"at {rate} Hz Mc auto passes both benchmarks",
-                          ev.passes_both("Mc auto" + _SFX[rate])))  # fmt: skip
+    words = []
+    parts = [Part(f"at {rate} Hz Mc auto passes both benchmarks",
+                  ev.passes_both("Mc auto" + _SFX[rate])) for rate in (120, 60)]  # fmt: skip
     for rate in (120, 60):
         auto, best = "Mc auto" + _SFX[rate], f"Mc w{BEST_FIXED[rate]}{_SFX[rate]}"
         rows = per_movement_windows(ev, rate)
         mv = movements_of(ev)  # each movement weighs 1 in the share, split over its pairs
-        size = {r["movement"]: np.count_nonzero(mv == r["movement"]) for r in rows}
-        beats = {r["movement"]: float(r["beats"]) / size[r["movement"]] for r in rows}
+        size = {r["movement"]: r["pairs"] for r in rows}
+        beats = {r["movement"]: float(r["beats"]) / r["pairs"] for r in rows}
         parts.append(Part(
             f"at {rate} Hz Mc auto beats the best fixed w chosen per movement in more than half "
             "the movements",
@@ -120,7 +119,6 @@ def assess_q1(ctx):
 
 
 def assess_q6(ctx):
-    """Our value and the part of Q6, or why not computed."""
     ev = ctx.open_ev
     if why := missing(ev, [n + s for n in G.PAUSE_METHODS for s in ("", G.PAUSE_SUFFIX)], _NO_RUN):
         return why
@@ -152,14 +150,6 @@ def _variant_assessment(ev, variants: dict, change: str, heading: str):
     return Assessment(f"{heading}: " + "; ".join(words), parts)
 
 
-def assess_q2(ctx):
-    """Our value and the parts of Q2, or why not computed."""
-    variants = {n: n + G.WEIGHT_SUFFIX for n in G.WEIGHT_BASES}
-    return _variant_assessment(
-        ctx.open_ev, variants, "weighting", "without -> with weighted joints"
-    )
-
-
 def band_removed_share(ev, name: str) -> float:
     """The mean share of the window's cells a band variant does not compute per window step
     (0: the band never clips a window; NaN without a step).
@@ -172,7 +162,6 @@ def band_removed_share(ev, name: str) -> float:
 
 
 def assess_q3(ctx):
-    """Our value and the parts of Q3, or why not computed."""
     ev = ctx.open_ev
     variants = {n: f"{n} ({G.BAND_HALF_W})" for n in G.BAND_BASES}
     first = {n: f"{n} ({G.BAND_1S})" for n in G.BAND_BASES}
@@ -209,7 +198,6 @@ def assess_q3(ctx):
 
 
 def assess_q4(ctx):
-    """Our value and the parts of Q4, or why not computed."""
     ev, a = ctx.open_ev, "OPW adaptive"
     if why := missing(ev, ["UTW", "OPW", a], _NO_RUN):
         return why
@@ -220,7 +208,13 @@ def assess_q4(ctx):
     return Assessment(ours, _variant_parts(ev, "OPW", a, f"{a} improves on OPW at gamma 5 %"))
 
 
+def assess_q2(ctx):
+    variants = {n: n + G.WEIGHT_SUFFIX for n in G.WEIGHT_BASES}
+    return _variant_assessment(
+        ctx.open_ev, variants, "weighting", "without -> with weighted joints"
+    )
+
+
 def assess_q5(ctx):
-    """Our value and the parts of Q5, or why not computed."""
     variants = {n: f"{n} (derivative)" for n in G.DERIVATIVE_BASES}
     return _variant_assessment(ctx.open_ev, variants, "the derivative cost", "poses -> derivatives")

@@ -13,7 +13,7 @@ from fpdtw.paper import numbers as N
 from fpdtw.paper import opw_eval
 from fpdtw.paper.claims.evidence import missing
 from fpdtw.paper.claims.open import assess_q1, assess_q2, assess_q3, assess_q4, assess_q5, assess_q6
-from fpdtw.paper.claims.rules import AllOf, Not, Part, point
+from fpdtw.paper.claims.rules import AllOf, Not, Part, checks, point
 from fpdtw.paper.claims.types import FIG8_JSON, OPW_FIG4_JSON, OPW_FIG56_JSON, Assessment, Claim
 from fpdtw.paper.figures.timing import growth_ratio
 from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES, TYPE_V, WINDOWS
@@ -34,22 +34,18 @@ def _names(xs) -> str:
     return ", ".join(xs) if xs else "none"
 
 
-def _point_pass(ev, name, metric) -> bool:
-    """Passes by the medians alone (what the paper's figures show), without intervals."""
-    c = ev.passes(name, metric)
-    return c.estimate > c.threshold if c.above else c.estimate < c.threshold
-
-
-def _both_by_median(ev, name) -> bool:
-    return _point_pass(ev, name, "similarity") and _point_pass(ev, name, "deviation")
+def _by_median(test) -> bool:
+    """Every check of ``test`` passes by its estimate alone (the medians the paper's figures
+    show), without intervals."""
+    return all(
+        c.estimate > c.threshold if c.above else c.estimate < c.threshold for c in checks(test)
+    )
 
 
 @_on_pairs("UTW", *FPDTW_NAMES)
 def _claim1(ev):
     names = list(FPDTW_NAMES)
-    by_median = [
-        n for n in names if _point_pass(ev, n, "similarity") or _point_pass(ev, n, "deviation")
-    ]
+    by_median = [n for n in names if any(_by_median(c) for c in checks(ev.passes_either(n)))]
     named = list(N.PASS_EITHER_UNCONSTRAINED)
     parts = [Part(f"{n} passes a benchmark", ev.passes_either(n)) for n in named]
     others = [n for n in names if n not in named]
@@ -61,7 +57,7 @@ def _claim1(ev):
 @_on_pairs("UTW", *N.PASS_BOTH)
 def _claim2(ev):
     names = list(N.PASS_BOTH)
-    by_median = [n for n in names if _both_by_median(ev, n)]
+    by_median = [n for n in names if _by_median(ev.passes_both(n))]
     parts = [Part(f"{n} passes both benchmarks", ev.passes_both(n)) for n in names]
     return Assessment(f"pass both (by medians): {_names(by_median)}", parts)
 
@@ -69,7 +65,7 @@ def _claim2(ev):
 @_on_pairs("UTW", *FPDTW_NAMES, *FPDTW_TYPEV_NAMES)
 def _claim2b(ev):
     others = [n for n in FPDTW_NAMES + FPDTW_TYPEV_NAMES if n not in N.PASS_BOTH]
-    by_median = [n for n in others if _both_by_median(ev, n)]
+    by_median = [n for n in others if _by_median(ev.passes_both(n))]
     part = Part(
         "no FP-DTW algorithm other than the three named passes both benchmarks",
         AllOf(*[Not(ev.passes_both(n)) for n in others]),
@@ -109,10 +105,9 @@ def _claim4(ctx):
     for m in ("B", "C"):
         if not all((m, w) in by for w in WINDOWS):
             return f"Method {m} not timed at every w"
-        t = [by[(m, w)]["median_us"] for w in WINDOWS]
-        steps = [point(f"median us of M{m.lower()} w{b} minus w{a}", t[i + 1] - t[i], 0.0,
-                       signed=True, digits=1)
-                 for i, (a, b) in enumerate(zip(WINDOWS, WINDOWS[1:]))]  # fmt: skip
+        t = {w: by[(m, w)]["median_us"] for w in WINDOWS}
+        steps = [point(f"median us of M{m.lower()} w{b} minus w{a}", t[b] - t[a], 0.0,
+                       signed=True, digits=1) for a, b in zip(WINDOWS, WINDOWS[1:])]  # fmt: skip
         ratio = growth_ratio(ctx.timing_rows(), m, key="median_us")
         parts += [
             Part(f"Method {m}'s median time per frame grows at every window step", AllOf(*steps)),
@@ -209,12 +204,7 @@ def _claim6(ev):
         Part(f"Type V does not improve {', '.join(c_no)}",
              AllOf(*[Not(ev.improves(n + TYPE_V, n)) for n in c_no])),
     ]  # fmt: skip
-    both = [
-        n
-        for n in FPDTW_NAMES
-        if ev.median(n + TYPE_V, "similarity") > ev.median(n, "similarity")
-        and ev.median(n + TYPE_V, "deviation") < ev.median(n, "deviation")
-    ]
+    both = [n for n in FPDTW_NAMES if _by_median(ev.improves(n + TYPE_V, n))]
     return Assessment(f"improved (by medians): {_names(both)}", parts)
 
 
@@ -521,38 +511,34 @@ CLAIMS = [
     Claim("B1", "Beyond the papers: the OPW poster's method and Dixon's OLTW (the FP-DTW paper's "
           "ref. 3) run on the FP-DTW pairs, against the same two benchmarks",
           "not in the papers", _claim_b1, "Figs. 5, 6, 7; " + _SCORES[12:], beyond=True),
-    Claim("Q1", "Beyond the papers (FP-DTW conclusion: the forecast window below half the period "
-          "of the movement cycle): Method C with w from the input's dominant period (Mc auto) "
-          "passes both benchmarks at 120 and 60 Hz and beats a fixed window",
-          "an open question (not tested in the papers)", assess_q1,
-          "notebook 16; open_q1_windows, open_q1_movements", question=True),
-    Claim("Q2", "Beyond the papers (FP-DTW conclusion: pre-process the recorded motion to weight "
-          "joints): weighting eq. 1's joints by how much each moves in the recorded motion lets "
-          "Mb w40, Mc w40 and OLTW pass both benchmarks and improves each",
-          "an open question (not tested in the papers)", assess_q2,
-          "notebook 16; open_q2_weights", question=True),
-    Claim("Q3", "Beyond the papers (FP-DTW conclusion: a global constraint, fewer cells to "
-          "calculate): a band of half the window (w/2 frames) around the uniform-time diagonal, "
-          "its window rows outside the band not computed, lets Mb w40, Mc w40 and Mc w80 pass "
-          "both benchmarks, improves each, removes cells from their windows and lowers their "
-          "per-frame time (make bench); first reading: a 1 s band",
-          "an open question (not tested in the papers)", assess_q3,
-          "notebook 16; open_q3_band, open_q3_cost", question=True, stable=False),
-    Claim("Q4", "Beyond the papers (OPW conclusion: adjust gamma by a feedback loop): OPW with "
-          "gamma adapted from its own recent decisions passes both benchmarks on the FP-DTW "
-          "pairs and improves on OPW at gamma 5 %",
-          "an open question (not tested in the papers)", assess_q4,
-          "notebook 16; open_q4_gamma", question=True),
-    Claim("Q5", "Beyond the papers (OPW conclusion: Keogh and Pazzani's derivative DTW): "
-          "derivative costs (frame-to-frame rotations and position differences) let Method C "
-          "(Mc w40) and OPW pass both benchmarks and improve each",
-          "an open question (not tested in the papers)", assess_q5,
-          "notebook 16; open_q5_derivative", question=True),
-    Claim("Q6", "Beyond the poster's tests (OPW conclusion: OPW 'may not work consistently if "
-          "there are periods of standing still'): a pause of 0.5-2 s inserted in the target "
-          "raises OPW's median deviation (the other online methods: findings, not parts)",
-          "an open question (not tested in the papers)", assess_q6,
-          "notebook 16; open_q6_pause", question=True),
+    *(Claim(f"Q{k}", text, "an open question (not tested in the papers)", assess,
+            f"notebook 16; {tables}", question=True, stable=k != 3)
+      for k, text, assess, tables in (
+        (1, "Beyond the papers (FP-DTW conclusion: the forecast window below half the period of "
+         "the movement cycle): Method C with w from the input's dominant period (Mc auto) passes "
+         "both benchmarks at 120 and 60 Hz and beats a fixed window",
+         assess_q1, "open_q1_windows, open_q1_movements"),
+        (2, "Beyond the papers (FP-DTW conclusion: pre-process the recorded motion to weight "
+         "joints): weighting eq. 1's joints by how much each moves in the recorded motion lets "
+         "Mb w40, Mc w40 and OLTW pass both benchmarks and improves each",
+         assess_q2, "open_q2_weights"),
+        (3, "Beyond the papers (FP-DTW conclusion: a global constraint, fewer cells to calculate): "
+         "a band of half the window (w/2 frames) around the uniform-time diagonal, its window "
+         "rows outside the band not computed, lets Mb w40, Mc w40 and Mc w80 pass both "
+         "benchmarks, improves each, removes cells from their windows and lowers their "
+         "per-frame time (make bench); first reading: a 1 s band",
+         assess_q3, "open_q3_band, open_q3_cost"),
+        (4, "Beyond the papers (OPW conclusion: adjust gamma by a feedback loop): OPW with gamma "
+         "adapted from its own recent decisions passes both benchmarks on the FP-DTW pairs and "
+         "improves on OPW at gamma 5 %", assess_q4, "open_q4_gamma"),
+        (5, "Beyond the papers (OPW conclusion: Keogh and Pazzani's derivative DTW): derivative "
+         "costs (frame-to-frame rotations and position differences) let Method C (Mc w40) and "
+         "OPW pass both benchmarks and improve each", assess_q5, "open_q5_derivative"),
+        (6, "Beyond the poster's tests (OPW conclusion: OPW 'may not work consistently if there "
+         "are periods of standing still'): a pause of 0.5-2 s inserted in the target raises "
+         "OPW's median deviation (the other online methods: findings, not parts)",
+         assess_q6, "open_q6_pause"),
+    )),
 ]  # fmt: skip
 
 
@@ -589,7 +575,6 @@ SHORT = {
 def claims_by_id(ids) -> list:
     """The :class:`Claim` objects of ``ids``, in that order (KeyError names an unknown id)."""
     by = {c.id: c for c in CLAIMS}
-    missing = [i for i in ids if str(i) not in by]
-    if missing:
+    if missing := [i for i in ids if str(i) not in by]:
         raise KeyError(f"no claims {missing} in the table (ids: {', '.join(by)})")
     return [by[str(i)] for i in ids]

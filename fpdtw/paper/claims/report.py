@@ -45,7 +45,7 @@ def power_rows(checks, movements: int) -> list[dict]:
     for c in checks:
         if c["body"] != "all" or c["claim"] not in POWER_CLAIMS or c["verdict"] != R.INCONCLUSIVE:
             continue
-        if c["low"] == "" or c["check"] == 0:
+        if c["low"] == "":  # a point check (a part not comparable is never inconclusive)
             continue
         est, lo, hi, t = (float(c[k]) for k in ("estimate", "low", "high", "threshold"))
         above = c["relation"].startswith(">")
@@ -116,12 +116,8 @@ def format_parts(parts) -> str:
     out = []
     for p in parts:
         est, lo, hi = p["estimate"], p["ci_low"], p["ci_high"]
-        if est is None:
-            num = ""
-        elif lo is None:
-            num = f" | {est:.4g} vs {p['threshold']:g}"
-        else:
-            num = f" | {est:.4g} [{lo:.4g}, {hi:.4g}] vs {p['threshold']:g}"
+        ci = "" if lo is None else f" [{lo:.4g}, {hi:.4g}]"
+        num = "" if est is None else f" | {est:.4g}{ci} vs {p['threshold']:g}"
         other = [f"{k.replace('_', ' ')}: {p[f'verdict_{k}']}"
                  for k in (*T.OTHER_EVIDENCE, "literal", T.OPW_PLUGIN)
                  if p[f"verdict_{k}"] not in (R.NA, p["verdict"])]  # fmt: skip
@@ -150,11 +146,8 @@ def claims_summary(rows) -> str:
         got = [r[col] for r in rows if r.get(col, R.NA) != R.NA]
         if not got:
             continue
-        counts = {v: got.count(v) for v in R.CLAIM_VERDICTS[:-1]}
-        lines.append(
-            f"{label}: " + ", ".join(f"{k} {v}" for k, v in counts.items())
-            + f" (of {len(got)} claims decided)"
-        )  # fmt: skip
+        counts = ", ".join(f"{v} {got.count(v)}" for v in R.CLAIM_VERDICTS[:-1])
+        lines.append(f"{label}: {counts} (of {len(got)} claims decided)")
     return "\n".join(lines)
 
 
@@ -188,18 +181,6 @@ def short_rows(rows, parts=None) -> list[dict]:
     return out
 
 
-def bootstrap_note() -> str:
-    """Which question each resampling answers, and the seeds (under every claims table)."""
-    return (
-        f"Intervals: {bs.N_RESAMPLES} resamples of a two-stage cluster bootstrap (seed "
-        f"{bs.SEED}; second seed {bs.SEED + T.SEED2_OFFSET}). The verdict resamples movements "
-        "within each dataset, then motions within each movement: it answers 'would this hold "
-        "for other movements like these, recorded again?'. 'Movements fixed' resamples the "
-        "motions only: 'would it hold for other takes of these movements?'. Monte Carlo "
-        f"errors of the interval ends: batch means over {bs.MC_BATCHES} batches."
-    )
-
-
 def save_claims(rows, mode="full", parts=None, meta=None, checks=None, power=None):
     """Write ``claims.csv|md`` and, when given, ``claims_intervals`` (``parts``),
     ``claims_checks`` and ``claims_power``, then ``results/<mode>/claims.json``; returns the
@@ -207,7 +188,15 @@ def save_claims(rows, mode="full", parts=None, meta=None, checks=None, power=Non
 
     Notebook: 12_claims.ipynb
     """
-    boot = bootstrap_note()
+    # which question each resampling answers, and the seeds (under every claims table)
+    boot = (
+        f"Intervals: {bs.N_RESAMPLES} resamples of a two-stage cluster bootstrap (seed "
+        f"{bs.SEED}; second seed {bs.SEED + T.SEED2_OFFSET}). The verdict resamples movements "
+        "within each dataset, then motions within each movement: it answers 'would this hold "
+        "for other movements like these, recorded again?'. 'Movements fixed' resamples the "
+        "motions only: 'would it hold for other takes of these movements?'. Monte Carlo "
+        f"errors of the interval ends: batch means over {bs.MC_BATCHES} batches."
+    )
     note = (
         f"{R.RULE}\n\n{boot}\n\nComputed with {versions_line()}. The commit and the "
         "machine that made these figures: ENVIRONMENT.md. Every column: claims.csv; every "

@@ -7,7 +7,7 @@ Paper: FP-DTW Algorithms 1-3, Sections 4-6 (the choices they leave open).
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from fpdtw.paper.claims.evidence import Evidence
 from fpdtw.paper.claims.rules import NA
@@ -51,25 +51,13 @@ def alternatives() -> list[Alternative]:
 
 def _metric_values(results, key, features):
     """``values(name, metric)`` of :class:`Evidence` for a metric-side choice (cached)."""
-    cache = {}
-
-    def values(name, metric):
-        if name not in cache:
-            rate = 60 if name.endswith("@60Hz") else 120
-            cache[name] = choice_values(results, name, key, features(rate))
-        return cache[name].get(metric)
-
-    return values
-
-
-def _study_features(study):
-    """``rate -> features(k)``, each pair read once."""
 
     @functools.cache
-    def at(rate):
-        return functools.cache(pair_features(study, fps=float(rate)))
+    def by_name(name):
+        rate = 60 if name.endswith("@60Hz") else 120
+        return choice_values(results, name, key, features(rate))
 
-    return at
+    return lambda name, metric: by_name(name).get(metric)
 
 
 def robustness(claims, mode: str = "full") -> dict:
@@ -84,14 +72,11 @@ def robustness(claims, mode: str = "full") -> dict:
     todo = [c for c in claims if c.pairs and not c.beyond and not c.question]
     ours = {c.id: c.evaluate(ctx0)["holds"] for c in todo}
     verdicts = {c.id: [] for c in todo}
-    features = None
+    # rate -> features(k), each pair read once (on first need)
+    features = functools.cache(lambda rate: functools.cache(pair_features(study, fps=float(rate))))
     for alt in alternatives():
-        values = None
-        if alt.metric is not None:
-            if features is None:
-                features = _study_features(study)
-            values = _metric_values(study, alt.metric, features)
-        ctx = ctx0.with_evidence(base.reading(alias=alt.alias, values=values, label=alt.key))
+        values = _metric_values(study, alt.metric, features) if alt.metric else None
+        ctx = replace(ctx0, ev=base.reading(alias=alt.alias, values=values, label=alt.key))
         for c in todo:
             verdicts[c.id].append((alt, c.evaluate(ctx)["holds"]))
     out = {}

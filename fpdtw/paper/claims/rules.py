@@ -88,13 +88,9 @@ class Check:
 
     def mc_margin(self) -> float:
         """Monte Carlo standard errors from the nearer interval end to the threshold (or inf)."""
-        if not self.interval:
-            return float("inf")
-        out = float("inf")
-        for end, se in ((self.low, self.low_se), (self.high, self.high_se)):
-            if math.isfinite(end) and math.isfinite(se) and se > 0:
-                out = min(out, abs(end - self.threshold) / se)
-        return out
+        ends = ((self.low, self.low_se), (self.high, self.high_se)) if self.interval else ()
+        ok = [(e, se) for e, se in ends if math.isfinite(e) and math.isfinite(se) and se > 0]
+        return min([float("inf"), *(abs(e - self.threshold) / se for e, se in ok)])
 
     def describe(self) -> str:
         """``"median deviation of Mc w20, frames 13.5 [12.1, 14.9] < 18"`` (or ``straddles``)."""
@@ -174,12 +170,7 @@ def evidence(node) -> list[Check]:
         chosen = [x for x in items if evaluate(x) == v]
     else:
         chosen = list(items)
-    out = []
-    for x in chosen:
-        for c in evidence(x):
-            if c not in out:
-                out.append(c)
-    return out
+    return list(dict.fromkeys(c for x in chosen for c in evidence(x)))
 
 
 def checks(node) -> list[Check]:
@@ -210,15 +201,12 @@ def formula(node) -> str:
 def parse_formula(text: str, checks_by_number: dict):
     """The objects of a :func:`formula` text, given ``{check number: Check}`` (ValueError:
     not a formula, or a check number not given)."""
-    tokens = re.findall(r"all\(|any\(|not\(|c\d+|,|\)|\S", text)
-    pos = 0
+    tokens = iter(re.findall(r"all\(|any\(|not\(|c\d+|,|\)|\S", text))
 
     def take():
-        nonlocal pos
-        if pos >= len(tokens):
+        if (tok := next(tokens, None)) is None:
             raise ValueError(f"formula {text!r} ends early")
-        pos += 1
-        return tokens[pos - 1]
+        return tok
 
     def node():
         tok = take()
@@ -242,7 +230,7 @@ def parse_formula(text: str, checks_by_number: dict):
         raise ValueError(f"formula {text!r}: unexpected {tok!r}")
 
     out = node()
-    if pos != len(tokens):
+    if next(tokens, None) is not None:
         raise ValueError(f"formula {text!r}: text after the end")
     return out
 
@@ -264,19 +252,14 @@ class Part:
 
     def decisive(self) -> Check | None:
         """The first check of the evidence (the part's row in the intervals table)."""
-        ev = self.evidence()
-        return ev[0] if ev else None
+        return next(iter(self.evidence()), None)
 
     def explain(self) -> str:
-        """``"<text>: <verdict> (<evidence>)"``, at most three checks named."""
-        v = self.verdict
-        if self.test is None:
-            return f"{self.text}: {v} ({self.note})" if self.note else f"{self.text}: {v}"
+        """``"<text>: <verdict> (<evidence>; <note>)"``, at most three checks named."""
         ev = self.evidence()
-        shown = "; ".join(c.describe() for c in ev[:3])
-        more = f"; +{len(ev) - 3} more" if len(ev) > 3 else ""
-        note = f"; {self.note}" if self.note else ""
-        return f"{self.text}: {v} ({shown}{more}{note})"
+        said = [c.describe() for c in ev[:3]] + ([f"+{len(ev) - 3} more"] if len(ev) > 3 else [])
+        said += [self.note] if self.note else []
+        return f"{self.text}: {self.verdict}" + (f" ({'; '.join(said)})" if said else "")
 
 
 def claim_verdict(verdicts) -> str:
@@ -302,12 +285,9 @@ def claim_reason(parts, contradiction: str = "") -> str:
             return head + _sentence(parts[0].explain())
         weakest = "; ".join(p.decisive().describe() for p in parts if p.decisive() is not None)
         return head + f"All {len(parts)} parts hold ({weakest})"
-    held = [p.text for p in parts if p.verdict == HOLDS]
-    failing = [p.explain() for p in parts if p.verdict != HOLDS]
-    out = head + _sentence("; ".join(failing))
-    if held:
-        out += ". Holds: " + "; ".join(held)
-    return out
+    held = "; ".join(p.text for p in parts if p.verdict == HOLDS)
+    failing = "; ".join(p.explain() for p in parts if p.verdict != HOLDS)
+    return head + _sentence(failing) + (f". Holds: {held}" if held else "")
 
 
 def _sentence(text: str) -> str:

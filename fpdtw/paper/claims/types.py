@@ -44,8 +44,6 @@ BODIES = ("all", "seed2", "same_movements", "authors_fbx", "hdm05", "paper_shape
 EQ2_OTHER = ("eq2_other", "eq2_other_authors_fbx", "eq2_other_hdm05", "eq2_other_paper_shaped")
 #: The second bootstrap seed's offset from ``bootstrap.SEED``.
 SEED2_OFFSET = 1
-#: Method C's readings the claims table is evaluated under: column suffix -> reading.
-READINGS = {"": "square", "_literal": "literal"}
 #: The other bodies of evidence, as column suffixes of ``holds``.
 OTHER_EVIDENCE = ("same_movements", "authors_fbx", "hdm05", "paper_shaped")
 #: OPW's other reading (the OPW notebooks' facts: ``readings`` -> this name).
@@ -82,23 +80,14 @@ class ClaimContext:
     plain: list | None = None
     bench: dict | None = None
 
-    def with_evidence(self, ev) -> ClaimContext:
-        return replace(self, ev=ev)
-
     def timing_rows(self) -> list | None:
-        """The timing rows under this context's reading (None without timings)."""
+        """The timing rows under this context's reading (None without timings); the rows of
+        another reading (``"Mc w40 (literal window)"``) stand in for their names."""
         if not self.timing:
             return None
         by = {r["algorithm"]: r for r in self.timing}
-        out = []
-        for r in self.timing:
-            name = r["algorithm"]
-            if "(" in name:  # another reading's row
-                continue
-            src = by.get(self.alias.get(name, name))
-            if src is not None:
-                out.append({**src, "algorithm": name})
-        return out
+        names = [r["algorithm"] for r in self.timing if "(" not in r["algorithm"]]
+        return [{**by[src], "algorithm": n} for n in names if (src := self.alias.get(n, n)) in by]
 
     def fig8_devs(self) -> dict | None:
         """Algorithm -> Fig. 8 deviation (frames) under this context's reading."""
@@ -106,8 +95,6 @@ class ClaimContext:
         if not (isinstance(d, dict) and d and all(isinstance(x, int | float) for x in d.values())):
             return None
         devs = {k: float(x) for k, x in d.items()}
-        if not self.alias:
-            return devs
         out = {n: v for n, v in devs.items() if n not in self.alias}
         out.update({n: devs[s] for n, s in self.alias.items() if s in devs})
         return out or None
@@ -119,22 +106,19 @@ class ClaimContext:
         Paper: FP-DTW Sections 5-7; OPW poster Section 5.
         """
         allowed = {"fig8", "opw_fig4", "opw_fig56", "counts", "timing", "plain"}
-        unknown = set(facts) - allowed
-        if unknown:
+        if unknown := set(facts) - allowed:
             raise TypeError(f"unknown facts {sorted(unknown)}; allowed: {sorted(allowed)}")
         return cls(mode=mode, **facts)
 
 
-def opw_reading(ctx, reading: str = OPW_PLUGIN):
-    """The context with the OPW notebooks' facts of another reading of OPW, or None.
+def opw_reading(ctx):
+    """The context with the OPW notebooks' facts of the authors' plugin reading, or None.
 
     Paper: OPW poster Section 5; the authors' MotionBuilder plugin.
     """
-
-    def sub(d):
-        return ((d or {}).get("readings") or {}).get(reading)
-
-    fig4, fig56 = sub(ctx.opw_fig4), sub(ctx.opw_fig56)
+    fig4, fig56 = (
+        ((d or {}).get("readings") or {}).get(OPW_PLUGIN) for d in (ctx.opw_fig4, ctx.opw_fig56)
+    )
     if fig4 is None and fig56 is None:
         return None
     return replace(ctx, opw_fig4=fig4, opw_fig56=fig56)

@@ -32,16 +32,12 @@ def _read(path: Path) -> list[dict]:
         return list(csv.DictReader(f))
 
 
-def _float(text: str) -> float:
-    return float("nan") if text in ("", "nan") else float(text)
-
-
 def check_from_row(row: dict) -> R.Check:
     """The :class:`~fpdtw.paper.claims.rules.Check` of one row of ``claims_checks.csv``."""
     rel = row["relation"]
     if rel not in (">", ">=", "<", "<="):
         raise ValueError(f"check {row['part']}#{row['check']}: relation {rel!r}")
-    est, lo, hi, t = (_float(row[k]) for k in ("estimate", "low", "high", "threshold"))
+    est, lo, hi, t = (float(row[k] or "nan") for k in ("estimate", "low", "high", "threshold"))
     kw = dict(above=rel.startswith(">"), interval=row["interval"] == "True", strict=len(rel) == 1)
     return R.Check(row["quantity"], est, lo, hi, t, **kw)
 
@@ -74,25 +70,25 @@ def verify(folder) -> list[str]:
     claims = _read(folder / "claims.csv")
     parts = _read(folder / "claims_intervals.csv")
     got, problems = part_verdicts(_read(folder / "claims_checks.csv"))
-    labels: dict = {}
+    by_claim: dict = {}
     for p in parts:
-        labels.setdefault(p["claim"], []).append(p["part"])
+        by_claim.setdefault(p["claim"], []).append(p)
     for body in BODIES:
         for claim in claims:
             cid = claim["id"]
             verdicts = []
-            for label in labels.get(cid, []):
+            for p in by_claim.get(cid, []):
+                label = p["part"]
                 v = got.get((body, cid, label))
                 if body == "all" and v is not None:
                     v = seed_verdict(v, got.get(("seed2", cid, label)))
                 if v is None:
                     continue
                 verdicts.append(v)
-                col = PART_COLUMN.get(body)
-                stored = next(p for p in parts if p["part"] == label).get(col) if col else None
+                stored = p.get(PART_COLUMN[body]) if body in PART_COLUMN else None
                 if stored is not None and stored != v:
                     problems.append(f"{body} {label}: stored {stored!r}, recomputed {v!r}")
-            want = R.claim_verdict(verdicts) if verdicts else R.NA
+            want = R.claim_verdict(verdicts)
             have = claim.get(CLAIM_COLUMN[body], R.NA)
             if claim["holds"] == R.NA and body == "all" and not verdicts:
                 continue
@@ -108,19 +104,15 @@ def main(argv=None) -> int:
     v.add_argument("folder", nargs="?", default="figures")
     a = ap.parse_args(argv)
     folder = Path(a.folder)
-    missing = [n for n in ("claims.csv", "claims_intervals.csv", "claims_checks.csv")
-               if not (folder / n).is_file()]  # fmt: skip
-    if missing:
+    files = ("claims.csv", "claims_intervals.csv", "claims_checks.csv")
+    if missing := [n for n in files if not (folder / n).is_file()]:
         print(f"{folder}: no {', '.join(missing)} (make figures writes them)", file=sys.stderr)
         return 2
-    problems = verify(folder)
-    n_checks = sum(1 for _ in _read(folder / "claims_checks.csv"))
-    if problems:
+    if problems := verify(folder):
         print(f"{len(problems)} verdicts do not recompute from {folder}:")
         print("\n".join(f"  {p}" for p in problems))
         return 1
-    n_parts = len(_read(folder / "claims_intervals.csv"))
-    n_claims = len(_read(folder / "claims.csv"))
+    n_claims, n_parts, n_checks = (len(_read(folder / n)) for n in files)
     print(f"every verdict recomputes from {folder}: {n_checks} checks, {n_parts} parts, "
           f"{n_claims} claims on {len(BODIES)} bodies of evidence")  # fmt: skip
     return 0
