@@ -22,15 +22,14 @@ from fpdtw.metrics import similarity
 from fpdtw.motion.joints import PAPER_JOINTS
 from fpdtw.motion.rig import TRAJECTORY_FRAMES, bone_directions, trajectory_rotations
 from fpdtw.online.window import SMOOTHING
-from fpdtw.paper import catalog
 from fpdtw.paper import numbers as N
 from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.figures.paper_vs_ours import side_by_side
 from fpdtw.paper.pause import hold_frames, pause_plan, pause_seed
 from fpdtw.paper.runner.grid import split_transform
 from fpdtw.paper.runner.results import EQ2_READINGS, RESCORERS, STORED_EQ2, slug
-from fpdtw.paper.runner.run import BASE_FPS
-from fpdtw.paper.runner.selection import Selection, pair_selection
+from fpdtw.paper.runner.run import BASE_FPS, load_motion
+from fpdtw.paper.runner.selection import run_plan
 
 #: Algorithms of the table (the paper's Table 1 gives UTW and Mc w40 at 120 Hz).
 LEVEL_ALGORITHMS = ("UTW", "DTW", "Mc w40")
@@ -78,43 +77,21 @@ READINGS = (
 
 def _motion_arrays(record, crop, fps=BASE_FPS, frames=TRAJECTORY_FRAMES) -> dict:
     """A motion's paper joints' rotations per frame kind, ``"bone"`` and ``"name"``, as the
-    run loaded it (120 Hz, crop, then ``fps``)."""
-    motion = catalog.load(record)
-    if abs(motion.fps - BASE_FPS) > 1e-6:
-        motion = motion.resample(BASE_FPS)
-    if crop is not None:
-        motion = motion.crop(0.0, crop)
-    if fps != BASE_FPS:
-        motion = motion.resample(fps)
+    run loaded it (:func:`~fpdtw.paper.runner.run.load_motion`)."""
+    motion = load_motion(record, crop, fps)
     out = {f: trajectory_rotations(motion, f, PAPER_JOINTS) for f in frames}
     out["bone"] = bone_directions(motion, PAPER_JOINTS)
     out["name"] = motion.name
     return out
 
 
-def _load(plan, index, crop, progress, desc, fps=BASE_FPS, frames=TRAJECTORY_FRAMES) -> dict:
+def _load(plan, index, progress, desc, fps=BASE_FPS, frames=TRAJECTORY_FRAMES) -> dict:
     """Motion index -> :func:`_motion_arrays` of every motion of the pairs ``index``."""
     used = sorted({i for pair in index for i in pair})
     return {
-        i: _motion_arrays(plan.motions[i], crop, fps, frames)
+        i: _motion_arrays(plan.motions[i], plan.selection.crop_seconds, fps, frames)
         for i in tqdm(used, desc=desc, disable=not progress)
     }
-
-
-def _plan(results) -> tuple:
-    """The run's pair selection, its pairs' ``(input, target)`` motion indices, its crop."""
-    selection = Selection(
-        **{k: tuple(v) if isinstance(v, list) else v for k, v in results.selection.items()}
-    )
-    plan = pair_selection(selection)
-    by_id = {p["id"]: (p["input_index"], p["target_index"]) for p in plan.pairs}
-    return plan, [by_id[int(p["id"])] for p in results.pairs], selection.crop_seconds
-
-
-def _score(r: Reading, I: dict, T: dict, M) -> float:
-    """Eq. 2 of one map under reading ``r`` (``I``, ``T``: :func:`_motion_arrays`)."""
-    axis = (I["bone"], T["bone"]) if r.axis == "bone" else "y"
-    return similarity(I[r.frame], T[r.frame], M, tau=r.tau, flat=r.flat, skip=r.skip, axis=axis)
 
 
 def pair_arrays(results, k: int) -> tuple:
@@ -124,8 +101,8 @@ def pair_arrays(results, k: int) -> tuple:
 
     Notebook: 17_similarity_level.ipynb
     """
-    plan, index, crop = _plan(results)
-    return tuple(_motion_arrays(plan.motions[i], crop) for i in index[k])
+    plan, index = run_plan(results)
+    return tuple(_motion_arrays(plan.motions[i], plan.selection.crop_seconds) for i in index[k])
 
 
 def rescore(results) -> dict:
@@ -135,8 +112,8 @@ def rescore(results) -> dict:
 
     Paper: FP-DTW eq. 2.
     """
-    plan, index, crop = _plan(results)
-    arrays = _load(plan, index, crop, True, "motions")
+    plan, index = run_plan(results)
+    arrays = _load(plan, index, True, "motions")
     stored = {a: results.stored(a) for a in LEVEL_ALGORITHMS}
     scores = {
         r.name: {a: _algorithm_scores(r, stored[a], arrays, index) for a in LEVEL_ALGORITHMS}
@@ -161,11 +138,15 @@ def _algorithm_scores(r: Reading, stored, arrays: dict, index: list, pause_fps=N
     rate, when it ran on paused targets)."""
     out = np.empty(len(index))
     for k, (i, t) in enumerate(index):
-        T = arrays[t]
+        I, T = arrays[i], arrays[t]
         if pause_fps is not None:
             at, length = pause_plan(T[r.frame].shape[0], pause_fps, pause_seed(T["name"]))
             T = {**T, r.frame: hold_frames(T[r.frame], at, length)}
-        out[k] = _score(r, arrays[i], T, np.asarray(stored.map(k), dtype=np.int64))
+        M = np.asarray(stored.map(k), dtype=np.int64)
+        axis = (I["bone"], T["bone"]) if r.axis == "bone" else "y"
+        out[k] = similarity(
+            I[r.frame], T[r.frame], M, tau=r.tau, flat=r.flat, skip=r.skip, axis=axis
+        )
     return out
 
 
@@ -186,7 +167,8 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
     if reading not in by_name:
         raise KeyError(f"unknown reading {reading!r}; have: {', '.join(by_name)}")
     r = by_name[reading]
-    plan, index, crop = _plan(results)
+    plan, index = run_plan(results)
+    crop = plan.selection.crop_seconds
     ids = np.array([int(p["id"]) for p in results.pairs], dtype=np.int64)
     base = hashlib.sha256(
         json.dumps(
@@ -198,7 +180,7 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
 
     @functools.cache
     def arrays(fps: float) -> dict:
-        return _load(plan, index, crop, progress, f"motions at {fps:g} Hz", fps, (r.frame,))
+        return _load(plan, index, progress, f"motions at {fps:g} Hz", fps, (r.frame,))
 
     @functools.cache
     def compute(name: str) -> np.ndarray:
@@ -206,8 +188,7 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
         if not np.array_equal(np.asarray(stored["pair_id"], dtype=np.int64), ids):
             raise ValueError(f"{results.folder}: the pairs of {name} are not the run's pairs")
         h = base.copy()
-        for part in (name.encode(), stored["offsets"].tobytes(), stored["maps"].tobytes()):
-            h.update(part)
+        h.update(name.encode() + stored["offsets"].tobytes() + stored["maps"].tobytes())
         path = folder / f"{slug(name)}.{h.hexdigest()[:16]}.npy"
         if path.is_file():
             return np.load(path)

@@ -70,6 +70,7 @@ from fpdtw.paper.runner.selection import (
     Selection,
     format_counts,
     pair_selection,
+    run_plan,
 )
 
 #: Bump when the feature cache or chunk layout, or what this module computes, changes.
@@ -151,15 +152,22 @@ def compute_files() -> list:
     return [str(r) for r in rels if r.parts[0] not in ("paper", "app") or str(r) in _PAPER_COMPUTE]
 
 
-def _build_feature_file(record, path: Path, crop, code: str) -> Path:
-    """Load one motion, build its 120 Hz and 60 Hz features and save them (worker; ``code``:
-    the run's :func:`_code_key`)."""
-    _check_code(code)
+def load_motion(record, crop, fps: float = BASE_FPS):
+    """A motion of a run as its features are built from it: at 120 Hz, cropped to its first
+    ``crop`` seconds (None: whole), then at ``fps``."""
     motion = catalog.load(record)
     if abs(motion.fps - BASE_FPS) > 1e-6:
         motion = motion.resample(BASE_FPS)
     if crop is not None:
         motion = motion.crop(0.0, crop)
+    return motion if fps == BASE_FPS else motion.resample(fps)
+
+
+def _build_feature_file(record, path: Path, crop, code: str) -> Path:
+    """Load one motion, build its 120 Hz and 60 Hz features and save them (worker; ``code``:
+    the run's :func:`_code_key`)."""
+    _check_code(code)
+    motion = load_motion(record, crop)
     arrays = {}
     for tag, mo in (("120", motion), ("60", motion.resample(LOW_FPS))):
         try:
@@ -199,16 +207,11 @@ def pair_features(results, fps: float = BASE_FPS):
 
     Notebook: 15_readings_of_algorithm_3.ipynb
     """
-    selection = Selection(
-        **{k: tuple(v) if isinstance(v, list) else v for k, v in results.selection.items()}
-    )
-    plan = pair_selection(selection)
+    plan, index = run_plan(results)
     files = build_features(plan, results.folder / "features", n_jobs=1, progress=False)
-    by_id = {p["id"]: (p["input_index"], p["target_index"]) for p in plan.pairs}
-    ids = [int(p["id"]) for p in results.pairs]
 
     def features(k: int):
-        i, t = by_id[ids[k]]
+        i, t = index[k]
         return load_features(files[i], fps), load_features(files[t], fps)
 
     return features

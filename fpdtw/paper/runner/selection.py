@@ -170,6 +170,17 @@ def pair_selection(selection: Selection | None = None) -> PairSelection:
     return PairSelection(sel, motions, sha, pairs, dict(counts), rows, dropped)
 
 
+def run_plan(results) -> tuple:
+    """The pair selection of a finished run (:class:`~fpdtw.paper.runner.results.Results`)
+    and, per pair of ``results.pairs``, its ``(input_index, target_index)``."""
+    selection = Selection(
+        **{k: tuple(v) if isinstance(v, list) else v for k, v in results.selection.items()}
+    )
+    plan = pair_selection(selection)
+    by_id = {p["id"]: (p["input_index"], p["target_index"]) for p in plan.pairs}
+    return plan, [by_id[int(p["id"])] for p in results.pairs]
+
+
 def format_counts(counts: dict) -> str:
     """One line per dataset and the total, with the paper's counts for comparison.
 
