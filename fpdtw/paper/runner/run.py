@@ -30,12 +30,13 @@ from __future__ import annotations
 import datetime as _dt
 import functools
 import hashlib
+import itertools
 import json
 import os
 import shutil
 import socket
 import time
-from collections import Counter, OrderedDict
+from collections import Counter
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -303,8 +304,7 @@ def _pair_maps(specs: list, I: MotionFeatures, T: MotionFeatures, info: dict) ->
     if shared:
         cache = WindowCache(I, max(s.algorithm.w for s in shared))
         aligners = [s.algorithm.make(I, cache=cache) for s in shared]
-        for s, M in zip(shared, run_group(aligners, T)):
-            out[s.name] = M
+        out = dict(zip([s.name for s in shared], run_group(aligners, T)))
     for s in specs:
         if s.name not in out:
             out[s.name] = s.algorithm.run(I, T)[0]
@@ -327,8 +327,7 @@ def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: s
             pre = slug(n) + "."
             arrays.update({k: v for k, v in stored.items() if k.startswith(pre)})
 
-    per = {s.name: {"maps": [], "sim": [], "dev": []} for s in specs}
-    runs = 0
+    per = {s.name: [] for s in specs}  # per pair (map, similarity, deviation)
     for p in pairs:
         info = {key: v for key, v in p.items() if key not in ("input_index", "target_index")}
         for fps, transform in sorted(
@@ -336,23 +335,20 @@ def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: s
         ):
             group = [s for s in specs if s.fps == fps and s.transform == transform]
             I = load_features(feature_files[p["input_index"]], fps)
-            T = load_features(feature_files[p["target_index"]], fps)
-            T = transform_target(transform, T)
+            T = transform_target(transform, load_features(feature_files[p["target_index"]], fps))
             maps = _pair_maps(group, I, T, {**info, "fps": fps})
             dtw_spec = next((s for s in group if s.algorithm.family == "DTW"), None)
             dtw = registry.align("DTW", I, T)[0] if dtw_spec is None else maps[dtw_spec.name]
             XI, XT = joint_trajectories(I.quats), joint_trajectories(T.quats)
             for s in group:
                 M = maps[s.name]
-                per[s.name]["maps"].append(M)
                 # = similarity(I.quats, T.quats, M), each motion's trajectories once
-                per[s.name]["sim"].append(float(np.mean(trajectory_scores(XI[M], XT))))
-                per[s.name]["dev"].append(deviation(dtw, M))
-                runs += 1
+                sim = float(np.mean(trajectory_scores(XI[M], XT)))
+                per[s.name].append((M, sim, deviation(dtw, M)))
     ids = [p["id"] for p in pairs]
     for s in specs:
-        maps = per[s.name]["maps"]
-        fields = _fields(ids, [len(M) for M in maps], maps, per[s.name]["sim"], per[s.name]["dev"])
+        maps, sim, dev = zip(*per[s.name])
+        fields = _fields(ids, [len(M) for M in maps], maps, sim, dev)
         arrays.update({f"{s.slug}.{k}": v for k, v in fields.items()})
     meta = {
         "unit": unit["id"],
@@ -363,6 +359,7 @@ def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: s
     arrays[_META] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
     save_npz(path, **arrays)
     took = time.perf_counter() - t0
+    runs = len(pairs) * len(specs)  # every algorithm on every pair
     return dict(unit=unit["id"], pairs=len(pairs), runs=runs, seconds=took, worker=_worker_name())
 
 
@@ -385,16 +382,13 @@ def _assemble(out: Path, specs: list, units: list, n_pairs: int) -> None:
         stored = load_npz(unit["chunk"], [f"{s.slug}.{k}" for s in specs for k in _FIELDS])
         for s in specs:
             for k in _FIELDS:
-                v = stored[f"{s.slug}.{k}"]
-                parts[s.name][k].append(np.diff(v) if k == "offsets" else v)
-        del stored
+                parts[s.name][k].append(stored[f"{s.slug}.{k}"])
     for s in specs:
         acc = parts.pop(s.name)
-        ids = np.concatenate(acc["pair_id"]).astype(np.int32)
-        if not np.array_equal(ids, np.arange(n_pairs)):
+        lengths = np.concatenate([np.diff(o) for o in acc["offsets"]])
+        fields = _fields(acc["pair_id"], lengths, acc["maps"], acc["similarity"], acc["deviation"])
+        if not np.array_equal(fields["pair_id"], np.arange(n_pairs)):
             raise RuntimeError(f"{s.name}: chunks do not cover pairs 0..{n_pairs - 1} in order")
-        lengths = np.concatenate(acc["offsets"])
-        fields = _fields(ids, lengths, acc["maps"], acc["similarity"], acc["deviation"])
         save_npz(out / "algorithms" / f"{s.slug}.npz", **fields)
 
 
@@ -483,15 +477,11 @@ def _compute(executor: Executor, mode, plan, specs, out: Path, base_key, progres
     phases["features"] = round(time.perf_counter() - t0, 3)
     t0 = time.perf_counter()
 
-    # work units: one input motion against every other take of its movement
-    units = OrderedDict()
-    for p in plan.pairs:
-        i = p["input_index"]
-        if i not in units:
-            uid = f"{i:04d}_{plan.motions[i].name}"
-            units[i] = {"id": uid, "chunk": str(out / "chunks" / f"{uid}.npz"), "pairs": []}
-        units[i]["pairs"].append(p)
-    units = list(units.values())
+    # work units: one input motion against every other take of its movement (adjacent pairs)
+    units = []
+    for i, group in itertools.groupby(plan.pairs, key=lambda p: p["input_index"]):
+        uid = f"{i:04d}_{plan.motions[i].name}"
+        units.append({"id": uid, "chunk": str(out / "chunks" / f"{uid}.npz"), "pairs": list(group)})
     (out / "chunks").mkdir(exist_ok=True)
     _prune(out / "chunks", {Path(u["chunk"]).name for u in units})  # another selection's units
 
@@ -622,6 +612,7 @@ def run_experiments(
     runs = sum(r["runs"] for r in work)
 
     # per-algorithm files: (re)written where something changed
+    algo_dir = out / "algorithms"
     same_base = prev.get("base_key") == base_key
     prev_algos = {a["name"]: a for a in prev.get("algorithms", [])} if same_base else {}
     assemble = [
@@ -629,7 +620,7 @@ def run_experiments(
         for s in specs
         if s.name in recomputed
         or s.name not in prev_algos
-        or not (out / "algorithms" / f"{s.slug}.npz").is_file()
+        or not (algo_dir / f"{s.slug}.npz").is_file()
     ]
     if assemble:
         say(f"writing {len(assemble)} algorithm files")
@@ -638,16 +629,11 @@ def run_experiments(
         s.name: {"name": s.name, "slug": s.slug, "fps": s.fps, "online": s.algorithm.online}
         for s in specs
     }
-    # the algorithms already here (same base key, file present) keep their place, then the
-    # requested ones that are new here
-    info = []
-    for n, a in prev_algos.items():
-        if n in new:
-            info.append(new.pop(n))
-        elif (out / "algorithms" / f"{a['slug']}.npz").is_file():
-            info.append(a)
-    info += list(new.values())
-    _prune(out / "algorithms", {f"{a['slug']}.npz" for a in info})
+    # the algorithms already here (same base key, file present: every requested one's is by
+    # now) keep their place, then the requested ones that are new here
+    here = {n: a for n, a in prev_algos.items() if (algo_dir / f"{a['slug']}.npz").is_file()}
+    info = list({**here, **new}.values())
+    _prune(algo_dir, {f"{a['slug']}.npz" for a in info})
     shutil.rmtree(out / "timings", ignore_errors=True)  # written by runs before CACHE_FORMAT 2
 
     save_json(out / "summary.json", summarize(Results(out, algorithms=info)))

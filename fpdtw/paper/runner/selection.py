@@ -7,6 +7,7 @@ Notebook: 05_run_experiments.ipynb
 from __future__ import annotations
 
 import hashlib
+import itertools
 from collections import OrderedDict
 from dataclasses import asdict, dataclass, field
 
@@ -149,14 +150,12 @@ def pair_selection(selection: Selection | None = None) -> PairSelection:
                 motions.append(r)
                 sha.append(_content_hashes(manifest, entries, r))
             n_pairs = len(recs) * (len(recs) - 1)
-            for a, I in enumerate(recs):
-                for b, T in enumerate(recs):
-                    if a != b:
-                        pairs.append(dict(
-                            id=len(pairs), dataset=ds, movement=movement, input=I.name,
-                            target=T.name, input_path=I.path, target_path=T.path,
-                            input_index=first + a, target_index=first + b,
-                        ))  # fmt: skip
+            for (a, I), (b, T) in itertools.permutations(enumerate(recs), 2):
+                pairs.append(dict(
+                    id=len(pairs), dataset=ds, movement=movement, input=I.name,
+                    target=T.name, input_path=I.path, target_path=T.path,
+                    input_index=first + a, target_index=first + b,
+                ))  # fmt: skip
             rows.append(
                 {"dataset": ds, "movement": movement, "motions": len(recs), "pairs": n_pairs}
             )
