@@ -154,13 +154,11 @@ def mode_algorithms(mode: str) -> tuple:
 
 def split_rate(name: str) -> tuple:
     """``"Mc w40@60Hz"`` -> ``("Mc w40", 60.0)``; names without the suffix run at 120 Hz."""
-    if name.endswith(RATE_SUFFIX):
-        return name[: -len(RATE_SUFFIX)], LOW_FPS
-    return name, BASE_FPS
+    base = name.removesuffix(RATE_SUFFIX)
+    return base, BASE_FPS if base == name else LOW_FPS
 
 
 def split_transform(name: str) -> tuple:
     """``"Mc w40@pause"`` -> ``("Mc w40", "pause")``; other names -> ``(name, None)``."""
-    if name.endswith(PAUSE_SUFFIX):
-        return name[: -len(PAUSE_SUFFIX)], PAUSE_SUFFIX[1:]
-    return name, None
+    base = name.removesuffix(PAUSE_SUFFIX)
+    return base, None if base == name else PAUSE_SUFFIX[1:]

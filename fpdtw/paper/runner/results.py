@@ -160,19 +160,18 @@ class Results:
             f"{len(self.algorithms)} algorithms, folder={str(self.folder)!r})"
         )
 
-    def _check(self, name):
+    def _check(self, name) -> dict:
         if name not in self._info:
             raise KeyError(f"no results for {name!r}; have: {', '.join(self.algorithms)}")
+        return self._info[name]
 
     def fps(self, name: str) -> float:
         """Frame rate the algorithm ran at (120 or 60)."""
-        self._check(name)
-        return float(self._info[name]["fps"])
+        return float(self._check(name)["fps"])
 
     def is_online(self, name: str) -> bool:
         """Whether the algorithm is online (it sees one target frame at a time)."""
-        self._check(name)
-        return bool(self._info[name]["online"])
+        return bool(self._check(name)["online"])
 
     def stored(self, name: str) -> AlgorithmResult:
         """Maps, similarity and deviation of every pair as the run stored them."""
@@ -204,10 +203,8 @@ class Results:
     def frames(self, name: str) -> tuple:
         """Last input and target frame indices ``(m, n)`` of every pair at the algorithm's
         rate: int64 arrays of shape (P,)."""
-        low = self.fps(name) == LOW_FPS
-        m = np.array([p["m60" if low else "m"] for p in self.pairs], dtype=np.int64)
-        n = np.array([p["n60" if low else "n"] for p in self.pairs], dtype=np.int64)
-        return m, n
+        tag = "60" if self.fps(name) == LOW_FPS else ""
+        return tuple(np.array([p[k + tag] for p in self.pairs], dtype=np.int64) for k in "mn")
 
 
 def load_results(mode: str = "full", eq2: str | None = None) -> Results:
