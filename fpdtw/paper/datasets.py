@@ -99,10 +99,7 @@ class Manifest:
         if isinstance(path, FileEntry):
             return path
         p = PurePosixPath(str(path).replace("\\", "/")).as_posix()
-        for e in self.files:
-            if e.path == p:
-                return e
-        hits = [e for e in self.files if e.name == p]
+        hits = [e for e in self.files if e.path == p] or [e for e in self.files if e.name == p]
         if len(hits) == 1:
             return hits[0]
         what = "matches several files" if hits else "is not a file of this dataset"
@@ -340,8 +337,7 @@ def _mirror_hint(e: FileEntry) -> str:
     return hint
 
 
-def _from_mirror(m: Manifest, e: FileEntry, tmp: Path, mirror: str, *, progress: bool) -> str:
-    what = f"{m.name}: {e.path}"
+def _from_mirror(m: Manifest, e: FileEntry, tmp: Path, mirror: str, what: str, progress) -> str:
     if mirror.startswith(("http://", "https://")):
         rel = urllib.parse.quote(f"{m.mirror_prefix}/{e.path}")
         url = f"{mirror.rstrip('/')}/{rel}"
@@ -400,10 +396,9 @@ def _find_member(zf: zipfile.ZipFile, member: str, what: str) -> zipfile.ZipInfo
     raise DataFetchError(f"{what}: several archive members end in {suffix}: {sorted(hits)}")
 
 
-def _from_archive(m: Manifest, e: FileEntry, tmp: Path, cache: Path, *, progress: bool) -> str:
+def _from_archive(m: Manifest, e: FileEntry, tmp: Path, cache: Path, what: str, progress) -> str:
     a = m.archives[e.archive]
     zpath = _archive_path(m, a, cache, progress=progress)
-    what = f"{m.name}: {e.path}"
     try:
         with zipfile.ZipFile(zpath) as zf:
             info = _find_member(zf, e.member, what)
@@ -434,20 +429,20 @@ def fetch_entry(
         dest.unlink(missing_ok=True)  # stale or corrupt: fetch it again
 
     mirror = paths.mirror()
+    what = f"{m.name}: {e.path}"
     with _staging(dest) as tmp:
         if mirror is not None:
-            source = _from_mirror(m, e, tmp, mirror, progress=progress)
+            source = _from_mirror(m, e, tmp, mirror, what, progress)
         elif e.archive is not None:
-            source = _from_archive(m, e, tmp, cache, progress=archive_progress)
+            source = _from_archive(m, e, tmp, cache, what, archive_progress)
         else:
-            what = f"{m.name}: {e.path}"
             _download(e.url, tmp, progress=progress, what=what, hint=f"; {MIRROR_HINT}")
             source = e.url
         problems = hash_problems(e, file_hashes(tmp))
         if problems:
             raise DataFetchError(
-                f"{m.name}: {e.path} from {source} failed verification: "
-                f"{'; '.join(problems)}. The file was discarded."
+                f"{what} from {source} failed verification: {'; '.join(problems)}. "
+                "The file was discarded."
             )
         os.chmod(tmp, 0o644)
     return dest
