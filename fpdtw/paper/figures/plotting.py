@@ -91,14 +91,12 @@ def style_beyond_paper(ax, names, patches) -> list:
         if flags[k - 1] == flags[k]:
             continue
         at = k - 0.5
-        ax.axvline(at, color="0.4", ls="--", lw=0.9).set_gid("beyond_paper_separator")
+        ax.axvline(at, color="0.4", ls="--", lw=0.9, gid="beyond_paper_separator")
         if flags[k] and first:
             first = False
-            txt = ax.text(
-                at, 0.98, f" {BEYOND_PAPER_LABEL} →", transform=ax.get_xaxis_transform(),
-                ha="left", va="top", fontsize=8, zorder=7, **BEYOND_PAPER_TEXT,
-            )  # fmt: skip
-            txt.set_gid("beyond_paper_label")
+            ax.text(at, 0.98, f" {BEYOND_PAPER_LABEL} →", transform=ax.get_xaxis_transform(),
+                    ha="left", va="top", fontsize=8, zorder=7, gid="beyond_paper_label",
+                    **BEYOND_PAPER_TEXT)  # fmt: skip
     return [Patch(**BEYOND_PAPER_PATCH, label=BEYOND_PAPER_LABEL)] if any(flags) else []
 
 

@@ -180,12 +180,10 @@ def plot_score_boxes(
         ev = shared_evidence(results)
         for name, x, w in zip(drawn, pos, widths):
             lo, hi = ev.interval(name, metric)
-            bar = ax.vlines(x + 0.5 * w + 0.04, lo, hi, color="k", lw=2.2, zorder=6)
-            bar.set_gid("median_ci")
+            ax.vlines(x + 0.5 * w + 0.04, lo, hi, color="k", lw=2.2, zorder=6, gid="median_ci")
         if metric == "similarity":
             lo, hi = ev.interval("UTW", metric)
-            band = ax.axhspan(lo, hi, color="red", alpha=0.10, lw=0, zorder=0.5)
-            band.set_gid("benchmark_ci")
+            ax.axhspan(lo, hi, color="red", alpha=0.10, lw=0, zorder=0.5, gid="benchmark_ci")
     handles = [
         Patch(facecolor=COLOURS[kind], edgecolor="0.25", label=label)
         for kind, label in _KIND_LABELS.items()
@@ -211,15 +209,13 @@ def plot_score_boxes(
         above = [int(np.sum(v > top)) for v in data]
         for x, k in zip(pos, above):
             if k:
-                t = ax.text(x, top, f"\u25b2{k}", ha="center", va="top", fontsize=6.5,
-                            color="0.2", zorder=7)  # fmt: skip
-                t.set_gid("clipped_count")
+                ax.text(x, top, f"\u25b2{k}", ha="center", va="top", fontsize=6.5, color="0.2",
+                        zorder=7, gid="clipped_count")  # fmt: skip
         total = sum(len(v) for v in data)
         handles.append(Line2D([], [], ls="", marker="^", ms=5, color="0.2",
                               label=f"\u25b2k: k values above {top:.0f} frames, not drawn "
                               f"({sum(above)} of {total})"))  # fmt: skip
-    line = ax.axhline(bench, color=line_colour, lw=1.2, zorder=5)
-    line.set_gid("benchmark")
+    ax.axhline(bench, color=line_colour, lw=1.2, zorder=5, gid="benchmark")
     ax.set_xticks(range(len(names)))
     ax.set_xticklabels(names, rotation=45, ha="right")
     ax.set_xlim(-0.6, len(names) - 0.4)
