@@ -169,12 +169,11 @@ def plot_score_boxes(
     bp = ax.boxplot(
         data, positions=pos, widths=widths, patch_artist=True, showfliers=True,
         flierprops=dict(marker=".", markersize=2, alpha=0.3, markeredgecolor="0.4"),
-        medianprops=dict(color="k", lw=1.2), manage_ticks=False,
+        medianprops=dict(color="k", lw=1.2, gid="median"), boxprops=dict(edgecolor="0.25"),
+        manage_ticks=False,
     )  # fmt: skip
-    for box, med, c in zip(bp["boxes"], bp["medians"], colours):
+    for box, c in zip(bp["boxes"], colours):
         box.set_facecolor(c)
-        box.set_edgecolor("0.25")
-        med.set_gid("median")
     bench = benchmark(results, metric)
     if intervals:
         ev = shared_evidence(results)
