@@ -215,8 +215,7 @@ def plot_score_boxes(
                               label=f"\u25b2k: k values above {top:.0f} frames, not drawn "
                               f"({sum(above)} of {total})"))  # fmt: skip
     ax.axhline(bench, color=line_colour, lw=1.2, zorder=5, gid="benchmark")
-    ax.set_xticks(range(len(names)))
-    ax.set_xticklabels(names, rotation=45, ha="right")
+    ax.set_xticks(range(len(names)), names, rotation=45, ha="right")
     ax.set_xlim(-0.6, len(names) - 0.4)
     boxes_of = {}  # each name's boxes, "+ Type V" with its base
     for n, b in zip(drawn, bp["boxes"]):
