@@ -49,16 +49,15 @@ def data_comparison(summary_rows) -> list[dict]:
     Paper: FP-DTW Section 4.
     Notebook: 01_data_and_motions.ipynb
     """
-    datasets = ("authors_fbx", "hdm05")
-    rows = [r for r in summary_rows if r["dataset"] in datasets]
+    rows = [r for r in summary_rows if r["dataset"] in N.DATA_SOURCES]
 
     def total(key, ds=None):
         return sum(int(r[key]) for r in rows if ds in (None, r["dataset"]))
 
     out = [
-        side_by_side(f"motions from {ds}", N.DATA_SOURCES.get(ds),
+        side_by_side(f"motions from {ds}", paper,
                      f"{total('available', ds)} (of {total('listed', ds)} listed)")
-        for ds in datasets
+        for ds, paper in N.DATA_SOURCES.items()
     ]  # fmt: skip
     movements = sum(int(r["available"]) > 0 for r in rows)
     return out + _rows(
