@@ -96,24 +96,20 @@ def claim_contexts(ctx, results=None, mode="full") -> dict:
         out["seed2"] = replace(ctx, ev=reseeded(ev), open_ev=reseeded(ctx.open_ev))
     if ev is None:
         return out
-    other = _other_eq2_values(ev.results)
     out["same_movements"] = replace(ctx, ev=ev.again(scheme="motions", label="these movements"))
     ds = np.array([ev.results.pairs[r]["dataset"] for r in ev.rows])
-    if other is not None:
-        o = ev.reading(values=other, label=f"eq. 2 {other_eq2(ev.results)}")
-        out["eq2_other"] = replace(ctx, ev=o)
     for d in DATASETS:
         if np.any(ds == d):
             out[d] = replace(ctx, ev=ev.restrict(ds == d, d))
-            if other is not None:
-                out[f"eq2_other_{d}"] = replace(ctx, ev=o.restrict(ds == d, d))
     rows = paper_shaped_rows(ev.results, mode) if results is not None else None
     if rows is not None and rows.size:
-        label = "paper-shaped selection"
-        out["paper_shaped"] = replace(ctx, ev=ev.again(rows=rows, label=label))
-        if other is not None:
-            o = ev.again(rows=rows, values=other, label=label)
-            out["eq2_other_paper_shaped"] = replace(ctx, ev=o)
+        out["paper_shaped"] = replace(ctx, ev=ev.again(rows=rows, label="paper-shaped selection"))
+    if (other := _other_eq2_values(ev.results)) is not None:  # each body rescored, same weights
+        label = f"eq. 2 {other_eq2(ev.results)}"
+        for key in ("", *DATASETS, "paper_shaped"):
+            if out[key] is not None:
+                o = out[key].ev.reading(values=other, label=None if key else label)
+                out[f"eq2_other_{key}" if key else "eq2_other"] = replace(ctx, ev=o)
     return out
 
 

@@ -104,18 +104,16 @@ def evaluate_claims(claims, contexts, robustness=None, checks=None):
         row["robustness"] = rob or "not computed here (notebook 12)"
         rows.append({c: row[c] for c in T.COLUMNS})
         for k, (label, p) in enumerate(zip(labels, main["parts"])):
-            c = p.decisive()
-            ci = (c.low, c.high) if c is not None and c.interval else (None, None)
-            pr = dict(claim=claim.id, part=label, text=p.text, verdict=verdicts[k], ci_low=ci[0])
-            pr |= dict(ci_high=ci[1], threshold=c.threshold if c else None)
-            pr |= dict(quantity=c.quantity if c else "", estimate=c.estimate if c else None)
+            pr = dict(claim=claim.id, part=label, text=p.text, verdict=verdicts[k], quantity="")
+            if (c := p.decisive()) is not None:  # the columns it leaves out are empty
+                pr |= dict(quantity=c.quantity, estimate=c.estimate, threshold=c.threshold)
+                pr |= dict(ci_low=c.low, ci_high=c.high) if c.interval else {}
             cs = [] if p.test is None else R.checks(p.test)
             pr |= dict(formula="" if p.test is None else R.formula(p.test), checks=len(cs))
             m = min((x.mc_margin() for x in cs), default=float("inf"))  # in Monte Carlo errors
             pr["mc_margin"] = round(float(m), 1) if np.isfinite(m) else None
-            for key in (*T.OTHER_EVIDENCE, "literal", T.OPW_PLUGIN, "seed2", "eq2_other"):
-                pr[f"verdict_{key}"] = _verdict(others[key], k)
-            part_out.append({c: pr[c] for c in T.PART_COLUMNS})
+            pr |= {f"verdict_{key}": _verdict(got, k) for key, got in others.items()}
+            part_out.append({col: pr.get(col) for col in T.PART_COLUMNS})
         for body, got in ({"all": main, **others} if checks is not None else {}).items():
             for k, p in enumerate((got or {}).get("parts", [])):
                 checks += check_rows(body, claim.id, R.part_label(claim.id, k), p)

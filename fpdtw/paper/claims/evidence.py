@@ -256,8 +256,7 @@ class Evidence:
 
     def share(self, quantity: str, numerator, denominator, threshold: float) -> Check:
         """A share summed over pairs above ``threshold``."""
-        num = np.asarray(numerator, dtype=np.float64)
-        den = np.asarray(denominator, dtype=np.float64)
+        num, den = (np.asarray(x, dtype=np.float64) for x in (numerator, denominator))
         est = float(num.sum() / den.sum()) if den.sum() > 0 else float("nan")
         return _check(quantity, est, self.ratio_replicates(num, den), threshold)
 

@@ -113,7 +113,10 @@ def point(quantity: str, value: float, threshold: float, **kw) -> Check:
     return Check(quantity, value, threshold=threshold, interval=False, **kw)
 
 
+@dataclass(frozen=True, init=False)
 class _Items:
+    items: tuple
+
     def __init__(self, *items):
         object.__setattr__(self, "items", tuple(items))
 
@@ -122,14 +125,10 @@ class _Items:
 class AllOf(_Items):
     """Kleene's AND."""
 
-    items: tuple
-
 
 @dataclass(frozen=True, init=False)
 class AnyOf(_Items):
     """Kleene's OR."""
-
-    items: tuple
 
 
 @dataclass(frozen=True)

@@ -54,18 +54,13 @@ def path_balance(results, name: str, band: float = 0.1) -> dict:
     Paper: FP-DTW Section 5 (reading of Fig. 7).
     Notebook: 08_fig7_fig10_heatmaps.ipynb
     """
-    diag = below = above = 0.0
-    pairs = 0
+    shares = []  # per pair: near the diagonal, below, above
     for M, m in pair_maps(results, name):
-        M = M.astype(np.float64)
-        n = max(M.size - 1, 1)
-        d = M / max(m, 1) - np.arange(M.size) / n
-        below += np.mean(d < -band)
-        above += np.mean(d > band)
-        diag += np.mean(np.abs(d) <= band)
-        pairs += 1
-    P = max(pairs, 1)
-    return dict(diagonal=diag / P, below=below / P, above=above / P, pairs=pairs)
+        d = M / max(m, 1) - np.arange(M.size) / max(M.size - 1, 1)
+        shares.append((np.mean(np.abs(d) <= band), np.mean(d < -band), np.mean(d > band)))
+    P = max(len(shares), 1)
+    diag, below, above = (sum(s[k] for s in shares) / P for k in range(3))
+    return dict(diagonal=diag, below=below, above=above, pairs=len(shares))
 
 
 def shared_norm(maps):

@@ -221,14 +221,13 @@ def pause_rows(ev) -> list[dict]:
     rows = []
     for n in PAUSE_METHODS:
         p = n + PAUSE_SUFFIX
-        lo, hi = ev.interval(n, "deviation")
-        plo, phi = ev.interval(p, "deviation")
+        d0, d1 = ev.passes(n, "deviation"), ev.passes(p, "deviation")  # medians, intervals
         diff = ev.better(p, n, "deviation")
         rows.append(
-            dict(method=n, without=ev.median(n, "deviation"), without_low=lo, without_high=hi,
-                 with_pause=ev.median(p, "deviation"), with_low=plo, with_high=phi,
-                 below_18=ev.passes(p, "deviation").verdict, change=diff.estimate,
-                 change_low=diff.low, change_high=diff.high, not_raised=diff.verdict)
+            dict(method=n, without=d0.estimate, without_low=d0.low, without_high=d0.high,
+                 with_pause=d1.estimate, with_low=d1.low, with_high=d1.high, below_18=d1.verdict,
+                 change=diff.estimate, change_low=diff.low, change_high=diff.high,
+                 not_raised=diff.verdict)
         )  # fmt: skip
     return rows
 

@@ -161,15 +161,11 @@ def _boxes(ax, rows, key, values, positions, name, width, label):
         np.concatenate([r["ms"] for r in rows if r["method"] == name and r[key] == v])
         for v in values
     ]
-    bp = ax.boxplot(
+    ax.boxplot(
         groups, positions=positions, widths=width, whis=(0, 100), patch_artist=True,
-        showfliers=False, manage_ticks=False,
+        showfliers=False, manage_ticks=False, boxprops=dict(facecolor=COLORS[name], alpha=0.55),
+        medianprops=dict(color="black"),
     )  # fmt: skip
-    for box in bp["boxes"]:
-        box.set_facecolor(COLORS[name])
-        box.set_alpha(0.55)
-    for line in bp["medians"]:
-        line.set_color("black")
     ax.plot(positions, [g.mean() for g in groups], "-o", color=COLORS[name], ms=3, label=label)
     return groups
 

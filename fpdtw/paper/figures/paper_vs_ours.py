@@ -49,16 +49,15 @@ def data_comparison(summary_rows) -> list[dict]:
     Paper: FP-DTW Section 4.
     Notebook: 01_data_and_motions.ipynb
     """
-    datasets = ("authors_fbx", "hdm05")
-    rows = [r for r in summary_rows if r["dataset"] in datasets]
+    rows = [r for r in summary_rows if r["dataset"] in N.DATA_SOURCES]
 
     def total(key, ds=None):
         return sum(int(r[key]) for r in rows if ds in (None, r["dataset"]))
 
     out = [
-        side_by_side(f"motions from {ds}", N.DATA_SOURCES.get(ds),
+        side_by_side(f"motions from {ds}", paper,
                      f"{total('available', ds)} (of {total('listed', ds)} listed)")
-        for ds in datasets
+        for ds, paper in N.DATA_SOURCES.items()
     ]  # fmt: skip
     movements = sum(int(r["available"]) > 0 for r in rows)
     return out + _rows(
@@ -98,10 +97,8 @@ def windows_comparison(step_a, steps_b, step_c) -> list[dict]:
     )  # fmt: skip
     found = [s for s in steps_b if s is not None]
     if found:
-        corner = float(found[0].D[0, 0])
-        rows += _rows(
-            ("Mb: D[0, 0] before back-tracking", f"{N.METHOD_B_CORNER:,.0f}", f"{corner:,.0f}")
-        )
+        paper, corner = N.METHOD_B_CORNER, float(found[0].D[0, 0])
+        rows += _rows(("Mb: D[0, 0] before back-tracking", f"{paper:,.0f}", f"{corner:,.0f}"))
     vias = sorted({tuple(int(v) for v in s.path[1]) for s in found})
     hits = sum(s.M - s.M_n == int(min(r for r, c in s.path if c == 1)) for s in found)
     score = step_c.score if step_c.score is not None else step_c.D[:, 0]
@@ -162,17 +159,12 @@ def benchmark_comparison(summary_rows, metric: str) -> list[dict]:
     Notebook: 06_fig5_fig6_scores.ipynb
     """
     if metric == "similarity":
-        paper, ours = (
-            f"{N.TABLE1[N.SAMPLE_RATE_HZ]['UTW']:.3f}",
-            f"{summary_rows[0]['benchmark']:.3f}",
-        )
-        rows = _rows(("UTW median similarity (the benchmark)", paper, ours))
+        paper, ours = N.TABLE1[N.SAMPLE_RATE_HZ]["UTW"], summary_rows[0]["benchmark"]
+        rows = _rows(("UTW median similarity (the benchmark)", f"{paper:.3f}", f"{ours:.3f}"))
         word, fmt = "above UTW", ".3f"
     else:
-        ours = f"{N.deviation_benchmark_frames(N.SAMPLE_RATE_HZ):g} frames"
-        rows = _rows(
-            ("deviation benchmark (150 ms)", f"{N.DEVIATION_BENCHMARK_FRAMES} frames", ours)
-        )
+        paper, ours = N.DEVIATION_BENCHMARK_FRAMES, N.deviation_benchmark_frames(N.SAMPLE_RATE_HZ)
+        rows = _rows(("deviation benchmark (150 ms)", f"{paper} frames", f"{ours:g} frames"))
         word, fmt = "below 18", ".1f"
     for r in summary_rows:
         name = r["algorithm"]

@@ -86,19 +86,13 @@ def style_beyond_paper(ax, names, patches) -> list:
     for t in ax.get_xticklabels():
         if beyond_paper(t.get_text()):
             t.set(**BEYOND_PAPER_TEXT)
-    first = True
-    for k in range(1, len(flags)):
-        if flags[k - 1] == flags[k]:
-            continue
-        at = k - 0.5
-        ax.axvline(at, color="0.4", ls="--", lw=0.9).set_gid("beyond_paper_separator")
-        if flags[k] and first:
-            first = False
-            txt = ax.text(
-                at, 0.98, f" {BEYOND_PAPER_LABEL} →", transform=ax.get_xaxis_transform(),
-                ha="left", va="top", fontsize=8, zorder=7, **BEYOND_PAPER_TEXT,
-            )  # fmt: skip
-            txt.set_gid("beyond_paper_label")
+    runs = [k for k in range(1, len(flags)) if flags[k] != flags[k - 1]]  # where a run starts
+    for k in runs:
+        ax.axvline(k - 0.5, color="0.4", ls="--", lw=0.9, gid="beyond_paper_separator")
+    if (k := next((k for k in runs if flags[k]), None)) is not None:  # the first beyond run
+        ax.text(k - 0.5, 0.98, f" {BEYOND_PAPER_LABEL} →", transform=ax.get_xaxis_transform(),
+                ha="left", va="top", fontsize=8, zorder=7, gid="beyond_paper_label",
+                **BEYOND_PAPER_TEXT)  # fmt: skip
     return [Patch(**BEYOND_PAPER_PATCH, label=BEYOND_PAPER_LABEL)] if any(flags) else []
 
 

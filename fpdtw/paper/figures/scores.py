@@ -12,7 +12,7 @@ from matplotlib.patches import Patch
 
 from fpdtw import registry
 from fpdtw.paper import numbers
-from fpdtw.paper.claims.evidence import shared_evidence
+from fpdtw.paper.claims.evidence import METRICS, shared_evidence
 from fpdtw.paper.claims.paper_claims import best_window_test
 from fpdtw.paper.claims.rules import evaluate
 from fpdtw.paper.claims.types import reading_alias
@@ -38,8 +38,6 @@ COLOURS = {"plain": "#8fb3d9", "offline": "#bdbdbd", "typev": "#f4a6c8"}
 #: Their legend entries, in legend order.
 _KIND_LABELS = {"offline": "offline", "plain": "online, no constraint", "typev": "+ Type V"}
 
-_METRICS = ("similarity", "deviation")
-
 
 def _rate_suffix(rate_hz: int) -> str:
     return "" if rate_hz == 120 else f"@{int(rate_hz)}Hz"
@@ -47,8 +45,8 @@ def _rate_suffix(rate_hz: int) -> str:
 
 def _raw(results, name: str, metric: str, dataset=None) -> np.ndarray:
     """All per-pair values of a metric (NaN kept), optionally of one dataset's pairs only."""
-    if metric not in _METRICS:
-        raise ValueError(f"metric must be one of {_METRICS}, got {metric!r}")
+    if metric not in METRICS:
+        raise ValueError(f"metric must be one of {METRICS}, got {metric!r}")
     arr = results.get(name)
     v = np.asarray(arr[metric], dtype=np.float64)
     if dataset is not None:
@@ -83,7 +81,7 @@ def benchmark(results, metric: str, dataset=None) -> float:
         return utw_median(results, dataset=dataset)
     if metric == "deviation":
         return float(numbers.DEVIATION_BENCHMARK_FRAMES)
-    raise ValueError(f"metric must be one of {_METRICS}, got {metric!r}")
+    raise ValueError(f"metric must be one of {METRICS}, got {metric!r}")
 
 
 def figure_names(names=None, typev=True) -> list[tuple[str, str | None]]:
@@ -116,10 +114,8 @@ def score_summary(results, metric: str, names=None, dataset=None) -> list[dict]:
         q1, med, q3 = (float(x) for x in np.percentile(v, [25, 50, 75]))
         lo, hi = ev.interval(name, metric)
         online = name not in ("DTW", "UTW")
-        if metric == "similarity":
-            passes = numbers.passes_similarity(med, bench)
-        else:
-            passes = numbers.passes_deviation(med)
+        sim = metric == "similarity"
+        passes = numbers.passes_similarity(med, bench) if sim else numbers.passes_deviation(med)
         rows.append(
             dict(algorithm=name, type_v=name.endswith(TYPE_V_SUFFIX), median=med, ci_low=lo,
                  ci_high=hi, q1=q1, q3=q3, n=int(v.size), n_missing=int(raw.size - v.size),
@@ -173,23 +169,20 @@ def plot_score_boxes(
     bp = ax.boxplot(
         data, positions=pos, widths=widths, patch_artist=True, showfliers=True,
         flierprops=dict(marker=".", markersize=2, alpha=0.3, markeredgecolor="0.4"),
-        medianprops=dict(color="k", lw=1.2), manage_ticks=False,
+        medianprops=dict(color="k", lw=1.2, gid="median"), boxprops=dict(edgecolor="0.25"),
+        manage_ticks=False,
     )  # fmt: skip
-    for box, med, c in zip(bp["boxes"], bp["medians"], colours):
+    for box, c in zip(bp["boxes"], colours):
         box.set_facecolor(c)
-        box.set_edgecolor("0.25")
-        med.set_gid("median")
     bench = benchmark(results, metric)
     if intervals:
         ev = shared_evidence(results)
         for name, x, w in zip(drawn, pos, widths):
             lo, hi = ev.interval(name, metric)
-            bar = ax.vlines(x + 0.5 * w + 0.04, lo, hi, color="k", lw=2.2, zorder=6)
-            bar.set_gid("median_ci")
+            ax.vlines(x + 0.5 * w + 0.04, lo, hi, color="k", lw=2.2, zorder=6, gid="median_ci")
         if metric == "similarity":
             lo, hi = ev.interval("UTW", metric)
-            band = ax.axhspan(lo, hi, color="red", alpha=0.10, lw=0, zorder=0.5)
-            band.set_gid("benchmark_ci")
+            ax.axhspan(lo, hi, color="red", alpha=0.10, lw=0, zorder=0.5, gid="benchmark_ci")
     handles = [
         Patch(facecolor=COLOURS[kind], edgecolor="0.25", label=label)
         for kind, label in _KIND_LABELS.items()
@@ -215,17 +208,14 @@ def plot_score_boxes(
         above = [int(np.sum(v > top)) for v in data]
         for x, k in zip(pos, above):
             if k:
-                t = ax.text(x, top, f"\u25b2{k}", ha="center", va="top", fontsize=6.5,
-                            color="0.2", zorder=7)  # fmt: skip
-                t.set_gid("clipped_count")
+                ax.text(x, top, f"\u25b2{k}", ha="center", va="top", fontsize=6.5, color="0.2",
+                        zorder=7, gid="clipped_count")  # fmt: skip
         total = sum(len(v) for v in data)
         handles.append(Line2D([], [], ls="", marker="^", ms=5, color="0.2",
                               label=f"\u25b2k: k values above {top:.0f} frames, not drawn "
                               f"({sum(above)} of {total})"))  # fmt: skip
-    line = ax.axhline(bench, color=line_colour, lw=1.2, zorder=5)
-    line.set_gid("benchmark")
-    ax.set_xticks(range(len(names)))
-    ax.set_xticklabels(names, rotation=45, ha="right")
+    ax.axhline(bench, color=line_colour, lw=1.2, zorder=5, gid="benchmark")
+    ax.set_xticks(range(len(names)), names, rotation=45, ha="right")
     ax.set_xlim(-0.6, len(names) - 0.4)
     boxes_of = {}  # each name's boxes, "+ Type V" with its base
     for n, b in zip(drawn, bp["boxes"]):
@@ -262,22 +252,17 @@ def table1_rows(results, reading="square", with_paper=True) -> list[dict]:
     rows = []
     for rate in (60, 120):
         sfx = _rate_suffix(rate)
-        ours = {
-            w: float(np.median(scores(results, method_c_name(w, reading) + sfx, "similarity")))
-            for w in WINDOWS
-        }
-        ours["UTW"] = utw_median(results, rate)
+        names = {w: method_c_name(w, reading) + sfx for w in WINDOWS} | {"UTW": "UTW" + sfx}
+        ours = {k: float(np.median(scores(results, n, "similarity"))) for k, n in names.items()}
         paper = numbers.TABLE1.get(rate) if with_paper else None
         label = "ours" if reading == "square" else f"ours ({reading} window)"
         for source, med in (("paper", paper), (label, ours)):
             if med is None:
                 continue
-            row = {"rate_hz": rate, "source": source, **{f"w{w}": med.get(w) for w in WINDOWS}}
+            row = {"rate_hz": rate, "source": source, **{f"w{w}": med[w] for w in WINDOWS}}
             row["UTW"] = med["UTW"]
-            row["best_w"] = best_window({w: med[w] for w in WINDOWS if med.get(w) is not None})
-            row["above_utw"] = " ".join(
-                str(w) for w in WINDOWS if med.get(w) is not None and med[w] > med["UTW"]
-            )
+            row["best_w"] = best_window(med)
+            row["above_utw"] = " ".join(str(w) for w in WINDOWS if med[w] > med["UTW"])
             if source != "paper":
                 for w in WINDOWS:
                     row[f"verdict_w{w}"] = ev.passes(f"Mc w{w}{sfx}", "similarity").verdict
@@ -297,11 +282,10 @@ def plot_table1(rows, ax=None):
     fig, ax = new_axes(ax, figsize=(8.5, 4))
     colours = {60: "tab:orange", 120: "tab:blue"}
     for r in rows:
-        ws = [int(k[1:]) for k in r if k.startswith("w") and k[1:].isdigit() and r[k] is not None]
-        ys = [r[f"w{w}"] for w in ws]
         c = colours.get(r["rate_hz"], "k")
         style = {"ours": "-o", "paper": "--s"}.get(r["source"], ":^")
-        ax.plot(ws, ys, style, color=c, label=f"{r['source']}, {r['rate_hz']} Hz, Method C")
+        ys = [r[f"w{w}"] for w in WINDOWS]
+        ax.plot(WINDOWS, ys, style, color=c, label=f"{r['source']}, {r['rate_hz']} Hz, Method C")
         if r["source"] != "ours (literal window)":
             ax.axhline(
                 r["UTW"], color=c, lw=0.8, ls="-" if r["source"] == "ours" else "--", alpha=0.5,

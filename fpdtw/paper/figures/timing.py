@@ -48,15 +48,11 @@ def exhausted_fraction(results, name: str) -> dict:
 
     Paper: FP-DTW Section 5 (Table 2: "Mc w80 ... running out of input frames").
     """
-    frames = exhausted = pairs = 0
-    for M, m in pair_maps(results, name):
-        e = int(np.count_nonzero(M[:-1] >= m))
-        frames += M.size - 1
-        exhausted += e
-        pairs += e > 0
+    counts = [(int(np.count_nonzero(M[:-1] >= m)), M.size - 1) for M, m in pair_maps(results, name)]
+    exhausted, frames = (sum(c[k] for c in counts) for k in (0, 1))
     fraction = float(exhausted / frames) if frames else 0.0
     return dict(frames=int(frames), exhausted=int(exhausted), fraction=fraction,
-                pairs_exhausted_early=int(pairs))  # fmt: skip
+                pairs_exhausted_early=sum(e > 0 for e, _ in counts))  # fmt: skip
 
 
 def time_per_frame_rows(bench: dict, results=None, names=None) -> list[dict]:

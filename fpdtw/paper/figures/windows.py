@@ -115,11 +115,9 @@ def _window_heatmap(ax, A, start, col_labels, label, hide_corner=False, annotate
         shown[0, 0] = np.nan
     image(ax, shown, label, mpl.colormaps["viridis"].with_extremes(bad="0.92"))
     nr, nc = A.shape
-    ax.set_xticks(np.arange(nc))
-    ax.set_xticklabels(col_labels, fontsize=7)
-    step = max(1, nr // 12)
-    ax.set_yticks(np.arange(0, nr, step))
-    ax.set_yticklabels([f"{start + r}" for r in range(0, nr, step)], fontsize=7)
+    ax.set_xticks(np.arange(nc), col_labels, fontsize=7)
+    rows = np.arange(0, nr, max(1, nr // 12))
+    ax.set_yticks(rows, [f"{start + r}" for r in rows], fontsize=7)
     ax.set_xlabel("forecast window F (target frames)")
     ax.set_ylabel(f"input frame ($I_{{M_n + r}}$, $M_n$ = {start})")
     if annotate:
