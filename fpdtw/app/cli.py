@@ -10,6 +10,8 @@
     fpdtw stream TAKE [TAKE ...] --as axis [--listen 127.0.0.1:7001] [--fast]
     fpdtw serve INPUT --source vmc://0.0.0.0:39539 [--rate 60] [--once] [--out MAP.csv]
     fpdtw stream TAKE [TAKE ...] --as vmc [--to 127.0.0.1:39539] [--fast]
+    fpdtw serve INPUT --source xsens://0.0.0.0:9763 [--rate 60] [--once] [--out MAP.csv]
+    fpdtw stream TAKE [TAKE ...] --as xsens [--to 127.0.0.1:9763] [--fast]
     fpdtw data  fetch|verify|cite
     fpdtw experiments run [--smoke] [--results DIR] [--jobs N] [--scheduler ADDRESS]
 
@@ -138,7 +140,15 @@ limits (fpdtw.limits, each changed by its environment variable): a line 256 KiB
   address is a performer (index in order of arrival, named HOST:PORT); its skeleton is the
   bones of its first frame. A take ends after --idle-timeout s of silence. Datagrams that are
   not OSC or over 32 KiB, bones that are not the skeleton's, NaN/inf, quaternions that are not
-  rotations, duplicated and reordered frames and a flood are dropped and counted."""
+  rotations, duplicated and reordered frames and a flood are dropped and counted.
+
+--source xsens://HOST:PORT: fpdtw listens for Xsens MVN's network streamer (UDP, port 9763 by
+  default), type 02 ('MXTP02': each segment's global position and quaternion, Z up); other
+  types are skipped. A sample is the datagrams of one sample counter (split ones joined); each
+  character ID is a performer; its skeleton is the 23 body segments of its first complete
+  sample; sample s counts at s / --rate. A take ends after --idle-timeout s of silence. Lost
+  parts, duplicated and reordered datagrams, wrong ID strings or sizes, unknown segments,
+  NaN/inf, quaternions that are not rotations and a flood are dropped and counted."""
 
 _METHODS_HELP = "methods:\n" + "\n".join(f"  {k:<7} {v}" for k, v in METHODS.items())
 
@@ -427,7 +437,8 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="URL",
         help="read takes from a capture system's own stream instead of listening: "
         "axis://HOST:PORT (Axis Neuron / Axis Studio BVH string broadcast, port 7001), "
-        "vmc://HOST:PORT (listen for the VMC protocol, OSC over UDP, port 39539)",
+        "vmc://HOST:PORT (listen for the VMC protocol, OSC over UDP, port 39539), "
+        "xsens://HOST:PORT (listen for Xsens MVN's network streamer, UDP, port 9763)",
     )
     sv.add_argument(
         "--header",
@@ -439,8 +450,9 @@ def build_parser() -> argparse.ArgumentParser:
         "--rate",
         type=_frame_rate,
         metavar="HZ",
-        help="--source vmc: the senders' frame rate (default 60): the period a lost frame "
-        "is measured in; frames are timed by their /VMC/Ext/T",
+        help="--source vmc|xsens: the senders' frame rate (default 60): the period a lost "
+        "frame is measured in; VMC frames are timed by their /VMC/Ext/T, MVN samples by their "
+        "sample counter",
     )
     sv.add_argument("--once", action="store_true", help="--source: exit after the first take")
     sv.add_argument(
@@ -469,11 +481,12 @@ def build_parser() -> argparse.ArgumentParser:
     st.add_argument(
         "--as",
         dest="as_system",
-        choices=["axis", "vmc"],
+        choices=["axis", "vmc", "xsens"],
         help="play TAKE as that capture system sends it: axis, as Axis Neuron's BVH string "
         "broadcast (a TCP server on --listen; avatars 0, 1, ... interleaved); vmc, as VMC "
         "protocol senders (OSC bundles over UDP to --to, default 127.0.0.1:39539; one sender "
-        "per TAKE)",
+        "per TAKE); xsens, as MVN's network streamer (MXTP02 datagrams over UDP to --to, "
+        "default 127.0.0.1:9763; one character ID per TAKE)",
     )
     st.add_argument(
         "--listen",
@@ -613,12 +626,12 @@ def _check_source_options(args):
     if args.source.startswith("axis://") and not args.header:
         raise UsageError("--source axis:// needs --header SKELETON.bvh (the stream carries no "
                          "skeleton)")  # fmt: skip
-    vmc = args.source.startswith("vmc://")
+    vmc = args.source.startswith(("vmc://", "xsens://"))
     if vmc and args.header:
-        raise UsageError("--header does not apply with --source vmc://: the skeleton comes "
-                         "from the bones sent")  # fmt: skip
+        raise UsageError(f"--header does not apply with --source {args.source.split(':')[0]}://"
+                         ": the skeleton comes from the bones sent")  # fmt: skip
     if args.rate and not vmc:
-        raise UsageError("--rate applies only with --source vmc://")
+        raise UsageError("--rate applies only with --source vmc:// or xsens://")
 
 
 def _check_stream_options(args):
@@ -626,15 +639,16 @@ def _check_stream_options(args):
 
     if args.skeleton and Path(args.take[0]).suffix.lower() != ".amc":
         raise UsageError(f"--skeleton applies to an .amc motion, not {args.take[0]}")
-    if args.as_system == "vmc":
+    if args.as_system in ("vmc", "xsens"):
         given = [o for o, v in (("--listen", args.listen), ("--displacement", args.displacement),
                  ("--drop", args.drop), ("--jitter-ms", args.jitter_ms), ("--streams",
                  args.streams != 1), ("--no-timestamps", args.no_timestamps), ("--out",
                  args.out)) if v]  # fmt: skip
         if given:
-            raise UsageError(f"{given[0]} does not apply with --as vmc")
+            raise UsageError(f"{given[0]} does not apply with --as {args.as_system}")
+        default = "127.0.0.1:39539" if args.as_system == "vmc" else "127.0.0.1:9763"
         try:
-            if parse_address(args.to or "127.0.0.1:39539")[1] == 0:
+            if parse_address(args.to or default)[1] == 0:
                 raise ValueError("port 0 is not a receiver's port")
         except ValueError as e:
             raise UsageError(f"--to: {e}") from None
@@ -654,9 +668,9 @@ def _check_stream_options(args):
         if given:
             raise UsageError(f"{opt} applies only with --as axis")
     if len(args.take) > 1:
-        raise UsageError("several TAKEs (one per avatar) apply only with --as axis|vmc")
+        raise UsageError("several TAKEs (one per avatar) apply only with --as axis|vmc|xsens")
     if args.to is None:
-        raise UsageError("--to HOST:PORT is required (or --as axis|vmc)")
+        raise UsageError("--to HOST:PORT is required (or --as axis|vmc|xsens)")
     try:
         host, port = parse_address(args.to)
     except ValueError as e:
@@ -972,7 +986,7 @@ def _serve_source(args, log, FI, factory, name, server) -> int:
         _check_output(args.out, "--out")
     module, host, port = parse_source(args.source)
     _stage(args, args.header)
-    if args.source.startswith("vmc://"):
+    if args.source.startswith(("vmc://", "xsens://")):
         source = module.Source(host, port, rate=args.rate)
         skeleton = "from the bones sent"
     else:
@@ -1034,13 +1048,12 @@ def _cmd_stream(args, log) -> int:
 
 
 def _stream_as(args, log) -> int:
-    """``fpdtw stream TAKE ... --as axis|vmc``: the takes as Axis' broadcast, to one client,
-    or as VMC senders."""
+    """``fpdtw stream TAKE ... --as axis|vmc|xsens``: the takes as Axis' broadcast, to one
+    client, as VMC senders or as MVN's network streamer."""
     from fpdtw.app.source_axis import play_as_axis
     from fpdtw.app.stream import take_lines
 
-    if args.as_system == "vmc":
-        from fpdtw.app.source_vmc import play_as_vmc
+    if args.as_system in ("vmc", "xsens"):
         from fpdtw.io import load_motion
 
         motions = []
@@ -1048,11 +1061,17 @@ def _stream_as(args, log) -> int:
             _stage(args, path)
             m = load_motion(path, **({"skeleton": args.skeleton} if args.skeleton else {}))
             motions.append(m.resample(args.rate) if args.rate else m)
-        to = args.to or "127.0.0.1:39539"
+        vmc = args.as_system == "vmc"
+        to = args.to or ("127.0.0.1:39539" if vmc else "127.0.0.1:9763")
         _stage(args, to)
         mode = "one frame a millisecond" if args.fast else "in real time"
-        log(f"playing {len(motions)} take(s) as VMC senders to {to} {mode}")
-        play_as_vmc(motions, to, fast=args.fast, out=sys.stdout)
+        what = "VMC senders" if vmc else "MVN network streamer characters"
+        log(f"playing {len(motions)} take(s) as {what} to {to} {mode}")
+        if vmc:
+            from fpdtw.app.source_vmc import play_as_vmc as play
+        else:
+            from fpdtw.app.source_xsens import play_as_xsens as play
+        play(motions, to, fast=args.fast, out=sys.stdout)
         return 0
 
     takes = []

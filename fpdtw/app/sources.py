@@ -36,7 +36,8 @@ from fpdtw.app.stream import session_map, stamp
 from fpdtw.errors import FpdtwError
 
 #: URL scheme -> the module reading that system's stream.
-SOURCES = {"axis": "fpdtw.app.source_axis", "vmc": "fpdtw.app.source_vmc"}
+SOURCES = {"axis": "fpdtw.app.source_axis", "vmc": "fpdtw.app.source_vmc",
+           "xsens": "fpdtw.app.source_xsens"}  # fmt: skip
 #: A frame arriving this many seconds before its time at the stream's rate is "ahead".
 AHEAD_S = 0.5
 #: A performer whose frames are unusable for this many seconds of its rate in a row ends the
@@ -64,6 +65,8 @@ BAD_KINDS = {
     "duplicate": "duplicated frames",
     "order": "frames older than the one before",
     "flood": "datagrams dropped by a full queue",
+    "mxtp": "datagrams that are not MVN's (MXTP) or whose sizes disagree",
+    "skipped": "MVN datagrams of types not read (skipped)",
 }
 
 
@@ -172,7 +175,7 @@ class Performers:
         if kind not in self.first_bad:
             self.first_bad[kind] = message
             self.log(f"take {self.take}: {message} (dropped; counted in the summary)")
-        if kind in ("cut", "oversize", "empty", "refused", "flood"):
+        if kind in ("cut", "oversize", "empty", "refused", "flood", "skipped"):
             return
         if perf is None:
             self.loose_run += 1
