@@ -61,20 +61,6 @@ def _acos01(x):
     return 2.0 * a if big else _PI_OVER_2 - a
 
 
-@numba.njit(cache=True)
-def _acos01_array(x, out):
-    for i in range(x.shape[0]):
-        out[i] = _acos01(x[i])
-    return out
-
-
-def fast_acos(x) -> np.ndarray:
-    """:func:`_acos01` of every value of ``x`` (array_like of float in [0, 1])."""
-    x = np.asarray(x, dtype=np.float64)
-    flat = np.ascontiguousarray(x.ravel())
-    return _acos01_array(flat, np.empty_like(flat)).reshape(x.shape)
-
-
 #: Eq. 1 as written: the empty weights of the kernels below.
 _NO_WEIGHTS = np.empty(0)
 

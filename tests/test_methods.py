@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 import pytest
 from reference.synthetic import (
@@ -22,11 +23,12 @@ from reference.synthetic import (
 )
 
 from fpdtw import plain
-from fpdtw.costs import fast_acos, geo_distance
+from fpdtw.costs import _acos01, geo_distance
 from fpdtw.errors import AlignmentError
 from fpdtw.io import load_motion
 from fpdtw.metrics import hold_share
 from fpdtw.motion.features import Frame, MotionFeatures
+from fpdtw.motion.joints import OPW_JOINTS
 from fpdtw.online.base import run_online, run_together
 from fpdtw.online.method_a import MethodA
 from fpdtw.online.method_b import MethodB
@@ -506,14 +508,12 @@ def test_online_prefix_does_not_depend_on_future_frames(pairs, method, w, typev)
             E[: q + 1] = T.euler[: q + 1]
             T2 = MotionFeatures(Q, E, T.orders, T.fps)
             a = make(method, I, w, typev)
-            try:
-                M2, _ = run_online(a, T2)
-            except AlignmentError as e:
-                # NaN frames make every cost NaN: Method B's back-track may then end in a
-                # row Type V masks, which is refused, never picked
-                assert garbage == "nan" and method == "B" and typev, e
-                a.reset()
+            if garbage == "nan":  # every method refuses the first NaN frame alike
                 M2 = np.array([a.step(T2.frame(i)) for i in range(q + 1)])
+                with pytest.raises(AlignmentError, match=f"target frame {q + 1}: joint 0 is not"):
+                    a.step(T2.frame(q + 1))
+            else:
+                M2, _ = run_online(a, T2)
             np.testing.assert_array_equal(M2[: q + 1], M[: q + 1])
             assert M2.min() >= 0 and M2.max() <= I.n_frames - 1
 
@@ -533,6 +533,15 @@ def test_input_aligned_to_itself_is_the_identity(method, w, typev):
     for X in (lin, random_walk_features(120, seed=5)):
         M, _ = run_online(make(method, X, w, typev), X)
         np.testing.assert_array_equal(M, np.arange(X.n_frames))
+
+
+@numba.njit
+def fast_acos(x):
+    """The kernels' arccos on [0, 1] (``fpdtw.costs._acos01``) of every value of ``x`` (1-D)."""
+    out = np.empty_like(x)
+    for i in range(x.shape[0]):
+        out[i] = _acos01(x[i])
+    return out
 
 
 def test_fast_acos_matches_libm():
@@ -707,3 +716,39 @@ def test_bench_online_rows():
     assert f"{rows[2]['median_s'] * 1e6:.1f}" in line and f"{rows[4]['median_s'] * 1e6:.1f}" in line
     with pytest.raises(AlignmentError, match="unknown algorithm"):
         bench_online([(I, T)], ["Md w10"])
+
+
+#: One name of every online family, with and without Type V and beyond the papers.
+EVERY_ONLINE = (
+    "Ma",
+    "Ma + Type V",
+    "Mb w10",
+    "Mb w10 + Type V",
+    "Mc w10",
+    "Mc w10 + Type V",
+    "Mc w10 (literal window)",
+    "OE-DTW",
+    "OLTW",
+    "OPW",
+    "Mc w10 (derivative)",
+)
+
+
+@pytest.mark.parametrize("name", EVERY_ONLINE)
+@pytest.mark.parametrize("where", ["quats", "euler"])
+def test_a_frame_that_is_not_finite_is_refused_the_same_way_by_every_method(name, where, data_path):
+    """Issue "capture sources": a NaN or inf names the frame and the joint, for every method;
+    the aligner is left as it was, so leaving the frame out gives the map of a take without it."""
+    motions = [load_motion(data_path(SQUAT.format(k))).crop(0.0, 0.5) for k in (1, 2)]
+    I, T = (MotionFeatures.from_motion(m, position_joints=OPW_JOINTS) for m in motions)
+    a = make_online(name, I)
+    frames = list(T.frames())
+    M = [a.step(f) for f in frames[:5]]
+    bad = {"quats": frames[5].quats.copy(), "euler": frames[5].euler.copy()}
+    bad[where][2, 1] = np.nan if where == "quats" else np.inf
+    with pytest.raises(AlignmentError, match=r"target frame 5: joint 2 is not finite"):
+        a.step(Frame(bad["quats"], bad["euler"], frames[5].positions, frames[5].orders))
+    M += [a.step(f) for f in frames[6:]]
+    kept = [f for k, f in enumerate(frames) if k != 5]
+    b = make_online(name, I)
+    assert M == [b.step(f) for f in kept]

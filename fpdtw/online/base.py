@@ -177,7 +177,8 @@ class OnlineAligner(ABC):
         """Use input rotations ``Iq`` (m + 1, k, 4) and the target's ``orders`` from now on."""
 
     def step(self, frame: Frame) -> int:
-        """Receive target frame ``T_{n+1}`` and return ``M_{n+1}``."""
+        """Receive target frame ``T_{n+1}`` and return ``M_{n+1}``; AlignmentError, the aligner
+        unchanged, when the frame holds a NaN or inf."""
         if self.n_received == 0:
             self._begin_take(frame)
         i = self.n_received - self._start
@@ -190,6 +191,13 @@ class OnlineAligner(ABC):
             if self._Tp is None:
                 self._Tp = np.empty((self._Tq.shape[0],) + np.shape(frame.positions))
             self._Tp[i] = frame.positions
+        bad = ~(np.isfinite(self._Tq[i]).all(axis=1) & np.isfinite(self._Te[i]).all(axis=1))
+        if bad.any() or (frame.positions is not None and not np.isfinite(self._Tp[i]).all()):
+            what = f"joint {int(np.argmax(bad))}" if bad.any() else "a joint position"
+            raise AlignmentError(
+                f"target frame {self.n_received}: {what} is not finite (NaN or inf), for every "
+                "method; leave the frame out or fill it (a gap) before step()"
+            )
         self.n_received += 1
         m = int(self._step(i))
         self._M[i] = m

@@ -561,7 +561,8 @@ def _work_views(work, iwork):
 @numba.njit(cache=True)
 def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
     """The whole ``step`` in one call: store the frame in row ``q``, step, store ``M[q]``;
-    -1 (a frame of another shape) or -2 (weighted joints): the caller takes the general path."""
+    -1 (a frame of another shape, or not finite) or -2 (weighted joints): the caller takes the
+    general path."""
     if iwork[_HEADER + P_WEIGHTED] != 0:
         return -2
     k = Iq.shape[1]
@@ -572,6 +573,8 @@ def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
             Tq[q, j, a] = fq[j, a]
         for a in range(3):
             Te[q, j, a] = fe[j, a]
+    if not (np.all(np.isfinite(fq)) and np.all(np.isfinite(fe))):
+        return -1  # the general path names the frame and the joint
     if iwork[_HEADER + P_METHOD] == METHOD_A:
         prm, table, tv, out, c = _head_views(work, iwork)
         m = _a_step(Iq, Tq, q, M, tv, prm, table, c, out, work[0:0])
