@@ -568,13 +568,16 @@ def _stream_step(Iq, Tq, Te, M, q, fq, fe, work, iwork):
     k = Iq.shape[1]
     if fq.shape[0] != k or fq.shape[1] != 4 or fe.shape[0] != k or fe.shape[1] != 3:
         return -1  # none stored
+    finite = True  # else the general path names the frame and the joint
     for j in range(k):
         for a in range(4):
             Tq[q, j, a] = fq[j, a]
+            finite &= np.isfinite(fq[j, a])
         for a in range(3):
             Te[q, j, a] = fe[j, a]
-    if not (np.all(np.isfinite(fq)) and np.all(np.isfinite(fe))):
-        return -1  # the general path names the frame and the joint
+            finite &= np.isfinite(fe[j, a])
+    if not finite:
+        return -1
     if iwork[_HEADER + P_METHOD] == METHOD_A:
         prm, table, tv, out, c = _head_views(work, iwork)
         m = _a_step(Iq, Tq, q, M, tv, prm, table, c, out, work[0:0])
