@@ -11,30 +11,26 @@ from __future__ import annotations
 
 import asyncio
 import socket
-import subprocess
-import sys
 import threading
 
 import numpy as np
 import pytest
 from pythonosc import osc_bundle_builder
+from reference.udp_sources import serve_and_stream
 
 from fpdtw.app import cli
-from fpdtw.app.export import read_map_csv
 from fpdtw.app.source_vmc import (
     JOINT_MAPS,
     MAX_DATAGRAM,
-    MAX_QUEUE,
     Source,
     VmcSkeleton,
     _message,
-    _Receiver,
     fpdtw_to_unity,
     play_as_vmc,
     unity_to_fpdtw,
     vmc_frames,
 )
-from fpdtw.app.sources import Performers, TakeEnd, parse_source
+from fpdtw.app.sources import MAX_QUEUE, DatagramReceiver, Performers, TakeEnd, parse_source
 from fpdtw.app.stream import session_map
 from fpdtw.io.bvh import parse_bvh_header, read_bvh
 from fpdtw.motion.features import MotionFeatures
@@ -100,7 +96,7 @@ def inject(datagrams, FI, *, addr=("127.0.0.1", 5000), idle=0.2):
     ``(bytes, addr)``), nothing lost: (performers, how the take ended, log)."""
 
     async def main():
-        proto = _Receiver()
+        proto = DatagramReceiver()
         for d in datagrams:
             data, a = d if isinstance(d, tuple) else (d, addr)
             proto.datagram_received(data, a)
@@ -207,36 +203,8 @@ def test_the_command_line_end_to_end(cmu, tmp_path):
     """``fpdtw serve --source vmc:// --once --out`` in its own process; ``fpdtw stream A B
     --as vmc`` here: one map file per sender, each ``fpdtw align``'s."""
     path, _, warps = cmu
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
-    out = tmp_path / "live.csv"
-    serve = subprocess.Popen(
-        [sys.executable, "-m", "fpdtw.app.cli", "serve", str(path), "--source",
-         f"vmc://127.0.0.1:{port}", "--rate", "30", "--once", "--idle-timeout", "1",
-         "--out", str(out)],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-    )  # fmt: skip
-    try:
-        assert serve.stdout.readline().strip() == f"connected to vmc://127.0.0.1:{port}"
-        assert cli.main(["stream", *map(str, warps), "--as", "vmc", "--to",
-                         f"127.0.0.1:{port}", "--fast"]) == 0  # fmt: skip
-        assert serve.wait(60) == 0
-        err = serve.stderr.read()
-    finally:
-        if serve.poll() is None:
-            serve.kill()
-        serve.wait()
-        serve.stdout.close()
-        serve.stderr.close()
+    err, _ = serve_and_stream("vmc", path, warps, tmp_path)
     assert "606 frames read; unusable: none" in err
-    files = sorted(tmp_path.glob("live-take1-*.csv"))
-    assert len(files) == 2
-    for f, w in zip(files, warps, strict=True):
-        ref = tmp_path / f"ref-{w.stem}.csv"
-        assert cli.main(["align", str(path), str(w), "-m", "c", "-w", "40", "--out", str(ref)]) == 0
-        np.testing.assert_array_equal(read_map_csv(f)["input_frame"],
-                                      read_map_csv(ref)["input_frame"])  # fmt: skip
 
 
 # ------------------------------------------------------------------------- hostile input
@@ -360,7 +328,7 @@ def test_senders_beyond_the_bound_and_a_garbage_only_sender(cmu):
     mixed = [x for f in frames[:60] for x in ((f, a), (f, b))]
 
     async def main():
-        proto = _Receiver()
+        proto = DatagramReceiver()
         for d, addr in mixed:
             proto.datagram_received(d, addr)
         log = []

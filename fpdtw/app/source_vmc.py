@@ -28,9 +28,6 @@ UDP client sending one bundle a frame (``fpdtw stream --as vmc``).
 
 from __future__ import annotations
 
-import asyncio
-import collections
-import socket
 import time
 
 import numpy as np
@@ -39,7 +36,7 @@ from pythonosc.osc_packet import OscPacket
 
 from fpdtw import limits
 from fpdtw.app.serve import parse_address
-from fpdtw.app.sources import TakeEnd
+from fpdtw.app.sources import DatagramSource
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rotations import quat_mul, quat_normalize, quat_to_euler
 
@@ -49,8 +46,6 @@ DEFAULT_PORT = 39539
 DEFAULT_RATE = 60.0
 #: Bytes a datagram may have (a frame of 55 bones and 52 blend shapes is about 8 KiB).
 MAX_DATAGRAM = 32768
-#: Datagrams waiting to be read; more are dropped and counted (a flood).
-MAX_QUEUE = 4096
 #: Sender addresses tracked in one take (each has a frame in the making).
 MAX_SENDERS = 64
 #: A quaternion whose norm is further than this from 1 is not a rotation.
@@ -192,22 +187,6 @@ class VmcSkeleton:
 # -- reading ---------------------------------------------------------------------------------
 
 
-class _Receiver(asyncio.DatagramProtocol):
-    """Queues datagrams with their arrival time; counts those a full queue drops."""
-
-    def __init__(self):
-        self.queue = collections.deque()
-        self.dropped = 0
-        self.ready = asyncio.Event()
-
-    def datagram_received(self, data, addr):
-        if len(self.queue) >= MAX_QUEUE:
-            self.dropped += 1
-        else:
-            self.queue.append((data, addr, time.perf_counter()))
-        self.ready.set()
-
-
 class _Sender:
     """One sender address: its frame in the making and its performer."""
 
@@ -251,7 +230,7 @@ def _numbers(args) -> bool:
     return all(isinstance(a, int | float) and not isinstance(a, bool) for a in args)
 
 
-class Source:
+class Source(DatagramSource):
     """Listens for VMC senders, one take at a time (see the module's docstring).
 
     Parameters
@@ -265,69 +244,17 @@ class Source:
         Not used: the skeleton comes from the stream (ValueError when given).
     """
 
-    def __init__(self, host: str, port: int, *, rate=None, header=None):
-        if header is not None:
-            raise ValueError("vmc:// takes no --header: the skeleton comes from the bones sent")
-        self.host, self.port = host, port
-        self.rate = float(rate or DEFAULT_RATE)
+    scheme = "vmc"
+    skeleton_from = "the bones sent"
+    DEFAULT_RATE = DEFAULT_RATE  # the module's
 
-    def describe(self) -> str:
-        host = f"[{self.host}]" if ":" in self.host else self.host
-        return f"vmc://{host}:{self.port}"
+    def begin_take(self) -> None:
+        self.senders = {}
 
-    async def connect(self):
-        """Bind the UDP port; return the transport and its receiver (OSError when taken)."""
-        loop = asyncio.get_running_loop()
-        transport, proto = await loop.create_datagram_endpoint(
-            _Receiver, local_addr=(self.host, self.port)
-        )
-        sock = transport.get_extra_info("socket")
-        try:
-            sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1 << 22)
-        except OSError:
-            pass
-        return transport, proto
-
-    async def read(self, connection, performers, idle_timeout: float) -> str:
-        """Read datagrams until ``idle_timeout`` s of silence after the first; return how the
-        take ended (TakeEnd when it cannot go on)."""
-        transport, proto = connection
-        self.senders, self.n = {}, 0
-        started = False
-        try:
-            while True:
-                proto.ready.clear()
-                if not proto.queue:
-                    self.flood(proto, performers)
-                    try:
-                        async with asyncio.timeout(idle_timeout if started else None):
-                            await proto.ready.wait()
-                    except TimeoutError:
-                        for s in self.senders.values():
-                            if s.bones or s.problem:
-                                self.finish(s, performers, None, None)
-                        return f"ended: nothing received for {idle_timeout:g} s (--idle-timeout)"
-                started = True
-                for _ in range(64):
-                    if not proto.queue:
-                        break
-                    self.datagram(*proto.queue.popleft(), performers)
-                await asyncio.sleep(0)
-        except TakeEnd:
-            self.flood(proto, performers)
-            raise
-        finally:
-            transport.close()
-
-    def flood(self, proto, performers) -> None:
-        """Count the datagrams a full queue dropped (they came after those queued)."""
-        if proto.dropped:
-            k, proto.dropped = proto.dropped, 0
-            performers.frames += k
-            performers.count_bad(None, "flood", f"datagrams {self.n + 1} to {self.n + k} "
-                                 f"dropped: more than {MAX_QUEUE} waiting (a flood)")  # fmt: skip
-            performers.bad["flood"] += k - 1
-            self.n += k
+    def end_take(self, performers) -> None:
+        for s in self.senders.values():
+            if s.bones or s.problem:
+                self.finish(s, performers, None, None)
 
     def datagram(self, data: bytes, addr, arrival: float, performers) -> None:
         """One datagram: parsed, its messages added to its sender's frame."""

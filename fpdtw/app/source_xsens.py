@@ -57,8 +57,6 @@ axis conversion), each take a character, over one UDP socket.
 
 from __future__ import annotations
 
-import asyncio
-import collections
 import socket
 import struct
 import time
@@ -67,7 +65,7 @@ import numpy as np
 
 from fpdtw import limits
 from fpdtw.app.serve import parse_address
-from fpdtw.app.sources import TakeEnd
+from fpdtw.app.sources import DatagramSource
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rig import rest_rotations
 from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate, quat_to_euler
@@ -79,8 +77,6 @@ DEFAULT_RATE = 60.0
 #: Bytes a datagram may have (a whole type-02 sample of 23 segments, 4 props and 40 finger
 #: segments is 2168 bytes; MVN splits a sample at the MTU, about 1500).
 MAX_DATAGRAM = 16384
-#: Datagrams waiting to be read; more are dropped and counted (a flood).
-MAX_QUEUE = 4096
 #: Character IDs tracked in one take (each has a sample in the making).
 MAX_CHARACTERS = 64
 #: Datagrams one sample may be split into (the index is 7 bits; MVN needs two or three).
@@ -197,22 +193,6 @@ class MvnSkeleton:
 # -- reading ---------------------------------------------------------------------------------
 
 
-class _Receiver(asyncio.DatagramProtocol):
-    """Queues datagrams with their arrival time; counts those a full queue drops."""
-
-    def __init__(self):
-        self.queue = collections.deque()
-        self.dropped = 0
-        self.ready = asyncio.Event()
-
-    def datagram_received(self, data, addr):
-        if len(self.queue) >= MAX_QUEUE:
-            self.dropped += 1
-        else:
-            self.queue.append((data, addr, time.perf_counter()))
-        self.ready.set()
-
-
 class _Character:
     """One character ID: its sample in the making and its performer."""
 
@@ -233,7 +213,7 @@ class _Character:
             self.problem = (kind, what)
 
 
-class Source:
+class Source(DatagramSource):
     """Listens for MVN's network streamer, one take at a time (see the module's docstring).
 
     Parameters
@@ -247,69 +227,17 @@ class Source:
         Not used: the skeleton comes from the stream (ValueError when given).
     """
 
-    def __init__(self, host: str, port: int, *, rate=None, header=None):
-        if header is not None:
-            raise ValueError("xsens:// takes no --header: the skeleton comes from the segments")
-        self.host, self.port = host, port
-        self.rate = float(rate or DEFAULT_RATE)
+    scheme = "xsens"
+    skeleton_from = "the segments"
+    DEFAULT_RATE = DEFAULT_RATE  # the module's
 
-    def describe(self) -> str:
-        host = f"[{self.host}]" if ":" in self.host else self.host
-        return f"xsens://{host}:{self.port}"
+    def begin_take(self) -> None:
+        self.characters = {}
 
-    async def connect(self):
-        """Bind the UDP port; return the transport and its receiver (OSError when taken)."""
-        loop = asyncio.get_running_loop()
-        transport, proto = await loop.create_datagram_endpoint(
-            _Receiver, local_addr=(self.host, self.port)
-        )
-        sock = transport.get_extra_info("socket")
-        try:
-            sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1 << 22)
-        except OSError:
-            pass
-        return transport, proto
-
-    async def read(self, connection, performers, idle_timeout: float) -> str:
-        """Read datagrams until ``idle_timeout`` s of silence after the first; return how the
-        take ended (TakeEnd when it cannot go on)."""
-        transport, proto = connection
-        self.characters, self.n = {}, 0
-        started = False
-        try:
-            while True:
-                proto.ready.clear()
-                if not proto.queue:
-                    self.flood(proto, performers)
-                    try:
-                        async with asyncio.timeout(idle_timeout if started else None):
-                            await proto.ready.wait()
-                    except TimeoutError:
-                        for c in self.characters.values():
-                            if c.sc is not None:
-                                self.finish(c, performers, None, "at the end of the take")
-                        return f"ended: nothing received for {idle_timeout:g} s (--idle-timeout)"
-                started = True
-                for _ in range(64):
-                    if not proto.queue:
-                        break
-                    self.datagram(*proto.queue.popleft(), performers)
-                await asyncio.sleep(0)
-        except TakeEnd:
-            self.flood(proto, performers)
-            raise
-        finally:
-            transport.close()
-
-    def flood(self, proto, performers) -> None:
-        """Count the datagrams a full queue dropped (they came after those queued)."""
-        if proto.dropped:
-            k, proto.dropped = proto.dropped, 0
-            performers.frames += k
-            performers.count_bad(None, "flood", f"datagrams {self.n + 1} to {self.n + k} "
-                                 f"dropped: more than {MAX_QUEUE} waiting (a flood)")  # fmt: skip
-            performers.bad["flood"] += k - 1
-            self.n += k
+    def end_take(self, performers) -> None:
+        for c in self.characters.values():
+            if c.sc is not None:
+                self.finish(c, performers, None, "at the end of the take")
 
     def _refuse(self, performers, perf, kind, what):
         performers.frames += 1

@@ -16,18 +16,22 @@ to :class:`Performers`, the part every source shares:
 
 A source module has ``DEFAULT_PORT`` and a class ``Source(host, port, **options)`` with
 ``describe()``, ``async connect()`` (OSError when nobody answers) and ``async read(connection,
-performers, idle_timeout)`` returning how the take ended (or raising :class:`TakeEnd`).
+performers, idle_timeout)`` returning how the take ended (or raising :class:`TakeEnd`). A source
+of UDP datagrams (VMC, Xsens) gets all but its datagrams' meaning from :class:`DatagramSource`.
 """
 
 from __future__ import annotations
 
 import asyncio
+import collections
 import contextlib
 import importlib
 import os
 import re
 import signal
+import socket
 import sys
+import time
 from pathlib import Path
 
 from fpdtw.app.export import write_map_csv
@@ -72,6 +76,112 @@ BAD_KINDS = {
 
 class TakeEnd(Exception):
     """The take cannot go on; the message names the frame and what is wrong."""
+
+
+#: Datagrams a UDP source keeps waiting to be read; more are dropped and counted (a flood).
+MAX_QUEUE = 4096
+
+
+class DatagramReceiver(asyncio.DatagramProtocol):
+    """Queues datagrams with their arrival time; counts those a full queue drops."""
+
+    def __init__(self):
+        self.queue = collections.deque()
+        self.dropped = 0
+        self.ready = asyncio.Event()
+
+    def datagram_received(self, data, addr):
+        if len(self.queue) >= MAX_QUEUE:
+            self.dropped += 1
+        else:
+            self.queue.append((data, addr, time.perf_counter()))
+        self.ready.set()
+
+
+class DatagramSource:
+    """What every UDP source shares: it listens on ``host:port`` and only reads, its skeleton
+    comes from the stream (no ``--header``), a take ends after ``--idle-timeout`` of silence,
+    and datagrams a full queue drops are counted as a flood.
+
+    A subclass sets :attr:`scheme`, :attr:`skeleton_from` and ``DEFAULT_RATE`` and implements
+    :meth:`begin_take`, ``datagram(data, addr, arrival, performers)`` (``self.n`` counts
+    datagrams) and :meth:`end_take`.
+    """
+
+    scheme = ""
+    skeleton_from = "the stream"
+    DEFAULT_RATE = 60.0
+
+    def __init__(self, host: str, port: int, *, rate=None, header=None):
+        if header is not None:
+            raise ValueError(
+                f"{self.scheme}:// takes no --header: the skeleton comes from {self.skeleton_from}"
+            )
+        self.host, self.port = host, port
+        self.rate = float(rate or self.DEFAULT_RATE)
+
+    def describe(self) -> str:
+        host = f"[{self.host}]" if ":" in self.host else self.host
+        return f"{self.scheme}://{host}:{self.port}"
+
+    async def connect(self):
+        """Bind the UDP port; return the transport and its receiver (OSError when taken)."""
+        loop = asyncio.get_running_loop()
+        transport, proto = await loop.create_datagram_endpoint(
+            DatagramReceiver, local_addr=(self.host, self.port)
+        )
+        sock = transport.get_extra_info("socket")
+        try:
+            sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 1 << 22)
+        except OSError:
+            pass
+        return transport, proto
+
+    def begin_take(self) -> None:
+        """Forget the last take's senders."""
+
+    def end_take(self, performers) -> None:
+        """The take went silent: finish what its senders had begun."""
+
+    async def read(self, connection, performers, idle_timeout: float) -> str:
+        """Read datagrams until ``idle_timeout`` s of silence after the first; return how the
+        take ended (TakeEnd when it cannot go on)."""
+        transport, proto = connection
+        self.n = 0
+        self.begin_take()
+        started = False
+        try:
+            while True:
+                proto.ready.clear()
+                if not proto.queue:
+                    self.flood(proto, performers)
+                    try:
+                        async with asyncio.timeout(idle_timeout if started else None):
+                            await proto.ready.wait()
+                    except TimeoutError:
+                        self.end_take(performers)
+                        return f"ended: nothing received for {idle_timeout:g} s (--idle-timeout)"
+                started = True
+                for _ in range(64):
+                    if not proto.queue:
+                        break
+                    self.datagram(*proto.queue.popleft(), performers)
+                await asyncio.sleep(0)
+        except TakeEnd:
+            self.flood(proto, performers)
+            raise
+        finally:
+            transport.close()
+
+    def flood(self, proto, performers) -> None:
+        """Count the datagrams a full queue dropped (they came after those queued)."""
+        if proto.dropped:
+            k, proto.dropped = proto.dropped, 0
+            performers.frames += k
+            performers.count_bad(None, "flood", f"datagrams {self.n + 1} to {self.n + k} "
+                                 f"dropped: more than {MAX_QUEUE} waiting (a flood)")  # fmt: skip
+            performers.bad["flood"] += k - 1
+            self.n += k
 
 
 def parse_source(url: str):

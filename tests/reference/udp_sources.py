@@ -1,0 +1,49 @@
+"""What the tests of the UDP capture sources share: one take end to end through both commands."""
+
+from __future__ import annotations
+
+import socket
+import subprocess
+import sys
+
+import numpy as np
+
+from fpdtw.app import cli
+from fpdtw.app.export import read_map_csv
+
+
+def serve_and_stream(scheme: str, recording, takes, tmp_path) -> tuple[str, list]:
+    """``fpdtw serve RECORDING --source SCHEME://127.0.0.1:PORT --rate 30 --once --out`` in its
+    own process and ``fpdtw stream TAKES --as SCHEME --fast`` in this one; checks that each map
+    file is ``fpdtw align``'s (Mc w40) and returns the server's stderr and the map files."""
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    serve = subprocess.Popen(
+        [sys.executable, "-m", "fpdtw.app.cli", "serve", str(recording), "--source",
+         f"{scheme}://127.0.0.1:{port}", "--rate", "30", "--once", "--idle-timeout", "1",
+         "--out", str(tmp_path / "live.csv")],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    try:
+        assert serve.stdout.readline().strip() == f"connected to {scheme}://127.0.0.1:{port}"
+        assert cli.main(["stream", *map(str, takes), "--as", scheme, "--to",
+                         f"127.0.0.1:{port}", "--fast"]) == 0  # fmt: skip
+        assert serve.wait(60) == 0
+        err = serve.stderr.read()
+    finally:
+        if serve.poll() is None:
+            serve.kill()
+        serve.wait()
+        serve.stdout.close()
+        serve.stderr.close()
+    files = sorted(tmp_path.glob("live-take1-*.csv"))
+    assert len(files) == len(takes), err
+    for f, take in zip(files, takes, strict=True):
+        ref = tmp_path / f"ref-{take.stem}.csv"
+        align = ["align", str(recording), str(take), "-m", "c", "-w", "40", "--out", str(ref)]
+        assert cli.main(align) == 0
+        np.testing.assert_array_equal(
+            read_map_csv(f)["input_frame"], read_map_csv(ref)["input_frame"]
+        )
+    return err, files
