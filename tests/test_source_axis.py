@@ -16,6 +16,7 @@ import threading
 
 import numpy as np
 import pytest
+from reference.live_sources import METHOD, offline_map
 
 from fpdtw import limits
 from fpdtw.app import cli
@@ -24,22 +25,15 @@ from fpdtw.app.source_axis import AxisHeader, Source, axis_frames, serve_axis
 from fpdtw.app.sources import Performers, TakeEnd, map_path, parse_source
 from fpdtw.app.stream import session_map, take_lines
 from fpdtw.io.bvh import parse_bvh_header, read_bvh
-from fpdtw.motion.features import MotionFeatures
-from fpdtw.registry import align, resolve
+from fpdtw.registry import resolve
 
 CMU = "cmu/18_01.bvh"
-METHOD = "Mc w40"
 
 
 @pytest.fixture(scope="module")
 def cmu(cmu_retimed):
     """The recording (path, features) and two retimed takes of it (paths)."""
     return cmu_retimed
-
-
-def offline_map(FI, take):
-    M, _ = align(METHOD, FI, MotionFeatures.from_motion(read_bvh(take)))
-    return np.asarray(M, dtype=np.int64)
 
 
 def run(frames, header, FI, *, fast=True, max_performers=8, idle=5.0):

@@ -15,7 +15,7 @@ import threading
 
 import numpy as np
 import pytest
-from reference.udp_sources import serve_and_stream
+from reference.live_sources import METHOD, offline_map, serve_and_stream
 
 from fpdtw.app import cli
 from fpdtw.app.source_xsens import (
@@ -36,28 +36,15 @@ from fpdtw.app.source_xsens import (
 from fpdtw.app.sources import MAX_QUEUE, DatagramReceiver, Performers, TakeEnd, parse_source
 from fpdtw.app.stream import session_map
 from fpdtw.io.bvh import parse_bvh_header, read_bvh
-from fpdtw.motion.features import MotionFeatures
 from fpdtw.motion.joints import find_joint_map
 from fpdtw.motion.rotations import quat_conj, quat_mul
-from fpdtw.registry import align, resolve
-
-METHOD = "Mc w40"
+from fpdtw.registry import resolve
 
 
 @pytest.fixture(scope="module")
 def cmu(cmu_retimed):
     """The recording's path and features and two retimed takes of it (paths)."""
     return cmu_retimed
-
-
-_OFFLINE = {}
-
-
-def offline_map(FI, take):
-    if take not in _OFFLINE:
-        M, _ = align(METHOD, FI, MotionFeatures.from_motion(read_bvh(take)))
-        _OFFLINE[take] = np.asarray(M, dtype=np.int64)
-    return _OFFLINE[take]
 
 
 def performers(FI, log, **kw):

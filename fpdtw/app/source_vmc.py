@@ -36,7 +36,7 @@ from pythonosc.osc_packet import OscPacket
 
 from fpdtw import limits
 from fpdtw.app.serve import parse_address
-from fpdtw.app.sources import DatagramSource
+from fpdtw.app.sources import DatagramSource, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rotations import quat_mul, quat_normalize, quat_to_euler
 
@@ -191,7 +191,7 @@ class _Sender:
     """One sender address: its frame in the making and its performer."""
 
     def __init__(self, addr):
-        self.addr = f"[{addr[0]}]:{addr[1]}" if ":" in addr[0] else f"{addr[0]}:{addr[1]}"
+        self.addr = sender_name(addr)
         self.perf = self.skeleton = self.root = self.problem = None
         self.bones = {}
         self.refused = False

@@ -65,7 +65,7 @@ import numpy as np
 
 from fpdtw import limits
 from fpdtw.app.serve import parse_address
-from fpdtw.app.sources import DatagramSource
+from fpdtw.app.sources import DatagramSource, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rig import rest_rotations
 from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate, quat_to_euler
@@ -198,7 +198,7 @@ class _Character:
 
     def __init__(self, cid, addr):
         self.cid = cid
-        self.addr = f"[{addr[0]}]:{addr[1]}" if ":" in addr[0] else f"{addr[0]}:{addr[1]}"
+        self.addr = sender_name(addr)
         self.perf = self.skeleton = None
         self.refused = False
         self.sc = None  # the sample counter in the making
@@ -247,7 +247,7 @@ class Source(DatagramSource):
         """One datagram: its header checked, its items added to its character's sample."""
         self.n += 1
         n = self.n
-        sender = f"[{addr[0]}]:{addr[1]}" if ":" in addr[0] else f"{addr[0]}:{addr[1]}"
+        sender = sender_name(addr)
         where = f"datagram {n} from {sender}"
         if len(data) > MAX_DATAGRAM:
             return self._refuse(performers, None, "oversize", f"{where}: {len(data)} bytes, "

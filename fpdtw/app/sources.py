@@ -82,6 +82,11 @@ class TakeEnd(Exception):
 MAX_QUEUE = 4096
 
 
+def sender_name(addr) -> str:
+    """``host:port`` of a datagram's sender address (an IPv6 host in brackets)."""
+    return f"[{addr[0]}]:{addr[1]}" if ":" in addr[0] else f"{addr[0]}:{addr[1]}"
+
+
 class DatagramReceiver(asyncio.DatagramProtocol):
     """Queues datagrams with their arrival time; counts those a full queue drops."""
 

@@ -1,4 +1,5 @@
-"""What the tests of the UDP capture sources share: one take end to end through both commands."""
+"""What the tests of the capture sources share: the offline map a source must reproduce, and one
+take end to end through both commands."""
 
 from __future__ import annotations
 
@@ -10,6 +11,23 @@ import numpy as np
 
 from fpdtw.app import cli
 from fpdtw.app.export import read_map_csv
+from fpdtw.io.bvh import read_bvh
+from fpdtw.motion.features import MotionFeatures
+from fpdtw.registry import align
+
+#: The method every source test runs.
+METHOD = "Mc w40"
+_OFFLINE: dict = {}
+
+
+def offline_map(FI, take) -> np.ndarray:
+    """``fpdtw align``'s map (:data:`METHOD`) of a take against the recording ``FI``: int64
+    (n+1,)."""
+    key = (FI.name, str(take))
+    if key not in _OFFLINE:
+        M, _ = align(METHOD, FI, MotionFeatures.from_motion(read_bvh(take)))
+        _OFFLINE[key] = np.asarray(M, dtype=np.int64)
+    return _OFFLINE[key]
 
 
 def serve_and_stream(scheme: str, recording, takes, tmp_path) -> tuple[str, list]:
