@@ -240,3 +240,83 @@ def test_cli_joint_map_and_rest_frame(cmu, tmp_path):
     r = cli(src_i, src_t, "-m", "c", "-w", 40, "-o", tmp_path / "y.csv", "--target-rest-frame",
             10_000)  # fmt: skip
     assert r.returncode == 1 and "t.bvh" in r.stderr and "rest frame 10000" in r.stderr, r.stderr
+
+
+#: CMU's ASF bone names as the cgspeed BVH conversion of the CMU database spells them.
+CGSPEED = dict(
+    hip="Hips", lhipjoint="LHipJoint", lfemur="LeftUpLeg", ltibia="LeftLeg",
+    lfoot="LeftFoot", ltoes="LeftToeBase", rhipjoint="RHipJoint", rfemur="RightUpLeg",
+    rtibia="RightLeg", rfoot="RightFoot", rtoes="RightToeBase", lowerback="LowerBack",
+    upperback="Spine", thorax="Spine1", lowerneck="Neck", upperneck="Neck1", head="Head",
+    lclavicle="LeftShoulder", lhumerus="LeftArm", lradius="LeftForeArm", lwrist="LeftHand",
+    lhand="LeftFingerBase", lfingers="LeftHandIndex1", lthumb="LThumb",
+    rclavicle="RightShoulder", rhumerus="RightArm", rradius="RightForeArm",
+    rwrist="RightHand", rhand="RightFingerBase", rfingers="RightHandIndex1", rthumb="RThumb",
+)  # fmt: skip
+#: Z up, facing -Y (Y up turned +90 degrees about X); mirrored: x -> -x as well.
+Z_UP = np.array([np.cos(np.pi / 4), np.sin(np.pi / 4), 0.0, 0.0])
+Z_UP_AXES = np.array([[1.0, 0, 0], [0, 0, 1], [0, -1, 0]])
+
+
+def other_world(motion, path, mirror=False):
+    """The same movement in a Z-up world with cgspeed's joint names, mirrored (x -> -x: a
+    left-handed world read as right-handed) if asked, written to and read from BVH ``path``:
+    every offset and the root's path turned (and mirrored), every local rotation conjugated."""
+    sk = motion.skeleton
+    q, off, t = motion.quats.copy(), sk.offsets.copy(), motion.root_translation.copy()
+    if mirror:  # positions mirror; a rotation (w, x, y, z) becomes (w, x, -y, -z)
+        off[:, 0] *= -1
+        t[:, 0] *= -1
+        q[..., 2:] *= -1
+    q = quat_mul(quat_mul(Z_UP, q), quat_conj(Z_UP))
+    euler = np.stack([quat_to_euler(q[:, j], o) for j, o in enumerate(sk.rotation_orders)], axis=1)
+    names = tuple(CGSPEED[n] for n in sk.joint_names)
+    new = dataclasses.replace(sk, joint_names=names, offsets=quat_rotate(Z_UP, off))
+    moved = motion.replace(skeleton=new, euler=euler, quats=None, joint_map=None, source="",
+                           root_translation=quat_rotate(Z_UP, t))  # fmt: skip
+    return read_bvh(write_bvh(moved, path))
+
+
+@pytest.mark.parametrize("mirror", [False, True], ids=["z-up", "z-up-mirrored"])
+def test_another_world_gives_the_same_map(cmu, tmp_path, mirror):
+    """The same take in a Z-up world (and a left-handed one) with cgspeed's names: its body
+    axes are found from its rest pose, and every online method gives the map of the take in
+    its own world (before the body axes: 137 frames apart for Ma, 57 for Mc w40 on the whole
+    take). Mb's residue is its Euler dead reckoning, as in the other rigs."""
+    I, T = cut(cmu, 0), cut(cmu, SHIFT)
+    W = other_world(T, tmp_path / "18_01_zup.bvh", mirror)
+    assert W.joint_map["left_hip"] == "LeftUpLeg"  # found by the built-in maps
+    np.testing.assert_array_equal(rig_transform(T).axes, np.eye(3))
+    expected = Z_UP_AXES * ([[-1.0], [1], [1]] if mirror else 1.0)
+    np.testing.assert_array_equal(rig_transform(W).axes, expected)
+    assert np.linalg.det(expected) == (-1.0 if mirror else 1.0)
+    # --up/--facing say the same; a wrong facing is a different frame
+    z, minus_y = np.eye(3)[2], -np.eye(3)[1]
+    np.testing.assert_array_equal(rig_transform(W, up=z, facing=minus_y).axes, expected)
+    assert not np.array_equal(rig_transform(W, up=z, facing=-minus_y).axes, expected)
+    assert_same_maps(I, T, W, 0.5)
+
+
+def test_another_world_live_and_cli(cmu, tmp_path):
+    """Streamed, the Z-up take gives the offline map bit for bit (rotations and OPW's
+    positions); `fpdtw align --up/--facing` naming the worlds gives the map found without."""
+    from fpdtw.app import cli
+    from fpdtw.app.export import read_map_csv
+    from fpdtw.app.stream import session_map, simulate, take_lines
+
+    I, T = cut(cmu, 0), cut(cmu, SHIFT)
+    W = other_world(T, tmp_path / "zup.bvh")
+    for name, pj in (("Mc w40", None), ("OPW", OPW_JOINTS)):
+        FI, FW = pair_features(I, W, position_joints=pj)
+        offline = registry.align(name, FI, FW)[0]
+        live = session_map(simulate(FI, take_lines(W), name))
+        np.testing.assert_array_equal(live, offline)
+    src = write_bvh(I, tmp_path / "in.bvh")
+    outs = []
+    for extra in ([], ["--up", "y,z", "--facing", "z,-y"]):
+        out = tmp_path / f"map{len(outs)}.csv"
+        args = ["align", src, tmp_path / "zup.bvh", "-m", "c", "-w", "40", "-o", out, *extra]
+        assert cli.main([str(a) for a in args]) == 0
+        outs.append(read_map_csv(out)["input_frame"])
+    np.testing.assert_array_equal(outs[0], outs[1])
+    assert outs[0][-1] > SHIFT

@@ -232,8 +232,22 @@ def _add_pair_arguments(p, *, live: bool):
     p.add_argument("--debug", action="store_true", help="show the traceback of an error")
 
 
+def _world_axes(text):
+    """``--up``/``--facing``: AXIS (both motions) or INPUT_AXIS,TARGET_AXIS; AXIS is x, -x,
+    y, -y, z or -z."""
+    from fpdtw.motion.rig import AXIS_NAMES
+
+    names = [n.strip().lower() for n in text.split(",")]
+    names = [n if n[:1] in "+-" else "+" + n for n in names]
+    if len(names) > 2 or any(n not in AXIS_NAMES for n in names):
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not an axis (x, -x, y, -y, z, -z) or two of them, INPUT,TARGET"
+        )
+    return tuple(AXIS_NAMES[n] for n in names * (3 - len(names)))[:2]
+
+
 def _add_rig_arguments(p):
-    """--joint-map and --input-rest-frame."""
+    """--joint-map, --input-rest-frame, --up and --facing."""
     p.add_argument(
         "--joint-map",
         action="append",
@@ -249,6 +263,14 @@ def _add_rig_arguments(p):
         help="take frame K of INPUT (in its own frame rate) as its rest pose (default: its "
         "rig's own rest pose, zero rotations)",
     )
+    for opt, what in (("--up", "up"), ("--facing", "the way the body faces")):
+        p.add_argument(
+            opt,
+            type=_world_axes,
+            metavar="AXIS[,AXIS]",
+            help=f"the world axis that is {what} at rest, for both motions or INPUT,TARGET "
+            "(x, -x, y, -y, z, -z; default: found from the rest pose, docs/align.md)",
+        )
 
 
 def _add_method_arguments(p, *, live: bool = True):
@@ -762,7 +784,7 @@ def _prepare(args, log):
     ):
         _stage(args, path)
         _check_joints(args, mo, path)
-        rigs.append(_rig(mo, rest))
+        rigs.append(_rig(mo, rest, args, len(rigs)))
     if args.fps is not None:
         I = _resample(args, I, args.input, args.fps, log, "input", f"{args.fps:g} Hz")
         T = _resample(args, T, args.target, args.fps, log, "target", f"{args.fps:g} Hz")
@@ -776,10 +798,12 @@ def _prepare(args, log):
     return I, T, rigs
 
 
-def _rig(motion, rest_frame):
+def _rig(motion, rest_frame, args, role=0):
+    """The rig transform of the input (``role`` 0) or the target (1), with --up/--facing."""
     from fpdtw.motion.rig import rig_transform
 
-    return rig_transform(motion, rest_frame=rest_frame)
+    up, facing = (None if a is None else a[role] for a in (args.up, args.facing))
+    return rig_transform(motion, rest_frame=rest_frame, up=up, facing=facing)
 
 
 def _check_joints(args, mo, path):
@@ -837,7 +861,7 @@ def _pair_features(I, T, rigs, method, log):
                            rigs=rigs)  # fmt: skip
     if not FI.rig.same_as(FT.rig):
         log("the two motions' rigs differ: comparing each joint's rotation away from its "
-            "rig's rest pose, in world-aligned axes")  # fmt: skip
+            "rig's rest pose, in its body's axes (up, facing)")  # fmt: skip
     if FT.body_size is not None:
         from fpdtw.motion.rig import body_size
 
@@ -950,7 +974,7 @@ def _cmd_serve(args, log) -> int:
     _stage(args, args.input)
     limits.check_min_frames(I.n_frames, args.input, "input")
     _check_joints(args, I, args.input)
-    FI = _features(I, args.method, _rig(I, args.input_rest_frame))
+    FI = _features(I, args.method, _rig(I, args.input_rest_frame, args))
     name = _algorithm_name(args)
     factory = _factory(args)
     warm_up(factory(FI), FI)  # compile / load the numba kernels before the first take
@@ -962,6 +986,7 @@ def _cmd_serve(args, log) -> int:
         position_joints=OPW_JOINTS if args.method == "opw" else None,
         gap=args.gap,
         joint_maps=_joint_maps(args),
+        axes=tuple(None if a is None else a[1] for a in (args.up, args.facing)),
         max_clients=args.max_clients,
         idle_timeout=args.idle_timeout,
         send=args.send,
@@ -1002,6 +1027,7 @@ def _serve_source(args, log, FI, factory, name, server) -> int:
             FI, factory, take=take, max_performers=args.max_clients, senders=senders,
             record=bool(args.out), log=log, position_joints=server.position_joints,
             gap=args.gap, joint_maps=[*server.joint_maps, *getattr(module, "JOINT_MAPS", ())],
+            axes=server.axes,
         )  # fmt: skip
 
     log(f"serving {name} against input {server.I.n_frames} frames at {FI.fps:g} Hz; reading "

@@ -144,10 +144,12 @@ class Session:
         gap="slerp",
         record=False,
         joint_maps=(),
+        axes=(None, None),
     ):
         if gap not in GAP_RULES:
             raise ValueError(f"gap must be one of {GAP_RULES}, got {gap!r}")
         self.I, self.gap, self.position_joints = I, gap, position_joints
+        self.up, self.facing = axes
         self.joint_maps = tuple(joint_maps)
         self.aligner = make_aligner(I)
         self.header = None
@@ -275,6 +277,9 @@ class Session:
             position_joints=self.position_joints,
             gap=self.gap,
             input_body_size=self.I.body_size,
+            input_axes=None if self.I.rig is None else self.I.rig.axes,
+            up=self.up,
+            facing=self.facing,
         )
 
     def _time(self, s, arrival):
@@ -435,6 +440,7 @@ class Server:
         position_joints=None,
         gap="slerp",
         joint_maps=(),
+        axes=(None, None),
         max_clients=MAX_CLIENTS,
         idle_timeout=IDLE_TIMEOUT_S,
         send=(),
@@ -442,7 +448,7 @@ class Server:
     ):
         self.I, self.make_aligner, self.name = I, make_aligner, name
         self.position_joints, self.gap = position_joints, gap
-        self.joint_maps = tuple(joint_maps)
+        self.joint_maps, self.axes = tuple(joint_maps), axes
         self.max_clients, self.idle_timeout = int(max_clients), float(idle_timeout)
         self.senders = [_Sender(u) for u in send]
         self.log = log or (lambda msg: print(msg, file=sys.stderr, flush=True))
@@ -460,6 +466,7 @@ class Server:
             position_joints=self.position_joints,
             gap=self.gap,
             joint_maps=self.joint_maps,
+            axes=self.axes,
         )
 
     def warm_up(self, motion, frames: int = 8) -> None:

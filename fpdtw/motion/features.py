@@ -125,7 +125,8 @@ def pair_features(
 ) -> tuple:
     """The features of an (input, target) pair, ready to align whatever their rigs.
 
-    With positions, the target's are rescaled by :func:`fpdtw.motion.rig.position_scale`
+    With positions, the target's are turned into the input's world (their rigs' body axes)
+    and rescaled by :func:`fpdtw.motion.rig.position_scale`
     (rule ``positions``: "auto", "raw" or "body-size"). ``rest_frames`` and ``rigs`` (one
     per motion) are passed to :meth:`MotionFeatures.from_motion`. Returns ``(I, T)``.
 
@@ -136,5 +137,7 @@ def pair_features(
         for mo, rest, rig in zip((input_motion, target_motion), rest_frames, rigs)
     )
     if position_joints is not None:
+        if I.rig is not None and T.rig is not None and not np.array_equal(I.rig.axes, T.rig.axes):
+            T = dataclasses.replace(T, positions=T.rig.positions_in(T.positions, I.rig))
         T = T.scaled_positions(position_scale(I.body_size, T.body_size, positions))
     return I, T

@@ -1,22 +1,24 @@
-"""A pose that means the same on every rig: rotations away from the rest pose, in world axes.
+"""A pose that means the same on every rig: rotations away from the rest pose, in body axes.
 
-Joint ``j`` with parent ``p``, rest global rotations ``G^0``, local rotation ``L_j(t)``:
-``Delta_j(t) = G_p^0 L_j(t) (G_j^0)^-1 = A_j R_j(t) B_j`` (``A_j = G_p^0 pre_j``, ``B_j =
-post_j (G_j^0)^-1``: :class:`RigTransform`). For one rig eq. 1 on ``Delta`` is eq. 1 on the
-local rotations (conjugation keeps angles), so motions of one rig are compared by their raw
-local rotations, others with the input expressed in the target's rig (:func:`cost_input`).
-docs/align.md gives the limits and measurements.
+Joint ``j`` with parent ``p``, rest global rotations ``G^0``, local rotation ``L_j(t)``, the
+rig's body axes ``W`` in its world (:func:`world_axes`: Y-up or Z-up, any facing or
+handedness): ``Delta_j(t) = W^-1 G_p^0 L_j(t) (G_j^0)^-1 W = A_j R_j(t) B_j`` (``A_j = W^-1
+G_p^0 pre_j``, ``B_j = post_j (G_j^0)^-1 W``: :class:`RigTransform`). For one rig eq. 1 on
+``Delta`` is eq. 1 on the local rotations (conjugation keeps angles), so motions of one rig
+are compared by their raw local rotations, others with the input expressed in the target's
+rig (:func:`cost_input`). docs/align.md gives the limits and measurements.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from fpdtw.errors import MotionFormatError
 from fpdtw.motion.joints import PAPER_JOINTS
-from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize
+from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate
 
 _IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
 
@@ -24,19 +26,27 @@ _IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
 #: less (1.5 m and 2 m: 1.33), units by more (inch and cm: 2.54; HDM05's ASF unit and cm: 5.6).
 POSITION_UNIT_RATIO = 1.5
 
+#: Joints whose rest positions give a rig's body axes (:func:`world_axes`).
+FRAME_JOINTS = ("center_hip", "head", "right_hip", "left_hip", "left_ankle", "right_ankle")
+#: The world axes ``--up`` and ``--facing`` name.
+AXIS_NAMES = {f"{s}{a}": (1.0 if s == "+" else -1.0) * np.eye(3)[i]
+              for s in "+-" for i, a in enumerate("xyz")}  # fmt: skip
+
 #: Rules of :func:`position_scale`: ``"auto"`` (default), ``"raw"``, ``"body-size"``.
 POSITION_RULES = ("auto", "raw", "body-size")
 
 
 @dataclass(frozen=True, eq=False)
 class RigTransform:
-    """The fixed quaternions ``left`` ``A_j`` and ``right`` ``B_j`` (k, 4) per cost joint.
+    """The fixed quaternions ``left`` ``A_j`` and ``right`` ``B_j`` (k, 4) per cost joint, and
+    the body ``axes`` (3, 3; rows left, up, facing in world coordinates; default identity).
 
     Paper: FP-DTW eq. 1 (its local rotations, made comparable across rigs).
     """
 
     left: np.ndarray
     right: np.ndarray
+    axes: np.ndarray = field(default_factory=lambda: np.eye(3))
 
     def __post_init__(self):
         for name in ("left", "right"):
@@ -63,6 +73,7 @@ class RigTransform:
             isinstance(other, RigTransform)
             and np.array_equal(self.left, other.left)
             and np.array_equal(self.right, other.right)
+            and np.array_equal(self.axes, other.axes)
         )
 
     def to_common(self, quats) -> np.ndarray:
@@ -74,6 +85,10 @@ class RigTransform:
         P = quat_mul(quat_conj(other.left), self.left)
         S = quat_mul(self.right, quat_conj(other.right))
         return quat_normalize(quat_mul(quat_mul(P, np.asarray(quats, float)), S))
+
+    def positions_in(self, P, other: RigTransform) -> np.ndarray:
+        """Positions ``P`` (..., 3) of this rig's world in the world of rig ``other``."""
+        return np.asarray(P, float) @ (other.axes.T @ self.axes).T
 
 
 def _check_rest_frame(motion, rest_frame):
@@ -112,23 +127,69 @@ def rest_rotations(motion, rest_frame=None) -> np.ndarray:
     return global_rotations(motion.skeleton, R)
 
 
-def rig_transform(motion, joints=PAPER_JOINTS, rest_frame=None) -> RigTransform:
-    """The :class:`RigTransform` of a motion's cost ``joints`` (rest: :func:`rest_rotations`)."""
+def _axis(v) -> np.ndarray:
+    """The signed world axis nearest ``v`` (3,)."""
+    i = int(np.argmax(np.abs(v)))
+    return np.where(np.arange(3) == i, np.copysign(1.0, v[i]), 0.0)
+
+
+def world_axes(skeleton, rest, ends=None, up=None, facing=None) -> np.ndarray:
+    """A rig's body axes in its world, rows left, up, facing (3, 3), each a signed world axis.
+
+    At rest (global rotations ``rest`` (J, 4)): up from the hips to the head, left from the
+    right hip to the left (``ends``: indices of :data:`FRAME_JOINTS`), both snapped to the
+    nearest world axis; facing is ``left x up``, or its opposite (a left-handed world,
+    determinant -1) when the feet (ankle to child bone) point that way. ``up``, ``facing``
+    (3,): world vectors that override (left is then ``up x facing`` unless the hips agree);
+    without ``ends`` Y is up and Z facing.
+    """
+    sk, z = skeleton, np.eye(3)[2]
+    P = np.zeros((sk.n_joints, 3))
+    for j in range(1, sk.n_joints if ends is not None else 0):
+        P[j] = P[sk.parents[j]] + quat_rotate(rest[sk.parents[j]], sk.offsets[j])
+    hips, head, right, left_hip, *feet = (0, 0, 0, 0, 0, 0) if ends is None else ends
+    u = _axis(np.eye(3)[1] if up is None and ends is None else P[head] - P[hips] if up is None
+              else up)  # fmt: skip
+    side = P[left_hip] - P[right] if ends is not None else np.cross(u, z - (z @ u) * u)
+    left = _axis(side - (side @ u) * u)
+    kids = [np.flatnonzero(np.asarray(sk.parents) == a)[:1] for a in feet if ends is not None]
+    toes = sum(
+        (quat_rotate(rest[a], sk.offsets[c]) for a, k in zip(feet, kids) for c in k),
+        z if ends is None else np.zeros(3),
+    )
+    f = np.cross(left, u) * (-1.0 if toes @ np.cross(left, u) < 0 else 1.0)
+    if facing is not None:
+        f = _axis(facing - (facing @ u) * u)
+        left = left if abs(left @ np.cross(u, f)) > 0.5 else np.cross(u, f)
+    return np.array([left, u, f])
+
+
+def rig_transform(motion, joints=PAPER_JOINTS, rest_frame=None, up=None, facing=None):
+    """The :class:`RigTransform` of a motion's cost ``joints`` (rest: :func:`rest_rotations`;
+    body axes: :func:`world_axes`, from :data:`FRAME_JOINTS` if the motion has them)."""
     idx = motion.joint_indices(joints)
-    return skeleton_rig(motion.skeleton, idx, rest_rotations(motion, rest_frame))
+    try:
+        ends = motion.joint_indices(FRAME_JOINTS)
+    except MotionFormatError:
+        ends = None
+    return skeleton_rig(motion.skeleton, idx, rest_rotations(motion, rest_frame), ends, up, facing)
 
 
-def skeleton_rig(skeleton, joints, rest=None) -> RigTransform:
-    """The :class:`RigTransform` of ``joints`` (indices) of a skeleton at rest ``rest`` (J, 4)."""
+def skeleton_rig(skeleton, joints, rest=None, ends=None, up=None, facing=None) -> RigTransform:
+    """The :class:`RigTransform` of ``joints`` (indices) of a skeleton at rest ``rest`` (J, 4)
+    (default its zero rotations); ``ends``, ``up``, ``facing``: of :func:`world_axes`."""
     sk = skeleton
     G0 = global_rotations(sk, np.tile(_IDENTITY, (sk.n_joints, 1))) if rest is None else rest
+    axes = world_axes(sk, G0, ends, up, facing)
+    B = axes.T * np.sign(np.linalg.det(axes))  # a proper rotation: -W turns as W does
+    w = Rotation.from_matrix(B).as_quat()[[3, 0, 1, 2]]
     left, right = [], []
     for j in np.asarray(joints, dtype=np.int64):
         p = sk.parents[j]
         parent = _IDENTITY if p < 0 else G0[p]
-        left.append(quat_mul(parent, sk.pre_rotations[j]))
-        right.append(quat_mul(sk.post_rotations[j], quat_conj(G0[j])))
-    return RigTransform(quat_normalize(np.array(left)), quat_normalize(np.array(right)))
+        left.append(quat_mul(quat_conj(w), quat_mul(parent, sk.pre_rotations[j])))
+        right.append(quat_mul(quat_mul(sk.post_rotations[j], quat_conj(G0[j])), w))
+    return RigTransform(quat_normalize(np.array(left)), quat_normalize(np.array(right)), axes)
 
 
 def common_rotations(motion, joints=PAPER_JOINTS, rest_frame=None) -> np.ndarray:

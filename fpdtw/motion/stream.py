@@ -19,7 +19,7 @@ from fpdtw.motion.features import Frame
 from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
 from fpdtw.motion.kinematics import frame_positions, frame_quats, order_codes
 from fpdtw.motion.motion import EXACT_FRAMES, blend_poses, sample_points
-from fpdtw.motion.rig import position_scale, skeleton_body_size, skeleton_rig
+from fpdtw.motion.rig import FRAME_JOINTS, position_scale, skeleton_body_size, skeleton_rig
 from fpdtw.motion.rotations import UnwrapDegrees
 
 #: A frame more than this many frame periods after the previous one ends a gap.
@@ -35,8 +35,10 @@ class LiveTarget:
     ``rate``: ticks per second, the input's rate; ``joint_map``: canonical -> its names;
     ``joints``: cost joints; ``position_joints``: whose root-relative positions the frames
     carry (OPW), rescaled by :func:`fpdtw.motion.rig.position_scale` of ``input_body_size``
-    and the skeleton's; ``gap``: "slerp" or "hold"; ``where``: what errors name (None: a
-    stream). MotionFormatError for a joint the skeleton lacks or an implausible offset."""
+    and the skeleton's and turned into the world of body axes ``input_axes`` (3, 3); ``up``,
+    ``facing``: :func:`fpdtw.motion.rig.world_axes` overrides; ``gap``: "slerp" or "hold";
+    ``where``: what errors name (None: a stream). MotionFormatError for a joint the skeleton
+    lacks or an implausible offset."""
 
     def __init__(
         self,
@@ -49,6 +51,9 @@ class LiveTarget:
         position_joints=None,
         gap: str = "slerp",
         input_body_size=None,
+        input_axes=None,
+        up=None,
+        facing=None,
         where=None,
     ):
         if gap not in GAP_RULES:
@@ -80,7 +85,14 @@ class LiveTarget:
         #: Rotation order of each cost joint (the streamed skeleton's).
         self.orders = tuple(skeleton.rotation_orders[j] for j in cost)
         #: The cost joints' :class:`~fpdtw.motion.rig.RigTransform` (rest: zero rotations).
-        self.rig = skeleton_rig(skeleton, cost)
+        try:
+            ends = self._indices(FRAME_JOINTS, jm, "")
+        except MotionFormatError:
+            ends = None
+        self.rig = skeleton_rig(skeleton, cost, None, ends, up, facing)
+        self._turn = None  # positions into the input's world, if its axes differ
+        if input_axes is not None and not np.array_equal(input_axes, self.rig.axes):
+            self._turn = (np.asarray(input_axes).T @ self.rig.axes).T
         # the limits of a take are those in force when it starts
         self._big = float(limits.get("max_abs_value"))
         self._max_gap = float(limits.get("max_gap_s"))
@@ -244,6 +256,8 @@ class LiveTarget:
         pos = None
         if self._pos_joints is not None:
             pos = frame_positions(self.skeleton, q, r, self._pos_joints)
+            if self._turn is not None:
+                pos = pos @ self._turn
             if self.position_scale != 1.0:
                 pos = pos * self.position_scale
         frame = Frame(
