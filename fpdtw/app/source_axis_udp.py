@@ -1,11 +1,12 @@
 """``axis+udp://HOST:PORT``: Axis Neuron's and Axis Studio's binary BVH broadcast over UDP.
 
-Axis sends the datagrams, to port 7002 by default, so fpdtw LISTENS on ``HOST:PORT`` and only
-reads. The scheme reads "Axis over UDP" (as ``git+ssh`` names a protocol over a transport;
-RFC 3986 allows ``+`` in a scheme), next to the text broadcast's ``axis://``; the emulator is
-``fpdtw stream --as axis+udp``, the same word on both sides. What follows is from Noitom's
-"NeuronDataReader Runtime API Documentation" (b18, 20.01.2020; "the SDK document") and the
-SDK's ``DataType.h``, unless another source is named.
+Axis sends the datagrams (to port 7002 by default, as issue 32 says; the documents below do
+not name a port), so fpdtw LISTENS on ``HOST:PORT`` and only reads. The scheme reads "Axis
+over UDP" (as ``git+ssh`` names a protocol over a transport; RFC 3986 allows ``+`` in a
+scheme), next to the text broadcast's ``axis://``; the emulator is ``fpdtw stream --as
+axis+udp``, the same word on both sides. What follows is from Noitom's "NeuronDataReader
+Runtime API Documentation" (b18, 20.01.2020; "the SDK document") and the SDK's
+``DataType.h``, unless another source is named.
 
 **Datagram.** A 64-byte header, the packed C struct ``BvhDataHeader`` (``#pragma pack(1)``):
 ``Token1`` uint16 ``0xDDFF``; ``DataVersion`` 4 bytes (build, revision, minor, major);
@@ -13,9 +14,9 @@ SDK's ``DataType.h``, unless another source is named.
 each; ``AvatarIndex`` uint32; ``AvatarName`` 32 bytes; ``FrameIndex`` uint32; three reserved
 uint32 ("only enable this package has 64bytes length"); ``Token2`` uint16 ``0xEEFF``
 (2+4+2+1+1+4+32+4+12+2 = 64). Then ``DataCount`` float32. The byte order is the SDK's
-platforms' (x86, ARM: little-endian); no document names it. Noitom's Unity integration read
-the same stream itself: a header is valid when both tokens are, and a frame is ``64 + 4 *
-DataCount`` bytes.
+platforms' (x86, ARM: little-endian); no document names it. A managed reader of the same
+stream (``NeuronDataReaderManaged``, commented out in a Perception Neuron Unity integration)
+takes a header as valid when both tokens are, and a frame as ``64 + 4 * DataCount`` bytes.
 
 **Values** (the SDK document, 1.2.1): with displacement each bone sends six floats, its X Y Z
 displacement and its rotation ("default rotation order is Y X Z"); without, the root (Hips)
