@@ -12,6 +12,8 @@
     fpdtw stream TAKE [TAKE ...] --as vmc [--to 127.0.0.1:39539] [--fast]
     fpdtw serve INPUT --source xsens://0.0.0.0:9763 [--rate 60] [--once] [--out MAP.csv]
     fpdtw stream TAKE [TAKE ...] --as xsens [--to 127.0.0.1:9763] [--fast]
+    fpdtw serve INPUT --source axis+udp://0.0.0.0:7002 --header SKELETON.bvh [--once]
+    fpdtw stream TAKE [TAKE ...] --as axis+udp [--to 127.0.0.1:7002] [--displacement] [--fast]
     fpdtw data  fetch|verify|cite
     fpdtw experiments run [--smoke] [--results DIR] [--jobs N] [--scheduler ADDRESS]
 
@@ -148,7 +150,14 @@ limits (fpdtw.limits, each changed by its environment variable): a line 256 KiB
   character ID is a performer; its skeleton is the 23 body segments of its first complete
   sample; sample s counts at s / --rate. A take ends after --idle-timeout s of silence. Lost
   parts, duplicated and reordered datagrams, wrong ID strings or sizes, unknown segments,
-  NaN/inf, quaternions that are not rotations and a flood are dropped and counted."""
+  NaN/inf, quaternions that are not rotations and a flood are dropped and counted.
+
+--source axis+udp://HOST:PORT: fpdtw listens for Axis' binary BVH broadcast (UDP, port 7002
+  by default): a 64-byte header (0xDDFF, data count, with displacement, with reference, avatar
+  index and name, frame index, 0xEEFF), then float32 values; the skeleton and rate come from
+  --header FILE.bvh, as for axis://. Each avatar index is a performer; frame index f counts at
+  f / rate. A take ends after --idle-timeout s of silence. Wrong tokens, sizes or value counts,
+  duplicated and reordered frames, NaN/inf and a flood are dropped and counted."""
 
 _METHODS_HELP = "methods:\n" + "\n".join(f"  {k:<7} {v}" for k, v in METHODS.items())
 
@@ -460,12 +469,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="read takes from a capture system's own stream instead of listening: "
         "axis://HOST:PORT (Axis Neuron / Axis Studio BVH string broadcast, port 7001), "
         "vmc://HOST:PORT (listen for the VMC protocol, OSC over UDP, port 39539), "
-        "xsens://HOST:PORT (listen for Xsens MVN's network streamer, UDP, port 9763)",
+        "xsens://HOST:PORT (listen for Xsens MVN's network streamer, UDP, port 9763), "
+        "axis+udp://HOST:PORT (listen for Axis' binary BVH broadcast, UDP, port 7002)",
     )
     sv.add_argument(
         "--header",
         metavar="SKELETON.bvh",
-        help="--source axis: a BVH file of the streamed skeleton (its Frame Time is the "
+        help="--source axis|axis+udp: a BVH file of the streamed skeleton (its Frame Time is the "
         "stream's rate; its motion lines are ignored)",
     )
     sv.add_argument(
@@ -503,12 +513,13 @@ def build_parser() -> argparse.ArgumentParser:
     st.add_argument(
         "--as",
         dest="as_system",
-        choices=["axis", "vmc", "xsens"],
+        choices=["axis", "vmc", "xsens", "axis+udp"],
         help="play TAKE as that capture system sends it: axis, as Axis Neuron's BVH string "
         "broadcast (a TCP server on --listen; avatars 0, 1, ... interleaved); vmc, as VMC "
         "protocol senders (OSC bundles over UDP to --to, default 127.0.0.1:39539; one sender "
         "per TAKE); xsens, as MVN's network streamer (MXTP02 datagrams over UDP to --to, "
-        "default 127.0.0.1:9763; one character ID per TAKE)",
+        "default 127.0.0.1:9763; one character ID per TAKE); axis+udp, as Axis' binary BVH "
+        "broadcast (datagrams over UDP to --to, default 127.0.0.1:7002; avatars 0, 1, ...)",
     )
     st.add_argument(
         "--listen",
@@ -518,7 +529,7 @@ def build_parser() -> argparse.ArgumentParser:
     st.add_argument(
         "--displacement",
         action="store_true",
-        help="--as axis: send every joint's position too (Axis' 'with displacement')",
+        help="--as axis|axis+udp: send every joint's position too (Axis' 'with displacement')",
     )
     st.add_argument(
         "--rate",
@@ -645,9 +656,9 @@ def _check_source_options(args):
         return
     if args.listen:
         raise UsageError("--listen does not apply with --source: fpdtw connects to the source")
-    if args.source.startswith("axis://") and not args.header:
-        raise UsageError("--source axis:// needs --header SKELETON.bvh (the stream carries no "
-                         "skeleton)")  # fmt: skip
+    if args.source.startswith(("axis://", "axis+udp://")) and not args.header:
+        raise UsageError(f"--source {args.source.split(':')[0]}:// needs --header SKELETON.bvh "
+                         "(the stream carries no skeleton)")  # fmt: skip
     vmc = args.source.startswith(("vmc://", "xsens://"))
     if vmc and args.header:
         raise UsageError(f"--header does not apply with --source {args.source.split(':')[0]}://"
@@ -661,14 +672,16 @@ def _check_stream_options(args):
 
     if args.skeleton and Path(args.take[0]).suffix.lower() != ".amc":
         raise UsageError(f"--skeleton applies to an .amc motion, not {args.take[0]}")
-    if args.as_system in ("vmc", "xsens"):
-        given = [o for o, v in (("--listen", args.listen), ("--displacement", args.displacement),
+    if args.as_system in ("vmc", "xsens", "axis+udp"):
+        disp = args.displacement and args.as_system != "axis+udp"
+        given = [o for o, v in (("--listen", args.listen), ("--displacement", disp),
                  ("--drop", args.drop), ("--jitter-ms", args.jitter_ms), ("--streams",
                  args.streams != 1), ("--no-timestamps", args.no_timestamps), ("--out",
                  args.out)) if v]  # fmt: skip
         if given:
             raise UsageError(f"{given[0]} does not apply with --as {args.as_system}")
-        default = "127.0.0.1:39539" if args.as_system == "vmc" else "127.0.0.1:9763"
+        ports = {"vmc": "127.0.0.1:39539", "xsens": "127.0.0.1:9763"}
+        default = ports.get(args.as_system, "127.0.0.1:7002")
         try:
             if parse_address(args.to or default)[1] == 0:
                 raise ValueError("port 0 is not a receiver's port")
@@ -1079,6 +1092,20 @@ def _stream_as(args, log) -> int:
     from fpdtw.app.source_axis import play_as_axis
     from fpdtw.app.stream import take_lines
 
+    if args.as_system == "axis+udp":
+        from fpdtw.app.source_axis_udp import play_as_axis_udp
+
+        takes = []
+        for path in args.take:
+            _stage(args, path)
+            takes.append(take_lines(path, args.rate, skeleton=args.skeleton))
+        to = args.to or "127.0.0.1:7002"
+        _stage(args, to)
+        mode = "one frame a millisecond" if args.fast else "in real time"
+        log(f"playing {len(takes)} take(s) as Axis' binary BVH broadcast to {to} {mode}")
+        play_as_axis_udp(takes, to, fast=args.fast, displacement=args.displacement,
+                         out=sys.stdout)  # fmt: skip
+        return 0
     if args.as_system in ("vmc", "xsens"):
         from fpdtw.io import load_motion
 

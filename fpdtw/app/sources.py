@@ -42,6 +42,7 @@ from fpdtw.errors import FpdtwError
 #: URL scheme -> the module reading that system's stream.
 SOURCES = {"axis": "fpdtw.app.source_axis", "vmc": "fpdtw.app.source_vmc",
            "xsens": "fpdtw.app.source_xsens"}  # fmt: skip
+SOURCES["axis+udp"] = "fpdtw.app.source_axis_udp"
 #: A frame arriving this many seconds before its time at the stream's rate is "ahead".
 AHEAD_S = 0.5
 #: A performer whose frames are unusable for this many seconds of its rate in a row ends the
@@ -71,6 +72,7 @@ BAD_KINDS = {
     "flood": "datagrams dropped by a full queue",
     "mxtp": "datagrams that are not MVN's (MXTP) or whose sizes disagree",
     "skipped": "MVN datagrams of types not read (skipped)",
+    "axisbin": "datagrams that are not Axis' binary BVH (0xDDFF, 0xEEFF) or whose sizes disagree",
 }
 
 
