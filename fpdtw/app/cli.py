@@ -12,6 +12,8 @@
     fpdtw stream TAKE [TAKE ...] --as vmc [--to 127.0.0.1:39539] [--fast]
     fpdtw serve INPUT --source xsens://0.0.0.0:9763 [--rate 60] [--once] [--out MAP.csv]
     fpdtw stream TAKE [TAKE ...] --as xsens [--to 127.0.0.1:9763] [--fast]
+    fpdtw serve INPUT --source rokoko://0.0.0.0:14043 [--rate 60] [--once] [--out MAP.csv]
+    fpdtw stream TAKE [TAKE ...] --as rokoko [--to 127.0.0.1:14043] [--fast]
     fpdtw data  fetch|verify|cite
     fpdtw experiments run [--smoke] [--results DIR] [--jobs N] [--scheduler ADDRESS]
 
@@ -148,7 +150,16 @@ limits (fpdtw.limits, each changed by its environment variable): a line 256 KiB
   character ID is a performer; its skeleton is the 23 body segments of its first complete
   sample; sample s counts at s / --rate. A take ends after --idle-timeout s of silence. Lost
   parts, duplicated and reordered datagrams, wrong ID strings or sizes, unknown segments,
-  NaN/inf, quaternions that are not rotations and a flood are dropped and counted."""
+  NaN/inf, quaternions that are not rotations and a flood are dropped and counted.
+
+--source rokoko://HOST:PORT: fpdtw listens for Rokoko Studio's custom streaming (JSON v3 over
+  UDP, port 14043 by default; uncompressed: LZ4-compressed datagrams are counted, not read):
+  each actor's body bones, world position and quaternion in Studio's Y-up left-handed axes.
+  Each actor name is a performer; its skeleton is its first complete frame, Studio's T-pose
+  the rest pose; frames are timed by scene.timestamp. A take ends after --idle-timeout s of
+  silence. Datagrams that are not JSON v3 or over 64 KiB or nested too deep, unknown bones,
+  NaN/inf, quaternions that are not rotations, duplicated and reordered frames and a flood
+  are dropped and counted."""
 
 _METHODS_HELP = "methods:\n" + "\n".join(f"  {k:<7} {v}" for k, v in METHODS.items())
 
@@ -438,7 +449,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="read takes from a capture system's own stream instead of listening: "
         "axis://HOST:PORT (Axis Neuron / Axis Studio BVH string broadcast, port 7001), "
         "vmc://HOST:PORT (listen for the VMC protocol, OSC over UDP, port 39539), "
-        "xsens://HOST:PORT (listen for Xsens MVN's network streamer, UDP, port 9763)",
+        "xsens://HOST:PORT (listen for Xsens MVN's network streamer, UDP, port 9763), "
+        "rokoko://HOST:PORT (listen for Rokoko Studio's custom streaming, JSON v3, UDP, "
+        "port 14043)",
     )
     sv.add_argument(
         "--header",
@@ -450,7 +463,8 @@ def build_parser() -> argparse.ArgumentParser:
         "--rate",
         type=_frame_rate,
         metavar="HZ",
-        help="--source vmc|xsens: the senders' frame rate (default 60): the period a lost "
+        help="--source vmc|xsens|rokoko: the senders' frame rate (default 60; rokoko: the "
+        "stream's fps): the period a lost "
         "frame is measured in; VMC frames are timed by their /VMC/Ext/T, MVN samples by their "
         "sample counter",
     )
@@ -481,12 +495,14 @@ def build_parser() -> argparse.ArgumentParser:
     st.add_argument(
         "--as",
         dest="as_system",
-        choices=["axis", "vmc", "xsens"],
+        choices=["axis", "vmc", "xsens", "rokoko"],
         help="play TAKE as that capture system sends it: axis, as Axis Neuron's BVH string "
         "broadcast (a TCP server on --listen; avatars 0, 1, ... interleaved); vmc, as VMC "
         "protocol senders (OSC bundles over UDP to --to, default 127.0.0.1:39539; one sender "
         "per TAKE); xsens, as MVN's network streamer (MXTP02 datagrams over UDP to --to, "
-        "default 127.0.0.1:9763; one character ID per TAKE)",
+        "default 127.0.0.1:9763; one character ID per TAKE); rokoko, as Rokoko Studio's "
+        "custom streaming (JSON v3 datagrams over UDP to --to, default 127.0.0.1:14043; one "
+        "actor per TAKE)",
     )
     st.add_argument(
         "--listen",
@@ -626,12 +642,16 @@ def _check_source_options(args):
     if args.source.startswith("axis://") and not args.header:
         raise UsageError("--source axis:// needs --header SKELETON.bvh (the stream carries no "
                          "skeleton)")  # fmt: skip
-    vmc = args.source.startswith(("vmc://", "xsens://"))
+    vmc = args.source.startswith(("vmc://", "xsens://", "rokoko://"))
     if vmc and args.header:
         raise UsageError(f"--header does not apply with --source {args.source.split(':')[0]}://"
                          ": the skeleton comes from the bones sent")  # fmt: skip
     if args.rate and not vmc:
-        raise UsageError("--rate applies only with --source vmc:// or xsens://")
+        raise UsageError("--rate applies only with --source vmc://, xsens:// or rokoko://")
+
+
+#: ``fpdtw stream --as SYSTEM``'s default --to for the UDP systems.
+_AS_DEFAULT_TO = {"vmc": "127.0.0.1:39539", "xsens": "127.0.0.1:9763", "rokoko": "127.0.0.1:14043"}
 
 
 def _check_stream_options(args):
@@ -639,14 +659,14 @@ def _check_stream_options(args):
 
     if args.skeleton and Path(args.take[0]).suffix.lower() != ".amc":
         raise UsageError(f"--skeleton applies to an .amc motion, not {args.take[0]}")
-    if args.as_system in ("vmc", "xsens"):
+    if args.as_system in ("vmc", "xsens", "rokoko"):
         given = [o for o, v in (("--listen", args.listen), ("--displacement", args.displacement),
                  ("--drop", args.drop), ("--jitter-ms", args.jitter_ms), ("--streams",
                  args.streams != 1), ("--no-timestamps", args.no_timestamps), ("--out",
                  args.out)) if v]  # fmt: skip
         if given:
             raise UsageError(f"{given[0]} does not apply with --as {args.as_system}")
-        default = "127.0.0.1:39539" if args.as_system == "vmc" else "127.0.0.1:9763"
+        default = _AS_DEFAULT_TO[args.as_system]
         try:
             if parse_address(args.to or default)[1] == 0:
                 raise ValueError("port 0 is not a receiver's port")
@@ -668,9 +688,10 @@ def _check_stream_options(args):
         if given:
             raise UsageError(f"{opt} applies only with --as axis")
     if len(args.take) > 1:
-        raise UsageError("several TAKEs (one per avatar) apply only with --as axis|vmc|xsens")
+        raise UsageError("several TAKEs (one per avatar) apply only with --as "
+                         "axis|vmc|xsens|rokoko")  # fmt: skip
     if args.to is None:
-        raise UsageError("--to HOST:PORT is required (or --as axis|vmc|xsens)")
+        raise UsageError("--to HOST:PORT is required (or --as axis|vmc|xsens|rokoko)")
     try:
         host, port = parse_address(args.to)
     except ValueError as e:
@@ -986,7 +1007,7 @@ def _serve_source(args, log, FI, factory, name, server) -> int:
         _check_output(args.out, "--out")
     module, host, port = parse_source(args.source)
     _stage(args, args.header)
-    if args.source.startswith(("vmc://", "xsens://")):
+    if args.source.startswith(("vmc://", "xsens://", "rokoko://")):
         source = module.Source(host, port, rate=args.rate)
         skeleton = "from the bones sent"
     else:
@@ -1048,12 +1069,12 @@ def _cmd_stream(args, log) -> int:
 
 
 def _stream_as(args, log) -> int:
-    """``fpdtw stream TAKE ... --as axis|vmc|xsens``: the takes as Axis' broadcast, to one
-    client, as VMC senders or as MVN's network streamer."""
+    """``fpdtw stream TAKE ... --as axis|vmc|xsens|rokoko``: the takes as Axis' broadcast, to
+    one client, as VMC senders, as MVN's network streamer or as Rokoko Studio."""
     from fpdtw.app.source_axis import play_as_axis
     from fpdtw.app.stream import take_lines
 
-    if args.as_system in ("vmc", "xsens"):
+    if args.as_system in ("vmc", "xsens", "rokoko"):
         from fpdtw.io import load_motion
 
         motions = []
@@ -1062,13 +1083,16 @@ def _stream_as(args, log) -> int:
             m = load_motion(path, **({"skeleton": args.skeleton} if args.skeleton else {}))
             motions.append(m.resample(args.rate) if args.rate else m)
         vmc = args.as_system == "vmc"
-        to = args.to or ("127.0.0.1:39539" if vmc else "127.0.0.1:9763")
+        to = args.to or _AS_DEFAULT_TO[args.as_system]
         _stage(args, to)
         mode = "one frame a millisecond" if args.fast else "in real time"
-        what = "VMC senders" if vmc else "MVN network streamer characters"
+        what = {"vmc": "VMC senders", "xsens": "MVN network streamer characters",
+                "rokoko": "Rokoko Studio actors"}[args.as_system]  # fmt: skip
         log(f"playing {len(motions)} take(s) as {what} to {to} {mode}")
         if vmc:
             from fpdtw.app.source_vmc import play_as_vmc as play
+        elif args.as_system == "rokoko":
+            from fpdtw.app.source_rokoko import play_as_rokoko as play
         else:
             from fpdtw.app.source_xsens import play_as_xsens as play
         play(motions, to, fast=args.fast, out=sys.stdout)
