@@ -436,3 +436,11 @@ def test_source_url_and_usage_errors(capsys):
     ]:  # fmt: skip
         assert cli.main(args) == 2
         assert needle in capsys.readouterr().err
+
+
+def test_every_source_can_be_played():
+    """`fpdtw stream --as` offers exactly the systems `fpdtw serve --source` reads."""
+    from fpdtw.app import cli
+    from fpdtw.app.sources import SOURCES
+
+    assert set(cli._SYSTEMS) == set(SOURCES)

@@ -14,6 +14,8 @@
     fpdtw stream TAKE [TAKE ...] --as xsens [--to 127.0.0.1:9763] [--fast]
     fpdtw serve INPUT --source axis+udp://0.0.0.0:7002 --header SKELETON.bvh [--once]
     fpdtw stream TAKE [TAKE ...] --as axis+udp [--to 127.0.0.1:7002] [--displacement] [--fast]
+    fpdtw serve INPUT --source rokoko://0.0.0.0:14043 [--rate 60] [--once] [--out MAP.csv]
+    fpdtw stream TAKE [TAKE ...] --as rokoko [--to 127.0.0.1:14043] [--fast]
     fpdtw data  fetch|verify|cite
     fpdtw experiments run [--smoke] [--results DIR] [--jobs N] [--scheduler ADDRESS]
 
@@ -157,7 +159,17 @@ limits (fpdtw.limits, each changed by its environment variable): a line 256 KiB
   index and name, frame index, 0xEEFF), then float32 values; the skeleton and rate come from
   --header FILE.bvh, as for axis://. Each avatar index is a performer; frame index f counts at
   f / rate. A take ends after --idle-timeout s of silence. Wrong tokens, sizes or value counts,
-  duplicated and reordered frames, NaN/inf and a flood are dropped and counted."""
+  duplicated and reordered frames, NaN/inf and a flood are dropped and counted.
+
+
+--source rokoko://HOST:PORT: fpdtw listens for Rokoko Studio's custom streaming (JSON v3 over
+  UDP, port 14043 by default; uncompressed: LZ4-compressed datagrams are counted, not read):
+  each actor's body bones, world position and quaternion in Studio's Y-up left-handed axes.
+  Each actor name is a performer; its skeleton is its first complete frame, Studio's T-pose
+  the rest pose; frames are timed by scene.timestamp. A take ends after --idle-timeout s of
+  silence. Datagrams that are not JSON v3 or over 64 KiB or nested too deep, unknown bones,
+  NaN/inf, quaternions that are not rotations, duplicated and reordered frames and a flood
+  are dropped and counted."""
 
 _METHODS_HELP = "methods:\n" + "\n".join(f"  {k:<7} {v}" for k, v in METHODS.items())
 
@@ -470,7 +482,9 @@ def build_parser() -> argparse.ArgumentParser:
         "axis://HOST:PORT (Axis Neuron / Axis Studio BVH string broadcast, port 7001), "
         "vmc://HOST:PORT (listen for the VMC protocol, OSC over UDP, port 39539), "
         "xsens://HOST:PORT (listen for Xsens MVN's network streamer, UDP, port 9763), "
-        "axis+udp://HOST:PORT (listen for Axis' binary BVH broadcast, UDP, port 7002)",
+        "axis+udp://HOST:PORT (listen for Axis' binary BVH broadcast, UDP, port 7002), "
+        "rokoko://HOST:PORT (listen for Rokoko Studio's custom streaming, JSON v3, UDP, "
+        "port 14043)",
     )
     sv.add_argument(
         "--header",
@@ -482,7 +496,8 @@ def build_parser() -> argparse.ArgumentParser:
         "--rate",
         type=_frame_rate,
         metavar="HZ",
-        help="--source vmc|xsens: the senders' frame rate (default 60): the period a lost "
+        help="--source vmc|xsens|rokoko: the senders' frame rate (default 60; rokoko: the "
+        "stream's fps): the period a lost "
         "frame is measured in; VMC frames are timed by their /VMC/Ext/T, MVN samples by their "
         "sample counter",
     )
@@ -513,13 +528,16 @@ def build_parser() -> argparse.ArgumentParser:
     st.add_argument(
         "--as",
         dest="as_system",
-        choices=["axis", "vmc", "xsens", "axis+udp"],
+        choices=list(_SYSTEMS),
         help="play TAKE as that capture system sends it: axis, as Axis Neuron's BVH string "
         "broadcast (a TCP server on --listen; avatars 0, 1, ... interleaved); vmc, as VMC "
         "protocol senders (OSC bundles over UDP to --to, default 127.0.0.1:39539; one sender "
         "per TAKE); xsens, as MVN's network streamer (MXTP02 datagrams over UDP to --to, "
         "default 127.0.0.1:9763; one character ID per TAKE); axis+udp, as Axis' binary BVH "
-        "broadcast (datagrams over UDP to --to, default 127.0.0.1:7002; avatars 0, 1, ...)",
+        "broadcast (datagrams over UDP to --to, default 127.0.0.1:7002; avatars 0, 1, ...); "
+        "rokoko, as Rokoko Studio's "
+        "custom streaming (JSON v3 datagrams over UDP to --to, default 127.0.0.1:14043; one "
+        "actor per TAKE)",
     )
     st.add_argument(
         "--listen",
@@ -659,12 +677,19 @@ def _check_source_options(args):
     if args.source.startswith(("axis://", "axis+udp://")) and not args.header:
         raise UsageError(f"--source {args.source.split(':')[0]}:// needs --header SKELETON.bvh "
                          "(the stream carries no skeleton)")  # fmt: skip
-    vmc = args.source.startswith(("vmc://", "xsens://"))
+    vmc = args.source.startswith(("vmc://", "xsens://", "rokoko://"))
     if vmc and args.header:
         raise UsageError(f"--header does not apply with --source {args.source.split(':')[0]}://"
                          ": the skeleton comes from the bones sent")  # fmt: skip
     if args.rate and not vmc:
-        raise UsageError("--rate applies only with --source vmc:// or xsens://")
+        raise UsageError("--rate applies only with --source vmc://, xsens:// or rokoko://")
+
+
+#: ``fpdtw stream --as SYSTEM``'s default --to for the UDP systems.
+#: ``fpdtw stream --as``: the systems played (as ``fpdtw.app.sources.SOURCES``).
+_SYSTEMS = ("axis", "axis+udp", "vmc", "xsens", "rokoko")
+_AS_DEFAULT_TO = {"vmc": "127.0.0.1:39539", "xsens": "127.0.0.1:9763", "rokoko": "127.0.0.1:14043",
+                  "axis+udp": "127.0.0.1:7002"}  # fmt: skip
 
 
 def _check_stream_options(args):
@@ -672,7 +697,7 @@ def _check_stream_options(args):
 
     if args.skeleton and Path(args.take[0]).suffix.lower() != ".amc":
         raise UsageError(f"--skeleton applies to an .amc motion, not {args.take[0]}")
-    if args.as_system in ("vmc", "xsens", "axis+udp"):
+    if args.as_system in ("vmc", "xsens", "axis+udp", "rokoko"):
         disp = args.displacement and args.as_system != "axis+udp"
         given = [o for o, v in (("--listen", args.listen), ("--displacement", disp),
                  ("--drop", args.drop), ("--jitter-ms", args.jitter_ms), ("--streams",
@@ -680,8 +705,7 @@ def _check_stream_options(args):
                  args.out)) if v]  # fmt: skip
         if given:
             raise UsageError(f"{given[0]} does not apply with --as {args.as_system}")
-        ports = {"vmc": "127.0.0.1:39539", "xsens": "127.0.0.1:9763"}
-        default = ports.get(args.as_system, "127.0.0.1:7002")
+        default = _AS_DEFAULT_TO[args.as_system]
         try:
             if parse_address(args.to or default)[1] == 0:
                 raise ValueError("port 0 is not a receiver's port")
@@ -699,13 +723,15 @@ def _check_stream_options(args):
         except ValueError as e:
             raise UsageError(f"--listen: {e}") from None
         return
-    for opt, given in (("--listen", args.listen), ("--displacement", args.displacement)):
-        if given:
-            raise UsageError(f"{opt} applies only with --as axis")
+    systems = "|".join(_SYSTEMS)
+    if args.listen:
+        raise UsageError("--listen applies only with --as axis")
+    if args.displacement:
+        raise UsageError("--displacement applies only with --as axis|axis+udp")
     if len(args.take) > 1:
-        raise UsageError("several TAKEs (one per avatar) apply only with --as axis|vmc|xsens")
+        raise UsageError(f"several TAKEs (one per performer) apply only with --as {systems}")
     if args.to is None:
-        raise UsageError("--to HOST:PORT is required (or --as axis|vmc|xsens)")
+        raise UsageError(f"--to HOST:PORT is required (or --as {systems})")
     try:
         host, port = parse_address(args.to)
     except ValueError as e:
@@ -1024,7 +1050,7 @@ def _serve_source(args, log, FI, factory, name, server) -> int:
         _check_output(args.out, "--out")
     module, host, port = parse_source(args.source)
     _stage(args, args.header)
-    if args.source.startswith(("vmc://", "xsens://")):
+    if args.source.startswith(("vmc://", "xsens://", "rokoko://")):
         source = module.Source(host, port, rate=args.rate)
         skeleton = "from the bones sent"
     else:
@@ -1087,8 +1113,8 @@ def _cmd_stream(args, log) -> int:
 
 
 def _stream_as(args, log) -> int:
-    """``fpdtw stream TAKE ... --as axis|vmc|xsens``: the takes as Axis' broadcast, to one
-    client, as VMC senders or as MVN's network streamer."""
+    """``fpdtw stream TAKE ... --as axis|vmc|xsens|rokoko``: the takes as Axis' broadcast, to
+    one client, as VMC senders, as MVN's network streamer or as Rokoko Studio."""
     from fpdtw.app.source_axis import play_as_axis
     from fpdtw.app.stream import take_lines
 
@@ -1099,14 +1125,14 @@ def _stream_as(args, log) -> int:
         for path in args.take:
             _stage(args, path)
             takes.append(take_lines(path, args.rate, skeleton=args.skeleton))
-        to = args.to or "127.0.0.1:7002"
+        to = args.to or _AS_DEFAULT_TO[args.as_system]
         _stage(args, to)
         mode = "one frame a millisecond" if args.fast else "in real time"
         log(f"playing {len(takes)} take(s) as Axis' binary BVH broadcast to {to} {mode}")
         play_as_axis_udp(takes, to, fast=args.fast, displacement=args.displacement,
                          out=sys.stdout)  # fmt: skip
         return 0
-    if args.as_system in ("vmc", "xsens"):
+    if args.as_system in ("vmc", "xsens", "rokoko"):
         from fpdtw.io import load_motion
 
         motions = []
@@ -1115,13 +1141,16 @@ def _stream_as(args, log) -> int:
             m = load_motion(path, **({"skeleton": args.skeleton} if args.skeleton else {}))
             motions.append(m.resample(args.rate) if args.rate else m)
         vmc = args.as_system == "vmc"
-        to = args.to or ("127.0.0.1:39539" if vmc else "127.0.0.1:9763")
+        to = args.to or _AS_DEFAULT_TO[args.as_system]
         _stage(args, to)
         mode = "one frame a millisecond" if args.fast else "in real time"
-        what = "VMC senders" if vmc else "MVN network streamer characters"
+        what = {"vmc": "VMC senders", "xsens": "MVN network streamer characters",
+                "rokoko": "Rokoko Studio actors"}[args.as_system]  # fmt: skip
         log(f"playing {len(motions)} take(s) as {what} to {to} {mode}")
         if vmc:
             from fpdtw.app.source_vmc import play_as_vmc as play
+        elif args.as_system == "rokoko":
+            from fpdtw.app.source_rokoko import play_as_rokoko as play
         else:
             from fpdtw.app.source_xsens import play_as_xsens as play
         play(motions, to, fast=args.fast, out=sys.stdout)

@@ -40,9 +40,9 @@ from fpdtw.app.stream import session_map, stamp
 from fpdtw.errors import FpdtwError
 
 #: URL scheme -> the module reading that system's stream.
-SOURCES = {"axis": "fpdtw.app.source_axis", "vmc": "fpdtw.app.source_vmc",
-           "xsens": "fpdtw.app.source_xsens"}  # fmt: skip
-SOURCES["axis+udp"] = "fpdtw.app.source_axis_udp"
+SOURCES = {"axis": "fpdtw.app.source_axis", "axis+udp": "fpdtw.app.source_axis_udp",
+           "vmc": "fpdtw.app.source_vmc", "xsens": "fpdtw.app.source_xsens",
+           "rokoko": "fpdtw.app.source_rokoko"}  # fmt: skip
 #: A frame arriving this many seconds before its time at the stream's rate is "ahead".
 AHEAD_S = 0.5
 #: A performer whose frames are unusable for this many seconds of its rate in a row ends the
@@ -73,6 +73,8 @@ BAD_KINDS = {
     "mxtp": "datagrams that are not MVN's (MXTP) or whose sizes disagree",
     "skipped": "MVN datagrams of types not read (skipped)",
     "axisbin": "datagrams that are not Axis' binary BVH (0xDDFF, 0xEEFF) or whose sizes disagree",
+    "rokoko": "datagrams that are not Rokoko's JSON v3",
+    "lz4": "LZ4-compressed datagrams (not read)",
 }
 
 

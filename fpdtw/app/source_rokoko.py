@@ -1,0 +1,530 @@
+"""``rokoko://HOST:PORT``: Rokoko Studio's custom streaming (JSON v3 over UDP), both ways.
+
+Studio sends UDP datagrams to a receiver (port 14043 by default in Rokoko's Unity plugin),
+so fpdtw LISTENS on ``HOST:PORT`` and only reads. What follows is from Rokoko's "Custom
+Streaming" support article and its attached JSON v3 layout ("the layout") unless another
+source is named; bone names, hierarchy and rest pose come from Rokoko's public plugins
+(``rokoko-studio-live-unity``, ``-blender``, ``-unreal-engine``), which read this stream.
+
+**Datagram.** One JSON object: ``version`` (3), ``fps`` (Studio's target rate), ``scene``:
+``timestamp`` and ``actors``, each with ``name``, ``color``, ``meta``, ``dimensions``, an
+optional ``body`` and ``face``; and ``props``. ``body`` maps a bone name to ``{"position":
+{x, y, z}, "rotation": {x, y, z, w}}``: GLOBAL values (the Unity plugin sets them as a
+bone's world position and rotation unchanged; the Unreal plugin takes each joint relative
+to its parent's), in metres (the Unreal plugin: "values ... are in meters"), in Unity's
+world: Y up, Z forward (the layout), left-handed (the Blender plugin mirrors X to reach
+its right-handed one). The Blender plugin reads ``version`` as a number or a string (``3``,
+``"3.0"``, ``"3,0"``); its major number must be 3. Studio may LZ4-compress the datagram (an
+LZ4 frame, tried first by the Blender plugin, always expected by the Unreal one); no LZ4
+package is installed here, so such datagrams are counted as their own kind, never read.
+
+**Skeleton.** The 21 body bones :data:`BONES` (fingers and toe ends valid, not read), each
+with its parent (:data:`PARENTS`, the Unreal plugin's table). The rest pose is Studio's
+T-pose, each bone's world rotation :data:`TPOSE` there (the Unity plugin's
+``SmartsuitTPose``; the Blender plugin's "Tpose from Studio live" is the same). A bone's
+rotation from its rest is ``D = R T^-1`` (``R`` its world rotation, ``T`` its T-pose one):
+the skeleton of an actor's first complete frame has each bone's offset from its parent in
+the parent's rest axes (``D_parent^-1 (p - p_parent)``), zero channels are the T-pose,
+each later frame's local rotations are ``D_parent^-1 D``, the hip's position the root's.
+
+**Axes.** Unity's X (right), Y (up), Z (forward) are left-handed; fpdtw's are Y up,
+right-handed, Z forward: :func:`studio_to_fpdtw` mirrors X, as for VMC.
+
+**What fpdtw makes of it.** Each actor name is a performer (at most :data:`MAX_ACTORS`
+names tracked, ``--max-clients`` aligned), numbered in order of arrival. An actor's frame
+counts at ``scene.timestamp`` minus its first's, read as seconds (the layout names no unit);
+one not after the last read is duplicated (equal) or reordered (older). The datagram's size
+(:data:`MAX_DATAGRAM`) and nesting (:data:`MAX_DEPTH`) are bounded before parsing, actors
+and bones before reading; JSON ``NaN`` and ``Infinity`` (Python's parser takes them) are
+refused.
+
+:func:`play_as_rokoko` is the other side without hardware (``fpdtw stream --as rokoko``): an
+encoder of the layout written apart from the reader (its own bone table, the Blender
+plugin's T-pose table, its own axis conversion and JSON text), one datagram a frame.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import socket
+import time
+
+import numpy as np
+
+from fpdtw import limits
+from fpdtw.app.serve import parse_address
+from fpdtw.app.sources import DatagramSource, sender_name
+from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
+from fpdtw.motion.rig import rest_rotations
+from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate, quat_to_euler
+
+#: Studio's custom streaming port (Rokoko's Unity plugin listens on it by default).
+DEFAULT_PORT = 14043
+#: The default stream rate (``--rate``; else the datagram's ``fps``).
+DEFAULT_RATE = 60.0
+#: Bytes a datagram may have (the largest UDP payload over IPv4).
+MAX_DATAGRAM = 65507
+#: Nesting of JSON objects and arrays a datagram may have (the layout needs 7).
+MAX_DEPTH = 16
+#: Actor names tracked in one take, and actors one datagram may carry.
+MAX_ACTORS = 64
+#: Characters an actor's name may have, and bones one body may name.
+MAX_NAME, MAX_BONES = 128, 128
+#: A quaternion whose norm is further than this from 1 is not a rotation.
+UNIT_TOLERANCE = 1e-3
+#: The first bytes of an LZ4 frame (its magic number 0x184D2204, little-endian).
+LZ4_MAGIC = b"\x04\x22\x4d\x18"
+
+_SIDES = ("left", "right")
+#: Each body bone read with its parent (the Unreal plugin's hierarchy), the hip first.
+PARENTS = {"hip": None, "spine": "hip", "chest": "spine", "neck": "chest", "head": "neck"}
+for _s in _SIDES:
+    PARENTS.update({f"{_s}Shoulder": "chest", f"{_s}UpperArm": f"{_s}Shoulder",
+                    f"{_s}LowerArm": f"{_s}UpperArm", f"{_s}Hand": f"{_s}LowerArm",
+                    f"{_s}UpLeg": "hip", f"{_s}Leg": f"{_s}UpLeg", f"{_s}Foot": f"{_s}Leg",
+                    f"{_s}Toe": f"{_s}Foot"})  # fmt: skip
+BONES = tuple(PARENTS)
+_PARENT = np.array([-1 if PARENTS[b] is None else BONES.index(PARENTS[b]) for b in BONES])
+#: Bones of the layout that are valid and not read (toe ends, fingers).
+OTHER_BONES = frozenset(
+    [f"{s}ToeEnd" for s in _SIDES]
+    + [f"{s}{f}{p}" for s in _SIDES for f in ("Thumb", "Index", "Middle", "Ring", "Little")
+       for p in ("Proximal", "Medial", "Distal", "Tip")]
+)  # fmt: skip
+
+_R = math.sqrt(0.5)
+#: Studio's T-pose: each bone's world rotation ``x y z w`` in Studio's axes (the Unity
+#: plugin's ``SmartsuitTPose``, its 0.707 read as sqrt(1/2)).
+TPOSE = {"hip": (0, 0, 0, 1), "spine": (0, 0, 1, 0), "chest": (0, 0, 1, 0),
+         "neck": (0, 0, 1, 0), "head": (0, 0, 1, 0),
+         "leftShoulder": (0, 0, _R, -_R), "rightShoulder": (0, 0, _R, _R),
+         "leftUpLeg": (0, _R, 0, _R), "rightUpLeg": (0, -_R, 0, _R),
+         "leftLeg": (0, _R, 0, _R), "rightLeg": (0, -_R, 0, _R),
+         "leftFoot": (0, _R, -_R, 0), "rightFoot": (0, -_R, _R, 0),
+         "leftToe": (0, _R, -_R, 0), "rightToe": (0, -_R, _R, 0)}  # fmt: skip
+for _b in ("UpperArm", "LowerArm", "Hand"):
+    TPOSE.update({f"left{_b}": (-0.5, -0.5, 0.5, -0.5), f"right{_b}": (0.5, -0.5, 0.5, 0.5)})
+
+_FULL = {"center_hip": "hip", "middle_chest": "spine", "upper_chest": "chest", "head": "head"}
+for _s in _SIDES:
+    _FULL.update({f"{_s}_hip": f"{_s}UpLeg", f"{_s}_knee": f"{_s}Leg",
+                  f"{_s}_ankle": f"{_s}Foot", f"{_s}_shoulder": f"{_s}UpperArm",
+                  f"{_s}_elbow": f"{_s}LowerArm", f"{_s}_wrist": f"{_s}Hand"})  # fmt: skip
+#: The built-in joint maps of a Rokoko body (our joint -> bone), after ``--joint-map``'s:
+#: all 16 joints; the paper's 8.
+JOINT_MAPS = (_FULL, {j: _FULL[j] for j in PAPER_JOINTS})
+
+_ORDER = "XYZ"  # the built skeleton's rotation order, written Zrotation Yrotation Xrotation
+
+
+def studio_to_fpdtw(p, q_xyzw):
+    """Studio's (Unity's) position (..., 3) and quaternion ``x y z w`` (..., 4) in fpdtw's
+    axes: ``(-x, y, z)`` and ``(w, x, -y, -z)``.
+
+    The mirror ``M = diag(-1, 1, 1)`` makes Unity's left-handed Y-up axes right-handed with
+    the same up and forward; a rotation ``R`` becomes ``M R M``, about ``M a`` by ``-theta``,
+    i.e. about ``-M a`` by ``theta``."""
+    p = np.asarray(p, dtype=float)
+    q = np.asarray(q_xyzw, dtype=float)
+    return p * [-1.0, 1.0, 1.0], np.stack([q[..., 3], q[..., 0], -q[..., 1], -q[..., 2]], -1)
+
+
+_TPOSE_F = quat_normalize(studio_to_fpdtw(np.zeros(3), np.array([TPOSE[b] for b in BONES]))[1])
+
+
+class RokokoSkeleton:
+    """An actor's skeleton, from its first complete frame.
+
+    Parameters
+    ----------
+    p, d : ndarray
+        The 21 bones' positions (21, 3) and rotations from the T-pose ``D`` (21, 4, ``w x y
+        z``), fpdtw's axes, in the order of :data:`BONES`.
+    rate : float
+        The stream's rate (the header's ``Frame Time``).
+
+    Attributes
+    ----------
+    header : list of str
+        Its BVH header: joints named as :data:`BONES`, depth first from the hip.
+    order : list of int
+        The bones' indices in the header's order.
+    """
+
+    def __init__(self, p, d, rate: float):
+        self.order, lines = [], ["HIERARCHY"]
+
+        def joint(i, pad):
+            self.order.append(i)
+            if i == 0:
+                lines.extend(["ROOT hip", "{", "  OFFSET 0 0 0", "  CHANNELS 6 Xposition "
+                              "Yposition Zposition Zrotation Yrotation Xrotation"])  # fmt: skip
+            else:
+                off = quat_rotate(quat_conj(d[_PARENT[i]]), p[i] - p[_PARENT[i]])
+                lines.extend([f"{pad}JOINT {BONES[i]}", pad + "{", f"{pad}  OFFSET "
+                              + " ".join(repr(float(v)) for v in off),
+                              f"{pad}  CHANNELS 3 Zrotation Yrotation Xrotation"])  # fmt: skip
+            kids = [c for c in range(len(BONES)) if _PARENT[c] == i]
+            for c in kids:
+                joint(c, pad + "  ")
+            if not kids:
+                lines.extend([f"{pad}  End Site", pad + "  {", f"{pad}    OFFSET 0 0 0",
+                              pad + "  }"])  # fmt: skip
+            lines.append(pad + "}")
+
+        joint(0, "")
+        self.header = lines + ["MOTION", f"Frame Time: {1.0 / rate!r}"]
+
+    def line(self, p, d) -> str:
+        """The BVH motion line of a frame: (21, 3) positions, (21, 4) rotations ``D``."""
+        d = quat_normalize(d)
+        local = quat_mul(quat_conj(d[np.maximum(_PARENT, 0)]), d)
+        local[0] = d[0]
+        e = quat_to_euler(local[self.order], _ORDER)[:, ::-1]  # Z Y X, as the channels
+        return " ".join(repr(float(x)) for x in np.r_[p[0], e.ravel()])
+
+
+def rest_relative(v):
+    """A frame's bones (21, 7: Studio's ``x y z`` and ``x y z w``) as fpdtw's positions
+    (21, 3) and rotations from the T-pose ``D = R T^-1`` (21, 4)."""
+    p, q = studio_to_fpdtw(v[:, :3], v[:, 3:])
+    return p, quat_mul(quat_normalize(q), quat_conj(_TPOSE_F))
+
+
+# -- reading ---------------------------------------------------------------------------------
+
+
+class Refused(Exception):
+    """A datagram or actor that cannot be read: ``(kind of BAD_KINDS, what)``."""
+
+
+_STRING = re.compile(rb'"(?:[^"\\]+|\\.)*"?')  # a JSON string (or one cut at the end): linear
+_OPEN = np.frombuffer(b"{[", np.uint8)
+_CLOSE = np.frombuffer(b"}]", np.uint8)
+
+
+def nesting(data: bytes) -> int:
+    """The deepest nesting of objects and arrays in JSON text ``data`` (strings skipped)."""
+    a = np.frombuffer(_STRING.sub(b'""', data), np.uint8)
+    depth = np.cumsum(np.isin(a, _OPEN).astype(np.int64) - np.isin(a, _CLOSE))
+    return int(depth.max(initial=0))
+
+
+def _constant(name):
+    raise Refused("finite", f"JSON {name}, not a finite number")
+
+
+def _int(text: str):
+    return int(text) if len(text) < 19 else float(text)  # a long one: no int's digit limit
+
+
+def _number(x) -> bool:
+    return isinstance(x, int | float) and not isinstance(x, bool)
+
+
+def read_datagram(data: bytes) -> tuple:
+    """A datagram checked as JSON v3: ``(fps or None, timestamp, actors)``, the actors as
+    sent (dicts); :class:`Refused` naming what is wrong."""
+    if len(data) > MAX_DATAGRAM:
+        raise Refused("oversize", f"{len(data)} bytes, more than {MAX_DATAGRAM}")
+    if data[:4] == LZ4_MAGIC:
+        raise Refused("lz4", "an LZ4 frame (Studio's compressed JSON), which fpdtw does not "
+                      "read: choose uncompressed JSON v3 in Studio's Custom streaming")  # fmt: skip
+    if (depth := nesting(data)) > MAX_DEPTH:
+        raise Refused("rokoko", f"JSON nested {depth} deep, more than {MAX_DEPTH}")
+    try:
+        doc = json.loads(data, parse_constant=_constant, parse_int=_int)
+    except (ValueError, RecursionError) as e:  # UnicodeDecodeError is a ValueError
+        raise Refused("rokoko", f"not JSON ({str(e).splitlines()[0][:80]})") from None
+    version = doc.get("version") if isinstance(doc, dict) else None
+    major = (int(version) if _number(version) and math.isfinite(version) else
+             int(m[1]) if isinstance(version, str) and (m := re.fullmatch(
+                 r"\s*(\d{1,3})(?:[.,]\d{1,6})?\s*", version)) else None)  # fmt: skip
+    if major != 3:
+        raise Refused("rokoko", f"version {str(version)[:20]!r}, not JSON v3")
+    scene = doc.get("scene")
+    if not isinstance(scene, dict) or not isinstance(actors := scene.get("actors"), list):
+        raise Refused("rokoko", "no scene with a list of actors")
+    t = scene.get("timestamp")
+    if not _number(t) or not math.isfinite(t) or abs(t) > limits.get("max_abs_value"):
+        raise Refused("rokoko", f"scene.timestamp {str(t)[:20]} is not a finite time")
+    if len(actors) > MAX_ACTORS:
+        raise Refused("rokoko", f"{len(actors)} actors, more than {MAX_ACTORS}")
+    fps = doc.get("fps")
+    return (fps if _number(fps) and 1 <= fps <= 1000 else None), float(t), actors
+
+
+def actor_name(actor) -> str:
+    """An actor's name (:class:`Refused` when it has none)."""
+    name = actor.get("name") if isinstance(actor, dict) else None
+    if not isinstance(name, str) or not name or len(name) > MAX_NAME:
+        raise Refused("name", f"an actor whose name {str(name)[:40]!r} is not a string of 1 to "
+                      f"{MAX_NAME} characters")  # fmt: skip
+    return name
+
+
+def read_body(actor) -> np.ndarray:
+    """An actor's 21 body bones checked: (21, 7) float, Studio's ``x y z`` and ``x y z w``
+    in the order of :data:`BONES` (:class:`Refused` naming the first problem)."""
+    body = actor.get("body")
+    if not isinstance(body, dict):
+        raise Refused("missing", "no body")
+    if len(body) > MAX_BONES:
+        raise Refused("bone", f"{len(body)} bones, more than {MAX_BONES}")
+    out = np.full((len(BONES), 7), np.nan)
+    big = limits.get("max_abs_value")
+    for name, bone in body.items():
+        if name in OTHER_BONES:
+            continue
+        if name not in PARENTS:
+            raise Refused("bone", f"bone {name[:40]!r} is not one of Rokoko's body bones")
+        try:
+            v = [bone["position"][k] for k in "xyz"] + [bone["rotation"][k] for k in "xyzw"]
+        except (TypeError, KeyError, IndexError):  # not objects, or without the fields
+            v = None
+        if v is None or not all(_number(x) for x in v):
+            raise Refused("number", f"bone {name!r} without numbers position x y z and "
+                          "rotation x y z w")  # fmt: skip
+        v = np.array(v, dtype=float)
+        if not np.isfinite(v).all() or np.abs(v).max() > big:  # inf: a number past float's
+            raise Refused("large", f"bone {name!r} has a value beyond {big:g} "
+                          f"({limits.env_name('max_abs_value')})")  # fmt: skip
+        if abs((norm := float(np.linalg.norm(v[3:]))) - 1.0) > UNIT_TOLERANCE:
+            raise Refused("rotation", f"bone {name!r}'s quaternion has norm {norm:.6g}")
+        out[BONES.index(name)] = v
+    lacks = [b for i, b in enumerate(BONES) if np.isnan(out[i, 0])]
+    if lacks:
+        raise Refused("missing", f"the body lacks {', '.join(lacks[:4])}")
+    return out
+
+
+class _Actor:
+    """One actor name: its performer and its times."""
+
+    def __init__(self, name, addr):
+        self.name, self.addr = name, sender_name(addr)
+        self.perf = self.skeleton = self.t0 = self.last_t = None
+        self.refused = False
+
+
+class Source(DatagramSource):
+    """Listens for Rokoko Studio's custom streaming, one take at a time (see the module's
+    docstring).
+
+    Parameters
+    ----------
+    host, port : str, int
+        Where to listen (UDP).
+    rate : float, optional
+        The stream's rate (``--rate``); default: the first datagram's ``fps``, else
+        :data:`DEFAULT_RATE`. The period a gap is measured in.
+    header : None
+        Not used: the skeleton comes from the stream (ValueError when given).
+    """
+
+    scheme = "rokoko"
+    skeleton_from = "the bones sent"
+    DEFAULT_RATE = DEFAULT_RATE  # the module's
+
+    def __init__(self, host: str, port: int, *, rate=None, header=None):
+        super().__init__(host, port, rate=rate, header=header)
+        self.rate_given = rate is not None
+
+    def begin_take(self) -> None:
+        self.actors = {}
+
+    def datagram(self, data: bytes, addr, arrival: float, performers) -> None:
+        """One datagram: checked, then each of its actors' frames aligned (or counted)."""
+        self.n += 1
+        where = f"datagram {self.n} from {sender_name(addr)}"
+        try:
+            fps, t, actors = read_datagram(data)
+        except Refused as e:
+            performers.frames += 1
+            return performers.count_bad(None, e.args[0], f"{where}: {e.args[1]}")
+        seen = set()
+        for actor in actors:
+            performers.frames += 1
+            try:
+                name = actor_name(actor)
+            except Refused as e:
+                performers.count_bad(None, e.args[0], f"{where}: {e.args[1]}")
+                continue
+            a = self.actors.get(name)
+            if a is None:
+                if len(self.actors) >= MAX_ACTORS:
+                    performers.count_bad(None, "refused", f"{where}: actor {name!r}: more "
+                                         f"than {MAX_ACTORS} actor names")  # fmt: skip
+                    continue
+                a = self.actors[name] = _Actor(name, addr)
+            self.frame(a, actor, name in seen, fps, t, arrival, f"{where} (time {t!r} s)",
+                       performers)  # fmt: skip
+            seen.add(name)
+        return None
+
+    def frame(self, a, actor, twice, fps, t, arrival, where, performers) -> None:
+        """One actor's frame of a datagram: checked, then aligned (or counted)."""
+        if a.refused:
+            return performers.count_bad(None, "refused", f"{where}: actor {a.name!r} refused")
+        if twice:
+            return performers.count_bad(a.perf, "duplicate", f"{where}: actor {a.name!r} "
+                                        "twice in one datagram")  # fmt: skip
+        try:
+            v = read_body(actor)
+        except Refused as e:
+            return performers.count_bad(a.perf, e.args[0], f"{where}: actor {a.name!r}: "
+                                        f"{e.args[1]}")  # fmt: skip
+        if a.last_t is not None and t <= a.last_t:
+            kind = "duplicate" if t == a.last_t else "order"
+            return performers.count_bad(a.perf, kind, f"{where}: not after the previous "
+                                        f"frame's {a.last_t!r} s")  # fmt: skip
+        p, d = rest_relative(v)
+        if a.perf is None:
+            rate = self.rate if self.rate_given or fps is None else float(fps)
+            a.skeleton = RokokoSkeleton(p, d, rate)
+            about = (f"{len(BONES)} bones, from {a.addr}, frames timed by scene.timestamp, "
+                     f"{rate:g} Hz")  # fmt: skip
+            key = sum(1 for x in self.actors.values() if x.perf is not None)
+            a.perf = performers.add(key, a.name, a.skeleton.header, rate, about)
+            if a.perf is None:
+                a.refused = True
+                return None
+            a.t0 = t
+        a.last_t = t
+        performers.feed(a.perf, a.skeleton.line(p, d), arrival, t=t - a.t0)
+        return None
+
+
+# -- Studio, without hardware ------------------------------------------------------------------
+
+# The encoder below is written from the layout on its own (its own bone table, the T-pose
+# as the Blender plugin lists it, its own axis conversion and JSON text), not as the reader
+# run backwards, so that a misreading of one shows in the other.
+
+#: The emulator: Rokoko bone -> (its parent, Studio's T-pose rotation ``w x y z`` as the
+#: Blender plugin lists it, names of the rig joint playing it, the first the rig has).
+RIG_BONES = {
+    "hip": (None, (-1.0, 0.0, 0.0, 0.0), ("hip", "root", "Hips", "Pelvis")),
+    "spine": ("hip", (0.0, 0.0, 0.0, -1.0), ("upperback", "Spine1", "Spine")),
+    "chest": ("spine", (0.0, 0.0, 0.0, -1.0), ("thorax", "Spine2", "Chest")),
+    "neck": ("chest", (0.0, 0.0, 0.0, -1.0), ("lowerneck", "Neck")),
+    "head": ("neck", (0.0, 0.0, 0.0, -1.0), ("head", "Head")),
+}
+for _c, _side, _sg in (("l", "Left", 1.0), ("r", "Right", -1.0)):
+    _b, _arm, _leg = _side.lower(), (-0.5 * _sg, -0.5 * _sg, -0.5, 0.5), (_R, 0.0, _R * _sg, 0.0)
+    _foot, _sh = (0.0, 0.0, _R * _sg, -_R * _sg), (-_R * _sg, 0.0, 0.0, _R)
+    RIG_BONES.update({
+        f"{_b}Shoulder": ("chest", _sh, (f"{_c}clavicle", f"{_side}Shoulder")),
+        f"{_b}UpperArm": (f"{_b}Shoulder", _arm, (f"{_c}humerus", f"{_side}Arm")),
+        f"{_b}LowerArm": (f"{_b}UpperArm", _arm, (f"{_c}radius", f"{_side}ForeArm")),
+        f"{_b}Hand": (f"{_b}LowerArm", _arm, (f"{_c}wrist", f"{_side}Hand")),
+        f"{_b}UpLeg": ("hip", _leg, (f"{_c}femur", f"{_side}UpLeg")),
+        f"{_b}Leg": (f"{_b}UpLeg", _leg, (f"{_c}tibia", f"{_side}Leg")),
+        f"{_b}Foot": (f"{_b}Leg", _foot, (f"{_c}foot", f"{_side}Foot")),
+        f"{_b}Toe": (f"{_b}Foot", _foot, (f"{_c}toes", f"{_side}ToeBase")),
+    })  # fmt: skip
+
+
+def fpdtw_to_studio(p, q_wxyz):
+    """fpdtw's position (..., 3) and quaternion ``w x y z`` (..., 4) in Studio's (Unity's)
+    left-handed axes: X mirrored; the quaternion as ``x y z w``."""
+    p, q = np.asarray(p, dtype=float), np.asarray(q_wxyz, dtype=float)
+    return p * [-1.0, 1.0, 1.0], np.stack([q[..., 1], -q[..., 2], -q[..., 3], q[..., 0]], -1)
+
+
+def studio_bones(motion) -> tuple:
+    """A motion as Studio streams an actor: ``(rate, names, p, q)``: the 21 Rokoko bones,
+    their world positions (F, 21, 3) and world rotations ``x y z w`` (F, 21, 4) in Studio's
+    axes: the rig's rotation from its rest pose, then Studio's T-pose rotation of the bone.
+    A bone the rig lacks is where its parent bone is, turned as it (ValueError without
+    hips)."""
+    sk = motion.skeleton
+    found = resolve_joint_map(sk.joint_names, {b: n for b, (_, _, n) in RIG_BONES.items()})
+    if "hip" not in found:
+        raise ValueError(f"no hips among {', '.join(sk.joint_names[:8])}...")
+    pos, rot = motion.forward_kinematics()
+    rot = quat_mul(rot, quat_conj(rest_rotations(motion))[None])
+    here = {}  # bone -> the rig joint playing it (or its parent bone's)
+    for b, (parent, _, _) in RIG_BONES.items():  # parents come first
+        here[b] = list(sk.joint_names).index(found[b]) if b in found else here[parent]
+    index = list(here.values())
+    p, d = fpdtw_to_studio(pos[:, index], rot[:, index])  # the rotation from rest, x y z w
+    tpose = np.array([t for _, t, _ in RIG_BONES.values()])  # w x y z
+    q = quat_mul(np.roll(d, 1, axis=-1), tpose[None])  # from rest, after the T-pose
+    return motion.fps, list(RIG_BONES), p, np.roll(q, -1, axis=-1)
+
+
+def _f32(x) -> str:
+    return str(np.float32(x))  # a float32 as its shortest text that reads back to it
+
+
+def v3_datagram(timestamp: float, fps: float, actors) -> bytes:
+    """One frame as Studio's JSON v3 text (UTF-8): ``actors`` a list of ``(name, {bone: (p
+    (3,), q x y z w (4,))})``; every number a float32."""
+    parts = []
+    for k, (name, bones) in enumerate(actors):
+        body = ",".join(
+            f'"{b}":{{"position":{{"x":{_f32(p[0])},"y":{_f32(p[1])},"z":{_f32(p[2])}}},'
+            f'"rotation":{{"x":{_f32(q[0])},"y":{_f32(q[1])},"z":{_f32(q[2])},'
+            f'"w":{_f32(q[3])}}}}}'
+            for b, (p, q) in bones.items()
+        )
+        parts.append(
+            f'{{"name":{json.dumps(name)},"color":{{"r":{40 * k % 256},"g":200,"b":120}},'
+            '"meta":{"hasGloves":false,"hasLeftGlove":false,"hasRightGlove":false,'
+            '"hasBody":true,"hasFace":false},'
+            '"dimensions":{"totalHeight":1.8,"hipHeight":1.0},'
+            f'"body":{{{body}}}}}'
+        )
+    text = (f'{{"version":3,"fps":{fps:g},"scene":{{"timestamp":{_f32(timestamp)},'
+            f'"actors":[{",".join(parts)}],"props":[]}}}}')  # fmt: skip
+    return text.encode("utf-8")
+
+
+def rokoko_datagrams(motions, names=None) -> tuple:
+    """The datagrams of ``motions`` streamed together: ``(rate, [datagram of frame k])``;
+    take ``i`` is actor ``names[i]`` (default ``actor1``, ``actor2``, ...), frame ``k`` at
+    scene time ``k / rate`` s (a take that has ended is no longer sent)."""
+    takes = [studio_bones(m) for m in motions]
+    rates = {r for r, *_ in takes}
+    if len(rates) > 1:
+        raise ValueError(f"takes at {sorted(rates)} Hz: play them at one --rate")
+    rate = rates.pop()
+    names = names or [f"actor{i + 1}" for i in range(len(takes))]
+    out = []
+    for k in range(max(len(p) for _, _, p, _ in takes)):
+        actors = [
+            (n, dict(zip(bones, zip(p[k], q[k], strict=True), strict=True)))
+            for n, (_, bones, p, q) in zip(names, takes, strict=True)
+            if k < len(p)
+        ]
+        out.append(v3_datagram(k / rate, rate, actors))
+    return rate, out
+
+
+def play_as_rokoko(motions, to: str, *, fast=False, out=None) -> int:
+    """Send ``motions`` as Rokoko Studio's custom streaming sends actors to ``to``
+    (``HOST:PORT``): one UDP socket, one JSON v3 datagram a frame holding every take's actor,
+    frame ``k`` at ``k / rate`` (``fast``: one every millisecond). Return the datagrams sent."""
+    host, port = parse_address(to)
+    rate, frames = rokoko_datagrams(motions)
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    with socket.socket(family, socket.SOCK_DGRAM) as sock:
+        t0 = time.perf_counter()
+        for k, d in enumerate(frames):
+            if (wait := t0 + (k / 1000 if fast else k / rate) - time.perf_counter()) > 0:
+                time.sleep(wait)
+            sock.sendto(d, (host, port))
+    if out is not None:
+        print(f"sent {len(frames)} datagrams ({len(motions)} actors) to {to}", file=out)
+    return len(frames)
+
+
+__all__ = [
+    "BONES", "DEFAULT_PORT", "DEFAULT_RATE", "JOINT_MAPS", "PARENTS", "RIG_BONES", "TPOSE",
+    "Refused", "RokokoSkeleton", "Source", "actor_name", "fpdtw_to_studio", "nesting",
+    "play_as_rokoko", "read_body", "read_datagram", "rest_relative", "rokoko_datagrams",
+    "studio_bones", "studio_to_fpdtw", "v3_datagram"
+]  # fmt: skip
