@@ -41,7 +41,7 @@ from fpdtw.errors import FpdtwError
 
 #: URL scheme -> the module reading that system's stream.
 SOURCES = {"axis": "fpdtw.app.source_axis", "vmc": "fpdtw.app.source_vmc",
-           "xsens": "fpdtw.app.source_xsens"}  # fmt: skip
+           "xsens": "fpdtw.app.source_xsens", "natnet": "fpdtw.app.source_natnet"}  # fmt: skip
 #: A frame arriving this many seconds before its time at the stream's rate is "ahead".
 AHEAD_S = 0.5
 #: A performer whose frames are unusable for this many seconds of its rate in a row ends the
@@ -71,6 +71,8 @@ BAD_KINDS = {
     "flood": "datagrams dropped by a full queue",
     "mxtp": "datagrams that are not MVN's (MXTP) or whose sizes disagree",
     "skipped": "MVN datagrams of types not read (skipped)",
+    "natnet": "datagrams that are not NatNet 4.1's or whose counts and sizes disagree",
+    "undescribed": "frames of a skeleton the NatNet data descriptions lack",
 }
 
 
