@@ -12,6 +12,8 @@
     fpdtw stream TAKE [TAKE ...] --as vmc [--to 127.0.0.1:39539] [--fast]
     fpdtw serve INPUT --source xsens://0.0.0.0:9763 [--rate 60] [--once] [--out MAP.csv]
     fpdtw stream TAKE [TAKE ...] --as xsens [--to 127.0.0.1:9763] [--fast]
+    fpdtw serve INPUT --source natnet://MOTIVE_HOST:1510 [--rate 120] [--once] [--out MAP.csv]
+    fpdtw stream TAKE [TAKE ...] --as natnet [--to 127.0.0.1:1510] [--fast]
     fpdtw data  fetch|verify|cite
     fpdtw experiments run [--smoke] [--results DIR] [--jobs N] [--scheduler ADDRESS]
 
@@ -148,7 +150,16 @@ limits (fpdtw.limits, each changed by its environment variable): a line 256 KiB
   character ID is a performer; its skeleton is the 23 body segments of its first complete
   sample; sample s counts at s / --rate. A take ends after --idle-timeout s of silence. Lost
   parts, duplicated and reordered datagrams, wrong ID strings or sizes, unknown segments,
-  NaN/inf, quaternions that are not rotations and a flood are dropped and counted."""
+  NaN/inf, quaternions that are not rotations and a flood are dropped and counted.
+
+--source natnet://HOST:PORT: fpdtw is a NatNet 4.1 unicast client of OptiTrack Motive (3.1):
+  PORT is Motive's command port (1510 by default). From a socket of its own it asks for the
+  data descriptions (NAT_MODELDEF: each skeleton's bones, parents and offsets) and receives
+  the frames (NAT_FRAMEOFDATA); set Motive to Unicast with skeletons in Local coordinates.
+  Each skeleton ID is a performer; frame f counts at f / --rate (default 120). Packets that
+  are not NatNet 4.1's or whose sizes disagree, unknown skeletons or bones, NaN/inf,
+  quaternions that are not rotations, duplicated and reordered frames and a flood are dropped
+  and counted."""
 
 _METHODS_HELP = "methods:\n" + "\n".join(f"  {k:<7} {v}" for k, v in METHODS.items())
 
@@ -438,7 +449,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="read takes from a capture system's own stream instead of listening: "
         "axis://HOST:PORT (Axis Neuron / Axis Studio BVH string broadcast, port 7001), "
         "vmc://HOST:PORT (listen for the VMC protocol, OSC over UDP, port 39539), "
-        "xsens://HOST:PORT (listen for Xsens MVN's network streamer, UDP, port 9763)",
+        "xsens://HOST:PORT (listen for Xsens MVN's network streamer, UDP, port 9763), "
+        "natnet://HOST:PORT (OptiTrack Motive's NatNet 4.1, unicast; its command port, 1510)",
     )
     sv.add_argument(
         "--header",
@@ -450,9 +462,9 @@ def build_parser() -> argparse.ArgumentParser:
         "--rate",
         type=_frame_rate,
         metavar="HZ",
-        help="--source vmc|xsens: the senders' frame rate (default 60): the period a lost "
-        "frame is measured in; VMC frames are timed by their /VMC/Ext/T, MVN samples by their "
-        "sample counter",
+        help="--source vmc|xsens|natnet: the senders' frame rate (default 60; natnet 120): the "
+        "period a lost frame is measured in; VMC frames are timed by their /VMC/Ext/T, MVN "
+        "samples by their sample counter, NatNet frames by their frame number",
     )
     sv.add_argument("--once", action="store_true", help="--source: exit after the first take")
     sv.add_argument(
@@ -481,12 +493,14 @@ def build_parser() -> argparse.ArgumentParser:
     st.add_argument(
         "--as",
         dest="as_system",
-        choices=["axis", "vmc", "xsens"],
+        choices=["axis", "vmc", "xsens", "natnet"],
         help="play TAKE as that capture system sends it: axis, as Axis Neuron's BVH string "
         "broadcast (a TCP server on --listen; avatars 0, 1, ... interleaved); vmc, as VMC "
         "protocol senders (OSC bundles over UDP to --to, default 127.0.0.1:39539; one sender "
         "per TAKE); xsens, as MVN's network streamer (MXTP02 datagrams over UDP to --to, "
-        "default 127.0.0.1:9763; one character ID per TAKE)",
+        "default 127.0.0.1:9763; one character ID per TAKE); natnet, as Motive's NatNet 4.1 "
+        "unicast server (answers the client that asks on --to, default 127.0.0.1:1510, then "
+        "streams to it; one skeleton per TAKE)",
     )
     st.add_argument(
         "--listen",
@@ -626,12 +640,16 @@ def _check_source_options(args):
     if args.source.startswith("axis://") and not args.header:
         raise UsageError("--source axis:// needs --header SKELETON.bvh (the stream carries no "
                          "skeleton)")  # fmt: skip
-    vmc = args.source.startswith(("vmc://", "xsens://"))
+    vmc = args.source.startswith(("vmc://", "xsens://", "natnet://"))
     if vmc and args.header:
         raise UsageError(f"--header does not apply with --source {args.source.split(':')[0]}://"
                          ": the skeleton comes from the bones sent")  # fmt: skip
     if args.rate and not vmc:
-        raise UsageError("--rate applies only with --source vmc:// or xsens://")
+        raise UsageError("--rate applies only with --source vmc://, xsens:// or natnet://")
+
+
+#: ``fpdtw stream --as``'s default --to.
+_AS_TO = {"vmc": "127.0.0.1:39539", "xsens": "127.0.0.1:9763", "natnet": "127.0.0.1:1510"}
 
 
 def _check_stream_options(args):
@@ -639,14 +657,14 @@ def _check_stream_options(args):
 
     if args.skeleton and Path(args.take[0]).suffix.lower() != ".amc":
         raise UsageError(f"--skeleton applies to an .amc motion, not {args.take[0]}")
-    if args.as_system in ("vmc", "xsens"):
+    if args.as_system in ("vmc", "xsens", "natnet"):
         given = [o for o, v in (("--listen", args.listen), ("--displacement", args.displacement),
                  ("--drop", args.drop), ("--jitter-ms", args.jitter_ms), ("--streams",
                  args.streams != 1), ("--no-timestamps", args.no_timestamps), ("--out",
                  args.out)) if v]  # fmt: skip
         if given:
             raise UsageError(f"{given[0]} does not apply with --as {args.as_system}")
-        default = "127.0.0.1:39539" if args.as_system == "vmc" else "127.0.0.1:9763"
+        default = _AS_TO[args.as_system]
         try:
             if parse_address(args.to or default)[1] == 0:
                 raise ValueError("port 0 is not a receiver's port")
@@ -986,7 +1004,7 @@ def _serve_source(args, log, FI, factory, name, server) -> int:
         _check_output(args.out, "--out")
     module, host, port = parse_source(args.source)
     _stage(args, args.header)
-    if args.source.startswith(("vmc://", "xsens://")):
+    if args.source.startswith(("vmc://", "xsens://", "natnet://")):
         source = module.Source(host, port, rate=args.rate)
         skeleton = "from the bones sent"
     else:
@@ -1053,7 +1071,7 @@ def _stream_as(args, log) -> int:
     from fpdtw.app.source_axis import play_as_axis
     from fpdtw.app.stream import take_lines
 
-    if args.as_system in ("vmc", "xsens"):
+    if args.as_system in ("vmc", "xsens", "natnet"):
         from fpdtw.io import load_motion
 
         motions = []
@@ -1062,15 +1080,20 @@ def _stream_as(args, log) -> int:
             m = load_motion(path, **({"skeleton": args.skeleton} if args.skeleton else {}))
             motions.append(m.resample(args.rate) if args.rate else m)
         vmc = args.as_system == "vmc"
-        to = args.to or ("127.0.0.1:39539" if vmc else "127.0.0.1:9763")
+        to = args.to or _AS_TO[args.as_system]
         _stage(args, to)
         mode = "one frame a millisecond" if args.fast else "in real time"
         what = "VMC senders" if vmc else "MVN network streamer characters"
-        log(f"playing {len(motions)} take(s) as {what} to {to} {mode}")
-        if vmc:
+        where = f"to {to}"
+        if args.as_system == "natnet":
+            from fpdtw.app.source_natnet import play_as_natnet as play
+
+            what, where = "Motive's NatNet skeletons", f"on {to} (for the client that asks)"
+        elif vmc:
             from fpdtw.app.source_vmc import play_as_vmc as play
         else:
             from fpdtw.app.source_xsens import play_as_xsens as play
+        log(f"playing {len(motions)} take(s) as {what} {where} {mode}")
         play(motions, to, fast=args.fast, out=sys.stdout)
         return 0
 
