@@ -389,6 +389,10 @@ def test_frames_before_the_descriptions_and_bad_descriptions(cmu):
     bones[3] = (bones[3][0], 2, *bones[3][2:])
     with pytest.raises(Bad, match="bone IDs or names twice"):
         NatNetSkeleton(bones, 30.0)
+    (_, _, bones) = parse_descriptions(modeldef)[0]
+    bones[4] = (*bones[4][:3], np.array([0.0, np.nan, 0.0]))
+    with pytest.raises(Bad, match="an offset that is NaN, inf or beyond"):
+        NatNetSkeleton(bones, 30.0)
 
 
 def test_a_server_of_another_natnet_version_ends_the_take(cmu):

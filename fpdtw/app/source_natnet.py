@@ -162,6 +162,7 @@ def parse_descriptions(data: bytes) -> list:
 
 
 def _skeleton_description(data, pos: int, end: int) -> tuple:
+    """A skeleton's description in ``data[pos:end]``: ``(name, ID, bones)``."""
     name, pos = _name(data, pos, end)
     _need(pos + 8 <= end, f"skeleton {name!r}'s description cut before its bones")
     sid, n = PAIR.unpack_from(data, pos)
@@ -207,6 +208,7 @@ def parse_frame(data: bytes) -> tuple:
 
 
 def _skeletons(data, pos: int, count: int, size: int) -> list:
+    """A frame's ``count`` skeletons in ``data[pos:pos + size]``: ``[(ID, bones), ...]``."""
     _need(count <= MAX_SKELETONS, f"{count} skeletons in a frame (at most {MAX_SKELETONS})")
     end, out = pos + size, []
     for _ in range(count):
@@ -254,6 +256,9 @@ class NatNetSkeleton:
               "bone IDs or names twice, or not one bone without a parent")  # fmt: skip
         _need(all(0 < i <= 0xFFFF and (p == 0 or p in by_id) for _, i, p, _ in bones),
               "a bone ID outside 1..65535 or a parent that is not a bone")  # fmt: skip
+        big = limits.get("max_abs_value")
+        _need(all(np.isfinite(b[3]).all() and np.abs(b[3]).max() <= big for b in bones),
+              "an offset that is NaN, inf or beyond FPDTW_MAX_ABS_VALUE")  # fmt: skip
         name = dict(zip(by_id, names, strict=True))
         kids = {i: [b[1] for b in bones if b[2] == i] for i in by_id}
         self.index, self.names, lines = {}, [], ["HIERARCHY"]
