@@ -16,6 +16,8 @@
     fpdtw stream TAKE [TAKE ...] --as axis+udp [--to 127.0.0.1:7002] [--displacement] [--fast]
     fpdtw serve INPUT --source rokoko://0.0.0.0:14043 [--rate 60] [--once] [--out MAP.csv]
     fpdtw stream TAKE [TAKE ...] --as rokoko [--to 127.0.0.1:14043] [--fast]
+    fpdtw serve INPUT --source natnet://MOTIVE_HOST:1510 [--rate 120] [--once] [--out MAP.csv]
+    fpdtw stream TAKE [TAKE ...] --as natnet [--to 127.0.0.1:1510] [--fast]
     fpdtw data  fetch|verify|cite
     fpdtw experiments run [--smoke] [--results DIR] [--jobs N] [--scheduler ADDRESS]
 
@@ -169,7 +171,17 @@ limits (fpdtw.limits, each changed by its environment variable): a line 256 KiB
   the rest pose; frames are timed by scene.timestamp. A take ends after --idle-timeout s of
   silence. Datagrams that are not JSON v3 or over 64 KiB or nested too deep, unknown bones,
   NaN/inf, quaternions that are not rotations, duplicated and reordered frames and a flood
-  are dropped and counted."""
+  are dropped and counted.
+
+
+--source natnet://HOST:PORT: fpdtw is a NatNet 4.1 unicast client of OptiTrack Motive (3.1):
+  PORT is Motive's command port (1510 by default). From a socket of its own it asks for the
+  data descriptions (NAT_MODELDEF: each skeleton's bones, parents and offsets) and receives
+  the frames (NAT_FRAMEOFDATA); set Motive to Unicast with skeletons in Local coordinates.
+  Each skeleton ID is a performer; frame f counts at f / --rate (default 120). Packets that
+  are not NatNet 4.1's or whose sizes disagree, unknown skeletons or bones, NaN/inf,
+  quaternions that are not rotations, duplicated and reordered frames and a flood are dropped
+  and counted."""
 
 _METHODS_HELP = "methods:\n" + "\n".join(f"  {k:<7} {v}" for k, v in METHODS.items())
 
@@ -484,7 +496,8 @@ def build_parser() -> argparse.ArgumentParser:
         "xsens://HOST:PORT (listen for Xsens MVN's network streamer, UDP, port 9763), "
         "axis+udp://HOST:PORT (listen for Axis' binary BVH broadcast, UDP, port 7002), "
         "rokoko://HOST:PORT (listen for Rokoko Studio's custom streaming, JSON v3, UDP, "
-        "port 14043)",
+        "port 14043), "
+        "natnet://HOST:PORT (OptiTrack Motive's NatNet 4.1, unicast; its command port, 1510)",
     )
     sv.add_argument(
         "--header",
@@ -496,10 +509,10 @@ def build_parser() -> argparse.ArgumentParser:
         "--rate",
         type=_frame_rate,
         metavar="HZ",
-        help="--source vmc|xsens|rokoko: the senders' frame rate (default 60; rokoko: the "
-        "stream's fps): the period a lost "
-        "frame is measured in; VMC frames are timed by their /VMC/Ext/T, MVN samples by their "
-        "sample counter",
+        help="--source vmc|xsens|rokoko|natnet: the senders' frame rate (default 60; rokoko: "
+        "the stream's fps; natnet 120): the period a lost frame is measured in; VMC frames are "
+        "timed by their /VMC/Ext/T, MVN samples by their sample counter, NatNet frames by their "
+        "frame number",
     )
     sv.add_argument("--once", action="store_true", help="--source: exit after the first take")
     sv.add_argument(
@@ -537,7 +550,10 @@ def build_parser() -> argparse.ArgumentParser:
         "broadcast (datagrams over UDP to --to, default 127.0.0.1:7002; avatars 0, 1, ...); "
         "rokoko, as Rokoko Studio's "
         "custom streaming (JSON v3 datagrams over UDP to --to, default 127.0.0.1:14043; one "
-        "actor per TAKE)",
+        "actor per TAKE); "
+        "natnet, as Motive's NatNet 4.1 "
+        "unicast server (answers the client that asks on --to, default 127.0.0.1:1510, then "
+        "streams to it; one skeleton per TAKE)",
     )
     st.add_argument(
         "--listen",
@@ -677,19 +693,20 @@ def _check_source_options(args):
     if args.source.startswith(("axis://", "axis+udp://")) and not args.header:
         raise UsageError(f"--source {args.source.split(':')[0]}:// needs --header SKELETON.bvh "
                          "(the stream carries no skeleton)")  # fmt: skip
-    vmc = args.source.startswith(("vmc://", "xsens://", "rokoko://"))
+    vmc = args.source.startswith(("vmc://", "xsens://", "rokoko://", "natnet://"))
     if vmc and args.header:
         raise UsageError(f"--header does not apply with --source {args.source.split(':')[0]}://"
                          ": the skeleton comes from the bones sent")  # fmt: skip
     if args.rate and not vmc:
-        raise UsageError("--rate applies only with --source vmc://, xsens:// or rokoko://")
+        raise UsageError("--rate applies only with --source vmc://, xsens://, rokoko:// or "
+                         "natnet://")  # fmt: skip
 
 
-#: ``fpdtw stream --as SYSTEM``'s default --to for the UDP systems.
 #: ``fpdtw stream --as``: the systems played (as ``fpdtw.app.sources.SOURCES``).
-_SYSTEMS = ("axis", "axis+udp", "vmc", "xsens", "rokoko")
+_SYSTEMS = ("axis", "axis+udp", "vmc", "xsens", "rokoko", "natnet")
+#: ``fpdtw stream --as SYSTEM``'s default --to.
 _AS_DEFAULT_TO = {"vmc": "127.0.0.1:39539", "xsens": "127.0.0.1:9763", "rokoko": "127.0.0.1:14043",
-                  "axis+udp": "127.0.0.1:7002"}  # fmt: skip
+                  "axis+udp": "127.0.0.1:7002", "natnet": "127.0.0.1:1510"}  # fmt: skip
 
 
 def _check_stream_options(args):
@@ -697,7 +714,7 @@ def _check_stream_options(args):
 
     if args.skeleton and Path(args.take[0]).suffix.lower() != ".amc":
         raise UsageError(f"--skeleton applies to an .amc motion, not {args.take[0]}")
-    if args.as_system in ("vmc", "xsens", "axis+udp", "rokoko"):
+    if args.as_system in ("vmc", "xsens", "axis+udp", "rokoko", "natnet"):
         disp = args.displacement and args.as_system != "axis+udp"
         given = [o for o, v in (("--listen", args.listen), ("--displacement", disp),
                  ("--drop", args.drop), ("--jitter-ms", args.jitter_ms), ("--streams",
@@ -1050,7 +1067,7 @@ def _serve_source(args, log, FI, factory, name, server) -> int:
         _check_output(args.out, "--out")
     module, host, port = parse_source(args.source)
     _stage(args, args.header)
-    if args.source.startswith(("vmc://", "xsens://", "rokoko://")):
+    if args.source.startswith(("vmc://", "xsens://", "rokoko://", "natnet://")):
         source = module.Source(host, port, rate=args.rate)
         skeleton = "from the bones sent"
     else:
@@ -1132,7 +1149,7 @@ def _stream_as(args, log) -> int:
         play_as_axis_udp(takes, to, fast=args.fast, displacement=args.displacement,
                          out=sys.stdout)  # fmt: skip
         return 0
-    if args.as_system in ("vmc", "xsens", "rokoko"):
+    if args.as_system in ("vmc", "xsens", "rokoko", "natnet"):
         from fpdtw.io import load_motion
 
         motions = []
@@ -1145,14 +1162,18 @@ def _stream_as(args, log) -> int:
         _stage(args, to)
         mode = "one frame a millisecond" if args.fast else "in real time"
         what = {"vmc": "VMC senders", "xsens": "MVN network streamer characters",
-                "rokoko": "Rokoko Studio actors"}[args.as_system]  # fmt: skip
-        log(f"playing {len(motions)} take(s) as {what} to {to} {mode}")
-        if vmc:
+                "rokoko": "Rokoko Studio actors", "natnet": "Motive's NatNet skeletons"}[
+                    args.as_system]  # fmt: skip
+        where = f"on {to} (for the client that asks)" if args.as_system == "natnet" else f"to {to}"
+        if args.as_system == "natnet":
+            from fpdtw.app.source_natnet import play_as_natnet as play
+        elif vmc:
             from fpdtw.app.source_vmc import play_as_vmc as play
         elif args.as_system == "rokoko":
             from fpdtw.app.source_rokoko import play_as_rokoko as play
         else:
             from fpdtw.app.source_xsens import play_as_xsens as play
+        log(f"playing {len(motions)} take(s) as {what} {where} {mode}")
         play(motions, to, fast=args.fast, out=sys.stdout)
         return 0
 

@@ -42,7 +42,8 @@ from fpdtw.errors import FpdtwError
 #: URL scheme -> the module reading that system's stream.
 SOURCES = {"axis": "fpdtw.app.source_axis", "axis+udp": "fpdtw.app.source_axis_udp",
            "vmc": "fpdtw.app.source_vmc", "xsens": "fpdtw.app.source_xsens",
-           "rokoko": "fpdtw.app.source_rokoko"}  # fmt: skip
+           "rokoko": "fpdtw.app.source_rokoko",
+           "natnet": "fpdtw.app.source_natnet"}  # fmt: skip
 #: A frame arriving this many seconds before its time at the stream's rate is "ahead".
 AHEAD_S = 0.5
 #: A performer whose frames are unusable for this many seconds of its rate in a row ends the
@@ -75,6 +76,8 @@ BAD_KINDS = {
     "axisbin": "datagrams that are not Axis' binary BVH (0xDDFF, 0xEEFF) or whose sizes disagree",
     "rokoko": "datagrams that are not Rokoko's JSON v3",
     "lz4": "LZ4-compressed datagrams (not read)",
+    "natnet": "datagrams that are not NatNet 4.1's or whose counts and sizes disagree",
+    "undescribed": "frames of a skeleton the NatNet data descriptions lack",
 }
 
 
