@@ -570,17 +570,18 @@ def test_a_client_beyond_max_clients_is_refused(walk, hostile_server):
 
 
 def test_frames_per_take_are_bounded(walk, walk_input):
-    header, lines = _good(walk)
+    take = take_lines(walk[1])
     s = Session(MotionFeatures.from_motion(walk_input), resolve("Mc w40").make)
     with limits.override(max_frames=10):
         with pytest.raises(MotionFormatError, match=r"reaches 11 frames, more than the limit"):
-            for raw in [*header, *lines]:
-                s.feed((raw + "\n").encode(), time.perf_counter())
+            # arriving one period apart: a slow first step must not read as dropped frames
+            for k, raw in enumerate([*take.header, *take.lines]):
+                s.feed((raw + "\n").encode(), 1.0 + k / take.fps)
     assert s.n_frames == 10
     with limits.override(max_frames=10):  # blank lines count too
         s = Session(MotionFeatures.from_motion(walk_input), resolve("Mc w40").make)
         with pytest.raises(MotionFormatError, match=r"more than 10 blank lines"):
-            for raw in [*header, *[""] * 11]:
+            for raw in [*take.header, *[""] * 11]:
                 s.feed((raw + "\n").encode(), 0.0)
 
 
