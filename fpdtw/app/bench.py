@@ -48,6 +48,7 @@ import numpy as np
 
 from fpdtw import registry
 from fpdtw.app import bench_limit
+from fpdtw.app.stream import round_trip_stats
 from fpdtw.paper import provenance
 from fpdtw.paper.atomic import write_atomic
 from fpdtw.paper.figures.timing import step_s
@@ -807,21 +808,6 @@ SERVER_OPTIONS = ("-m", "c", "-w", "40")
 SERVER_STREAMS = (1, 8)
 
 
-def round_trip_stats(round_trip_ms, server_ms) -> dict:
-    """``answers``, ``round_trip_p50_ms``, ``round_trip_p99_ms``, ``round_trip_max_ms``,
-    ``server_p50_ms``, ``server_p99_ms`` of the answers' round trips and server latencies
-    (milliseconds, arrays of the same length)."""
-    rt, sv = np.asarray(round_trip_ms, dtype=float), np.asarray(server_ms, dtype=float)
-    return dict(
-        answers=int(rt.size),
-        round_trip_p50_ms=float(np.percentile(rt, 50)),
-        round_trip_p99_ms=float(np.percentile(rt, 99)),
-        round_trip_max_ms=float(rt.max()),
-        server_p50_ms=float(np.percentile(sv, 50)),
-        server_p99_ms=float(np.percentile(sv, 99)),
-    )
-
-
 def bench_server(pair=BENCH_PAIRS[0], streams=SERVER_STREAMS, timeout=300.0) -> dict:
     """Loopback round trip of ``fpdtw serve`` (:data:`SERVER_OPTIONS`) against the pair's
     input, the pair's target played in real time by ``fpdtw stream --streams N``.
@@ -880,6 +866,36 @@ def bench_server(pair=BENCH_PAIRS[0], streams=SERVER_STREAMS, timeout=300.0) -> 
             server.wait()
         server.stdout.close()
     return out
+
+
+def bench_sources(pair=BENCH_PAIRS[0], performers=(1, 4)) -> list:
+    """Wire-to-answer latency of every capture source (:func:`fpdtw.app.source_latency.measure`,
+    ``fpdtw serve`` :data:`SERVER_OPTIONS`): the pair's target played by each system's emulator,
+    for 1 and for N performers at once."""
+    from fpdtw.app.source_latency import WIRES, measure
+    from fpdtw.io import load_motion
+    from fpdtw.paper.datasets import fetch
+
+    ds, a, b = pair
+    inp, take = fetch(ds, a, progress=False), load_motion(fetch(ds, b, progress=False))
+    return [measure(s, inp, take, n) for s in _progress(WIRES, "sources") for n in performers]
+
+
+def sources_table(rows) -> str:
+    """:func:`bench_sources`'s rows as text lines (ms)."""
+    lines = [
+        "Capture sources (fpdtw serve -m c -w 40 --source, each system's emulator, loopback, "
+        "real time; wire -> answer, ms; server: its own time per frame)",
+        f"{'source':<10}{'performers':>11}{'answers':>9}{'p50':>9}{'p99':>9}{'max':>9}"
+        f"{'server p50':>12}{'server p99':>12}",
+    ]
+    for r in rows:
+        lines.append(
+            f"{r['source']:<10}{r['performers']:>11}{r['answers']:>9}{r['p50_ms']:>9.3f}"
+            f"{r['p99_ms']:>9.3f}{r['max_ms']:>9.3f}{r['server_p50_ms']:>12.3f}"
+            f"{r['server_p99_ms']:>12.3f}"
+        )
+    return "\n".join(lines)
 
 
 def server_table(result) -> str:
@@ -942,6 +958,7 @@ def run_benchmark(
 
     load_before = list(os.getloadavg()) if hasattr(os, "getloadavg") else None
     served = bench_server() if server else None
+    sources = bench_sources() if server else None
     if single_core and hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
     pairs = load_bench_pairs() if pairs is None else pairs
@@ -980,6 +997,7 @@ def run_benchmark(
         "paper_over_ours": paper_ratios(online),
         "plain": plain_rows,
         "server": served,
+        "sources": sources,
     }
     out = results_dir() / "bench.json" if out is None else out
     write_atomic(out, (json.dumps(report, indent=1) + "\n").encode())
@@ -1026,6 +1044,8 @@ def format_report(report) -> str:
         parts += ["", plain_table(report)]
     if report.get("server"):
         parts += ["", server_table(report["server"])]
+    if report.get("sources"):
+        parts += ["", sources_table(report["sources"])]
     return "\n".join(parts)
 
 
@@ -1076,4 +1096,6 @@ __all__ = [
     "round_trip_stats",
     "run_benchmark",
     "server_table",
+    "sources_table",
+    "bench_sources",
 ]

@@ -502,6 +502,21 @@ def session_map(session) -> np.ndarray:
 # -- measurements (notebook 20) -------------------------------------------------------------
 
 
+def round_trip_stats(round_trip_ms, server_ms) -> dict:
+    """``answers``, ``round_trip_p50_ms``, ``round_trip_p99_ms``, ``round_trip_max_ms``,
+    ``server_p50_ms``, ``server_p99_ms`` of the answers' round trips and server latencies
+    (milliseconds, arrays of the same length)."""
+    rt, sv = np.asarray(round_trip_ms, dtype=float), np.asarray(server_ms, dtype=float)
+    return dict(
+        answers=int(rt.size),
+        round_trip_p50_ms=float(np.percentile(rt, 50)),
+        round_trip_p99_ms=float(np.percentile(rt, 99)),
+        round_trip_max_ms=float(rt.max()),
+        server_p50_ms=float(np.percentile(sv, 50)),
+        server_p99_ms=float(np.percentile(sv, 99)),
+    )
+
+
 def round_trip_rows(addresses: dict, take: TakeLines, streams=(1, 8), *, fast=False, seed=0):
     """Loopback round trip per frame for servers already running, with 1 and N streams.
 
@@ -532,8 +547,6 @@ def round_trip_rows(addresses: dict, take: TakeLines, streams=(1, 8), *, fast=Fa
 
     Notebook: 20_align_a_live_performance.ipynb
     """
-    from fpdtw.app.bench import round_trip_stats
-
     warm = TakeLines(take.name, take.fps, take.header, take.lines[:60])
     rows = []
     for label, address in addresses.items():
@@ -681,6 +694,7 @@ __all__ = [
     "plan",
     "pooled_table",
     "round_trip_rows",
+    "round_trip_stats",
     "session_map",
     "simulate",
     "stamp",
