@@ -87,9 +87,9 @@ NOTEBOOKS = (
              "root-relative frames): the median similarity level next to Table 1's", _RUN),
     Notebook("20_align_a_live_performance",
              ("live_latency", "live_maps", "live_walk_Mc_w40", "live_walk_OLTW",
-              "live_network_latency", "live_drop_rate"),
+              "live_network_latency", "live_source_latency", "live_drop_rate"),
              "for people: align a recorded take to a live one, also over the network "
-             "(`fpdtw serve`)"),
+             "(`fpdtw serve`, and from each capture system's stream)"),
 )  # fmt: skip
 
 

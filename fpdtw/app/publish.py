@@ -60,7 +60,8 @@ def environment_markdown(env: dict | None = None, results: dict | None = None) -
 TIMING_OUTPUTS = (
     "table2_time_per_frame.csv", "table2_time_per_frame.md", "table2_time_vs_w.pdf",
     "table2_time_vs_w.png", "live_latency.pdf", "live_latency.png", "live_network_latency.csv",
-    "live_network_latency.md", "claims.csv", "claims.md", "ENVIRONMENT.md",
+    "live_network_latency.md", "live_source_latency.csv", "live_source_latency.md", "claims.csv",
+    "claims.md", "ENVIRONMENT.md",
     # the rows of the timing claims (4, 4b, Q3's time parts) and Q3's cost table: added on
     # 2026-11-26, when check-figures on a make figures at b36ff2e found these six differing
     # in those rows only
