@@ -710,3 +710,22 @@ def test_many_streams_at_once(walk, walk_input):
     for r in reports:
         assert r.error is None
         np.testing.assert_array_equal(r.input_frame, M)
+
+
+def test_a_sources_rows_give_the_lines_answers(walk, walk_input):
+    """`Session.feed_row` (a capture source's frame, already read) aligns exactly as the same
+    frame's stamped motion line through `feed`, and refuses to come before the header."""
+    take = take_lines(walk[1])
+    FI = MotionFeatures.from_motion(walk_input)
+    by_line, by_row = (Session(FI, resolve("Mc w40").make, record=True) for _ in range(2))
+    with pytest.raises(ValueError, match="after a complete header"):
+        by_row.feed_row(np.zeros(3), 0.0, 0.0)
+    for raw in take.header:
+        by_line.feed((raw + "\n").encode(), 0.0)
+        by_row.feed((raw + "\n").encode(), 0.0)
+    for k, raw in enumerate(take.lines[:200]):
+        t = k / take.fps
+        by_line.feed(f"t={t!r} {raw}\n".encode(), 1.0)
+        by_row.feed_row(np.array(raw.split(), dtype=float), t, 1.0)
+    assert [a[:2] for a in by_row.answers] == [a[:2] for a in by_line.answers]
+    assert by_row.ticks == by_line.ticks and len(by_row.ticks) == 200

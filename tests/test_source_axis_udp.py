@@ -104,7 +104,7 @@ def inject(datagrams, header, FI, *, addr=("127.0.0.1", 5000), idle=0.2, **kw):
 
 
 class Recorder:
-    """What a source hands to :class:`Performers`, kept: performers added, lines fed, kinds."""
+    """What a source hands to :class:`Performers`, kept: performers added, values fed, kinds."""
 
     def __init__(self):
         self.frames, self.added, self.fed, self.kinds = 0, [], [], []
@@ -113,8 +113,8 @@ class Recorder:
         self.added.append((key, name, lines, fps, about))
         return key
 
-    def feed(self, perf, line, arrival, t=None):
-        self.fed.append((perf, [float(v) for v in line.split()], t))
+    def feed(self, perf, values, arrival, t=None):
+        self.fed.append((perf, [float(v) for v in values], t))
 
     def count_bad(self, perf, kind, what):
         self.kinds.append((kind, what))

@@ -211,8 +211,20 @@ class Session:
                 )
             return None
         t, values = self._time(s, arrival if when is None else when)
+        return self._row(self.header.parse_line(values, self.line, self.n_frames), t, arrival)
+
+    def feed_row(self, row, t: float, arrival: float) -> str:
+        """Take one frame as a capture source has read and checked it: its motion line's
+        values ``row`` (n_channels,) float64, at capture time ``t`` s, without a text line to
+        write and parse again. As :meth:`feed` otherwise (the header first, through it)."""
+        self.line += 1
+        if self.header is None or self._stamped is False:
+            raise ValueError("feed_row: after a complete header, and never after unstamped lines")
+        self._stamped = True
+        return self._row(np.asarray(row, dtype=float), float(t), arrival)
+
+    def _row(self, row, t: float, arrival: float) -> str:
         h, k = self.header, self.n_frames
-        row = h.parse_line(values, self.line, k)
         if self._first is None:
             self._first = row
             self.target = self._live_target(h.skeleton_for(row))

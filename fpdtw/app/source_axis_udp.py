@@ -193,8 +193,7 @@ class Source(DatagramSource):
                 av.refused = True
                 return None
             av.disp, av.f0 = disp, frame
-        line = " ".join(repr(float(v)) for v in x)
-        performers.feed(av.perf, line, arrival, t=(frame - av.f0) / self.rate)
+        performers.feed(av.perf, x, arrival, t=(frame - av.f0) / self.rate)
         return None
 
 

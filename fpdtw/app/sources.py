@@ -309,10 +309,11 @@ class Performers:
         if run > limit:
             raise TakeEnd(f"{message}; {run} unusable frames in a row: the take cannot go on")
 
-    def feed(self, perf: Performer, values: str, arrival: float, t=None) -> None:
-        """Frame ``self.frames`` of ``perf``: its BVH channel values (checked by the source),
-        aligned and answered, at capture time ``t`` (default: its slot at the rate). TakeEnd
-        when its session refuses it."""
+    def feed(self, perf: Performer, values, arrival: float, t=None) -> None:
+        """Frame ``self.frames`` of ``perf``: its BVH channel values (checked by the source;
+        a motion line, or the values (n_channels,) float64, which skip writing and parsing
+        the line), aligned and answered, at capture time ``t`` (default: its slot at the
+        rate). TakeEnd when its session refuses it."""
         k = perf.slot
         if perf.t0 is None:
             perf.t0 = arrival
@@ -320,8 +321,11 @@ class Performers:
             perf.ahead += 1
         perf.last_arrival = arrival
         try:
-            line = stamp(values, k / perf.fps if t is None else t)
-            answer = perf.session.feed(line.encode("latin-1"), arrival)
+            t = k / perf.fps if t is None else t
+            if isinstance(values, str):
+                answer = perf.session.feed(stamp(values, t).encode("latin-1"), arrival)
+            else:
+                answer = perf.session.feed_row(values, t, arrival)
         except FpdtwError as e:
             raise TakeEnd(
                 f"frame {self.frames} (avatar {perf.key} {perf.name!r}): {_reason(e)}"
