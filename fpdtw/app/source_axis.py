@@ -202,7 +202,7 @@ class Source:
             return performers.count_bad(
                 perf, "large", f"a value beyond {big:g} ({limits.env_name('max_abs_value')})"
             )
-        return performers.feed(perf, b" ".join(values).decode("latin-1"), arrival)
+        return performers.feed(perf, x, arrival)
 
 
 def _is_number(token: bytes) -> bool:
