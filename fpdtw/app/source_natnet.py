@@ -59,13 +59,14 @@ import struct
 import time
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from fpdtw import limits
 from fpdtw.app.serve import parse_address
 from fpdtw.app.sources import DatagramReceiver, DatagramSource, TakeEnd, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rig import rest_rotations
-from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate, quat_to_euler
+from fpdtw.motion.rotations import quat_conj, quat_mul, quat_rotate
 
 #: Motive's command port (its data port, for multicast, is 1511).
 DEFAULT_PORT = 1510
@@ -287,20 +288,23 @@ class NatNetSkeleton:
     def line(self, v) -> str:
         """The BVH motion line of a frame: ``v`` (B, 7) float, each bone's local position and
         quaternion ``qx qy qz qw`` in the header's order (Motive's axes)."""
-        p, q = motive_to_fpdtw(v[:, :3], v[:, 3:])
-        e = quat_to_euler(quat_normalize(q), _ORDER)[:, ::-1]  # Z Y X, as the channels
-        return " ".join(repr(float(x)) for x in np.r_[p[0], e.ravel()])
+        q = v[:, 3:]  # qx qy qz qw: normalised as motive_to_fpdtw's w x y z (summed in that order)
+        q = q / np.sqrt(np.add.reduce(np.square(q[:, [3, 0, 1, 2]]), axis=1, keepdims=True))
+        e = Rotation.from_quat(q).as_euler(_ORDER.lower(), degrees=True)[:, ::-1]  # Z Y X
+        return " ".join(map(repr, np.concatenate([v[0, :3], e.ravel()]).tolist()))
 
 
 # -- reading ---------------------------------------------------------------------------------
 
 
 class _Skeleton:
-    """A described skeleton ID: its BVH skeleton, its performer, its last frame."""
+    """A described skeleton ID: its BVH skeleton, its performer, its last frame, the bone IDs
+    of the last frame checked (bytes) and their rows."""
 
     def __init__(self, sid, name, skeleton):
         self.sid, self.name, self.skeleton = sid, name, skeleton
         self.perf, self.refused, self.done, self.f0 = None, False, None, None
+        self.ids, self.rows = None, None
 
 
 class Source(DatagramSource):
@@ -434,24 +438,28 @@ class Source(DatagramSource):
         if s.done is not None and number <= s.done:
             raise Bad("duplicate" if number == s.done else "order", "not after the last frame "
                       f"read ({s.done})")  # fmt: skip
-        sk, high, low = s.skeleton, bones["id"] >> 16, bones["id"] & 0xFFFF
-        rows = [sk.index.get(int(b), -1) for b in low]
-        if (high != sid).any() or -1 in rows:
-            b = int(bones["id"][(high != sid) | (np.array(rows) < 0)][0])
-            raise Bad("bone", f"bone ID {b >> 16}:{b & 0xFFFF} is not a bone of skeleton {sid}")
-        if len(set(rows)) < len(rows):
-            raise Bad("duplicate", "a bone twice")
-        if len(rows) < len(sk.names):
-            lacks = [n for r, n in enumerate(sk.names) if r not in set(rows)]
-            raise Bad("missing", f"the frame lacks {', '.join(lacks[:4])}")
-        v = np.empty((len(rows), 7))
-        v[rows] = bones["v"]
-        big, norms = limits.get("max_abs_value"), np.linalg.norm(v[:, 3:], axis=1)
-        if not np.isfinite(v).all():
-            bad = sk.names[int(np.flatnonzero(~np.isfinite(v).all(axis=1))[0])]
-            raise Bad("finite", f"bone {bad} has NaN or inf")
-        if np.abs(v).max() > big:
+        sk, ids = s.skeleton, bones["id"]
+        if ids.tobytes() != s.ids:  # the bone IDs of the last frame checked need no check
+            high, low = ids >> 16, ids & 0xFFFF
+            rows = [sk.index.get(int(b), -1) for b in low]
+            if (high != sid).any() or -1 in rows:
+                b = int(ids[(high != sid) | (np.array(rows) < 0)][0])
+                raise Bad("bone", f"bone ID {b >> 16}:{b & 0xFFFF} is not a bone of skeleton {sid}")
+            if len(set(rows)) < len(rows):
+                raise Bad("duplicate", "a bone twice")
+            if len(rows) < len(sk.names):
+                lacks = [n for r, n in enumerate(sk.names) if r not in set(rows)]
+                raise Bad("missing", f"the frame lacks {', '.join(lacks[:4])}")
+            s.ids, s.rows = ids.tobytes(), np.array(rows)
+        v = np.empty((len(s.rows), 7))
+        v[s.rows] = bones["v"]
+        big = limits.get("max_abs_value")
+        if not np.abs(v).max() <= big:  # NaN, inf or too large: which, as before
+            if not np.isfinite(v).all():
+                bad = sk.names[int(np.flatnonzero(~np.isfinite(v).all(axis=1))[0])]
+                raise Bad("finite", f"bone {bad} has NaN or inf")
             raise Bad("large", f"a value beyond {big:g} ({limits.env_name('max_abs_value')})")
+        norms = np.sqrt(np.add.reduce(np.square(v[:, 3:]), axis=1))  # np.linalg.norm's
         k = int(np.abs(norms - 1.0).argmax())
         if abs(norms[k] - 1.0) > UNIT_TOLERANCE:
             raise Bad("rotation", f"bone {sk.names[k]}'s quaternion has norm {norms[k]:.6g}")
