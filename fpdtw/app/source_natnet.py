@@ -59,13 +59,14 @@ import struct
 import time
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from fpdtw import limits
 from fpdtw.app.serve import parse_address
 from fpdtw.app.sources import DatagramReceiver, DatagramSource, TakeEnd, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rig import rest_rotations
-from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate, quat_to_euler
+from fpdtw.motion.rotations import quat_conj, quat_mul, quat_rotate
 
 #: Motive's command port (its data port, for multicast, is 1511).
 DEFAULT_PORT = 1510
@@ -129,10 +130,11 @@ class Bad(Exception):
         self.kind = kind
 
 
-def _need(ok: bool, what: str) -> None:
-    """:class:`Bad` (kind ``natnet``) saying ``what`` unless ``ok``."""
+def _need(ok: bool, what: str, *args) -> None:
+    """:class:`Bad` (kind ``natnet``) saying ``what`` (``what.format(*args)`` with ``args``: only
+    written when it is said) unless ``ok``."""
     if not ok:
-        raise Bad("natnet", what)
+        raise Bad("natnet", what.format(*args) if args else what)
 
 
 def _name(data, pos: int, end: int) -> tuple:
@@ -190,36 +192,36 @@ def parse_frame(data: bytes) -> tuple:
     """A ``NAT_FRAMEOFDATA`` packet: ``(frame number, [(skeleton ID, bones), ...])``, the bones
     a structured array of :data:`BONE`; :class:`Bad` when a count or size disagrees."""
     end, pos, skeletons = len(data), 8, []
-    _need(end >= 8, f"a frame of {end} bytes, without its number")
+    _need(end >= 8, "a frame of {} bytes, without its number", end)
     (number,) = struct.unpack_from("<i", data, 4)
     for s, what in enumerate(SECTIONS):
-        _need(pos + 8 <= end, f"cut before its {what} at byte {pos} of {end}")
+        _need(pos + 8 <= end, "cut before its {} at byte {} of {}", what, pos, end)
         count, size = PAIR.unpack_from(data, pos)
         pos += 8
         item = _ITEM_BYTES.get(s)
         _need(count >= 0 and 0 <= size <= end - pos and (item is None or count * item == size),
-              f"{count} {what} in {size} bytes, with {end - pos} left")  # fmt: skip
+              "{} {} in {} bytes, with {} left", count, what, size, end - pos)  # fmt: skip
         if s == 3:
             skeletons = _skeletons(data, pos, count, size)
         pos += size
-    _need(end - pos == SUFFIX_BYTES, f"{end - pos} bytes after the devices, not the "
-          f"{SUFFIX_BYTES}-byte suffix")  # fmt: skip
+    _need(end - pos == SUFFIX_BYTES, "{} bytes after the devices, not the {}-byte suffix",
+          end - pos, SUFFIX_BYTES)  # fmt: skip
     return number, skeletons
 
 
 def _skeletons(data, pos: int, count: int, size: int) -> list:
     """A frame's ``count`` skeletons in ``data[pos:pos + size]``: ``[(ID, bones), ...]``."""
-    _need(count <= MAX_SKELETONS, f"{count} skeletons in a frame (at most {MAX_SKELETONS})")
+    _need(count <= MAX_SKELETONS, "{} skeletons in a frame (at most {})", count, MAX_SKELETONS)
     end, out = pos + size, []
     for _ in range(count):
-        _need(pos + 8 <= end, f"{count} skeletons in {size} bytes (cut)")
+        _need(pos + 8 <= end, "{} skeletons in {} bytes (cut)", count, size)
         sid, n = PAIR.unpack_from(data, pos)
         pos += 8
         _need(0 <= n <= min(MAX_BONES, (end - pos) // BONE.itemsize),
-              f"skeleton {sid} with {n} bones in {end - pos} bytes")  # fmt: skip
+              "skeleton {} with {} bones in {} bytes", sid, n, end - pos)  # fmt: skip
         out.append((sid, np.frombuffer(data, BONE, n, pos)))
         pos += n * BONE.itemsize
-    _need(pos == end, f"{count} skeletons fill {pos - end + size} of their {size} bytes")
+    _need(pos == end, "{} skeletons fill {} of their {} bytes", count, pos - end + size, size)
     return out
 
 
@@ -287,20 +289,23 @@ class NatNetSkeleton:
     def line(self, v) -> str:
         """The BVH motion line of a frame: ``v`` (B, 7) float, each bone's local position and
         quaternion ``qx qy qz qw`` in the header's order (Motive's axes)."""
-        p, q = motive_to_fpdtw(v[:, :3], v[:, 3:])
-        e = quat_to_euler(quat_normalize(q), _ORDER)[:, ::-1]  # Z Y X, as the channels
-        return " ".join(repr(float(x)) for x in np.r_[p[0], e.ravel()])
+        q = v[:, 3:]  # qx qy qz qw: normalised as motive_to_fpdtw's w x y z (summed in that order)
+        q = q / np.sqrt(np.add.reduce(np.square(q[:, [3, 0, 1, 2]]), axis=1, keepdims=True))
+        e = Rotation.from_quat(q).as_euler(_ORDER.lower(), degrees=True)[:, ::-1]  # Z Y X
+        return " ".join(map(repr, np.concatenate([v[0, :3], e.ravel()]).tolist()))
 
 
 # -- reading ---------------------------------------------------------------------------------
 
 
 class _Skeleton:
-    """A described skeleton ID: its BVH skeleton, its performer, its last frame."""
+    """A described skeleton ID: its BVH skeleton, its performer, its last frame, the bone IDs
+    of the last frame checked (bytes) and their rows."""
 
     def __init__(self, sid, name, skeleton):
         self.sid, self.name, self.skeleton = sid, name, skeleton
         self.perf, self.refused, self.done, self.f0 = None, False, None, None
+        self.ids, self.rows = None, None
 
 
 class Source(DatagramSource):
@@ -356,29 +361,31 @@ class Source(DatagramSource):
     def datagram(self, data: bytes, addr, arrival: float, performers) -> None:
         """One datagram: its header checked, then read as its message says."""
         self.n += 1
-        where = f"datagram {self.n} from {sender_name(addr)}"
         try:
             if len(data) > MAX_DATAGRAM:
                 raise Bad("oversize", f"{len(data)} bytes, more than {MAX_DATAGRAM}")
-            _need(len(data) >= HEADER.size, f"{len(data)} bytes, shorter than a NatNet header")
+            _need(len(data) >= HEADER.size, "{} bytes, shorter than a NatNet header", len(data))
             mid, size = HEADER.unpack_from(data)
-            _need(size == len(data) - 4, f"message {mid} of {size} bytes, but {len(data) - 4} "
-                  "follow its header")  # fmt: skip
+            _need(size == len(data) - 4, "message {} of {} bytes, but {} follow its header", mid,
+                  size, len(data) - 4)  # fmt: skip
             if mid == NAT_FRAMEOFDATA:
                 number, skeletons = parse_frame(data)
                 for sid, bones in skeletons:
                     performers.frames += 1
-                    self.frame(sid, bones, number, arrival, performers, f"{where} (frame "
-                               f"{number}, skeleton {sid})")  # fmt: skip
+                    self.frame(sid, bones, number, arrival, performers, addr)
             elif mid == NAT_MODELDEF:
                 self.describe_skeletons(parse_descriptions(data))
             elif mid == NAT_SERVERINFO:
-                self.server_info(data, where)
+                self.server_info(data, self.where(addr))
             else:
                 _need(mid in QUIET, f"message ID {mid} is not one a NatNet server sends")
         except Bad as e:
             performers.frames += 1
-            performers.count_bad(None, e.kind, f"{where}: {e}")
+            performers.count_bad(None, e.kind, f"{self.where(addr)}: {e}")
+
+    def where(self, addr) -> str:
+        """The datagram being read, as messages name it."""
+        return f"datagram {self.n} from {sender_name(addr)}"
 
     def server_info(self, data: bytes, where: str) -> None:
         """``NAT_SERVERINFO``: a NatNet version other than 4.1 ends the take."""
@@ -404,13 +411,14 @@ class Source(DatagramSource):
                 self.skeletons[sid] = _Skeleton(sid, name[:64] or f"skeleton {sid}", sk)
         self.wanted = not self.skeletons
 
-    def frame(self, sid, bones, number, arrival, performers, where) -> None:
-        """One skeleton of a frame: checked, then aligned (or counted)."""
+    def frame(self, sid, bones, number, arrival, performers, addr) -> None:
+        """One skeleton of a frame from ``addr``: checked, then aligned (or counted)."""
         s = self.skeletons.get(sid)
         try:
             v = self.check(s, sid, bones, number)
         except Bad as e:
             perf = None if s is None or s.refused else s.perf
+            where = f"{self.where(addr)} (frame {number}, skeleton {sid})"
             return performers.count_bad(perf, e.kind, f"{where}: {e}")
         if s.perf is None:
             about = f"{len(v)} bones, {self.server or 'server not identified'}"
@@ -434,24 +442,28 @@ class Source(DatagramSource):
         if s.done is not None and number <= s.done:
             raise Bad("duplicate" if number == s.done else "order", "not after the last frame "
                       f"read ({s.done})")  # fmt: skip
-        sk, high, low = s.skeleton, bones["id"] >> 16, bones["id"] & 0xFFFF
-        rows = [sk.index.get(int(b), -1) for b in low]
-        if (high != sid).any() or -1 in rows:
-            b = int(bones["id"][(high != sid) | (np.array(rows) < 0)][0])
-            raise Bad("bone", f"bone ID {b >> 16}:{b & 0xFFFF} is not a bone of skeleton {sid}")
-        if len(set(rows)) < len(rows):
-            raise Bad("duplicate", "a bone twice")
-        if len(rows) < len(sk.names):
-            lacks = [n for r, n in enumerate(sk.names) if r not in set(rows)]
-            raise Bad("missing", f"the frame lacks {', '.join(lacks[:4])}")
-        v = np.empty((len(rows), 7))
-        v[rows] = bones["v"]
-        big, norms = limits.get("max_abs_value"), np.linalg.norm(v[:, 3:], axis=1)
-        if not np.isfinite(v).all():
-            bad = sk.names[int(np.flatnonzero(~np.isfinite(v).all(axis=1))[0])]
-            raise Bad("finite", f"bone {bad} has NaN or inf")
-        if np.abs(v).max() > big:
+        sk, ids = s.skeleton, bones["id"]
+        if ids.tobytes() != s.ids:  # the bone IDs of the last frame checked need no check
+            high, low = ids >> 16, ids & 0xFFFF
+            rows = [sk.index.get(int(b), -1) for b in low]
+            if (high != sid).any() or -1 in rows:
+                b = int(ids[(high != sid) | (np.array(rows) < 0)][0])
+                raise Bad("bone", f"bone ID {b >> 16}:{b & 0xFFFF} is not a bone of skeleton {sid}")
+            if len(set(rows)) < len(rows):
+                raise Bad("duplicate", "a bone twice")
+            if len(rows) < len(sk.names):
+                lacks = [n for r, n in enumerate(sk.names) if r not in set(rows)]
+                raise Bad("missing", f"the frame lacks {', '.join(lacks[:4])}")
+            s.ids, s.rows = ids.tobytes(), np.array(rows)
+        v = np.empty((len(s.rows), 7))
+        v[s.rows] = bones["v"]
+        big = limits.get("max_abs_value")
+        if not np.abs(v).max() <= big:  # NaN, inf or too large: which, as before
+            if not np.isfinite(v).all():
+                bad = sk.names[int(np.flatnonzero(~np.isfinite(v).all(axis=1))[0])]
+                raise Bad("finite", f"bone {bad} has NaN or inf")
             raise Bad("large", f"a value beyond {big:g} ({limits.env_name('max_abs_value')})")
+        norms = np.sqrt(np.add.reduce(np.square(v[:, 3:]), axis=1))  # np.linalg.norm's
         k = int(np.abs(norms - 1.0).argmax())
         if abs(norms[k] - 1.0) > UNIT_TOLERANCE:
             raise Bad("rotation", f"bone {sk.names[k]}'s quaternion has norm {norms[k]:.6g}")
