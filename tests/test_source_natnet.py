@@ -226,10 +226,10 @@ def test_a_turn_about_motives_up_axis_is_a_turn_about_y():
     np.testing.assert_allclose(h.skeleton.offsets[1], [0.0, 0.25, 0.0])
     s = np.sqrt(0.5)
     v = np.array([[0.1, 0.9, 0.2, 0.0, s, 0.0, s], [0.0, 0.25, 0.0, 0.0, 0.0, 0.0, 1.0]])
-    values = np.array(sk.line(v).split(), dtype=float)
+    values = sk.row(v)
     np.testing.assert_allclose(values, [0.1, 0.9, 0.2, 0.0, 90.0, 0.0, 0.0, 0.0, 0.0], atol=1e-9)
     v = np.array([[0.0, 0.9, 0.0, 0.0, 0.0, 0.0, 1.0], [0.0, 0.25, 0.0, s, 0.0, 0.0, s]])
-    values = np.array(sk.line(v).split(), dtype=float)
+    values = sk.row(v)
     np.testing.assert_allclose(values[3:], [0, 0, 0, 0.0, 0.0, 90.0], atol=1e-9)  # Z Y X
     names = [b for b, _, _ in RIG_BONES]
     jm, label = find_joint_map(names, "bvh", JOINT_MAPS)

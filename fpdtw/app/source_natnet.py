@@ -286,13 +286,14 @@ class NatNetSkeleton:
         _need(len(self.index) == len(bones), "bones whose parents do not lead to the root")
         self.header = lines + ["MOTION", f"Frame Time: {1.0 / rate!r}"]
 
-    def line(self, v) -> str:
-        """The BVH motion line of a frame: ``v`` (B, 7) float, each bone's local position and
-        quaternion ``qx qy qz qw`` in the header's order (Motive's axes)."""
+    def row(self, v) -> np.ndarray:
+        """The BVH channel values (n_channels,) float64 of a frame: ``v`` (B, 7) float, each
+        bone's local position and quaternion ``qx qy qz qw`` in the header's order (Motive's
+        axes)."""
         q = v[:, 3:]  # qx qy qz qw: normalised as motive_to_fpdtw's w x y z (summed in that order)
         q = q / np.sqrt(np.add.reduce(np.square(q[:, [3, 0, 1, 2]]), axis=1, keepdims=True))
         e = Rotation.from_quat(q).as_euler(_ORDER.lower(), degrees=True)[:, ::-1]  # Z Y X
-        return " ".join(map(repr, np.concatenate([v[0, :3], e.ravel()]).tolist()))
+        return np.concatenate([v[0, :3], e.ravel()])
 
 
 # -- reading ---------------------------------------------------------------------------------
@@ -428,7 +429,7 @@ class Source(DatagramSource):
                 return None
             s.f0 = number
         s.done = number
-        performers.feed(s.perf, s.skeleton.line(v), arrival, t=(number - s.f0) / self.rate)
+        performers.feed(s.perf, s.skeleton.row(v), arrival, t=(number - s.f0) / self.rate)
         return None
 
     def check(self, s, sid, bones, number):
