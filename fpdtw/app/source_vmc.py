@@ -28,17 +28,20 @@ UDP client sending one bundle a frame (``fpdtw stream --as vmc``).
 
 from __future__ import annotations
 
+import math
+import struct
 import time
 
 import numpy as np
 from pythonosc import osc_bundle_builder, osc_message_builder, udp_client
 from pythonosc.osc_packet import OscPacket
+from scipy.spatial.transform import Rotation
 
 from fpdtw import limits
 from fpdtw.app.serve import parse_address
 from fpdtw.app.sources import DatagramSource, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
-from fpdtw.motion.rotations import quat_mul, quat_normalize, quat_to_euler
+from fpdtw.motion.rotations import quat_mul, quat_normalize
 
 #: The VMC protocol's usual receiver port.
 DEFAULT_PORT = 39539
@@ -171,17 +174,35 @@ class VmcSkeleton:
     def line(self, frame: dict, root) -> str:
         """The BVH motion line of a frame (every bone of the skeleton in it; Unity's values)
         with the root's ``(p, q)`` (Unity's; None: at the origin)."""
-        v = np.array([frame[b] for b in self.bones])
-        p, q = unity_to_fpdtw(v[:, :3], v[:, 3:])
+        v = np.array([frame[b] for b in self.bones], dtype=float)
+        q = v[:, [6, 3, 4, 5]]  # unity_to_fpdtw's (w, x, -y, -z), normalised
+        q[:, 2:] *= -1.0
         q = quat_normalize(q)
-        hips = p[0]
+        hx, hy, hz = v[0, :3].tolist()
+        hips = (-hx, hy, hz)
         if root is not None:
-            rp, rq = unity_to_fpdtw(root[:3], root[3:])
-            rq = quat_normalize(rq)
-            hips = rp + quat_mul(quat_mul(rq, np.r_[0.0, hips]), rq * [1, -1, -1, -1])[1:]
-            q[0] = quat_mul(rq, q[0])
-        e = quat_to_euler(q, _ORDER)[:, ::-1]  # Z Y X, as the channels
-        return " ".join(repr(float(x)) for x in np.r_[hips, e.ravel()])
+            rx, ry, rz, x, y, z, w = (float(c) for c in root[:7])
+            rq = tuple(quat_normalize([w, x, -y, -z]).tolist())
+            rp = (-rx, ry, rz)
+            turned = _qmul(_qmul(rq, (0.0, *hips)), (rq[0], -rq[1], -rq[2], -rq[3]))
+            hips = tuple(a + b for a, b in zip(rp, turned[1:], strict=True))
+            q[0] = _qmul(rq, q[0].tolist())
+        # quat_to_euler(q, "XYZ") column for column, as Z Y X (the channels)
+        e = Rotation.from_quat(q[:, [1, 2, 3, 0]]).as_euler(_ORDER.lower(), degrees=True)
+        return " ".join(map(repr, [*hips, *e[:, ::-1].ravel().tolist()]))
+
+
+def _qmul(a, b) -> tuple:
+    """:func:`~fpdtw.motion.rotations.quat_mul` of two quaternions in Python floats (the same
+    operations in the same order, so the same bits)."""
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return (
+        aw * bw - ax * bx - ay * by - az * bz,
+        aw * bx + ax * bw + ay * bz - az * by,
+        aw * by - ax * bz + ay * bw + az * bx,
+        aw * bz + ax * by - ay * bx + az * bw,
+    )
 
 
 # -- reading ---------------------------------------------------------------------------------
@@ -193,14 +214,47 @@ class _Sender:
     def __init__(self, addr):
         self.addr = sender_name(addr)
         self.perf = self.skeleton = self.root = self.problem = None
-        self.bones = {}
+        self.bones = {}  # name -> its 7 values (those in unchecked not yet checked)
+        self.unchecked = []  # (name, where) of bones whose values wait for check()
         self.refused = False
         self.timed = None  # sends /VMC/Ext/T (decided by its first frame)
         self.t0 = self.last_t = None
 
     def spoil(self, kind, what):
         if self.problem is None:
+            self.check()  # a bone before this problem may have the first
+        if self.problem is None:
             self.problem = (kind, what)
+
+    def check(self):
+        """:func:`values` of the bones received since the last check, all at once: a bone
+        that fails is dropped from :attr:`bones` and spoils the frame, in their order (as if
+        each had been checked on arrival)."""
+        if not self.unchecked:
+            return
+        todo, self.unchecked = self.unchecked, []
+        v = np.array([self.bones[name] for name, _ in todo], dtype=float)
+        n = np.sqrt(np.einsum("ij,ij->i", v[:, 3:], v[:, 3:]))
+        ok = np.isfinite(v).all(1) & (np.abs(v).max(1) <= limits.get("max_abs_value"))
+        ok &= np.abs(n - 1.0) < UNIT_TOLERANCE * 0.999  # else checked one by one
+        for k in np.flatnonzero(~ok).tolist():
+            name, where = todo[k]
+            if values(self, v[k], f"bone {name!r}", where) is None:
+                del self.bones[name]
+
+
+def values(s, v, name, where):
+    """``v`` (p, q) checked: finite, plausible, a unit quaternion (else the frame spoilt)."""
+    if not np.isfinite(v).all():
+        return s.spoil("finite", f"{where}: {name} has NaN or inf")
+    big = limits.get("max_abs_value")
+    if np.abs(v).max() > big:
+        return s.spoil("large", f"{where}: {name} has a value beyond {big:g} "
+                       f"({limits.env_name('max_abs_value')})")  # fmt: skip
+    norm = float(np.linalg.norm(v[3:]))
+    if abs(norm - 1.0) > UNIT_TOLERANCE:
+        return s.spoil("rotation", f"{where}: {name}'s quaternion has norm {norm:.6g}")
+    return v
 
 
 def framing_error(data: bytes, depth: int = 0) -> str | None:
@@ -213,21 +267,25 @@ def framing_error(data: bytes, depth: int = 0) -> str | None:
         return None
     if depth > 8:
         return "bundles nested more than 8 deep"
-    pos = 16
-    while pos < len(data):
-        size = (
-            int.from_bytes(data[pos : pos + 4], "big", signed=True) if pos + 4 <= len(data) else -1
-        )
-        if size <= 0 or size % 4 or pos + 4 + size > len(data):
-            return f"a bundle element at byte {pos} of size {size} in {len(data)} bytes (cut)"
-        if (why := framing_error(data[pos + 4 : pos + 4 + size], depth + 1)) is not None:
+    pos, end = 16, len(data)
+    while pos < end:
+        size = _INT.unpack_from(data, pos)[0] if pos + 4 <= end else -1
+        if size <= 0 or size % 4 or pos + 4 + size > end:
+            return f"a bundle element at byte {pos} of size {size} in {end} bytes (cut)"
+        if data.startswith(b"#bundle\x00", pos + 4) and (
+            why := framing_error(data[pos + 4 : pos + 4 + size], depth + 1)
+        ):
             return why
         pos += 4 + size
     return None
 
 
+_INT = struct.Struct(">i")
+_NUMBER = frozenset((int, float))  # python-osc's types of numbers (not bool)
+
+
 def _numbers(args) -> bool:
-    return all(isinstance(a, int | float) and not isinstance(a, bool) for a in args)
+    return {*map(type, args)} <= _NUMBER
 
 
 class Source(DatagramSource):
@@ -253,6 +311,7 @@ class Source(DatagramSource):
 
     def end_take(self, performers) -> None:
         for s in self.senders.values():
+            s.check()
             if s.bones or s.problem:
                 self.finish(s, performers, None, None)
 
@@ -285,32 +344,20 @@ class Source(DatagramSource):
             if a == "/VMC/Ext/Bone/Pos":
                 self.bone(s, args, where)
             elif a == "/VMC/Ext/Root/Pos":
+                s.check()
                 if s.bones:
                     self.finish(s, performers, arrival, None, where)
                 if len(args) not in (8, 14) or not _numbers(args[1:]):
                     s.spoil("count", f"{where}: /VMC/Ext/Root/Pos with {len(args)} arguments "
                             "or not numbers, expected name and 7 (or 13) numbers")  # fmt: skip
                 else:
-                    s.root = self.values(s, np.array(args[1:8], dtype=float), "root", where)
+                    s.root = values(s, np.array(args[1:8], dtype=float), "root", where)
             elif a == "/VMC/Ext/T":
-                if len(args) != 1 or not _numbers(args) or not np.isfinite(args[0]):
+                if len(args) != 1 or not _numbers(args) or not math.isfinite(args[0]):
                     s.spoil("number", f"{where}: /VMC/Ext/T {args!r} is not a finite time")
                     self.finish(s, performers, arrival, None, where)
                 else:
                     self.finish(s, performers, arrival, float(args[0]), where)
-
-    def values(self, s, v, name, where):
-        """``v`` (p, q) checked: finite, plausible, a unit quaternion (else the frame spoilt)."""
-        if not np.isfinite(v).all():
-            return s.spoil("finite", f"{where}: {name} has NaN or inf")
-        big = limits.get("max_abs_value")
-        if np.abs(v).max() > big:
-            return s.spoil("large", f"{where}: {name} has a value beyond {big:g} "
-                           f"({limits.env_name('max_abs_value')})")  # fmt: skip
-        norm = float(np.linalg.norm(v[3:]))
-        if abs(norm - 1.0) > UNIT_TOLERANCE:
-            return s.spoil("rotation", f"{where}: {name}'s quaternion has norm {norm:.6g}")
-        return v
 
     def bone(self, s, args, where) -> None:
         if len(args) != 8 or not isinstance(args[0], str) or not _numbers(args[1:]):
@@ -327,13 +374,15 @@ class Source(DatagramSource):
             return s.spoil("bone", f"{where}: bone {name!r} is not in this sender's skeleton "
                            "(its first frame's bones)")  # fmt: skip
         if name in s.bones:
-            return s.spoil("duplicate", f"{where}: bone {name!r} twice in one frame")
-        v = self.values(s, np.array(args[1:], dtype=float), f"bone {name!r}", where)
-        if v is not None:
-            s.bones[name] = v
+            s.check()  # the first copy may fail its values (then it is not in s.bones)
+            if name in s.bones:
+                return s.spoil("duplicate", f"{where}: bone {name!r} twice in one frame")
+        s.bones[name] = args[1:]
+        s.unchecked.append((name, where))
 
     def finish(self, s, performers, arrival, t, where="at the end of the take") -> None:
         """The end of a sender's frame: checked, then aligned (or counted)."""
+        s.check()
         bones, problem, root = s.bones, s.problem, s.root
         s.bones, s.problem = {}, None
         if not bones and problem is None:
