@@ -171,9 +171,9 @@ class VmcSkeleton:
         joint("Hips", 0)
         self.header = lines + ["MOTION", f"Frame Time: {1.0 / rate!r}"]
 
-    def line(self, frame: dict, root) -> str:
-        """The BVH motion line of a frame (every bone of the skeleton in it; Unity's values)
-        with the root's ``(p, q)`` (Unity's; None: at the origin)."""
+    def row(self, frame: dict, root) -> np.ndarray:
+        """The BVH channel values (n_channels,) float64 of a frame (every bone of the skeleton
+        in it; Unity's values) with the root's ``(p, q)`` (Unity's; None: at the origin)."""
         v = np.array([frame[b] for b in self.bones], dtype=float)
         q = v[:, [6, 3, 4, 5]]  # unity_to_fpdtw's (w, x, -y, -z), normalised
         q[:, 2:] *= -1.0
@@ -189,7 +189,7 @@ class VmcSkeleton:
             q[0] = _qmul(rq, q[0].tolist())
         # quat_to_euler(q, "XYZ") column for column, as Z Y X (the channels)
         e = Rotation.from_quat(q[:, [1, 2, 3, 0]]).as_euler(_ORDER.lower(), degrees=True)
-        return " ".join(map(repr, [*hips, *e[:, ::-1].ravel().tolist()]))
+        return np.concatenate([hips, e[:, ::-1].ravel()])
 
 
 def _qmul(a, b) -> tuple:
@@ -422,7 +422,7 @@ class Source(DatagramSource):
         if s.t0 is None:
             s.t0 = clock
         s.last_t = clock
-        performers.feed(perf, s.skeleton.line(bones, root), arrival, t=clock - s.t0)
+        performers.feed(perf, s.skeleton.row(bones, root), arrival, t=clock - s.t0)
         return None
 
 
