@@ -50,15 +50,17 @@ import math
 import re
 import socket
 import time
+from operator import itemgetter
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from fpdtw import limits
 from fpdtw.app.serve import parse_address
 from fpdtw.app.sources import DatagramSource, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rig import rest_rotations
-from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate, quat_to_euler
+from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate
 
 #: Studio's custom streaming port (Rokoko's Unity plugin listens on it by default).
 DEFAULT_PORT = 14043
@@ -132,6 +134,25 @@ def studio_to_fpdtw(p, q_xyzw):
 
 
 _TPOSE_F = quat_normalize(studio_to_fpdtw(np.zeros(3), np.array([TPOSE[b] for b in BONES]))[1])
+_TPOSE_C = quat_conj(_TPOSE_F)
+
+# quat_mul's four terms of each part w x y z, as products a_i b_j (index 4 i + j) and signs
+_TERMS = np.array([[0, 1, 2, 3], [5, 4, 7, 6], [10, 11, 8, 9], [15, 14, 13, 12]])
+_SIGNS = np.array([[1, 1, 1, 1], [-1, 1, -1, 1], [-1, 1, 1, -1], [-1, -1, 1, 1.0]])
+_CONJ_SIGNS = _SIGNS * np.where(_TERMS >= 4, -1.0, 1.0)  # a's x y z negated first
+
+
+def _qmul(a, b, signs=_SIGNS):
+    """:func:`~fpdtw.motion.rotations.quat_mul` of (n, 4) quaternions bit for bit (the same
+    products, negated exactly, summed in the same order), in a few array operations;
+    ``signs=_CONJ_SIGNS``: ``quat_conj(a) * b``."""
+    t = (a[:, :, None] * b[:, None, :]).reshape(-1, 16)[:, _TERMS] * signs
+    return t[:, 0] + t[:, 1] + t[:, 2] + t[:, 3]
+
+
+def _normalize(q):
+    """:func:`~fpdtw.motion.rotations.quat_normalize` of (n, 4) quaternions, bit for bit."""
+    return q / np.sqrt(np.add.reduce(q * q, axis=-1, keepdims=True))
 
 
 class RokokoSkeleton:
@@ -179,18 +200,21 @@ class RokokoSkeleton:
 
     def line(self, p, d) -> str:
         """The BVH motion line of a frame: (21, 3) positions, (21, 4) rotations ``D``."""
-        d = quat_normalize(d)
-        local = quat_mul(quat_conj(d[np.maximum(_PARENT, 0)]), d)
+        d = _normalize(d)
+        local = _qmul(d[np.maximum(_PARENT, 0)], d, _CONJ_SIGNS)
         local[0] = d[0]
-        e = quat_to_euler(local[self.order], _ORDER)[:, ::-1]  # Z Y X, as the channels
-        return " ".join(repr(float(x)) for x in np.r_[p[0], e.ravel()])
+        # quat_to_euler(local[self.order], _ORDER)[:, ::-1]: Z Y X, as the channels
+        e = Rotation.from_quat(local[self.order][:, [1, 2, 3, 0]]).as_euler(
+            _ORDER.lower(), degrees=True
+        )
+        return " ".join(map(repr, np.concatenate([p[0], e[:, ::-1].ravel()]).tolist()))
 
 
 def rest_relative(v):
     """A frame's bones (21, 7: Studio's ``x y z`` and ``x y z w``) as fpdtw's positions
     (21, 3) and rotations from the T-pose ``D = R T^-1`` (21, 4)."""
     p, q = studio_to_fpdtw(v[:, :3], v[:, 3:])
-    return p, quat_mul(quat_normalize(q), quat_conj(_TPOSE_F))
+    return p, _qmul(_normalize(q), _TPOSE_C)
 
 
 # -- reading ---------------------------------------------------------------------------------
@@ -201,15 +225,20 @@ class Refused(Exception):
 
 
 _STRING = re.compile(rb'"(?:[^"\\]+|\\.)*"?')  # a JSON string (or one cut at the end): linear
-_OPEN = np.frombuffer(b"{[", np.uint8)
-_CLOSE = np.frombuffer(b"}]", np.uint8)
+_STEP = np.zeros(256, np.int64)  # a byte's change of depth
+_STEP[list(b"{[")], _STEP[list(b"}]")] = 1, -1
+_OTHER = bytes(sorted(set(range(256)) - set(b'"{}[]')))  # bytes that neither open nor close
 
 
 def nesting(data: bytes) -> int:
     """The deepest nesting of objects and arrays in JSON text ``data`` (strings skipped)."""
-    a = np.frombuffer(_STRING.sub(b'""', data), np.uint8)
-    depth = np.cumsum(np.isin(a, _OPEN).astype(np.int64) - np.isin(a, _CLOSE))
-    return int(depth.max(initial=0))
+    if b"\\" in data:  # escapes: the strings as the pattern finds them
+        a = np.frombuffer(_STRING.sub(b'""', data).translate(None, _OTHER), np.uint8)
+        step = _STEP[a]
+    else:  # a string is from a quote to the next: a bracket after an odd count is in one
+        a = np.frombuffer(data.translate(None, _OTHER), np.uint8)
+        step = _STEP[a] * (np.cumsum(a == 34) % 2 == 0)
+    return int(np.cumsum(step).max(initial=0))
 
 
 def _constant(name):
@@ -265,6 +294,10 @@ def actor_name(actor) -> str:
     return name
 
 
+_INDEX = {b: i for i, b in enumerate(BONES)}
+_XYZ, _XYZW, _REAL = itemgetter("x", "y", "z"), itemgetter("x", "y", "z", "w"), {int, float}
+
+
 def read_body(actor) -> np.ndarray:
     """An actor's 21 body bones checked: (21, 7) float, Studio's ``x y z`` and ``x y z w``
     in the order of :data:`BONES` (:class:`Refused` naming the first problem)."""
@@ -273,30 +306,41 @@ def read_body(actor) -> np.ndarray:
         raise Refused("missing", "no body")
     if len(body) > MAX_BONES:
         raise Refused("bone", f"{len(body)} bones, more than {MAX_BONES}")
-    out = np.full((len(BONES), 7), np.nan)
     big = limits.get("max_abs_value")
+    names, rows, stop = [], [], None  # the bones read up to the first not read (stop)
     for name, bone in body.items():
         if name in OTHER_BONES:
             continue
-        if name not in PARENTS:
-            raise Refused("bone", f"bone {name[:40]!r} is not one of Rokoko's body bones")
+        if name not in _INDEX:
+            stop = Refused("bone", f"bone {name[:40]!r} is not one of Rokoko's body bones")
+            break
         try:
-            v = [bone["position"][k] for k in "xyz"] + [bone["rotation"][k] for k in "xyzw"]
+            v = _XYZ(bone["position"]) + _XYZW(bone["rotation"])
         except (TypeError, KeyError, IndexError):  # not objects, or without the fields
             v = None
-        if v is None or not all(_number(x) for x in v):
-            raise Refused("number", f"bone {name!r} without numbers position x y z and "
-                          "rotation x y z w")  # fmt: skip
-        v = np.array(v, dtype=float)
-        if not np.isfinite(v).all() or np.abs(v).max() > big:  # inf: a number past float's
-            raise Refused("large", f"bone {name!r} has a value beyond {big:g} "
-                          f"({limits.env_name('max_abs_value')})")  # fmt: skip
-        if abs((norm := float(np.linalg.norm(v[3:]))) - 1.0) > UNIT_TOLERANCE:
-            raise Refused("rotation", f"bone {name!r}'s quaternion has norm {norm:.6g}")
-        out[BONES.index(name)] = v
-    lacks = [b for i, b in enumerate(BONES) if np.isnan(out[i, 0])]
-    if lacks:
+        if v is None or not (set(map(type, v)) <= _REAL or all(map(_number, v))):
+            stop = Refused("number", f"bone {name!r} without numbers position x y z and "
+                           "rotation x y z w")  # fmt: skip
+            break
+        names.append(name)
+        rows.append(v)
+    # each bone's checks in turn, all bones at once: the first that fails is refused
+    v = np.array(rows, dtype=float).reshape(-1, 7)
+    within = (np.abs(v) <= big).all(1)  # inf: a number past float's; nan is not <= big
+    j = len(v) if within.all() else int(np.argmin(within))
+    q = np.minimum(np.abs(v[:j, 3:]), 2.0)  # squares that cannot overflow, as far from 1
+    for i in np.flatnonzero(np.abs(np.sqrt((q * q).sum(1)) - 1.0) > 0.999 * UNIT_TOLERANCE):
+        if abs((norm := float(np.linalg.norm(v[i, 3:]))) - 1.0) > UNIT_TOLERANCE:
+            raise Refused("rotation", f"bone {names[i]!r}'s quaternion has norm {norm:.6g}")
+    if j < len(v):
+        raise Refused("large", f"bone {names[j]!r} has a value beyond {big:g} "
+                      f"({limits.env_name('max_abs_value')})")  # fmt: skip
+    if stop is not None:
+        raise stop
+    if lacks := [b for b in BONES if b not in body]:
         raise Refused("missing", f"the body lacks {', '.join(lacks[:4])}")
+    out = np.empty((len(BONES), 7))
+    out[[_INDEX[b] for b in names]] = v
     return out
 
 
