@@ -267,7 +267,7 @@ def read_datagram(data: bytes) -> tuple:
     if (depth := nesting(data)) > MAX_DEPTH:
         raise Refused("rokoko", f"JSON nested {depth} deep, more than {MAX_DEPTH}")
     try:
-        doc = _JSON.decode(data.decode(json.detect_encoding(data), "surrogatepass"))  # loads'
+        doc = _JSON.decode(data.decode(json.detect_encoding(data), "surrogatepass"))  # json.loads
     except (ValueError, RecursionError) as e:  # UnicodeDecodeError is a ValueError
         raise Refused("rokoko", f"not JSON ({str(e).splitlines()[0][:80]})") from None
     version = doc.get("version") if isinstance(doc, dict) else None
@@ -302,7 +302,8 @@ _IN_ORDER = list(range(len(BONES)))
 _XYZ, _XYZW, _REAL = itemgetter("x", "y", "z"), itemgetter("x", "y", "z", "w"), {int, float}
 
 
-def _no_numbers(name):
+def _no_numbers(name) -> Refused:
+    """The refusal of a bone without seven numbers."""
     return Refused("number", f"bone {name!r} without numbers position x y z and rotation x y z w")
 
 
@@ -337,7 +338,8 @@ def read_body(actor) -> np.ndarray:
     a = np.abs(v)
     j = len(a) if a.max(initial=0) <= big else int(np.argmin((a <= big).all(1)))  # nan: not <=
     q = np.minimum(a[:j, 3:], 2.0)  # squares that cannot overflow, as far from 1
-    for i in np.flatnonzero(np.abs((q * q).sum(1) - 1.0) > 0.99 * UNIT_TOLERANCE):  # |n^2 - 1|
+    # |n^2 - 1| > 0.99 tol: every norm n further than tol from 1, each then checked as one
+    for i in np.flatnonzero(np.abs((q * q).sum(1) - 1.0) > 0.99 * UNIT_TOLERANCE):
         if abs((norm := float(np.linalg.norm(v[i, 3:]))) - 1.0) > UNIT_TOLERANCE:
             raise Refused("rotation", f"bone {names[i]!r}'s quaternion has norm {norm:.6g}")
     if j < len(v):  # inf: a number past float's
