@@ -50,15 +50,17 @@ import math
 import re
 import socket
 import time
+from operator import itemgetter
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from fpdtw import limits
 from fpdtw.app.serve import parse_address
 from fpdtw.app.sources import DatagramSource, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rig import rest_rotations
-from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate, quat_to_euler
+from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate
 
 #: Studio's custom streaming port (Rokoko's Unity plugin listens on it by default).
 DEFAULT_PORT = 14043
@@ -87,6 +89,7 @@ for _s in _SIDES:
                     f"{_s}Toe": f"{_s}Foot"})  # fmt: skip
 BONES = tuple(PARENTS)
 _PARENT = np.array([-1 if PARENTS[b] is None else BONES.index(PARENTS[b]) for b in BONES])
+_PARENT0 = np.maximum(_PARENT, 0)
 #: Bones of the layout that are valid and not read (toe ends, fingers).
 OTHER_BONES = frozenset(
     [f"{s}ToeEnd" for s in _SIDES]
@@ -117,6 +120,9 @@ for _s in _SIDES:
 JOINT_MAPS = (_FULL, {j: _FULL[j] for j in PAPER_JOINTS})
 
 _ORDER = "XYZ"  # the built skeleton's rotation order, written Zrotation Yrotation Xrotation
+#: A motion line: 17 significant digits read back to the same float (repr's shortest text
+#: takes twice as long to find).
+_LINE = " ".join(["%.17g"] * (3 + 3 * len(BONES)))
 
 
 def studio_to_fpdtw(p, q_xyzw):
@@ -132,6 +138,26 @@ def studio_to_fpdtw(p, q_xyzw):
 
 
 _TPOSE_F = quat_normalize(studio_to_fpdtw(np.zeros(3), np.array([TPOSE[b] for b in BONES]))[1])
+_TPOSE_C = quat_conj(_TPOSE_F)
+_MIRROR_ORDER, _MIRROR = [0, 1, 2, 6, 3, 4, 5], np.array([-1.0, 1, 1, 1, 1, -1, -1])
+
+# quat_mul's term k of part o (w x y z) is a_k b_(o xor k) times a sign
+_XOR = np.arange(4)[None, :] ^ np.arange(4)[:, None]
+_SIGNS = np.array([[1, 1, 1, 1], [-1, 1, -1, 1], [-1, 1, 1, -1], [-1, -1, 1, 1.0]])
+_CONJ_SIGNS = _SIGNS * [[1.0], [-1], [-1], [-1]]  # a's x y z negated first
+
+
+def _qmul(a, b, signs=_SIGNS):
+    """:func:`~fpdtw.motion.rotations.quat_mul` of (n, 4) quaternions bit for bit (the same
+    products, negated exactly, summed in the same order), in a few array operations;
+    ``signs=_CONJ_SIGNS``: ``quat_conj(a) * b``."""
+    t = a[:, :, None] * b[:, _XOR] * signs
+    return t[:, 0] + t[:, 1] + t[:, 2] + t[:, 3]
+
+
+def _normalize(q):
+    """:func:`~fpdtw.motion.rotations.quat_normalize` of (n, 4) quaternions, bit for bit."""
+    return q / np.sqrt(np.add.reduce(q * q, axis=-1, keepdims=True))
 
 
 class RokokoSkeleton:
@@ -176,21 +202,23 @@ class RokokoSkeleton:
 
         joint(0, "")
         self.header = lines + ["MOTION", f"Frame Time: {1.0 / rate!r}"]
+        self._xyzw = np.array(self.order)[:, None], [1, 2, 3, 0]  # header order, x y z w
 
     def line(self, p, d) -> str:
         """The BVH motion line of a frame: (21, 3) positions, (21, 4) rotations ``D``."""
-        d = quat_normalize(d)
-        local = quat_mul(quat_conj(d[np.maximum(_PARENT, 0)]), d)
+        d = _normalize(d)
+        local = _qmul(d[_PARENT0], d, _CONJ_SIGNS)
         local[0] = d[0]
-        e = quat_to_euler(local[self.order], _ORDER)[:, ::-1]  # Z Y X, as the channels
-        return " ".join(repr(float(x)) for x in np.r_[p[0], e.ravel()])
+        # quat_to_euler(local[self.order], _ORDER)[:, ::-1]: Z Y X, as the channels
+        e = Rotation.from_quat(local[self._xyzw]).as_euler(_ORDER.lower(), degrees=True)
+        return _LINE % tuple(np.concatenate([p[0], e[:, ::-1].ravel()]).tolist())
 
 
 def rest_relative(v):
     """A frame's bones (21, 7: Studio's ``x y z`` and ``x y z w``) as fpdtw's positions
     (21, 3) and rotations from the T-pose ``D = R T^-1`` (21, 4)."""
-    p, q = studio_to_fpdtw(v[:, :3], v[:, 3:])
-    return p, quat_mul(quat_normalize(q), quat_conj(_TPOSE_F))
+    pq = v[:, _MIRROR_ORDER] * _MIRROR  # studio_to_fpdtw's -x y z and w x -y -z
+    return pq[:, :3], _qmul(_normalize(pq[:, 3:]), _TPOSE_C)
 
 
 # -- reading ---------------------------------------------------------------------------------
@@ -201,15 +229,16 @@ class Refused(Exception):
 
 
 _STRING = re.compile(rb'"(?:[^"\\]+|\\.)*"?')  # a JSON string (or one cut at the end): linear
-_OPEN = np.frombuffer(b"{[", np.uint8)
-_CLOSE = np.frombuffer(b"}]", np.uint8)
+_OTHER = bytes(sorted(set(range(256)) - set(b'"{}[]')))  # bytes that neither open nor close
+_DEPTH = bytes.maketrans(b"{[}]", b"\x01\x01\xff\xff")  # a bracket's change of depth (int8)
 
 
 def nesting(data: bytes) -> int:
     """The deepest nesting of objects and arrays in JSON text ``data`` (strings skipped)."""
-    a = np.frombuffer(_STRING.sub(b'""', data), np.uint8)
-    depth = np.cumsum(np.isin(a, _OPEN).astype(np.int64) - np.isin(a, _CLOSE))
-    return int(depth.max(initial=0))
+    steps = data.translate(_DEPTH, _OTHER).replace(b'""', b"")  # strings without brackets
+    if b'"' in steps or b"\\" in data:  # brackets in strings, escapes: strings as matched
+        steps = _STRING.sub(b"", data).translate(_DEPTH, _OTHER)
+    return int(np.frombuffer(steps, np.int8).cumsum(dtype=np.int64).max(initial=0))
 
 
 def _constant(name):
@@ -224,6 +253,9 @@ def _number(x) -> bool:
     return isinstance(x, int | float) and not isinstance(x, bool)
 
 
+_JSON = json.JSONDecoder(parse_constant=_constant, parse_int=_int)
+
+
 def read_datagram(data: bytes) -> tuple:
     """A datagram checked as JSON v3: ``(fps or None, timestamp, actors)``, the actors as
     sent (dicts); :class:`Refused` naming what is wrong."""
@@ -235,7 +267,7 @@ def read_datagram(data: bytes) -> tuple:
     if (depth := nesting(data)) > MAX_DEPTH:
         raise Refused("rokoko", f"JSON nested {depth} deep, more than {MAX_DEPTH}")
     try:
-        doc = json.loads(data, parse_constant=_constant, parse_int=_int)
+        doc = _JSON.decode(data.decode(json.detect_encoding(data), "surrogatepass"))  # json.loads
     except (ValueError, RecursionError) as e:  # UnicodeDecodeError is a ValueError
         raise Refused("rokoko", f"not JSON ({str(e).splitlines()[0][:80]})") from None
     version = doc.get("version") if isinstance(doc, dict) else None
@@ -265,6 +297,16 @@ def actor_name(actor) -> str:
     return name
 
 
+_INDEX = {b: i for i, b in enumerate(BONES)}
+_IN_ORDER = list(range(len(BONES)))
+_XYZ, _XYZW, _REAL = itemgetter("x", "y", "z"), itemgetter("x", "y", "z", "w"), {int, float}
+
+
+def _no_numbers(name) -> Refused:
+    """The refusal of a bone without seven numbers."""
+    return Refused("number", f"bone {name!r} without numbers position x y z and rotation x y z w")
+
+
 def read_body(actor) -> np.ndarray:
     """An actor's 21 body bones checked: (21, 7) float, Studio's ``x y z`` and ``x y z w``
     in the order of :data:`BONES` (:class:`Refused` naming the first problem)."""
@@ -273,31 +315,43 @@ def read_body(actor) -> np.ndarray:
         raise Refused("missing", "no body")
     if len(body) > MAX_BONES:
         raise Refused("bone", f"{len(body)} bones, more than {MAX_BONES}")
-    out = np.full((len(BONES), 7), np.nan)
     big = limits.get("max_abs_value")
+    names, flat, stop = [], [], None  # the bones read up to the first not read (stop)
     for name, bone in body.items():
         if name in OTHER_BONES:
             continue
-        if name not in PARENTS:
-            raise Refused("bone", f"bone {name[:40]!r} is not one of Rokoko's body bones")
+        if name not in _INDEX:
+            stop = Refused("bone", f"bone {name[:40]!r} is not one of Rokoko's body bones")
+            break
         try:
-            v = [bone["position"][k] for k in "xyz"] + [bone["rotation"][k] for k in "xyzw"]
+            flat += _XYZ(bone["position"]) + _XYZW(bone["rotation"])
         except (TypeError, KeyError, IndexError):  # not objects, or without the fields
-            v = None
-        if v is None or not all(_number(x) for x in v):
-            raise Refused("number", f"bone {name!r} without numbers position x y z and "
-                          "rotation x y z w")  # fmt: skip
-        v = np.array(v, dtype=float)
-        if not np.isfinite(v).all() or np.abs(v).max() > big:  # inf: a number past float's
-            raise Refused("large", f"bone {name!r} has a value beyond {big:g} "
-                          f"({limits.env_name('max_abs_value')})")  # fmt: skip
-        if abs((norm := float(np.linalg.norm(v[3:]))) - 1.0) > UNIT_TOLERANCE:
-            raise Refused("rotation", f"bone {name!r}'s quaternion has norm {norm:.6g}")
-        out[BONES.index(name)] = v
-    lacks = [b for i, b in enumerate(BONES) if np.isnan(out[i, 0])]
-    if lacks:
-        raise Refused("missing", f"the body lacks {', '.join(lacks[:4])}")
-    return out
+            stop = _no_numbers(name)
+            break
+        names.append(name)
+    if not set(map(type, flat)) <= _REAL:  # a bool, a string, ...: the first such bone
+        if bad := [i // 7 for i, x in enumerate(flat) if not _number(x)]:
+            stop = _no_numbers(names[bad[0]])
+            del flat[7 * bad[0] :], names[bad[0] :]
+    # each bone's checks in turn, all bones at once: the first that fails is refused
+    v = np.array(flat, dtype=float).reshape(-1, 7)
+    a = np.abs(v)
+    j = len(a) if a.max(initial=0) <= big else int(np.argmin((a <= big).all(1)))  # nan: not <=
+    q = np.minimum(a[:j, 3:], 2.0)  # squares that cannot overflow, as far from 1
+    # |n^2 - 1| > 0.99 tol: every norm n further than tol from 1, each then checked as one
+    for i in np.flatnonzero(np.abs((q * q).sum(1) - 1.0) > 0.99 * UNIT_TOLERANCE):
+        if abs((norm := float(np.linalg.norm(v[i, 3:]))) - 1.0) > UNIT_TOLERANCE:
+            raise Refused("rotation", f"bone {names[i]!r}'s quaternion has norm {norm:.6g}")
+    if j < len(v):  # inf: a number past float's
+        raise Refused("large", f"bone {names[j]!r} has a value beyond {big:g} "
+                      f"({limits.env_name('max_abs_value')})")  # fmt: skip
+    if stop is not None:
+        raise stop
+    if len(names) < len(BONES):
+        lacks = ", ".join([b for b in BONES if b not in body][:4])
+        raise Refused("missing", f"the body lacks {lacks}")
+    order = [_INDEX[b] for b in names]
+    return v if order == _IN_ORDER else v[np.argsort(order)]
 
 
 class _Actor:
