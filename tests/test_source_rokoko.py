@@ -244,7 +244,7 @@ def test_a_turn_about_studios_up_axis_is_a_turn_about_y():
     # the left lower arm 0.3 m along Studio's -X (left) from the upper arm: fpdtw's +X
     off = h.skeleton.offsets[names.index("leftLowerArm")]
     np.testing.assert_allclose(off, [0.3, 0, 0], atol=1e-12)
-    values = np.array(sk.line(*rest_relative(_frame(p0, T))).split(), dtype=float)
+    values = sk.row(*rest_relative(_frame(p0, T)))
     np.testing.assert_allclose(values[3:], 0.0, atol=1e-9)
 
     def turned(turn, bones=BONES):  # x y z w quaternion product turn * T per bone
@@ -257,12 +257,11 @@ def test_a_turn_about_studios_up_axis_is_a_turn_about_y():
         return out
 
     Ry = np.array([[0.0, 0, 1], [0, 1, 0], [-1, 0, 0]])  # +90 degrees about Y: Z to X
-    values = np.array(sk.line(*rest_relative(_frame(p0 @ Ry.T, turned([0, s, 0, s])))).split(),
-                      dtype=float)  # fmt: skip
+    values = sk.row(*rest_relative(_frame(p0 @ Ry.T, turned([0, s, 0, s]))))
     np.testing.assert_allclose(values[3:6], [0.0, -90.0, 0.0], atol=1e-9)  # Z Y X of the hip
     np.testing.assert_allclose(values[6:], 0.0, atol=1e-9)
     bent = turned([s, 0, 0, s], ("leftLowerArm", "leftHand"))
-    values = np.array(sk.line(*rest_relative(_frame(p0, bent))).split(), dtype=float)
+    values = sk.row(*rest_relative(_frame(p0, bent)))
     values = values[3:].reshape(-1, 3)
     elbow = sk.order.index(BONES.index("leftLowerArm"))
     np.testing.assert_allclose(values[elbow], [0.0, 0.0, 90.0], atol=1e-9)  # Z, Y, X

@@ -122,7 +122,6 @@ JOINT_MAPS = (_FULL, {j: _FULL[j] for j in PAPER_JOINTS})
 _ORDER = "XYZ"  # the built skeleton's rotation order, written Zrotation Yrotation Xrotation
 #: A motion line: 17 significant digits read back to the same float (repr's shortest text
 #: takes twice as long to find).
-_LINE = " ".join(["%.17g"] * (3 + 3 * len(BONES)))
 
 
 def studio_to_fpdtw(p, q_xyzw):
@@ -204,14 +203,15 @@ class RokokoSkeleton:
         self.header = lines + ["MOTION", f"Frame Time: {1.0 / rate!r}"]
         self._xyzw = np.array(self.order)[:, None], [1, 2, 3, 0]  # header order, x y z w
 
-    def line(self, p, d) -> str:
-        """The BVH motion line of a frame: (21, 3) positions, (21, 4) rotations ``D``."""
+    def row(self, p, d) -> np.ndarray:
+        """The BVH channel values (n_channels,) float64 of a frame: (21, 3) positions, (21, 4)
+        rotations ``D``."""
         d = _normalize(d)
         local = _qmul(d[_PARENT0], d, _CONJ_SIGNS)
         local[0] = d[0]
         # quat_to_euler(local[self.order], _ORDER)[:, ::-1]: Z Y X, as the channels
         e = Rotation.from_quat(local[self._xyzw]).as_euler(_ORDER.lower(), degrees=True)
-        return _LINE % tuple(np.concatenate([p[0], e[:, ::-1].ravel()]).tolist())
+        return np.concatenate([p[0], e[:, ::-1].ravel()])
 
 
 def rest_relative(v):
@@ -447,7 +447,7 @@ class Source(DatagramSource):
                 return None
             a.t0 = t
         a.last_t = t
-        performers.feed(a.perf, a.skeleton.line(p, d), arrival, t=t - a.t0)
+        performers.feed(a.perf, a.skeleton.row(p, d), arrival, t=t - a.t0)
         return None
 
 
