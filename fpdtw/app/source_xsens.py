@@ -128,6 +128,9 @@ _TERM = np.array([[1, 2, 3, 0], [0, 3, 2, 1], [3, 0, 1, 2], [2, 1, 0, 3]])
 _SIGN = np.array([[1.0, 1, 1, 1], [-1, 1, -1, 1], [-1, -1, 1, 1], [1, -1, -1, 1]])
 
 
+_TO_FPDTW = np.array([1, 2, 0]), np.array([0, 2, 3, 1])  # the columns mvn_to_fpdtw takes
+
+
 def mvn_to_fpdtw(p, q_wxyz):
     """MVN's position (..., 3) and quaternion ``w x y z`` (..., 4) in fpdtw's axes:
     ``(y, z, x)`` and ``(w, y, z, x)``.
@@ -138,7 +141,7 @@ def mvn_to_fpdtw(p, q_wxyz):
     vector part is permuted as a position is."""
     p = np.asarray(p, dtype=float)
     q = np.asarray(q_wxyz, dtype=float)
-    return p[..., [1, 2, 0]], q[..., [0, 2, 3, 1]]
+    return p[..., _TO_FPDTW[0]], q[..., _TO_FPDTW[1]]
 
 
 class MvnSkeleton:
@@ -185,7 +188,7 @@ class MvnSkeleton:
 
         joint(0, 0)
         self.header = lines + ["MOTION", f"Frame Time: {1.0 / rate!r}"]
-        self._terms = np.array(self.order)[:, None, None], _TERM[None]
+        self._terms = 4 * np.array(self.order)[:, None, None] + _TERM  # flat indices of q
         self._parents = np.maximum(_PARENT_INDEX[self.order], 0)
 
     def line(self, p, q) -> str:
@@ -196,9 +199,9 @@ class MvnSkeleton:
         order, as ``quat_to_euler(local, "XYZ")`` (scipy's extrinsic ``xyz``) writes it, the
         channels Z Y X; every float as ``repr`` writes it."""
         q = quat_normalize(q)
-        t = q[self._parents][:, :, None] * (q[self._terms] * _SIGN)
+        t = q[self._parents][:, :, None] * (q.take(self._terms) * _SIGN)
         local = ((t[:, 0] + t[:, 1]) + t[:, 2]) + t[:, 3]  # x y z w
-        local[0] = q[0, [1, 2, 3, 0]]  # order[0] is the root
+        local[0] = q.take(_TERM[0])  # order[0] is the root
         e = Rotation.from_quat(local).as_euler(_ORDER.lower(), degrees=True)[:, ::-1]
         return " ".join(map(repr, np.concatenate([p[0], e.ravel()]).tolist()))
 
@@ -322,25 +325,27 @@ class Source(DatagramSource):
         """The body segments of one datagram, checked (a problem spoils the sample).
 
         All items are checked at once; unless each is surely fine, one by one, the first
-        problem found is the sample's."""
+        problem found being the sample's."""
         a = np.frombuffer(data, _ITEMS, count, HEADER.size)
-        ids, values = a["sid"], a["v"].astype(float)
+        ids, values = a["sid"].tolist(), a["v"].astype(float)
         top = len(SEGMENTS) + 1 + props + fingers  # props' and fingers' IDs: 24 up, not read
         big = limits.get("max_abs_value")
-        body = (ids >= 1) & (ids <= len(SEGMENTS))
-        b, sids = values[body], ids[body].tolist()
-        if (
-            (body | (ids > len(SEGMENTS)) & (ids <= top)).all()
-            and np.isfinite(b).all()
-            and np.abs(b).max(initial=0.0) <= big
-            and (np.abs(np.sqrt(np.einsum("ij,ij->i", b[:, 3:], b[:, 3:])) - 1.0)
-                 < 0.999 * UNIT_TOLERANCE).all()  # a margin for the rounding of the sum
-            and len(set(sids)) == len(sids)
-            and all(part.keys().isdisjoint(sids) for part in c.parts.values())
-        ):  # fmt: skip
-            return dict(zip(sids, b))
+        squares = np.einsum("ij,ij->i", values[:, 3:], values[:, 3:])
+        if (  # every item surely fine (props' and fingers' too: else one by one, below)
+            count
+            and 1 <= min(ids) <= max(ids) <= top
+            and np.abs(values).max() <= big  # NaN, inf: False
+            and np.abs(squares - 1.0).max() < 1.99 * UNIT_TOLERANCE  # |norm - 1| < 0.9956e-3
+        ):
+            n = len(SEGMENTS)
+            sids = [sid for sid in ids if sid <= n]
+            rows = values if len(sids) == count else values[[sid <= n for sid in ids]]
+            if len(set(sids)) == len(sids) and all(
+                part.keys().isdisjoint(sids) for part in c.parts.values()
+            ):
+                return dict(zip(sids, rows))
         out = {}
-        for sid, v in zip(ids.tolist(), values):
+        for sid, v in zip(ids, values):
             if 1 <= sid <= len(SEGMENTS):
                 name = SEGMENTS[sid - 1]
                 if not np.isfinite(v).all():
