@@ -126,8 +126,6 @@ _ORDER = "XYZ"  # the built skeleton's rotation order, written Zrotation Yrotati
 # _SIGN[j]``, added in the same order (each term's sign is exact), so the same bits.
 _TERM = np.array([[1, 2, 3, 0], [0, 3, 2, 1], [3, 0, 1, 2], [2, 1, 0, 3]])
 _SIGN = np.array([[1.0, 1, 1, 1], [-1, 1, -1, 1], [-1, -1, 1, 1], [1, -1, -1, 1]])
-
-
 _TO_FPDTW = np.array([1, 2, 0]), np.array([0, 2, 3, 1])  # the columns mvn_to_fpdtw takes
 
 
