@@ -62,13 +62,14 @@ import struct
 import time
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from fpdtw import limits
 from fpdtw.app.serve import parse_address
 from fpdtw.app.sources import DatagramSource, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rig import rest_rotations
-from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate, quat_to_euler
+from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate
 
 #: MVN's network streamer's default port (the spec, 2.3: "9=X, M=6, E=3").
 DEFAULT_PORT = 9763
@@ -90,7 +91,9 @@ UNIT_TOLERANCE = 1e-3
 HEADER = struct.Struct(">6sIBBIBBBBHH")
 #: One item of type 02: segment ID, position x y z, quaternion re i j k.
 ITEM = struct.Struct(">i7f")
-assert HEADER.size == 24 and ITEM.size == 32
+#: The same, for the items of a datagram at once.
+_ITEMS = np.dtype([("sid", ">i4"), ("v", ">f4", 7)])
+assert HEADER.size == 24 and ITEM.size == 32 == _ITEMS.itemsize
 
 #: The 23 body segments, ID 1 first (the spec, 3.1, Table 1).
 SEGMENTS = ("Pelvis", "L5", "L3", "T12", "T8", "Neck", "Head",
@@ -119,6 +122,11 @@ for _s, _c in (("Left", "left"), ("Right", "right")):
 JOINT_MAPS = (_FULL, {j: _FULL[j] for j in PAPER_JOINTS})
 
 _ORDER = "XYZ"  # the built skeleton's rotation order, written Zrotation Yrotation Xrotation
+# ``quat_mul(quat_conj(a), b)`` in ``x y z w`` order: the sum over j of ``a_j * b[_TERM[j]] *
+# _SIGN[j]``, added in the same order (each term's sign is exact), so the same bits.
+_TERM = np.array([[1, 2, 3, 0], [0, 3, 2, 1], [3, 0, 1, 2], [2, 1, 0, 3]])
+_SIGN = np.array([[1.0, 1, 1, 1], [-1, 1, -1, 1], [-1, -1, 1, 1], [1, -1, -1, 1]])
+_TO_FPDTW = np.array([1, 2, 0]), np.array([0, 2, 3, 1])  # the columns mvn_to_fpdtw takes
 
 
 def mvn_to_fpdtw(p, q_wxyz):
@@ -131,7 +139,7 @@ def mvn_to_fpdtw(p, q_wxyz):
     vector part is permuted as a position is."""
     p = np.asarray(p, dtype=float)
     q = np.asarray(q_wxyz, dtype=float)
-    return p[..., [1, 2, 0]], q[..., [0, 2, 3, 1]]
+    return p[..., _TO_FPDTW[0]], q[..., _TO_FPDTW[1]]
 
 
 class MvnSkeleton:
@@ -178,16 +186,22 @@ class MvnSkeleton:
 
         joint(0, 0)
         self.header = lines + ["MOTION", f"Frame Time: {1.0 / rate!r}"]
+        self._terms = 4 * np.array(self.order)[:, None, None] + _TERM  # flat indices of q
+        self._parents = np.maximum(_PARENT_INDEX[self.order], 0)
 
     def line(self, p, q) -> str:
         """The BVH motion line of a sample: (23, 3) positions, (23, 4) global quaternions
-        (fpdtw's axes)."""
+        (fpdtw's axes).
+
+        Each local rotation ``parent^-1 child`` (the root's global one), in the header's
+        order, as ``quat_to_euler(local, "XYZ")`` (scipy's extrinsic ``xyz``) writes it, the
+        channels Z Y X; every float as ``repr`` writes it."""
         q = quat_normalize(q)
-        parent = np.where(_PARENT_INDEX < 0, 0, _PARENT_INDEX)
-        local = quat_mul(quat_conj(q[parent]), q)
-        local[0] = q[0]
-        e = quat_to_euler(local[self.order], _ORDER)[:, ::-1]  # Z Y X, as the channels
-        return " ".join(repr(float(x)) for x in np.r_[p[0], e.ravel()])
+        t = q[self._parents][:, :, None] * (q.take(self._terms) * _SIGN)
+        local = ((t[:, 0] + t[:, 1]) + t[:, 2]) + t[:, 3]  # x y z w
+        local[0] = q.take(_TERM[0])  # order[0] is the root
+        e = Rotation.from_quat(local).as_euler(_ORDER.lower(), degrees=True)[:, ::-1]
+        return " ".join(map(repr, np.concatenate([p[0], e.ravel()]).tolist()))
 
 
 # -- reading ---------------------------------------------------------------------------------
@@ -306,14 +320,31 @@ class Source(DatagramSource):
         return None
 
     def items(self, c, data, count, props, fingers, where) -> dict:
-        """The body segments of one datagram, checked (a problem spoils the sample)."""
-        out = {}
+        """The body segments of one datagram, checked (a problem spoils the sample).
+
+        All items are checked at once; unless each is surely fine, one by one, the first
+        problem found being the sample's."""
+        a = np.frombuffer(data, _ITEMS, count, HEADER.size)
+        ids, values = a["sid"].tolist(), a["v"].astype(float)
         top = len(SEGMENTS) + 1 + props + fingers  # props' and fingers' IDs: 24 up, not read
         big = limits.get("max_abs_value")
-        for k in range(count):
-            sid, *v = ITEM.unpack_from(data, HEADER.size + k * ITEM.size)
+        squares = np.einsum("ij,ij->i", values[:, 3:], values[:, 3:])
+        if (  # every item surely fine (props' and fingers' too: else one by one, below)
+            count
+            and 1 <= min(ids) <= max(ids) <= top
+            and np.abs(values).max() <= big  # NaN, inf: False
+            and np.abs(squares - 1.0).max() < 1.99 * UNIT_TOLERANCE  # |norm - 1| < 0.9956e-3
+        ):
+            n = len(SEGMENTS)
+            sids = [sid for sid in ids if sid <= n]
+            rows = values if len(sids) == count else values[[sid <= n for sid in ids]]
+            if len(set(sids)) == len(sids) and all(
+                part.keys().isdisjoint(sids) for part in c.parts.values()
+            ):
+                return dict(zip(sids, rows))
+        out = {}
+        for sid, v in zip(ids, values):
             if 1 <= sid <= len(SEGMENTS):
-                v = np.array(v, dtype=float)
                 name = SEGMENTS[sid - 1]
                 if not np.isfinite(v).all():
                     c.spoil("finite", f"{where}: segment {sid} ({name}) has NaN or inf")
