@@ -212,13 +212,13 @@ def test_a_turn_about_mvns_up_axis_is_a_turn_about_y():
     turn = np.array([s, 0.0, 0.0, s])
     Rz = np.array([[0.0, -1, 0], [1, 0, 0], [0, 0, 1]])
     pt, qt = mvn_to_fpdtw(p0 @ Rz.T, np.tile(turn, (23, 1)))
-    values = np.array(sk.line(pt, qt).split(), dtype=float)
+    values = sk.row(pt, qt)
     np.testing.assert_allclose(values[3:6], [0.0, 90.0, 0.0], atol=1e-9)  # Z Y X of Pelvis
     np.testing.assert_allclose(values[6:], 0.0, atol=1e-9)
     bent = np.tile([1.0, 0, 0, 0], (23, 1))
     bent[SEGMENTS.index("LeftForearm")] = [s, s, 0.0, 0.0]
     bent[SEGMENTS.index("LeftHand")] = [s, s, 0.0, 0.0]
-    values = np.array(sk.line(*mvn_to_fpdtw(p0, bent)).split(), dtype=float)[3:].reshape(-1, 3)
+    values = sk.row(*mvn_to_fpdtw(p0, bent))[3:].reshape(-1, 3)
     elbow = sk.order.index(SEGMENTS.index("LeftForearm"))
     np.testing.assert_allclose(values[elbow], [90.0, 0.0, 0.0], atol=1e-9)  # Z, Y, X
     values[elbow] = 0.0

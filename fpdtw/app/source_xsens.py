@@ -189,19 +189,19 @@ class MvnSkeleton:
         self._terms = 4 * np.array(self.order)[:, None, None] + _TERM  # flat indices of q
         self._parents = np.maximum(_PARENT_INDEX[self.order], 0)
 
-    def line(self, p, q) -> str:
-        """The BVH motion line of a sample: (23, 3) positions, (23, 4) global quaternions
-        (fpdtw's axes).
+    def row(self, p, q) -> np.ndarray:
+        """The BVH channel values (n_channels,) float64 of a sample: (23, 3) positions, (23, 4)
+        global quaternions (fpdtw's axes).
 
         Each local rotation ``parent^-1 child`` (the root's global one), in the header's
-        order, as ``quat_to_euler(local, "XYZ")`` (scipy's extrinsic ``xyz``) writes it, the
-        channels Z Y X; every float as ``repr`` writes it."""
+        order, as ``quat_to_euler(local, "XYZ")`` (scipy's extrinsic ``xyz``) gives it, the
+        channels Z Y X."""
         q = quat_normalize(q)
         t = q[self._parents][:, :, None] * (q.take(self._terms) * _SIGN)
         local = ((t[:, 0] + t[:, 1]) + t[:, 2]) + t[:, 3]  # x y z w
         local[0] = q.take(_TERM[0])  # order[0] is the root
         e = Rotation.from_quat(local).as_euler(_ORDER.lower(), degrees=True)[:, ::-1]
-        return " ".join(map(repr, np.concatenate([p[0], e.ravel()]).tolist()))
+        return np.concatenate([p[0], e.ravel()])
 
 
 # -- reading ---------------------------------------------------------------------------------
@@ -399,7 +399,7 @@ class Source(DatagramSource):
                 c.refused = True
                 return None
             c.s0 = sc
-        performers.feed(c.perf, c.skeleton.line(p, q), arrival if arrival is not None
+        performers.feed(c.perf, c.skeleton.row(p, q), arrival if arrival is not None
                         else time.perf_counter(), t=(sc - c.s0) / self.rate)  # fmt: skip
         return None
 
