@@ -10,19 +10,16 @@ datagram is lost on the way.
 
 from __future__ import annotations
 
-import asyncio
 import socket
 import struct
-import subprocess
-import sys
 import threading
 
 import numpy as np
 import pytest
-from reference.live_sources import METHOD, offline_map
+from reference.live_sources import offline_map, read_queued, read_sent, serve_and_stream
+from reference.live_sources import performers as shared_performers
 
 from fpdtw.app import cli
-from fpdtw.app.export import read_map_csv
 from fpdtw.app.source_axis_udp import (
     HEADER,
     MAX_AVATARS,
@@ -30,11 +27,10 @@ from fpdtw.app.source_axis_udp import (
     axis_udp_datagrams,
     play_as_axis_udp,
 )
-from fpdtw.app.sources import MAX_QUEUE, DatagramReceiver, Performers, TakeEnd, parse_source
+from fpdtw.app.sources import MAX_QUEUE, parse_source
 from fpdtw.app.stream import TakeLines, session_map, take_lines
 from fpdtw.io.bvh import parse_bvh_header
 from fpdtw.motion.rotations import quat_rotate
-from fpdtw.registry import resolve
 
 
 @pytest.fixture(scope="module")
@@ -44,7 +40,7 @@ def cmu(cmu_retimed):
 
 
 def performers(FI, log, **kw):
-    return Performers(FI, resolve(METHOD).make, record=True, log=log.append, **kw)
+    return shared_performers(FI, log, (), **kw)
 
 
 def send_all(datagrams, port):
@@ -58,49 +54,14 @@ def send_all(datagrams, port):
 def loopback(send, header, FI, *, idle=0.5):
     """``send(port)`` in a thread to the axis+udp source (skeleton ``header``) listening on
     127.0.0.1: (performers, how the take ended, log)."""
-
-    async def main():
-        source = Source("127.0.0.1", 0, header=header)
-        conn = await source.connect()
-        port = conn[0].get_extra_info("sockname")[1]
-        log = []
-        perf = performers(FI, log)
-        sender = threading.Thread(target=send, args=(port,))
-        sender.start()
-        try:
-            end = await source.read(conn, perf, idle)
-        except TakeEnd as e:
-            end = f"error: {e}"
-        sender.join()
-        return perf, end, log
-
-    return asyncio.run(main())
-
-
-class _Transport:
-    def close(self):
-        pass
+    return read_sent(Source("127.0.0.1", 0, header=header), send, FI, idle=idle)
 
 
 def inject(datagrams, header, FI, *, addr=("127.0.0.1", 5000), idle=0.2, **kw):
     """``datagrams`` handed to the source as its socket would, nothing lost: (performers,
     how the take ended, log)."""
-
-    async def main():
-        proto = DatagramReceiver()
-        for d in datagrams:
-            proto.datagram_received(d, addr)
-        log = []
-        perf = performers(FI, log, **kw)
-        try:
-            end = await Source("127.0.0.1", 0, header=header).read(
-                (_Transport(), proto), perf, idle
-            )
-        except TakeEnd as e:
-            end = f"error: {e}"
-        return perf, end, log
-
-    return asyncio.run(main())
+    source = Source("127.0.0.1", 0, header=header)
+    return read_queued(source, [(d, addr) for d in datagrams], FI, idle=idle, **kw)
 
 
 class Recorder:
@@ -270,40 +231,11 @@ def test_two_avatars_with_a_reference_block(cmu):
 
 def test_the_command_line_end_to_end(cmu, tmp_path):
     """``fpdtw serve --source axis+udp:// --header --once --out`` in its own process;
-    ``fpdtw stream A B --as axis+udp`` here: one map file per avatar, each ``fpdtw align``'s.
-    (``reference.live_sources.serve_and_stream`` with ``--header`` in place of ``--rate``.)"""
+    ``fpdtw stream A B --as axis+udp`` here: one map file per avatar, each ``fpdtw align``'s."""
     path, _, warps = cmu
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
-    serve = subprocess.Popen(
-        [sys.executable, "-m", "fpdtw.app.cli", "serve", str(path), "--source",
-         f"axis+udp://127.0.0.1:{port}", "--header", str(path), "--once", "--idle-timeout",
-         "1", "--out", str(tmp_path / "live.csv")],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-    )  # fmt: skip
-    try:
-        assert serve.stdout.readline().strip() == f"connected to axis+udp://127.0.0.1:{port}"
-        assert cli.main(["stream", *map(str, warps), "--as", "axis+udp", "--to",
-                         f"127.0.0.1:{port}", "--fast"]) == 0  # fmt: skip
-        assert serve.wait(60) == 0
-        err = serve.stderr.read()
-    finally:
-        if serve.poll() is None:
-            serve.kill()
-        serve.wait()
-        serve.stdout.close()
-        serve.stderr.close()
+    err, files = serve_and_stream("axis+udp", path, warps, tmp_path, ("--header", str(path)))
     assert "606 frames read; unusable: none" in err, err
-    files = sorted(tmp_path.glob("live-take1-*.csv"))
     assert [f.name for f in files] == ["live-take1-0-warpA.csv", "live-take1-1-warpB.csv"]
-    for f, take in zip(files, warps, strict=True):
-        ref = tmp_path / f"ref-{take.stem}.csv"
-        assert cli.main(["align", str(path), str(take), "-m", "c", "-w", "40", "--out",
-                         str(ref)]) == 0  # fmt: skip
-        np.testing.assert_array_equal(
-            read_map_csv(f)["input_frame"], read_map_csv(ref)["input_frame"]
-        )
 
 
 # ------------------------------------------------------------------------- hostile input

@@ -15,7 +15,8 @@ import threading
 
 import numpy as np
 import pytest
-from reference.live_sources import METHOD, offline_map, serve_and_stream
+from reference.live_sources import offline_map, read_queued, serve_and_stream
+from reference.live_sources import performers as shared_performers
 
 from fpdtw.app import cli
 from fpdtw.app.source_natnet import (
@@ -32,12 +33,11 @@ from fpdtw.app.source_natnet import (
     parse_frame,
     play_as_natnet,
 )
-from fpdtw.app.sources import MAX_QUEUE, DatagramReceiver, Performers, TakeEnd, parse_source
+from fpdtw.app.sources import MAX_QUEUE, TakeEnd, parse_source
 from fpdtw.app.stream import session_map
 from fpdtw.io.bvh import parse_bvh_header, read_bvh
 from fpdtw.motion.joints import find_joint_map
 from fpdtw.motion.rotations import quat_conj, quat_mul
-from fpdtw.registry import resolve
 
 SERVER = ("127.0.0.1", 1510)
 
@@ -49,8 +49,7 @@ def cmu(cmu_retimed):
 
 
 def performers(FI, log, **kw):
-    return Performers(FI, resolve(METHOD).make, record=True, log=log.append,
-                      joint_maps=JOINT_MAPS, **kw)  # fmt: skip
+    return shared_performers(FI, log, JOINT_MAPS, **kw)
 
 
 def free_port() -> int:
@@ -93,28 +92,11 @@ def loopback(takes, FI, *, idle=0.5, garbage=()):
     return asyncio.run(main())
 
 
-class _Transport:
-    def close(self):
-        pass
-
-
 def inject(datagrams, FI, *, idle=0.2, **kw):
     """``datagrams`` handed to the source as its socket would, nothing lost, all from the
     server's address: (performers, how the take ended, log)."""
-
-    async def main():
-        proto = DatagramReceiver()
-        for d in datagrams:
-            proto.datagram_received(d, SERVER)
-        log = []
-        perf = performers(FI, log, **kw)
-        try:
-            end = await Source(*SERVER, rate=30).read((_Transport(), proto), perf, idle)
-        except TakeEnd as e:
-            end = f"error: {e}"
-        return perf, end, log
-
-    return asyncio.run(main())
+    source = Source(*SERVER, rate=30)
+    return read_queued(source, [(d, SERVER) for d in datagrams], FI, JOINT_MAPS, idle=idle, **kw)
 
 
 # ------------------------------------------------------------------------- the wire format

@@ -16,7 +16,14 @@ import threading
 import numpy as np
 import pytest
 from pythonosc import osc_bundle_builder
-from reference.live_sources import METHOD, offline_map, serve_and_stream
+from reference.live_sources import (
+    NoTransport,
+    offline_map,
+    read_queued,
+    read_sent,
+    serve_and_stream,
+)
+from reference.live_sources import performers as shared_performers
 
 from fpdtw.app import cli
 from fpdtw.app.source_vmc import (
@@ -30,12 +37,11 @@ from fpdtw.app.source_vmc import (
     unity_to_fpdtw,
     vmc_frames,
 )
-from fpdtw.app.sources import MAX_QUEUE, DatagramReceiver, Performers, TakeEnd, parse_source
+from fpdtw.app.sources import MAX_QUEUE, DatagramReceiver, parse_source
 from fpdtw.app.stream import session_map
 from fpdtw.io.bvh import parse_bvh_header, read_bvh
 from fpdtw.motion.joints import find_joint_map
 from fpdtw.motion.rotations import quat_conj, quat_mul
-from fpdtw.registry import resolve
 
 CMU = "cmu/18_01.bvh"
 
@@ -47,56 +53,21 @@ def cmu(cmu_retimed):
 
 
 def performers(FI, log, **kw):
-    return Performers(FI, resolve(METHOD).make, record=True, log=log.append,
-                      joint_maps=JOINT_MAPS, **kw)  # fmt: skip
+    return shared_performers(FI, log, JOINT_MAPS, **kw)
 
 
 def loopback(takes, FI, *, idle=0.5):
     """Send ``takes`` with :func:`play_as_vmc` (python-osc's client, one sender each) to the
     vmc source on 127.0.0.1: (performers, how the take ended, log)."""
-
-    async def main():
-        source = Source("127.0.0.1", 0, rate=30)
-        conn = await source.connect()
-        port = conn[0].get_extra_info("sockname")[1]
-        log = []
-        perf = performers(FI, log)
-        sender = threading.Thread(target=play_as_vmc, args=(takes, f"127.0.0.1:{port}"),
-                                  kwargs={"fast": True})  # fmt: skip
-        sender.start()
-        try:
-            end = await source.read(conn, perf, idle)
-        except TakeEnd as e:
-            end = f"error: {e}"
-        sender.join()
-        return perf, end, log
-
-    return asyncio.run(main())
-
-
-class _Transport:
-    def close(self):
-        pass
+    send = lambda port: play_as_vmc(takes, f"127.0.0.1:{port}", fast=True)  # noqa: E731
+    return read_sent(Source("127.0.0.1", 0, rate=30), send, FI, JOINT_MAPS, idle=idle)
 
 
 def inject(datagrams, FI, *, addr=("127.0.0.1", 5000), idle=0.2):
     """``datagrams`` handed to the source as its socket would (from ``addr``, or per item
     ``(bytes, addr)``), nothing lost: (performers, how the take ended, log)."""
-
-    async def main():
-        proto = DatagramReceiver()
-        for d in datagrams:
-            data, a = d if isinstance(d, tuple) else (d, addr)
-            proto.datagram_received(data, a)
-        log = []
-        perf = performers(FI, log)
-        try:
-            end = await Source("127.0.0.1", 0, rate=30).read((_Transport(), proto), perf, idle)
-        except TakeEnd as e:
-            end = f"error: {e}"
-        return perf, end, log
-
-    return asyncio.run(main())
+    pairs = [d if isinstance(d, tuple) else (d, addr) for d in datagrams]
+    return read_queued(Source("127.0.0.1", 0, rate=30), pairs, FI, JOINT_MAPS, idle=idle)
 
 
 # ------------------------------------------------------------------------------ the axes
@@ -321,7 +292,7 @@ def test_senders_beyond_the_bound_and_a_garbage_only_sender(cmu):
             proto.datagram_received(d, addr)
         log = []
         perf = performers(FI, log, max_performers=1)
-        end = await Source("127.0.0.1", 0, rate=30).read((_Transport(), proto), perf, 0.2)
+        end = await Source("127.0.0.1", 0, rate=30).read((NoTransport(), proto), perf, 0.2)
         return perf, end
 
     perf, end = asyncio.run(main())
