@@ -46,16 +46,13 @@ bytes and value order), each take an avatar, over one UDP socket.
 
 from __future__ import annotations
 
-import socket
 import struct
-import time
 
 import numpy as np
 
 from fpdtw import limits
-from fpdtw.app.serve import parse_address
 from fpdtw.app.source_axis import AxisHeader
-from fpdtw.app.sources import DatagramSource, sender_name
+from fpdtw.app.sources import DatagramSource, send_paced, sender_name
 from fpdtw.io.bvh import parse_bvh_header
 from fpdtw.motion.rotations import euler_to_quat, quat_mul, quat_rotate, quat_to_euler
 
@@ -271,19 +268,8 @@ def play_as_axis_udp(takes, to: str, *, fast=False, displacement=False, out=None
     """Send ``takes`` (one avatar each) as Axis' binary BVH broadcast to ``to`` (``HOST:PORT``)
     over one UDP socket, frame ``k`` of every take at ``k / rate`` (``fast``: one every
     millisecond: UDP has no back-pressure). Return the datagrams sent."""
-    host, port = parse_address(to)
     rate, frames = axis_udp_datagrams(takes, displacement=displacement)
-    family = socket.AF_INET6 if ":" in host else socket.AF_INET
-    sent = 0
-    with socket.socket(family, socket.SOCK_DGRAM) as sock:
-        t0 = time.perf_counter()
-        for k, frame in enumerate(frames):
-            due = t0 + (k / 1000 if fast else k / rate)
-            if (wait := due - time.perf_counter()) > 0:
-                time.sleep(wait)
-            for d in frame:
-                sock.sendto(d, (host, port))
-                sent += 1
+    sent = send_paced(frames, to, rate, fast=fast)
     if out is not None:
         print(f"sent {sent} datagrams ({len(takes)} avatars) to {to}", file=out)
     return sent

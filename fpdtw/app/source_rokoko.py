@@ -48,16 +48,13 @@ from __future__ import annotations
 import json
 import math
 import re
-import socket
-import time
 from operator import itemgetter
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
 from fpdtw import limits
-from fpdtw.app.serve import parse_address
-from fpdtw.app.sources import DatagramSource, sender_name
+from fpdtw.app.sources import DatagramSource, send_paced, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rig import rest_rotations
 from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate
@@ -562,15 +559,8 @@ def play_as_rokoko(motions, to: str, *, fast=False, out=None) -> int:
     """Send ``motions`` as Rokoko Studio's custom streaming sends actors to ``to``
     (``HOST:PORT``): one UDP socket, one JSON v3 datagram a frame holding every take's actor,
     frame ``k`` at ``k / rate`` (``fast``: one every millisecond). Return the datagrams sent."""
-    host, port = parse_address(to)
     rate, frames = rokoko_datagrams(motions)
-    family = socket.AF_INET6 if ":" in host else socket.AF_INET
-    with socket.socket(family, socket.SOCK_DGRAM) as sock:
-        t0 = time.perf_counter()
-        for k, d in enumerate(frames):
-            if (wait := t0 + (k / 1000 if fast else k / rate) - time.perf_counter()) > 0:
-                time.sleep(wait)
-            sock.sendto(d, (host, port))
+    send_paced([[d] for d in frames], to, rate, fast=fast)
     if out is not None:
         print(f"sent {len(frames)} datagrams ({len(motions)} actors) to {to}", file=out)
     return len(frames)

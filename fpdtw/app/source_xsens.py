@@ -57,7 +57,6 @@ axis conversion), each take a character, over one UDP socket.
 
 from __future__ import annotations
 
-import socket
 import struct
 import time
 
@@ -65,8 +64,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from fpdtw import limits
-from fpdtw.app.serve import parse_address
-from fpdtw.app.sources import DatagramSource, sender_name
+from fpdtw.app.sources import DatagramSource, send_paced, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rig import rest_rotations
 from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate
@@ -520,19 +518,8 @@ def play_as_xsens(motions, to: str, *, fast=False, out=None, parts: int = 1) -> 
     """Send ``motions`` as MVN's network streamer sends characters to ``to`` (``HOST:PORT``):
     one UDP socket, take ``i`` character ``i``, sample ``k`` of every take at ``k / rate``
     (``fast``: one every millisecond: UDP has no back-pressure). Return the datagrams sent."""
-    host, port = parse_address(to)
     rate, frames = xsens_datagrams(motions, parts=parts)
-    family = socket.AF_INET6 if ":" in host else socket.AF_INET
-    sent = 0
-    with socket.socket(family, socket.SOCK_DGRAM) as sock:
-        t0 = time.perf_counter()
-        for k, frame in enumerate(frames):
-            due = t0 + (k / 1000 if fast else k / rate)
-            if (wait := due - time.perf_counter()) > 0:
-                time.sleep(wait)
-            for d in frame:
-                sock.sendto(d, (host, port))
-                sent += 1
+    sent = send_paced(frames, to, rate, fast=fast)
     if out is not None:
         print(f"sent {sent} datagrams ({len(motions)} characters) to {to}", file=out)
     return sent

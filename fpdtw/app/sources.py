@@ -196,6 +196,24 @@ class DatagramSource:
             self.n += k
 
 
+def send_paced(ticks, to: str, rate: float, *, fast=False) -> int:
+    """Send ``ticks`` (``[[datagram bytes of frame k] per k]``) over one UDP socket to ``to``
+    (``HOST:PORT``), frame ``k`` at ``k / rate`` s (``fast``: one every millisecond: UDP has
+    no back-pressure), as an emulated capture system does. Return the datagrams sent."""
+    host, port = parse_address(to)
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    sent = 0
+    with socket.socket(family, socket.SOCK_DGRAM) as sock:
+        t0 = time.perf_counter()
+        for k, frame in enumerate(ticks):
+            if (wait := t0 + (k / 1000 if fast else k / rate) - time.perf_counter()) > 0:
+                time.sleep(wait)
+            for d in frame:
+                sock.sendto(d, (host, port))
+                sent += 1
+    return sent
+
+
 def parse_source(url: str):
     """``"axis://HOST:PORT"`` -> (module, host, port); ValueError naming what is wrong.
 
