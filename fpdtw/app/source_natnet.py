@@ -63,7 +63,7 @@ from scipy.spatial.transform import Rotation
 
 from fpdtw import limits
 from fpdtw.app.serve import parse_address
-from fpdtw.app.sources import DatagramReceiver, DatagramSource, TakeEnd, sender_name
+from fpdtw.app.sources import DatagramReceiver, DatagramSource, TakeEnd, bvh_header, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rig import rest_rotations
 from fpdtw.motion.rotations import quat_conj, quat_mul, quat_rotate
@@ -112,7 +112,6 @@ for _s, _c in (("L", "left"), ("R", "right")):
 JOINT_MAPS = (_FULL, {j: _FULL[j] for j in PAPER_JOINTS})
 
 _ORDER = "XYZ"  # the built skeleton's rotation order, written Zrotation Yrotation Xrotation
-_SIX = "Xposition Yposition Zposition Zrotation Yrotation Xrotation"
 
 
 def motive_to_fpdtw(p, q_xyzw):
@@ -261,30 +260,12 @@ class NatNetSkeleton:
         big = limits.get("max_abs_value")
         _need(all(np.isfinite(b[3]).all() and np.abs(b[3]).max() <= big for b in bones),
               "an offset that is NaN, inf or beyond FPDTW_MAX_ABS_VALUE")  # fmt: skip
-        name = dict(zip(by_id, names, strict=True))
-        kids = {i: [b[1] for b in bones if b[2] == i] for i in by_id}
-        self.index, self.names, lines = {}, [], ["HIERARCHY"]
-
-        def joint(i, depth):
-            self.index[i] = len(self.names)
-            self.names.append(name[i])
-            pad = "  " * depth
-            if depth == 0:
-                lines.extend([f"ROOT {name[i]}", "{", "  OFFSET 0 0 0", f"  CHANNELS 6 {_SIX}"])
-            else:
-                lines.extend([f"{pad}JOINT {name[i]}", pad + "{", f"{pad}  OFFSET "
-                              + " ".join(repr(float(v)) for v in by_id[i][3]),
-                              f"{pad}  CHANNELS 3 Zrotation Yrotation Xrotation"])  # fmt: skip
-            for c in kids[i]:
-                joint(c, depth + 1)
-            if not kids[i]:
-                lines.extend([f"{pad}  End Site", pad + "  {", f"{pad}    OFFSET 0 0 0",
-                              pad + "  }"])  # fmt: skip
-            lines.append(pad + "}")
-
-        joint(roots[0], 0)
-        _need(len(self.index) == len(bones), "bones whose parents do not lead to the root")
-        self.header = lines + ["MOTION", f"Frame Time: {1.0 / rate!r}"]
+        ids = [b[1] for b in bones]
+        up = [-1 if b[2] == 0 else ids.index(b[2]) for b in bones]
+        self.header, order = bvh_header(names, up, [b[3] for b in bones], rate)
+        _need(len(order) == len(bones), "bones whose parents do not lead to the root")
+        self.index = {ids[j]: r for r, j in enumerate(order)}
+        self.names = [names[j] for j in order]
 
     def row(self, v) -> np.ndarray:
         """The BVH channel values (n_channels,) float64 of a frame: ``v`` (B, 7) float, each

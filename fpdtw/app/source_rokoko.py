@@ -54,7 +54,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from fpdtw import limits
-from fpdtw.app.sources import DatagramSource, send_paced, sender_name
+from fpdtw.app.sources import DatagramSource, bvh_header, send_paced, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rig import rest_rotations
 from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate
@@ -176,28 +176,8 @@ class RokokoSkeleton:
     """
 
     def __init__(self, p, d, rate: float):
-        self.order, lines = [], ["HIERARCHY"]
-
-        def joint(i, pad):
-            self.order.append(i)
-            if i == 0:
-                lines.extend(["ROOT hip", "{", "  OFFSET 0 0 0", "  CHANNELS 6 Xposition "
-                              "Yposition Zposition Zrotation Yrotation Xrotation"])  # fmt: skip
-            else:
-                off = quat_rotate(quat_conj(d[_PARENT[i]]), p[i] - p[_PARENT[i]])
-                lines.extend([f"{pad}JOINT {BONES[i]}", pad + "{", f"{pad}  OFFSET "
-                              + " ".join(repr(float(v)) for v in off),
-                              f"{pad}  CHANNELS 3 Zrotation Yrotation Xrotation"])  # fmt: skip
-            kids = [c for c in range(len(BONES)) if _PARENT[c] == i]
-            for c in kids:
-                joint(c, pad + "  ")
-            if not kids:
-                lines.extend([f"{pad}  End Site", pad + "  {", f"{pad}    OFFSET 0 0 0",
-                              pad + "  }"])  # fmt: skip
-            lines.append(pad + "}")
-
-        joint(0, "")
-        self.header = lines + ["MOTION", f"Frame Time: {1.0 / rate!r}"]
+        offsets = quat_rotate(quat_conj(d[_PARENT0]), p - p[_PARENT0])  # the root's: unused
+        self.header, self.order = bvh_header(BONES, _PARENT, offsets, rate)
         self._xyzw = np.array(self.order)[:, None], [1, 2, 3, 0]  # header order, x y z w
 
     def row(self, p, d) -> np.ndarray:

@@ -39,7 +39,7 @@ from scipy.spatial.transform import Rotation
 
 from fpdtw import limits
 from fpdtw.app.serve import parse_address
-from fpdtw.app.sources import DatagramSource, sender_name
+from fpdtw.app.sources import DatagramSource, bvh_header, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rotations import quat_mul, quat_normalize
 
@@ -147,29 +147,10 @@ class VmcSkeleton:
 
     def __init__(self, frame: dict, rate: float):
         have = [b for b in PARENTS if b in frame]
-        kids = {b: [c for c in have if nearest_parent(c, have) == b] for b in have}
-        self.bones, lines = [], ["HIERARCHY"]
-
-        def joint(b, depth):
-            self.bones.append(b)
-            pad = "  " * depth
-            if b == "Hips":
-                lines.extend(["ROOT Hips", "{", "  OFFSET 0 0 0", "  CHANNELS 6 Xposition "
-                              "Yposition Zposition Zrotation Yrotation Xrotation"])  # fmt: skip
-            else:
-                off = unity_to_fpdtw(frame[b][:3], frame[b][3:])[0]
-                lines.extend([f"{pad}JOINT {b}", pad + "{", f"{pad}  OFFSET "
-                              + " ".join(repr(float(v)) for v in off),
-                              f"{pad}  CHANNELS 3 Zrotation Yrotation Xrotation"])  # fmt: skip
-            for c in kids[b]:
-                joint(c, depth + 1)
-            if not kids[b]:
-                lines.extend([f"{pad}  End Site", pad + "  {", f"{pad}    OFFSET 0 0 0",
-                              pad + "  }"])  # fmt: skip
-            lines.append(pad + "}")
-
-        joint("Hips", 0)
-        self.header = lines + ["MOTION", f"Frame Time: {1.0 / rate!r}"]
+        up = [-1 if b == "Hips" else have.index(nearest_parent(b, have)) for b in have]
+        offsets = [unity_to_fpdtw(frame[b][:3], frame[b][3:])[0] for b in have]
+        self.header, order = bvh_header(have, up, offsets, rate)
+        self.bones = [have[j] for j in order]
 
     def row(self, frame: dict, root) -> np.ndarray:
         """The BVH channel values (n_channels,) float64 of a frame (every bone of the skeleton

@@ -64,7 +64,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from fpdtw import limits
-from fpdtw.app.sources import DatagramSource, send_paced, sender_name
+from fpdtw.app.sources import DatagramSource, bvh_header, send_paced, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rig import rest_rotations
 from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate
@@ -159,31 +159,9 @@ class MvnSkeleton:
     """
 
     def __init__(self, p, q, rate: float):
-        kids = {i: [c for c in range(len(SEGMENTS)) if _PARENT_INDEX[c] == i]
-                for i in range(len(SEGMENTS))}  # fmt: skip
-        self.order, lines = [], ["HIERARCHY"]
-
-        def joint(i, depth):
-            self.order.append(i)
-            pad = "  " * depth
-            if i == 0:
-                lines.extend(["ROOT Pelvis", "{", "  OFFSET 0 0 0", "  CHANNELS 6 Xposition "
-                              "Yposition Zposition Zrotation Yrotation Xrotation"])  # fmt: skip
-            else:
-                a = _PARENT_INDEX[i]
-                off = quat_rotate(quat_conj(q[a]), p[i] - p[a])
-                lines.extend([f"{pad}JOINT {SEGMENTS[i]}", pad + "{", f"{pad}  OFFSET "
-                              + " ".join(repr(float(v)) for v in off),
-                              f"{pad}  CHANNELS 3 Zrotation Yrotation Xrotation"])  # fmt: skip
-            for c in kids[i]:
-                joint(c, depth + 1)
-            if not kids[i]:
-                lines.extend([f"{pad}  End Site", pad + "  {", f"{pad}    OFFSET 0 0 0",
-                              pad + "  }"])  # fmt: skip
-            lines.append(pad + "}")
-
-        joint(0, 0)
-        self.header = lines + ["MOTION", f"Frame Time: {1.0 / rate!r}"]
+        a = np.maximum(_PARENT_INDEX, 0)  # the root's offset is not written
+        offsets = quat_rotate(quat_conj(q[a]), p - p[a])
+        self.header, self.order = bvh_header(SEGMENTS, _PARENT_INDEX, offsets, rate)
         self._terms = 4 * np.array(self.order)[:, None, None] + _TERM  # flat indices of q
         self._parents = np.maximum(_PARENT_INDEX[self.order], 0)
 

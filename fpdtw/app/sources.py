@@ -196,6 +196,39 @@ class DatagramSource:
             self.n += k
 
 
+def bvh_header(names, parents, offsets, rate: float) -> tuple[list, list]:
+    """The BVH header (through ``Frame Time``) of a skeleton a source built from its stream.
+
+    ``names`` (J,), ``parents`` (J,; -1 for the one root; children in index order),
+    ``offsets`` (J, 3; in the parent's axes; the root's is written 0 0 0); every joint turns
+    ``Zrotation Yrotation Xrotation`` and the root moves too. Returns the lines and the
+    joints' indices in written (depth-first) order, the order of a motion line's values."""
+    kids = [[] for _ in names]
+    for j, p in enumerate(parents):
+        if p >= 0:
+            kids[p].append(j)
+    lines, order = ["HIERARCHY"], []
+
+    def joint(j, pad):
+        order.append(j)
+        if parents[j] < 0:
+            lines.extend([f"ROOT {names[j]}", "{", "  OFFSET 0 0 0", "  CHANNELS 6 Xposition "
+                          "Yposition Zposition Zrotation Yrotation Xrotation"])  # fmt: skip
+        else:
+            lines.extend([f"{pad}JOINT {names[j]}", pad + "{", f"{pad}  OFFSET "
+                          + " ".join(repr(float(v)) for v in offsets[j]),
+                          f"{pad}  CHANNELS 3 Zrotation Yrotation Xrotation"])  # fmt: skip
+        for c in kids[j]:
+            joint(c, pad + "  ")
+        if not kids[j]:
+            lines.extend([f"{pad}  End Site", pad + "  {", f"{pad}    OFFSET 0 0 0",
+                          pad + "  }"])  # fmt: skip
+        lines.append(pad + "}")
+
+    joint(list(parents).index(-1), "")
+    return lines + ["MOTION", f"Frame Time: {1.0 / rate!r}"], order
+
+
 def send_paced(ticks, to: str, rate: float, *, fast=False) -> int:
     """Send ``ticks`` (``[[datagram bytes of frame k] per k]``) over one UDP socket to ``to``
     (``HOST:PORT``), frame ``k`` at ``k / rate`` s (``fast``: one every millisecond: UDP has
