@@ -15,7 +15,8 @@ import threading
 
 import numpy as np
 import pytest
-from pythonosc import osc_bundle_builder
+from pythonosc import osc_bundle_builder, osc_message_builder
+from pythonosc.osc_packet import OscPacket
 from reference.live_sources import (
     NoTransport,
     offline_map,
@@ -29,6 +30,7 @@ from fpdtw.app import cli
 from fpdtw.app.source_vmc import (
     JOINT_MAPS,
     MAX_DATAGRAM,
+    Layout,
     Source,
     VmcSkeleton,
     _message,
@@ -228,6 +230,36 @@ def test_an_unusable_datagram_is_counted_and_filled(cmu, spoil, kind, what):
     M, ref = session_map(perf.get(0).session), offline_map(FI, warp)
     assert M.size == 120 and abs(int(M[40]) - int(ref[40])) <= 2
     np.testing.assert_array_equal(M[:40], ref[:40])
+
+
+def _osc(data):
+    return [(m.message.address, m.message.params) for m in OscPacket(data).messages]
+
+
+def test_a_layout_reads_what_python_osc_reads(cmu):
+    """A Layout learnt from one bundle reads every other bundle of the take exactly as
+    python-osc does (timetags and numbers differ); a bundle whose strings, ints or size
+    differ is not its (None: python-osc reads it); a message, a nested bundle or another
+    type of argument has no layout."""
+    _, _, frames = _take(cmu)
+    first = _osc(frames[0])
+    assert ("/VMC/Ext/OK", [1]) in first  # an int, read as a constant
+    layout = Layout(frames[0], first)
+    assert all(layout.read(f) == _osc(f) for f in frames)
+    stamped = frames[5][:8] + b"\x01" * 8 + frames[5][16:]  # another timetag
+    assert layout.read(stamped) == _osc(frames[5])
+    assert layout.read(frames[5].replace(b"LeftToes\x00", b"LeftTail\x00")) is None
+    ok = _message("/VMC/Ext/OK", 1).dgram
+    assert layout.read(frames[5].replace(ok, _message("/VMC/Ext/OK", 2).dgram)) is None
+    assert layout.read(frames[5][:-4]) is None
+    inner = osc_bundle_builder.OscBundleBuilder(osc_bundle_builder.IMMEDIATELY)
+    inner.add_content(_message("/VMC/Ext/T", 2.0))
+    nested = _bundle(_message("/VMC/Ext/T", 1.0), inner.build())
+    boolean = osc_message_builder.OscMessageBuilder(address="/VMC/Ext/Blend/Val")
+    boolean.add_arg(True)
+    for data in (ok, nested, _bundle(boolean.build())):
+        with pytest.raises(ValueError):
+            Layout(data, _osc(data))
 
 
 def test_duplicated_and_reordered_datagrams(cmu):

@@ -5,9 +5,9 @@ With it, fpdtw reads the stream a capture system sends as that system sends it. 
 per system (:data:`SOURCES`) reads and frames its bytes and hands every frame of a performer
 to :class:`Performers`, the part every source shares:
 
-* one :class:`fpdtw.app.serve.Session` (its own live target and aligner) per performer, fed
-  the performer's frames as BVH motion lines stamped with their place in the stream
-  (frame ``k`` of a performer at ``k / rate``, so that a take without loss gives the map of
+* one :class:`fpdtw.app.serve.Session` (its own live target and aligner) per performer, fed the
+  performer's frames (their channel values, or BVH motion lines) stamped with their place in the
+  stream (frame ``k`` of a performer at ``k / rate``, so that a take without loss gives the map of
   ``fpdtw align INPUT TAKE`` and a dropped frame is a gap filled by ``--gap``);
 * every answer sent to ``--send`` with the performer's index and name;
 * the frames a source could not use, counted by kind (the first of each kind logged with its
@@ -16,8 +16,9 @@ to :class:`Performers`, the part every source shares:
 
 A source module has ``DEFAULT_PORT`` and a class ``Source(host, port, **options)`` with
 ``describe()``, ``async connect()`` (OSError when nobody answers) and ``async read(connection,
-performers, idle_timeout)`` returning how the take ended (or raising :class:`TakeEnd`). A source
-of UDP datagrams (VMC, Xsens) gets all but its datagrams' meaning from :class:`DatagramSource`.
+performers, idle_timeout)`` returning how the take ended (or raising :class:`TakeEnd`). A source of
+UDP datagrams (``axis+udp``, VMC, Xsens, Rokoko; NatNet builds on it) gets all but its datagrams'
+meaning from :class:`DatagramSource`.
 """
 
 from __future__ import annotations
