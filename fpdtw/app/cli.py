@@ -397,6 +397,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="also write INPUT retimed by the map (frame q = input frame M[q]; the "
         "TARGET's frame count and rate) as BVH",
     )
+    a.add_argument(
+        "--view",
+        metavar="VIEW.html",
+        help="also write a page that plays TARGET and the aligned INPUT with a time slider, "
+        "the map and each joint's cost (one HTML file; opens offline)",
+    )
 
     lv = sub.add_parser(
         "live",
@@ -432,6 +438,12 @@ def build_parser() -> argparse.ArgumentParser:
         type=positive_int,
         metavar="K",
         help="animation: draw every K-th target frame (default: about 20 per second)",
+    )
+    lv.add_argument(
+        "--view",
+        metavar="VIEW.html",
+        help="also write a page that plays TARGET and the aligned INPUT with a time slider, "
+        "the map and each joint's cost (one HTML file; opens offline)",
     )
 
     sv = sub.add_parser(
@@ -478,6 +490,15 @@ def build_parser() -> argparse.ArgumentParser:
         default="slerp",
         help="frames lost in a gap: interpolated by slerp between the frames around it "
         "(default) or the frame before it held",
+    )
+    sv.add_argument(
+        "--view",
+        nargs="?",
+        const="127.0.0.1:7448",
+        metavar="HOST:PORT",
+        help="serve a page (default 127.0.0.1:7448) that shows each performer and the "
+        "recorded take played by the map, the lag, the map and each joint's cost, as frames "
+        "arrive; its address is printed",
     )
     sv.add_argument(
         "--send",
@@ -958,6 +979,8 @@ def _cmd_align(args, log) -> int:
     _check_output(args.out, "--out")
     if args.export_bvh:
         _check_output(args.export_bvh, "--export-bvh")
+    if args.view:
+        _check_output(args.view, "--view")
     I, T, rigs = _prepare(args, log)
     FI, FT = _pair_features(I, T, rigs, args.method, log)
     seconds = None
@@ -987,7 +1010,19 @@ def _cmd_align(args, log) -> int:
             f"aligned input: {args.export_bvh} ({M.size} frames at {T.fps:g} Hz; frame q = "
             "input frame M[q])"
         )
+    if args.view:
+        _write_view(args, I, T, M, FI, FT)
     return 0
+
+
+def _write_view(args, I, T, M, FI, FT) -> None:
+    """``--view FILE.html``: the pair played by the map, in one page (fpdtw.app.view)."""
+    from fpdtw.app.view import export_html, take_payload
+
+    _stage(args, args.view)
+    title = f"{_describe(T)} and {_describe(I)}, {_algorithm_name(args)}"
+    payload = take_payload(I, T, M, FI, FT, title=title, name=Path(str(args.target)).name)
+    print(f"view: {export_html(payload, args.view)} (open it in a browser)")
 
 
 def _cmd_live(args, log) -> int:
@@ -996,6 +1031,8 @@ def _cmd_live(args, log) -> int:
 
     if args.out:
         _check_output(args.out, "--out")
+    if args.view:
+        _check_output(args.view, "--view")
     if args.animate:
         from fpdtw.app.animate import check_writer
 
@@ -1017,6 +1054,8 @@ def _cmd_live(args, log) -> int:
         _stage(args, args.animate)
         out = animate_alignment(I, T, report.M, args.animate, stride=args.stride)
         print(f"animation: {out}")
+    if args.view:
+        _write_view(args, I, T, report.M, FI, FT)
     return 0
 
 
@@ -1035,6 +1074,12 @@ def _cmd_serve(args, log) -> int:
     factory = _factory(args)
     warm_up(factory(FI), FI)  # compile / load the numba kernels before the first take
     host, port = parse_address(args.listen or DEFAULT_LISTEN)
+    view = None
+    if args.view:
+        from fpdtw.app.view import Viewer
+
+        _stage(args, args.view)
+        view = Viewer(I, FI, *parse_address(args.view), title=f"{name}, input {_describe(I)}")
     server = Server(
         FI,
         factory,
@@ -1047,6 +1092,7 @@ def _cmd_serve(args, log) -> int:
         idle_timeout=args.idle_timeout,
         send=args.send,
         log=log,
+        view=view,
     )
     server.warm_up(I)  # and the live target's kernels, on the input's own first frames
     if args.source:
@@ -1083,7 +1129,7 @@ def _serve_source(args, log, FI, factory, name, server) -> int:
             FI, factory, take=take, max_performers=args.max_clients, senders=senders,
             record=bool(args.out), log=log, position_joints=server.position_joints,
             gap=args.gap, joint_maps=[*server.joint_maps, *getattr(module, "JOINT_MAPS", ())],
-            axes=server.axes,
+            axes=server.axes, view=server.view,
         )  # fmt: skip
 
     log(f"serving {name} against input {server.I.n_frames} frames at {FI.fps:g} Hz; reading "
@@ -1091,7 +1137,7 @@ def _serve_source(args, log, FI, factory, name, server) -> int:
     args.about = (args.source,)  # a URL, not a path (_stage would fold its '//')
     try:
         return run_source(source, performers, once=args.once, out=args.out,
-                          idle_timeout=args.idle_timeout, log=log)  # fmt: skip
+                          idle_timeout=args.idle_timeout, log=log, view=server.view)  # fmt: skip
     finally:
         for s in senders:
             s.close()

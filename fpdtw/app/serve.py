@@ -133,7 +133,12 @@ class Session:
         With ``record``: every answer: index, input frame, server latency (seconds).
     latencies : array.array of float
         The server latency of every answer (seconds).
+    watch : callable or None
+        ``watch(row, index, m, latency, frame)`` after every answer (``--view``'s
+        :meth:`fpdtw.app.view.Slot.put`).
     """
+
+    watch = None
 
     def __init__(
         self,
@@ -245,6 +250,8 @@ class Session:
         self.latencies.append(latency)
         if self.record:
             self.answers.append((index, m, latency))
+        if self.watch is not None:  # --view: the answer stored for the page, nothing more
+            self.watch(row, index, m, latency, frame)
         return f"{index} {m} {m / self.I.fps:.6f} {round(latency * 1e6)}\n"
 
     @property
@@ -441,6 +448,8 @@ class Server:
         ``osc.udp://HOST:PORT`` or ``udp://HOST:PORT`` destinations of every answer.
     log : callable
         ``log(message)`` (default: print to stderr).
+    view : fpdtw.app.view.Viewer, optional
+        ``--view``: every take's session is watched by its page.
     """
 
     def __init__(
@@ -457,8 +466,10 @@ class Server:
         idle_timeout=IDLE_TIMEOUT_S,
         send=(),
         log=None,
+        view=None,
     ):
         self.I, self.make_aligner, self.name = I, make_aligner, name
+        self.view = view
         self.position_joints, self.gap = position_joints, gap
         self.joint_maps, self.axes = tuple(joint_maps), axes
         self.max_clients, self.idle_timeout = int(max_clients), float(idle_timeout)
@@ -542,6 +553,8 @@ class Server:
         end = "ended"
         try:
             session = self._session()
+            if self.view is not None:
+                session.watch = self.view.slot(take, peer, session)
             self.log(f"take {take} from {peer}")
             end = await self._serve(take, session, reader, writer)
         except asyncio.CancelledError:
@@ -638,7 +651,8 @@ def run_server(server: Server, host: str, port: int, *, out=None) -> int:
     """Run ``server`` on ``host:port`` until SIGINT or SIGTERM; return 0.
 
     Prints ``listening on HOST:PORT`` (the port bound, also when 0 was asked) to ``out``
-    (default stdout) once it accepts connections.
+    (default stdout) once it accepts connections; ``server.view`` (``--view``), if set,
+    serves its page in the same loop from before then.
     """
     out = sys.stdout if out is None else out
 
@@ -648,12 +662,16 @@ def run_server(server: Server, host: str, port: int, *, out=None) -> int:
         got = []
         for sig in (signal.SIGINT, signal.SIGTERM):
             loop.add_signal_handler(sig, lambda s=sig: (got.append(s), stop.set()))
+        if server.view is not None:
+            await server.view.start(out)
         bound = await server.start(host, port)
         print(f"listening on {_show(bound[0])}:{bound[1]}", file=out, flush=True)
         try:
             await stop.wait()
         finally:
             await server.stop()
+            if server.view is not None:
+                await server.view.stop()
             for sig in (signal.SIGINT, signal.SIGTERM):
                 loop.remove_signal_handler(sig)
         name = signal.Signals(got[0]).name if got else "stop"

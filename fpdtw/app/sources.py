@@ -308,8 +308,9 @@ class Performers:
     """
 
     def __init__(self, I, make_aligner, *, take=1, max_performers=8, senders=(), record=False,
-                 log=print, **session_options):  # fmt: skip
+                 log=print, view=None, **session_options):  # fmt: skip
         self.I, self.make_aligner, self.take = I, make_aligner, int(take)
+        self.view = view  # --view: fpdtw.app.view.Viewer, watching every performer
         self.max_performers, self.senders, self.record = int(max_performers), senders, record
         self.log, self.options = log, session_options
         self.by_key = {}
@@ -334,6 +335,8 @@ class Performers:
                 s.feed(f"{line}\n".encode("latin-1"), 0.0)
         except FpdtwError as e:
             raise TakeEnd(f"frame {self.frames} (avatar {key} {name!r}): {_reason(e)}") from None
+        if self.view is not None:
+            s.watch = self.view.slot(f"{self.take}.{key}", name, s)  # take 2's 0 is not 1's
         p = self.by_key[key] = Performer(key, name, s, fps, about)
         self.log(f"take {self.take}: performer {key} {name!r} ({about})")
         return p
@@ -435,7 +438,7 @@ def _reason(e: Exception) -> str:
 
 
 def run_source(source, make_performers, *, once=False, out=None, idle_timeout=10.0, log=None,
-               stdout=None) -> int:  # fmt: skip
+               stdout=None, view=None) -> int:  # fmt: skip
     """Read takes from ``source`` until SIGINT or SIGTERM (``once``: after the first take).
 
     Parameters
@@ -451,6 +454,8 @@ def run_source(source, make_performers, *, once=False, out=None, idle_timeout=10
         Seconds the source may stay silent within a take.
     log, stdout
         Where the log (default stderr) and ``connected to ...`` (default stdout) go.
+    view : fpdtw.app.view.Viewer, optional
+        ``--view``: its page served in the same loop (its address printed to ``stdout``).
 
     Returns
     -------
@@ -471,11 +476,15 @@ def run_source(source, make_performers, *, once=False, out=None, idle_timeout=10
         stop = asyncio.Event()
         for sig in (signal.SIGINT, signal.SIGTERM):
             loop.add_signal_handler(sig, stop.set)
+        if view is not None:
+            await view.start(stdout)
         try:
             return await _takes(loop, stop)
         finally:
             for sig in (signal.SIGINT, signal.SIGTERM):
                 loop.remove_signal_handler(sig)
+            if view is not None:
+                await view.stop()
 
     async def _takes(loop, stop):
         take, failed, waiting = 0, False, False
