@@ -19,7 +19,7 @@ PY     := $(VENV)/bin/python
 # changes.
 LOCKED ?= 1
 LOCK   := requirements.lock
-EXTRAS := paper,live,cluster,book,test,notebooks
+EXTRAS := paper,live,cluster,book,test,notebooks,view
 LOCK_PYTHON   := 3.11
 LOCK_PLATFORM := x86_64-unknown-linux-gnu
 UV_VERSION    := 0.13.9
