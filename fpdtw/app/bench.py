@@ -40,6 +40,7 @@ numbers are single-core numbers, as in the paper.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import time
@@ -808,13 +809,14 @@ SERVER_OPTIONS = ("-m", "c", "-w", "40")
 SERVER_STREAMS = (1, 8)
 
 
-def bench_server(pair=BENCH_PAIRS[0], streams=SERVER_STREAMS, timeout=300.0) -> dict:
+def bench_server(pair=BENCH_PAIRS[0], streams=SERVER_STREAMS, timeout=300.0, view=False) -> dict:
     """Loopback round trip of ``fpdtw serve`` (:data:`SERVER_OPTIONS`) against the pair's
     input, the pair's target played in real time by ``fpdtw stream --streams N``.
 
     Both run as commands in subprocesses (the paper layer imports no app); the server gets
     an untimed warm-up take (as fast as answered) first. Bounded: every command has
-    ``timeout`` seconds, the server is stopped with SIGTERM at the end.
+    ``timeout`` seconds, the server is stopped with SIGTERM at the end. ``view``: the server
+    runs with ``--view`` and its page is open in headless Chromium while the takes play.
 
     Returns
     -------
@@ -834,12 +836,20 @@ def bench_server(pair=BENCH_PAIRS[0], streams=SERVER_STREAMS, timeout=300.0) -> 
     ds, a, b = pair
     inp, take = fetch(ds, a, progress=False), fetch(ds, b, progress=False)
     cli = [sys.executable, "-m", "fpdtw.app.cli"]
+    extra = ["--view", "127.0.0.1:0"] if view else []
     server = subprocess.Popen(
-        [*cli, "serve", str(inp), *SERVER_OPTIONS, "--listen", "127.0.0.1:0"],
+        [*cli, "serve", str(inp), *SERVER_OPTIONS, "--listen", "127.0.0.1:0", *extra],
         stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
     )  # fmt: skip
     out = {"method": " ".join(SERVER_OPTIONS), "pair": f"{Path(a).stem} -> {Path(b).stem}"}
+    page = contextlib.nullcontext()
     try:
+        if view:
+            from fpdtw.app.browser import chromium
+
+            url = server.stdout.readline().split()[-1]
+            page = chromium()
+            page.__enter__().get(url)
         line = server.stdout.readline().split()
         if line[:2] != ["listening", "on"]:
             raise RuntimeError(f"fpdtw serve did not start: {line}")
@@ -858,6 +868,7 @@ def bench_server(pair=BENCH_PAIRS[0], streams=SERVER_STREAMS, timeout=300.0) -> 
                 rt, sv = rows[:, 6] / 1e3, rows[:, 5] / 1e3  # round_trip_us, server_us
                 out["streams"][int(n)] = round_trip_stats(rt, sv)
     finally:
+        page.__exit__(None, None, None)
         server.send_signal(signal.SIGTERM)
         try:
             server.wait(30)
@@ -866,6 +877,39 @@ def bench_server(pair=BENCH_PAIRS[0], streams=SERVER_STREAMS, timeout=300.0) -> 
             server.wait()
         server.stdout.close()
     return out
+
+
+def bench_view(pair=BENCH_PAIRS[0], rounds=3) -> list:
+    """:func:`bench_server` for one take, without ``--view`` and with its page open in
+    headless Chromium, alternately, ``rounds`` times each: rows ``round``, ``view``, and the
+    round trip and server percentiles (ms). Needs Chromium (:mod:`fpdtw.app.browser`)."""
+    rows = []
+    for r in _progress(range(rounds), "view"):
+        for view in (False, True):
+            got = bench_server(pair, streams=(1,), view=view)["streams"][1]
+            rows.append(dict(round=r + 1, view=view, **got))
+    return rows
+
+
+def view_table(rows) -> str:
+    """:func:`bench_view`'s rows as text lines (ms), with the medians over the rounds."""
+    lines = [
+        "fpdtw serve round trip, one take, without --view and with its page open (headless "
+        "Chromium); ms",
+        f"{'round':<7}{'view':<7}{'p50':>9}{'p99':>9}{'server p50':>12}{'server p99':>12}",
+    ]
+    for r in rows:
+        lines.append(f"{r['round']:<7}{'open' if r['view'] else 'off':<7}"
+                     f"{r['round_trip_p50_ms']:>9.3f}{r['round_trip_p99_ms']:>9.3f}"
+                     f"{r['server_p50_ms']:>12.3f}{r['server_p99_ms']:>12.3f}")  # fmt: skip
+    for view in (False, True):
+        got = [r for r in rows if r["view"] == view]
+        keys = ("round_trip_p50_ms", "round_trip_p99_ms", "server_p50_ms", "server_p99_ms")
+        med = {k: float(np.median([r[k] for r in got])) for k in keys}
+        lines.append(f"{'median':<7}{'open' if view else 'off':<7}"
+                     f"{med['round_trip_p50_ms']:>9.3f}{med['round_trip_p99_ms']:>9.3f}"
+                     f"{med['server_p50_ms']:>12.3f}{med['server_p99_ms']:>12.3f}")  # fmt: skip
+    return "\n".join(lines)
 
 
 def bench_sources(pair=BENCH_PAIRS[0], performers=(1, 4)) -> list:
@@ -959,6 +1003,11 @@ def run_benchmark(
     load_before = list(os.getloadavg()) if hasattr(os, "getloadavg") else None
     served = bench_server() if server else None
     sources = bench_sources() if server else None
+    viewed = None
+    if server:
+        from fpdtw.app.browser import missing_browser
+
+        viewed = None if missing_browser() else bench_view()
     if single_core and hasattr(os, "sched_setaffinity"):
         os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
     pairs = load_bench_pairs() if pairs is None else pairs
@@ -998,6 +1047,7 @@ def run_benchmark(
         "plain": plain_rows,
         "server": served,
         "sources": sources,
+        "view": viewed,
     }
     out = results_dir() / "bench.json" if out is None else out
     write_atomic(out, (json.dumps(report, indent=1) + "\n").encode())
@@ -1046,6 +1096,8 @@ def format_report(report) -> str:
         parts += ["", server_table(report["server"])]
     if report.get("sources"):
         parts += ["", sources_table(report["sources"])]
+    if report.get("view"):
+        parts += ["", view_table(report["view"])]
     return "\n".join(parts)
 
 
@@ -1079,6 +1131,7 @@ __all__ = [
     "bench_baselines",
     "bench_online",
     "bench_server",
+    "bench_view",
     "dtw_throughput",
     "explain_gap",
     "format_bench",
@@ -1097,5 +1150,6 @@ __all__ = [
     "run_benchmark",
     "server_table",
     "sources_table",
+    "view_table",
     "bench_sources",
 ]
