@@ -113,6 +113,38 @@ def test_a_screenshot_of_every_page_is_kept(smoke_report):
     assert len(smoke_report.screenshots) == len(smoke_report.pages) + 1
 
 
+@pytest.mark.parametrize("page", ["10_fig8_walk_pair", "20_align_a_live_performance"])
+def test_the_notebooks_embedded_view_plays_in_the_book(smoke_report, page):
+    """The viewer a notebook embeds (fpdtw.app.view.embed: the page inside an iframe, its
+    data inline) is drawn in the book: both skeletons, the lag, a slider that moves them."""
+    with browser.serve(SMOKE_BOOK) as base, browser.chromium() as b:
+        b.get(f"{base}notebooks/{page}.html")
+        frame = b.find_element("css selector", "div.fpdtw-view iframe")
+        b.execute_script("arguments[0].scrollIntoView()", frame)
+        b.switch_to.frame(frame)
+        stats = None
+        for _ in range(100):
+            stats = b.execute_script(
+                "return window.fpdtwView && window.fpdtwView.ready && window.fpdtwView.stats()"
+            )
+            if stats:
+                break
+            time.sleep(0.1)
+        assert stats, "the embedded view never drew"
+        (p,) = stats["performers"]
+        assert p["live"]["segments"] >= 20 and p["rec"]["segments"] >= 20, p
+        assert p["lag"].startswith("lag "), p
+        b.execute_script("window.fpdtwView.seek(100)")
+        time.sleep(0.2)
+        q = b.execute_script("return window.fpdtwView.stats()")["performers"][0]
+        assert q["n"] == 100 and q["live"]["bbox"] != p["live"]["bbox"], (p, q)
+        b.switch_to.default_content()
+        (SCREENSHOTS / "smoke-view").mkdir(parents=True, exist_ok=True)
+        b.save_screenshot(str(SCREENSHOTS / "smoke-view" / f"{page}.png"))
+        errors = browser.console_errors(b.get_log("browser"))
+        assert not errors, errors
+
+
 def _forbid_selenium_manager(monkeypatch):
     """Selenium Manager (which may download drivers and browsers) must never be asked."""
     from selenium.webdriver.common.selenium_manager import SeleniumManager
