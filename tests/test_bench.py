@@ -307,3 +307,17 @@ def test_peers_half_imports_no_fpdtw():
     path = str(ROOT / "fpdtw" / "app" / "bench_peers.py")
     r = subprocess.run([sys.executable, "-P", "-c", code, path], cwd="/", capture_output=True)
     assert r.returncode == 0, r.stderr.decode()
+
+
+def test_the_view_table_has_each_round_and_the_medians():
+    """bench_view's rows, hand-made: one line per round and setting, then the medians of
+    each setting over the rounds (ms)."""
+    rows = [dict(round=r, view=v, round_trip_p50_ms=p50, round_trip_p99_ms=p50 * 2,
+                 server_p50_ms=p50 / 2, server_p99_ms=p50, answers=10)
+            for r, v, p50 in ((1, False, 1.0), (1, True, 1.5), (2, False, 3.0), (2, True, 1.1),
+                              (3, False, 2.0), (3, True, 1.2))]  # fmt: skip
+    lines = bench.view_table(rows).splitlines()
+    assert len(lines) == 2 + 6 + 2
+    assert lines[2].split() == ["1", "off", "1.000", "2.000", "0.500", "1.000"]
+    assert lines[-2].split() == ["median", "off", "2.000", "4.000", "1.000", "2.000"]
+    assert lines[-1].split() == ["median", "open", "1.200", "2.400", "0.600", "1.200"]
