@@ -1,0 +1,150 @@
+"""Targets edited as performers edit a passage on stage, and followers' scores in ms (Q7).
+
+Open question Q7 (issue 34): an online method that only looks a window ahead cannot find a
+performer who skips a passage, repeats one or starts again. To measure it, the TARGET (the
+live take) is edited and the input left unchanged, as Q6 inserts a pause
+(:mod:`fpdtw.paper.pause`). Each edited frame IS a frame of the unedited target
+(:func:`source_frames`), so its true input frame is the unedited target's reference map at
+that frame (:func:`true_map`; the reference is offline DTW's map, as in the papers).
+
+The rule, written on 2026-11-26 before any aligner was run on an edited target (and so before
+any result under it was seen): a target of ``F`` frames at ``fps`` is edited at frame ``a``,
+drawn uniformly from the middle 60 % of the target, ``[ceil(0.2 (F - 1)), floor(0.8 (F -
+1))]``, by a generator seeded with :data:`EDIT_SEED`, the edit's name and the target's name
+(a take gets the same edit in every pair). With ``L = round(s * fps)``:
+
+* ``cut s`` (s = 0.5, 1, 2): frames ``a .. a + L - 1`` are left out (``a`` drawn so that at
+  least one frame follows the cut);
+* ``repeat``: frames ``a - L .. a - 1`` (s = 1; from frame 0 if ``a < L``) are played again
+  after frame ``a - 1``, before frame ``a``;
+* ``restart``: after frame ``a - 1`` the take starts again from frame 0 and plays to its end.
+
+Followers are scored as pymatchmaker scores score followers: the share of target frames whose
+input frame is within 50, 100, 300, 500, 1000 and 2000 ms of the true one
+(:func:`within_ms`), an error over 2 s counted as lost; and the time an aligner takes to come
+back after the edit (:func:`recovery_s`).
+
+Paper: neither (beyond the papers, Q7).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from fpdtw.errors import AlignmentError
+
+#: Seed of every edit (with the edit's and the target's names).
+EDIT_SEED = 2026
+#: The edits: name -> (kind, seconds).
+EDITS = {"cut 0.5 s": ("cut", 0.5), "cut 1 s": ("cut", 1.0), "cut 2 s": ("cut", 2.0),
+         "repeat 1 s": ("repeat", 1.0), "restart": ("restart", 0.0)}  # fmt: skip
+#: The edit point lies inside this fraction of the target (the middle 60 %).
+EDIT_SPAN = (0.2, 0.8)
+#: Tolerances of :func:`within_ms` (ms) and the error beyond which a frame is lost.
+MS_TOLERANCES = (50, 100, 300, 500, 1000, 2000)
+LOST_MS = 2000.0
+#: :func:`recovery_s`: back when the error stays within this many ms for this many seconds.
+RECOVERED_MS, RECOVERED_S = 300.0, 1.0
+
+
+def edit_seed(edit: str, name: str) -> int:
+    """The generator seed of an edit of a target: sha256 of ``"<EDIT_SEED>/<edit>/<name>"``."""
+    key = f"{EDIT_SEED}/{edit}/{name}".encode()
+    return int.from_bytes(hashlib.sha256(key).digest()[:8], "little")
+
+
+def source_frames(n_frames: int, fps: float, edit: str, seed: int) -> tuple[np.ndarray, int]:
+    """The frame of the unedited target each frame of the edited one is, and where the edit
+    starts in the edited target (the module's rule).
+
+    Returns
+    -------
+    idx : ndarray of int64, shape (F',)
+    at : int
+        The first edited frame whose source does not follow its predecessor's.
+    """
+    if edit not in EDITS:
+        raise AlignmentError(f"unknown edit {edit!r}; one of {', '.join(EDITS)}")
+    kind, seconds = EDITS[edit]
+    L = max(1, int(round(seconds * fps))) if kind != "restart" else 0
+    last = n_frames - 1
+    lo = int(math.ceil(EDIT_SPAN[0] * last))
+    hi = int(math.floor(EDIT_SPAN[1] * last)) - (L if kind == "cut" else 0)
+    if n_frames < 3 or not fps > 0 or hi < max(lo, 1):
+        raise AlignmentError(f"a target of {n_frames} frames at {fps} Hz is too short for {edit!r}")
+    a = int(np.random.default_rng(seed).integers(max(lo, 1), hi + 1))
+    F = np.arange(n_frames)
+    if kind == "cut":
+        idx = np.concatenate([F[:a], F[a + L :]])
+    elif kind == "repeat":
+        idx = np.concatenate([F[:a], F[max(0, a - L) : a], F[a:]])
+    else:
+        idx = np.concatenate([F[:a], F])
+    return idx.astype(np.int64), a
+
+
+def edit_target(T, edit: str, seed: int | None = None):
+    """The target ``T`` (MotionFeatures) edited: ``(edited, idx, at)`` (:func:`source_frames`
+    with ``seed``, default :func:`edit_seed` of the edit and ``T.name``); the edited target
+    is named ``T.name + "+" + edit``."""
+    idx, at = source_frames(T.n_frames, T.fps, edit, edit_seed(edit, T.name) if seed is None
+                            else seed)  # fmt: skip
+    take = lambda x: None if x is None else np.ascontiguousarray(np.asarray(x)[idx])  # noqa: E731
+    edited = replace(T, quats=take(T.quats), euler=take(T.euler), positions=take(T.positions),
+                     name=f"{T.name}+{edit}")  # fmt: skip
+    return edited, idx, at
+
+
+def true_map(P, idx) -> np.ndarray:
+    """The true map of an edited target: the unedited target's reference map ``P`` (input
+    frame per target frame) at each edited frame's source, ``P[idx]``."""
+    return np.asarray(P, dtype=np.int64)[np.asarray(idx, dtype=np.int64)]
+
+
+def errors_ms(M, P, fps: float) -> np.ndarray:
+    """``|M - P|`` in ms of the input's time (``fps``: the input's rate), per target frame."""
+    M, P = np.asarray(M, dtype=float), np.asarray(P, dtype=float)
+    if M.shape != P.shape:
+        raise ValueError(f"maps of {M.shape} and {P.shape} frames")
+    return np.abs(M - P) * (1000.0 / fps)
+
+
+def within_ms(M, P, fps: float, tolerances=MS_TOLERANCES) -> dict:
+    """The share of target frames whose input frame is within each tolerance (ms) of the
+    truth, and ``"lost"``: the share more than :data:`LOST_MS` away.
+
+    Parameters
+    ----------
+    M, P : array_like of int, shape (n,)
+        The map scored and the true map (input frame per target frame).
+    fps : float
+        The input's frame rate.
+
+    Returns
+    -------
+    dict
+        ``{tolerance_ms: share, ..., "lost": share}``, shares in [0, 1].
+    """
+    e = errors_ms(M, P, fps)
+    out = {int(t): float(np.mean(e <= t)) for t in tolerances}
+    out["lost"] = float(np.mean(e > LOST_MS))
+    return out
+
+
+def recovery_s(M, P, fps_input: float, fps_target: float, at: int) -> float:
+    """Seconds from target frame ``at`` (the edit) until the map is back: the first frame
+    from which its error stays within :data:`RECOVERED_MS` for :data:`RECOVERED_S` (or to the
+    end of the take, if shorter); ``inf`` when it never is."""
+    ok = errors_ms(M, P, fps_input)[at:] <= RECOVERED_MS
+    need = max(1, int(round(RECOVERED_S * fps_target)))
+    n = ok.size
+    # run[k]: consecutive good frames from k on
+    run = np.zeros(n + 1, dtype=np.int64)
+    for k in range(n - 1, -1, -1):
+        run[k] = run[k + 1] + 1 if ok[k] else 0
+    back = np.flatnonzero((run[:n] >= need) | ((run[:n] > 0) & (run[:n] == n - np.arange(n))))
+    return float(back[0] / fps_target) if back.size else math.inf

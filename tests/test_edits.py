@@ -1,0 +1,86 @@
+"""Edited targets and followers' scores in ms (fpdtw.paper.edits, open question Q7)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from reference.synthetic import synthetic_pair
+
+from fpdtw.errors import AlignmentError
+from fpdtw.paper.edits import (
+    EDITS,
+    edit_target,
+    errors_ms,
+    recovery_s,
+    source_frames,
+    true_map,
+    within_ms,
+)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2, 3])
+def test_each_edit_by_hand(seed):
+    """100 frames at 10 Hz: the edit point in [20, 79] (a cut leaves a frame after it); a
+    1 s cut drops 10 frames, a repeat plays the 10 before the point again, a restart plays
+    all 100 again after the point; every other frame follows its predecessor."""
+    F = 100
+    for edit, (kind, s) in EDITS.items():
+        idx, a = source_frames(F, 10.0, edit, seed)
+        L = round(10 * s)
+        assert 20 <= a <= (79 - L if kind == "cut" else 79), (edit, a)
+        np.testing.assert_array_equal(idx[:a], np.arange(a))
+        if kind == "cut":
+            assert idx.size == F - L and idx[a] == a + L
+            np.testing.assert_array_equal(idx[a:], np.arange(a + L, F))
+        elif kind == "repeat":
+            assert idx.size == F + L
+            np.testing.assert_array_equal(idx[a:], np.r_[np.arange(a - L, a), np.arange(a, F)])
+        else:
+            assert idx.size == F + a and idx[a] == 0
+            np.testing.assert_array_equal(idx[a:], np.arange(F))
+        steps = np.diff(idx)
+        assert set(np.flatnonzero(steps != 1) + 1) == {a}, edit
+
+
+def test_an_edit_is_the_same_for_a_take_in_every_pair_and_its_seed_decides_it():
+    _, T, _ = synthetic_pair(n_frames=300, seed=1)
+    a1 = edit_target(T, "cut 1 s")
+    a2 = edit_target(T, "cut 1 s")
+    np.testing.assert_array_equal(a1[1], a2[1])
+    edited, idx, at = a1
+    assert edited.name == f"{T.name}+cut 1 s" and edited.n_frames == idx.size
+    np.testing.assert_array_equal(edited.quats, T.quats[idx])
+    np.testing.assert_array_equal(edited.euler, T.euler[idx])
+    other = edit_target(T, "cut 1 s", seed=12345)
+    assert other[2] != at or not np.array_equal(other[1], idx)
+    with pytest.raises(AlignmentError, match="unknown edit"):
+        source_frames(100, 10.0, "skip", 0)
+    with pytest.raises(AlignmentError, match="too short"):
+        source_frames(12, 10.0, "cut 2 s", 0)
+
+
+def test_scores_in_ms_by_hand():
+    """Input at 100 Hz: errors 0, 10, 20, 100 and 2500 ms."""
+    P = np.zeros(5, dtype=int)
+    M = np.array([0, 1, 2, 10, 250])
+    np.testing.assert_allclose(errors_ms(M, P, 100.0), [0, 10, 20, 100, 2500])
+    got = within_ms(M, P, 100.0)
+    assert got == {50: 0.6, 100: 0.8, 300: 0.8, 500: 0.8, 1000: 0.8, 2000: 0.8, "lost": 0.2}
+    np.testing.assert_array_equal(true_map([5, 6, 7, 8], [0, 1, 1, 3, 0]), [5, 6, 6, 8, 5])
+
+
+def test_recovery_by_hand():
+    """Target and input at 10 Hz, edit at frame 2; back when the error stays within 300 ms
+    for 1 s (10 frames), or to the end."""
+    P = np.zeros(30, dtype=int)
+    M = np.zeros(30, dtype=int)
+    M[2:7] = 50  # 5 s off for frames 2-6, then right to the end
+    assert recovery_s(M, P, 10.0, 10.0, 2) == pytest.approx(0.5)
+    M[12] = 50  # a blip: the 5 good frames 7-11 are not enough, 13-29 are
+    assert recovery_s(M, P, 10.0, 10.0, 2) == pytest.approx(1.1)
+    M[:] = 50
+    assert recovery_s(M, P, 10.0, 10.0, 2) == math.inf
+    M[25:] = 0  # good to the end (5 frames, shorter than 1 s): back at frame 25
+    assert recovery_s(M, P, 10.0, 10.0, 2) == pytest.approx(2.3)
