@@ -183,6 +183,38 @@ def path_to_map(path, n: int) -> np.ndarray:
     return M
 
 
+def relocate_step(q, Iq, G, lam: float):
+    """One target frame of the relocating search (beyond the papers, Q7):
+    ``G_n[j] = c(T_n, I_j) + lam min(G_{n-1}[j], G_{n-1}[j-1], G_{n-1}[j-2])``.
+
+    Parameters
+    ----------
+    q : ndarray of float, shape (k, 4)
+        The target frame's rotations.
+    Iq : ndarray of float, shape (N, k, 4)
+        The input's.
+    G : ndarray of float, shape (N,)
+        The previous row (zeros before the first frame).
+    lam : float
+        The forgetting factor.
+
+    Returns
+    -------
+    G : ndarray of float64, shape (N,)
+        The new row.
+    j : int
+        ``argmin G`` (the first of equal ones).
+
+    Paper: neither (:mod:`fpdtw.online.relocate`); eq. 1 of FP-DTW.
+    """
+    c = geo_distance(np.asarray(q, dtype=float)[None], np.asarray(Iq, dtype=float))
+    G = np.asarray(G, dtype=float)
+    prev = np.minimum(G, np.r_[np.inf, G[:-1]])
+    prev = np.minimum(prev, np.r_[np.inf, np.inf, G[:-2]])[: G.size]
+    G = c + lam * prev
+    return G, int(np.argmin(G))
+
+
 def oe_dtw_end_points(C) -> np.ndarray:
     """Open-end DTW's end point after each target frame: ``e_q = argmin_i D[i, q]``.
 

@@ -4,8 +4,9 @@ Names follow the papers' figures: ``"DTW"``, ``"UTW"``, ``"OE-DTW"``, ``"OPW"``,
 c60"`` (Dixon's search width), ``"Ma"``, ``"Mb w40"``, ``"Mc w40"``; the suffix ``" + Type
 V"``; non-default options in brackets by their labels in the class's ``options`` table
 (``"Mc w40 (literal window) + Type V"``, ``"OLTW (weighted joints)"``); beyond the papers
-``"Mc auto"`` and ``"OPW adaptive"``, and for any online name the option ``"derivative"``
-(``"OPW (derivative)"``). :func:`resolve` turns a name into an :class:`Algorithm`,
+``"Mc auto"`` and ``"OPW adaptive"``, and for any online name the options ``"derivative"``
+(``"OPW (derivative)"``) and ``"relocate"`` (``"Mc w40 (relocate)"``,
+:mod:`fpdtw.online.relocate`). :func:`resolve` turns a name into an :class:`Algorithm`,
 :func:`make_online` builds its aligner, :func:`align` runs a pair.
 
 Adding an aligner: its class and one :class:`Entry` in :data:`ENTRIES` (docs/layout.md).
@@ -28,11 +29,13 @@ from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.online import MethodC
 from fpdtw.online.base import run_online
+from fpdtw.online.relocate import Relocating
 
 #: Suffix of the Type V constraint in names.
 TYPE_V_SUFFIX = " + Type V"
-#: The general option (any online entry): run on derivative motions (:mod:`fpdtw.derivative`).
-DERIVATIVE = "derivative"
+#: The general options (any online entry): run on derivative motions (:mod:`fpdtw.derivative`);
+#: search the whole input beside the method and jump (:mod:`fpdtw.online.relocate`).
+DERIVATIVE, RELOCATE = "derivative", "relocate"
 
 
 def _dtw(I: MotionFeatures, T: MotionFeatures):
@@ -174,8 +177,9 @@ _PATTERN = re.compile(
 @dataclass(frozen=True)
 class Algorithm:
     """A resolved name (as given): its entry, ``value`` (the window ``w`` or band width
-    ``c``), Type V, non-default ``options`` (``{"window": "literal"}``) and whether it runs
-    on derivative motions (:class:`fpdtw.derivative.DerivativeAligner`)."""
+    ``c``), Type V, non-default ``options`` (``{"window": "literal"}``), whether it runs
+    on derivative motions (:class:`fpdtw.derivative.DerivativeAligner`) and whether it
+    relocates (:class:`fpdtw.online.relocate.Relocating`)."""
 
     name: str
     entry: Entry
@@ -183,6 +187,7 @@ class Algorithm:
     typev: bool
     options: dict
     derivative: bool = False
+    relocate: bool = False
 
     @property
     def family(self) -> str:
@@ -207,10 +212,16 @@ class Algorithm:
         if not self.online:
             raise AlignmentError(f"{self.name!r} is offline: it has no streaming aligner")
         kw = dict(value=self.value, typev=self.typev, options=self.options)
-        if self.derivative:
-            inner = self.entry.build(derivative_features(I), cache=None, record=record, **kw)
-            return DerivativeAligner(I, inner)
-        return self.entry.build(I, cache=cache, record=record, **kw)
+
+        def build(J, cache=None):
+            if self.derivative:
+                inner = self.entry.build(derivative_features(J), cache=None, record=record, **kw)
+                return DerivativeAligner(J, inner)
+            return self.entry.build(J, cache=cache, record=record, **kw)
+
+        if self.relocate:
+            return Relocating(I, build, name=self.name)
+        return build(I, cache)
 
     def run(self, I: MotionFeatures, T: MotionFeatures):
         """``(M, seconds)``: the map of the pair and, online, the time of each step."""
@@ -221,19 +232,21 @@ class Algorithm:
 
 
 def _general(entry: Entry, text: str, name: str) -> tuple:
-    """``(derivative, rest)``: the general option taken out of a bracket's labels."""
+    """``(derivative, relocate, rest)``: the general options taken out of a bracket's labels."""
     labels = [x.strip() for x in text.split(",")]
-    derivative = DERIVATIVE in labels
-    if derivative:
-        if labels.count(DERIVATIVE) > 1:
-            raise AlignmentError(f"{name!r}: option {DERIVATIVE!r} given twice")
+    found = []
+    for option in (DERIVATIVE, RELOCATE):
+        found.append(option in labels)
+        if not found[-1]:
+            continue
+        if labels.count(option) > 1:
+            raise AlignmentError(f"{name!r}: option {option!r} given twice")
         if not entry.online:
             raise AlignmentError(
-                f"{name!r}: {entry.key} is offline; option {DERIVATIVE!r} wraps online "
-                "aligners only"
+                f"{name!r}: {entry.key} is offline; option {option!r} wraps online aligners only"
             )
-        labels.remove(DERIVATIVE)
-    return derivative, ", ".join(labels)
+        labels.remove(option)
+    return found[0], found[1], ", ".join(labels)
 
 
 def _options(entry: Entry, text: str, name: str) -> dict:
@@ -244,7 +257,8 @@ def _options(entry: Entry, text: str, name: str) -> dict:
     if not (entry.window_method or own):
         if entry.online:
             raise AlignmentError(
-                f"{name!r}: unknown option {text!r}; {entry.key} has no options but {DERIVATIVE!r}"
+                f"{name!r}: unknown option {text!r}; {entry.key} has no options but "
+                f"{DERIVATIVE!r} and {RELOCATE!r}"
             )
         raise AlignmentError(f"{name!r}: {entry.key} has no options")
     table = cls.options
@@ -252,7 +266,7 @@ def _options(entry: Entry, text: str, name: str) -> dict:
     out = {}
     for label in (x.strip() for x in text.split(",")):
         if label not in by_label:
-            known = ", ".join(repr(x) for x in (*by_label, DERIVATIVE))
+            known = ", ".join(repr(x) for x in (*by_label, DERIVATIVE, RELOCATE))
             raise AlignmentError(f"{name!r}: unknown option {label!r} (known: {known})")
         key, value = by_label[label]
         if key in out:
@@ -287,9 +301,19 @@ def resolve(name: str) -> Algorithm:
         raise AlignmentError(f"{name!r}: {entry.key} needs a window, e.g. '{entry.key} w40'")
     if m.group("tv") and not entry.typev:
         raise AlignmentError(f"{name!r}: {entry.key} does not take the Type V constraint")
-    derivative, opts = _general(entry, m.group("opts"), name) if m.group("opts") else (False, "")
+    general = _general(entry, m.group("opts"), name) if m.group("opts") else (False, False, "")
+    derivative, relocate, opts = general
     options = _options(entry, opts, name) if opts else {}
-    return Algorithm(name, entry, value, bool(m.group("tv")), options, derivative)
+    return Algorithm(name, entry, value, bool(m.group("tv")), options, derivative, relocate)
+
+
+def with_option(name: str, label: str) -> str:
+    """``name`` with one more bracketed option: ``with_option("Mc w40 + Type V", "relocate")``
+    -> ``"Mc w40 (relocate) + Type V"``; ``"Mc w40 (literal window)"`` -> ``"Mc w40 (literal
+    window, relocate)"``."""
+    tv = TYPE_V_SUFFIX if name.endswith(TYPE_V_SUFFIX) else ""
+    base = name[: len(name) - len(tv)]
+    return f"{base[:-1]}, {label}){tv}" if base.endswith(")") else f"{base} ({label}){tv}"
 
 
 def by_cli(method: str) -> Entry:

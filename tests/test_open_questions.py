@@ -792,7 +792,7 @@ def test_the_derivative_option_in_names():
         registry.resolve("Mc w40 (derivatives)")
     with pytest.raises(AlignmentError, match="unknown option 'band 1 s'; OPW has no options but"):
         registry.resolve("OPW (derivative, band 1 s)")
-    with pytest.raises(AlignmentError, match="'derivative'\\)$"):  # named among the known
+    with pytest.raises(AlignmentError, match="'derivative', 'relocate'\\)$"):  # named, known
         registry.resolve("Mc w40 (derivatives)")
     with pytest.raises(AlignmentError, match="UTW has no options"):
         registry.resolve("UTW (literal window)")

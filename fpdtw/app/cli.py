@@ -103,7 +103,9 @@ map CSV (--out), one row per target frame, columns:
   input_frame    M[q], the input frame shown at target frame q
   input_time_s   M[q] / input frame rate
   step_us        microseconds the online method took for this frame (empty for dtw, utw;
-                 measured after an untimed warm-up over the first frames)"""
+                 measured after an untimed warm-up over the first frames)
+input_frame never decreases, except with --relocate: a jump back (a repeat, a restart) makes
+it smaller than the row before."""
 
 #: ``fpdtw serve --listen`` by default: this machine only.
 DEFAULT_LISTEN = "127.0.0.1:7447"
@@ -117,6 +119,8 @@ protocol (one TCP connection = one take, text lines):
                       <frame index> <input frame> <input time s> <latency us>
                     frame index: the target frame on the INPUT's frame rate (the row of
                     'fpdtw align INPUT TAKE's map); input frame: the INPUT frame to show
+                    (with --relocate it may go back: a jump to a repeat or a restart;
+                    --send carries it as it is)
                     error: line <n>, frame <k>: <what>  (then the connection is closed)
 
 dropped frames and rates: a gap of more than 1.5 frame periods between two frames is a
@@ -329,6 +333,13 @@ def _add_method_arguments(p, *, live: bool = True):
         "--constraint",
         choices=["typeV"],
         help="restrict methods a, b, c to the paper's Type V local constraint",
+    )
+    p.add_argument(
+        "--relocate",
+        action="store_true",
+        help="online methods: search the whole input beside the method and jump there when "
+        "the performer skips, repeats or restarts (beyond the papers; the map may then go "
+        "backwards)",
     )
 
 
@@ -684,6 +695,8 @@ def _check_options(args):
     if args.command in ("live", "serve") and m in OFFLINE:
         raise UsageError(f"{m!r} is offline (it needs the whole target); {args.command} needs "
                          "an online method: oe-dtw, a, b, c, opw, oltw")  # fmt: skip
+    if getattr(args, "relocate", False) and m in OFFLINE:
+        raise UsageError(f"--relocate: {m!r} is offline; --relocate wraps an online method")
     if args.command == "live" and args.stride is not None and not args.animate:
         raise UsageError("--stride applies only with --animate")
     if args.command == "serve":
@@ -954,8 +967,12 @@ def _algorithm_name(args) -> str:
     entry = registry.by_cli(args.method)
     value = args.window or WINDOW_DEFAULTS.get(args.method)
     if entry.typev:
-        return registry.name(entry.key, value, bool(args.constraint))
-    return registry.name(entry.key, value if entry.param else None)
+        name = registry.name(entry.key, value, bool(args.constraint))
+    else:
+        name = registry.name(entry.key, value if entry.param else None)
+    if getattr(args, "relocate", False):  # online only (checked with the other options)
+        name = registry.with_option(name, registry.RELOCATE)
+    return name
 
 
 def _factory(args):
