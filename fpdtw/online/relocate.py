@@ -9,7 +9,8 @@ the search is a subsequence DTW over the whole input, streamed with one row of s
 SPRING (Sakurai et al. 2007) streams it, with old terms forgotten instead of a star-padded
 start.
 
-**The rule** (fixed here on 2026-11-26 before it was run on any pair). Beside the wrapped
+**The rule** (fixed here on 2026-11-26 before it was run on any edited target or any pair
+of the open run; docs/history.md says what its unit tests had run by then). Beside the wrapped
 aligner (``inner``), each target frame ``T_n`` updates, for every input frame ``j``,
 
     G_n[j] = c(T_n, I_j) + lam * min(G_{n-1}[j], G_{n-1}[j-1], G_{n-1}[j-2]),   G_{-1} = 0,
