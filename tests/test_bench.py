@@ -321,3 +321,14 @@ def test_the_view_table_has_each_round_and_the_medians():
     assert lines[2].split() == ["1", "off", "1.000", "2.000", "0.500", "1.000"]
     assert lines[-2].split() == ["median", "off", "2.000", "4.000", "1.000", "2.000"]
     assert lines[-1].split() == ["median", "open", "1.200", "2.400", "0.600", "1.200"]
+
+
+def test_bench_relocate_times_both_and_the_search_on_the_longest_take():
+    I, T, _ = synthetic_pair(300, seed=2)
+    got = bench.bench_relocate([(I, T)], names=("Mc w40",))
+    (row,) = got["rows"]
+    assert row["name"] == "Mc w40" and 0 < row["median_us"] <= row["p95_us"]
+    assert 0 < row["relocate_median_us"] <= row["relocate_p95_us"]
+    assert got["search"]["frames"] == 1202 and got["budget_us"] == pytest.approx(8333.33, 1e-5)
+    lines = bench.relocate_table(got).splitlines()
+    assert lines[2].split()[0] == "Mc" and "(1202 frames)" in lines[3]

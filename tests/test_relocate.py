@@ -9,12 +9,14 @@ from reference.synthetic import synthetic_pair
 
 from fpdtw import plain, registry
 from fpdtw.app import cli
+from fpdtw.dtw import dtw_pair
 from fpdtw.errors import AlignmentError
 from fpdtw.io import load_motion
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.motion.joints import OPW_JOINTS
 from fpdtw.online.base import run_online
 from fpdtw.online.relocate import Relocating, _search_step, input_from
+from fpdtw.paper.edits import edit_target, recovery_s, true_map, within_ms
 from fpdtw.registry import align, resolve, with_option
 
 
@@ -112,3 +114,28 @@ def test_the_command_line_relocates(cmu_retimed, tmp_path, capsys):
     assert cli.main(["align", str(path), str(warp), "-m", "dtw", "--relocate",
                      "--out", str(out)]) == 2  # fmt: skip
     assert "--relocate: 'dtw' is offline" in capsys.readouterr().err
+
+
+@pytest.fixture(scope="module")
+def walks(data_path):
+    """Fig. 8's pair (the authors' Walk_01 -> Walk_02, 120 Hz) and offline DTW's map."""
+    I, T = (MotionFeatures.from_motion(load_motion(data_path(
+        f"mocap_single_person_actions/MoCapData/Walk_0{k}.fbx"))) for k in (1, 2))  # fmt: skip
+    return I, T, dtw_pair(I, T).map
+
+
+def test_a_restart_is_found_again_and_the_unedited_take_left_alone(walks):
+    """The live take restarted from the top (Q7's edit): Mc w40 relocating jumps back and is
+    within 300 ms of the true map on more of the take, sooner; on the unedited take it gives
+    Mc w40's map exactly."""
+    I, T, P = walks
+    E, idx, at = edit_target(T, "restart")
+    truth = true_map(P, idx)
+    M0, _ = align("Mc w40", I, E)
+    aligner = resolve("Mc w40 (relocate)").make(I)
+    M1, _ = run_online(aligner, E)
+    assert any(after < before for n, before, after in aligner.jumps if n >= at)  # back
+    assert np.any(np.diff(M1) < 0)  # the map is not monotone
+    assert within_ms(M1, truth, I.fps)[300] > within_ms(M0, truth, I.fps)[300] + 0.2
+    assert recovery_s(M1, truth, I.fps, E.fps, at) < recovery_s(M0, truth, I.fps, E.fps, at)
+    np.testing.assert_array_equal(align("Mc w40 (relocate)", I, T)[0], align("Mc w40", I, T)[0])

@@ -879,6 +879,69 @@ def bench_server(pair=BENCH_PAIRS[0], streams=SERVER_STREAMS, timeout=300.0, vie
     return out
 
 
+#: The online methods timed with and without ``(relocate)`` (:func:`bench_relocate`).
+RELOCATE_NAMES = ("Ma + Type V", "Mc w40", "OPW", "OLTW")
+#: The authors' longest take we have (frames at 120 Hz): the input the search is timed on.
+LONGEST_TAKE = ("authors_fbx", "MoCapData/Two_Handed_Pickup_03.fbx")
+
+
+def bench_relocate(pairs, names=RELOCATE_NAMES) -> dict:
+    """Per-frame time of each online method with and without ``(relocate)`` on ``pairs``
+    (:func:`bench_online`), and of the relocating search alone (one
+    :func:`fpdtw.online.relocate._search_step`) against :data:`LONGEST_TAKE` as the input.
+
+    Returns
+    -------
+    dict
+        ``rows``: per name, ``median_us`` without and ``relocate_median_us`` with, and
+        ``p95_us`` of both; ``search``: ``frames`` (the input's), ``median_us``, ``p95_us``;
+        ``budget_us`` (one frame at 120 Hz).
+    """
+    from fpdtw.motion.features import MotionFeatures
+    from fpdtw.online.relocate import _search_step
+    from fpdtw.paper.catalog import load
+    from fpdtw.registry import with_option
+
+    pairs = list(pairs)
+    rows = []
+    for name in names:
+        plain_row, reloc_row = bench_online(pairs, [name, with_option(name, "relocate")])
+        rows.append(dict(name=name, median_us=plain_row["median_s"] * 1e6,
+                         p95_us=plain_row["p95_s"] * 1e6,
+                         relocate_median_us=reloc_row["median_s"] * 1e6,
+                         relocate_p95_us=reloc_row["p95_s"] * 1e6))  # fmt: skip
+    I = MotionFeatures.from_motion(load(*LONGEST_TAKE))
+    Iq, G = np.ascontiguousarray(I.quats), np.zeros(I.n_frames)
+    times = []
+    for n in range(I.n_frames + 200):  # the take against itself; the first 200 untimed
+        q = np.ascontiguousarray(I.quats[n % I.n_frames])
+        t0 = time.perf_counter()
+        _search_step(q, Iq, G, 0.99)
+        if n >= 200:
+            times.append(time.perf_counter() - t0)
+    t = np.array(times) * 1e6
+    search = dict(frames=I.n_frames, median_us=float(np.median(t)),
+                  p95_us=float(np.percentile(t, 95)))  # fmt: skip
+    return dict(rows=rows, search=search, budget_us=1e6 / 120)
+
+
+def relocate_table(result) -> str:
+    """:func:`bench_relocate`'s result as text lines (microseconds per frame)."""
+    lines = [
+        "Relocating search (fpdtw.online.relocate), per frame, us: each method without and "
+        "with (relocate)",
+        f"{'method':<14}{'median':>9}{'p95':>9}{'relocate median':>17}{'relocate p95':>14}",
+    ]
+    for r in result["rows"]:
+        lines.append(f"{r['name']:<14}{r['median_us']:>9.1f}{r['p95_us']:>9.1f}"
+                     f"{r['relocate_median_us']:>17.1f}{r['relocate_p95_us']:>14.1f}")  # fmt: skip
+    s = result["search"]
+    lines.append(f"the search alone against the authors' longest take ({s['frames']} frames): "
+                 f"median {s['median_us']:.1f} us, p95 {s['p95_us']:.1f} us; budget at 120 Hz "
+                 f"{result['budget_us']:.0f} us")  # fmt: skip
+    return "\n".join(lines)
+
+
 def bench_view(pair=BENCH_PAIRS[0], rounds=3) -> list:
     """:func:`bench_server` for one take, without ``--view`` and with its page open in
     headless Chromium, alternately, ``rounds`` times each: rows ``round``, ``view``, and the
@@ -1016,6 +1079,7 @@ def run_benchmark(
 
     online = bench_online(pairs, limits=limits) + bench_baselines(pairs, limits=limits)
     plain_rows = plain_step_times(pairs) if plain else []
+    relocating = bench_relocate(pairs)
     I_oe, T_oe = oe_pair(pairs)
     oe = bench_online([(I_oe, T_oe)], ["OE-DTW"], limits=limits)
     # offline DTW on the largest real cost matrix
@@ -1048,6 +1112,7 @@ def run_benchmark(
         "server": served,
         "sources": sources,
         "view": viewed,
+        "relocate": relocating,
     }
     out = results_dir() / "bench.json" if out is None else out
     write_atomic(out, (json.dumps(report, indent=1) + "\n").encode())
@@ -1098,6 +1163,8 @@ def format_report(report) -> str:
         parts += ["", sources_table(report["sources"])]
     if report.get("view"):
         parts += ["", view_table(report["view"])]
+    if report.get("relocate"):
+        parts += ["", relocate_table(report["relocate"])]
     return "\n".join(parts)
 
 
@@ -1131,6 +1198,7 @@ __all__ = [
     "bench_baselines",
     "bench_online",
     "bench_server",
+    "bench_relocate",
     "bench_view",
     "dtw_throughput",
     "explain_gap",
@@ -1150,6 +1218,7 @@ __all__ = [
     "run_benchmark",
     "server_table",
     "sources_table",
+    "relocate_table",
     "view_table",
     "bench_sources",
 ]
