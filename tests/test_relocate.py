@@ -139,3 +139,20 @@ def test_a_restart_is_found_again_and_the_unedited_take_left_alone(walks):
     assert within_ms(M1, truth, I.fps)[300] > within_ms(M0, truth, I.fps)[300] + 0.2
     assert recovery_s(M1, truth, I.fps, E.fps, at) < recovery_s(M0, truth, I.fps, E.fps, at)
     np.testing.assert_array_equal(align("Mc w40 (relocate)", I, T)[0], align("Mc w40", I, T)[0])
+
+
+def test_fpdtw_live_scores_its_map_in_ms(cmu_retimed, capsys):
+    """``fpdtw live`` prints the share of frames within each tolerance of offline DTW's map,
+    the numbers of fpdtw.paper.edits.within_ms."""
+    path, FI, (warp, _) = cmu_retimed
+    assert cli.main(["live", str(path), str(warp), "-m", "c", "-w", "40", "--fast",
+                     "--relocate"]) == 0  # fmt: skip
+    out = capsys.readouterr().out.splitlines()
+    k = out.index(next(x for x in out if x.startswith("target frames within")))
+    assert out[k + 1].split() == ["50", "ms", "100", "ms", "300", "ms", "500", "ms", "1000", "ms",
+                                  "2000", "ms", "lost"]  # fmt: skip
+    FT = MotionFeatures.from_motion(load_motion(warp))
+    M, _ = align("Mc w40 (relocate)", FI, FT)
+    want = within_ms(M, dtw_pair(FI, FT).map, FI.fps)
+    assert out[k + 2].split()[3:] == [f"{want[t]:.1%}" for t in (50, 100, 300, 500, 1000, 2000)
+                                      ] + [f"{want['lost']:.1%}"]  # fmt: skip

@@ -107,6 +107,8 @@ map CSV (--out), one row per target frame, columns:
 input_frame never decreases, except with --relocate: a jump back (a repeat, a restart) makes
 it smaller than the row before."""
 
+#: ``fpdtw live`` scores its map in ms against offline DTW's up to this many cells.
+LIVE_DTW_CELLS = 25_000_000
 #: ``fpdtw serve --listen`` by default: this machine only.
 DEFAULT_LISTEN = "127.0.0.1:7447"
 
@@ -1061,6 +1063,16 @@ def _cmd_live(args, log) -> int:
     log(f"replaying {_describe(T)} {mode}, aligning to {_describe(I)} with {_algorithm_name(args)}")
     report = replay(FI, FT, _factory(args), realtime=not args.fast)
     print(report.table())
+    if FI.n_frames * FT.n_frames <= LIVE_DTW_CELLS:
+        from fpdtw.dtw import dtw_pair
+        from fpdtw.paper.edits import ms_table
+
+        print("target frames within each tolerance of offline DTW's map (the papers' "
+              "reference), on the input's clock:")  # fmt: skip
+        print(ms_table({report.name: report.M}, dtw_pair(FI, FT).map, FI.fps))
+    else:
+        print(f"(no scores in ms: offline DTW's reference over {FI.n_frames} x {FT.n_frames} "
+              f"frames is beyond {LIVE_DTW_CELLS:,} cells)")  # fmt: skip
     if args.out:
         _stage(args, args.out)
         write_map_csv(args.out, report.M, T.fps, I.fps, report.step_s)

@@ -135,6 +135,20 @@ def within_ms(M, P, fps: float, tolerances=MS_TOLERANCES) -> dict:
     return out
 
 
+def ms_table(maps: dict, P, fps: float) -> str:
+    """:func:`within_ms` of each named map against the truth ``P``, as text lines.
+
+    Notebook: 20_align_a_live_performance.ipynb
+    """
+    head = f"{'':<20}" + "".join(f"{f'{t} ms':>9}" for t in MS_TOLERANCES) + f"{'lost':>9}"
+    lines = [head]
+    for name, M in maps.items():
+        s = within_ms(M, P, fps)
+        lines.append(f"{name:<20}" + "".join(f"{s[t]:>9.1%}" for t in MS_TOLERANCES)
+                     + f"{s['lost']:>9.1%}")  # fmt: skip
+    return "\n".join(lines)
+
+
 def recovery_s(M, P, fps_input: float, fps_target: float, at: int) -> float:
     """Seconds from target frame ``at`` (the edit) until the map is back: the first frame
     from which its error stays within :data:`RECOVERED_MS` for :data:`RECOVERED_S` (or to the
