@@ -3,15 +3,20 @@ against the plain NumPy twin and by hand, the wrapper on an unedited pair, the r
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import pytest
 from reference.synthetic import synthetic_pair
 
 from fpdtw import plain, registry
 from fpdtw.app import cli
+from fpdtw.app.serve import Session
+from fpdtw.app.stream import session_map
 from fpdtw.dtw import dtw_pair
 from fpdtw.errors import AlignmentError
 from fpdtw.io import load_motion
+from fpdtw.io.bvh import bvh_lines, read_bvh, write_bvh
 from fpdtw.motion.features import MotionFeatures
 from fpdtw.motion.joints import OPW_JOINTS
 from fpdtw.online.base import run_online
@@ -156,3 +161,24 @@ def test_fpdtw_live_scores_its_map_in_ms(cmu_retimed, capsys):
     want = within_ms(M, dtw_pair(FI, FT).map, FI.fps)
     assert out[k + 2].split()[3:] == [f"{want[t]:.1%}" for t in (50, 100, 300, 500, 1000, 2000)
                                       ] + [f"{want['lost']:.1%}"]  # fmt: skip
+
+
+def test_the_server_passes_jumps_on(data_path, walks, tmp_path):
+    """Fig. 8's live take restarted from the top, streamed as BVH lines through a serve
+    session of Mc w40 (relocate): every answer is the offline run's, the jump back included."""
+    I, _, _ = walks
+    T = load_motion(data_path("mocap_single_person_actions/MoCapData/Walk_02.fbx"))
+    _, idx, _ = edit_target(MotionFeatures.from_motion(T), "restart")
+    edited = T.replace(euler=T.euler[idx], root_translation=T.root_translation[idx], quats=None,
+                       name="Walk_02+restart")  # fmt: skip
+    edited = read_bvh(write_bvh(edited, tmp_path / "restart.bvh"))  # as streamed: BVH text
+    M, _ = align("Mc w40 (relocate)", I, MotionFeatures.from_motion(edited))
+    session = Session(I, resolve("Mc w40 (relocate)").make, record=True)
+    header, lines = bvh_lines(edited)
+    for line in header:
+        session.feed(f"{line}\n".encode(), 0.0)
+    for k, line in enumerate(lines):
+        session.feed(f"{line}\n".encode(), time.perf_counter(), when=k / edited.fps)
+    got = session_map(session)
+    assert np.any(np.diff(got) < 0)
+    np.testing.assert_array_equal(got, M)
