@@ -8,16 +8,22 @@ import numpy as np
 import pytest
 from reference.synthetic import synthetic_pair
 
+from fpdtw.dtw import dtw_pair
 from fpdtw.errors import AlignmentError
 from fpdtw.paper.edits import (
     EDITS,
+    MS_TOLERANCES,
+    edit_rows,
     edit_target,
     errors_ms,
+    format_edit_rows,
+    main,
     recovery_s,
     source_frames,
     true_map,
     within_ms,
 )
+from fpdtw.registry import align
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2, 3])
@@ -84,3 +90,24 @@ def test_recovery_by_hand():
     assert recovery_s(M, P, 10.0, 10.0, 2) == math.inf
     M[25:] = 0  # good to the end (5 frames, shorter than 1 s): back at frame 25
     assert recovery_s(M, P, 10.0, 10.0, 2) == pytest.approx(2.3)
+
+
+def test_edit_rows_score_each_method_with_and_without_relocating(cmu_retimed, capsys):
+    """CMU 18_01 against itself restarted from the top: the rows of Mc w40 and Mc w40
+    (relocate), as it is and restarted; each row's shares are within_ms of that run's map;
+    the command prints the same table."""
+    _, I, _ = cmu_retimed
+    rows = edit_rows(I, I, names=("Mc w40",), edits=("restart",))
+    assert [(r["edit"], r["name"]) for r in rows] == [
+        ("none", "Mc w40"), ("none", "Mc w40 (relocate)"),
+        ("restart", "Mc w40"), ("restart", "Mc w40 (relocate)")]  # fmt: skip
+    E, idx, at = edit_target(I, "restart")
+    truth = true_map(dtw_pair(I, I).map, idx)
+    M, _ = align("Mc w40 (relocate)", I, E)
+    assert {t: rows[3][t] for t in (*MS_TOLERANCES, "lost")} == within_ms(M, truth, I.fps)
+    assert rows[3]["jumps"] >= 1 and rows[2]["jumps"] == 0 and rows[0]["recovery_s"] is None
+    assert rows[3]["recovery_s"] == recovery_s(M, truth, I.fps, E.fps, at)
+    assert len(format_edit_rows(rows).splitlines()) == 5
+    assert main(["cmu", "18_01.bvh", "18_01.bvh"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[1].split()[:2] == ["edit", "method"] and len(out) == 2 + 6 * 6

@@ -29,13 +29,20 @@ Paper: neither (beyond the papers, Q7).
 
 from __future__ import annotations
 
+import argparse
 import hashlib
 import math
 from dataclasses import replace
 
 import numpy as np
 
+from fpdtw.dtw import dtw_pair
 from fpdtw.errors import AlignmentError
+from fpdtw.motion.features import MotionFeatures
+from fpdtw.motion.joints import OPW_JOINTS
+from fpdtw.online.base import run_online
+from fpdtw.paper.catalog import load
+from fpdtw.registry import resolve, with_option
 
 #: Seed of every edit (with the edit's and the target's names).
 EDIT_SEED = 2026
@@ -162,3 +169,78 @@ def recovery_s(M, P, fps_input: float, fps_target: float, at: int) -> float:
         run[k] = run[k + 1] + 1 if ok[k] else 0
     back = np.flatnonzero((run[:n] >= need) | ((run[:n] > 0) & (run[:n] == n - np.arange(n))))
     return float(back[0] / fps_target) if back.size else math.inf
+
+
+#: The methods :func:`edit_rows` scores by default, each without and with ``(relocate)``.
+EDIT_METHODS = ("Mc w40", "OLTW", "OPW")
+
+
+def edit_rows(I, T, names=EDIT_METHODS, edits=tuple(EDITS)) -> list:
+    """Every named online method without and with ``(relocate)`` on the target ``T`` as it
+    is and under each edit, scored against the true map (the unedited pair's DTW map at each
+    edited frame's source).
+
+    Parameters
+    ----------
+    I, T : MotionFeatures
+        Input and target (with OPW's positions if OPW is named).
+
+    Returns
+    -------
+    rows : list of dict
+        ``edit`` ("none" first), ``name``, ``at`` (the edit's frame), the shares of
+        :func:`within_ms` and ``recovery_s`` (None without an edit), ``jumps``.
+    """
+
+    P = dtw_pair(I, T).map
+    rows = []
+    for edit in ("none", *edits):
+        if edit == "none":
+            E, idx, at = T, np.arange(T.n_frames), 0
+        else:
+            E, idx, at = edit_target(T, edit)
+        truth = true_map(P, idx)
+        for name in (n for base in names for n in (base, with_option(base, "relocate"))):
+            aligner = resolve(name).make(I)
+            M, _ = run_online(aligner, E)
+            rec = None if edit == "none" else recovery_s(M, truth, I.fps, E.fps, at)
+            row = dict(edit=edit, name=name, at=at, recovery_s=rec,
+                       jumps=len(getattr(aligner, "jumps", ())))  # fmt: skip
+            row.update(within_ms(M, truth, I.fps))
+            rows.append(row)
+    return rows
+
+
+def format_edit_rows(rows) -> str:
+    """:func:`edit_rows` as text lines: shares in %, recovery in s (inf: never)."""
+    head = (f"{'edit':<11}{'method':<20}" + "".join(f"{t:>6}" for t in MS_TOLERANCES)
+            + f"{'lost':>6}{'back s':>8}{'jumps':>6}")  # fmt: skip
+    lines = [head]
+    for r in rows:
+        back = "" if r["recovery_s"] is None else f"{r['recovery_s']:.2f}"
+        lines.append(f"{r['edit']:<11}{r['name']:<20}"
+                     + "".join(f"{100 * r[t]:>6.1f}" for t in MS_TOLERANCES)
+                     + f"{100 * r['lost']:>6.1f}{back:>8}{r['jumps']:>6}")  # fmt: skip
+    return "\n".join(lines)
+
+
+def main(argv=None) -> int:
+    """``python -m fpdtw.paper.edits DATASET INPUT TARGET``: :func:`format_edit_rows` of a
+    pair of the catalogue (e.g. ``authors_fbx MoCapData/Walk_01.fbx MoCapData/Walk_02.fbx``)."""
+
+    ap = argparse.ArgumentParser(prog="python -m fpdtw.paper.edits", description=main.__doc__)
+    ap.add_argument("dataset")
+    ap.add_argument("input")
+    ap.add_argument("target")
+    args = ap.parse_args(argv)
+    I, T = (MotionFeatures.from_motion(load(args.dataset, p), position_joints=OPW_JOINTS)
+            for p in (args.input, args.target))  # fmt: skip
+    print(f"{T.name} edited, aligned to {I.name}; shares of target frames within each "
+          "tolerance (ms) of the true map, % (lost: beyond 2 s); back: seconds after the edit "
+          "until within 300 ms for 1 s")  # fmt: skip
+    print(format_edit_rows(edit_rows(I, T)))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
