@@ -29,7 +29,7 @@ from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import Frame, MotionFeatures
 from fpdtw.motion.rig import RigTransform
 from fpdtw.motion.rotations import UnwrapDegrees, quat_conj, quat_mul, quat_to_euler, unwrap_degrees
-from fpdtw.online.base import OnlineAligner
+from fpdtw.online.base import FrameWrapper, OnlineAligner
 
 #: The identity rotation, ``q'_0``.
 IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
@@ -131,7 +131,7 @@ class DerivativeFrames:
         return Frame(dq, euler, dp, frame.orders, self._rig)
 
 
-class DerivativeAligner(OnlineAligner):
+class DerivativeAligner(FrameWrapper):
     """Any online aligner run on derivative motions (``"<method> (derivative)"``): each
     target frame is differenced (:class:`DerivativeFrames`) and fed to ``inner``.
 
@@ -144,9 +144,6 @@ class DerivativeAligner(OnlineAligner):
 
     Paper: OPW poster Section 6 (derivative DTW, Keogh and Pazzani).
     """
-
-    #: Reads the previous target frame (its own copy), so nothing earlier is kept here.
-    history = 1
 
     def __init__(self, I: MotionFeatures, inner: OnlineAligner):
         if not isinstance(inner, OnlineAligner):
@@ -169,19 +166,11 @@ class DerivativeAligner(OnlineAligner):
         self.inner.reset()
         self._diff.reset()
 
-    def _begin_take(self, frame: Frame) -> None:
-        """The take's rotation orders (the rig is the inner aligner's business)."""
-        self.T_orders = self.I.orders if frame.orders is None else tuple(frame.orders)
-
     def step(self, frame: Frame) -> int:
         """Receive target frame ``T_{n+1}`` (a pose), return ``M_{n+1}`` (inner aligner)."""
         if self.n_received == 0:
             self._diff.reset()
-        self._frame = frame
-        try:
-            return super().step(frame)
-        finally:
-            self._frame = None
+        return super().step(frame)
 
     def _step(self, q: int) -> int:
         orders = self.T_orders

@@ -208,6 +208,26 @@ class OnlineAligner(ABC):
         """Map the new target frame, stored in row ``q`` of the buffers, to an input frame."""
 
 
+class FrameWrapper(OnlineAligner):
+    """An aligner around another: ``_step`` reads the whole frame (``self._frame``) and the
+    rig is the wrapped aligner's business (:class:`fpdtw.derivative.DerivativeAligner`,
+    :class:`fpdtw.online.relocate.Relocating`)."""
+
+    #: Reads only the newest target frame (the wrapped aligner keeps its own).
+    history = 1
+
+    def _begin_take(self, frame: Frame) -> None:
+        """The take's rotation orders."""
+        self.T_orders = self.I.orders if frame.orders is None else tuple(frame.orders)
+
+    def step(self, frame: Frame) -> int:
+        self._frame = frame
+        try:
+            return super().step(frame)
+        finally:
+            self._frame = None
+
+
 class JointMajorInput:
     """Mixin: the input for eq. 1 kept C-contiguous and joint-major.
 

@@ -43,7 +43,7 @@ from fpdtw.costs import _acos01, _geo_frame
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import Frame, MotionFeatures
 from fpdtw.motion.rig import cost_input
-from fpdtw.online.base import OnlineAligner
+from fpdtw.online.base import FrameWrapper, OnlineAligner
 
 #: The search's memory (its forgetting factor: 1 - 1 / frames in this many seconds).
 MEMORY_S = 1.0
@@ -88,7 +88,7 @@ def input_from(I: MotionFeatures, j: int) -> MotionFeatures:
     return replace(I, quats=I.quats[j:], euler=I.euler[j:], positions=pos)
 
 
-class Relocating(OnlineAligner):
+class Relocating(FrameWrapper):
     """An online aligner with the module's global search and jump rule.
 
     Parameters
@@ -107,9 +107,6 @@ class Relocating(OnlineAligner):
 
     Paper: neither (beyond the papers, Q7).
     """
-
-    #: Reads only the newest target frame (the inner aligner keeps its own).
-    history = 1
 
     def __init__(self, I: MotionFeatures, make_inner, name: str | None = None):
         self.make_inner = make_inner
@@ -137,19 +134,11 @@ class Relocating(OnlineAligner):
 
     def _begin_take(self, frame: Frame) -> None:
         """The take's orders; the input as eq. 1 compares it with the take's rig."""
+        super()._begin_take(frame)
         I = self.I
-        self.T_orders = I.orders if frame.orders is None else tuple(frame.orders)
         Iq = I.quats if frame.rig is None or frame.rig is I.rig else cost_input(
             I.quats, I.rig, frame.rig)  # fmt: skip
         self._Iq = np.ascontiguousarray(Iq, dtype=np.float64)
-
-    def step(self, frame: Frame) -> int:
-        """Receive target frame ``T_{n+1}``, return ``M_{n+1}`` (the inner map, or a jump)."""
-        self._frame = frame
-        try:
-            return super().step(frame)
-        finally:
-            self._frame = None
 
     def _step(self, q: int) -> int:
         frame = self._frame
