@@ -867,4 +867,5 @@ __all__ = ["FLAT_RANGE", "OPW_READ_AT", "TYPE_V_START", "TYPE_V_TABLE", "Step",
            "geo_distance", "interpolate_positions", "joint_trajectories",
            "kendall_tau_b", "method_a_step", "method_b_step", "method_c_step",
            "oe_dtw_end_points", "opw_step", "opw_times", "path_to_map", "quat_multiply",
+           "relocate_step",
            "reverse_accumulate", "run", "similarity", "type_v_allowed", "type_v_next"]  # fmt: skip
