@@ -423,6 +423,10 @@ class _TimedReader(asyncio.StreamReader):
         return raw, self._chunks[0][1]
 
 
+#: Seconds a refused client's bytes are read and dropped before its connection is closed.
+REFUSE_LINGER_S = 1.0
+
+
 class Server:
     """The asyncio TCP server of ``fpdtw serve``.
 
@@ -543,6 +547,7 @@ class Server:
                 writer,
                 f"error: the server is full ({self.max_clients} takes at once, "
                 "--max-clients); try again later\n",
+                reader=reader,
             )
             return
         self.active += 1
@@ -627,12 +632,21 @@ class Server:
         await self._close(writer, f"error: {' '.join(message.split())}\n")
         return f"with an error: {message}"
 
-    async def _close(self, writer, line: str | None = None):
-        """Write ``line`` (if any) and close, whatever the client does meanwhile."""
+    async def _close(self, writer, line: str | None = None, reader=None):
+        """Write ``line`` (if any) and close, whatever the client does meanwhile. With the
+        ``reader`` of a client never read (refused), what it sent is read and dropped for up
+        to :data:`REFUSE_LINGER_S` after the line and an end of writing, so that closing
+        with its bytes unread does not reset the connection before the line is read."""
         with contextlib.suppress(Exception):
             if line is not None and not writer.is_closing():
                 writer.write(line.encode())
                 await asyncio.wait_for(writer.drain(), 1.0)
+            if reader is not None and writer.can_write_eof():
+                writer.write_eof()
+                async with asyncio.timeout(REFUSE_LINGER_S):
+                    while await reader.read(65536):
+                        pass
+        with contextlib.suppress(Exception):
             writer.close()
             await asyncio.wait_for(writer.wait_closed(), 1.0)
 
