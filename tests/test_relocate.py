@@ -29,6 +29,12 @@ def _unit(x):
     return x / np.linalg.norm(x, axis=-1, keepdims=True)
 
 
+def _search(q, Iq, G, lam):
+    """The kernel on an input (N, k, 4) as the aligner holds it: joint-major, with scratch."""
+    Isoa = np.ascontiguousarray(np.transpose(Iq, (1, 2, 0)))
+    return _search_step(q, Isoa, G, lam, np.empty(G.size), np.empty(G.size))
+
+
 def test_the_search_step_by_hand():
     """Three input frames, one joint: a target equal to frame 2 costs 0 there, a half turn
     from frames 0 and 1 costs 1; the next frame adds lam times the cheapest of the row's
@@ -36,10 +42,10 @@ def test_the_search_step_by_hand():
     e, x = np.array([1.0, 0, 0, 0]), np.array([0.0, 1, 0, 0])
     Iq = np.array([[x], [x], [e]])
     G = np.zeros(3)
-    j, g = _search_step(e[None].copy(), Iq, G, 0.5)
+    j, g = _search(e[None].copy(), Iq, G, 0.5)
     np.testing.assert_allclose(G, [1.0, 1.0, 0.0], atol=1e-15)
     assert (j, g) == (2, 0.0)
-    j, g = _search_step(x[None].copy(), Iq, G, 0.5)  # min over (j, j-1, j-2): 1, 1, 0
+    j, g = _search(x[None].copy(), Iq, G, 0.5)  # min over (j, j-1, j-2): 1, 1, 0
     np.testing.assert_allclose(G, [0.5, 0.5, 1.0], atol=1e-15)
     assert (j, g) == (0, 0.5)  # the first of equal ones
 
@@ -52,7 +58,7 @@ def test_the_search_step_equals_its_plain_twin(cmu_retimed):
     G, Gp = np.zeros(I.n_frames), np.zeros(I.n_frames)
     for n in range(0, 200):
         q = np.ascontiguousarray(I.quats[(7 * n) % I.n_frames])
-        j, g = _search_step(q, Iq, G, 0.99)
+        j, g = _search(q, Iq, G, 0.99)
         Gp, jp = plain.relocate_step(q, Iq, Gp, 0.99)
         assert j == jp and g == G[j]
         np.testing.assert_allclose(G, Gp, rtol=1e-12, atol=1e-12)

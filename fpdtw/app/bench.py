@@ -911,12 +911,14 @@ def bench_relocate(pairs, names=RELOCATE_NAMES) -> dict:
                          relocate_median_us=reloc_row["median_s"] * 1e6,
                          relocate_p95_us=reloc_row["p95_s"] * 1e6))  # fmt: skip
     I = MotionFeatures.from_motion(load(*LONGEST_TAKE))
-    Iq, G = np.ascontiguousarray(I.quats), np.zeros(I.n_frames)
+    N = I.n_frames
+    Isoa, G = np.ascontiguousarray(I.quats.transpose(1, 2, 0)), np.zeros(N)
+    acc, c = np.empty(N), np.empty(N)
     times = []
     for n in range(I.n_frames + 200):  # the take against itself; the first 200 untimed
         q = np.ascontiguousarray(I.quats[n % I.n_frames])
         t0 = time.perf_counter()
-        _search_step(q, Iq, G, 0.99)
+        _search_step(q, Isoa, G, 0.99, acc, c)
         if n >= 200:
             times.append(time.perf_counter() - t0)
     t = np.array(times) * 1e6

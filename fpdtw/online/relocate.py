@@ -39,7 +39,7 @@ from dataclasses import replace
 import numba
 import numpy as np
 
-from fpdtw.costs import _acos01, _geo_frame
+from fpdtw.costs import _geo_line
 from fpdtw.errors import AlignmentError
 from fpdtw.motion.features import Frame, MotionFeatures
 from fpdtw.motion.rig import cost_input
@@ -53,17 +53,19 @@ FAR_S = 0.5
 RATIO = 0.5
 #: ... with at least this much input after it, for this long.
 REST_S, HOLD_S = 0.25, 0.25
-_TWO_OVER_PI = 2.0 / np.pi
 
 
 @numba.njit(cache=True)
-def _search_step(q, Iq, G, lam):
-    """One target frame of the search: ``G`` (N,) float64, the previous row, becomes the new
-    one in place; returns ``(j*, G[j*])``. ``q`` (k, 4), ``Iq`` (N, k, 4) float64.
+def _search_step(q, Isoa, G, lam, acc, c):
+    """One target frame of the search: ``c`` (N,) becomes eq. 1 between ``q`` (k, 4) and
+    every input frame (:func:`fpdtw.costs._geo_line`; ``Isoa`` (k, 4, N) joint-major,
+    ``acc`` (N,) scratch), and ``G`` (N,) float64, the previous row, the new one in place;
+    returns ``(j*, G[j*])``.
 
     Plain version: fpdtw.plain.relocate_step.
     """
-    N, k = Iq.shape[0], Iq.shape[1]
+    N = G.shape[0]
+    _geo_line(q, Isoa, 0, N, acc, c)
     best, arg = np.inf, 0
     for j in range(N - 1, -1, -1):  # downwards: G[j - 1], G[j - 2] are still the old row's
         m = G[j]
@@ -71,12 +73,7 @@ def _search_step(q, Iq, G, lam):
             m = G[j - 1]
         if j >= 2 and G[j - 2] < m:
             m = G[j - 2]
-        c = 0.0
-        for a in range(k):
-            d = abs(q[a, 0] * Iq[j, a, 0] + q[a, 1] * Iq[j, a, 1] + q[a, 2] * Iq[j, a, 2]
-                    + q[a, 3] * Iq[j, a, 3])  # fmt: skip
-            c += _acos01(1.0 if d > 1.0 else d)
-        G[j] = _TWO_OVER_PI * c + lam * m
+        G[j] = c[j] + lam * m
         if G[j] <= best:
             best, arg = G[j], j
     return arg, best
@@ -138,14 +135,15 @@ class Relocating(FrameWrapper):
         I = self.I
         Iq = I.quats if frame.rig is None or frame.rig is I.rig else cost_input(
             I.quats, I.rig, frame.rig)  # fmt: skip
-        self._Iq = np.ascontiguousarray(Iq, dtype=np.float64)
+        self._Isoa = np.ascontiguousarray(np.transpose(Iq, (1, 2, 0)), dtype=np.float64)
+        self._acc, self._c = np.empty(I.n_frames), np.empty(I.n_frames)
 
     def _step(self, q: int) -> int:
         frame = self._frame
         m = self.offset + int(self.inner.step(frame))
         fq = np.ascontiguousarray(frame.quats, dtype=np.float64)
-        j, g = _search_step(fq, self._Iq, self.G, self.lam)
-        self.L = float(_geo_frame(fq, self._Iq[m])) + self.lam * self.L
+        j, g = _search_step(fq, self._Isoa, self.G, self.lam, self._acc, self._c)
+        self.L = float(self._c[m]) + self.lam * self.L  # eq. 1 at M_n, from the search's row
         wants = abs(j - m) > self.far and g < RATIO * self.L
         self.run = self.run + 1 if wants and self.I.n_frames - j >= self.rest else 0
         if self.run >= self.hold:
