@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from contextlib import nullcontext
+
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation, Slerp
@@ -11,7 +13,7 @@ from fpdtw.io.asfamc import read_amc
 from fpdtw.io.bvh import read_bvh
 from fpdtw.motion.joints import FBX_NAMES, OPW_JOINTS, PAPER_JOINTS
 from fpdtw.motion.motion import Motion, Skeleton
-from fpdtw.motion.rotations import euler_to_quat
+from fpdtw.motion.rotations import ORDERS, euler_to_quat, quat_to_euler
 
 HDM = "hdm05/HDM05_cut_amc/{}"
 PAPER_ASF = ["lfemur", "rfemur", "ltibia", "rtibia", "lhumerus", "rhumerus", "lradius", "rradius"]
@@ -40,6 +42,26 @@ def _synthetic(euler, orders, fps=120.0, names=None, source="fbx"):
 
 
 # --------------------------------------------------------------------------- resampling
+@pytest.mark.parametrize("order", ORDERS)
+def test_quat_to_euler_is_scipys_bit_for_bit(order):
+    """The compiled Euler angles are scipy's as_euler, bit for bit: random quaternions of any
+    norm, and the gimbal lock of each order (second angle 0 or pi: the third is set to 0)."""
+    rng = np.random.default_rng(7)
+    q = rng.standard_normal((20000, 4)) * rng.uniform(0.5, 2.0, (20000, 1))
+    axes = {"X": [1.0, 0, 0], "Y": [0, 1.0, 0], "Z": [0, 0, 1.0]}
+    second = np.array(axes[order[1]])
+    locked = np.array(
+        [[np.cos(a / 2), *(np.sin(a / 2) * second)] for a in (np.pi / 2, -np.pi / 2, 0.3)]
+    )
+    for qq in (q, locked):
+        with pytest.warns(UserWarning, match="Gimbal") if qq is locked else nullcontext():
+            ang = Rotation.from_quat(qq[:, [1, 2, 3, 0]]).as_euler(order.lower(), degrees=True)
+        ref = ang[:, [order.index(a) for a in "XYZ"]]
+        np.testing.assert_array_equal(quat_to_euler(qq, order), ref)
+        np.testing.assert_array_equal(quat_to_euler(qq[:, [1, 2, 3, 0]], order, False), ref)
+    assert quat_to_euler(q.reshape(100, 200, 4), order).shape == (100, 200, 3)
+
+
 def test_resample_120_to_60_keeps_every_second_frame(hdm):
     r = hdm.resample(60)
     n = (hdm.n_frames - 1) // 2 + 1

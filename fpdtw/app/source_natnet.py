@@ -59,14 +59,13 @@ import struct
 import time
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from fpdtw import limits
 from fpdtw.app.serve import parse_address
 from fpdtw.app.sources import DatagramReceiver, DatagramSource, TakeEnd, bvh_header, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rig import rest_rotations
-from fpdtw.motion.rotations import quat_conj, quat_mul, quat_rotate
+from fpdtw.motion.rotations import quat_conj, quat_mul, quat_rotate, quat_to_euler
 
 #: Motive's command port (its data port, for multicast, is 1511).
 DEFAULT_PORT = 1510
@@ -273,7 +272,7 @@ class NatNetSkeleton:
         axes)."""
         q = v[:, 3:]  # qx qy qz qw: normalised as motive_to_fpdtw's w x y z (summed in that order)
         q = q / np.sqrt(np.add.reduce(np.square(q[:, [3, 0, 1, 2]]), axis=1, keepdims=True))
-        e = Rotation.from_quat(q).as_euler(_ORDER.lower(), degrees=True)[:, ::-1]  # Z Y X
+        e = quat_to_euler(q, _ORDER, scalar_first=False)[:, ::-1]  # Z Y X
         return np.concatenate([v[0, :3], e.ravel()])
 
 

@@ -61,13 +61,12 @@ import struct
 import time
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from fpdtw import limits
 from fpdtw.app.sources import DatagramSource, bvh_header, send_paced, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rig import rest_rotations
-from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate
+from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate, quat_to_euler
 
 #: MVN's network streamer's default port (the spec, 2.3: "9=X, M=6, E=3").
 DEFAULT_PORT = 9763
@@ -176,7 +175,7 @@ class MvnSkeleton:
         t = q[self._parents][:, :, None] * (q.take(self._terms) * _SIGN)
         local = ((t[:, 0] + t[:, 1]) + t[:, 2]) + t[:, 3]  # x y z w
         local[0] = q.take(_TERM[0])  # order[0] is the root
-        e = Rotation.from_quat(local).as_euler(_ORDER.lower(), degrees=True)[:, ::-1]
+        e = quat_to_euler(local, _ORDER, scalar_first=False)[:, ::-1]
         return np.concatenate([p[0], e.ravel()])
 
 

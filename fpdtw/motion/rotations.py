@@ -8,6 +8,9 @@ Ry Rx``, which BVH writes ``Zrotation Yrotation Xrotation`` (outermost first).
 
 from __future__ import annotations
 
+import math
+
+import numba
 import numpy as np
 from scipy.spatial.transform import Rotation
 
@@ -35,17 +38,52 @@ def euler_to_quat(euler, order="XYZ"):
     return q.reshape(shape + (4,))
 
 
-def quat_to_euler(q, order="XYZ"):
-    """Euler angles (..., 3; degrees, each in (-180, 180]) of quaternions in rotation ``order``."""
+def quat_to_euler(q, order="XYZ", scalar_first=True):
+    """Euler angles (..., 3; degrees, each in [-180, 180]) of quaternions (..., 4) in rotation
+    ``order``: scipy's ``Rotation.from_quat(q).as_euler(order.lower(), degrees=True)``, bit for
+    bit (tested), put in ``(x, y, z)`` columns. ``scalar_first=False``: ``q`` is ``x y z w``."""
     order = check_order(order)
     q = np.asarray(q, dtype=float)
-    shape = q.shape[:-1]
-    flat = q.reshape(-1, 4)
-    ang = Rotation.from_quat(flat[:, [1, 2, 3, 0]]).as_euler(order.lower(), degrees=True)
-    out = np.empty_like(ang)
-    for k, a in enumerate(order):
-        out[:, _AXIS[a]] = ang[:, k]
-    return out.reshape(shape + (3,))
+    out = np.empty(q.shape[:-1] + (3,))
+    i, j, k = (_AXIS[a] for a in order)
+    _euler(q.reshape(-1, 4), 1 if scalar_first else 0, 0 if scalar_first else 3, i, j, k,
+           out.reshape(-1, 3))  # fmt: skip
+    return out
+
+
+@numba.njit(cache=True)
+def _euler(q, x, w, i, j, k, out):  # pragma: no cover - compiled
+    """scipy's ``as_euler`` (Bernardes & Viollet 2022) of the extrinsic Tait-Bryan sequence
+    ``i j k`` (axis indices), its operations in its order: ``q[:, x:x+3]`` the vector part,
+    ``q[:, w]`` the scalar; the angles (degrees) into ``out``'s columns ``i, j, k``. A second
+    angle within 1e-7 of 0 or pi (gimbal lock) sets the third to 0, as scipy does."""
+    sign = (i - j) * (j - k) * (k - i) // 2
+    for n in range(q.shape[0]):
+        v = (q[n, x], q[n, x + 1], q[n, x + 2])
+        s = q[n, w]
+        norm = math.sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + s * s)
+        qi, qj, qk, qs = v[i] / norm, v[j] / norm, v[k] / norm, s / norm
+        a = qs - qj
+        b = qi + qk * sign
+        c = qj + qs
+        d = qk * sign - qi
+        second = 2 * math.atan2(math.hypot(c, d), math.hypot(a, b))
+        half_sum = math.atan2(b, a)
+        half_diff = math.atan2(d, c)
+        if abs(second) <= 1e-7:
+            first, third = 2 * half_sum, 0.0
+        elif abs(second - math.pi) <= 1e-7:
+            first, third = -2 * half_diff, 0.0
+        else:
+            first, third = half_sum - half_diff, half_sum + half_diff
+        angles = (first, second - math.pi / 2, third * sign)
+        for m, axis in enumerate((i, j, k)):
+            e = angles[m]
+            if e < -math.pi:
+                e += 2 * math.pi
+            elif e > math.pi:
+                e -= 2 * math.pi
+            out[n, axis] = e * (180.0 / math.pi)
 
 
 def unwrap_degrees(angles, axis=0):
