@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import asyncio
 import json
+import re
 import socket
 import threading
 
@@ -378,6 +379,24 @@ def test_nesting_is_counted_outside_strings():
     assert nesting(b'{"a": [1, {"b": "[[[{{{\\"]]"}]}') == 3
     assert nesting(b'"' + b'\\"' * 30000) == 0
     assert nesting(b"") == 0
+    assert nesting(b"]]}[") == 0 and nesting(b'["\\\n[') == 2  # a lone backslash ends it
+
+
+def test_nesting_agrees_with_a_regular_expression_reading():
+    """The compiled scan against an independent reading: strings removed by a regular
+    expression (a string cut at the end included), then the running sum of the brackets."""
+    string = re.compile(rb'"(?:[^"\\]+|\\.)*"?')
+    steps = {ord("{"): 1, ord("["): 1, ord("}"): -1, ord("]"): -1}
+
+    def reference(data):
+        rest = string.sub(b"", data)
+        return max(0, *np.cumsum([steps.get(c, 0) for c in rest] or [0]).tolist())
+
+    rng = np.random.default_rng(3)
+    alphabet = np.frombuffer(b'{}[]"\\\na, ', np.uint8)
+    for _ in range(20000):
+        data = bytes(rng.choice(alphabet, rng.integers(0, 24)))
+        assert nesting(data) == reference(data), data
 
 
 def test_duplicated_and_reordered_datagrams(cmu):

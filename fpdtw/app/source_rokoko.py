@@ -50,14 +50,14 @@ import math
 import re
 from operator import itemgetter
 
+import numba
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from fpdtw import limits
 from fpdtw.app.sources import DatagramSource, bvh_header, send_paced, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rig import rest_rotations
-from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate
+from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate, quat_to_euler
 
 #: Studio's custom streaming port (Rokoko's Unity plugin listens on it by default).
 DEFAULT_PORT = 14043
@@ -178,7 +178,6 @@ class RokokoSkeleton:
     def __init__(self, p, d, rate: float):
         offsets = quat_rotate(quat_conj(d[_PARENT0]), p - p[_PARENT0])  # the root's: unused
         self.header, self.order = bvh_header(BONES, _PARENT, offsets, rate)
-        self._xyzw = np.array(self.order)[:, None], [1, 2, 3, 0]  # header order, x y z w
 
     def row(self, p, d) -> np.ndarray:
         """The BVH channel values (n_channels,) float64 of a frame: (21, 3) positions, (21, 4)
@@ -186,8 +185,7 @@ class RokokoSkeleton:
         d = _normalize(d)
         local = _qmul(d[_PARENT0], d, _CONJ_SIGNS)
         local[0] = d[0]
-        # quat_to_euler(local[self.order], _ORDER)[:, ::-1]: Z Y X, as the channels
-        e = Rotation.from_quat(local[self._xyzw]).as_euler(_ORDER.lower(), degrees=True)
+        e = quat_to_euler(local[self.order], _ORDER)  # [:, ::-1]: Z Y X, as the channels
         return np.concatenate([p[0], e[:, ::-1].ravel()])
 
 
@@ -205,17 +203,35 @@ class Refused(Exception):
     """A datagram or actor that cannot be read: ``(kind of BAD_KINDS, what)``."""
 
 
-_STRING = re.compile(rb'"(?:[^"\\]+|\\.)*"?')  # a JSON string (or one cut at the end): linear
-_OTHER = bytes(sorted(set(range(256)) - set(b'"{}[]')))  # bytes that neither open nor close
-_DEPTH = bytes.maketrans(b"{[}]", b"\x01\x01\xff\xff")  # a bracket's change of depth (int8)
-
-
 def nesting(data: bytes) -> int:
-    """The deepest nesting of objects and arrays in JSON text ``data`` (strings skipped)."""
-    steps = data.translate(_DEPTH, _OTHER).replace(b'""', b"")  # strings without brackets
-    if b'"' in steps or b"\\" in data:  # brackets in strings, escapes: strings as matched
-        steps = _STRING.sub(b"", data).translate(_DEPTH, _OTHER)
-    return int(np.frombuffer(steps, np.int8).cumsum(dtype=np.int64).max(initial=0))
+    """The deepest nesting of objects and arrays in JSON text ``data`` (strings skipped; a
+    string cut at the end runs to it)."""
+    return int(_nesting(np.frombuffer(data, np.uint8)))
+
+
+@numba.njit(cache=True)
+def _nesting(b):  # pragma: no cover - compiled
+    depth = deepest = 0
+    i, n = 0, len(b)
+    while i < n:
+        c = b[i]
+        if c == 34:  # '"': skip the string, its escapes ('\\' then any byte but a newline)
+            i += 1
+            while i < n and b[i] != 34:
+                if b[i] == 92:
+                    if i + 1 == n or b[i + 1] == 10:
+                        break  # a lone backslash ends the string there (read on as text)
+                    i += 1
+                i += 1
+            if i < n and b[i] == 92:
+                continue
+        elif c == 123 or c == 91:  # '{' '['
+            depth += 1
+            deepest = max(deepest, depth)
+        elif c == 125 or c == 93:  # '}' ']'
+            depth -= 1
+        i += 1
+    return deepest
 
 
 def _constant(name):
