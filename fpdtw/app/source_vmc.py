@@ -37,13 +37,12 @@ import time
 import numpy as np
 from pythonosc import osc_bundle_builder, osc_message_builder, udp_client
 from pythonosc.osc_packet import OscPacket
-from scipy.spatial.transform import Rotation
 
 from fpdtw import limits
 from fpdtw.app.serve import parse_address
 from fpdtw.app.sources import DatagramSource, bvh_header, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
-from fpdtw.motion.rotations import quat_mul, quat_normalize
+from fpdtw.motion.rotations import quat_mul, quat_normalize, quat_to_euler
 
 #: The VMC protocol's usual receiver port.
 DEFAULT_PORT = 39539
@@ -154,10 +153,10 @@ class VmcSkeleton:
         self.header, order = bvh_header(have, up, offsets, rate)
         self.bones = [have[j] for j in order]
 
-    def row(self, frame: dict, root) -> np.ndarray:
-        """The BVH channel values (n_channels,) float64 of a frame (every bone of the skeleton
-        in it; Unity's values) with the root's ``(p, q)`` (Unity's; None: at the origin)."""
-        v = np.array([frame[b] for b in self.bones], dtype=float)
+    def row(self, v, root) -> np.ndarray:
+        """The BVH channel values (n_channels,) float64 of a frame: ``v`` (n_bones, 7) float64,
+        each bone's ``p.x p.y p.z q.x q.y q.z q.w`` in :attr:`bones`' order (Unity's values),
+        with the root's ``(p, q)`` (Unity's; None: at the origin)."""
         q = v[:, [6, 3, 4, 5]]  # unity_to_fpdtw's (w, x, -y, -z), normalised
         q[:, 2:] *= -1.0
         q = quat_normalize(q)
@@ -171,7 +170,7 @@ class VmcSkeleton:
             hips = tuple(a + b for a, b in zip(rp, turned[1:], strict=True))
             q[0] = _qmul(rq, q[0].tolist())
         # quat_to_euler(q, "XYZ") column for column, as Z Y X (the channels)
-        e = Rotation.from_quat(q[:, [1, 2, 3, 0]]).as_euler(_ORDER.lower(), degrees=True)
+        e = quat_to_euler(q, _ORDER)
         return np.concatenate([hips, e[:, ::-1].ravel()])
 
 
@@ -202,6 +201,7 @@ class _Sender:
         self.refused = False
         self.timed = None  # sends /VMC/Ext/T (decided by its first frame)
         self.layout = None  # of its last bundle python-osc read
+        self.plan = None  # (layout, frame_plan of it or None) once the skeleton is known
         self.t0 = self.last_t = None
 
     def spoil(self, kind, what):
@@ -313,14 +313,22 @@ class Layout:
         if self.read(data) != messages:  # NaN among them too: python-osc reads the next
             raise ValueError("the layout does not read its own bundle back")
 
-    def read(self, data: bytes):
-        """The messages of ``data`` (as python-osc reads them), or None if it does not
-        have this layout."""
+    def floats(self, data: bytes):
+        """The float arguments of ``data`` in order (n,) float64, or None if it does not have
+        this layout (then its framing is this bundle's: its sizes and tags are fixed bytes)."""
         if len(data) != self.size or not np.array_equal(
             np.frombuffer(data, np.uint8)[self.keep], self.fixed
         ):
             return None
-        v = np.frombuffer(data, ">f4")[self.at].tolist()
+        return np.frombuffer(data, ">f4")[self.at].astype(float)
+
+    def read(self, data: bytes):
+        """The messages of ``data`` (as python-osc reads them), or None if it does not
+        have this layout."""
+        v = self.floats(data)
+        if v is None:
+            return None
+        v = v.tolist()
         out, k = [], 0
         for address, args, slots in self.messages:
             args = list(args)
@@ -329,6 +337,39 @@ class Layout:
                 k += 1
             out.append((address, args))
         return out
+
+
+def frame_plan(layout: Layout, bones: list):
+    """Where one whole frame of a sender is in a bundle of this layout: ``(bone floats
+    (n_bones, 7) intp in the skeleton's order, root floats (7,) intp or None, time float)``
+    indices into :meth:`Layout.floats`; None unless the bundle is an optional
+    ``/VMC/Ext/Root/Pos`` first, each of the skeleton's ``bones`` once (other bones the
+    reader skips), a ``/VMC/Ext/T`` last and only messages the reader ignores besides, all
+    their numbers floats."""
+    found, root, t, k = {}, None, None, 0
+    for i, (address, args, slots) in enumerate(layout.messages):
+        at, k = list(range(k, k + len(slots))), k + len(slots)
+        if t is not None:
+            return None
+        if address == "/VMC/Ext/Bone/Pos":
+            if len(args) != 8 or slots != list(range(1, 8)):
+                return None
+            if args[0] in OTHER_BONES:
+                continue
+            if args[0] not in bones or args[0] in found:
+                return None
+            found[args[0]] = at
+        elif address == "/VMC/Ext/Root/Pos":
+            if i or len(args) not in (8, 14) or slots != list(range(1, len(args))):
+                return None
+            root = np.array(at[:7])
+        elif address == "/VMC/Ext/T":
+            if slots != [0]:
+                return None
+            t = at[0]
+    if t is None or len(found) != len(bones):
+        return None
+    return np.array([found[b] for b in bones]), root, t
 
 
 def _numbers(args) -> bool:
@@ -374,6 +415,8 @@ class Source(DatagramSource):
                                             f"{MAX_SENDERS} sender addresses")  # fmt: skip
             s = self.senders[addr] = _Sender(addr)
         where = f"datagram {n} from {s.addr}"
+        if s.plan is not None and self.whole(s, data, arrival, performers, where):
+            return None
         if len(data) > MAX_DATAGRAM:
             performers.frames += 1
             return performers.count_bad(s.perf, "oversize", f"{where}: {len(data)} bytes, "
@@ -412,6 +455,32 @@ class Source(DatagramSource):
                 else:
                     self.finish(s, performers, arrival, float(args[0]), where)
 
+    def whole(self, s, data, arrival, performers, where) -> bool:
+        """A bundle with the layout of the sender's last and the whole frame in it
+        (:func:`frame_plan`), aligned without reading its messages one by one, when every
+        value passes :func:`values` and nothing of the frame came before; else False, and
+        nothing changed (the datagram is read as any other)."""
+        layout, plan = s.plan
+        if plan is None or s.layout is not layout or s.bones or s.unchecked or s.problem:
+            return False
+        at, root_at, t_at = plan
+        v = layout.floats(data)
+        if v is None or not np.isfinite(v).all():
+            return False
+        bones = v[at]
+        big = limits.get("max_abs_value")
+        n = np.einsum("ij,ij->i", bones[:, 3:], bones[:, 3:])
+        if np.abs(v).max() > big or np.abs(np.sqrt(n) - 1.0).max() >= UNIT_TOLERANCE * 0.999:
+            return False
+        if root_at is not None:
+            root = v[root_at]
+            if abs(math.sqrt(root[3:] @ root[3:]) - 1.0) >= UNIT_TOLERANCE * 0.999:
+                return False
+            s.root = root
+        performers.frames += 1
+        self.aligned(s, performers, arrival, float(v[t_at]), where, bones)
+        return True
+
     def bone(self, s, args, where) -> None:
         if len(args) != 8 or not isinstance(args[0], str) or not _numbers(args[1:]):
             return s.spoil("count", f"{where}: /VMC/Ext/Bone/Pos {args[:1]!r} with "
@@ -436,7 +505,7 @@ class Source(DatagramSource):
     def finish(self, s, performers, arrival, t, where="at the end of the take") -> None:
         """The end of a sender's frame: checked, then aligned (or counted)."""
         s.check()
-        bones, problem, root = s.bones, s.problem, s.root
+        bones, problem = s.bones, s.problem
         s.bones, s.problem = {}, None
         if not bones and problem is None:
             return None  # a time without bones (e.g. before the sender loads its model)
@@ -459,11 +528,19 @@ class Source(DatagramSource):
             if s.perf is None:
                 s.refused = True
                 return None
-        perf = s.perf
         missing = [b for b in s.skeleton.bones if b not in bones]
         if missing:
-            return performers.count_bad(perf, "missing", f"{where}: the frame lacks "
+            return performers.count_bad(s.perf, "missing", f"{where}: the frame lacks "
                                         f"{', '.join(missing[:4])}")  # fmt: skip
+        if s.layout is not None and (s.plan is None or s.plan[0] is not s.layout):
+            s.plan = (s.layout, frame_plan(s.layout, s.skeleton.bones))
+        v = np.array([bones[b] for b in s.skeleton.bones], dtype=float)
+        return self.aligned(s, performers, arrival, t, where, v)
+
+    def aligned(self, s, performers, arrival, t, where, bones) -> None:
+        """A whole checked frame of ``s``'s performer: ``bones`` (n_bones, 7) float64, its
+        bones' values in the skeleton's order, timed and aligned (or counted)."""
+        perf = s.perf
         if s.timed and t is None:
             return performers.count_bad(perf, "missing", f"{where}: a frame without its "
                                         "/VMC/Ext/T (a datagram lost or late)")  # fmt: skip
@@ -475,7 +552,7 @@ class Source(DatagramSource):
         if s.t0 is None:
             s.t0 = clock
         s.last_t = clock
-        performers.feed(perf, s.skeleton.row(bones, root), arrival, t=clock - s.t0)
+        performers.feed(perf, s.skeleton.row(bones, s.root), arrival, t=clock - s.t0)
         return None
 
 
