@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import asyncio
 import socket
+import struct
 import threading
 
 import numpy as np
@@ -149,6 +150,28 @@ def test_one_performer_gives_the_map_of_fpdtw_align(cmu):
     s = perf.summary()[0]
     assert s["frames"] == s["ticks"] == 303 and s["lost"] == s["filled"] == 0
     assert not any(perf.bad.values()) and "22 bones" in s["about"]
+
+
+def test_whole_frames_are_read_from_their_floats(cmu, monkeypatch):
+    """After a sender's first bundle, every bundle of the same layout holding a whole frame
+    is aligned from its floats (only the first frame's bones are read one by one), with the
+    offline map; a frame with a bone's NaN is then read message by message and refused by
+    name."""
+    _, FI, (warp, _) = cmu
+    frames = [b.dgram for b in vmc_frames(read_bvh(warp))[1]]
+    calls, bone = [], Source.bone
+    monkeypatch.setattr(Source, "bone", lambda *a: calls.append(a[2]) or bone(*a))
+    perf, _, _ = loopback([read_bvh(warp)], FI)
+    (p,) = perf.by_key.values()
+    assert len(calls) == frames[0].count(b"/VMC/Ext/Bone/Pos") == 22
+    np.testing.assert_array_equal(session_map(p.session), offline_map(FI, warp))
+    bad = bytearray(frames[5])
+    at = bad.index(b"LeftUpperLeg\x00")
+    at += (len("LeftUpperLeg") + 4) // 4 * 4 + 12  # past the name and ",sfffffff\0\0\0"
+    bad[at : at + 4] = struct.pack(">f", float("nan"))
+    perf, _, _ = inject([*frames[:5], bytes(bad), *frames[6:8]], FI)
+    assert perf.bad["finite"] == 1 and perf.frames == 8
+    assert "bone 'LeftUpperLeg' has NaN or inf" in perf.first_bad["finite"]
 
 
 def test_two_senders_are_two_performers(cmu):
