@@ -16,8 +16,16 @@ from fpdtw.online.base import run_online
 from fpdtw.paper import claims
 from fpdtw.paper.claims import ClaimContext
 from fpdtw.paper.claims.evidence import Evidence
+from fpdtw.paper.edits import EDITS, edit_target
 from fpdtw.paper.pause import insert_pause, pause_plan, pause_seed
-from fpdtw.paper.runner.grid import OPEN_ALGORITHMS, PAUSE_METHODS, PAUSE_SUFFIX
+from fpdtw.paper.runner.grid import (
+    EDIT_METHODS,
+    EDIT_SUFFIXES,
+    OPEN_ALGORITHMS,
+    PAUSE_METHODS,
+    PAUSE_SUFFIX,
+    mode_algorithms,
+)
 from fpdtw.paper.runner.run import resolve_algorithm, transform_target
 from fpdtw.paper.runner.selection import SELECTIONS, pair_selection
 from fpdtw.period import auto_window, autocorrelation, dominant_period, window_from_period
@@ -124,6 +132,26 @@ def test_the_runner_reads_the_pause_suffix():
     assert resolve_algorithm("Mc w40").transform is None
     assert "DTW@pause" in OPEN_ALGORITHMS
     assert all(n + PAUSE_SUFFIX in OPEN_ALGORITHMS for n in PAUSE_METHODS)
+
+
+def test_the_runner_reads_the_edit_suffixes():
+    """Q7's names: each edit's suffix gives its edit of fpdtw.paper.edits, on a relocating
+    method as on a plain one; the target is the edited one; the smoke run (2 s targets)
+    leaves out the 2 s cut only."""
+    assert set(EDIT_SUFFIXES.values()) == set(EDITS)
+    spec = resolve_algorithm("OLTW (relocate)@cut1s")
+    assert (spec.algorithm.name, spec.fps, spec.transform) == ("OLTW (relocate)", 120.0, "cut 1 s")
+    assert resolve_algorithm("Mc w40@restart").transform == "restart"
+    T = random_walk_features(n_frames=600, seed=3)
+    for edit in EDITS:
+        E, idx, _ = edit_target(T, edit)
+        got = transform_target(edit, T)
+        assert got.name == E.name and np.array_equal(got.quats, T.quats[idx])
+    assert len(EDIT_METHODS) == 2 * len(PAUSE_METHODS)
+    q7 = [n + s for n in EDIT_METHODS for s in ("", *EDIT_SUFFIXES)]
+    assert all(n in OPEN_ALGORITHMS for n in q7)
+    smoke = mode_algorithms("smoke-open")
+    assert [n for n in OPEN_ALGORITHMS if n not in smoke] == [n + "@cut2s" for n in EDIT_METHODS]
 
 
 def test_the_open_selection_is_a_subsample_of_the_paper_shaped_one():

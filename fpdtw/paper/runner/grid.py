@@ -1,6 +1,7 @@
 """The experiment grid: which algorithms each mode runs (:func:`mode_algorithms`), by the
 registry's names; ``"@60Hz"`` at the end runs one at 60 Hz, ``"@pause"`` on the targets with a
-held pose inserted (:func:`fpdtw.paper.pause.insert_pause`).
+held pose inserted (:func:`fpdtw.paper.pause.insert_pause`), an edit's suffix
+(:data:`EDIT_SUFFIXES`) on the targets with that edit (:func:`fpdtw.paper.edits.edit_target`).
 """
 
 from __future__ import annotations
@@ -114,6 +115,13 @@ PAUSE_METHODS = (
     "Ma", "Ma + Type V", "Mb w40", "Mc w40", "Mc w80", "Mc w80 + Type V", "OE-DTW", "OLTW", "OPW",
 )  # fmt: skip
 OPEN_Q6 = ("DTW" + PAUSE_SUFFIX, *PAUSE_METHODS, *(n + PAUSE_SUFFIX for n in PAUSE_METHODS))
+#: Q7 (a performer who skips, repeats or starts again): suffix -> edit of
+#: :data:`fpdtw.paper.edits.EDITS` (the same names, tested).
+EDIT_SUFFIXES = {"@cut0.5s": "cut 0.5 s", "@cut1s": "cut 1 s", "@cut2s": "cut 2 s",
+                 "@repeat1s": "repeat 1 s", "@restart": "restart"}  # fmt: skip
+#: Q7's methods: Q6's online methods, each without and with the relocating search.
+EDIT_METHODS = tuple(m for n in PAUSE_METHODS for m in (n, registry.with_option(n, "relocate")))
+OPEN_Q7 = (*EDIT_METHODS, *(n + s for s in EDIT_SUFFIXES for n in EDIT_METHODS))
 #: Q3 (a global band around the diagonal): Methods B and C with the band of 1 s (the first
 #: reading, which masks) and with the band of half the window (the claim's band; its rule
 #: chosen on 2026-11-24, after the 1 s band's results were seen and before any run of it).
@@ -131,18 +139,20 @@ OPEN_Q2 = tuple(n for b in WEIGHT_BASES for n in (b, b + WEIGHT_SUFFIX))
 #: Q5 (Keogh and Pazzani's derivative DTW, :mod:`fpdtw.derivative`): on poses and derivatives.
 DERIVATIVE_BASES = ("Mc w40", "OPW")
 OPEN_Q5 = tuple(n for b in DERIVATIVE_BASES for n in (b, f"{b} (derivative)"))
-#: What notebook 16 computes by default (modes "open" and "smoke-open"): DTW and UTW at both
-#: rates, then Q1, Q6, Q3, Q4, Q2, Q5 (the first of any duplicate kept).
+#: What notebook 16 computes by default (mode "open"): DTW and UTW at both rates, then Q1,
+#: Q6, Q3, Q4, Q2, Q5, Q7 (the first of any duplicate kept).
 OPEN_ALGORITHMS = tuple(
     dict.fromkeys(("DTW", "UTW", "DTW@60Hz", "UTW@60Hz", *OPEN_Q1, *OPEN_Q6, *OPEN_Q3, *OPEN_Q4,
-                   *OPEN_Q2, *OPEN_Q5))
+                   *OPEN_Q2, *OPEN_Q5, *OPEN_Q7))
 )  # fmt: skip
+#: Mode "smoke-open": the same without the 2 s cut, which its 2 s targets are too short for.
+SMOKE_OPEN_ALGORITHMS = tuple(n for n in OPEN_ALGORITHMS if not n.endswith("@cut2s"))
 #: The default algorithm list of each mode but "full" and "smoke" (:func:`mode_algorithms`).
 MODE_ALGORITHMS = {
     "study": STUDY_ALGORITHMS,
     "smoke-study": STUDY_ALGORITHMS,
     "open": OPEN_ALGORITHMS,
-    "smoke-open": OPEN_ALGORITHMS,
+    "smoke-open": SMOKE_OPEN_ALGORITHMS,
 }
 
 
@@ -159,6 +169,9 @@ def split_rate(name: str) -> tuple:
 
 
 def split_transform(name: str) -> tuple:
-    """``"Mc w40@pause"`` -> ``("Mc w40", "pause")``; other names -> ``(name, None)``."""
-    base = name.removesuffix(PAUSE_SUFFIX)
-    return base, None if base == name else PAUSE_SUFFIX[1:]
+    """``"Mc w40@pause"`` -> ``("Mc w40", "pause")``, ``"OLTW@cut1s"`` -> ``("OLTW", "cut 1
+    s")`` (:data:`EDIT_SUFFIXES`); other names -> ``(name, None)``."""
+    for suffix, edit in ((PAUSE_SUFFIX, PAUSE_SUFFIX[1:]), *EDIT_SUFFIXES.items()):
+        if name.endswith(suffix):
+            return name.removesuffix(suffix), edit
+    return name, None

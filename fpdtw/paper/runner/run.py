@@ -50,6 +50,7 @@ from fpdtw.motion.joints import OPW_JOINTS
 from fpdtw.online.window import WindowCache, run_group
 from fpdtw.paper import catalog, numbers, provenance
 from fpdtw.paper.atomic import TMP_SUFFIX, write_atomic
+from fpdtw.paper.edits import EDITS, edit_target
 from fpdtw.paper.paths import results_dir
 from fpdtw.paper.pause import insert_pause
 from fpdtw.paper.runner.grid import mode_algorithms, split_rate, split_transform
@@ -78,8 +79,9 @@ from fpdtw.paper.runner.selection import (
 CACHE_FORMAT = 3
 
 _PKG_ROOT = Path(__file__).resolve().parents[2]
-#: The reproduction's modules that decide numbers: the catalogue and the pause in targets.
-_PAPER_COMPUTE = ("paper/catalog.py", "paper/pause.py")
+#: The reproduction's modules that decide numbers: the catalogue, the pause and the edits in
+#: targets.
+_PAPER_COMPUTE = ("paper/catalog.py", "paper/pause.py", "paper/edits.py")
 _META = "__meta__"
 
 
@@ -87,7 +89,8 @@ _META = "__meta__"
 class AlgorithmSpec:
     """How one named algorithm of a run runs: its name in results (``"Mc w40@60Hz"``), the
     registry's algorithm, the frame rate of its features and its target ``transform``
-    (``"pause"``: a held pose inserted, the deviation from DTW of the modified pair)."""
+    (``"pause"``: a held pose inserted, or an edit of :data:`~fpdtw.paper.edits.EDITS`; the
+    deviation from DTW of the modified pair)."""
 
     name: str
     algorithm: registry.Algorithm
@@ -113,6 +116,8 @@ def transform_target(transform, T: MotionFeatures) -> MotionFeatures:
         return T
     if transform == "pause":
         return insert_pause(T)
+    if transform in EDITS:
+        return edit_target(T, transform)[0]
     raise AlignmentError(f"unknown target transform {transform!r}")
 
 
