@@ -204,8 +204,9 @@ class Algorithm:
 
     @property
     def shares_window(self) -> bool:
-        """Methods B and C on poses: their window costs can be shared (a WindowCache)."""
-        return self.family in ("B", "C") and not self.derivative
+        """Methods B and C on poses, not relocating: their window costs can be shared (a
+        WindowCache, in one compiled loop that has no relocating search)."""
+        return self.family in ("B", "C") and not (self.derivative or self.relocate)
 
     def make(self, I: MotionFeatures, *, cache=None, record=False):
         """The streaming aligner of an online algorithm, for the input motion ``I``."""

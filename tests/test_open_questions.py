@@ -16,7 +16,7 @@ from fpdtw.online.base import run_online
 from fpdtw.paper import claims
 from fpdtw.paper.claims import ClaimContext
 from fpdtw.paper.claims.evidence import Evidence
-from fpdtw.paper.edits import EDITS, edit_target
+from fpdtw.paper.edits import EDITS, edit_target, fits
 from fpdtw.paper.pause import insert_pause, pause_plan, pause_seed
 from fpdtw.paper.runner.grid import (
     EDIT_METHODS,
@@ -136,8 +136,8 @@ def test_the_runner_reads_the_pause_suffix():
 
 def test_the_runner_reads_the_edit_suffixes():
     """Q7's names: each edit's suffix gives its edit of fpdtw.paper.edits, on a relocating
-    method as on a plain one; the target is the edited one; the smoke run (2 s targets)
-    leaves out the 2 s cut only."""
+    method as on a plain one; the target is the edited one; a target too short for an edit
+    (hand-checked bounds) has no result under it."""
     assert set(EDIT_SUFFIXES.values()) == set(EDITS)
     spec = resolve_algorithm("OLTW (relocate)@cut1s")
     assert (spec.algorithm.name, spec.fps, spec.transform) == ("OLTW (relocate)", 120.0, "cut 1 s")
@@ -150,8 +150,9 @@ def test_the_runner_reads_the_edit_suffixes():
     assert len(EDIT_METHODS) == 2 * len(PAUSE_METHODS)
     q7 = [n + s for n in EDIT_METHODS for s in ("", *EDIT_SUFFIXES)]
     assert all(n in OPEN_ALGORITHMS for n in q7)
-    smoke = mode_algorithms("smoke-open")
-    assert [n for n in OPEN_ALGORITHMS if n not in smoke] == [n + "@cut2s" for n in EDIT_METHODS]
+    assert mode_algorithms("smoke-open") == OPEN_ALGORITHMS
+    assert fits(401, 120.0, "cut 2 s") and not fits(400, 120.0, "cut 2 s")  # 0.6 * 400 >= 240
+    assert fits(7, 120.0, "restart") and not fits(100, 120.0, "cut 0.5 s")
 
 
 def test_the_open_selection_is_a_subsample_of_the_paper_shaped_one():
@@ -557,11 +558,13 @@ def weight_centres(sim, dev):
 
 
 def test_q2_verdicts():
-    from fpdtw.paper.runner.grid import OPEN_Q2
+    from fpdtw.paper.runner.grid import OPEN_Q2, OPEN_Q7
 
     assert all(n in OPEN_ALGORITHMS for n in OPEN_Q2)
-    # appended after Q4, before Q5's derivative variants
-    assert OPEN_ALGORITHMS[-3:] == (
+    # appended after Q4, before Q5's derivative variants, then Q7's names Q6 did not have
+    q7 = tuple(n for n in OPEN_Q7 if n not in PAUSE_METHODS)
+    assert OPEN_ALGORITHMS[-len(q7) :] == q7
+    assert OPEN_ALGORITHMS[-len(q7) - 3 : -len(q7)] == (
         "OLTW (weighted joints)",
         "Mc w40 (derivative)",
         "OPW (derivative)",

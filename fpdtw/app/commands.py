@@ -383,6 +383,9 @@ def run_command(args, prog: str) -> int:
     if not args.quiet:
         for name in res.algorithms:
             s = res.summary["algorithms"][name]
+            if not s["n_pairs"]:
+                print(f"{name:40s} no result: every target is too short for the edit")
+                continue
             print(
                 f"{name:40s} similarity median {s['similarity_median']:6.3f}  "
                 f"deviation median {s['deviation_median']:7.2f} frames"

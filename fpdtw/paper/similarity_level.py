@@ -24,6 +24,7 @@ from fpdtw.motion.rig import TRAJECTORY_FRAMES, bone_directions, trajectory_rota
 from fpdtw.online.window import SMOOTHING
 from fpdtw.paper import numbers as N
 from fpdtw.paper.atomic import write_atomic
+from fpdtw.paper.edits import EDITS, edit_seed, source_frames
 from fpdtw.paper.figures.paper_vs_ours import side_by_side
 from fpdtw.paper.pause import hold_frames, pause_plan, pause_seed
 from fpdtw.paper.runner.grid import split_transform
@@ -133,16 +134,24 @@ def rescore(results) -> dict:
 RESCORE_FORMAT = 1
 
 
-def _algorithm_scores(r: Reading, stored, arrays: dict, index: list, pause_fps=None):
-    """Eq. 2 of every stored map of one algorithm under reading ``r`` (``pause_fps``: the
-    rate, when it ran on paused targets)."""
+def _algorithm_scores(r: Reading, stored, arrays: dict, index: list, fps: float, transform=None):
+    """Eq. 2 of every stored map of one algorithm under reading ``r`` (``transform``: the
+    targets' as the runner made them, at ``fps``: a pause, or an edit; NaN for a pair the
+    edit did not fit, which has an empty map)."""
     out = np.empty(len(index))
     for k, (i, t) in enumerate(index):
         I, T = arrays[i], arrays[t]
-        if pause_fps is not None:
-            at, length = pause_plan(T[r.frame].shape[0], pause_fps, pause_seed(T["name"]))
-            T = {**T, r.frame: hold_frames(T[r.frame], at, length)}
         M = np.asarray(stored.map(k), dtype=np.int64)
+        n = T[r.frame].shape[0]
+        if transform == "pause":
+            at, length = pause_plan(n, fps, pause_seed(T["name"]))
+            T = {**T, r.frame: hold_frames(T[r.frame], at, length)}
+        elif transform in EDITS:
+            if not M.size:
+                out[k] = np.nan
+                continue
+            idx, _ = source_frames(n, fps, transform, edit_seed(transform, T["name"]))
+            T = {**T, r.frame: T[r.frame][idx]}
         axis = (I["bone"], T["bone"]) if r.axis == "bone" else "y"
         out[k] = similarity(
             I[r.frame], T[r.frame], M, tau=r.tau, flat=r.flat, skip=r.skip, axis=axis
@@ -192,8 +201,7 @@ def reading_values(results, reading: str = "transform", progress: bool = True):
         path = folder / f"{slug(name)}.{h.hexdigest()[:16]}.npy"
         if path.is_file():
             return np.load(path)
-        pause = fps if split_transform(name)[1] == "pause" else None
-        v = _algorithm_scores(r, stored, arrays(fps), index, pause)
+        v = _algorithm_scores(r, stored, arrays(fps), index, fps, split_transform(name)[1])
         for old in folder.glob(f"{slug(name)}.*.npy"):
             old.unlink()
         buf = io.BytesIO()

@@ -139,20 +139,18 @@ OPEN_Q2 = tuple(n for b in WEIGHT_BASES for n in (b, b + WEIGHT_SUFFIX))
 #: Q5 (Keogh and Pazzani's derivative DTW, :mod:`fpdtw.derivative`): on poses and derivatives.
 DERIVATIVE_BASES = ("Mc w40", "OPW")
 OPEN_Q5 = tuple(n for b in DERIVATIVE_BASES for n in (b, f"{b} (derivative)"))
-#: What notebook 16 computes by default (mode "open"): DTW and UTW at both rates, then Q1,
-#: Q6, Q3, Q4, Q2, Q5, Q7 (the first of any duplicate kept).
+#: What notebook 16 computes by default (modes "open" and "smoke-open"): DTW and UTW at both
+#: rates, then Q1, Q6, Q3, Q4, Q2, Q5, Q7 (the first of any duplicate kept).
 OPEN_ALGORITHMS = tuple(
     dict.fromkeys(("DTW", "UTW", "DTW@60Hz", "UTW@60Hz", *OPEN_Q1, *OPEN_Q6, *OPEN_Q3, *OPEN_Q4,
                    *OPEN_Q2, *OPEN_Q5, *OPEN_Q7))
 )  # fmt: skip
-#: Mode "smoke-open": the same without the 2 s cut, which its 2 s targets are too short for.
-SMOKE_OPEN_ALGORITHMS = tuple(n for n in OPEN_ALGORITHMS if not n.endswith("@cut2s"))
 #: The default algorithm list of each mode but "full" and "smoke" (:func:`mode_algorithms`).
 MODE_ALGORITHMS = {
     "study": STUDY_ALGORITHMS,
     "smoke-study": STUDY_ALGORITHMS,
     "open": OPEN_ALGORITHMS,
-    "smoke-open": SMOKE_OPEN_ALGORITHMS,
+    "smoke-open": OPEN_ALGORITHMS,
 }
 
 

@@ -50,7 +50,7 @@ from fpdtw.motion.joints import OPW_JOINTS
 from fpdtw.online.window import WindowCache, run_group
 from fpdtw.paper import catalog, numbers, provenance
 from fpdtw.paper.atomic import TMP_SUFFIX, write_atomic
-from fpdtw.paper.edits import EDITS, edit_target
+from fpdtw.paper.edits import EDITS, edit_target, fits
 from fpdtw.paper.paths import results_dir
 from fpdtw.paper.pause import insert_pause
 from fpdtw.paper.runner.grid import mode_algorithms, split_rate, split_transform
@@ -340,7 +340,12 @@ def _compute_unit(unit: dict, specs: list, feature_files, base_key: str, code: s
         ):
             group = [s for s in specs if s.fps == fps and s.transform == transform]
             I = load_features(feature_files[p["input_index"]], fps)
-            T = transform_target(transform, load_features(feature_files[p["target_index"]], fps))
+            T = load_features(feature_files[p["target_index"]], fps)
+            if transform in EDITS and not fits(T.n_frames, T.fps, transform):
+                for s in group:  # no result: an empty map, NaN scores
+                    per[s.name].append((np.zeros(0, np.int64), np.nan, np.nan))
+                continue
+            T = transform_target(transform, T)
             maps = _pair_maps(group, I, T, {**info, "fps": fps})
             dtw_spec = next((s for s in group if s.algorithm.family == "DTW"), None)
             dtw = registry.align("DTW", I, T)[0] if dtw_spec is None else maps[dtw_spec.name]
@@ -397,8 +402,14 @@ def _assemble(out: Path, specs: list, units: list, n_pairs: int) -> None:
         save_npz(out / "algorithms" / f"{s.slug}.npz", **fields)
 
 
+def _share(x) -> float | None:
+    return float(np.mean(x)) if x.size else None
+
+
 def _stats(x) -> dict:
     x = np.asarray(x, dtype=np.float64)
+    if not x.size:
+        return dict.fromkeys(("median", "mean", "q1", "q3"), float("nan"))
     q1, med, q3 = np.percentile(x, [25, 50, 75])
     return {"median": float(med), "mean": float(np.mean(x)), "q1": float(q1), "q3": float(q3)}
 
@@ -425,7 +436,8 @@ def summarize(results: Results) -> dict:
     for name in results.algorithms:
         r = results.get(name)
         fps = results.fps(name)
-        sim, dev = r["similarity"], r["deviation"]
+        keep = np.isfinite(r["similarity"])  # a pair without a result (an edit too long)
+        sim, dev = r["similarity"][keep], r["deviation"][keep]
         s, d = _stats(sim), _stats(dev)
         u = utw.get(fps)
         dev_ms = dev * 1000.0 / fps
@@ -437,9 +449,9 @@ def summarize(results: Results) -> dict:
             **{f"similarity_{k}": v for k, v in s.items()},  # median, mean, q1, q3
             "deviation_median": d["median"],
             "deviation_mean": d["mean"],
-            "frac_above_utw_median": None if u is None else float(np.mean(sim > u)),
-            "frac_deviation_below_18": float(np.mean(dev < numbers.DEVIATION_BENCHMARK_FRAMES)),
-            "frac_deviation_below_150ms": float(np.mean(dev_ms < numbers.DEVIATION_BENCHMARK_MS)),
+            "frac_above_utw_median": None if u is None or not sim.size else float(np.mean(sim > u)),
+            "frac_deviation_below_18": _share(dev < numbers.DEVIATION_BENCHMARK_FRAMES),
+            "frac_deviation_below_150ms": _share(dev_ms < numbers.DEVIATION_BENCHMARK_MS),
             "passes_similarity_benchmark": passes_sim,
             "passes_deviation_benchmark": numbers.passes_deviation(d["median"], fps),
         }
