@@ -14,10 +14,13 @@ from fpdtw.paper.edits import (
     EDITS,
     MS_TOLERANCES,
     edit_rows,
+    edit_seed,
     edit_target,
     errors_ms,
     format_edit_rows,
     main,
+    open_run_rows,
+    open_run_scores,
     recovery_s,
     source_frames,
     true_map,
@@ -111,3 +114,49 @@ def test_edit_rows_score_each_method_with_and_without_relocating(cmu_retimed, ca
     assert main(["cmu", "18_01.bvh", "18_01.bvh"]) == 0
     out = capsys.readouterr().out.splitlines()
     assert out[1].split()[:2] == ["edit", "method"] and len(out) == 2 + 6 * 6
+
+
+class _Stored:
+    def __init__(self, maps):
+        self.maps = [np.asarray(m, np.int32) for m in maps]
+
+    def map(self, k):
+        return self.maps[k]
+
+
+class _Run:
+    """A run of two pairs (targets 'a' of 300 frames and 'b' of 60) at 120 Hz."""
+
+    pairs = [{"id": 0, "target": "a"}, {"id": 1, "target": "b"}]
+
+    def __init__(self, stored):
+        self.stored = stored
+
+    def get(self, name):
+        return self.stored[name]
+
+    def fps(self, name):
+        return 120.0
+
+
+def test_open_run_scores_by_hand():
+    """The true map of an edited pair is the unedited DTW map at each frame's source: a map
+    equal to it is within every tolerance and back at once; a map stuck at frame 0 is lost
+    where the truth is over 2 s on; a pair the edit did not fit (empty map) has no result."""
+    P = [np.arange(300) // 2 + 40, np.arange(60)]
+    idx, at = source_frames(300, 120.0, "restart", edit_seed("restart", "a"))
+    truth = P[0][idx]
+    stuck = np.zeros(idx.size, np.int64)
+    maps = {"DTW": P, "Mc w40@restart": [truth, []], "OLTW@restart": [stuck, []],
+            "OLTW": [P[0] * 0, P[1]]}  # fmt: skip
+    run = _Run({name: _Stored(m) for name, m in maps.items()})
+    best, none = open_run_scores(run, "Mc w40", "restart")
+    assert none is None and best["frames"] == idx.size and best["recovery_s"] == 0.0
+    assert all(best["within"][t] == idx.size for t in MS_TOLERANCES) and best["lost"] == 0
+    worst = open_run_scores(run, "OLTW", "restart")[0]
+    assert worst["lost"] == int(np.sum(truth > 240)) and worst["within"][50] == 0
+    assert worst["recovery_s"] == math.inf
+    plain = open_run_scores(run, "OLTW", None)
+    assert plain[1]["within"][50] == 60 and plain[1]["recovery_s"] is None
+    rows = open_run_rows(run, ["Mc w40"], edits=("restart",))
+    assert rows[0]["pairs"] == 1 and rows[0][50] == 1.0 and rows[0]["never"] == 0.0

@@ -246,16 +246,81 @@ def edit_rows(I, T, names=EDIT_METHODS, edits=tuple(EDITS)) -> list:
     return rows
 
 
+def open_run_scores(results, name: str, edit: str | None, truth: str = "DTW") -> list:
+    """Per pair of a run, one method's scores against the true map: ``None`` for a pair
+    without a result (a target too short for the edit), else a dict of ``within`` (frames
+    within each of :data:`MS_TOLERANCES`, ms -> count), ``lost``, ``frames`` and ``recovery_s``
+    (None without an edit). ``name`` is the method's name without a suffix; the run holds it
+    with the edit's suffix (:data:`fpdtw.paper.runner.grid.EDIT_SUFFIXES`) and ``truth``,
+    offline DTW on the unedited pairs."""
+    from fpdtw.paper.runner.grid import EDIT_SUFFIXES
+
+    suffix = "" if edit is None else {e: s for s, e in EDIT_SUFFIXES.items()}[edit]
+    got, ref = results.get(name + suffix), results.get(truth)
+    fps = results.fps(truth)
+    out = []
+    for k, pair in enumerate(results.pairs):
+        M, P = np.asarray(got.map(k), np.int64), np.asarray(ref.map(k), np.int64)
+        if not M.size:
+            out.append(None)
+            continue
+        idx, at = np.arange(P.size), 0
+        if edit is not None:
+            idx, at = source_frames(P.size, fps, edit, edit_seed(edit, pair["target"]))
+        if idx.size != M.size:
+            raise AlignmentError(f"{name + suffix} on pair {pair['id']}: a map of {M.size} "
+                                 f"frames for an edited target of {idx.size}")  # fmt: skip
+        truth_map = true_map(P, idx)
+        e = errors_ms(M, truth_map, fps)
+        out.append(dict(
+            within={t: int(np.sum(e <= t)) for t in MS_TOLERANCES},
+            lost=int(np.sum(e > LOST_MS)), frames=int(M.size),
+            recovery_s=None if edit is None else recovery_s(M, truth_map, fps, fps, at),
+        ))  # fmt: skip
+    return out
+
+
+def open_run_rows(results, names, edits=(None, *EDITS)) -> list:
+    """:func:`open_run_scores` of each method under each edit (None: unedited), pooled over
+    the pairs with a result (NaN shares without one): rows ``edit``, ``name``, ``pairs``, the
+    share within each tolerance, ``lost``, the median recovery (s; inf when most never
+    recover) and the share of pairs never recovered.
+
+    Notebook: 16_open_questions.ipynb
+    """
+    rows = []
+    for edit in edits:
+        for name in names:
+            got = [g for g in open_run_scores(results, name, edit) if g is not None]
+            frames = sum(g["frames"] for g in got) or math.nan  # no pair: NaN shares
+            row = dict(edit=edit or "none", name=name, pairs=len(got))
+            row |= {t: sum(g["within"][t] for g in got) / frames for t in MS_TOLERANCES}
+            row["lost"] = sum(g["lost"] for g in got) / frames
+            rec = [g["recovery_s"] for g in got if g["recovery_s"] is not None]
+            row["recovery_s"] = float(np.median(rec)) if rec else None
+            row["never"] = float(np.mean(np.isinf(rec))) if rec else None
+            rows.append(row)
+    return rows
+
+
 def format_edit_rows(rows) -> str:
-    """:func:`edit_rows` as text lines: shares in %, recovery in s (inf: never)."""
-    head = (f"{'edit':<11}{'method':<20}" + "".join(f"{t:>6}" for t in MS_TOLERANCES)
-            + f"{'lost':>6}{'back s':>8}{'jumps':>6}")  # fmt: skip
+    """:func:`edit_rows` or :func:`open_run_rows` as text lines: shares in %, recovery in s
+    (inf: never), and the pairs, jumps and share never recovered where the rows have them.
+
+    Notebook: 16_open_questions.ipynb
+    """
+    extra = [k for k in ("pairs", "jumps", "never") if k in rows[0]]
+    head = (f"{'edit':<11}{'method':<30}" + "".join(f"{t:>6}" for t in MS_TOLERANCES)
+            + f"{'lost':>6}{'back s':>8}" + "".join(f"{k:>7}" for k in extra))  # fmt: skip
     lines = [head]
     for r in rows:
         back = "" if r["recovery_s"] is None else f"{r['recovery_s']:.2f}"
-        lines.append(f"{r['edit']:<11}{r['name']:<20}"
+        cells = {"pairs": f"{r.get('pairs')}", "jumps": f"{r.get('jumps')}",
+                 "never": "" if r.get("never") is None else f"{100 * r['never']:.0f}%"}  # fmt: skip
+        lines.append(f"{r['edit']:<11}{r['name']:<30}"
                      + "".join(f"{100 * r[t]:>6.1f}" for t in MS_TOLERANCES)
-                     + f"{100 * r['lost']:>6.1f}{back:>8}{r['jumps']:>6}")  # fmt: skip
+                     + f"{100 * r['lost']:>6.1f}{back:>8}"
+                     + "".join(f"{cells[k]:>7}" for k in extra))  # fmt: skip
     return "\n".join(lines)
 
 
