@@ -134,7 +134,7 @@ def rescore(results) -> dict:
 RESCORE_FORMAT = 1
 
 
-def _algorithm_scores(r: Reading, stored, arrays: dict, index: list, fps: float, transform=None):
+def _algorithm_scores(r: Reading, stored, arrays: dict, index: list, fps=BASE_FPS, transform=None):
     """Eq. 2 of every stored map of one algorithm under reading ``r`` (``transform``: the
     targets' as the runner made them, at ``fps``: a pause, or an edit; NaN for a pair the
     edit did not fit, which has an empty map)."""
