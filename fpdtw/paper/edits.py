@@ -83,9 +83,16 @@ def edit_seed(edit: str, name: str) -> int:
     return int.from_bytes(hashlib.sha256(key).digest()[:8], "little")
 
 
-def edit_span(n_frames: int, fps: float, edit: str) -> tuple[int, int]:
+def edit_suffix(edit: str) -> str:
+    """The suffix of a name run on targets with ``edit`` (``"cut 0.5 s"`` -> ``"@cut0.5s"``;
+    :mod:`fpdtw.paper.runner.grid`)."""
+    return "@" + edit.replace(" ", "")
+
+
+def edit_span(n_frames: int, fps: float, edit: str) -> tuple[int, int, int]:
     """The first and last frame where ``edit`` may start in a target of ``n_frames`` at
-    ``fps`` (the module's rule); ``lo > hi`` when the target is too short for it."""
+    ``fps`` (the module's rule; ``lo > hi`` when the target is too short for it) and the
+    edit's length ``L`` in frames (0 for a restart)."""
     if edit not in EDITS:
         raise AlignmentError(f"unknown edit {edit!r}; one of {', '.join(EDITS)}")
     kind, seconds = EDITS[edit]
@@ -93,13 +100,13 @@ def edit_span(n_frames: int, fps: float, edit: str) -> tuple[int, int]:
     last = n_frames - 1
     lo = max(int(math.ceil(EDIT_SPAN[0] * last)), 1)
     hi = int(math.floor(EDIT_SPAN[1] * last)) - (L if kind == "cut" else 0)
-    return (lo, hi) if n_frames >= 3 and fps > 0 else (1, 0)
+    return (lo, hi, L) if n_frames >= 3 and fps > 0 else (1, 0, L)
 
 
 def fits(n_frames: int, fps: float, edit: str) -> bool:
     """Whether a target of ``n_frames`` at ``fps`` is long enough for ``edit`` (a pair whose
     target is not has no result under it: the open run's shortest clips are 0.7 s)."""
-    lo, hi = edit_span(n_frames, fps, edit)
+    lo, hi, _ = edit_span(n_frames, fps, edit)
     return lo <= hi
 
 
@@ -113,11 +120,10 @@ def source_frames(n_frames: int, fps: float, edit: str, seed: int) -> tuple[np.n
     at : int
         The first edited frame whose source does not follow its predecessor's.
     """
-    lo, hi = edit_span(n_frames, fps, edit)
+    lo, hi, L = edit_span(n_frames, fps, edit)
     if hi < lo:
         raise AlignmentError(f"a target of {n_frames} frames at {fps} Hz is too short for {edit!r}")
-    kind, seconds = EDITS[edit]
-    L = max(1, int(round(seconds * fps))) if kind != "restart" else 0
+    kind = EDITS[edit][0]
     a = int(np.random.default_rng(seed).integers(lo, hi + 1))
     F = np.arange(n_frames)
     if kind == "cut":
@@ -251,11 +257,9 @@ def open_run_scores(results, name: str, edit: str | None, truth: str = "DTW") ->
     without a result (a target too short for the edit), else a dict of ``within`` (frames
     within each of :data:`MS_TOLERANCES`, ms -> count), ``lost``, ``frames`` and ``recovery_s``
     (None without an edit). ``name`` is the method's name without a suffix; the run holds it
-    with the edit's suffix (:data:`fpdtw.paper.runner.grid.EDIT_SUFFIXES`) and ``truth``,
-    offline DTW on the unedited pairs."""
-    from fpdtw.paper.runner.grid import EDIT_SUFFIXES
-
-    suffix = "" if edit is None else {e: s for s, e in EDIT_SUFFIXES.items()}[edit]
+    with the edit's suffix (:func:`edit_suffix`) and ``truth``, offline DTW on the unedited
+    pairs."""
+    suffix = "" if edit is None else edit_suffix(edit)
     got, ref = results.get(name + suffix), results.get(truth)
     fps = results.fps(truth)
     out = []

@@ -9,6 +9,7 @@ from __future__ import annotations
 from typing import NamedTuple
 
 from fpdtw import registry
+from fpdtw.paper.edits import EDITS, edit_suffix
 from fpdtw.paper.numbers import PAPER_NAMES, WINDOWS
 from fpdtw.paper.runner.results import BASE_FPS, LOW_FPS, RATE_SUFFIX
 from fpdtw.registry import C_READINGS, method_c_name
@@ -116,9 +117,8 @@ PAUSE_METHODS = (
 )  # fmt: skip
 OPEN_Q6 = ("DTW" + PAUSE_SUFFIX, *PAUSE_METHODS, *(n + PAUSE_SUFFIX for n in PAUSE_METHODS))
 #: Q7 (a performer who skips, repeats or starts again): suffix -> edit of
-#: :data:`fpdtw.paper.edits.EDITS` (the same names, tested).
-EDIT_SUFFIXES = {"@cut0.5s": "cut 0.5 s", "@cut1s": "cut 1 s", "@cut2s": "cut 2 s",
-                 "@repeat1s": "repeat 1 s", "@restart": "restart"}  # fmt: skip
+#: :data:`fpdtw.paper.edits.EDITS`.
+EDIT_SUFFIXES = {edit_suffix(e): e for e in EDITS}
 #: Q7's methods: Q6's online methods, each without and with the relocating search.
 EDIT_METHODS = tuple(m for n in PAUSE_METHODS for m in (n, registry.with_option(n, "relocate")))
 OPEN_Q7 = (*EDIT_METHODS, *(n + s for s in EDIT_SUFFIXES for n in EDIT_METHODS))
