@@ -104,11 +104,11 @@ def test_every_claim_holds_on_a_paper_like_run(paper_like):
     rows, parts = paper_like
     assert list(rows) == ["1", "2", "2b", "3", "4", "4b", "4c", "5", "5b", "6", "7", "8", "8b", "9",
                           "P1", "P2", "P3", "P4", "B1",
-                          "Q1", "Q2", "Q3", "Q4", "Q5", "Q6"]  # fmt: skip
+                          "Q1", "Q2", "Q3", "Q4", "Q5", "Q6", "Q7"]  # fmt: skip
     want = dict.fromkeys(["1", "2", "2b", "3", "4", "4b", "4c", "5", "5b", "6", "7", "P1"], "yes")
     want |= {"8": "not comparable", "8b": "n/a", "9": "not comparable", "B1": "n/a"}
     # no open run here (tests/test_open_questions.py)
-    want |= dict.fromkeys(["Q1", "Q2", "Q3", "Q4", "Q5", "Q6"], "n/a")
+    want |= dict.fromkeys(["Q1", "Q2", "Q3", "Q4", "Q5", "Q6", "Q7"], "n/a")
     want |= dict.fromkeys(["P2", "P3", "P4"], "yes")
     assert {k: r["holds"] for k, r in rows.items()} == want
     for r in rows.values():

@@ -16,7 +16,7 @@ from fpdtw.online.base import run_online
 from fpdtw.paper import claims
 from fpdtw.paper.claims import ClaimContext
 from fpdtw.paper.claims.evidence import Evidence
-from fpdtw.paper.edits import EDITS, edit_target, fits
+from fpdtw.paper.edits import EDITS, edit_seed, edit_suffix, edit_target, fits, source_frames
 from fpdtw.paper.pause import insert_pause, pause_plan, pause_seed
 from fpdtw.paper.runner.grid import (
     EDIT_METHODS,
@@ -242,12 +242,72 @@ def test_q6_decides_the_posters_remark_on_opw_alone():
     assert rows["Q6"]["holds"] == "no"
 
 
+# -- Q7: edits and relocating -----------------------------------------------------------------
+
+
+def edit_run(off, short_cut=False):
+    """An open run of 36 pairs of 600-frame takes whose maps are the true map of each edit
+    with the first ``off(edit, relocate)`` share of frames (about; per pair and method) 60
+    frames (500 ms) late; ``short_cut``: the targets ``*_0`` too short for the 2 s cut."""
+    run = FakeRun({"authors_fbx": 3, "hdm05": 3}, takes=3, n_frames=600)
+    run.add("DTW", 0.0)  # its maps: the diagonal, so the true map is each frame's source
+    rng = np.random.default_rng(1)
+    for edit in (None, *EDITS):
+        for name in EDIT_METHODS:
+            maps = []
+            for p in run.pairs:
+                if short_cut and edit == "cut 2 s" and p["target"].endswith("_0"):
+                    maps.append(np.zeros(0, np.int64))
+                    continue
+                truth = np.arange(600) if edit is None else source_frames(
+                    600, 120.0, edit, edit_seed(edit, p["target"]))[0]  # fmt: skip
+                q = np.clip(off(edit, "(relocate)" in name) + rng.normal(0.0, 0.05), 0.0, 1.0)
+                M = truth.copy()
+                M[: int(q * M.size)] += 60
+                maps.append(M)
+            run.add(name + ("" if edit is None else edit_suffix(edit)), 0.0, maps=maps)
+    return run
+
+
+def test_q7_holds_when_relocating_raises_every_edit_and_the_unedited_share():
+    rows, parts = q_table(edit_run(lambda e, r: 0.1 if r else (0.3 if e is None else 0.5)),
+                          ["Q7"])  # fmt: skip
+    assert rows["Q7"]["holds"] == "yes"
+    assert [p["part"] for p in parts] == [f"Q7({c})" for c in "abcdef"]
+    assert [p["text"].split(":")[0] for p in parts] == [*EDITS, "unedited"]
+    assert rows["Q7"]["ours"].startswith(
+        "frames within 300 ms, nine online methods, without -> with relocating: cut 0.5 s "
+    )
+    assert "(36 pairs)" in rows["Q7"]["ours"]
+
+
+def test_q7_unedited_part_needs_an_interval_at_or_above_0():
+    # relocating lowers the unedited share: contradicted; edits still raised: partly
+    off = lambda e, r: (0.1 if r else 0.5) if e else (0.5 if r else 0.1)  # noqa: E731
+    rows, parts = q_table(edit_run(off), ["Q7"])
+    by = {p["part"]: p["verdict"] for p in parts}
+    assert by["Q7(f)"] == "contradicted" and by["Q7(a)"] == "holds"
+    assert rows["Q7"]["holds"] == "partly"
+    # the same share with and without: the interval straddles 0, which is not a pass
+    _, parts = q_table(edit_run(lambda e, r: 0.2), ["Q7"])
+    assert {p["verdict"] for p in parts} <= {"inconclusive", "on the threshold"}
+
+
+def test_q7_leaves_out_the_pairs_too_short_for_an_edit():
+    run = edit_run(lambda e, r: 0.1 if r else 0.5, short_cut=True)
+    rows, parts = q_table(run, ["Q7"])
+    # 12 of the 36 pairs have a target *_0: the 2 s cut is scored on the other 24
+    assert rows["Q7"]["ours"].count("(36 pairs)") == 5
+    assert "(24 pairs)" in rows["Q7"]["ours"].split("cut 2 s")[1].split(",")[0]
+    assert parts[2]["verdict"] == "holds"
+
+
 def test_q_claims_without_the_open_run_are_not_computed():
     ctx = ClaimContext(mode="smoke")
     rows, _ = claims.evaluate_claims(
-        claims.claims_by_id(["Q1", "Q2", "Q3", "Q4", "Q5", "Q6"]), claims.claim_contexts(ctx)
+        claims.claims_by_id(["Q1", "Q2", "Q3", "Q4", "Q5", "Q6", "Q7"]), claims.claim_contexts(ctx)
     )
-    assert [r["holds"] for r in rows] == ["n/a"] * 6
+    assert [r["holds"] for r in rows] == ["n/a"] * 7
     assert all(r["ours"].startswith("not computed (no results of the open run") for r in rows)
 
 

@@ -50,6 +50,10 @@ class FakeRun:
         self._rng = np.random.default_rng(seed)
         self.n_frames = n_frames
 
+    def fps(self, name: str) -> float:
+        """The frame rate a name ran at: 60 for ``"@60Hz"`` names, else 120."""
+        return 60.0 if name.endswith("@60Hz") else 120.0
+
     @property
     def n_pairs(self) -> int:
         return len(self.pairs)

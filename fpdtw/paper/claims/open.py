@@ -1,10 +1,11 @@
-"""Claims beyond the papers: the questions they leave open (Q1-Q6), decided on the open run.
+"""Claims beyond the papers: the questions they leave open (Q1-Q7), decided on the open run.
 
 Each is decided by the same rules on the runner's mode ``"open"`` (a seeded subsample of the
 paper-shaped selection); ``assess_qN(ctx)`` gives our value and the parts of QN, or why not
 computed. Each question's parts were committed with its rule before its first
 committed results (Q1, Q6: cbb3316; Q3: 8914ef2; Q4: 64f220a; Q2: 0b05346; Q5: d1a2385; all
-2026-11-23, after the papers' claims tables; docs/history.md).
+2026-11-23, after the papers' claims tables; Q7: 94f0f3b, 2026-11-26, in
+:mod:`fpdtw.paper.edits`; docs/history.md).
 
 * Q3: the first reading, a 1 s band that masks the window's rows (committed in 8914ef2 before
   its first results), was inconclusive on every part and is shown, not tested. The claim's
@@ -24,14 +25,15 @@ import numpy as np
 from fpdtw.paper.claims.evidence import missing
 from fpdtw.paper.claims.rules import Not, Part, point
 from fpdtw.paper.claims.types import Assessment
+from fpdtw.paper.edits import EDITS, open_run_scores
 from fpdtw.paper.figures.timing import band_cost
 from fpdtw.paper.numbers import BEST_WINDOW as BEST_FIXED
 from fpdtw.paper.numbers import WINDOWS
 from fpdtw.paper.runner import grid as G
 
 _SFX = {120: "", 60: "@60Hz"}
-#: The open questions, in the papers' order (Q1-Q3: FP-DTW; Q4-Q6: OPW).
-QUESTION_IDS = ("Q1", "Q2", "Q3", "Q4", "Q5", "Q6")
+#: The open questions, in the papers' order (Q1-Q3: FP-DTW; Q4-Q6: OPW; Q7: neither).
+QUESTION_IDS = ("Q1", "Q2", "Q3", "Q4", "Q5", "Q6", "Q7")
 _NO_RUN = "no results of the open run (notebook 16: fpdtw experiments run --mode open)"
 
 
@@ -218,3 +220,67 @@ def assess_q2(ctx):
 def assess_q5(ctx):
     variants = {n: f"{n} (derivative)" for n in G.DERIVATIVE_BASES}
     return _variant_assessment(ctx.open_ev, variants, "the derivative cost", "poses -> derivatives")
+
+
+#: Q7's tolerance (ms): its parts count the target frames within it of the true map.
+Q7_MS = 300
+
+
+def q7_counts(results, names, edit: str | None, ms: int = Q7_MS):
+    """Per pair of a run: target frames within ``ms`` of the true map, summed over ``names``
+    run under ``edit`` (None: unedited), and all their target frames; float64 (P,) each, NaN
+    where a name has no result for the pair (a target too short for the edit).
+
+    Paper: neither (beyond the papers, Q7; :mod:`fpdtw.paper.edits`).
+    """
+    num, den = np.zeros(len(results.pairs)), np.zeros(len(results.pairs))
+    for name in names:
+        for k, got in enumerate(open_run_scores(results, name, edit)):
+            if got is None:
+                num[k] = den[k] = np.nan
+            else:
+                num[k] += got["within"][ms]
+                den[k] += got["frames"]
+    return num, den
+
+
+def assess_q7(ctx):
+    """Q7's parts as :mod:`fpdtw.paper.edits` states them: per edit, relocating raises the
+    share of target frames within 300 ms of the true map (the nine online methods pooled,
+    with minus without, paired by pair, above 0); unedited, it does not lower it (with minus
+    without at or above 0 by its interval: "without minus with above 0" contradicted)."""
+    ev = ctx.open_ev
+    plain = G.PAUSE_METHODS
+    moved = [n for n in G.EDIT_METHODS if n not in plain]
+    names = ["DTW", *(n + s for n in G.EDIT_METHODS for s in ("", *G.EDIT_SUFFIXES))]
+    if why := missing(ev, names, _NO_RUN):
+        return why
+    parts, words = [], []
+    for edit in (*EDITS, None):
+        a, b = q7_counts(ev.results, moved, edit), q7_counts(ev.results, plain, edit)
+        keep = np.isfinite(a[1][ev.rows]) & np.isfinite(b[1][ev.rows])
+        if not keep.any():
+            parts.append(Part(f"{edit}: relocating raises the share (no pair long enough for it)"))
+            words.append(f"{edit} not scored (no pair long enough for it)")
+            continue
+        label = f"pairs with a result under {edit or 'no edit'}"
+        sub = ev if keep.all() else ev.again(rows=ev.rows[keep], label=label)
+        with_, without = (a[0][sub.rows], a[1][sub.rows]), (b[0][sub.rows], b[1][sub.rows])
+        share = f"share of target frames within {Q7_MS} ms of the true map"
+        if edit is None:
+            test = Not(sub.share_difference(f"{share}, unedited: without minus with relocating",
+                                            without, with_))  # fmt: skip
+            text = (
+                f"unedited: relocating does not lower the {share} (with minus without, "
+                "its interval at or above 0; straddling 0 is not a pass)"
+            )
+        else:
+            test = sub.share_difference(f"{share}, {edit}: with minus without relocating",
+                                        with_, without)  # fmt: skip
+            text = f"{edit}: relocating raises the {share} (with minus without, above 0)"
+        parts.append(Part(text, test, note=f"{sub.n_pairs} pairs; nine online methods pooled"))
+        s0, s1 = (x[0].sum() / x[1].sum() for x in (without, with_))
+        words.append(f"{edit or 'unedited'} {100 * s0:.1f} -> {100 * s1:.1f} % ({sub.n_pairs} "
+                     "pairs)")  # fmt: skip
+    head = f"frames within {Q7_MS} ms, nine online methods, without -> with relocating: "
+    return Assessment(head + ", ".join(words), parts)

@@ -12,7 +12,15 @@ from fpdtw import registry
 from fpdtw.paper import numbers as N
 from fpdtw.paper import opw_eval
 from fpdtw.paper.claims.evidence import missing
-from fpdtw.paper.claims.open import assess_q1, assess_q2, assess_q3, assess_q4, assess_q5, assess_q6
+from fpdtw.paper.claims.open import (
+    assess_q1,
+    assess_q2,
+    assess_q3,
+    assess_q4,
+    assess_q5,
+    assess_q6,
+    assess_q7,
+)
 from fpdtw.paper.claims.rules import AllOf, Not, Part, checks, point
 from fpdtw.paper.claims.types import FIG8_JSON, OPW_FIG4_JSON, OPW_FIG56_JSON, Assessment, Claim
 from fpdtw.paper.numbers import FPDTW_NAMES, FPDTW_TYPEV_NAMES, TYPE_V, WINDOWS
@@ -537,6 +545,11 @@ CLAIMS = [
          "are periods of standing still'): a pause of 0.5-2 s inserted in the target raises "
          "OPW's median deviation (the other online methods: findings, not parts)",
          assess_q6, "open_q6_pause"),
+        (7, "Beyond both papers (a performer who skips a passage, repeats one or starts again): "
+         "relocating, a streaming subsequence DTW over the whole recording beside the method, "
+         "raises the share of target frames within 300 ms of the true map of the nine online "
+         "methods pooled under each edit (a cut of 0.5, 1 or 2 s, a 1 s repeat, a restart) and "
+         "does not lower it on the unedited pairs", assess_q7, "open_q7_edits"),
     )),
 ]  # fmt: skip
 
@@ -568,6 +581,7 @@ SHORT = {
     "Q4": "OPW with gamma adapted by feedback",
     "Q5": "Derivative costs for Mc w40 and OPW",
     "Q6": "A pause in the target raises OPW's deviation",
+    "Q7": "Relocating finds a performer who skips, repeats or restarts",
 }
 
 
