@@ -19,6 +19,8 @@ from fpdtw.paper.edits import (
     errors_ms,
     format_edit_rows,
     main,
+    ms_rows,
+    ms_table,
     open_run_rows,
     open_run_scores,
     recovery_s,
@@ -114,6 +116,20 @@ def test_edit_rows_score_each_method_with_and_without_relocating(cmu_retimed, ca
     assert main(["cmu", "18_01.bvh", "18_01.bvh"]) == 0
     out = capsys.readouterr().out.splitlines()
     assert out[1].split()[:2] == ["edit", "method"] and len(out) == 2 + 6 * 6
+
+
+def test_ms_rows_by_hand():
+    """At 10 Hz a frame is 100 ms: a map 3 frames off on half its frames is within 300 ms
+    everywhere, within 100 ms on half; 25 frames off (2.5 s) is lost."""
+    P = np.arange(10)
+    off = P + np.array([0, 3] * 5)
+    rows = ms_rows({"half": off, "lost": P + 25}, P, 10.0)
+    assert rows[0]["method"] == "half" and rows[0]["deviation_frames"] == 1.5
+    assert rows[0]["within_100ms"] == 0.5 and rows[0]["within_300ms"] == 1.0
+    assert rows[0]["lost"] == 0.0 and rows[1]["lost"] == 1.0 and rows[1]["within_2000ms"] == 0.0
+    text = ms_table({"half": off}, P, 10.0).splitlines()
+    assert text[1].split() == ["half", "1.5", "50.0%", "50.0%", "100.0%", "100.0%", "100.0%",
+                               "100.0%", "0.0%"]  # fmt: skip
 
 
 class _Stored:

@@ -78,16 +78,17 @@ NOTEBOOKS = (
     Notebook("16_open_questions",
              ("open_q1_period", "open_q1_windows", "open_q1_movements", "open_q2_weights",
               "open_q3_band", "open_q3_cost",
-              "open_q4_gamma", "open_q5_derivative", "open_q6_pause_example", "open_q6_pause"),
+              "open_q4_gamma", "open_q5_derivative", "open_q6_pause_example", "open_q6_pause",
+              "open_q7_edit_example", "open_q7_edits"),
              "beyond the papers: the questions they leave open, answered on the same pairs "
              "(the window from the period; joint weights; a global band and its per-frame cost; "
-             "adaptive gamma; derivative costs; standing still)"),
+             "adaptive gamma; derivative costs; standing still; a skip, a repeat or a restart)"),
     Notebook("17_similarity_level", ("similarity_level",),
              "eq. 2 read six other ways (tau, flat axes, warm-up frames, bone axis, world and "
              "root-relative frames): the median similarity level next to Table 1's", _RUN),
     Notebook("20_align_a_live_performance",
              ("live_latency", "live_maps", "live_walk_Mc_w40", "live_walk_OLTW",
-              "live_network_latency", "live_source_latency", "live_drop_rate"),
+              "live_network_latency", "live_source_latency", "live_drop_rate", "live_ms"),
              "for people: align a recorded take to a live one, also over the network "
              "(`fpdtw serve`, and from each capture system's stream)"),
 )  # fmt: skip

@@ -13,14 +13,14 @@ the files of ``figures/``: ``outcome`` (every claim of the papers and its verdic
 files of ``figures/``, timing outputs), ``times`` (``make figures``' measured steps),
 ``data`` (which data the results used, what is missing), ``notebooks`` (the figure map's
 table), ``findings``, ``claims`` (the reasons for every verdict), ``open`` (the questions
-beyond the papers) and ``live-drop``. Each sits in exactly one file (the tests check), and
-:func:`blocks_for` renders those whose markers a file has. :func:`artifact_blocks` renders
-ARTIFACT.md's: the outcome, its steps table (the measurements of ``tools/measure_steps.py``,
-kept as JSON in the block itself) and its claims table (one row per claim of
-``figures/claims.csv``: the command that regenerates its number, from
-:func:`claim_targets` and the Makefile's dependencies; the expected result and the parts'
-rules, from ``figures/claims.csv`` and ``figures/claims_intervals.csv``; the time and peak
-memory of the steps that command runs). :func:`render` puts blocks into a text;
+beyond the papers), ``live-drop`` and ``live-ms``. Each sits in exactly one file (the tests
+check), and :func:`blocks_for` renders those whose markers a file has.
+:func:`artifact_blocks` renders ARTIFACT.md's: the outcome, its steps table (the
+measurements of ``tools/measure_steps.py``, kept as JSON in the block itself) and its
+claims table (one row per claim of ``figures/claims.csv``: the command that regenerates
+its number, from :func:`claim_targets` and the Makefile's dependencies; the expected result
+and the parts' rules, from ``figures/claims.csv`` and ``figures/claims_intervals.csv``; the
+time and peak memory of the steps that command runs). :func:`render` puts blocks into a text;
 ``python -m fpdtw.app.readme README.md ARTIFACT.md docs/*.md --update`` rewrites the files
 (``make readme-results``, part of ``make figures``) and ``--check`` exits 1 when a file
 differs from what the figures give (the test suite runs the same comparison).
@@ -219,6 +219,20 @@ def live_drop_block(figures_dir) -> str:
             f" A {_condition_label(slow[0])} resampled online is as close to DTW as the full-rate "
             f"one (within {diff:.2f} frames)."
         )
+    return "\n".join(out)
+
+
+def live_ms_block(figures_dir) -> str:
+    """The README's live table (``figures/live_ms.csv``, notebook 20): each aligner's mean
+    distance from offline DTW in frames and its share of live frames within each tolerance."""
+    rows = _read_csv(Path(figures_dir) / "live_ms.csv")
+    tols = [k for k in rows[0] if k.startswith("within_")]
+    out = ["| method | frames from DTW | " + " | ".join(t[7:-2] + " ms" for t in tols) + " | lost |",
+           "|---|---:|" + "---:|" * (len(tols) + 1)]  # fmt: skip
+    for r in rows:
+        cells = [f"{100 * float(r[k]):.1f} %" for k in (*tols, "lost")]
+        out.append(f"| {r['method']} | {float(r['deviation_frames']):.1f} | " + " | ".join(cells)
+                   + " |")  # fmt: skip
     return "\n".join(out)
 
 
@@ -507,6 +521,7 @@ BLOCKS = {
     "claims": lambda c: claims_block(c.claims()),
     "open": lambda c: open_block(c.claims()),
     "live-drop": lambda c: live_drop_block(c.figures),
+    "live-ms": lambda c: live_ms_block(c.figures),
     "layers": lambda c: layers_block(c.root),
 }
 
@@ -900,6 +915,7 @@ __all__ = [
     "findings_block",
     "is_paper_claim",
     "live_drop_block",
+    "live_ms_block",
     "notebooks_block",
     "outcome_block",
     "render",

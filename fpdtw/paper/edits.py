@@ -183,17 +183,33 @@ def within_ms(M, P, fps: float, tolerances=MS_TOLERANCES) -> dict:
     return out
 
 
-def ms_table(maps: dict, P, fps: float) -> str:
-    """:func:`within_ms` of each named map against the truth ``P``, as text lines.
+def ms_rows(maps: dict, P, fps: float) -> list:
+    """Each named map against the truth ``P``: ``method``, ``deviation_frames`` (FP-DTW eq.
+    3, the mean ``|M - P|``), ``within_<t>ms`` for each of :data:`MS_TOLERANCES` and ``lost``
+    (shares of :func:`within_ms`).
 
     Notebook: 20_align_a_live_performance.ipynb
     """
-    head = f"{'':<20}" + "".join(f"{f'{t} ms':>9}" for t in MS_TOLERANCES) + f"{'lost':>9}"
-    lines = [head]
+    rows = []
     for name, M in maps.items():
         s = within_ms(M, P, fps)
-        lines.append(f"{name:<20}" + "".join(f"{s[t]:>9.1%}" for t in MS_TOLERANCES)
-                     + f"{s['lost']:>9.1%}")  # fmt: skip
+        dev = float(np.mean(np.abs(np.asarray(M, float) - np.asarray(P, float))))
+        shares = {f"within_{t}ms": s[t] for t in MS_TOLERANCES}
+        rows.append(dict(method=name, deviation_frames=dev, **shares, lost=s["lost"]))
+    return rows
+
+
+def ms_table(maps: dict, P, fps: float) -> str:
+    """:func:`ms_rows` as text lines, shares in %.
+
+    Notebook: 20_align_a_live_performance.ipynb
+    """
+    head = f"{'':<20}{'frames':>8}" + "".join(f"{f'{t} ms':>9}" for t in MS_TOLERANCES)
+    lines = [head + f"{'lost':>9}"]
+    for r in ms_rows(maps, P, fps):
+        cells = [r[f"within_{t}ms"] for t in MS_TOLERANCES] + [r["lost"]]
+        lines.append(f"{r['method']:<20}{r['deviation_frames']:>8.1f}"
+                     + "".join(f"{c:>9.1%}" for c in cells))  # fmt: skip
     return "\n".join(lines)
 
 
@@ -204,11 +220,10 @@ def recovery_s(M, P, fps_input: float, fps_target: float, at: int) -> float:
     ok = errors_ms(M, P, fps_input)[at:] <= RECOVERED_MS
     need = max(1, int(round(RECOVERED_S * fps_target)))
     n = ok.size
-    # run[k]: consecutive good frames from k on
-    run = np.zeros(n + 1, dtype=np.int64)
-    for k in range(n - 1, -1, -1):
-        run[k] = run[k + 1] + 1 if ok[k] else 0
-    back = np.flatnonzero((run[:n] >= need) | ((run[:n] > 0) & (run[:n] == n - np.arange(n))))
+    k = np.arange(n)
+    # first bad frame at or after each k (n: none), so k starts a run of good frames to it
+    bad = np.minimum.accumulate(np.where(ok, n, k)[::-1])[::-1]
+    back = np.flatnonzero(ok & ((bad - k >= need) | (bad == n)))
     return float(back[0] / fps_target) if back.size else math.inf
 
 

@@ -13,11 +13,13 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from fpdtw import registry
+from fpdtw.dtw import dtw_pair
 from fpdtw.online.base import run_online
 from fpdtw.online.opw import OPW
 from fpdtw.online.opw_adaptive import AdaptiveOPW
 from fpdtw.paper import opw_eval as oe
 from fpdtw.paper.claims.open import BEST_FIXED, band_removed_share, per_movement_windows
+from fpdtw.paper.edits import edit_target, true_map
 from fpdtw.paper.figures.plotting import new_axes
 from fpdtw.paper.numbers import WINDOWS
 from fpdtw.paper.pause import insert_pause, pause_plan, pause_seed
@@ -250,6 +252,45 @@ def plot_pause(ev, rows, ax=None):
     ax.set_ylabel("median deviation from DTW (frames)")
     ax.legend(fontsize=7)
     fig.tight_layout()
+    return fig, ax
+
+
+def edit_example(I, T, name: str = "Mc w40", edit: str = "cut 1 s") -> dict:
+    """Q7 on one pair: the target ``T`` edited, and the true map, ``name``'s and ``name
+    (relocate)``'s maps on it (input frames per edited target frame).
+
+    Returns
+    -------
+    dict
+        ``edited`` (MotionFeatures), ``at`` (the edit's first frame), ``maps`` (label -> int
+        array (F',): ``"true map"``, ``name``, ``name (relocate)``).
+
+    Paper: neither (beyond the papers, Q7).
+    Notebook: 16_open_questions.ipynb
+    """
+    E, idx, at = edit_target(T, edit)
+    maps = {"true map": true_map(dtw_pair(I, T).map, idx)}
+    for who in (name, registry.with_option(name, "relocate")):
+        maps[who] = np.asarray(registry.align(who, I, E)[0], dtype=np.int64)
+    return dict(edited=E, at=at, edit=edit, maps=maps)
+
+
+def plot_edit_example(example: dict, ax=None):
+    """:func:`edit_example`'s maps, the edit marked; a jump of the relocating map is drawn
+    as a vertical step (the map may go backwards).
+
+    Notebook: 16_open_questions.ipynb
+    """
+    fig, ax = new_axes(ax, figsize=(7, 3.2))
+    ax.axvline(
+        example["at"], color="0.6", ls=":", label=f"{example['edit']} at frame {example['at']}"
+    )
+    for (label, M), (col, lw) in zip(
+        example["maps"].items(), (("k", 2.2), ("C3", 1.2), ("C0", 1.2))
+    ):
+        ax.plot(M, color=col, lw=lw, label=label)
+    ax.set(xlabel="edited target frame", ylabel="input frame")
+    ax.legend(fontsize=7)
     return fig, ax
 
 

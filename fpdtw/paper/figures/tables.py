@@ -18,7 +18,7 @@ def _fmt(v, floatfmt):
 def to_markdown(rows: list[dict], columns=None, floatfmt=".3f") -> str:
     """Render rows (dicts with the same keys) as a GitHub Markdown table."""
     columns = list(columns or (rows[0].keys() if rows else []))
-    lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
+    lines = ["| " + " | ".join(map(str, columns)) + " |", "|" + "---|" * len(columns)]
     for r in rows:
         lines.append("| " + " | ".join(_fmt(r.get(c), floatfmt) for c in columns) + " |")
     return "\n".join(lines) + "\n"
