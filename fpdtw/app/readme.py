@@ -227,8 +227,9 @@ def live_ms_block(figures_dir) -> str:
     distance from offline DTW in frames and its share of live frames within each tolerance."""
     rows = _read_csv(Path(figures_dir) / "live_ms.csv")
     tols = [k for k in rows[0] if k.startswith("within_")]
-    out = ["| method | frames from DTW | " + " | ".join(t[7:-2] + " ms" for t in tols) + " | lost |",
-           "|---|---:|" + "---:|" * (len(tols) + 1)]  # fmt: skip
+    head = " | ".join(t[7:-2] + " ms" for t in tols)
+    out = [f"| method | frames from DTW | {head} | lost |", "|---|---:|" + "---:|" * len(tols)]
+    out[-1] += "---:|"
     for r in rows:
         cells = [f"{100 * float(r[k]):.1f} %" for k in (*tols, "lost")]
         out.append(f"| {r['method']} | {float(r['deviation_frames']):.1f} | " + " | ".join(cells)
