@@ -51,6 +51,20 @@ def quat_to_euler(q, order="XYZ", scalar_first=True):
     return out
 
 
+def euler_kernel(order="XYZ", scalar_first=True) -> np.ndarray:
+    """What :func:`euler_into` needs to do :func:`quat_to_euler` in compiled code: int64 (5,),
+    the vector part's first column, the scalar's and the order's axes."""
+    i, j, k = (_AXIS[a] for a in check_order(order))
+    return np.array([1 if scalar_first else 0, 0 if scalar_first else 3, i, j, k], np.int64)
+
+
+@numba.njit(cache=True)
+def euler_into(q, kernel, out):  # pragma: no cover - compiled
+    """:func:`quat_to_euler` of quaternions ``q`` (n, 4) into ``out`` (n, 3), from compiled
+    code; ``kernel``: :func:`euler_kernel` of the order."""
+    _euler(q, kernel[0], kernel[1], kernel[2], kernel[3], kernel[4], out)
+
+
 @numba.njit(cache=True)
 def _euler(q, x, w, i, j, k, out):  # pragma: no cover - compiled
     """scipy's ``as_euler`` (Bernardes & Viollet 2022) of the extrinsic Tait-Bryan sequence
