@@ -234,6 +234,27 @@ def _nesting(b):  # pragma: no cover - compiled
     return deepest
 
 
+@numba.njit(cache=True)
+def _scan(v, big, tol):  # pragma: no cover - compiled
+    """:func:`read_body`'s checks of bones ``v`` (n, 7) at once: the first row with a value
+    beyond ``big`` or NaN (n: none), and whether a row before it has a squared quaternion
+    norm (components clipped to 2) further than ``tol`` from 1."""
+    j = v.shape[0]
+    for r in range(v.shape[0]):
+        for c in range(7):
+            if not abs(v[r, c]) <= big:
+                j = min(j, r)
+    suspect = False
+    for r in range(j):
+        s = 0.0
+        for c in range(3, 7):
+            x = min(abs(v[r, c]), 2.0)
+            s += x * x
+        if abs(s - 1.0) > tol:
+            suspect = True
+    return j, suspect
+
+
 def _constant(name):
     raise Refused("finite", f"JSON {name}, not a finite number")
 
@@ -249,9 +270,10 @@ def _number(x) -> bool:
 _JSON = json.JSONDecoder(parse_constant=_constant, parse_int=_int)
 
 
-def read_datagram(data: bytes) -> tuple:
+def read_datagram(data: bytes, big=None) -> tuple:
     """A datagram checked as JSON v3: ``(fps or None, timestamp, actors)``, the actors as
-    sent (dicts); :class:`Refused` naming what is wrong."""
+    sent (dicts); :class:`Refused` naming what is wrong. ``big``: the value limit (default
+    :func:`fpdtw.limits.get` of ``max_abs_value``)."""
     if len(data) > MAX_DATAGRAM:
         raise Refused("oversize", f"{len(data)} bytes, more than {MAX_DATAGRAM}")
     if data[:4] == LZ4_MAGIC:
@@ -273,7 +295,8 @@ def read_datagram(data: bytes) -> tuple:
     if not isinstance(scene, dict) or not isinstance(actors := scene.get("actors"), list):
         raise Refused("rokoko", "no scene with a list of actors")
     t = scene.get("timestamp")
-    if not _number(t) or not math.isfinite(t) or abs(t) > limits.get("max_abs_value"):
+    big = limits.get("max_abs_value") if big is None else big
+    if not _number(t) or not math.isfinite(t) or abs(t) > big:
         raise Refused("rokoko", f"scene.timestamp {str(t)[:20]} is not a finite time")
     if len(actors) > MAX_ACTORS:
         raise Refused("rokoko", f"{len(actors)} actors, more than {MAX_ACTORS}")
@@ -300,15 +323,16 @@ def _no_numbers(name) -> Refused:
     return Refused("number", f"bone {name!r} without numbers position x y z and rotation x y z w")
 
 
-def read_body(actor) -> np.ndarray:
+def read_body(actor, big=None) -> np.ndarray:
     """An actor's 21 body bones checked: (21, 7) float, Studio's ``x y z`` and ``x y z w``
-    in the order of :data:`BONES` (:class:`Refused` naming the first problem)."""
+    in the order of :data:`BONES` (:class:`Refused` naming the first problem); ``big``: as
+    :func:`read_datagram`'s."""
     body = actor.get("body")
     if not isinstance(body, dict):
         raise Refused("missing", "no body")
     if len(body) > MAX_BONES:
         raise Refused("bone", f"{len(body)} bones, more than {MAX_BONES}")
-    big = limits.get("max_abs_value")
+    big = limits.get("max_abs_value") if big is None else big
     names, flat, stop = [], [], None  # the bones read up to the first not read (stop)
     for name, bone in body.items():
         if name in OTHER_BONES:
@@ -328,11 +352,11 @@ def read_body(actor) -> np.ndarray:
             del flat[7 * bad[0] :], names[bad[0] :]
     # each bone's checks in turn, all bones at once: the first that fails is refused
     v = np.array(flat, dtype=float).reshape(-1, 7)
-    a = np.abs(v)
-    j = len(a) if a.max(initial=0) <= big else int(np.argmin((a <= big).all(1)))  # nan: not <=
-    q = np.minimum(a[:j, 3:], 2.0)  # squares that cannot overflow, as far from 1
-    # |n^2 - 1| > 0.99 tol: every norm n further than tol from 1, each then checked as one
-    for i in np.flatnonzero(np.abs((q * q).sum(1) - 1.0) > 0.99 * UNIT_TOLERANCE):
+    # j: the first bone with a value beyond big (NaN: not <=); a bone before it whose
+    # squared norm (of components clipped to 2, which cannot overflow) is further than
+    # 0.99 tol from 1 may have a norm further than tol from 1: each is then checked as one
+    j, suspect = _scan(v, big, 0.99 * UNIT_TOLERANCE)
+    for i in range(j) if suspect else ():
         if abs((norm := float(np.linalg.norm(v[i, 3:]))) - 1.0) > UNIT_TOLERANCE:
             raise Refused("rotation", f"bone {names[i]!r}'s quaternion has norm {norm:.6g}")
     if j < len(v):  # inf: a number past float's
@@ -378,16 +402,18 @@ class Source(DatagramSource):
     def __init__(self, host: str, port: int, *, rate=None, header=None):
         super().__init__(host, port, rate=rate, header=header)
         self.rate_given = rate is not None
+        self.begin_take()
 
     def begin_take(self) -> None:
         self.actors = {}
+        self._big = limits.get("max_abs_value")  # the limits in force when a take starts
 
     def datagram(self, data: bytes, addr, arrival: float, performers) -> None:
         """One datagram: checked, then each of its actors' frames aligned (or counted)."""
         self.n += 1
         where = f"datagram {self.n} from {sender_name(addr)}"
         try:
-            fps, t, actors = read_datagram(data)
+            fps, t, actors = read_datagram(data, self._big)
         except Refused as e:
             performers.frames += 1
             return performers.count_bad(None, e.args[0], f"{where}: {e.args[1]}")
@@ -419,7 +445,7 @@ class Source(DatagramSource):
             return performers.count_bad(a.perf, "duplicate", f"{where}: actor {a.name!r} "
                                         "twice in one datagram")  # fmt: skip
         try:
-            v = read_body(actor)
+            v = read_body(actor, self._big)
         except Refused as e:
             return performers.count_bad(a.perf, e.args[0], f"{where}: actor {a.name!r}: "
                                         f"{e.args[1]}")  # fmt: skip
