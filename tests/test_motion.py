@@ -236,3 +236,20 @@ def test_bad_shapes_and_rate():
         Motion("m", 0, sk, np.zeros((5, 2, 3)), np.zeros((5, 3)))
     with pytest.raises(MotionFormatError, match="root translation"):
         Motion("m", 30, sk, np.zeros((5, 2, 3)), np.zeros((4, 3)))
+
+
+def test_the_streaming_unwrap_is_unwrap_degrees_bit_for_bit_through_wraps_and_nan():
+    """UnwrapDegrees, frame by frame (its compiled step where no angle moves by pi, NumPy's
+    where one does or is NaN), against unwrap_degrees of the whole take."""
+    from fpdtw.motion.rotations import UnwrapDegrees, unwrap_degrees
+
+    rng = np.random.default_rng(5)
+    for t in range(60):
+        n = int(rng.integers(2, 120))
+        a = np.cumsum(rng.normal(size=(n, 8, 3)) * rng.choice([5.0, 60.0, 200.0]), axis=0)
+        a = (a + 180) % 360 - 180
+        if t % 3 == 0:
+            a[rng.integers(n), rng.integers(8), 0] = np.nan
+        u = UnwrapDegrees()
+        got = np.array([u(a[k]) for k in range(n)])
+        np.testing.assert_array_equal(got, unwrap_degrees(a, axis=0))

@@ -512,3 +512,21 @@ def test_source_url_and_usage_errors(capsys):
     ]:  # fmt: skip
         assert cli.main(args) == 2
         assert needle in capsys.readouterr().err
+
+
+def test_a_frames_compiled_row_is_rest_relative_then_row_bit_for_bit():
+    """RokokoSkeleton.row_of (one compiled call) equals row(*rest_relative(v)) on random
+    frames whose quaternions are near unit length, as the checks let through."""
+    rng = np.random.default_rng(11)
+
+    def frame():
+        v = np.empty((len(BONES), 7))
+        v[:, :3] = rng.normal(size=(len(BONES), 3))
+        q = rng.normal(size=(len(BONES), 4))
+        v[:, 3:] = q / np.linalg.norm(q, axis=1)[:, None] * rng.uniform(0.999, 1.001, (21, 1))
+        return v
+
+    sk = RokokoSkeleton(*rest_relative(frame()), 60.0)
+    for _ in range(2000):
+        v = frame()
+        np.testing.assert_array_equal(sk.row_of(v), sk.row(*rest_relative(v)))

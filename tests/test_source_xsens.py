@@ -412,3 +412,13 @@ def test_source_url_and_usage_errors(capsys):
     ]:  # fmt: skip
         assert cli.main(args) == 2
         assert needle in capsys.readouterr().err
+
+
+def test_the_compiled_row_is_its_numpy_twin_bit_for_bit():
+    """MvnSkeleton.row (one compiled call) equals row_numpy on random samples of any norm."""
+    rng = np.random.default_rng(7)
+    q = rng.normal(size=(23, 4))
+    sk = MvnSkeleton(rng.normal(size=(23, 3)) * 50, q / np.linalg.norm(q, axis=1)[:, None], 60.0)
+    for _ in range(2000):
+        p, q = rng.normal(size=(23, 3)) * 50, rng.normal(size=(23, 4)) * rng.uniform(0.5, 2)
+        np.testing.assert_array_equal(sk.row(p, q), sk.row_numpy(p, q))

@@ -60,13 +60,22 @@ from __future__ import annotations
 import struct
 import time
 
+import numba
 import numpy as np
 
 from fpdtw import limits
 from fpdtw.app.sources import DatagramSource, bvh_header, send_paced, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rig import rest_rotations
-from fpdtw.motion.rotations import quat_conj, quat_mul, quat_normalize, quat_rotate, quat_to_euler
+from fpdtw.motion.rotations import (
+    euler_into,
+    euler_kernel,
+    quat_conj,
+    quat_mul,
+    quat_normalize,
+    quat_rotate,
+    quat_to_euler,
+)
 
 #: MVN's network streamer's default port (the spec, 2.3: "9=X, M=6, E=3").
 DEFAULT_PORT = 9763
@@ -170,13 +179,75 @@ class MvnSkeleton:
 
         Each local rotation ``parent^-1 child`` (the root's global one), in the header's
         order, as ``quat_to_euler(local, "XYZ")`` (scipy's extrinsic ``xyz``) gives it, the
-        channels Z Y X."""
+        channels Z Y X. One compiled call (:func:`_row`); :meth:`row_numpy` is its twin."""
+        out = np.empty(3 + 3 * len(self._parents))
+        _row(np.ascontiguousarray(p, dtype=np.float64), np.ascontiguousarray(q, dtype=np.float64),
+             self._parents, self._terms, _SIGN, _EULER, out)  # fmt: skip
+        return out
+
+    def row_numpy(self, p, q) -> np.ndarray:
+        """:meth:`row` in NumPy and :func:`~fpdtw.motion.rotations.quat_to_euler` (equal
+        bit for bit, tested)."""
         q = quat_normalize(q)
         t = q[self._parents][:, :, None] * (q.take(self._terms) * _SIGN)
         local = ((t[:, 0] + t[:, 1]) + t[:, 2]) + t[:, 3]  # x y z w
         local[0] = q.take(_TERM[0])  # order[0] is the root
         e = quat_to_euler(local, _ORDER, scalar_first=False)[:, ::-1]
         return np.concatenate([p[0], e.ravel()])
+
+
+#: Segment IDs 1..23 in order: a sample sent whole in one datagram.
+_ALL_IDS = list(range(1, 24))
+
+
+@numba.njit(cache=True)
+def _surely_fine(sid, v, top, big, tol):  # pragma: no cover - compiled
+    """Whether every item (IDs ``sid`` (n,), values ``v`` (n, 7)) is surely fine: its ID in
+    ``1..top``, no value beyond ``big`` (NaN, inf: not), its quaternion's squared norm
+    within ``tol`` of 1."""
+    for r in range(sid.shape[0]):
+        if not 1 <= sid[r] <= top:
+            return False
+        for c in range(7):
+            if not abs(v[r, c]) <= big:
+                return False
+        s = ((v[r, 3] * v[r, 3] + v[r, 4] * v[r, 4]) + v[r, 5] * v[r, 5]) + v[r, 6] * v[r, 6]
+        if not abs(s - 1.0) < tol:
+            return False
+    return True
+
+
+#: :func:`fpdtw.motion.rotations.euler_kernel` of the built skeleton's order, ``x y z w``.
+_EULER = euler_kernel(_ORDER, scalar_first=False)
+
+
+@numba.njit(cache=True)
+def _row(p, q, parents, terms, sign, euler, out):  # pragma: no cover - compiled
+    """:meth:`MvnSkeleton.row` into ``out``, its operations in its order: each quaternion
+    normalised as ``np.linalg.norm`` sums its squares (left to right), each
+    local rotation's four terms added left to right, then ``quat_to_euler`` of each."""
+    n = q.shape[0]
+    u = np.empty((n, 4))
+    for r in range(n):
+        s = ((q[r, 0] * q[r, 0] + q[r, 1] * q[r, 1]) + q[r, 2] * q[r, 2]) + q[r, 3] * q[r, 3]
+        norm = np.sqrt(s)
+        for c in range(4):
+            u[r, c] = q[r, c] / norm
+    flat = u.ravel()
+    local = np.empty((parents.shape[0], 4))
+    for r in range(parents.shape[0]):
+        for c in range(4):
+            acc = u[parents[r], 0] * (flat[terms[r, 0, c]] * sign[0, c])
+            for m in range(1, 4):
+                acc = acc + u[parents[r], m] * (flat[terms[r, m, c]] * sign[m, c])
+            local[r, c] = acc
+    for c in range(4):  # order[0] is the root: its global rotation, x y z w
+        local[0, c] = u[0, (c + 1) % 4]
+    e = np.empty((parents.shape[0], 3))
+    euler_into(local, euler, e)
+    out[0], out[1], out[2] = p[0, 0], p[0, 1], p[0, 2]
+    for r in range(parents.shape[0]):
+        out[3 + 3 * r], out[4 + 3 * r], out[5 + 3 * r] = e[r, 2], e[r, 1], e[r, 0]
 
 
 # -- reading ---------------------------------------------------------------------------------
@@ -194,6 +265,7 @@ class _Character:
         self.parts = {}  # its datagrams: index -> items {segment ID: values}
         self.total = None  # its datagram count (known from the one with bit 7)
         self.problem = None
+        self.whole = None  # the sample's (23, 7) values when one datagram held them in order
         self.done = None  # the last sample counter finished
         self.s0 = None  # the first sample counter aligned
 
@@ -220,8 +292,13 @@ class Source(DatagramSource):
     skeleton_from = "the segments"
     DEFAULT_RATE = DEFAULT_RATE  # the module's
 
+    def __init__(self, host: str, port: int, **kw):
+        super().__init__(host, port, **kw)
+        self.begin_take()
+
     def begin_take(self) -> None:
         self.characters = {}
+        self._big = limits.get("max_abs_value")  # the limits in force when a take starts
 
     def end_take(self, performers) -> None:
         for c in self.characters.values():
@@ -279,7 +356,7 @@ class Source(DatagramSource):
                 kind = "duplicate" if sc == c.done else "order"
                 return self._refuse(performers, c.perf, kind, f"{where}: not after the last "
                                     f"sample read ({c.done})")  # fmt: skip
-            c.sc, c.parts, c.total, c.problem = sc, {}, None, None
+            c.sc, c.parts, c.total, c.problem, c.whole = sc, {}, None, None, None
         if index in c.parts:
             return self._refuse(performers, c.perf, "duplicate", f"{where}: datagram "
                                 f"{index} of the sample twice")  # fmt: skip
@@ -300,17 +377,15 @@ class Source(DatagramSource):
         All items are checked at once; unless each is surely fine, one by one, the first
         problem found being the sample's."""
         a = np.frombuffer(data, _ITEMS, count, HEADER.size)
-        ids, values = a["sid"].tolist(), a["v"].astype(float)
+        sid, values = a["sid"].astype(np.int64), a["v"].astype(float)
+        ids = sid.tolist()
         top = len(SEGMENTS) + 1 + props + fingers  # props' and fingers' IDs: 24 up, not read
-        big = limits.get("max_abs_value")
-        squares = np.einsum("ij,ij->i", values[:, 3:], values[:, 3:])
-        if (  # every item surely fine (props' and fingers' too: else one by one, below)
-            count
-            and 1 <= min(ids) <= max(ids) <= top
-            and np.abs(values).max() <= big  # NaN, inf: False
-            and np.abs(squares - 1.0).max() < 1.99 * UNIT_TOLERANCE  # |norm - 1| < 0.9956e-3
-        ):
+        big = self._big
+        # every item surely fine (props' and fingers' too: else one by one, below)
+        if count and _surely_fine(sid, values, top, big, 1.99 * UNIT_TOLERANCE):
             n = len(SEGMENTS)
+            if ids == _ALL_IDS and not c.parts:
+                c.whole = values
             sids = [sid for sid in ids if sid <= n]
             rows = values if len(sids) == count else values[[sid <= n for sid in ids]]
             if len(set(sids)) == len(sids) and all(
@@ -341,8 +416,8 @@ class Source(DatagramSource):
 
     def finish(self, c, performers, arrival, where) -> None:
         """The end of a character's sample: checked, then aligned (or counted)."""
-        sc, parts, total, problem = c.sc, c.parts, c.total, c.problem
-        c.sc, c.parts, c.total, c.problem = None, {}, None, None
+        sc, parts, total, problem, whole = c.sc, c.parts, c.total, c.problem, c.whole
+        c.sc, c.parts, c.total, c.problem, c.whole = None, {}, None, None, None
         performers.frames += 1
         if c.done is None or sc > c.done:
             c.done = sc
@@ -358,12 +433,15 @@ class Source(DatagramSource):
             )
             return performers.count_bad(c.perf, "missing", f"{where}: sample {sc} of "
                                         f"character {c.cid} lacks {lost} (lost)")  # fmt: skip
-        body = {sid: v for part in parts.values() for sid, v in part.items()}
-        if len(body) < len(SEGMENTS):
-            lacks = [SEGMENTS[i - 1] for i in range(1, len(SEGMENTS) + 1) if i not in body]
-            what = f"{where}: sample {sc} of character {c.cid} lacks {', '.join(lacks[:4])}"
-            return performers.count_bad(c.perf, "missing", what)
-        v = np.array([body[i] for i in range(1, len(SEGMENTS) + 1)])
+        if whole is not None and len(parts) == 1:  # one datagram, segments 1..23 in order
+            v = whole
+        else:
+            body = {sid: v for part in parts.values() for sid, v in part.items()}
+            if len(body) < len(SEGMENTS):
+                lacks = [SEGMENTS[i - 1] for i in range(1, len(SEGMENTS) + 1) if i not in body]
+                what = f"{where}: sample {sc} of character {c.cid} lacks {', '.join(lacks[:4])}"
+                return performers.count_bad(c.perf, "missing", what)
+            v = np.array([body[i] for i in range(1, len(SEGMENTS) + 1)])
         p, q = mvn_to_fpdtw(v[:, :3], v[:, 3:])
         if c.perf is None:
             c.skeleton = MvnSkeleton(p, quat_normalize(q), self.rate)

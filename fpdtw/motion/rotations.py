@@ -51,6 +51,20 @@ def quat_to_euler(q, order="XYZ", scalar_first=True):
     return out
 
 
+def euler_kernel(order="XYZ", scalar_first=True) -> np.ndarray:
+    """What :func:`euler_into` needs to do :func:`quat_to_euler` in compiled code: int64 (5,),
+    the vector part's first column, the scalar's and the order's axes."""
+    i, j, k = (_AXIS[a] for a in check_order(order))
+    return np.array([1 if scalar_first else 0, 0 if scalar_first else 3, i, j, k], np.int64)
+
+
+@numba.njit(cache=True)
+def euler_into(q, kernel, out):  # pragma: no cover - compiled
+    """:func:`quat_to_euler` of quaternions ``q`` (n, 4) into ``out`` (n, 3), from compiled
+    code; ``kernel``: :func:`euler_kernel` of the order."""
+    _euler(q, kernel[0], kernel[1], kernel[2], kernel[3], kernel[4], out)
+
+
 @numba.njit(cache=True)
 def _euler(q, x, w, i, j, k, out):  # pragma: no cover - compiled
     """scipy's ``as_euler`` (Bernardes & Viollet 2022) of the extrinsic Tait-Bryan sequence
@@ -103,7 +117,15 @@ class UnwrapDegrees:
 
     def __call__(self, angles) -> np.ndarray:
         """The unwrapped angles (degrees) of the next frame, same shape as ``angles``."""
-        p = np.deg2rad(np.asarray(angles, dtype=float))
+        a = np.asarray(angles, dtype=float)
+        if self._p is not None and a.ndim == 2 and a.shape == self._p.shape:
+            # no correction anywhere (numpy.unwrap's adds 0): one compiled call
+            p, out = np.empty_like(a), np.empty_like(a)
+            acc = self._acc
+            if _unwrap_step(a, self._p, p if acc is None else acc, acc is not None, p, out):
+                self._p = p
+                return out
+        p = np.deg2rad(a)
         if self._p is None:
             up = p.copy()
         else:
@@ -122,6 +144,23 @@ class UnwrapDegrees:
             up = p + self._acc
         self._p = p
         return np.rad2deg(up)
+
+
+@numba.njit(cache=True)
+def _unwrap_step(a, prev, acc, has_acc, p, out):  # pragma: no cover - compiled
+    """:class:`UnwrapDegrees`'s step when no angle moved by pi or more (NaN: it may have):
+    ``p = deg2rad(a)``, ``out = rad2deg(p + acc)`` (``p`` without ``has_acc``), as NumPy's
+    ufuncs compute them; False (``p``, ``out`` half written) otherwise."""
+    for i in range(a.shape[0]):
+        for c in range(a.shape[1]):
+            p[i, c] = a[i, c] * (math.pi / 180.0)
+            if not abs(p[i, c] - prev[i, c]) < math.pi:
+                return False
+    for i in range(a.shape[0]):
+        for c in range(a.shape[1]):
+            up = p[i, c] + acc[i, c] if has_acc else p[i, c]
+            out[i, c] = up * (180.0 / math.pi)
+    return True
 
 
 def quat_normalize(q):

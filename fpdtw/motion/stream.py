@@ -11,13 +11,20 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 
 from fpdtw import limits
 from fpdtw.errors import MotionFormatError
 from fpdtw.motion.features import Frame
 from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
-from fpdtw.motion.kinematics import frame_positions, frame_quats, order_codes
+from fpdtw.motion.kinematics import (
+    ORDER_AXES,
+    _frame_quats,
+    frame_positions,
+    frame_quats,
+    order_codes,
+)
 from fpdtw.motion.motion import EXACT_FRAMES, blend_poses, sample_points
 from fpdtw.motion.rig import FRAME_JOINTS, position_scale, skeleton_body_size, skeleton_rig
 from fpdtw.motion.rotations import UnwrapDegrees
@@ -26,6 +33,25 @@ from fpdtw.motion.rotations import UnwrapDegrees
 GAP_PERIODS = 1.5
 #: Rules for the ticks inside a gap; the first is the default.
 GAP_RULES = ("slerp", "hold")
+
+
+@numba.njit(cache=True)
+def _receive(euler, r, big, need, codes, axes, e, q):  # pragma: no cover - compiled
+    """Whether every value of a frame (``euler`` (J, 3), ``r`` (3,)) is within ``big`` (NaN:
+    not); if so, its joints ``need`` into ``e`` and their quaternions
+    (:func:`~fpdtw.motion.kinematics.frame_quats`) into ``q``."""
+    for j in range(euler.shape[0]):
+        for c in range(3):
+            if not abs(euler[j, c]) <= big:
+                return False
+    for c in range(3):
+        if not abs(r[c]) <= big:
+            return False
+    for n in range(need.shape[0]):
+        for c in range(3):
+            e[n, c] = euler[need[n], c]
+    _frame_quats(e, codes, axes, q)
+    return True
 
 
 class LiveTarget:
@@ -173,12 +199,13 @@ class LiveTarget:
         t = float(t)
         if not math.isfinite(t):
             raise MotionFormatError(self.where, f"time {t!r} is not finite", line=line, frame=frame)
-        if not (np.abs(euler).max() <= self._big and np.abs(r).max() <= self._big):
+        e, q = np.empty((self._need.size, 3)), np.empty((self._need.size, 4))
+        if not _receive(euler, r, self._big, self._need, self._codes, ORDER_AXES, e, q):
             self._check_values(euler, "rotation value", line, frame)
             self._check_values(r, "translation value", line, frame)
+            e = euler[self._need]  # NaN: on to the aligner, which names it
+            q = frame_quats(e, self._codes)
         slot = self._slot(t, line, frame, arrival)
-        e = euler[self._need]
-        q = frame_quats(e, self._codes)
         self._prev, self._cur = self._cur, (slot, q, e, r)
         if self._prev is not None:
             self.n_lost += slot - self._prev[0] - 1
