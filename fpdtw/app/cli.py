@@ -1144,6 +1144,7 @@ def _serve_source(args, log, FI, factory, name, server) -> int:
     _stage(args, args.header)
     if args.source.startswith(("vmc://", "xsens://", "rokoko://", "natnet://")):
         source = module.Source(host, port, rate=args.rate)
+        source.warm_up()  # its compiled kernels, before the first take
         skeleton = "from the bones sent"
     else:
         source, skeleton = module.Source(host, port, header=args.header), args.header

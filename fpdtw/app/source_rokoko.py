@@ -473,6 +473,14 @@ class Source(DatagramSource):
         self.rate_given = rate is not None
         self.begin_take()
 
+    def warm_up(self) -> None:
+        super().warm_up()
+        v = np.zeros((len(BONES), 7))
+        v[:, 6] = 1.0
+        RokokoSkeleton(*rest_relative(v), self.rate).row_of(v)
+        _scan(v, float(self._big), 1.0)
+        nesting(b"{}")
+
     def begin_take(self) -> None:
         self.actors = {}
         self._big = limits.get("max_abs_value")  # the limits in force when a take starts

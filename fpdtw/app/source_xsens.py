@@ -296,6 +296,12 @@ class Source(DatagramSource):
         super().__init__(host, port, **kw)
         self.begin_take()
 
+    def warm_up(self) -> None:
+        super().warm_up()
+        p, q = np.zeros((len(SEGMENTS), 3)), np.tile([1.0, 0.0, 0.0, 0.0], (len(SEGMENTS), 1))
+        MvnSkeleton(p, q, self.rate).row(p, q)
+        _surely_fine(np.ones(1, np.int64), np.zeros((1, 7)), 1, float(self._big), 1.0)
+
     def begin_take(self) -> None:
         self.characters = {}
         self._big = limits.get("max_abs_value")  # the limits in force when a take starts

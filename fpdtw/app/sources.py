@@ -35,10 +35,13 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
+
 from fpdtw.app.export import write_map_csv
 from fpdtw.app.serve import Session, parse_address
 from fpdtw.app.stream import session_map, stamp
 from fpdtw.errors import FpdtwError
+from fpdtw.motion.rotations import quat_to_euler
 
 #: URL scheme -> the module reading that system's stream.
 SOURCES = {"axis": "fpdtw.app.source_axis", "axis+udp": "fpdtw.app.source_axis_udp",
@@ -149,6 +152,12 @@ class DatagramSource:
         except OSError:
             pass
         return transport, proto
+
+    def warm_up(self) -> None:
+        """Load (or compile) the source's compiled kernels before the first take, not during
+        its first frame; the live session's are loaded by ``Server.warm_up``. Each source's
+        are those of Euler angles from quaternions, and its own."""
+        quat_to_euler(np.array([[1.0, 0.0, 0.0, 0.0]]))
 
     def begin_take(self) -> None:
         """Forget the last take's senders."""
