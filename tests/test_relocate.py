@@ -160,12 +160,14 @@ def test_fpdtw_live_scores_its_map_in_ms(cmu_retimed, capsys):
                      "--relocate"]) == 0  # fmt: skip
     out = capsys.readouterr().out.splitlines()
     k = out.index(next(x for x in out if x.startswith("target frames within")))
-    assert out[k + 1].split() == ["50", "ms", "100", "ms", "300", "ms", "500", "ms", "1000", "ms",
-                                  "2000", "ms", "lost"]  # fmt: skip
+    assert out[k + 1].split() == ["frames", "50", "ms", "100", "ms", "300", "ms", "500", "ms",
+                                  "1000", "ms", "2000", "ms", "lost"]  # fmt: skip
     FT = MotionFeatures.from_motion(load_motion(warp))
     M, _ = align("Mc w40 (relocate)", FI, FT)
-    want = within_ms(M, dtw_pair(FI, FT).map, FI.fps)
-    assert out[k + 2].split()[3:] == [f"{want[t]:.1%}" for t in (50, 100, 300, 500, 1000, 2000)
+    P = dtw_pair(FI, FT).map
+    want = within_ms(M, P, FI.fps)
+    assert out[k + 2].split()[3] == f"{np.mean(np.abs(M - P)):.1f}"  # eq. 3, frames
+    assert out[k + 2].split()[4:] == [f"{want[t]:.1%}" for t in (50, 100, 300, 500, 1000, 2000)
                                       ] + [f"{want['lost']:.1%}"]  # fmt: skip
 
 
