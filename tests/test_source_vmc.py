@@ -31,6 +31,7 @@ from fpdtw.app import cli
 from fpdtw.app.source_vmc import (
     JOINT_MAPS,
     MAX_DATAGRAM,
+    PARENTS,
     Layout,
     Source,
     VmcSkeleton,
@@ -135,6 +136,18 @@ def test_a_skeleton_from_the_bones_sent():
     assert h.fps == 60.0
     jm, label = find_joint_map(names, "bvh", JOINT_MAPS)
     assert label == "user map 2" and jm["upper_chest"] == "Chest"
+
+
+def test_the_compiled_row_is_its_numpy_twin_bit_for_bit():
+    """VmcSkeleton.row (one compiled call) equals row_numpy on random frames of any norm,
+    with a root and without (the hips at the origin)."""
+    rng = np.random.default_rng(11)
+    frame = {b: np.r_[rng.normal(size=3), 0.0, 0.0, 0.0, 1.0] for b in PARENTS}
+    sk = VmcSkeleton(frame, 60.0)
+    for k in range(2000):
+        v = rng.normal(size=(len(sk.bones), 7)) * rng.uniform(0.5, 2)
+        root = rng.normal(size=7) if k % 2 else None
+        np.testing.assert_array_equal(sk.row(v, root), sk.row_numpy(v.copy(), root))
 
 
 # --------------------------------------------------------------------- the offline map

@@ -5,7 +5,9 @@ so fpdtw LISTENS on ``HOST:PORT`` and only reads. Datagrams are parsed by python
 (:class:`pythonosc.osc_packet.OscPacket`: a message or a bundle, nested bundles flattened).
 A sender's next bundles that differ from the last one python-osc read only in their timetag
 and numbers are read by :class:`Layout` from the places python-osc found them (the same
-values, a fifth of the time). The messages read (the rest, blend shapes included, are ignored):
+values, a fifth of the time); one holding a whole frame goes from its bytes to the frame's
+channel values in one compiled call (:func:`_whole`). The messages read (the rest, blend
+shapes included, are ignored):
 
 * ``/VMC/Ext/Root/Pos name p.x p.y p.z q.x q.y q.z q.w [s.x s.y s.z o.x o.y o.z]``: the
   avatar's root in the world (its scale and offset are ignored);
@@ -32,8 +34,10 @@ from __future__ import annotations
 
 import math
 import struct
+import sys
 import time
 
+import numba
 import numpy as np
 from pythonosc import osc_bundle_builder, osc_message_builder, udp_client
 from pythonosc.osc_packet import OscPacket
@@ -42,7 +46,14 @@ from fpdtw import limits
 from fpdtw.app.serve import parse_address
 from fpdtw.app.sources import DatagramSource, bvh_header, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
-from fpdtw.motion.rotations import quat_mul, quat_normalize, quat_to_euler
+from fpdtw.motion.rotations import (
+    euler_into,
+    euler_kernel,
+    quat_conj,
+    quat_mul,
+    quat_normalize,
+    quat_to_euler,
+)
 
 #: The VMC protocol's usual receiver port.
 DEFAULT_PORT = 39539
@@ -156,7 +167,19 @@ class VmcSkeleton:
     def row(self, v, root) -> np.ndarray:
         """The BVH channel values (n_channels,) float64 of a frame: ``v`` (n_bones, 7) float64,
         each bone's ``p.x p.y p.z q.x q.y q.z q.w`` in :attr:`bones`' order (Unity's values),
-        with the root's ``(p, q)`` (Unity's; None: at the origin)."""
+        with the root's ``(p, q)`` (Unity's; None: at the origin). One compiled call
+        (:func:`_row`); :meth:`row_numpy` is its twin."""
+        out = np.empty(3 + 3 * len(v))
+        has_root = root is not None
+        _row(np.ascontiguousarray(v, dtype=np.float64),
+             np.asarray(root, dtype=np.float64) if has_root else _NO_ROOT, has_root, _EULER,
+             out)  # fmt: skip
+        return out
+
+    @staticmethod
+    def row_numpy(v, root) -> np.ndarray:
+        """:meth:`row` in NumPy, :func:`~fpdtw.motion.rotations.quat_normalize` and
+        :func:`~fpdtw.motion.rotations.quat_to_euler` (equal bit for bit, tested)."""
         q = v[:, [6, 3, 4, 5]]  # unity_to_fpdtw's (w, x, -y, -z), normalised
         q[:, 2:] *= -1.0
         q = quat_normalize(q)
@@ -164,19 +187,19 @@ class VmcSkeleton:
         hips = (-hx, hy, hz)
         if root is not None:
             rx, ry, rz, x, y, z, w = (float(c) for c in root[:7])
-            rq = tuple(quat_normalize([w, x, -y, -z]).tolist())
-            rp = (-rx, ry, rz)
-            turned = _qmul(_qmul(rq, (0.0, *hips)), (rq[0], -rq[1], -rq[2], -rq[3]))
-            hips = tuple(a + b for a, b in zip(rp, turned[1:], strict=True))
-            q[0] = _qmul(rq, q[0].tolist())
+            rq = quat_normalize([w, x, -y, -z])
+            turned = quat_mul(quat_mul(rq, [0.0, *hips]), quat_conj(rq))
+            hips = (-rx + turned[1], ry + turned[2], rz + turned[3])
+            q[0] = quat_mul(rq, q[0])
         # quat_to_euler(q, "XYZ") column for column, as Z Y X (the channels)
         e = quat_to_euler(q, _ORDER)
         return np.concatenate([hips, e[:, ::-1].ravel()])
 
 
-def _qmul(a, b) -> tuple:
-    """:func:`~fpdtw.motion.rotations.quat_mul` of two quaternions in Python floats (the same
-    operations in the same order, so the same bits)."""
+@numba.njit(cache=True)
+def _qmul(a, b) -> tuple:  # pragma: no cover - compiled
+    """:func:`~fpdtw.motion.rotations.quat_mul` of two quaternions (tuples of 4 floats), its
+    operations in its order (so the same bits)."""
     aw, ax, ay, az = a
     bw, bx, by, bz = b
     return (
@@ -185,6 +208,80 @@ def _qmul(a, b) -> tuple:
         aw * by - ax * bz + ay * bw + az * bx,
         aw * bz + ax * by - ay * bx + az * bw,
     )
+
+
+#: :func:`fpdtw.motion.rotations.euler_kernel` of the built skeleton's order.
+_EULER = euler_kernel(_ORDER)
+_NO_ROOT = np.zeros(7)
+_NO_INDEX = np.zeros(0, np.intp)
+
+
+@numba.njit(cache=True)
+def _row(v, root, has_root, euler, out):  # pragma: no cover - compiled
+    """:meth:`VmcSkeleton.row` into ``out``, :meth:`VmcSkeleton.row_numpy`'s operations in
+    its order: each quaternion normalised as ``np.linalg.norm`` sums its squares (left to
+    right), the root's turn of the hips and of the first bone, then ``quat_to_euler``."""
+    n = v.shape[0]
+    q = np.empty((n, 4))
+    for r in range(n):
+        w, x, y, z = v[r, 6], v[r, 3], -v[r, 4], -v[r, 5]
+        norm = np.sqrt(((w * w + x * x) + y * y) + z * z)
+        q[r, 0], q[r, 1], q[r, 2], q[r, 3] = w / norm, x / norm, y / norm, z / norm
+    hips = (-v[0, 0], v[0, 1], v[0, 2])
+    if has_root:
+        w, x, y, z = root[6], root[3], -root[4], -root[5]
+        norm = np.sqrt(((w * w + x * x) + y * y) + z * z)
+        rq = (w / norm, x / norm, y / norm, z / norm)
+        turned = _qmul(_qmul(rq, (0.0, hips[0], hips[1], hips[2])),
+                       (rq[0], -rq[1], -rq[2], -rq[3]))  # fmt: skip
+        hips = (-root[0] + turned[1], root[1] + turned[2], root[2] + turned[3])
+        q[0, 0], q[0, 1], q[0, 2], q[0, 3] = _qmul(rq, (q[0, 0], q[0, 1], q[0, 2], q[0, 3]))
+    e = np.empty((n, 3))
+    euler_into(q, euler, e)
+    out[0], out[1], out[2] = hips
+    for r in range(n):
+        out[3 + 3 * r], out[4 + 3 * r], out[5 + 3 * r] = e[r, 2], e[r, 1], e[r, 0]
+
+
+@numba.njit(cache=True)
+def _whole(buf, keep, fixed, at, bones, root_at, t_at, root, has_root, big, tol, out):
+    """:meth:`Source.whole`'s frame in one compiled call: the time of the frame in bundle
+    ``buf`` (uint8, its length the layout's) and its row in ``out``, or NaN (nothing of
+    ``buf`` used) unless its fixed bytes (``keep``) are ``fixed``, each of its floats (at
+    words ``at``, big-endian) is within ``big`` and each quaternion read (``bones`` (n, 7)
+    and ``root_at`` (7,) or (0,) index the floats) within ``tol`` of unit norm. A root read
+    is written into ``root`` (else ``root``, when ``has_root``, is the sender's last)."""
+    for i in range(keep.shape[0]):
+        if buf[keep[i]] != fixed[i]:
+            return np.nan
+    words = buf.view(np.uint32)
+    raw = np.empty(at.shape[0], np.uint32)
+    for i in range(at.shape[0]):
+        w = words[at[i]]
+        raw[i] = (w >> 24) | ((w >> 8) & 0xFF00) | ((w << 8) & 0xFF0000) | (w << 24)
+    f = raw.view(np.float32)
+    v = np.empty(at.shape[0])
+    for i in range(at.shape[0]):
+        v[i] = f[i]
+        if not abs(v[i]) <= big:
+            return np.nan
+    b = np.empty(bones.shape)
+    for r in range(bones.shape[0]):
+        for c in range(7):
+            b[r, c] = v[bones[r, c]]
+        s = ((b[r, 3] * b[r, 3] + b[r, 4] * b[r, 4]) + b[r, 5] * b[r, 5]) + b[r, 6] * b[r, 6]
+        if not abs(np.sqrt(s) - 1.0) < tol:
+            return np.nan
+    if root_at.shape[0]:
+        s = 0.0
+        for c in range(7):
+            root[c] = v[root_at[c]]
+            s += root[c] * root[c] if c >= 3 else 0.0
+        if not abs(np.sqrt(s) - 1.0) < tol:
+            return np.nan
+        has_root = True
+    _row(b, root, has_root, _EULER, out)
+    return v[t_at]
 
 
 # -- reading ---------------------------------------------------------------------------------
@@ -394,8 +491,15 @@ class Source(DatagramSource):
     skeleton_from = "the bones sent"
     DEFAULT_RATE = DEFAULT_RATE  # the module's
 
+    def warm_up(self) -> None:
+        super().warm_up()
+        bones = np.arange(7, dtype=np.intp)[None]
+        _whole(np.frombuffer(bytes(28), np.uint8), _NO_INDEX, np.zeros(0, np.uint8), bones[0],
+               bones, _NO_INDEX, 0, np.zeros(7), False, 1.0, 1.0, np.empty(6))  # fmt: skip
+
     def begin_take(self) -> None:
         self.senders = {}
+        self._big = limits.get("max_abs_value")  # the limits in force when a take starts
 
     def end_take(self, performers) -> None:
         for s in self.senders.values():
@@ -457,28 +561,28 @@ class Source(DatagramSource):
 
     def whole(self, s, data, arrival, performers, where) -> bool:
         """A bundle with the layout of the sender's last and the whole frame in it
-        (:func:`frame_plan`), aligned without reading its messages one by one, when every
-        value passes :func:`values` and nothing of the frame came before; else False, and
-        nothing changed (the datagram is read as any other)."""
+        (:func:`frame_plan`), aligned without reading its messages one by one (one compiled
+        call, :func:`_whole`), when every value surely passes :func:`values` and nothing of
+        the frame came before; else False, and nothing changed (the datagram is read as any
+        other)."""
         layout, plan = s.plan
         if plan is None or s.layout is not layout or s.bones or s.unchecked or s.problem:
             return False
+        if len(data) != layout.size or sys.byteorder != "little":  # _whole swaps bytes
+            return False
         at, root_at, t_at = plan
-        v = layout.floats(data)
-        if v is None or not np.isfinite(v).all():
+        read_root = root_at is not None
+        root = np.empty(7) if read_root or s.root is None else s.root
+        row = np.empty(3 + 3 * len(at))
+        t = _whole(np.frombuffer(data, np.uint8), layout.keep, layout.fixed, layout.at, at,
+                   root_at if read_root else _NO_INDEX, t_at, root, s.root is not None,
+                   float(self._big), UNIT_TOLERANCE * 0.999, row)  # fmt: skip
+        if t != t:
             return False
-        bones = v[at]
-        big = limits.get("max_abs_value")
-        n = np.einsum("ij,ij->i", bones[:, 3:], bones[:, 3:])
-        if np.abs(v).max() > big or np.abs(np.sqrt(n) - 1.0).max() >= UNIT_TOLERANCE * 0.999:
-            return False
-        if root_at is not None:
-            root = v[root_at]
-            if abs(math.sqrt(root[3:] @ root[3:]) - 1.0) >= UNIT_TOLERANCE * 0.999:
-                return False
+        if read_root:
             s.root = root
         performers.frames += 1
-        self.aligned(s, performers, arrival, float(v[t_at]), where, bones)
+        self.aligned(s, performers, arrival, t, where, row)
         return True
 
     def bone(self, s, args, where) -> None:
@@ -535,11 +639,11 @@ class Source(DatagramSource):
         if s.layout is not None and (s.plan is None or s.plan[0] is not s.layout):
             s.plan = (s.layout, frame_plan(s.layout, s.skeleton.bones))
         v = np.array([bones[b] for b in s.skeleton.bones], dtype=float)
-        return self.aligned(s, performers, arrival, t, where, v)
+        return self.aligned(s, performers, arrival, t, where, s.skeleton.row(v, s.root))
 
-    def aligned(self, s, performers, arrival, t, where, bones) -> None:
-        """A whole checked frame of ``s``'s performer: ``bones`` (n_bones, 7) float64, its
-        bones' values in the skeleton's order, timed and aligned (or counted)."""
+    def aligned(self, s, performers, arrival, t, where, row) -> None:
+        """A whole checked frame of ``s``'s performer: ``row`` (n_channels,) float64, its
+        BVH channel values (:meth:`VmcSkeleton.row`), timed and aligned (or counted)."""
         perf = s.perf
         if s.timed and t is None:
             return performers.count_bad(perf, "missing", f"{where}: a frame without its "
@@ -552,7 +656,7 @@ class Source(DatagramSource):
         if s.t0 is None:
             s.t0 = clock
         s.last_t = clock
-        performers.feed(perf, s.skeleton.row(bones, s.root), arrival, t=clock - s.t0)
+        performers.feed(perf, row, arrival, t=clock - s.t0)
         return None
 
 
