@@ -88,6 +88,25 @@ def test_bounded_history_gives_the_same_maps(walk, label):
     np.testing.assert_array_equal(short.M, M_full[short.history_start :])
 
 
+@pytest.mark.parametrize("history", [None, 64])
+def test_full_buffers_do_not_leave_the_compiled_step(walk, monkeypatch, history):
+    """Method C's one compiled call takes every streamed frame, also those that find its
+    buffers full (grown at 256 and 512 rows, or compacted at a 64-row history): the general
+    path (a live server's first call of its kernel took 37 ms, at frame 256 of a take) takes
+    only the first frame, which allocates the buffer of the positions these features carry;
+    the map is the general path's (a recording aligner's)."""
+    I, T = walk
+    M_general, _ = run_online(MethodC(I, 40, record=True), T)
+    general, step = [], MethodC._step
+    monkeypatch.setattr(MethodC, "_step", lambda self, q: general.append(q) or step(self, q))
+    with limits.override(**({} if history is None else {"history_frames": history})):
+        lean = MethodC(I, 40)
+        M_lean, _ = run_online(lean, T)
+    assert general == [0] and T.n_frames > 512
+    assert (lean.history_start > 0) == (history is not None)
+    np.testing.assert_array_equal(M_lean, M_general)
+
+
 def test_aligners_that_read_every_frame_keep_every_frame(walk):
     I, T = walk
     with limits.override(history_frames=64):

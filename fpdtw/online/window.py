@@ -793,6 +793,9 @@ class WindowAligner(OnlineAligner):
         if self.n_received == 0:
             self._begin_take(frame)
         i = self.n_received - self._start
+        if self._lean and i == self._M.shape[0]:  # full: room made here, for the compiled call
+            self._make_room()
+            i = self.n_received - self._start
         arrays = compiled_frame(frame, i, self._M.shape[0], self._Tp) if self._lean else None
         if arrays is not None:
             fq, fe = arrays
