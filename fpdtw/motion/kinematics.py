@@ -20,8 +20,10 @@ _RAD_PER_DEG = math.pi / 180.0
 
 
 @numba.njit(cache=True, fastmath=False)
-def _frame_quats(E, codes, axes, out):
-    """out[j] = unit quaternion (w >= 0) of E[j] (degrees) in order codes[j], as scipy does.
+def frame_quats_into(E, codes, axes, out):  # pragma: no cover - compiled
+    """:func:`frame_quats` from compiled code: ``out[j]`` (J, 4) the unit quaternion
+    (``w >= 0``) of ``E[j]`` (J, 3; degrees) in order ``codes[j]``, as scipy does; ``axes``:
+    :data:`ORDER_AXES`.
 
     Plain version: fpdtw.plain.euler_to_quat (which leaves the sign as it comes).
     """
@@ -63,7 +65,7 @@ def frame_quats(euler, codes) -> np.ndarray:
     ``codes``: :func:`order_codes` of the joints' orders."""
     E = np.ascontiguousarray(euler, dtype=np.float64)
     out = np.empty((E.shape[0], 4))
-    _frame_quats(E, codes, ORDER_AXES, out)
+    frame_quats_into(E, codes, ORDER_AXES, out)
     return out
 
 

@@ -20,9 +20,9 @@ from fpdtw.motion.features import Frame
 from fpdtw.motion.joints import OPW_JOINTS, PAPER_JOINTS
 from fpdtw.motion.kinematics import (
     ORDER_AXES,
-    _frame_quats,
     frame_positions,
     frame_quats,
+    frame_quats_into,
     order_codes,
 )
 from fpdtw.motion.motion import EXACT_FRAMES, blend_poses, sample_points
@@ -50,7 +50,7 @@ def _receive(euler, r, big, need, codes, axes, e, q):  # pragma: no cover - comp
     for n in range(need.shape[0]):
         for c in range(3):
             e[n, c] = euler[need[n], c]
-    _frame_quats(e, codes, axes, q)
+    frame_quats_into(e, codes, axes, q)
     return True
 
 
