@@ -530,20 +530,3 @@ def test_a_frames_compiled_row_is_rest_relative_then_row_bit_for_bit():
     for _ in range(2000):
         v = frame()
         np.testing.assert_array_equal(sk.row_of(v), sk.row(*rest_relative(v)))
-
-
-def test_warm_up_loads_every_compiled_kernel_of_a_frame_before_the_first_take():
-    """In a fresh interpreter, Source.warm_up (what `fpdtw serve --source` calls before it
-    listens) leaves each kernel a frame of xsens or rokoko calls compiled or loaded."""
-    import subprocess
-    import sys
-
-    code = (
-        "from fpdtw.app import source_rokoko as R, source_xsens as X\n"
-        "from fpdtw.motion import rotations\n"
-        "X.Source('127.0.0.1', 0).warm_up(); R.Source('127.0.0.1', 0).warm_up()\n"
-        "ks = [X._row, X._surely_fine, R._frame_row, R._scan, R._nesting, rotations._euler]\n"
-        "print([len(k.signatures) for k in ks])\n"
-    )
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert out.stdout.split("\n")[0] == "[1, 1, 1, 1, 1, 1]"

@@ -496,6 +496,7 @@ class Source(DatagramSource):
         bones = np.arange(7, dtype=np.intp)[None]
         _whole(np.frombuffer(bytes(28), np.uint8), _NO_INDEX, np.zeros(0, np.uint8), bones[0],
                bones, _NO_INDEX, 0, np.zeros(7), False, 1.0, 1.0, np.empty(6))  # fmt: skip
+        VmcSkeleton.row(None, np.eye(1, 7, 6), None)  # a first frame's, from Python
 
     def begin_take(self) -> None:
         self.senders = {}
