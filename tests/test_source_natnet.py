@@ -20,13 +20,17 @@ from reference.live_sources import performers as shared_performers
 
 from fpdtw.app import cli
 from fpdtw.app.source_natnet import (
+    _EULER,
+    BONE,
     CONNECT,
     JOINT_MAPS,
     MAX_DATAGRAM,
     RIG_BONES,
+    UNIT_TOLERANCE,
     Bad,
     NatNetSkeleton,
     Source,
+    _checked_row,
     motive_to_fpdtw,
     natnet_packets,
     parse_descriptions,
@@ -216,6 +220,36 @@ def test_a_turn_about_motives_up_axis_is_a_turn_about_y():
     names = [b for b, _, _ in RIG_BONES]
     jm, label = find_joint_map(names, "bvh", JOINT_MAPS)
     assert label == "user map 1" and jm["left_elbow"] == "LFArm" and jm["middle_chest"] == "Ab"
+
+
+def test_the_compiled_check_and_row_are_the_numpy_ones():
+    """_checked_row equals NatNetSkeleton.row bit for bit on random float32 frames sent in a
+    shuffled bone order, and takes exactly the frames whose every value is within the limit
+    and every quaternion within 0.999 of the tolerance of unit norm (the NumPy checks name
+    the others)."""
+    rng = np.random.default_rng(5)
+    (_, _, bones) = parse_descriptions(HAND_MODELDEF)[0]
+    sk = NatNetSkeleton(bones, 60.0)
+    tol, big, taken = UNIT_TOLERANCE * 0.999, 1e3, 0
+    for k in range(3000):
+        q = rng.normal(size=(2, 4))
+        q /= np.linalg.norm(q, axis=1)[:, None]
+        q *= rng.uniform(1 - 2 * tol, 1 + 2 * tol, (2, 1))
+        sent = np.zeros(2, BONE)
+        sent["v"] = np.c_[rng.normal(size=(2, 3)) * (3e2 if k % 7 else 1e3), q]
+        if k % 97 == 0:
+            sent["v"][1, k % 7] = np.nan
+        rows = rng.permutation(2)
+        v, out = np.empty((2, 7)), np.empty(9)
+        ok = _checked_row(sent["v"], rows, big, tol, _EULER, v, out)
+        values = np.empty((2, 7))
+        values[rows] = sent["v"]
+        norms = np.linalg.norm(values[:, 3:], axis=1)
+        assert ok == bool((np.abs(values) <= big).all() and (np.abs(norms - 1) < tol).all())
+        if ok:
+            taken += 1
+            np.testing.assert_array_equal(out, sk.row(values))
+    assert 300 < taken < 2700  # both sides seen often
 
 
 # --------------------------------------------------------------------- the offline map

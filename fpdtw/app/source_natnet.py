@@ -58,6 +58,7 @@ import socket
 import struct
 import time
 
+import numba
 import numpy as np
 
 from fpdtw import limits
@@ -65,7 +66,14 @@ from fpdtw.app.serve import parse_address
 from fpdtw.app.sources import DatagramReceiver, DatagramSource, TakeEnd, bvh_header, sender_name
 from fpdtw.motion.joints import PAPER_JOINTS, resolve_joint_map
 from fpdtw.motion.rig import rest_rotations
-from fpdtw.motion.rotations import quat_conj, quat_mul, quat_rotate, quat_to_euler
+from fpdtw.motion.rotations import (
+    euler_into,
+    euler_kernel,
+    quat_conj,
+    quat_mul,
+    quat_rotate,
+    quat_to_euler,
+)
 
 #: Motive's command port (its data port, for multicast, is 1511).
 DEFAULT_PORT = 1510
@@ -276,6 +284,39 @@ class NatNetSkeleton:
         return np.concatenate([v[0, :3], e.ravel()])
 
 
+#: :func:`fpdtw.motion.rotations.euler_kernel` of the built skeleton's order, ``x y z w``.
+_EULER = euler_kernel(_ORDER, scalar_first=False)
+
+
+@numba.njit(cache=True)
+def _checked_row(sent, rows, big, tol, euler, v, out):  # pragma: no cover - compiled
+    """:meth:`Source.check`'s checks and :meth:`NatNetSkeleton.row` in one call: the bones'
+    values ``sent`` (B, 7) float32 put in rows ``rows`` of ``v`` (B, 7) float64; True and the
+    row in ``out`` when every value is within ``big`` (NaN: not) and every quaternion's norm
+    within ``tol`` of 1 (else False: the NumPy checks then name what is wrong). The row's
+    operations in its order: each quaternion normalised by its squares summed ``w x y z``."""
+    n = sent.shape[0]
+    for b in range(n):
+        for c in range(7):
+            x = np.float64(sent[b, c])
+            if not abs(x) <= big:
+                return False
+            v[rows[b], c] = x
+    q = np.empty((n, 4))
+    for r in range(n):
+        x, y, z, w = v[r, 3], v[r, 4], v[r, 5], v[r, 6]
+        if not abs(np.sqrt(((x * x + y * y) + z * z) + w * w) - 1.0) < tol:
+            return False
+        norm = np.sqrt(((w * w + x * x) + y * y) + z * z)
+        q[r, 0], q[r, 1], q[r, 2], q[r, 3] = x / norm, y / norm, z / norm, w / norm
+    e = np.empty((n, 3))
+    euler_into(q, euler, e)
+    out[0], out[1], out[2] = v[0, 0], v[0, 1], v[0, 2]
+    for r in range(n):
+        out[3 + 3 * r], out[4 + 3 * r], out[5 + 3 * r] = e[r, 2], e[r, 1], e[r, 0]
+    return True
+
+
 # -- reading ---------------------------------------------------------------------------------
 
 
@@ -336,8 +377,15 @@ class Source(DatagramSource):
                 transport.sendto(HEADER.pack(NAT_KEEPALIVE, 0), self.server_addr)
             await asyncio.sleep(REQUEST_S if self.wanted else KEEPALIVE_S)
 
+    def warm_up(self) -> None:
+        super().warm_up()
+        rows, v = np.arange(2), np.zeros((2, 7))  # two bones: unaligned, as a frame's are
+        _checked_row(np.frombuffer(bytes(2 * BONE.itemsize), BONE)["v"], rows, 1.0, 1.0,
+                     _EULER, v, np.empty(9))  # fmt: skip
+
     def begin_take(self) -> None:
         self.skeletons, self.wanted, self.server = {}, True, None
+        self._big = limits.get("max_abs_value")  # the limits in force when a take starts
 
     def datagram(self, data: bytes, addr, arrival: float, performers) -> None:
         """One datagram: its header checked, then read as its message says."""
@@ -396,25 +444,26 @@ class Source(DatagramSource):
         """One skeleton of a frame from ``addr``: checked, then aligned (or counted)."""
         s = self.skeletons.get(sid)
         try:
-            v = self.check(s, sid, bones, number)
+            row = self.check(s, sid, bones, number)
         except Bad as e:
             perf = None if s is None or s.refused else s.perf
             where = f"{self.where(addr)} (frame {number}, skeleton {sid})"
             return performers.count_bad(perf, e.kind, f"{where}: {e}")
         if s.perf is None:
-            about = f"{len(v)} bones, {self.server or 'server not identified'}"
+            about = f"{len(s.rows)} bones, {self.server or 'server not identified'}"
             s.perf = performers.add(sid, s.name, s.skeleton.header, self.rate, about)
             if s.perf is None:
                 s.refused = True
                 return None
             s.f0 = number
         s.done = number
-        performers.feed(s.perf, s.skeleton.row(v), arrival, t=(number - s.f0) / self.rate)
+        performers.feed(s.perf, row, arrival, t=(number - s.f0) / self.rate)
         return None
 
     def check(self, s, sid, bones, number):
-        """Skeleton ``sid``'s bones in frame ``number``: their values (B, 7) float in its
-        header's order; :class:`Bad` naming what is wrong."""
+        """Skeleton ``sid``'s bones in frame ``number`` checked: its row
+        (:meth:`NatNetSkeleton.row`, by :func:`_checked_row` when every value is surely
+        fine); :class:`Bad` naming what is wrong."""
         if s is None:
             self.wanted = True  # ask for the descriptions again
             raise Bad("undescribed", f"skeleton {sid} is not in the server's data descriptions")
@@ -436,9 +485,10 @@ class Source(DatagramSource):
                 lacks = [n for r, n in enumerate(sk.names) if r not in set(rows)]
                 raise Bad("missing", f"the frame lacks {', '.join(lacks[:4])}")
             s.ids, s.rows = ids.tobytes(), np.array(rows)
-        v = np.empty((len(s.rows), 7))
+        v, out, big = np.empty((len(s.rows), 7)), np.empty(3 + 3 * len(s.rows)), self._big
+        if _checked_row(bones["v"], s.rows, big, UNIT_TOLERANCE * 0.999, _EULER, v, out):
+            return out
         v[s.rows] = bones["v"]
-        big = limits.get("max_abs_value")
         if not np.abs(v).max() <= big:  # NaN, inf or too large: which, as before
             if not np.isfinite(v).all():
                 bad = sk.names[int(np.flatnonzero(~np.isfinite(v).all(axis=1))[0])]
@@ -448,7 +498,7 @@ class Source(DatagramSource):
         k = int(np.abs(norms - 1.0).argmax())
         if abs(norms[k] - 1.0) > UNIT_TOLERANCE:
             raise Bad("rotation", f"bone {sk.names[k]}'s quaternion has norm {norms[k]:.6g}")
-        return v
+        return sk.row(v)
 
 
 # -- the server, without hardware --------------------------------------------------------------
