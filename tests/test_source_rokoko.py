@@ -15,6 +15,7 @@ import socket
 import threading
 
 import numpy as np
+import orjson
 import pytest
 from reference.live_sources import offline_map, read_queued, read_sent, serve_and_stream
 from reference.live_sources import performers as shared_performers
@@ -293,6 +294,40 @@ def _bone(doc, name="leftLeg"):
 
 def _set(d, **kw):
     d.update(kw)
+
+
+def test_orjson_reads_every_datagram_as_the_standard_library_does(cmu, monkeypatch):
+    """read_datagram through orjson gives what the standard library's reading gives (orjson
+    made to refuse everything): on every datagram of a take and on documents where the two
+    readers differ (orjson refuses NaN, 1e999, a BOM, UTF-16 and lone surrogates; it reads
+    integers of 19 to 20 digits as ints, json here as floats)."""
+    _, _, frames = _take(cmu)
+    f = frames[3]
+    odd = [
+        f.replace(b'"fps":', b'"fps":12345678901234567890,"f":'),
+        f.replace(b'"fps":', b'"fps":1e999,"f":'),
+        f.replace(b'"fps":', b'"fps":NaN,"f":'),
+        f.replace(b'"name":"', b'"name":"\\ud800', 1),
+        b"\xef\xbb\xbf" + f,
+        f.decode().encode("utf-16"),
+        f.replace(b'"x":', b'"x":1' + b"0" * 19 + b',"q":', 1),
+    ]
+
+    def outcome(data):
+        try:
+            fps, t, actors = read_datagram(data, 1e6)
+            return repr((fps, t, [(actor_name(a), read_body(a, 1e6).tolist()) for a in actors]))
+        except Refused as e:
+            return "{}: {}".format(*e.args)
+
+    fast = [outcome(d) for d in [*frames, *odd]]
+    fail = orjson.JSONDecodeError("made to refuse", "", 0)
+    monkeypatch.setattr(orjson, "loads", lambda data: (_ for _ in ()).throw(fail))
+    assert fast == [outcome(d) for d in [*frames, *odd]]
+    starts = ["(None, 0.1, [('actor1'", "(None, 0.1, [('actor1'", "finite: JSON NaN",
+              "(30, 0.1, [('\\ud800actor1'", "(30, 0.1, [('actor1'", "(30, 0.1, [('actor1'",
+              "large: bone 'hip' has a value beyond"]  # fmt: skip
+    assert all(o.startswith(w) for o, w in zip(fast[-7:], starts, strict=True)), fast[-7:]
 
 
 @pytest.mark.parametrize(

@@ -52,6 +52,7 @@ from operator import itemgetter
 
 import numba
 import numpy as np
+import orjson
 
 from fpdtw import limits
 from fpdtw.app.sources import DatagramSource, bvh_header, send_paced, sender_name
@@ -350,10 +351,13 @@ def read_datagram(data: bytes, big=None) -> tuple:
                       "read: choose uncompressed JSON v3 in Studio's Custom streaming")  # fmt: skip
     if (depth := nesting(data)) > MAX_DEPTH:
         raise Refused("rokoko", f"JSON nested {depth} deep, more than {MAX_DEPTH}")
-    try:
-        doc = _JSON.decode(data.decode(json.detect_encoding(data), "surrogatepass"))  # json.loads
-    except (ValueError, RecursionError) as e:  # UnicodeDecodeError is a ValueError
-        raise Refused("rokoko", f"not JSON ({str(e).splitlines()[0][:80]})") from None
+    try:  # orjson reads as the standard library does (tested), in a fourth of its time ...
+        doc = orjson.loads(data)
+    except orjson.JSONDecodeError:  # ... but refuses NaN, 1e400, UTF-16, a BOM: json reads them
+        try:
+            doc = _JSON.decode(data.decode(json.detect_encoding(data), "surrogatepass"))
+        except (ValueError, RecursionError) as e:  # UnicodeDecodeError is a ValueError
+            raise Refused("rokoko", f"not JSON ({str(e).splitlines()[0][:80]})") from None
     version = doc.get("version") if isinstance(doc, dict) else None
     major = (int(version) if _number(version) and math.isfinite(version) else
              int(m[1]) if isinstance(version, str) and (m := re.fullmatch(
