@@ -296,6 +296,65 @@ def _set(d, **kw):
     d.update(kw)
 
 
+def test_json_numbers_are_read_as_float_reads_them():
+    """_json_number gives the bits of float(orjson.loads(text)) (an integer's float: -0 is
+    0.0) for every number it reads, on float32 values as Studio writes them, their negations,
+    integers, exponents and zeros; NaN for what is not a JSON number or not readable by the
+    fast path (over 15 significant digits, a power of ten beyond 22)."""
+    from fpdtw.app.source_rokoko import _json_number
+
+    rng = np.random.default_rng(8)
+    x = rng.normal(size=3000) * 10.0 ** rng.integers(-8, 8, 3000)
+    texts = [str(np.float32(v)) for v in x] + [str(int(v)) for v in x * 1e3]
+    texts += ["0", "-0", "0.0", "-0.0", "1e22", "1E-22", "-2.5e+3", "123456789012345",
+              "0.000000000000001", "9007199254740993"]  # fmt: skip
+    read = 0
+    for t in texts:
+        b = np.frombuffer(t.encode(), np.uint8)
+        got = _json_number(b, 0, len(b))
+        if not np.isnan(got):
+            read += 1
+            want = float(orjson.loads(t))
+            assert np.float64(got).view(np.int64) == np.float64(want).view(np.int64), t
+    assert read > 0.95 * len(texts)
+    for bad in ["", "-", "01", "1.", ".5", "1e", "1e+", "+1", "1.2.3", "--1", "1e999", "1e23",
+                "1234567890123456", "1.0000000000000001", "0x10", "1-2"]:  # fmt: skip
+        b = np.frombuffer(bad.encode(), np.uint8)
+        assert np.isnan(_json_number(b, 0, len(b))), bad
+
+
+def test_a_senders_next_datagrams_are_read_from_their_numbers(cmu):
+    """After a datagram read whole, a sender's next one with the same bytes outside its
+    numbers is read from its number tokens (_Template) into exactly what read_datagram and
+    read_body give; one that differs elsewhere, holds a number the fast path does not read,
+    or a value that may fail a check is left to them (None or False)."""
+    from fpdtw.app.source_rokoko import _Template
+
+    _, _, frames = _take(cmu)
+    two = rokoko_datagrams([read_bvh(w) for w in cmu[2]])[1]
+    for datagrams in (frames, two):
+        template = _Template(datagrams[0])
+        assert template is not None
+        for d in datagrams[1:]:
+            fps, t, actors = template.read(d, 1e6)
+            fps0, t0, actors0 = read_datagram(d, 1e6)
+            assert (fps, t) == (fps0, t0) and len(actors) == len(actors0)
+            for (name, v), a in zip(actors, actors0, strict=True):
+                assert name == actor_name(a)
+                np.testing.assert_array_equal(v, read_body(a, 1e6))
+    template, f = _Template(frames[0]), frames[5]
+    x = f.index(b'"x":') + 4
+    x_end = f.index(b",", x)
+    for other in (f.replace(b'"x":', b'"x": ', 1), f[:x] + b"1e999" + f[x_end:],
+                  f[:x] + b"01" + f[x_end:], f[:x] + b"1.0000000000000001" + f[x_end:],
+                  f.replace(b'"actor1"', b'"actor2"'), f + b" "):  # fmt: skip
+        assert template.read(other, 1e6) is None
+    assert template.read(f[:x] + b"2e6" + f[x_end:], 1e6) is False  # beyond the limit
+    doubled = f.replace(b'"fps":', b'"version":3,"fps":', 1)
+    assert _Template(doubled) is None  # a key twice: which token is which cannot be told
+    assert _Template(f.replace(b'"head":', b'"tail":', 1)) is None  # not read whole
+
+
 def test_orjson_reads_every_datagram_as_the_standard_library_does(cmu, monkeypatch):
     """read_datagram through orjson gives what the standard library's reading gives (orjson
     made to refuse everything): on every datagram of a take and on documents where the two
