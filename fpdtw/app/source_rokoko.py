@@ -679,7 +679,8 @@ class Source(DatagramSource):
         text, spans = np.frombuffer(b"[1]", np.uint8), np.zeros((1, 2), np.int64)
         _number_spans(text, spans)
         _json_number(text, spans[0, 0], spans[0, 1])
-        _by_template(text, text, spans, spans[0], np.empty((2, 2), np.int64), np.empty(2))
+        _by_template(text, text, spans, np.zeros(1, np.int64), np.empty((2, 2), np.int64),
+                     np.empty(1))  # fmt: skip
 
     def begin_take(self) -> None:
         self.actors, self.templates = {}, {}  # actor name -> _Actor; address -> _Template
