@@ -547,11 +547,13 @@ def _by_template(b, text, tspans, want, spans, out):  # pragma: no cover - compi
                 return False
         if t < k:
             at_b, at_t = spans[t, 1], tspans[t, 1]
+    values = np.empty(k)
     for t in range(k):
-        if np.isnan(_json_number(b, spans[t, 0], spans[t, 1])):
+        values[t] = _json_number(b, spans[t, 0], spans[t, 1])
+        if np.isnan(values[t]):
             return False
     for r in range(want.shape[0]):
-        out[r] = _json_number(b, spans[want[r], 0], spans[want[r], 1])
+        out[r] = values[want[r]]
     return True
 
 
