@@ -207,6 +207,86 @@ def _push_all(T, rate, *, pj=None, skip=(), gap="slerp"):
     return lt, out
 
 
+_MIXED = """HIERARCHY
+ROOT hips
+{
+  OFFSET 0 0 0
+  CHANNELS 6 Xposition Zrotation Yposition Xrotation Zposition Yrotation
+  JOINT spine
+  {
+    OFFSET 0 10 0
+    CHANNELS 2 Zrotation Xrotation
+    JOINT head
+    {
+      OFFSET 0 10 0
+      CHANNELS 6 Xposition Yposition Zposition Yrotation Xrotation Zrotation
+      End Site
+      {
+        OFFSET 0 5 0
+      }
+    }
+  }
+  JOINT leg
+  {
+    OFFSET 3 -10 0
+    CHANNELS 0
+    JOINT foot
+    {
+      OFFSET 0 -10 0
+      CHANNELS 3 Xrotation Yrotation Zrotation
+      End Site
+      {
+        OFFSET 0 -2 1
+      }
+    }
+  }
+}
+MOTION
+Frame Time: 0.0083333333
+"""
+
+
+@pytest.mark.parametrize("rate", [120.0, 50.0])
+def test_a_motion_line_pushed_whole_gives_the_frames_of_its_split_values(rate):
+    """LiveTarget.push_channels (one compiled call per line, as fpdtw serve pushes it):
+    channels in any order, a joint with two rotation channels, one with none, a non-root
+    joint with positions. At the capture rate its frames are scipy's quaternions and the
+    unwrapped angles of BVHHeader.split's values, bit for bit; at another, push's frames. A
+    value beyond the limit or NaN takes the general path, which names it."""
+    from fpdtw.motion.motion import joint_quats
+    from fpdtw.motion.rotations import unwrap_degrees
+
+    h = parse_bvh_header(_MIXED.splitlines(), None, stream=True)
+    rng = np.random.default_rng(3)
+    rows = rng.uniform(-200.0, 200.0, (40, h.n_channels))
+    rows[:, 12:15] = 10.0  # head's position channels: constant, as a stream must keep them
+    joints = ("hips", "spine", "head", "foot")
+    a, b = (LiveTarget(h.skeleton_for(rows[0]), 120.0, rate, joints=joints) for _ in "ab")
+    got, want = [], []
+    for k, row in enumerate(rows):
+        got += a.push_channels(row, *h.channel_map, k / 120.0)
+        want += b.push(*(x[0] for x in h.split(row[None])), k / 120.0)
+    E = h.split(rows)[0][:, [0, 1, 2, 4]]  # the cost joints, as split gives them
+    if rate == 120.0:
+        orders = [h.skeleton.rotation_orders[j] for j in (0, 1, 2, 4)]
+        want = [(k, (joint_quats(E[k : k + 1], orders)[0], e), False)
+                for k, e in enumerate(unwrap_degrees(E, axis=0))]  # fmt: skip
+    else:
+        want = [(k, (f.quats, f.euler), filled) for k, f, filled in want]
+    assert [(k, filled) for k, _, filled in got] == [(k, filled) for k, _, filled in want]
+    for (_, f, _), (_, (q, e), _) in zip(got, want):
+        np.testing.assert_array_equal(f.quats, q)
+        np.testing.assert_array_equal(f.euler, e)
+    bad = rows[0].copy()
+    bad[4] = limits.get("max_abs_value") * 2  # hips' Zposition
+    with pytest.raises(MotionFormatError, match="implausible translation value"):
+        a.push_channels(bad, *h.channel_map, 1.0)
+    if rate == 120.0:
+        bad[4], bad[6] = 0.0, np.nan  # spine's Zrotation: on to the aligner, which names it
+        ((_, f, _),) = a.push_channels(bad, *h.channel_map, 40 / 120.0)
+        assert np.isnan(f.euler[1]).any() and not np.isnan(f.euler[[0, 2, 3]]).any()
+
+
 def test_compiled_euler_to_quaternion_is_scipys_bit_for_bit():
     """Random angles (and whole, zero and gimbal-lock ones) in all six orders."""
     from fpdtw.motion.kinematics import frame_quats, order_codes

@@ -235,9 +235,8 @@ class Session:
             self.target = self._live_target(h.skeleton_for(row))
         else:
             h.check_positions(row[None], self._first, lines=[self.line], frame0=k)
-        euler, trans = h.split(row[None])
-        ticks = self.target.push(
-            euler[0], trans[0], t, arrival=not self._stamped, line=self.line, frame=k
+        ticks = self.target.push_channels(
+            row, *h.channel_map, t, arrival=not self._stamped, line=self.line, frame=k
         )
         self.n_frames += 1
         for index, frame, filled in ticks:

@@ -256,6 +256,12 @@ class BVHHeader:
             )
         return values
 
+    @property
+    def channel_map(self) -> tuple:
+        """``(rot, trans)``: the column, joint and axis (n, 3) int64 of each rotation channel;
+        the column and axis (m, 2) int64 of each root translation channel."""
+        return self._rot, self._trans
+
     def split(self, data: np.ndarray):
         """Euler angles (F, J, 3) and root translation (F, 3) of motion lines (F, n_channels)."""
         F = data.shape[0]

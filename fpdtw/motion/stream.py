@@ -36,20 +36,27 @@ GAP_RULES = ("slerp", "hold")
 
 
 @numba.njit(cache=True)
-def _receive(euler, r, big, need, codes, axes, e, q):  # pragma: no cover - compiled
-    """Whether every value of a frame (``euler`` (J, 3), ``r`` (3,)) is within ``big`` (NaN:
-    not); if so, its joints ``need`` into ``e`` and their quaternions
-    (:func:`~fpdtw.motion.kinematics.frame_quats`) into ``q``."""
-    for j in range(euler.shape[0]):
-        for c in range(3):
-            if not abs(euler[j, c]) <= big:
-                return False
-    for c in range(3):
-        if not abs(r[c]) <= big:
+def _receive(values, rot, trans, big, row_of, codes, axes, e, q, r):  # pragma: no cover
+    """Whether every rotation and root translation value of a motion line's ``values``
+    (n_channels,) is within ``big`` (NaN: not); if so, the Euler angles of the joints kept
+    into ``e`` (row ``row_of[j]`` for joint ``j``, -1: not kept; 0 without channels), their
+    quaternions (:func:`~fpdtw.motion.kinematics.frame_quats`) into ``q`` and the root
+    translation into ``r``. ``rot`` (n, 3): column, joint, axis of each rotation channel;
+    ``trans`` (m, 2): column, axis of each translation channel of the root."""
+    for i in range(rot.shape[0]):
+        if not abs(values[rot[i, 0]]) <= big:
             return False
-    for n in range(need.shape[0]):
-        for c in range(3):
-            e[n, c] = euler[need[n], c]
+    for i in range(trans.shape[0]):
+        if not abs(values[trans[i, 0]]) <= big:
+            return False
+    e[:] = 0.0
+    r[:] = 0.0
+    for i in range(rot.shape[0]):
+        n = row_of[rot[i, 1]]
+        if n >= 0:
+            e[n, rot[i, 2]] = values[rot[i, 0]]
+    for i in range(trans.shape[0]):
+        r[trans[i, 1]] = values[trans[i, 0]]
     frame_quats_into(e, codes, axes, q)
     return True
 
@@ -106,6 +113,13 @@ class LiveTarget:
             self._need, self._cost = cost, np.arange(len(cost))
         else:
             self._need, self._cost = np.arange(skeleton.n_joints), cost
+        self._row_of = np.full(skeleton.n_joints, -1, dtype=np.int64)  # joint -> row kept
+        self._row_of[self._need] = np.arange(self._need.size)
+        J = skeleton.n_joints  # push's channels: the root translation, then (J, 3) rotations
+        self._plain = (
+            np.stack([3 + np.arange(3 * J), np.arange(3 * J) // 3, np.arange(3 * J) % 3], axis=1),
+            np.stack([np.arange(3)] * 2, 1),
+        )
         self._orders = tuple(skeleton.rotation_orders[j] for j in self._need)
         self._codes = order_codes(self._orders)
         #: Rotation order of each cost joint (the streamed skeleton's).
@@ -194,13 +208,29 @@ class LiveTarget:
         consecutive); ``line``, ``frame``: named in errors. MotionFormatError for a value beyond
         :data:`fpdtw.limits.MAX_ABS_VALUE`, a time not after the previous, a gap beyond
         :data:`fpdtw.limits.MAX_GAP_S`, or too many ticks."""
-        euler = np.asarray(euler, dtype=float).reshape(self.skeleton.n_joints, 3)
+        J = self.skeleton.n_joints
+        euler = np.asarray(euler, dtype=float).reshape(J * 3)
         r = np.asarray(root_translation, dtype=float).reshape(3)
+        return self.push_channels(np.concatenate([r, euler]), *self._plain, t, arrival=arrival,
+                                  line=line, frame=frame)  # fmt: skip
+
+    def push_channels(
+        self, values, rot, trans, t: float, *, arrival=False, line=None, frame=None
+    ) -> list:
+        """:meth:`push` of a motion line's ``values`` (n_channels,) float64: its rotation
+        channels ``rot`` (n, 3) int64 (column, joint, axis) and root translation channels
+        ``trans`` (m, 2) int64 (column, axis), :attr:`fpdtw.io.bvh.BVHHeader.channel_map`
+        (one compiled call when every value is within the limit)."""
         t = float(t)
         if not math.isfinite(t):
             raise MotionFormatError(self.where, f"time {t!r} is not finite", line=line, frame=frame)
-        e, q = np.empty((self._need.size, 3)), np.empty((self._need.size, 4))
-        if not _receive(euler, r, self._big, self._need, self._codes, ORDER_AXES, e, q):
+        n = self._need.size
+        e, q, r = np.empty((n, 3)), np.empty((n, 4)), np.empty(3)
+        if not _receive(values, rot, trans, self._big, self._row_of, self._codes, ORDER_AXES,
+                        e, q, r):  # fmt: skip
+            euler, r = np.zeros((self.skeleton.n_joints, 3)), np.zeros(3)
+            euler[rot[:, 1], rot[:, 2]] = values[rot[:, 0]]
+            r[trans[:, 1]] = values[trans[:, 0]]
             self._check_values(euler, "rotation value", line, frame)
             self._check_values(r, "translation value", line, frame)
             e = euler[self._need]  # NaN: on to the aligner, which names it
@@ -256,7 +286,8 @@ class LiveTarget:
         filled = False
         if src is not None:  # on a received frame: that frame
             _, q, e, r = src
-            e = e[self._cost]
+            if self._pos_joints is not None:  # else every joint kept is a cost joint
+                e = e[self._cost]
             if not self.same_rate:  # the root translation as Motion.resample blends it
                 i0, i1, a = sample_points(np.array([x]), 2**62)
                 f0, f1 = self._frame_at(int(i0[0])), self._frame_at(int(i1[0]))
@@ -287,7 +318,7 @@ class LiveTarget:
                 pos = pos @ self._turn
             if self.position_scale != 1.0:
                 pos = pos * self.position_scale
-        frame = Frame(
-            np.ascontiguousarray(q[self._cost]), self._unwrap(e), pos, self.orders, self.rig
-        )
+        if self._pos_joints is not None:
+            q = np.ascontiguousarray(q[self._cost])
+        frame = Frame(q, self._unwrap(e), pos, self.orders, self.rig)
         return k, frame, filled
