@@ -792,6 +792,35 @@ def test_many_streams_at_once(walk, walk_input):
         np.testing.assert_array_equal(r.input_frame, M)
 
 
+def test_a_session_builds_its_live_target_once_unless_the_first_line_moves_a_joint(
+    walk, walk_input, monkeypatch
+):
+    """The live target (its rig: most of a new performer's cost) is built at the header's
+    end, and again at the first motion line only when that line's non-root position channels
+    give the skeleton other offsets (then from them)."""
+    built = []
+    make = Session._live_target
+    monkeypatch.setattr(Session, "_live_target", lambda s, sk: built.append(sk) or make(s, sk))
+    take = take_lines(walk[1])
+    spine = take.header.index("\t\tCHANNELS 3 Zrotation Yrotation Xrotation")  # Spine's
+    moved = [*take.header[:spine], "\t\tCHANNELS 6 Xposition Yposition Zposition Zrotation "
+             "Yrotation Xrotation", *take.header[spine + 1 :]]  # fmt: skip
+    offset = take.header[spine - 1].split()[1:]  # Spine's OFFSET, sent as its positions ...
+    offset[0] = "1.5"  # ... but for x, which the first line moves
+    FI = MotionFeatures.from_motion(walk_input)
+    for header, n in ((take.header, 1), (moved, 2)):
+        built.clear()
+        s = Session(FI, resolve("Mc w40").make)
+        for raw in header:
+            s.feed((raw + "\n").encode(), 0.0)
+        for k, raw in enumerate(take.lines[:50]):
+            v = raw.split()
+            line = " ".join(v[:6] + offset + v[6:]) if n == 2 else raw
+            assert s.feed(f"t={k / take.fps!r} {line}\n".encode(), 1.0).startswith(f"{k} ")
+        assert len(built) == n and s.target.skeleton is built[-1]
+    assert built[1].offsets[1, 0] == 1.5 and built[0].offsets[1, 0] == 0.0
+
+
 def test_a_sources_rows_give_the_lines_answers(walk, walk_input):
     """`Session.feed_row` (a capture source's frame, already read) aligns exactly as the same
     frame's stamped motion line through `feed`, and refuses to come before the header."""

@@ -232,7 +232,9 @@ class Session:
         h, k = self.header, self.n_frames
         if self._first is None:
             self._first = row
-            self.target = self._live_target(h.skeleton_for(row))
+            skeleton = h.skeleton_for(row)  # the header's, unless it has non-root positions
+            if skeleton is not h.skeleton:
+                self.target = self._live_target(skeleton)
         else:
             h.check_positions(row[None], self._first, lines=[self.line], frame0=k)
         ticks = self.target.push_channels(
@@ -276,8 +278,8 @@ class Session:
         if is_header_end(text):
             self.header = parse_bvh_header(self._lines, None, stream=True)
             self._lines = []
-            try:
-                self._live_target(self.header.skeleton)  # the joints are there
+            try:  # the joints are there; the target of a header without non-root positions
+                self.target = self._live_target(self.header.skeleton)
             except MotionFormatError as e:
                 raise MotionFormatError(None, e.reason, line=self.line) from None
         return None
