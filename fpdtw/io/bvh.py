@@ -28,6 +28,7 @@ from fpdtw.motion.joints import find_joint_map
 from fpdtw.motion.motion import Motion, Skeleton
 from fpdtw.motion.rig import rest_rotations
 from fpdtw.motion.rotations import quat_conj, quat_mul, quat_rotate, quat_to_euler, unwrap_degrees
+from fpdtw.motion.stream import split_channels
 
 _CHANNELS = {
     f"{a.lower()}{kind}": (kind, i)
@@ -264,12 +265,7 @@ class BVHHeader:
 
     def split(self, data: np.ndarray):
         """Euler angles (F, J, 3) and root translation (F, 3) of motion lines (F, n_channels)."""
-        F = data.shape[0]
-        euler = np.zeros((F, len(self.joints), 3))
-        trans = np.zeros((F, 3))
-        euler[:, self._rot[:, 1], self._rot[:, 2]] = data[:, self._rot[:, 0]]
-        trans[:, self._trans[:, 1]] = data[:, self._trans[:, 0]]
-        return euler, trans
+        return split_channels(data, self._rot, self._trans, len(self.joints))
 
     def skeleton_for(self, first: np.ndarray) -> Skeleton:
         """The skeleton with the first line's non-root position channels as offsets."""

@@ -35,6 +35,19 @@ GAP_PERIODS = 1.5
 GAP_RULES = ("slerp", "hold")
 
 
+def split_channels(values, rot, trans, n_joints: int):
+    """Euler angles (..., J, 3) and root translation (..., 3) of motion lines' ``values``
+    (..., n_channels): the rotation channels ``rot`` (n, 3) (column, joint, axis) and root
+    translation channels ``trans`` (m, 2) (column, axis); 0 where a joint has no channel.
+    :func:`_receive` in NumPy (its general path)."""
+    values = np.asarray(values)
+    euler = np.zeros((*values.shape[:-1], n_joints, 3))
+    r = np.zeros((*values.shape[:-1], 3))
+    euler[..., rot[:, 1], rot[:, 2]] = values[..., rot[:, 0]]
+    r[..., trans[:, 1]] = values[..., trans[:, 0]]
+    return euler, r
+
+
 @numba.njit(cache=True)
 def _receive(values, rot, trans, big, row_of, codes, axes, e, q, r):  # pragma: no cover
     """Whether every rotation and root translation value of a motion line's ``values``
@@ -228,9 +241,7 @@ class LiveTarget:
         e, q, r = np.empty((n, 3)), np.empty((n, 4)), np.empty(3)
         if not _receive(values, rot, trans, self._big, self._row_of, self._codes, ORDER_AXES,
                         e, q, r):  # fmt: skip
-            euler, r = np.zeros((self.skeleton.n_joints, 3)), np.zeros(3)
-            euler[rot[:, 1], rot[:, 2]] = values[rot[:, 0]]
-            r[trans[:, 1]] = values[trans[:, 0]]
+            euler, r = split_channels(values, rot, trans, self.skeleton.n_joints)
             self._check_values(euler, "rotation value", line, frame)
             self._check_values(r, "translation value", line, frame)
             e = euler[self._need]  # NaN: on to the aligner, which names it
